@@ -1,0 +1,708 @@
+// shadowkit/poisson_disk.hpp - Poisson-disk sample sets for shadow filtering kernels.
+//
+// USAGE
+//   #include <shadowkit/poisson_disk.hpp>
+//   using namespace shadowkit;
+//   glm::vec2 taps[32];
+//   PoissonResult r = poisson_eliminate(PoissonDomain{}, 32, /*seed*/ 1, taps, 32);   // exactly 32 in the unit disk
+//   // r.status == PoissonStatus::Ok, r.count == 32, r.radius == min pairwise distance
+//   std::vector<glm::vec2> pts(poisson_bridson_capacity(PoissonDomain{}, 0.3f));
+//   PoissonResult b = poisson_bridson(PoissonDomain{}, 0.3f, 7, pts.data(), pts.size()); // radius-driven
+//   char text[4096];
+//   GlslEmitResult g = poisson_to_glsl(taps, 32, "SK_POISSON_32", text, sizeof text);  // const vec2 ...[32]
+//   float rho = poisson_normalized_radius(PoissonDomain{}, taps, 32);                  // d_min / d_max
+//   float cov = poisson_coverage_radius(PoissonDomain{}, taps, 32);                    // largest empty circle
+//
+// Domains (PoissonShape): Disk = unit disk |p| <= 1; Square = [-1,1]^2 (side 2, the disk's bounding
+// square, so kernels stay centred); Annulus = inner_radius <= |p| <= 1.
+// Every generator is deterministic from its 64-bit seed: it uses its own splitmix64 stream and its
+// own float conversion, never <random>'s distributions, so sets are identical across standard
+// libraries. Output goes to a caller buffer (pointer + capacity); when it is too small the status
+// is BufferTooSmall and `needed` says how many points to provide (the call is repeatable: same seed,
+// same set). Temporary work memory (grids, candidate lists) is taken from std::vector.
+//
+// Based on:
+//   R. Bridson, "Fast Poisson Disk Sampling in Arbitrary Dimensions", SIGGRAPH 2007 sketch.
+//   C. Yuksel, "Sample Elimination for Generating Poisson Disk Sample Sets", Eurographics 2015.
+//   A. Lagae, P. Dutre, "A Comparison of Methods for Generating Poisson Disk Distributions",
+//     CGF 27(1), 2008 (normalized radius rho = d_min / d_max, d_max = sqrt(2A / (sqrt(3) N))).
+//
+// MIT License. Copyright (c) shadowkit contributors.
+#pragma once
+
+#include <glm/vec2.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+namespace shadowkit {
+
+enum class PoissonShape { Disk, Square, Annulus };
+
+// Sampling domain. The zero value is the unit disk.
+struct PoissonDomain {
+    PoissonShape shape = PoissonShape::Disk;
+    float inner_radius = 0.0f;  // Annulus only. [Limit: 0 <= inner_radius <= 0.99]
+};
+
+enum class PoissonStatus {
+    Ok,
+    InvalidArgument,  // NaN/Inf/<= 0 radius, bad domain, null buffer with capacity > 0, bad GLSL name
+    BufferTooSmall,   // `needed` points (or chars) are required; `count` were written
+    TooMany           // request exceeds kPoissonMaxPoints (huge N, or a radius that would give more)
+};
+
+struct PoissonResult {
+    PoissonStatus status = PoissonStatus::InvalidArgument;
+    std::size_t count = 0;   // points written to the caller buffer
+    std::size_t needed = 0;  // points the full set has (== count when status is Ok)
+    float radius = 0.0f;     // Bridson: the radius asked for (all pairs are >= it);
+                             // elimination: the minimum pairwise distance of the written set
+};
+
+// Upper limit on the size of any generated set (bounds memory and time).
+constexpr std::size_t kPoissonMaxPoints = std::size_t(1) << 16;
+
+namespace poisson_detail {
+
+// splitmix64 (Steele, Lea, Flood 2014): a tiny, well-mixed, portable stream.
+struct Rng {
+    std::uint64_t state;
+    std::uint64_t next() {
+        std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0,1)
+};
+
+constexpr double kPi = 3.14159265358979323846;
+
+inline bool valid_domain(PoissonDomain d) {
+    if (d.shape == PoissonShape::Disk || d.shape == PoissonShape::Square) return true;
+    if (d.shape == PoissonShape::Annulus)
+        return std::isfinite(d.inner_radius) && d.inner_radius >= 0.0f && d.inner_radius <= 0.99f;
+    return false;
+}
+
+inline bool contains(PoissonDomain d, double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return false;
+    if (d.shape == PoissonShape::Square) return x >= -1.0 && x <= 1.0 && y >= -1.0 && y <= 1.0;
+    const double r2 = x * x + y * y;
+    if (r2 > 1.0) return false;
+    if (d.shape == PoissonShape::Annulus) {
+        const double ri = double(d.inner_radius);
+        return r2 >= ri * ri;
+    }
+    return true;
+}
+
+inline double area(PoissonDomain d) {
+    if (d.shape == PoissonShape::Square) return 4.0;
+    if (d.shape == PoissonShape::Annulus) {
+        const double ri = double(d.inner_radius);
+        return kPi * (1.0 - ri * ri);
+    }
+    return kPi;
+}
+
+// A uniformly distributed point of the domain, already rounded to float and inside it.
+inline glm::vec2 uniform_point(PoissonDomain d, Rng& rng) {
+    for (;;) {
+        double x, y;
+        if (d.shape == PoissonShape::Square) {
+            x = 2.0 * rng.uniform() - 1.0;
+            y = 2.0 * rng.uniform() - 1.0;
+        } else {
+            const double ri = d.shape == PoissonShape::Annulus ? double(d.inner_radius) : 0.0;
+            const double rr = std::sqrt(ri * ri + rng.uniform() * (1.0 - ri * ri));  // uniform in area
+            const double a = 2.0 * kPi * rng.uniform();
+            x = rr * std::cos(a);
+            y = rr * std::sin(a);
+        }
+        const glm::vec2 p(static_cast<float>(x), static_cast<float>(y));
+        if (contains(d, double(p.x), double(p.y))) return p;
+    }
+}
+
+inline double dist2(glm::vec2 a, glm::vec2 b) {
+    const double dx = double(a.x) - double(b.x), dy = double(a.y) - double(b.y);
+    return dx * dx + dy * dy;
+}
+
+// Uniform background grid over [-1,1]^2.
+struct Grid {
+    double cell = 1.0;
+    int dim = 1;
+    int cell_of(double v) const {
+        int c = static_cast<int>(std::floor((v + 1.0) / cell));
+        return c < 0 ? 0 : (c >= dim ? dim - 1 : c);
+    }
+    void init(double cell_size) {
+        cell = cell_size;
+        const double cells = std::ceil(2.0 / cell_size);
+        dim = cells < 1.0 ? 1 : static_cast<int>(cells);
+    }
+};
+
+// Indexed binary max-heap on double keys; ties broken by the smaller index (deterministic).
+struct MaxHeap {
+    std::vector<double> key;
+    std::vector<std::uint32_t> heap, pos;
+    bool less(std::uint32_t a, std::uint32_t b) const {  // a below b
+        return key[a] < key[b] || (key[a] == key[b] && a > b);
+    }
+    void swap_at(std::size_t i, std::size_t j) {
+        const std::uint32_t t = heap[i];
+        heap[i] = heap[j];
+        heap[j] = t;
+        pos[heap[i]] = static_cast<std::uint32_t>(i);
+        pos[heap[j]] = static_cast<std::uint32_t>(j);
+    }
+    void down(std::size_t i) {
+        const std::size_t n = heap.size();
+        for (;;) {
+            std::size_t l = 2 * i + 1, r = l + 1, m = i;
+            if (l < n && less(heap[m], heap[l])) m = l;
+            if (r < n && less(heap[m], heap[r])) m = r;
+            if (m == i) return;
+            swap_at(i, m);
+            i = m;
+        }
+    }
+    void build() {
+        heap.resize(key.size());
+        pos.resize(key.size());
+        for (std::size_t i = 0; i < key.size(); ++i) {
+            heap[i] = static_cast<std::uint32_t>(i);
+            pos[i] = static_cast<std::uint32_t>(i);
+        }
+        for (std::size_t i = heap.size() / 2; i-- > 0;) down(i);
+    }
+    std::uint32_t pop() {
+        const std::uint32_t top = heap[0];
+        swap_at(0, heap.size() - 1);
+        heap.pop_back();
+        pos[top] = std::numeric_limits<std::uint32_t>::max();
+        if (!heap.empty()) down(0);
+        return top;
+    }
+    void decrease(std::uint32_t item, double new_key) {
+        key[item] = new_key;
+        if (pos[item] != std::numeric_limits<std::uint32_t>::max()) down(pos[item]);
+    }
+};
+
+// Yuksel 2015, eq. (1)-(2): weight w_ij = (1 - d_hat / (2 r_max))^alpha, d_hat = max(d, 2 r_min)
+// (weight limiting, Sec. 3.3: r_min = r_max (1 - (N/M)^gamma) beta, gamma = 1.5, beta = 0.65).
+// Eliminates pts (in place semantics) down to `target`; returns the alive flags and the
+// elimination order (first eliminated first).
+inline void eliminate(const std::vector<glm::vec2>& pts, std::size_t target, double area_,
+                      bool weight_limiting, std::vector<std::uint8_t>& alive,
+                      std::vector<std::uint32_t>& order) {
+    const std::size_t m = pts.size();
+    alive.assign(m, 1);
+    order.clear();
+    if (target >= m) return;
+    const double r_max = std::sqrt(area_ / (2.0 * std::sqrt(3.0) * double(target)));  // Yuksel eq. (5)
+    const double d_lim = 2.0 * r_max;
+    double r_min = 0.0;
+    if (weight_limiting)
+        r_min = r_max * (1.0 - std::pow(double(target) / double(m), 1.5)) * 0.65;
+    auto weight = [&](double d) {  // alpha = 8
+        const double dh = d < 2.0 * r_min ? 2.0 * r_min : d;
+        const double t = 1.0 - dh / d_lim, t2 = t * t, t4 = t2 * t2;
+        return t4 * t4;
+    };
+    // Neighbour lists (CSR) through a grid of cell size 2 r_max.
+    Grid g;
+    g.init(d_lim);
+    const std::size_t cells = std::size_t(g.dim) * std::size_t(g.dim);
+    std::vector<std::uint32_t> cstart(cells + 1, 0), citems(m);
+    std::vector<std::uint32_t> pcell(m);
+    for (std::size_t i = 0; i < m; ++i) {
+        pcell[i] = static_cast<std::uint32_t>(std::size_t(g.cell_of(double(pts[i].y))) * std::size_t(g.dim) +
+                                              std::size_t(g.cell_of(double(pts[i].x))));
+        ++cstart[pcell[i] + 1];
+    }
+    for (std::size_t c = 0; c < cells; ++c) cstart[c + 1] += cstart[c];
+    {
+        std::vector<std::uint32_t> fill(cstart.begin(), cstart.end() - 1);
+        for (std::size_t i = 0; i < m; ++i) citems[fill[pcell[i]]++] = static_cast<std::uint32_t>(i);
+    }
+    std::vector<std::uint32_t> nstart(m + 1, 0), nitems;
+    std::vector<double> nweight;
+    MaxHeap heap;
+    heap.key.assign(m, 0.0);
+    for (std::size_t i = 0; i < m; ++i) {
+        const int cx = g.cell_of(double(pts[i].x)), cy = g.cell_of(double(pts[i].y));
+        for (int y = cy - 1; y <= cy + 1; ++y) {
+            if (y < 0 || y >= g.dim) continue;
+            for (int x = cx - 1; x <= cx + 1; ++x) {
+                if (x < 0 || x >= g.dim) continue;
+                const std::size_t c = std::size_t(y) * std::size_t(g.dim) + std::size_t(x);
+                for (std::uint32_t k = cstart[c]; k < cstart[c + 1]; ++k) {
+                    const std::uint32_t j = citems[k];
+                    if (j == i) continue;
+                    const double d = std::sqrt(dist2(pts[i], pts[j]));
+                    if (d < d_lim) {
+                        const double w = weight(d);
+                        nitems.push_back(j);
+                        nweight.push_back(w);
+                        heap.key[i] += w;
+                    }
+                }
+            }
+        }
+        nstart[i + 1] = static_cast<std::uint32_t>(nitems.size());
+    }
+    heap.build();
+    std::size_t left = m;
+    while (left > target) {
+        const std::uint32_t e = heap.pop();
+        alive[e] = 0;
+        order.push_back(e);
+        --left;
+        for (std::uint32_t k = nstart[e]; k < nstart[e + 1]; ++k) {
+            const std::uint32_t j = nitems[k];
+            if (alive[j]) heap.decrease(j, heap.key[j] - nweight[k]);
+        }
+    }
+}
+
+}  // namespace poisson_detail
+
+// Area of the domain (pi, 4, or pi (1 - r_i^2)); NaN for an invalid domain.
+inline float poisson_domain_area(PoissonDomain d) {
+    if (!poisson_detail::valid_domain(d)) return std::numeric_limits<float>::quiet_NaN();
+    return static_cast<float>(poisson_detail::area(d));
+}
+
+// True when p lies in the (closed) domain; false for NaN/Inf or an invalid domain.
+inline bool poisson_domain_contains(PoissonDomain d, glm::vec2 p) {
+    return poisson_detail::valid_domain(d) && poisson_detail::contains(d, double(p.x), double(p.y));
+}
+
+// Densest-packing distance for n points on area A (Lagae & Dutre 2008, eq. 2):
+// d_max = sqrt(2 A / (sqrt(3) n)), the spacing of a hexagonal lattice with n points per area A.
+// Returns +Inf for n == 0 and NaN for an invalid domain.
+inline float poisson_packing_distance(PoissonDomain d, std::size_t n) {
+    if (!poisson_detail::valid_domain(d)) return std::numeric_limits<float>::quiet_NaN();
+    if (n == 0) return std::numeric_limits<float>::infinity();
+    return static_cast<float>(std::sqrt(2.0 * poisson_detail::area(d) / (std::sqrt(3.0) * double(n))));
+}
+
+// Upper bound on the number of points any set with minimum distance `radius` can have in the domain:
+// disks of radius r/2 around the points are disjoint and lie in the domain dilated by r/2, so
+// n <= area(dilated) / (pi r^2 / 4). Use it to size the buffer for poisson_bridson.
+// Returns 0 for an invalid radius or domain, and saturates at kPoissonMaxPoints + 1.
+inline std::size_t poisson_bridson_capacity(PoissonDomain d, float radius) {
+    if (!poisson_detail::valid_domain(d) || !std::isfinite(radius) || !(radius > 0.0f)) return 0;
+    const double r = double(radius), h = 0.5 * r;
+    const double dil = d.shape == PoissonShape::Square ? 4.0 + 8.0 * h + poisson_detail::kPi * h * h
+                                                       : poisson_detail::kPi * (1.0 + h) * (1.0 + h);
+    const double n = std::floor(dil / (poisson_detail::kPi * h * h)) + 1.0;
+    if (!(n <= double(kPoissonMaxPoints))) return kPoissonMaxPoints + 1;
+    return static_cast<std::size_t>(n);
+}
+
+// Options for Bridson's generator. The zero value is the recommended setting.
+struct BridsonOptions {
+    int attempts = 30;      // k candidates per active point (Bridson 2007). [Limit: 1..1000]
+    bool fill_gaps = true;  // after the dart throwing, one pass over a lattice of spacing r/4 adds
+                            // any further point that fits, so the set is maximal up to that lattice:
+                            // every domain point is within r + r*sqrt(2)/4 of a sample.
+};
+
+// Bridson's O(n) dart throwing: every pair of the returned points is at least `radius` apart
+// (checked in double on the float coordinates, so the property holds exactly for the floats you
+// get), every point is inside the domain. The count is whatever fits; size `out` with
+// poisson_bridson_capacity(). If capacity is too small, status BufferTooSmall, the first `capacity`
+// points are written and `needed` is the full count. A radius whose capacity bound exceeds
+// kPoissonMaxPoints gives TooMany without work.
+inline PoissonResult poisson_bridson(PoissonDomain d, float radius, std::uint64_t seed, glm::vec2* out,
+                                     std::size_t capacity, BridsonOptions opt = BridsonOptions{}) {
+    using namespace poisson_detail;
+    PoissonResult res;
+    res.radius = radius;
+    if (!valid_domain(d) || !std::isfinite(radius) || !(radius > 0.0f) || (out == nullptr && capacity > 0) ||
+        opt.attempts < 1 || opt.attempts > 1000) {
+        res.status = PoissonStatus::InvalidArgument;
+        return res;
+    }
+    if (poisson_bridson_capacity(d, radius) > kPoissonMaxPoints) {
+        res.status = PoissonStatus::TooMany;
+        return res;
+    }
+    const double r = double(radius);
+    // Acceptance threshold slightly above r^2 so that the test in double on float coordinates
+    // leaves room for any reasonable re-evaluation of the distance by the caller.
+    const double r2 = r * r * (1.0 + 1e-9);
+    Rng rng{seed};
+    Grid g;
+    g.init(r / std::sqrt(2.0));
+    std::vector<std::int32_t> cell(std::size_t(g.dim) * std::size_t(g.dim), -1);
+    std::vector<glm::vec2> pts;
+    std::vector<std::uint32_t> active;
+    auto fits = [&](glm::vec2 p) {
+        if (!contains(d, double(p.x), double(p.y))) return false;
+        const int cx = g.cell_of(double(p.x)), cy = g.cell_of(double(p.y));
+        if (cell[std::size_t(cy) * std::size_t(g.dim) + std::size_t(cx)] >= 0) return false;
+        for (int y = cy - 2; y <= cy + 2; ++y) {
+            if (y < 0 || y >= g.dim) continue;
+            for (int x = cx - 2; x <= cx + 2; ++x) {
+                if (x < 0 || x >= g.dim) continue;
+                const std::int32_t k = cell[std::size_t(y) * std::size_t(g.dim) + std::size_t(x)];
+                if (k >= 0 && dist2(pts[std::size_t(k)], p) < r2) return false;
+            }
+        }
+        return true;
+    };
+    auto add = [&](glm::vec2 p) {
+        const int cx = g.cell_of(double(p.x)), cy = g.cell_of(double(p.y));
+        cell[std::size_t(cy) * std::size_t(g.dim) + std::size_t(cx)] = static_cast<std::int32_t>(pts.size());
+        active.push_back(static_cast<std::uint32_t>(pts.size()));
+        pts.push_back(p);
+    };
+    // Two points in one grid cell would be closer than r (cell diagonal == r): the grid needs at
+    // most one entry per cell, which `fits` enforces explicitly.
+    auto throw_darts = [&]() {
+        while (!active.empty()) {
+            const std::size_t ai = static_cast<std::size_t>(rng.uniform() * double(active.size()));
+            const std::size_t slot = ai < active.size() ? ai : active.size() - 1;
+            const glm::vec2 c = pts[active[slot]];
+            bool found = false;
+            for (int a = 0; a < opt.attempts && !found; ++a) {
+                const double rr = std::sqrt(r * r + rng.uniform() * 3.0 * r * r);  // uniform in [r, 2r] annulus
+                const double ang = 2.0 * kPi * rng.uniform();
+                const glm::vec2 p(static_cast<float>(double(c.x) + rr * std::cos(ang)),
+                                  static_cast<float>(double(c.y) + rr * std::sin(ang)));
+                if (fits(p)) {
+                    add(p);
+                    found = true;
+                }
+            }
+            if (!found) {
+                active[slot] = active.back();
+                active.pop_back();
+            }
+        }
+    };
+    add(uniform_point(d, rng));
+    throw_darts();
+    if (opt.fill_gaps) {
+        const double h = r / 4.0;
+        const int dim = static_cast<int>(std::ceil(2.0 / h));
+        for (int y = 0; y < dim; ++y) {
+            for (int x = 0; x < dim; ++x) {
+                for (int t = 0; t < 2; ++t) {
+                    const glm::vec2 p(static_cast<float>(-1.0 + (double(x) + rng.uniform()) * h),
+                                      static_cast<float>(-1.0 + (double(y) + rng.uniform()) * h));
+                    if (fits(p)) {
+                        add(p);
+                        throw_darts();  // grow from the new point too
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    res.needed = pts.size();
+    res.count = pts.size() < capacity ? pts.size() : capacity;
+    for (std::size_t i = 0; i < res.count; ++i) out[i] = pts[i];
+    res.status = res.count == res.needed ? PoissonStatus::Ok : PoissonStatus::BufferTooSmall;
+    return res;
+}
+
+// Options for weighted sample elimination. The zero value is the recommended setting.
+struct EliminationOptions {
+    int candidate_factor = 5;     // M = factor * N uniform candidates (Yuksel uses 5). [Limit: 2..64]
+    bool weight_limiting = true;  // Yuksel 2015 Sec. 3.3 (gamma 1.5, beta 0.65)
+    bool progressive = true;      // order the output so that every prefix is itself well spread
+                                  // (Yuksel 2015 Sec. 5: eliminate N -> N/2 -> ..., the removed go last)
+};
+
+// Weighted sample elimination (Yuksel 2015): exactly `count` points in the domain, deterministic
+// from `seed`. r_max = sqrt(A / (2 sqrt(3) N)), weights (1 - d/(2 r_max))^8.
+// count == 0 -> Ok, nothing written. count > kPoissonMaxPoints -> TooMany.
+// capacity < count -> BufferTooSmall with needed = count (nothing is generated or written).
+// res.radius is the minimum pairwise distance of the set (+Inf for count < 2).
+inline PoissonResult poisson_eliminate(PoissonDomain d, std::size_t count, std::uint64_t seed, glm::vec2* out,
+                                       std::size_t capacity, EliminationOptions opt = EliminationOptions{}) {
+    using namespace poisson_detail;
+    PoissonResult res;
+    if (!valid_domain(d) || (out == nullptr && capacity > 0) || opt.candidate_factor < 2 ||
+        opt.candidate_factor > 64) {
+        res.status = PoissonStatus::InvalidArgument;
+        return res;
+    }
+    if (count > kPoissonMaxPoints) {
+        res.status = PoissonStatus::TooMany;
+        return res;
+    }
+    res.needed = count;
+    if (capacity < count) {
+        res.status = PoissonStatus::BufferTooSmall;
+        return res;
+    }
+    res.status = PoissonStatus::Ok;
+    res.radius = std::numeric_limits<float>::infinity();
+    if (count == 0) return res;
+    Rng rng{seed};
+    std::vector<glm::vec2> cand(count * std::size_t(opt.candidate_factor));
+    for (glm::vec2& p : cand) p = uniform_point(d, rng);
+    const double a = area(d);
+    std::vector<std::uint8_t> alive;
+    std::vector<std::uint32_t> order;
+    eliminate(cand, count, a, opt.weight_limiting, alive, order);
+    std::vector<glm::vec2> set;
+    set.reserve(count);
+    for (std::size_t i = 0; i < cand.size(); ++i)
+        if (alive[i]) set.push_back(cand[i]);
+    if (opt.progressive) {
+        // Positions [t, n) receive the samples removed when going from n to t = n/2, the last removed
+        // first, so the prefix of length t is the set a direct elimination to t would keep.
+        std::vector<glm::vec2> sorted(set.size());
+        std::size_t n = set.size();
+        std::vector<glm::vec2> cur = set;
+        while (n > 1) {
+            const std::size_t t = n / 2;
+            eliminate(cur, t, a, opt.weight_limiting, alive, order);
+            for (std::size_t k = 0; k < order.size(); ++k) sorted[n - 1 - k] = cur[order[k]];
+            std::vector<glm::vec2> next;
+            next.reserve(t);
+            for (std::size_t i = 0; i < cur.size(); ++i)
+                if (alive[i]) next.push_back(cur[i]);
+            cur.swap(next);
+            n = t;
+        }
+        sorted[0] = cur[0];
+        set.swap(sorted);
+    }
+    double dmin2 = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < set.size(); ++i) {
+        out[i] = set[i];
+        for (std::size_t j = i + 1; j < set.size(); ++j) {
+            const double q = dist2(set[i], set[j]);
+            if (q < dmin2) dmin2 = q;
+        }
+    }
+    res.count = count;
+    res.radius = static_cast<float>(std::sqrt(dmin2));
+    return res;
+}
+
+// Minimum pairwise distance, brute force O(n^2) in double. +Inf for n < 2 (or null pts);
+// NaN when a coordinate is NaN.
+inline float poisson_min_distance(const glm::vec2* pts, std::size_t n) {
+    if (pts == nullptr || n < 2) return std::numeric_limits<float>::infinity();
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            const double q = poisson_detail::dist2(pts[i], pts[j]);
+            if (std::isnan(q)) return std::numeric_limits<float>::quiet_NaN();
+            if (q < best) best = q;
+        }
+    return static_cast<float>(std::sqrt(best));
+}
+
+// Normalized radius rho = d_min / d_max (Lagae & Dutre 2008). Dart throwing reaches about 0.75,
+// hexagonal packing is 1 (bounded domains with few points can exceed 1: points sit on the boundary).
+inline float poisson_normalized_radius(PoissonDomain d, const glm::vec2* pts, std::size_t n) {
+    return poisson_min_distance(pts, n) / poisson_packing_distance(d, n);
+}
+
+namespace poisson_detail {
+inline double nearest(const glm::vec2* pts, std::size_t n, double x, double y) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double dx = x - double(pts[i].x), dy = y - double(pts[i].y);
+        const double q = dx * dx + dy * dy;
+        if (q < best) best = q;
+    }
+    return best;
+}
+}  // namespace poisson_detail
+
+// Coverage radius: the radius of the largest empty circle whose centre lies in the domain
+// (max over c in domain of min_i |c - p_i|), computed exactly by brute force: the maximum is at a
+// Voronoi vertex (circumcentre of a triple) inside the domain, where a Voronoi edge (pair bisector)
+// crosses the boundary, at a square corner, or at the boundary point of a circle farthest from a
+// sample. O(n^4) time, intended for kernels (n <= a few hundred). Returns +Inf for n == 0,
+// NaN for an invalid domain, null pts, or non-finite coordinates.
+inline float poisson_coverage_radius(PoissonDomain d, const glm::vec2* pts, std::size_t n) {
+    using namespace poisson_detail;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    if (!valid_domain(d)) return nan;
+    if (n == 0) return std::numeric_limits<float>::infinity();
+    if (pts == nullptr) return nan;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!std::isfinite(pts[i].x) || !std::isfinite(pts[i].y)) return nan;
+    double best = 0.0;
+    auto eval = [&](double x, double y) {
+        const double q = nearest(pts, n, x, y);
+        if (q > best) best = q;
+    };
+    const bool square = d.shape == PoissonShape::Square;
+    const double ri = d.shape == PoissonShape::Annulus ? double(d.inner_radius) : 0.0;
+    const double tol = 1e-12;
+    auto inside = [&](double x, double y) {
+        if (square) return x >= -1.0 - tol && x <= 1.0 + tol && y >= -1.0 - tol && y <= 1.0 + tol;
+        const double r2 = x * x + y * y;
+        return r2 <= 1.0 + tol && r2 >= ri * ri - tol;
+    };
+    if (square) {
+        eval(-1, -1); eval(1, -1); eval(-1, 1); eval(1, 1);
+    } else {
+        eval(1, 0);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double px = double(pts[i].x), py = double(pts[i].y), l = std::sqrt(px * px + py * py);
+            if (l > 0) {
+                eval(-px / l, -py / l);
+                if (ri > 0) eval(-ri * px / l, -ri * py / l);
+            }
+        }
+        if (ri > 0) eval(ri, 0);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = i + 1; j < n; ++j) {
+            // Bisector: points m + t * dir.
+            const double ax = double(pts[i].x), ay = double(pts[i].y), bx = double(pts[j].x), by = double(pts[j].y);
+            const double mx = 0.5 * (ax + bx), my = 0.5 * (ay + by);
+            const double dx = -(by - ay), dy = bx - ax;
+            if (dx == 0 && dy == 0) continue;
+            if (square) {
+                for (int s = -1; s <= 1; s += 2) {
+                    if (dx != 0) {
+                        const double t = (double(s) - mx) / dx, y = my + t * dy;
+                        if (y >= -1 && y <= 1) eval(double(s), y);
+                    }
+                    if (dy != 0) {
+                        const double t = (double(s) - my) / dy, x = mx + t * dx;
+                        if (x >= -1 && x <= 1) eval(x, double(s));
+                    }
+                }
+            } else {
+                const double circles[2] = {1.0, ri};
+                for (int c = 0; c < (ri > 0 ? 2 : 1); ++c) {
+                    const double R = circles[c];
+                    // |m + t dir|^2 = R^2
+                    const double qa = dx * dx + dy * dy, qb = 2 * (mx * dx + my * dy), qc = mx * mx + my * my - R * R;
+                    const double disc = qb * qb - 4 * qa * qc;
+                    if (disc < 0) continue;
+                    const double sq = std::sqrt(disc);
+                    for (int s = -1; s <= 1; s += 2) {
+                        const double t = (-qb + double(s) * sq) / (2 * qa);
+                        double x = mx + t * dx, y = my + t * dy;
+                        const double l = std::sqrt(x * x + y * y);
+                        if (l > 0) { x *= R / l; y *= R / l; }
+                        eval(x, y);
+                    }
+                }
+            }
+            for (std::size_t k = j + 1; k < n; ++k) {
+                const double cx_ = double(pts[k].x), cy_ = double(pts[k].y);
+                const double bxr = bx - ax, byr = by - ay, cxr = cx_ - ax, cyr = cy_ - ay;
+                const double den = 2.0 * (bxr * cyr - byr * cxr);
+                if (den == 0) continue;
+                const double b2 = bxr * bxr + byr * byr, c2 = cxr * cxr + cyr * cyr;
+                const double ux = (cyr * b2 - byr * c2) / den, uy = (bxr * c2 - cxr * b2) / den;
+                const double x = ax + ux, y = ay + uy;
+                if (inside(x, y)) eval(x, y);
+            }
+        }
+    }
+    return static_cast<float>(std::sqrt(best));
+}
+
+// Coverage radius estimated on a resolution x resolution lattice of centres over [-1,1]^2 (those
+// inside the domain). A lower bound of the exact value, within about 2/resolution of it.
+// O(resolution^2 n). resolution is clamped to [2, 4096].
+inline float poisson_coverage_radius_grid(PoissonDomain d, const glm::vec2* pts, std::size_t n, int resolution) {
+    using namespace poisson_detail;
+    if (!valid_domain(d) || (pts == nullptr && n > 0)) return std::numeric_limits<float>::quiet_NaN();
+    if (n == 0) return std::numeric_limits<float>::infinity();
+    const int res = resolution < 2 ? 2 : (resolution > 4096 ? 4096 : resolution);
+    double best = 0.0;
+    for (int y = 0; y < res; ++y)
+        for (int x = 0; x < res; ++x) {
+            const double px = -1.0 + 2.0 * double(x) / double(res - 1), py = -1.0 + 2.0 * double(y) / double(res - 1);
+            if (!contains(d, px, py)) continue;
+            const double q = nearest(pts, n, px, py);
+            if (q > best) best = q;
+        }
+    return static_cast<float>(std::sqrt(best));
+}
+
+struct GlslEmitResult {
+    PoissonStatus status = PoissonStatus::InvalidArgument;
+    std::size_t needed = 0;  // chars needed including the terminating NUL
+};
+
+// Writes `const vec2 NAME[N] = vec2[N](vec2(x, y), ...);\n` with 9 significant digits (round-trips
+// float exactly), always with a '.' or exponent so every literal is a float. `out` is always
+// NUL-terminated when capacity > 0. Status: InvalidArgument for n == 0 (GLSL has no empty arrays),
+// null pts, a non-finite coordinate, or a name that is not a GLSL identifier (or starts with gl_);
+// BufferTooSmall when capacity < needed (a truncated prefix is written).
+inline GlslEmitResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, const char* name, char* out,
+                                      std::size_t capacity) {
+    GlslEmitResult res;
+    if (pts == nullptr || n == 0 || name == nullptr || (out == nullptr && capacity > 0)) return res;
+    {
+        std::size_t len = 0;
+        for (; name[len] != '\0' && len <= 256; ++len) {
+            const char c = name[len];
+            const bool alpha = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+            const bool digit = c >= '0' && c <= '9';
+            if (!(alpha || (digit && len > 0))) return res;
+        }
+        if (len == 0 || len > 256) return res;
+        if (name[0] == 'g' && name[1] == 'l' && name[2] == '_') return res;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        if (!std::isfinite(pts[i].x) || !std::isfinite(pts[i].y)) return res;
+    std::size_t pos = 0;
+    auto put = [&](const char* s) {
+        for (; *s; ++s, ++pos)
+            if (pos + 1 < capacity) out[pos] = *s;
+    };
+    auto put_float = [&](float v) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "%.9g", double(v));
+        bool has_point = false;
+        for (char* c = buf; *c; ++c) {
+            if (*c == ',') *c = '.';  // a locale with a decimal comma
+            if (*c == '.' || *c == 'e' || *c == 'E') has_point = true;
+        }
+        put(buf);
+        if (!has_point) put(".0");
+    };
+    char num[32];
+    std::snprintf(num, sizeof num, "%zu", n);
+    put("const vec2 ");
+    put(name);
+    put("[");
+    put(num);
+    put("] = vec2[");
+    put(num);
+    put("](");
+    for (std::size_t i = 0; i < n; ++i) {
+        put(i == 0 ? "\n    vec2(" : ",\n    vec2(");
+        put_float(pts[i].x);
+        put(", ");
+        put_float(pts[i].y);
+        put(")");
+    }
+    put(");\n");
+    if (capacity > 0) out[pos < capacity ? pos : capacity - 1] = '\0';
+    res.needed = pos + 1;
+    res.status = res.needed <= capacity ? PoissonStatus::Ok : PoissonStatus::BufferTooSmall;
+    return res;
+}
+
+}  // namespace shadowkit

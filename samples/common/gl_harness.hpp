@@ -1,0 +1,99 @@
+// Internal GL harness shared by tests/, samples/ and the report tool. NOT a public header:
+// it uses EGL + libepoxy and is never vendored. Public headers live in include/shadowkit/.
+//
+// - headless OpenGL 4.5 core context on the EGL surfaceless platform (Mesa llvmpipe on a
+//   machine without a GPU, the real driver elsewhere);
+// - render targets with float colour and depth, shader compile/link with readable logs,
+//   readback to float arrays, PNG writing (stb_image_write);
+// - timing with glFinish + steady_clock (median over frames after warm-up), GL timer queries
+//   only where the renderer is not llvmpipe (timer queries are meaningless there).
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace skgl {
+
+struct Context {
+    std::string renderer;  // GL_RENDERER
+    std::string version;   // GL_VERSION
+    bool llvmpipe = false; // software rasterizer: no timer queries, no depth-bounds test
+    bool has_depth_bounds_test = false;
+    bool has_clip_control = false;
+    void* display = nullptr;  // EGLDisplay
+    void* context = nullptr;  // EGLContext
+    Context() = default;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+    ~Context();
+};
+
+// Creates a GL 4.5 core context on EGL's surfaceless platform and makes it current.
+// Returns nullptr and a one-line reason in `why` when no such context can be had.
+std::unique_ptr<Context> create_context(std::string& why);
+
+// Process exit code for "skipped" that tests register with CTest's SKIP_RETURN_CODE.
+constexpr int kSkipReturnCode = 77;
+
+struct ShaderStage {
+    GLenum type;         // GL_VERTEX_SHADER, GL_FRAGMENT_SHADER, ...
+    std::string source;  // complete source, including #version
+};
+
+// Compiles and links; returns 0 and a readable log (stage name, numbered source lines near
+// the error) on failure.
+GLuint compile_program(const std::vector<ShaderStage>& stages, std::string& log);
+
+// Reads a text file (GLSL snippet); empty string and `ok == false` if unreadable.
+std::string read_text_file(const std::string& path, bool* ok = nullptr);
+
+struct Target {
+    GLuint fbo = 0;
+    GLuint depth = 0;            // depth texture (0 if none)
+    std::vector<GLuint> color;   // colour textures
+    int width = 0, height = 0;
+    GLenum depth_format = 0;
+};
+
+// Colour formats such as GL_R32F, GL_RGBA32F, GL_RGBA8; depth GL_DEPTH_COMPONENT32F,
+// GL_DEPTH_COMPONENT24, GL_DEPTH24_STENCIL8, GL_DEPTH32F_STENCIL8 or 0 for none.
+// Depth textures get nearest filtering and compare mode off; enable compare for
+// sampler2DShadow with set_depth_compare().
+bool make_target(Target& t, int width, int height, const std::vector<GLenum>& color_formats,
+                 GLenum depth_format, std::string& why);
+void destroy_target(Target& t);
+void set_depth_compare(GLuint depth_texture, bool compare, bool linear_filter);
+
+std::vector<float> read_color_float(const Target& t, int attachment, int channels);
+std::vector<float> read_depth_float(const Target& t);
+
+// 8-bit PNG; channels 1, 3 or 4; rows are written top-down from bottom-up GL data when
+// flip_y is true.
+bool write_png(const std::string& path, int width, int height, int channels,
+               const std::uint8_t* pixels, bool flip_y = true);
+
+// Median wall time in milliseconds of `frame` over `frames` runs after `warmup` runs,
+// each run closed by glFinish(). Samples (ms) are returned in `samples` if non-null.
+double median_frame_ms(const std::function<void()>& frame, int warmup, int frames,
+                       std::vector<double>* samples = nullptr);
+
+// Indexed triangle mesh on the GPU: attribute 0 = position (vec3), 1 = normal (vec3).
+struct GpuMesh {
+    GLuint vao = 0, vbo = 0, ibo = 0;
+    GLsizei index_count = 0;
+};
+GpuMesh upload_mesh(const float* positions, const float* normals, std::size_t vertex_count,
+                    const std::uint32_t* indices, std::size_t index_count);
+void destroy_mesh(GpuMesh& m);
+void draw_mesh(const GpuMesh& m);
+
+// Returns the first GL error as text ("" if none) and clears the error queue.
+std::string gl_error_string();
+
+}  // namespace skgl

@@ -1,0 +1,295 @@
+#include "scene.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace sk {
+
+glm::mat4 Camera::view() const { return glm::lookAt(eye, target, up); }
+
+glm::mat4 Camera::projection(float aspect) const { return glm::perspective(fovy, aspect, znear, zfar); }
+
+glm::vec3 Scene::bounds_min() const {
+    glm::vec3 lo(INFINITY);
+    for (const auto& m : meshes)
+        for (const auto& p : m.positions) lo = glm::min(lo, p);
+    return lo;
+}
+
+glm::vec3 Scene::bounds_max() const {
+    glm::vec3 hi(-INFINITY);
+    for (const auto& m : meshes)
+        for (const auto& p : m.positions) hi = glm::max(hi, p);
+    return hi;
+}
+
+std::size_t Scene::triangle_count() const {
+    std::size_t n = 0;
+    for (const auto& m : meshes) n += m.indices.size() / 3;
+    return n;
+}
+
+static void add_quad(Mesh& m, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    // a b c d counter-clockwise seen from the outside
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    for (const glm::vec3& p : {a, b, c, d}) {
+        m.positions.push_back(p);
+        m.normals.push_back(n);
+    }
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + i);
+}
+
+Mesh make_box(const std::string& name, glm::vec3 c, glm::vec3 h) {
+    Mesh m;
+    m.name = name;
+    const glm::vec3 p[8] = {
+        c + glm::vec3(-h.x, -h.y, -h.z), c + glm::vec3(h.x, -h.y, -h.z), c + glm::vec3(h.x, h.y, -h.z),
+        c + glm::vec3(-h.x, h.y, -h.z),  c + glm::vec3(-h.x, -h.y, h.z), c + glm::vec3(h.x, -h.y, h.z),
+        c + glm::vec3(h.x, h.y, h.z),    c + glm::vec3(-h.x, h.y, h.z)};
+    add_quad(m, p[4], p[5], p[6], p[7]);  // +z
+    add_quad(m, p[1], p[0], p[3], p[2]);  // -z
+    add_quad(m, p[5], p[1], p[2], p[6]);  // +x
+    add_quad(m, p[0], p[4], p[7], p[3]);  // -x
+    add_quad(m, p[7], p[6], p[2], p[3]);  // +y
+    add_quad(m, p[0], p[1], p[5], p[4]);  // -y
+    return m;
+}
+
+Mesh make_plane(const std::string& name, glm::vec3 c, float hx, float hz, int subdiv) {
+    Mesh m;
+    m.name = name;
+    subdiv = std::max(subdiv, 1);
+    const float sx = 2.f * hx / static_cast<float>(subdiv), sz = 2.f * hz / static_cast<float>(subdiv);
+    for (int i = 0; i < subdiv; ++i)
+        for (int j = 0; j < subdiv; ++j) {
+            const float x0 = c.x - hx + sx * static_cast<float>(i), z0 = c.z - hz + sz * static_cast<float>(j);
+            add_quad(m, {x0, c.y, z0 + sz}, {x0 + sx, c.y, z0 + sz}, {x0 + sx, c.y, z0}, {x0, c.y, z0});
+        }
+    return m;
+}
+
+Mesh make_cylinder(const std::string& name, glm::vec3 b, float r, float height, int seg) {
+    Mesh m;
+    m.name = name;
+    seg = std::max(seg, 3);
+    const float two_pi = 6.28318530718f;
+    for (int i = 0; i < seg; ++i) {
+        const float a0 = two_pi * static_cast<float>(i) / static_cast<float>(seg);
+        const float a1 = two_pi * static_cast<float>(i + 1) / static_cast<float>(seg);
+        const glm::vec3 p0 = b + glm::vec3(r * std::cos(a0), 0.f, -r * std::sin(a0));
+        const glm::vec3 p1 = b + glm::vec3(r * std::cos(a1), 0.f, -r * std::sin(a1));
+        const glm::vec3 up(0.f, height, 0.f);
+        add_quad(m, p0, p1, p1 + up, p0 + up);
+        // caps as triangles (duplicated vertices, flat normals)
+        auto base = static_cast<std::uint32_t>(m.positions.size());
+        for (const glm::vec3& p : {b + up, p0 + up, p1 + up}) {
+            m.positions.push_back(p);
+            m.normals.push_back({0.f, 1.f, 0.f});
+        }
+        for (std::uint32_t k : {0u, 1u, 2u}) m.indices.push_back(base + k);
+        base = static_cast<std::uint32_t>(m.positions.size());
+        for (const glm::vec3& p : {b, p1, p0}) {
+            m.positions.push_back(p);
+            m.normals.push_back({0.f, -1.f, 0.f});
+        }
+        for (std::uint32_t k : {0u, 1u, 2u}) m.indices.push_back(base + k);
+    }
+    return m;
+}
+
+Mesh make_sphere(const std::string& name, glm::vec3 c, float r, int stacks, int slices) {
+    Mesh m;
+    m.name = name;
+    stacks = std::max(stacks, 2);
+    slices = std::max(slices, 3);
+    const float pi = 3.14159265359f;
+    for (int i = 0; i <= stacks; ++i)
+        for (int j = 0; j <= slices; ++j) {
+            const float th = pi * static_cast<float>(i) / static_cast<float>(stacks);
+            const float ph = 2.f * pi * static_cast<float>(j) / static_cast<float>(slices);
+            const glm::vec3 n(std::sin(th) * std::cos(ph), std::cos(th), -std::sin(th) * std::sin(ph));
+            m.positions.push_back(c + r * n);
+            m.normals.push_back(n);
+        }
+    const auto row = static_cast<std::uint32_t>(slices + 1);
+    for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(stacks); ++i)
+        for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(slices); ++j) {
+            const std::uint32_t a = i * row + j, b = a + row;
+            for (std::uint32_t k : {a, b, b + 1, a, b + 1, a + 1}) m.indices.push_back(k);
+        }
+    return m;
+}
+
+Mesh make_room(const std::string& name, glm::vec3 c, glm::vec3 h) {
+    Mesh box = make_box(name, c, h);
+    // flip winding and normals: faces point inwards
+    for (std::size_t i = 0; i < box.indices.size(); i += 3) std::swap(box.indices[i + 1], box.indices[i + 2]);
+    for (auto& n : box.normals) n = -n;
+    return box;
+}
+
+std::vector<std::string> builtin_scene_names() {
+    return {"contact", "overlap", "stack", "fence", "duel", "outdoor", "room", "square"};
+}
+
+bool make_builtin_scene(const std::string& name, Scene& s) {
+    s = Scene{};
+    s.name = name;
+    if (name == "contact") {
+        s.description = "box and cylinder resting on a floor under a square area light (contact hardening)";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
+        s.meshes.back().caster = false;
+        s.meshes.push_back(make_box("box", {-0.8f, 0.5f, 0.f}, {0.5f, 0.5f, 0.5f}));
+        s.meshes.push_back(make_cylinder("cylinder", {0.9f, 0.f, 0.3f}, 0.35f, 1.4f, 32));
+        s.light.type = LightType::Rect;
+        s.light.position = {0.6f, 4.f, 0.8f};
+        s.light.direction = glm::normalize(glm::vec3(-0.1f, -1.f, -0.15f));
+        s.light.size = 0.8f;
+        s.light.spot_half_angle = 0.85f;
+        s.camera.eye = {0.f, 3.2f, 4.6f};
+        s.camera.target = {0.f, 0.3f, 0.f};
+    } else if (name == "overlap") {
+        s.description = "two blockers at different heights whose penumbrae overlap, disk light";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
+        s.meshes.back().caster = false;
+        s.meshes.push_back(make_box("high", {-0.35f, 1.6f, 0.f}, {0.45f, 0.05f, 0.45f}));
+        s.meshes.push_back(make_box("low", {0.35f, 0.7f, 0.1f}, {0.4f, 0.05f, 0.4f}));
+        s.light.type = LightType::Disk;
+        s.light.position = {0.f, 4.f, 0.f};
+        s.light.direction = {0.f, -1.f, 0.f};
+        s.light.size = 0.5f;
+        s.light.spot_half_angle = 0.8f;
+        s.camera.eye = {0.f, 3.5f, 3.8f};
+        s.camera.target = {0.f, 0.3f, 0.f};
+    } else if (name == "stack") {
+        s.description = "a box casting onto a larger box and the floor (several receivers), spot light";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
+        s.meshes.back().caster = false;
+        s.meshes.push_back(make_box("base", {0.f, 0.4f, 0.f}, {1.f, 0.4f, 1.f}));
+        s.meshes.push_back(make_box("top", {0.2f, 1.5f, 0.2f}, {0.3f, 0.3f, 0.3f}));
+        s.light.type = LightType::Spot;
+        s.light.position = {1.5f, 4.5f, 1.f};
+        s.light.direction = glm::normalize(glm::vec3(-1.5f, -4.5f, -1.f));
+        s.light.spot_half_angle = 0.7f;
+        s.camera.eye = {-2.5f, 3.f, 4.f};
+        s.camera.target = {0.f, 0.5f, 0.f};
+    } else if (name == "fence") {
+        s.description = "thin fence slats at grazing light: shadow-map aliasing";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 5.f, 5.f));
+        s.meshes.back().caster = false;
+        for (int i = 0; i < 12; ++i) {
+            const float x = -2.2f + 0.4f * static_cast<float>(i);
+            s.meshes.push_back(make_box("slat" + std::to_string(i), {x, 0.6f, 0.f}, {0.04f, 0.6f, 0.02f}));
+        }
+        s.meshes.push_back(make_box("rail", {0.f, 1.0f, 0.03f}, {2.4f, 0.05f, 0.01f}));
+        s.light.type = LightType::Spot;
+        s.light.position = {0.3f, 2.2f, -4.f};
+        s.light.direction = glm::normalize(glm::vec3(-0.3f, -1.9f, 5.f));
+        s.light.spot_half_angle = 0.75f;
+        s.camera.eye = {0.f, 2.5f, 4.5f};
+        s.camera.target = {0.f, 0.f, 1.f};
+    } else if (name == "duel") {
+        s.description = "light facing the camera (duelling frusta)";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 6.f, 6.f));
+        s.meshes.back().caster = false;
+        for (int i = 0; i < 5; ++i)
+            s.meshes.push_back(make_box("post" + std::to_string(i),
+                                        {-2.f + static_cast<float>(i), 0.4f, -1.f + 0.5f * static_cast<float>(i % 2)},
+                                        {0.15f, 0.4f, 0.15f}));
+        s.light.type = LightType::Spot;
+        s.light.position = {0.f, 2.f, -5.f};
+        s.light.direction = glm::normalize(glm::vec3(0.f, -1.4f, 5.f));
+        s.light.spot_half_angle = 0.9f;
+        s.camera.eye = {0.f, 1.5f, 5.f};
+        s.camera.target = {0.f, 0.f, -1.f};
+    } else if (name == "outdoor") {
+        s.description = "1 km ground with many objects, directional light, camera near the ground";
+        s.meshes.push_back(make_plane("ground", {0.f, 0.f, 0.f}, 500.f, 500.f, 8));
+        s.meshes.back().caster = false;
+        std::uint32_t h = 12345u;
+        auto rnd = [&h]() {
+            h ^= h << 13; h ^= h >> 17; h ^= h << 5;
+            return static_cast<float>(h & 0xffffffu) / 16777216.f;
+        };
+        for (int i = 0; i < 64; ++i) {
+            const float x = (rnd() - 0.5f) * 120.f, z = -rnd() * 150.f + 5.f;
+            const float hh = 0.5f + 3.f * rnd();
+            s.meshes.push_back(make_box("obj" + std::to_string(i), {x, hh, z}, {0.5f + rnd(), hh, 0.5f + rnd()}));
+        }
+        s.light.type = LightType::Directional;
+        s.light.direction = glm::normalize(glm::vec3(0.4f, -0.8f, -0.45f));
+        s.light.position = -200.f * s.light.direction;
+        s.camera.eye = {0.f, 1.7f, 8.f};
+        s.camera.target = {0.f, 1.2f, -10.f};
+        s.camera.znear = 0.1f;
+        s.camera.zfar = 1000.f;
+    } else if (name == "room") {
+        s.description = "point light inside a closed room with furniture";
+        s.meshes.push_back(make_room("room", {0.f, 1.5f, 0.f}, {3.f, 1.5f, 3.f}));
+        s.meshes.push_back(make_box("table", {0.8f, 0.4f, 0.3f}, {0.6f, 0.4f, 0.4f}));
+        s.meshes.push_back(make_sphere("ball", {-1.f, 0.5f, -0.6f}, 0.5f, 16, 24));
+        s.meshes.push_back(make_cylinder("pillar", {-1.5f, 0.f, 1.5f}, 0.25f, 3.f, 24));
+        s.light.type = LightType::Point;
+        s.light.position = {0.2f, 2.2f, 0.f};
+        s.camera.eye = {2.4f, 2.4f, 2.6f};
+        s.camera.target = {-0.5f, 0.6f, -0.5f};
+        s.camera.fovy = 1.2f;
+    } else if (name == "square") {
+        s.description = "square occluder parallel to a floor under a parallel square area light (closed form)";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 3.f, 3.f));
+        s.meshes.back().caster = false;
+        // a thin double-sided square (box of tiny thickness)
+        s.meshes.push_back(make_box("square", {0.f, 1.f, 0.f}, {0.5f, 0.001f, 0.5f}));
+        s.meshes.back().receiver = false;
+        s.light.type = LightType::Rect;
+        s.light.position = {0.f, 3.f, 0.f};
+        s.light.direction = {0.f, -1.f, 0.f};
+        s.light.size = 0.6f;
+        s.light.spot_half_angle = 0.9f;
+        s.camera.eye = {0.f, 4.5f, 0.01f};
+        s.camera.target = {0.f, 0.f, 0.f};
+        s.camera.up = {0.f, 0.f, -1.f};
+        s.camera.fovy = 0.6f;
+        s.analytic = true;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+static void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) {
+        h ^= p[i];
+        h *= 1099511628211ull;  // FNV-1a
+    }
+}
+
+std::uint64_t scene_hash(const Scene& s, int width, int height, std::uint64_t salt) {
+    std::uint64_t h = 1469598103934665603ull;
+    hash_bytes(h, &salt, sizeof salt);
+    hash_bytes(h, &width, sizeof width);
+    hash_bytes(h, &height, sizeof height);
+    for (const auto& m : s.meshes) {
+        hash_bytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
+        hash_bytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
+        const unsigned char flags = static_cast<unsigned char>((m.caster ? 1 : 0) | (m.receiver ? 2 : 0));
+        hash_bytes(h, &flags, 1);
+    }
+    const float cam[] = {s.camera.eye.x, s.camera.eye.y, s.camera.eye.z, s.camera.target.x, s.camera.target.y,
+                         s.camera.target.z, s.camera.up.x, s.camera.up.y, s.camera.up.z, s.camera.fovy,
+                         s.camera.znear, s.camera.zfar};
+    hash_bytes(h, cam, sizeof cam);
+    const int type = static_cast<int>(s.light.type);
+    hash_bytes(h, &type, sizeof type);
+    const float li[] = {s.light.position.x, s.light.position.y, s.light.position.z, s.light.direction.x,
+                        s.light.direction.y, s.light.direction.z, s.light.spot_half_angle, s.light.size};
+    hash_bytes(h, li, sizeof li);
+    return h;
+}
+
+}  // namespace sk

@@ -1,0 +1,77 @@
+// Internal scene description shared by the samples, the report tool and the GL tests.
+// Plain data only: world-space triangle meshes, a camera and one light.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sk {
+
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;  // per vertex, flat-shaded meshes duplicate vertices
+    std::vector<std::uint32_t> indices;
+    bool caster = true;    // drawn into shadow maps / volumes
+    bool receiver = true;  // counted in the metrics
+};
+
+enum class LightType { Point, Spot, Directional, Rect, Disk, Sphere };
+
+struct Light {
+    LightType type = LightType::Spot;
+    glm::vec3 position{0.f, 5.f, 0.f};
+    glm::vec3 direction{0.f, -1.f, 0.f};  // spot / directional / rect / disk: where it shines
+    float spot_half_angle = 0.7f;         // radians, spot lights (and the shadow-map frustum of area lights)
+    float size = 0.f;                     // rect: edge length (square), disk: radius, sphere: radius
+    bool is_area() const { return (type == LightType::Rect || type == LightType::Disk || type == LightType::Sphere) && size > 0.f; }
+};
+
+struct Camera {
+    glm::vec3 eye{0.f, 3.f, 6.f};
+    glm::vec3 target{0.f, 0.f, 0.f};
+    glm::vec3 up{0.f, 1.f, 0.f};
+    float fovy = 0.9f;  // radians, full vertical angle
+    float znear = 0.05f;
+    float zfar = 100.f;
+    glm::mat4 view() const;
+    glm::mat4 projection(float aspect) const;  // GL clip depth [-1,1]
+};
+
+struct Scene {
+    std::string name;
+    std::string description;
+    std::vector<Mesh> meshes;
+    Camera camera;
+    Light light;
+    // Closed-form visibility available for this scene (used by the instrument test).
+    bool analytic = false;
+    glm::vec3 bounds_min() const;
+    glm::vec3 bounds_max() const;
+    std::size_t triangle_count() const;
+};
+
+// Mesh builders (world-space, flat normals, counter-clockwise outward winding).
+Mesh make_box(const std::string& name, glm::vec3 center, glm::vec3 half_extent);
+Mesh make_plane(const std::string& name, glm::vec3 center, float half_size_x, float half_size_z, int subdiv = 1);
+Mesh make_cylinder(const std::string& name, glm::vec3 base_center, float radius, float height, int segments);
+Mesh make_sphere(const std::string& name, glm::vec3 center, float radius, int stacks, int slices);
+// A closed room (inward-facing walls, floor and ceiling).
+Mesh make_room(const std::string& name, glm::vec3 center, glm::vec3 half_extent);
+
+// The built-in scenes of the report (names: contact, overlap, stack, fence, duel, outdoor, room,
+// and the analytic instrument scene "square").
+std::vector<std::string> builtin_scene_names();
+bool make_builtin_scene(const std::string& name, Scene& out);
+
+// Loads OBJ or PLY through assimp (when built with it); drops the mesh on a floor, scaled to a
+// 2-unit footprint, with a default area light and a camera framing it.
+bool load_mesh_scene(const std::string& path, Scene& out, std::string& why);
+
+// Stable 64-bit hash of the scene geometry, camera and light (reference-cache key).
+std::uint64_t scene_hash(const Scene& s, int width, int height, std::uint64_t salt);
+
+}  // namespace sk

@@ -1,0 +1,2 @@
+out vec4 o_color;
+void main() { o_color = vec4(sk_fixture_broken(0.5)); }
