@@ -172,8 +172,8 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.meshes.push_back(make_box("base", {0.f, 0.4f, 0.f}, {1.f, 0.4f, 1.f}));
         s.meshes.push_back(make_box("top", {0.2f, 1.5f, 0.2f}, {0.3f, 0.3f, 0.3f}));
         s.light.type = LightType::Spot;
-        s.light.position = {1.5f, 4.5f, 1.f};
-        s.light.direction = glm::normalize(glm::vec3(-1.5f, -4.5f, -1.f));
+        s.light.position = {1.6f, 4.5f, 1.3f};
+        s.light.direction = glm::normalize(glm::vec3(-1.6f, -4.5f, -1.3f));
         s.light.spot_half_angle = 0.7f;
         s.camera.eye = {-2.5f, 3.f, 4.f};
         s.camera.target = {0.f, 0.5f, 0.f};
@@ -243,17 +243,16 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 3.f, 3.f));
         s.meshes.back().caster = false;
         // a thin double-sided square (box of tiny thickness)
-        s.meshes.push_back(make_box("square", {0.f, 1.f, 0.f}, {0.5f, 0.001f, 0.5f}));
+        s.meshes.push_back(make_box("square", {0.f, 1.f, 0.f}, {0.5f, 1e-4f, 0.5f}));
         s.meshes.back().receiver = false;
         s.light.type = LightType::Rect;
         s.light.position = {0.f, 3.f, 0.f};
         s.light.direction = {0.f, -1.f, 0.f};
         s.light.size = 0.6f;
         s.light.spot_half_angle = 0.9f;
-        s.camera.eye = {0.f, 4.5f, 0.01f};
-        s.camera.target = {0.f, 0.f, 0.f};
-        s.camera.up = {0.f, 0.f, -1.f};
-        s.camera.fovy = 0.6f;
+        s.camera.eye = {0.4f, 1.6f, 3.2f};  // low enough to see the umbra under the occluder
+        s.camera.target = {0.f, 0.2f, 0.f};
+        s.camera.fovy = 0.9f;
         s.analytic = true;
     } else {
         return false;

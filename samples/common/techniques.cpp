@@ -1,0 +1,487 @@
+#include "techniques.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace sk {
+
+double ParamSet::get(const std::string& name, double fallback) const {
+    for (const auto& [k, v] : values)
+        if (k == name) return v;
+    return fallback;
+}
+
+std::string ParamSet::label() const {
+    std::ostringstream s;
+    bool first = true;
+    for (const auto& [k, v] : values) {
+        if (!first) s << ' ';
+        first = false;
+        s << k << '=' << v;
+    }
+    return s.str();
+}
+
+SceneGpu::~SceneGpu() {
+    for (auto& m : meshes) skgl::destroy_mesh(m);
+    skgl::destroy_target(gbuffer);
+}
+
+namespace {
+
+const char* kGbufferVS = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+uniform mat4 u_view_proj;
+out vec3 v_world;
+out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = u_view_proj * vec4(a_position, 1.0);
+}
+)";
+const char* kGbufferFS = R"(#version 450 core
+in vec3 v_world;
+in vec3 v_normal;
+uniform float u_kind;
+layout(location = 0) out vec4 o_position;
+layout(location = 1) out vec4 o_normal;
+void main() {
+    vec3 n = normalize(v_normal);
+    if (!gl_FrontFacing) n = -n;   // two-sided: the side the camera sees
+    o_position = vec4(v_world, u_kind);
+    o_normal = vec4(n, 0.0);
+}
+)";
+
+}  // namespace
+
+bool prepare_scene_gpu(const Scene& scene, int width, int height, SceneGpu& gpu, GBuffer& cpu, std::string& why) {
+    if (width <= 0 || height <= 0) {
+        why = "size must be positive";
+        return false;
+    }
+    gpu.width = width;
+    gpu.height = height;
+    gpu.caster_triangles = 0;
+    for (const auto& m : scene.meshes) {
+        gpu.meshes.push_back(skgl::upload_mesh(&m.positions[0].x, &m.normals[0].x, m.positions.size(), m.indices.data(),
+                                               m.indices.size()));
+        gpu.caster.push_back(m.caster);
+        if (m.caster) gpu.caster_triangles += m.indices.size() / 3;
+    }
+    if (!skgl::make_target(gpu.gbuffer, width, height, {GL_RGBA32F, GL_RGBA32F}, GL_DEPTH32F_STENCIL8, why))
+        return false;
+    std::string log;
+    GLuint prog = skgl::compile_program({{GL_VERTEX_SHADER, kGbufferVS}, {GL_FRAGMENT_SHADER, kGbufferFS}}, log);
+    if (!prog) {
+        why = log;
+        return false;
+    }
+    gpu.view = scene.camera.view();
+    gpu.proj = scene.camera.projection(float(width) / float(height));
+    const glm::mat4 vp = gpu.proj * gpu.view;
+    glBindFramebuffer(GL_FRAMEBUFFER, gpu.gbuffer.fbo);
+    glViewport(0, 0, width, height);
+    const float zero[4] = {0.f, 0.f, 0.f, 0.f};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_COLOR, 1, zero);
+    glClearDepth(1.0);
+    glClearStencil(0);
+    glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(prog);
+    glUniformMatrix4fv(glGetUniformLocation(prog, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(vp));
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+        glUniform1f(glGetUniformLocation(prog, "u_kind"), scene.meshes[i].receiver ? 1.f : 2.f);
+        skgl::draw_mesh(gpu.meshes[i]);
+    }
+    glDeleteProgram(prog);
+    const auto pos = skgl::read_color_float(gpu.gbuffer, 0, 4);
+    const auto nrm = skgl::read_color_float(gpu.gbuffer, 1, 4);
+    const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    cpu.width = width;
+    cpu.height = height;
+    cpu.position.resize(3 * n);
+    cpu.normal.resize(3 * n);
+    cpu.kind.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            cpu.position[3 * k + c] = pos[4 * k + c];
+            cpu.normal[3 * k + c] = nrm[4 * k + c];
+        }
+        cpu.kind[k] = static_cast<std::uint8_t>(std::lround(pos[4 * k + 3]));
+    }
+    const std::string err = skgl::gl_error_string();
+    if (!err.empty()) {
+        why = "G-buffer pass: " + err;
+        return false;
+    }
+    return true;
+}
+
+std::string load_snippet(const std::string& name, std::string& why) {
+    bool ok = false;
+    std::string s = skgl::read_text_file(std::string(SHADOWKIT_SOURCE_DIR) + "/glsl/" + name + ".glsl", &ok);
+    if (!ok) why = "cannot read glsl/" + name + ".glsl";
+    return s;
+}
+
+std::string fullscreen_vertex_shader() {
+    return R"(#version 450 core
+void main() {
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+}
+
+std::string visibility_fragment_shader(const std::string& snippets, const std::string& body) {
+    return std::string("#version 450 core\n") + snippets + "\n" + body + R"(
+layout(binding = 0) uniform sampler2D u_gbuf_position;
+layout(binding = 1) uniform sampler2D u_gbuf_normal;
+uniform int u_light_type;        // 0 point, 1 spot, 2 directional, 3 rect, 4 disk, 5 sphere
+uniform vec3 u_light_position;
+uniform vec3 u_light_direction;
+uniform float u_light_cos_cone;
+layout(location = 0) out float o_visibility;
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec4 pk = texelFetch(u_gbuf_position, px, 0);
+    if (pk.w < 0.5) { o_visibility = 0.0; return; }
+    vec3 p = pk.xyz;
+    vec3 n = texelFetch(u_gbuf_normal, px, 0).xyz;
+    vec3 to_light = u_light_type == 2 ? -u_light_direction : u_light_position - p;
+    bool area = u_light_type >= 3;
+    // the same light rules as the reference: hard lights see nothing behind the tangent plane,
+    // spot lights nothing outside their cone, one-sided emitters nothing behind their plane
+    if (!area && dot(n, to_light) <= 0.0) { o_visibility = 0.0; return; }
+    if (u_light_type == 1 && dot(normalize(p - u_light_position), u_light_direction) < u_light_cos_cone) { o_visibility = 0.0; return; }
+    if ((u_light_type == 3 || u_light_type == 4) && dot(p - u_light_position, u_light_direction) <= 0.0) { o_visibility = 0.0; return; }
+    o_visibility = clamp(technique_visibility(p, n), 0.0, 1.0);
+}
+)";
+}
+
+LightMatrices fit_light(const Scene& s) {
+    LightMatrices m;
+    const glm::vec3 lo = s.bounds_min(), hi = s.bounds_max();
+    const glm::vec3 center = 0.5f * (lo + hi);
+    const float radius = 0.5f * glm::length(hi - lo);
+    const Light& L = s.light;
+    glm::vec3 dir = glm::normalize(L.direction);
+    if (L.type == LightType::Sphere || L.type == LightType::Point) dir = glm::normalize(center - L.position);
+    const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, 1.f, 0.f);
+    if (L.type == LightType::Directional) {
+        m.perspective = false;
+        m.view = glm::lookAt(center - dir * radius * 2.f, center, up);
+        // orthographic fit to the scene's bounding box corners in light space
+        glm::vec3 a(INFINITY), b(-INFINITY);
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+            const glm::vec3 v = glm::vec3(m.view * glm::vec4(c, 1.f));
+            a = glm::min(a, v);
+            b = glm::max(b, v);
+        }
+        m.znear = -b.z - 1e-3f * radius;
+        m.zfar = -a.z + 1e-3f * radius;
+        m.proj = glm::ortho(a.x, b.x, a.y, b.y, m.znear, m.zfar);
+        return m;
+    }
+    m.view = glm::lookAt(L.position, L.position + dir, up);
+    float zmin = INFINITY, zmax = 0.f, tan_max = 0.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+        const glm::vec3 v = glm::vec3(m.view * glm::vec4(c, 1.f));
+        zmax = std::max(zmax, -v.z);
+        zmin = std::min(zmin, -v.z);
+        if (-v.z > 1e-6f) tan_max = std::max(tan_max, std::max(std::abs(v.x), std::abs(v.y)) / -v.z);
+    }
+    m.zfar = zmax * 1.01f;
+    m.znear = std::max(zmin * 0.9f, m.zfar * 2e-3f);
+    float half = L.spot_half_angle;
+    if (L.type == LightType::Sphere) half = std::min(std::atan(tan_max), 1.4f);
+    m.proj = glm::perspective(2.f * half, 1.f, m.znear, m.zfar);
+    return m;
+}
+
+namespace {
+
+void set_light_uniforms(GLuint prog, const Light& L) {
+    glUniform1i(glGetUniformLocation(prog, "u_light_type"), static_cast<int>(L.type));
+    glUniform3fv(glGetUniformLocation(prog, "u_light_position"), 1, glm::value_ptr(L.position));
+    const glm::vec3 d = glm::normalize(L.direction);
+    glUniform3fv(glGetUniformLocation(prog, "u_light_direction"), 1, glm::value_ptr(d));
+    glUniform1f(glGetUniformLocation(prog, "u_light_cos_cone"), std::cos(L.spot_half_angle));
+}
+
+const char* kDepthVS = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_light_view_proj;
+void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
+)";
+const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
+
+// Renders V with a visibility program into an R32F target and reads it back.
+struct VisibilityPass {
+    skgl::Target target;
+    GLuint vao = 0;
+    ~VisibilityPass() {
+        skgl::destroy_target(target);
+        if (vao) glDeleteVertexArrays(1, &vao);
+    }
+    bool init(int w, int h, std::string& why) {
+        glGenVertexArrays(1, &vao);
+        return skgl::make_target(target, w, h, {GL_R32F}, 0, why);
+    }
+    void draw(GLuint prog, const SceneGpu& gpu) {
+        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+        glViewport(0, 0, target.width, target.height);
+        glDisable(GL_DEPTH_TEST);
+        glUseProgram(prog);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[0]);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[1]);
+        glBindVertexArray(vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glBindVertexArray(0);
+    }
+};
+
+// --------------------------------------------------------------------------- unshadowed (V = 1)
+// A deliberately wrong technique: proves that the instrument gives a large error when it should.
+class Unshadowed final : public Technique {
+public:
+    std::string name() const override { return "unshadowed"; }
+    std::string description() const override { return "V = 1 wherever the light's rules allow (no shadows): instrument check"; }
+    bool hard() const override { return true; }
+    bool listed_by_default() const override { return false; }
+    std::vector<ParamSet> sweep(const Scene&, bool) const override { return {ParamSet{}}; }
+    RunResult run(const RunContext& ctx, const ParamSet&) override {
+        RunResult r;
+        std::string why;
+        VisibilityPass pass;
+        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+        std::string log;
+        GLuint prog = skgl::compile_program(
+            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
+             {GL_FRAGMENT_SHADER, visibility_fragment_shader("", "float technique_visibility(vec3 p, vec3 n) { return 1.0; }")}},
+            log);
+        if (!prog) return RunResult::failure(log);
+        glUseProgram(prog);
+        set_light_uniforms(prog, ctx.scene.light);
+        r.gpu_ms = skgl::median_frame_ms([&] { pass.draw(prog, ctx.gpu); }, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        glDeleteProgram(prog);
+        return r;
+    }
+};
+
+// --------------------------------------------------------------------------- plain shadow map
+// Williams 1978 with the hardware 2x2 percentage-closer filter (GL_LINEAR on a compare texture)
+// and slope-scaled polygon offset. Spot/area/sphere lights: one perspective map from the light's
+// centre; directional: orthographic fit to the scene; point: a cube map of six 90-degree faces.
+class PlainShadowMap final : public Technique {
+public:
+    std::string name() const override { return "shadow_map"; }
+    std::string description() const override {
+        return "plain shadow map, 2x2 hardware PCF, slope-scaled polygon offset (baseline)";
+    }
+    bool hard() const override { return true; }
+    std::vector<ParamSet> sweep(const Scene&, bool quick) const override {
+        std::vector<ParamSet> out;
+        const std::vector<int> sizes = quick ? std::vector<int>{512, 2048} : std::vector<int>{512, 1024, 2048, 4096};
+        for (int s : sizes) out.push_back(ParamSet{{{"size", double(s)}}});
+        return out;
+    }
+    RunResult run(const RunContext& ctx, const ParamSet& params) override {
+        const int size = static_cast<int>(params.get("size", 1024));
+        if (ctx.scene.light.type == LightType::Point) return run_cube(ctx, size);
+        RunResult r;
+        std::string why;
+        const auto c0 = std::chrono::steady_clock::now();
+        const LightMatrices lm = fit_light(ctx.scene);
+        const glm::mat4 light_vp = lm.proj * lm.view;
+        r.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count();
+        skgl::Target sm;
+        if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
+        skgl::set_depth_compare(sm.depth, true, true);
+        VisibilityPass pass;
+        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+        const std::string snippet = load_snippet("shadow_map", why);
+        if (snippet.empty()) return RunResult::failure(why);
+        std::string log;
+        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, log);
+        GLuint vis = skgl::compile_program(
+            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
+             {GL_FRAGMENT_SHADER,
+              visibility_fragment_shader(snippet, R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_light_view_proj;
+float technique_visibility(vec3 p, vec3 n) {
+    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
+}
+)")}},
+            log);
+        if (!depth || !vis) return RunResult::failure(log);
+        glUseProgram(vis);
+        set_light_uniforms(vis, ctx.scene.light);
+        glUniformMatrix4fv(glGetUniformLocation(vis, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
+        std::size_t casters = 0;
+        for (bool c : ctx.gpu.caster) casters += c ? 1 : 0;
+        auto frame = [&] {
+            glBindFramebuffer(GL_FRAMEBUFFER, sm.fbo);
+            glViewport(0, 0, size, size);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            glClear(GL_DEPTH_BUFFER_BIT);
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(2.f, 2.f);
+            glUseProgram(depth);
+            glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
+            for (std::size_t i = 0; i < ctx.gpu.meshes.size(); ++i)
+                if (ctx.gpu.caster[i]) skgl::draw_mesh(ctx.gpu.meshes[i]);
+            glDisable(GL_POLYGON_OFFSET_FILL);
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_2D, sm.depth);
+            pass.draw(vis, ctx.gpu);
+        };
+        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        r.gpu_bytes = std::int64_t(size) * size * 4;
+        r.work = {{"shadow_map_texels", double(size) * size},
+                  {"triangles_drawn", double(ctx.gpu.caster_triangles)},
+                  {"casters_drawn", double(casters)},
+                  {"casters_culled", 0.0}};
+        const std::string err = skgl::gl_error_string();
+        glDeleteProgram(depth);
+        glDeleteProgram(vis);
+        skgl::destroy_target(sm);
+        if (!err.empty()) return RunResult::failure(err);
+        return r;
+    }
+
+private:
+    RunResult run_cube(const RunContext& ctx, int size) {
+        RunResult r;
+        std::string why;
+        const Light& L = ctx.scene.light;
+        const glm::vec3 lo = ctx.scene.bounds_min(), hi = ctx.scene.bounds_max();
+        float far_plane = 0.f;
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+            far_plane = std::max(far_plane, glm::length(c - L.position));
+        }
+        far_plane *= 1.01f;
+        const float near_plane = far_plane * 2e-3f;
+        const glm::mat4 proj = glm::perspective(glm::radians(90.f), 1.f, near_plane, far_plane);
+        // cube-map face orientation (GL spec 8.13, major axis -> s, t)
+        const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+        glm::mat4 face_vp[6];
+        for (int f = 0; f < 6; ++f) face_vp[f] = proj * glm::lookAt(L.position, L.position + dirs[f], ups[f]);
+        GLuint cube = 0;
+        glGenTextures(1, &cube);
+        glBindTexture(GL_TEXTURE_CUBE_MAP, cube);
+        glTexStorage2D(GL_TEXTURE_CUBE_MAP, 1, GL_DEPTH_COMPONENT32F, size, size);
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+        GLuint fbo[6];
+        glGenFramebuffers(6, fbo);
+        for (int f = 0; f < 6; ++f) {
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo[f]);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f),
+                                   cube, 0);
+            glDrawBuffer(GL_NONE);
+            glReadBuffer(GL_NONE);
+        }
+        VisibilityPass pass;
+        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+        const std::string snippet = load_snippet("shadow_map", why);
+        if (snippet.empty()) return RunResult::failure(why);
+        std::string log;
+        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, log);
+        GLuint vis = skgl::compile_program(
+            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
+             {GL_FRAGMENT_SHADER,
+              visibility_fragment_shader(snippet, R"(
+layout(binding = 2) uniform samplerCubeShadow u_cube;
+uniform vec3 u_cube_light;
+uniform float u_cube_near;
+uniform float u_cube_far;
+float technique_visibility(vec3 p, vec3 n) {
+    return sk_cube_shadow_visibility(u_cube, u_cube_light, p, u_cube_near, u_cube_far);
+}
+)")}},
+            log);
+        if (!depth || !vis) return RunResult::failure(log);
+        glUseProgram(vis);
+        set_light_uniforms(vis, L);
+        glUniform3fv(glGetUniformLocation(vis, "u_cube_light"), 1, glm::value_ptr(L.position));
+        glUniform1f(glGetUniformLocation(vis, "u_cube_near"), near_plane);
+        glUniform1f(glGetUniformLocation(vis, "u_cube_far"), far_plane);
+        auto frame = [&] {
+            glUseProgram(depth);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(2.f, 2.f);
+            for (int f = 0; f < 6; ++f) {
+                glBindFramebuffer(GL_FRAMEBUFFER, fbo[f]);
+                glViewport(0, 0, size, size);
+                glClear(GL_DEPTH_BUFFER_BIT);
+                glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE,
+                                   glm::value_ptr(face_vp[f]));
+                for (std::size_t i = 0; i < ctx.gpu.meshes.size(); ++i)
+                    if (ctx.gpu.caster[i]) skgl::draw_mesh(ctx.gpu.meshes[i]);
+            }
+            glDisable(GL_POLYGON_OFFSET_FILL);
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_CUBE_MAP, cube);
+            pass.draw(vis, ctx.gpu);
+        };
+        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        r.gpu_bytes = std::int64_t(size) * size * 4 * 6;
+        std::size_t casters = 0;
+        for (bool c : ctx.gpu.caster) casters += c ? 1 : 0;
+        r.work = {{"shadow_map_texels", 6.0 * size * size},
+                  {"triangles_drawn", 6.0 * double(ctx.gpu.caster_triangles)},
+                  {"casters_drawn", 6.0 * double(casters)},
+                  {"casters_culled", 0.0}};
+        const std::string err = skgl::gl_error_string();
+        glDeleteFramebuffers(6, fbo);
+        glDeleteTextures(1, &cube);
+        glDeleteProgram(depth);
+        glDeleteProgram(vis);
+        if (!err.empty()) return RunResult::failure(err);
+        return r;
+    }
+};
+
+}  // namespace
+
+std::vector<std::unique_ptr<Technique>> make_techniques() {
+    std::vector<std::unique_ptr<Technique>> t;
+    t.push_back(std::make_unique<PlainShadowMap>());
+    t.push_back(std::make_unique<Unshadowed>());
+    return t;
+}
+
+}  // namespace sk

@@ -1,0 +1,324 @@
+// shadowkit-report: every technique's error against a ray-traced reference, against its run time.
+//
+//   shadowkit-report [--out DIR] [--scenes a,b] [--techniques x,y] [--mesh FILE]... [--size WxH]
+//                    [--frames N] [--quick] [--list]
+//
+// Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
+// one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+#include <string>
+#include <vector>
+
+#include "gl_harness.hpp"
+#include "metrics.hpp"
+#include "reference.hpp"
+#include "report_writer.hpp"
+#include "scene.hpp"
+#include "techniques.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Options {
+    std::string out = "report";
+    std::vector<std::string> scenes, techniques, meshes;
+    int width = 400, height = 300;
+    int frames = 20;
+    bool frames_set = false, size_set = false;
+    bool quick = false, list = false;
+};
+
+int fail(const std::string& msg) {
+    std::fprintf(stderr, "shadowkit-report: %s\n", msg.c_str());
+    return 2;
+}
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+bool parse_int(const char* s, int& v) {
+    char* end = nullptr;
+    const long x = std::strtol(s, &end, 10);
+    if (end == s || *end != '\0' || x < 0 || x > 1000000) return false;
+    v = static_cast<int>(x);
+    return true;
+}
+
+const char* kUsage =
+    "usage: shadowkit-report [--out DIR] [--scenes a,b] [--techniques x,y] [--mesh FILE]... [--size WxH]\n"
+    "                        [--frames N] [--quick] [--list]\n";
+
+std::string cpu_name() {
+    std::ifstream f("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(f, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto c = line.find(':');
+            if (c != std::string::npos) return line.substr(c + 2);
+        }
+    return "unknown CPU";
+}
+
+std::string sanitize(std::string s) {
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+    return s;
+}
+
+void write_visibility_png(const std::string& path, const sk::GBuffer& g, const std::vector<float>& v) {
+    std::vector<std::uint8_t> px(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k)
+        px[k] = g.kind[k] == 0 ? std::uint8_t(40)
+                               : static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(double(v[k]), 0.0, 1.0)));
+    skgl::write_png(path, g.width, g.height, 1, px.data());
+}
+
+// Signed error heat map: red = too bright (light leaks), blue = too dark, white = exact.
+void write_error_png(const std::string& path, const sk::GBuffer& g, const sk::Reference& ref, const std::vector<float>& v) {
+    std::vector<std::uint8_t> px(v.size() * 3);
+    for (std::size_t k = 0; k < v.size(); ++k) {
+        std::uint8_t rgb[3] = {90, 90, 90};
+        if (g.kind[k] == 1 && ref.faces_light[k]) {
+            const double e = std::clamp(double(v[k]) - double(ref.visibility[k]), -1.0, 1.0);
+            const auto a = static_cast<std::uint8_t>(std::lround(255.0 * (1.0 - std::abs(e))));
+            if (e >= 0) {
+                rgb[0] = 255; rgb[1] = a; rgb[2] = a;
+            } else {
+                rgb[0] = a; rgb[1] = a; rgb[2] = 255;
+            }
+        } else if (g.kind[k] != 0) {
+            rgb[0] = rgb[1] = rgb[2] = 150;
+        }
+        std::memcpy(&px[3 * k], rgb, 3);
+    }
+    skgl::write_png(path, g.width, g.height, 3, px.data());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    std::string command = "shadowkit-report";
+    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&](const char* name) -> const char* {
+            if (i + 1 >= argc) return nullptr;
+            (void)name;
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            return 0;
+        } else if (a == "--list") {
+            o.list = true;
+        } else if (a == "--quick") {
+            o.quick = true;
+        } else if (a == "--out") {
+            const char* v = value("--out");
+            if (!v || !*v) return fail("--out needs a directory");
+            o.out = v;
+        } else if (a == "--scenes") {
+            const char* v = value("--scenes");
+            if (!v) return fail("--scenes needs a comma-separated list");
+            o.scenes = split(v);
+        } else if (a == "--techniques") {
+            const char* v = value("--techniques");
+            if (!v) return fail("--techniques needs a comma-separated list");
+            o.techniques = split(v);
+        } else if (a == "--mesh") {
+            const char* v = value("--mesh");
+            if (!v) return fail("--mesh needs a file");
+            o.meshes.push_back(v);
+        } else if (a == "--size") {
+            const char* v = value("--size");
+            int w = 0, h = 0;
+            char x = 0;
+            char tail = 0;
+            if (!v || std::sscanf(v, "%d%c%d%c", &w, &x, &h, &tail) != 3 || (x != 'x' && x != 'X'))
+                return fail(std::string("--size wants WxH, got '") + (v ? v : "") + "'");
+            if (w <= 0 || h <= 0 || w > 8192 || h > 8192)
+                return fail(std::string("--size must be between 1x1 and 8192x8192, got '") + v + "'");
+            o.width = w;
+            o.height = h;
+            o.size_set = true;
+        } else if (a == "--frames") {
+            const char* v = value("--frames");
+            if (!v || !parse_int(v, o.frames) || o.frames < 1) return fail("--frames wants a positive integer");
+            o.frames_set = true;
+        } else {
+            return fail("unknown argument '" + a + "'\n" + kUsage);
+        }
+    }
+    auto techniques = sk::make_techniques();
+    const auto scene_names = sk::builtin_scene_names();
+    if (o.list) {
+        std::printf("scenes:\n");
+        for (const auto& n : scene_names) {
+            sk::Scene s;
+            sk::make_builtin_scene(n, s);
+            std::printf("  %-10s %s\n", n.c_str(), s.description.c_str());
+        }
+        std::printf("techniques:\n");
+        for (const auto& t : techniques)
+            std::printf("  %-12s %s%s\n", t->name().c_str(), t->description().c_str(),
+                        t->listed_by_default() ? "" : " [only when named]");
+        return 0;
+    }
+    if (o.quick) {
+        if (!o.size_set) {
+            o.width = 256;
+            o.height = 192;
+        }
+        if (!o.frames_set) o.frames = 10;
+    }
+    // what to run
+    std::vector<sk::Scene> scenes;
+    std::vector<std::string> wanted = o.scenes;
+    if (wanted.empty() && o.meshes.empty())
+        for (const auto& n : scene_names)
+            if (n != "square") wanted.push_back(n);
+    for (const auto& n : wanted) {
+        sk::Scene s;
+        if (!sk::make_builtin_scene(n, s)) return fail("unknown scene '" + n + "' (see --list)");
+        scenes.push_back(std::move(s));
+    }
+    for (const auto& m : o.meshes) {
+        sk::Scene s;
+        std::string why;
+        if (!sk::load_mesh_scene(m, s, why)) return fail(why);
+        scenes.push_back(std::move(s));
+    }
+    std::vector<sk::Technique*> chosen;
+    if (o.techniques.empty()) {
+        for (auto& t : techniques)
+            if (t->listed_by_default()) chosen.push_back(t.get());
+    } else {
+        for (const auto& n : o.techniques) {
+            auto it = std::find_if(techniques.begin(), techniques.end(), [&](const auto& t) { return t->name() == n; });
+            if (it == techniques.end()) return fail("unknown technique '" + n + "' (see --list)");
+            chosen.push_back(it->get());
+        }
+    }
+    std::error_code ec;
+    fs::create_directories(fs::path(o.out) / "images", ec);
+    if (ec) return fail("cannot create output directory '" + o.out + "': " + ec.message());
+
+    std::string why;
+    auto gl = skgl::create_context(why);
+    if (!gl) return fail("no OpenGL 4.5 context: " + why);
+    std::fprintf(stderr, "shadowkit-report: %s, %zu scenes x %zu techniques at %dx%d\n", gl->renderer.c_str(),
+                 scenes.size(), chosen.size(), o.width, o.height);
+
+    skr::ReportInfo info;
+    info.renderer = gl->renderer;
+    info.gl_version = gl->version;
+    info.cpu = cpu_name() + " (" + std::to_string(std::max(1u, std::thread::hardware_concurrency())) + " threads)";
+    {
+        const std::time_t now = std::time(nullptr);
+        char b[32];
+        std::strftime(b, sizeof b, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+        info.date = b;
+    }
+    info.command = command;
+    info.width = o.width;
+    info.height = o.height;
+    info.frames = o.frames;
+    info.quick = o.quick;
+
+    std::vector<skr::Row> rows;
+    std::vector<skr::SceneInfo> infos;
+    for (const auto& scene : scenes) {
+        sk::SceneGpu gpu;
+        sk::GBuffer g;
+        skr::SceneInfo si;
+        si.name = scene.name;
+        si.description = scene.description;
+        si.triangles = scene.triangle_count();
+        if (!sk::prepare_scene_gpu(scene, o.width, o.height, gpu, g, why)) {
+            std::fprintf(stderr, "shadowkit-report: scene %s: %s\n", scene.name.c_str(), why.c_str());
+            continue;
+        }
+        sk::ReferenceOptions ro;
+        ro.strata = o.quick ? 16 : 32;
+        sk::Reference ref;
+        if (!sk::cached_reference(scene, g, ro, (fs::path(o.out) / "cache").string(), ref, why)) {
+            std::fprintf(stderr, "shadowkit-report: reference for %s: %s\n", scene.name.c_str(), why.c_str());
+            continue;
+        }
+        si.ref_samples = ref.samples_per_pixel;
+        si.ref_stderr = ref.stderr_rms;
+        si.ref_seconds = ref.seconds;
+        si.ref_cached = ref.from_cache;
+        const std::string stem = sanitize(scene.name);
+        si.reference_image = "images/" + stem + "__reference.png";
+        write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
+        infos.push_back(si);
+        for (sk::Technique* t : chosen) {
+            for (const auto& ps : t->sweep(scene, o.quick)) {
+                skr::Row r;
+                r.technique = t->name();
+                r.params = ps.values;
+                r.params_label = ps.label();
+                r.scene = scene.name;
+                r.width = o.width;
+                r.height = o.height;
+                r.ref_samples = ref.samples_per_pixel;
+                r.ref_stderr = ref.stderr_rms;
+                std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
+                sk::RunContext ctx{scene, gpu, o.frames, 3};
+                sk::RunResult res = t->run(ctx, ps);
+                if (res.ok && res.visibility.size() != g.kind.size()) {
+                    res.ok = false;
+                    res.error = "technique returned a visibility image of the wrong size";
+                }
+                if (!res.ok) {
+                    r.failed = true;
+                    r.error = res.error.substr(0, res.error.find('\n'));
+                    std::fprintf(stderr, " failed: %s\n", r.error.c_str());
+                    rows.push_back(r);
+                    continue;
+                }
+                r.m = sk::compute_metrics(g, ref, res.visibility, t->hard());
+                r.gpu_ms = res.gpu_ms;
+                r.cpu_ms = res.cpu_ms;
+                r.frames = res.frames;
+                r.gpu_bytes = res.gpu_bytes;
+                r.work = res.work;
+                const std::string base = "images/" + stem + "__" + sanitize(t->name()) + "__" + sanitize(r.params_label);
+                r.image_v = base + "_V.png";
+                r.image_err = base + "_err.png";
+                write_visibility_png((fs::path(o.out) / r.image_v).string(), g, res.visibility);
+                write_error_png((fs::path(o.out) / r.image_err).string(), g, ref, res.visibility);
+                std::fprintf(stderr, " rmse %.4f  %.2f ms\n", r.m.rmse, r.gpu_ms);
+                rows.push_back(r);
+            }
+        }
+    }
+    skr::mark_pareto(rows);
+    const fs::path out(o.out);
+    bool ok = skr::write_json((out / "report.json").string(), info, rows);
+    ok = skr::write_markdown((out / "report.md").string(), info, infos, rows) && ok;
+    ok = skr::write_svg((out / "error_vs_time.svg").string(), infos, rows) && ok;
+    if (!ok) return fail("cannot write the report files in '" + o.out + "'");
+    std::fprintf(stderr, "shadowkit-report: wrote %s/report.md, report.json, error_vs_time.svg (%zu rows)\n",
+                 o.out.c_str(), rows.size());
+    return infos.size() == scenes.size() ? 0 : 1;
+}

@@ -1,0 +1,261 @@
+#include "report_writer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace skr {
+
+void mark_pareto(std::vector<Row>& rows) {
+    for (auto& r : rows) {
+        if (r.failed) continue;
+        r.pareto = true;
+        for (const auto& o : rows) {
+            if (&o == &r || o.failed || o.scene != r.scene) continue;
+            const bool no_worse = o.gpu_ms + o.cpu_ms <= r.gpu_ms + r.cpu_ms && o.m.rmse <= r.m.rmse;
+            const bool better = o.gpu_ms + o.cpu_ms < r.gpu_ms + r.cpu_ms || o.m.rmse < r.m.rmse;
+            if (no_worse && better) {
+                r.pareto = false;
+                break;
+            }
+        }
+    }
+}
+
+std::string json_escape(const std::string& s) {
+    std::string o;
+    for (char c : s) {
+        switch (c) {
+            case '"': o += "\\\""; break;
+            case '\\': o += "\\\\"; break;
+            case '\n': o += "\\n"; break;
+            case '\t': o += "\\t"; break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20) {
+                    char b[8];
+                    std::snprintf(b, sizeof b, "\\u%04x", c);
+                    o += b;
+                } else {
+                    o += c;
+                }
+        }
+    }
+    return o;
+}
+
+static std::string num(double v) {
+    if (!std::isfinite(v)) return "null";
+    char b[40];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows) {
+    std::ofstream f(path);
+    if (!f) return false;
+    f << "{\n  \"renderer\": \"" << json_escape(info.renderer) << "\",\n  \"gl_version\": \""
+      << json_escape(info.gl_version) << "\",\n  \"cpu\": \"" << json_escape(info.cpu) << "\",\n  \"date\": \""
+      << json_escape(info.date) << "\",\n  \"quick\": " << (info.quick ? "true" : "false") << ",\n  \"rows\": [";
+    bool first = true;
+    for (const auto& r : rows) {
+        f << (first ? "\n" : ",\n") << "    {\"technique\": \"" << json_escape(r.technique) << "\", \"params\": {";
+        first = false;
+        for (std::size_t i = 0; i < r.params.size(); ++i)
+            f << (i ? ", " : "") << "\"" << json_escape(r.params[i].first) << "\": " << num(r.params[i].second);
+        f << "}, \"scene\": \"" << json_escape(r.scene) << "\", \"width\": " << r.width << ", \"height\": " << r.height;
+        if (r.failed) {
+            f << ", \"failed\": \"" << json_escape(r.error) << "\"";
+            f << ", \"rmse\": null, \"mean_abs\": null, \"p99_abs\": null, \"penumbra_rmse\": null, \"misclassified\": null"
+              << ", \"gpu_ms\": null, \"cpu_ms\": null, \"frames\": 0, \"gpu_bytes\": 0, \"work\": {}";
+        } else {
+            f << ", \"rmse\": " << num(r.m.rmse) << ", \"mean_abs\": " << num(r.m.mean_abs)
+              << ", \"p99_abs\": " << num(r.m.p99_abs)
+              << ", \"penumbra_rmse\": " << (r.m.has_penumbra ? num(r.m.penumbra_rmse) : "null")
+              << ", \"misclassified\": " << (r.m.has_misclassified ? num(r.m.misclassified) : "null")
+              << ", \"gpu_ms\": " << num(r.gpu_ms) << ", \"cpu_ms\": " << num(r.cpu_ms) << ", \"frames\": " << r.frames
+              << ", \"gpu_bytes\": " << r.gpu_bytes << ", \"work\": {";
+            for (std::size_t i = 0; i < r.work.size(); ++i)
+                f << (i ? ", " : "") << "\"" << json_escape(r.work[i].first) << "\": " << num(r.work[i].second);
+            f << "}, \"pixels\": " << r.m.pixels << ", \"penumbra_pixels\": " << r.m.penumbra_pixels
+              << ", \"pareto\": " << (r.pareto ? "true" : "false");
+        }
+        f << ", \"ref_samples\": " << r.ref_samples << ", \"ref_stderr\": " << num(r.ref_stderr) << "}";
+    }
+    f << "\n  ]\n}\n";
+    return static_cast<bool>(f);
+}
+
+static std::string fmt(const char* spec, double v) {
+    char b[48];
+    std::snprintf(b, sizeof b, spec, v);
+    return b;
+}
+
+static std::string work_text(const Row& r) {
+    std::string s;
+    for (const auto& [k, v] : r.work) {
+        if (!s.empty()) s += ", ";
+        s += k + " " + (v >= 1e6 ? fmt("%.3gM", v / 1e6) : fmt("%.0f", v));
+    }
+    return s;
+}
+
+bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
+                    const std::vector<Row>& rows) {
+    std::ofstream f(path);
+    if (!f) return false;
+    f << "# shadowkit report: error against run time\n\n";
+    f << "- renderer: `" << info.renderer << "` (" << info.gl_version << ")\n";
+    f << "- CPU: " << info.cpu << "\n- date: " << info.date << "\n";
+    f << "- image: " << info.width << "x" << info.height << " camera pixels; GPU time = median of " << info.frames
+      << " frames after warm-up (glFinish + steady clock" << (info.renderer.find("llvmpipe") != std::string::npos ? ", llvmpipe: software rasterizer" : "")
+      << ")" << (info.quick ? "; **--quick** run" : "") << "\n";
+    f << "- error: |V - V_ref| over receiver pixels facing the light; V_ref ray traced with Embree from the same "
+         "G-buffer points. Penumbra RMSE: pixels with 0 < V_ref < 1. Misclassified: hard techniques, pixels "
+         "away from 1-pixel edges of round(V_ref).\n";
+    f << "- command: `" << info.command << "`\n\n";
+    f << "![error against time](error_vs_time.svg)\n\n";
+    for (const auto& sc : scenes) {
+        std::vector<const Row*> rs;
+        for (const auto& r : rows)
+            if (r.scene == sc.name) rs.push_back(&r);
+        // best error-for-time first: the Pareto front by time, then the rest by RMSE
+        std::stable_sort(rs.begin(), rs.end(), [](const Row* a, const Row* b) {
+            if (a->failed != b->failed) return !a->failed;
+            if (a->pareto != b->pareto) return a->pareto;
+            if (a->pareto) return a->gpu_ms + a->cpu_ms < b->gpu_ms + b->cpu_ms;
+            return a->m.rmse < b->m.rmse;
+        });
+        f << "## " << sc.name << "\n\n" << sc.description << " (" << sc.triangles << " triangles). Reference: "
+          << sc.ref_samples << " shadow rays per pixel";
+        if (sc.ref_samples > 1) f << ", standard error " << fmt("%.4f", sc.ref_stderr) << " RMS";
+        f << (sc.ref_cached ? " (cached)" : fmt(", %.1f s", sc.ref_seconds)) << ".\n\n";
+        double min_err = INFINITY;
+        for (const Row* r : rs)
+            if (!r->failed && r->m.rmse > 0.0) min_err = std::min(min_err, r->m.rmse);
+        if (sc.ref_samples > 1 && std::isfinite(min_err))
+            f << "Reference error / smallest RMSE judged: " << fmt("%.3f", sc.ref_stderr / min_err)
+              << (sc.ref_stderr <= 0.1 * min_err ? " (below 1/10: the reference is accurate enough)" : " (**above 1/10**)")
+              << ".\n\n";
+        f << "| technique | params | RMSE | mean abs | p99 abs | penumbra RMSE | misclassified | GPU ms | CPU ms | GPU MiB | work |\n";
+        f << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+        for (const Row* r : rs) {
+            if (r->failed) {
+                f << "| " << r->technique << " | " << r->params_label << " | failed: " << r->error
+                  << " | | | | | | | | |\n";
+                continue;
+            }
+            f << "| " << (r->pareto ? "**" + r->technique + "**" : r->technique) << " | " << r->params_label << " | "
+              << fmt("%.4f", r->m.rmse) << " | " << fmt("%.4f", r->m.mean_abs) << " | " << fmt("%.3f", r->m.p99_abs)
+              << " | " << (r->m.has_penumbra ? fmt("%.4f", r->m.penumbra_rmse) : "-") << " | "
+              << (r->m.has_misclassified ? fmt("%.2f%%", 100.0 * r->m.misclassified) : "-") << " | "
+              << fmt("%.2f", r->gpu_ms) << " | " << fmt("%.3f", r->cpu_ms) << " | "
+              << fmt("%.2f", double(r->gpu_bytes) / 1048576.0) << " | " << work_text(*r) << " |\n";
+        }
+        f << "\nBold: on the Pareto front (no other row is both faster and more accurate). Images: reference `"
+          << sc.reference_image << "`";
+        if (!rs.empty() && !rs.front()->failed)
+            f << ", best row `" << rs.front()->image_v << "` and its signed error `" << rs.front()->image_err << "`";
+        f << ".\n\n";
+    }
+    return static_cast<bool>(f);
+}
+
+bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    std::ofstream f(path);
+    if (!f) return false;
+    const int pw = 440, ph = 300, cols = 2;
+    const int n = static_cast<int>(scenes.size());
+    const int nrows = (n + cols - 1) / cols;
+    const int W = pw * cols, H = ph * std::max(nrows, 1);
+    static const char* palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
+                                    "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+    std::map<std::string, int> color;
+    for (const auto& r : rows)
+        if (!color.count(r.technique)) color[r.technique] = static_cast<int>(color.size()) % 10;
+    f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    for (int si = 0; si < n; ++si) {
+        const auto& sc = scenes[static_cast<std::size_t>(si)];
+        const int ox = (si % cols) * pw, oy = (si / cols) * ph;
+        const int l = ox + 55, r = ox + pw - 15, t = oy + 25, b = oy + ph - 40;
+        std::vector<const Row*> rs;
+        for (const auto& row : rows)
+            if (row.scene == sc.name && !row.failed) rs.push_back(&row);
+        f << "<text x=\"" << ox + pw / 2 << "\" y=\"" << oy + 15 << "\" text-anchor=\"middle\" font-weight=\"bold\">"
+          << sc.name << "</text>\n";
+        f << "<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << r - l << "\" height=\"" << b - t
+          << "\" fill=\"none\" stroke=\"#444\"/>\n";
+        if (rs.empty()) continue;
+        double tmin = INFINITY, tmax = 0.0, emax = 0.0;
+        for (const Row* row : rs) {
+            const double tt = std::max(row->gpu_ms + row->cpu_ms, 1e-3);
+            tmin = std::min(tmin, tt);
+            tmax = std::max(tmax, tt);
+            emax = std::max(emax, row->m.rmse);
+        }
+        double lx0 = std::floor(std::log10(tmin)), lx1 = std::ceil(std::log10(tmax));
+        if (lx1 <= lx0) lx1 = lx0 + 1;
+        emax = emax > 0 ? emax * 1.1 : 1.0;
+        auto X = [&](double ms) { return l + (std::log10(std::max(ms, 1e-3)) - lx0) / (lx1 - lx0) * (r - l); };
+        auto Y = [&](double e) { return b - e / emax * (b - t); };
+        for (double d = lx0; d <= lx1 + 1e-9; d += 1.0) {
+            const double x = l + (d - lx0) / (lx1 - lx0) * (r - l);
+            f << "<line x1=\"" << x << "\" y1=\"" << t << "\" x2=\"" << x << "\" y2=\"" << b
+              << "\" stroke=\"#ddd\"/><text x=\"" << x << "\" y=\"" << b + 14 << "\" text-anchor=\"middle\">"
+              << fmt("%g", std::pow(10.0, d)) << "</text>\n";
+        }
+        for (int k = 0; k <= 4; ++k) {
+            const double e = emax * k / 4.0;
+            f << "<line x1=\"" << l << "\" y1=\"" << Y(e) << "\" x2=\"" << r << "\" y2=\"" << Y(e)
+              << "\" stroke=\"#eee\"/><text x=\"" << l - 4 << "\" y=\"" << Y(e) + 4 << "\" text-anchor=\"end\">"
+              << fmt("%.3g", e) << "</text>\n";
+        }
+        f << "<text x=\"" << (l + r) / 2 << "\" y=\"" << b + 30 << "\" text-anchor=\"middle\">time per frame, ms (log)</text>\n";
+        f << "<text x=\"" << ox + 12 << "\" y=\"" << (t + b) / 2 << "\" transform=\"rotate(-90 " << ox + 12 << ' '
+          << (t + b) / 2 << ")\" text-anchor=\"middle\">RMSE</text>\n";
+        // one polyline per technique (its parameter sweep, in sweep order)
+        std::map<std::string, std::vector<const Row*>> by_tech;
+        for (const Row* row : rs) by_tech[row->technique].push_back(row);
+        int legend = 0;
+        for (const auto& [tech, list] : by_tech) {
+            const char* col = palette[color[tech]];
+            f << "<polyline fill=\"none\" stroke=\"" << col << "\" stroke-width=\"1.5\" points=\"";
+            for (const Row* row : list) f << X(row->gpu_ms + row->cpu_ms) << ',' << Y(row->m.rmse) << ' ';
+            f << "\"/>\n";
+            for (const Row* row : list)
+                f << "<circle cx=\"" << X(row->gpu_ms + row->cpu_ms) << "\" cy=\"" << Y(row->m.rmse) << "\" r=\"3\" fill=\""
+                  << col << "\"><title>" << tech << ' ' << row->params_label << ": " << fmt("%.4f", row->m.rmse) << " @ "
+                  << fmt("%.2f ms", row->gpu_ms + row->cpu_ms) << "</title></circle>\n";
+            f << "<text x=\"" << r - 5 << "\" y=\"" << t + 14 + 13 * legend++ << "\" text-anchor=\"end\" fill=\"" << col
+              << "\">" << tech << "</text>\n";
+        }
+        // the Pareto front: rings and a dashed staircase
+        std::vector<const Row*> front;
+        for (const Row* row : rs)
+            if (row->pareto) front.push_back(row);
+        std::sort(front.begin(), front.end(),
+                  [](const Row* a, const Row* c) { return a->gpu_ms + a->cpu_ms < c->gpu_ms + c->cpu_ms; });
+        if (!front.empty()) {
+            f << "<polyline fill=\"none\" stroke=\"black\" stroke-dasharray=\"4 3\" points=\"";
+            for (std::size_t i = 0; i < front.size(); ++i) {
+                const double x = X(front[i]->gpu_ms + front[i]->cpu_ms), y = Y(front[i]->m.rmse);
+                if (i) f << x << ',' << Y(front[i - 1]->m.rmse) << ' ';
+                f << x << ',' << y << ' ';
+            }
+            f << "\"/>\n";
+            for (const Row* row : front)
+                f << "<circle cx=\"" << X(row->gpu_ms + row->cpu_ms) << "\" cy=\"" << Y(row->m.rmse)
+                  << "\" r=\"6\" fill=\"none\" stroke=\"black\"/>\n";
+            f << "<text x=\"" << r - 5 << "\" y=\"" << b - 6 << "\" text-anchor=\"end\">rings: Pareto front</text>\n";
+        }
+    }
+    f << "</svg>\n";
+    return static_cast<bool>(f);
+}
+
+}  // namespace skr
