@@ -91,8 +91,9 @@ static std::string numbered(const std::string& src) {
     return out.str();
 }
 
-GLuint compile_program(const std::vector<ShaderStage>& stages, std::string& log) {
+GLuint compile_program(const std::vector<ShaderStage>& stages, std::string& log, bool separable) {
     GLuint prog = glCreateProgram();
+    if (separable) glProgramParameteri(prog, GL_PROGRAM_SEPARABLE, GL_TRUE);
     std::vector<GLuint> shaders;
     bool ok = true;
     for (const auto& s : stages) {

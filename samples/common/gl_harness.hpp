@@ -47,8 +47,9 @@ struct ShaderStage {
 };
 
 // Compiles and links; returns 0 and a readable log (stage name, numbered source lines near
-// the error) on failure.
-GLuint compile_program(const std::vector<ShaderStage>& stages, std::string& log);
+// the error) on failure. `separable` links a program of any subset of stages on its own
+// (GL_PROGRAM_SEPARABLE), so a single fragment stage with free inputs links too.
+GLuint compile_program(const std::vector<ShaderStage>& stages, std::string& log, bool separable = false);
 
 // Reads a text file (GLSL snippet); empty string and `ok == false` if unreadable.
 std::string read_text_file(const std::string& path, bool* ok = nullptr);

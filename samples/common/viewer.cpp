@@ -1,0 +1,239 @@
+#include "viewer.hpp"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "gl_harness.hpp"
+#include "scene.hpp"
+#include "techniques.hpp"
+
+namespace sk {
+
+namespace {
+
+struct ViewerOptions {
+    std::string scene = "contact";
+    std::string headless;  // PNG path
+    int width = 800, height = 600;
+    ParamSet params;
+    bool params_set = false;
+};
+
+// Simple shading so the sample shows something a person recognises: albedo * (ambient + V * N.L).
+std::vector<std::uint8_t> shade(const Scene& scene, const GBuffer& g, const std::vector<float>& v) {
+    std::vector<std::uint8_t> rgb(g.kind.size() * 3);
+    for (std::size_t k = 0; k < g.kind.size(); ++k) {
+        glm::vec3 c(0.18f, 0.2f, 0.24f);
+        if (g.kind[k] != 0) {
+            const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+            const glm::vec3 n(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+            const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
+                                                                           : glm::normalize(scene.light.position - p);
+            const float ndl = std::max(0.f, glm::dot(n, l));
+            const glm::vec3 albedo = g.kind[k] == 1 ? glm::vec3(0.85f, 0.82f, 0.75f) : glm::vec3(0.6f, 0.7f, 0.9f);
+            c = albedo * (0.15f + 0.85f * v[k] * ndl);
+        }
+        for (int i = 0; i < 3; ++i)
+            rgb[3 * k + static_cast<std::size_t>(i)] =
+                static_cast<std::uint8_t>(std::lround(255.f * std::pow(std::clamp(c[i], 0.f, 1.f), 1.f / 2.2f)));
+    }
+    return rgb;
+}
+
+bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, std::vector<std::uint8_t>& rgb,
+            std::string& why) {
+    SceneGpu gpu;
+    GBuffer g;
+    if (!prepare_scene_gpu(scene, w, h, gpu, g, why)) return false;
+    RunContext ctx{scene, gpu, 1, 0};
+    RunResult r = t.run(ctx, ps);
+    if (!r.ok) {
+        why = r.error;
+        return false;
+    }
+    rgb = shade(scene, g, r.visibility);
+    return true;
+}
+
+struct Orbit {
+    float yaw = 0.f, pitch = 0.f;
+    bool dragging = false;
+    double x = 0.0, y = 0.0;
+};
+
+}  // namespace
+
+int run_viewer(int argc, char** argv, const std::string& technique_name) {
+    ViewerOptions o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--scene" && i + 1 < argc) {
+            o.scene = argv[++i];
+        } else if (a == "--headless" && i + 1 < argc) {
+            o.headless = argv[++i];
+        } else if (a == "--size" && i + 1 < argc) {
+            if (std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) != 2 || o.width <= 0 || o.height <= 0) {
+                std::fprintf(stderr, "%s: --size wants WxH\n", argv[0]);
+                return 2;
+            }
+        } else if (a == "--param" && i + 1 < argc) {
+            const std::string kv = argv[++i];
+            const auto eq = kv.find('=');
+            if (eq == std::string::npos) {
+                std::fprintf(stderr, "%s: --param wants name=value\n", argv[0]);
+                return 2;
+            }
+            o.params.values.emplace_back(kv.substr(0, eq), std::atof(kv.c_str() + eq + 1));
+            o.params_set = true;
+        } else {
+            std::fprintf(stderr,
+                         "usage: %s [--scene NAME] [--headless OUT.png] [--size WxH] [--param name=value]...\n",
+                         argv[0]);
+            return a == "--help" ? 0 : 2;
+        }
+    }
+    auto techniques = make_techniques();
+    Technique* tech = nullptr;
+    for (auto& t : techniques)
+        if (t->name() == technique_name) tech = t.get();
+    if (!tech) {
+        std::fprintf(stderr, "%s: technique '%s' is not built in\n", argv[0], technique_name.c_str());
+        return 2;
+    }
+    Scene scene;
+    if (!make_builtin_scene(o.scene, scene)) {
+        std::fprintf(stderr, "%s: unknown scene '%s'\n", argv[0], o.scene.c_str());
+        return 2;
+    }
+    auto sweep = tech->sweep(scene, false);
+    ParamSet ps = o.params_set ? o.params : (sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2]);
+    std::string why;
+
+    if (!o.headless.empty()) {
+        auto gl = skgl::create_context(why);
+        if (!gl) {
+            std::fprintf(stderr, "%s: no headless GL context: %s\n", argv[0], why.c_str());
+            return 1;
+        }
+        std::vector<std::uint8_t> rgb;
+        if (!render(scene, *tech, ps, o.width, o.height, rgb, why)) {
+            std::fprintf(stderr, "%s: %s\n", argv[0], why.c_str());
+            return 1;
+        }
+        if (!skgl::write_png(o.headless, o.width, o.height, 3, rgb.data())) {
+            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], o.headless.c_str());
+            return 1;
+        }
+        std::printf("%s: %s on %s (%s) -> %s\n", argv[0], technique_name.c_str(), o.scene.c_str(), ps.label().c_str(),
+                    o.headless.c_str());
+        return 0;
+    }
+
+    if (!glfwInit()) {
+        std::fprintf(stderr, "%s: glfwInit failed (no display? use --headless OUT.png or xvfb-run)\n", argv[0]);
+        return 1;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    GLFWwindow* win = glfwCreateWindow(o.width, o.height, ("shadowkit: " + technique_name).c_str(), nullptr, nullptr);
+    if (!win) {
+        std::fprintf(stderr, "%s: cannot create a GL 4.5 core window\n", argv[0]);
+        glfwTerminate();
+        return 1;
+    }
+    glfwMakeContextCurrent(win);
+    glfwSwapInterval(1);
+    const auto names = builtin_scene_names();
+    std::size_t scene_index = static_cast<std::size_t>(
+        std::find(names.begin(), names.end(), o.scene) - names.begin());
+    Orbit orbit;
+    const Camera base_camera = scene.camera;
+    bool dirty = true;
+    GLuint tex = 0, fbo = 0;
+    glGenTextures(1, &tex);
+    glGenFramebuffers(1, &fbo);
+    int last_key_state[GLFW_KEY_LAST + 1] = {};
+    int shown_w = 0, shown_h = 0;
+    while (!glfwWindowShouldClose(win)) {
+        auto pressed = [&](int key) {
+            const int s = glfwGetKey(win, key);
+            const bool edge = s == GLFW_PRESS && last_key_state[key] != GLFW_PRESS;
+            last_key_state[key] = s;
+            return edge;
+        };
+        if (pressed(GLFW_KEY_ESCAPE)) break;
+        for (int k = 0; k < 9; ++k)
+            if (pressed(GLFW_KEY_1 + k) && static_cast<std::size_t>(k) < sweep.size()) {
+                ps = sweep[static_cast<std::size_t>(k)];
+                dirty = true;
+            }
+        const bool next = pressed(GLFW_KEY_N), prev = pressed(GLFW_KEY_P);
+        if (next || prev) {
+            scene_index = (scene_index + (next ? 1 : names.size() - 1)) % names.size();
+            make_builtin_scene(names[scene_index], scene);
+            dirty = true;
+        }
+        double mx, my;
+        glfwGetCursorPos(win, &mx, &my);
+        if (glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
+            if (orbit.dragging) {
+                orbit.yaw += static_cast<float>(mx - orbit.x) * 0.01f;
+                orbit.pitch = std::clamp(orbit.pitch + static_cast<float>(my - orbit.y) * 0.01f, -1.2f, 1.2f);
+                dirty = dirty || mx != orbit.x || my != orbit.y;
+            }
+            orbit.dragging = true;
+        } else {
+            orbit.dragging = false;
+        }
+        orbit.x = mx;
+        orbit.y = my;
+        if (dirty) {
+            Camera c = base_camera;
+            const glm::vec3 off = c.eye - c.target;
+            const float r = glm::length(off);
+            const float yaw0 = std::atan2(off.x, off.z), pitch0 = std::asin(off.y / r);
+            const float yaw = yaw0 + orbit.yaw, pitch = std::clamp(pitch0 + orbit.pitch, -1.4f, 1.4f);
+            c.eye = c.target + r * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+            scene.camera = c;
+            int w, h;
+            glfwGetFramebufferSize(win, &w, &h);
+            std::vector<std::uint8_t> rgb;
+            if (render(scene, *tech, ps, w, h, rgb, why)) {
+                glBindTexture(GL_TEXTURE_2D, tex);
+                glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+                glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+                shown_w = w;
+                shown_h = h;
+                glfwSetWindowTitle(win, ("shadowkit: " + technique_name + " on " + scene.name + "  " + ps.label()).c_str());
+            } else {
+                std::fprintf(stderr, "%s\n", why.c_str());
+            }
+            dirty = false;
+        }
+        if (shown_w > 0) {
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+            glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+            glBlitFramebuffer(0, 0, shown_w, shown_h, 0, 0, shown_w, shown_h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            glfwSwapBuffers(win);
+        }
+        glfwWaitEventsTimeout(0.02);
+    }
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(1, &tex);
+    glfwDestroyWindow(win);
+    glfwTerminate();
+    return 0;
+}
+
+}  // namespace sk
