@@ -53,9 +53,13 @@ in vec3 v_normal;
 uniform float u_kind;
 layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_normal;
+uniform vec3 u_eye;
 void main() {
-    vec3 n = normalize(v_normal);
-    if (!gl_FrontFacing) n = -n;   // two-sided: the side the camera sees
+    // The geometric normal of the rasterized triangle (derivatives of the interpolated world
+    // position are exact within one primitive), turned to the side the camera sees. Visibility is
+    // a property of the surface's tangent plane, not of smoothed shading normals.
+    vec3 n = normalize(cross(dFdx(v_world), dFdy(v_world)));
+    if (dot(n, u_eye - v_world) < 0.0) n = -n;
     o_position = vec4(v_world, u_kind);
     o_normal = vec4(n, 0.0);
 }
@@ -101,6 +105,7 @@ bool prepare_scene_gpu(const Scene& scene, int width, int height, SceneGpu& gpu,
     glDisable(GL_CULL_FACE);
     glUseProgram(prog);
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(vp));
+    glUniform3fv(glGetUniformLocation(prog, "u_eye"), 1, glm::value_ptr(scene.camera.eye));
     for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
         glUniform1f(glGetUniformLocation(prog, "u_kind"), scene.meshes[i].receiver ? 1.f : 2.f);
         skgl::draw_mesh(gpu.meshes[i]);
