@@ -48,7 +48,7 @@ target_link_libraries(consumer PRIVATE shadowkit::shadowkit)
 elseif(MODE STREQUAL "vendor")
   # The user copies one header into their tree, e.g. third_party/shadowkit/.
   file(COPY ${SOURCE}/include/shadowkit/infinite_projection.hpp DESTINATION ${WORK}/app/shadowkit)
-  run(${CXX} -std=c++17 -I app -isystem /usr/include app/main.cpp -o vendored -DSHADOWKIT_VENDORED_ONLY)
+  run(${CXX} -std=c++17 -I app app/main.cpp -o vendored)  # GLM from the system include path
   run(${WORK}/vendored)
 else()
   message(FATAL_ERROR "unknown MODE ${MODE}")

@@ -8,7 +8,10 @@ file(COPY ${HEADER} DESTINATION ${WORK})
 file(WRITE ${WORK}/main.cpp "#include \"${name}\"\n#include \"${name}\"\nint main() { return 0; }\n")
 set(inc "")
 foreach(d ${GLM_INCLUDE})
-  list(APPEND inc -isystem ${d})
+  # /usr/include is already a system directory; naming it again breaks #include_next in libstdc++
+  if(NOT d STREQUAL "/usr/include")
+    list(APPEND inc -isystem ${d})
+  endif()
 endforeach()
 execute_process(
   COMMAND ${CXX} -std=c++${STD} ${FLAGS} -Werror ${inc} main.cpp -o vendored
