@@ -1,0 +1,101 @@
+// libFuzzer target for shadowkit/silhouette.hpp: arbitrary positions (NaN / Inf), indices (out of
+// range), weld tolerances, lights and capacities. Invariants trap on violation.
+#include <shadowkit/silhouette.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace {
+struct Reader {
+    const std::uint8_t* p;
+    std::size_t n;
+    float f() {
+        float v = 0.0f;
+        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
+        return v;
+    }
+    std::uint32_t u() {
+        std::uint32_t v = 0;
+        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
+        return v;
+    }
+    std::uint8_t b() {
+        if (!n) return 0;
+        --n;
+        return *p++;
+    }
+};
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    namespace sk = shadowkit;
+    Reader in{data, size};
+    const std::uint8_t mode = in.b();
+    const std::size_t nv = in.b() % 48;
+    const std::size_t ni = in.b() % 200;
+    std::vector<glm::vec3> pos(nv);
+    const bool small_grid = (mode & 1) != 0; // snap to a small integer grid: many shared / coplanar
+    for (auto& v : pos) {
+        if (small_grid) v = glm::vec3(static_cast<float>(in.b() % 4), static_cast<float>(in.b() % 4), static_cast<float>(in.b() % 4));
+        else v = glm::vec3(in.f(), in.f(), in.f());
+    }
+    std::vector<std::uint32_t> idx(ni);
+    for (auto& i : idx) i = (mode & 2) ? in.u() : static_cast<std::uint32_t>(in.b() % (nv + 1));
+    sk::AdjacencyOptions o;
+    o.weld_tolerance = (mode & 4) ? in.f() : ((mode & 8) ? -1.0f : 0.0f);
+    const glm::vec4 L(in.f(), in.f(), in.f(), (mode & 16) ? 0.0f : in.f());
+    const std::size_t cap = in.b();
+
+    const sk::EdgeAdjacency adj = sk::build_edge_adjacency(nv ? pos.data() : nullptr, nv, ni ? idx.data() : nullptr, ni, o);
+    if (adj.status != sk::SilhouetteStatus::Ok) {
+        std::vector<std::uint8_t> f(4);
+        if (sk::compute_facing(adj, pos.data(), nv, L, f.data(), f.size()).status != sk::SilhouetteStatus::InvalidAdjacency) __builtin_trap();
+        return 0;
+    }
+    const std::size_t fc = adj.face_count();
+    if (fc + adj.degenerate_triangles + adj.duplicate_triangles != ni / 3) __builtin_trap();
+    for (std::size_t i = 0; i < nv; ++i) {
+        if (adj.remap[i] > i || adj.remap[adj.remap[i]] != adj.remap[i]) __builtin_trap();
+    }
+    for (std::uint32_t v : adj.faces)
+        if (v >= nv || adj.remap[v] != v) __builtin_trap();
+    std::size_t halfedges = 0;
+    for (const sk::AdjacencyEdge& e : adj.edges) {
+        if (e.f0 >= fc || (e.f1 != sk::kNoFace && e.f1 >= fc) || e.v0 >= nv || e.v1 >= nv || e.v0 == e.v1) __builtin_trap();
+        halfedges += e.f1 == sk::kNoFace ? 1 : 2;
+    }
+    for (const sk::NonManifoldEdge& e : adj.nonmanifold_edges) halfedges += e.count;
+    if (halfedges != 3 * fc) __builtin_trap();
+
+    std::vector<std::uint8_t> facing(fc + 1, 0xCD);
+    const sk::FacingResult fr = sk::compute_facing(adj, pos.data(), nv, L, facing.data(), fc);
+    if (fr.status != sk::SilhouetteStatus::Ok) {
+        if (fr.status != sk::SilhouetteStatus::InvalidLight) __builtin_trap();
+        return 0;
+    }
+    if (facing[fc] != 0xCD) __builtin_trap();
+    for (std::size_t i = 0; i < fc; ++i)
+        if (facing[i] > 1) __builtin_trap();
+    std::vector<std::uint32_t> out(2 * cap + 2, 0xDEADBEEFu);
+    std::vector<std::uint8_t> flags(cap + 1, 0xEE);
+    const sk::SilhouetteResult r = sk::extract_silhouette(adj, facing.data(), fc, out.data(), flags.data(), cap);
+    if (r.edge_count > adj.max_silhouette_edges()) __builtin_trap();
+    if ((r.edge_count > cap) != (r.status == sk::SilhouetteStatus::BufferTooSmall)) __builtin_trap();
+    if (out[2 * cap] != 0xDEADBEEFu || out[2 * cap + 1] != 0xDEADBEEFu || flags[cap] != 0xEE) __builtin_trap();
+    const std::size_t written = r.edge_count < cap ? r.edge_count : cap;
+    for (std::size_t k = 0; k < 2 * written; ++k)
+        if (out[k] >= nv) __builtin_trap();
+    // Closed meshes: silhouette loops are balanced.
+    const sk::Silhouette s = sk::extract_silhouette(adj, pos.data(), nv, L);
+    if (s.status != sk::SilhouetteStatus::Ok || s.indices.size() != 2 * r.edge_count) __builtin_trap();
+    if (adj.closed()) {
+        std::vector<long> bal(nv, 0);
+        for (std::size_t k = 0; k < s.indices.size(); k += 2) { ++bal[s.indices[k]]; --bal[s.indices[k + 1]]; }
+        for (long x : bal)
+            if (x != 0) __builtin_trap();
+    }
+    return 0;
+}
