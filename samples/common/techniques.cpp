@@ -1,4 +1,5 @@
 #include "techniques.hpp"
+#include "driver_util.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -219,8 +220,6 @@ LightMatrices fit_light(const Scene& s) {
     return m;
 }
 
-namespace {
-
 void set_light_uniforms(GLuint prog, const Light& L) {
     glUniform1i(glGetUniformLocation(prog, "u_light_type"), static_cast<int>(L.type));
     glUniform3fv(glGetUniformLocation(prog, "u_light_position"), 1, glm::value_ptr(L.position));
@@ -229,39 +228,65 @@ void set_light_uniforms(GLuint prog, const Light& L) {
     glUniform1f(glGetUniformLocation(prog, "u_light_cos_cone"), std::cos(L.spot_half_angle));
 }
 
-const char* kDepthVS = R"(#version 450 core
+const char* depth_only_vs() {
+    return R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 uniform mat4 u_light_view_proj;
 void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
 )";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
+}
+const char* depth_only_fs() { return "#version 450 core\nvoid main() {}\n"; }
 
-// Renders V with a visibility program into an R32F target and reads it back.
-struct VisibilityPass {
-    skgl::Target target;
-    GLuint vao = 0;
-    ~VisibilityPass() {
-        skgl::destroy_target(target);
-        if (vao) glDeleteVertexArrays(1, &vao);
+VisibilityPass::~VisibilityPass() {
+    skgl::destroy_target(target);
+    if (vao) glDeleteVertexArrays(1, &vao);
+}
+
+bool VisibilityPass::init(int w, int h, std::string& why) {
+    glGenVertexArrays(1, &vao);
+    return skgl::make_target(target, w, h, {GL_R32F}, 0, why);
+}
+
+void VisibilityPass::draw(GLuint prog, const SceneGpu& gpu) {
+    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+    glViewport(0, 0, target.width, target.height);
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(prog);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[0]);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[1]);
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+}
+
+void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only) {
+    if (only) {
+        for (std::uint32_t i : *only)
+            if (i < gpu.meshes.size() && gpu.caster[i]) skgl::draw_mesh(gpu.meshes[i]);
+        return;
     }
-    bool init(int w, int h, std::string& why) {
-        glGenVertexArrays(1, &vao);
-        return skgl::make_target(target, w, h, {GL_R32F}, 0, why);
+    for (std::size_t i = 0; i < gpu.meshes.size(); ++i)
+        if (gpu.caster[i]) skgl::draw_mesh(gpu.meshes[i]);
+}
+
+std::size_t caster_count(const SceneGpu& gpu) {
+    std::size_t n = 0;
+    for (bool c : gpu.caster) n += c ? 1 : 0;
+    return n;
+}
+
+void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi) {
+    lo = glm::vec3(INFINITY);
+    hi = glm::vec3(-INFINITY);
+    for (const auto& p : m.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
     }
-    void draw(GLuint prog, const SceneGpu& gpu) {
-        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
-        glViewport(0, 0, target.width, target.height);
-        glDisable(GL_DEPTH_TEST);
-        glUseProgram(prog);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[0]);
-        glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[1]);
-        glBindVertexArray(vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glBindVertexArray(0);
-    }
-};
+}
+
+namespace {
 
 // --------------------------------------------------------------------------- unshadowed (V = 1)
 // A deliberately wrong technique: proves that the instrument gives a large error when it should.
@@ -327,7 +352,7 @@ public:
         const std::string snippet = load_snippet("shadow_map", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, log);
+        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
         GLuint vis = skgl::compile_program(
             {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
              {GL_FRAGMENT_SHADER,
@@ -420,7 +445,7 @@ private:
         const std::string snippet = load_snippet("shadow_map", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, log);
+        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
         GLuint vis = skgl::compile_program(
             {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
              {GL_FRAGMENT_SHADER,
@@ -485,6 +510,7 @@ float technique_visibility(vec3 p, vec3 n) {
 std::vector<std::unique_ptr<Technique>> make_techniques() {
     std::vector<std::unique_ptr<Technique>> t;
     t.push_back(std::make_unique<PlainShadowMap>());
+    add_warp_techniques(t);
     t.push_back(std::make_unique<Unshadowed>());
     return t;
 }

@@ -47,6 +47,7 @@ struct RunResult {
     int frames = 0;
     std::int64_t gpu_bytes = 0;     // the technique's GPU buffers (shadow maps, vertex buffers)
     std::vector<std::pair<std::string, double>> work;  // texels, triangles drawn, casters culled...
+    std::vector<std::pair<std::string, double>> quality;  // technique-specific quality metrics (aliasing...)
     static RunResult failure(std::string why) {
         RunResult r;
         r.ok = false;
@@ -60,6 +61,7 @@ struct RunContext {
     const SceneGpu& gpu;
     int frames = 20;
     int warmup = 3;
+    const GBuffer* gbuffer = nullptr;  // CPU copy of the G-buffer, for CPU-side metrics
 };
 
 class Technique {

@@ -283,7 +283,7 @@ int main(int argc, char** argv) {
                 r.ref_samples = ref.samples_per_pixel;
                 r.ref_stderr = ref.stderr_rms;
                 std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
-                sk::RunContext ctx{scene, gpu, o.frames, 3};
+                sk::RunContext ctx{scene, gpu, o.frames, 3, &g};
                 sk::RunResult res = t->run(ctx, ps);
                 if (res.ok && res.visibility.size() != g.kind.size()) {
                     res.ok = false;
@@ -302,6 +302,7 @@ int main(int argc, char** argv) {
                 r.frames = res.frames;
                 r.gpu_bytes = res.gpu_bytes;
                 r.work = res.work;
+                r.quality = res.quality;
                 const std::string base = "images/" + stem + "__" + sanitize(t->name()) + "__" + sanitize(r.params_label);
                 r.image_v = base + "_V.png";
                 r.image_err = base + "_err.png";

@@ -80,6 +80,9 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
               << ", \"gpu_bytes\": " << r.gpu_bytes << ", \"work\": {";
             for (std::size_t i = 0; i < r.work.size(); ++i)
                 f << (i ? ", " : "") << "\"" << json_escape(r.work[i].first) << "\": " << num(r.work[i].second);
+            f << "}, \"quality\": {";
+            for (std::size_t i = 0; i < r.quality.size(); ++i)
+                f << (i ? ", " : "") << "\"" << json_escape(r.quality[i].first) << "\": " << num(r.quality[i].second);
             f << "}, \"pixels\": " << r.m.pixels << ", \"penumbra_pixels\": " << r.m.penumbra_pixels
               << ", \"pareto\": " << (r.pareto ? "true" : "false");
         }
@@ -102,6 +105,15 @@ static std::string work_text(const Row& r) {
         s += k + " " + (v >= 1e6 ? fmt("%.3gM", v / 1e6) : fmt("%.0f", v));
     }
     return s;
+}
+
+static std::string quality_text(const Row& r) {
+    std::string s;
+    for (const auto& [k, v] : r.quality) {
+        if (!s.empty()) s += ", ";
+        s += k + " " + fmt("%.3g", v);
+    }
+    return s.empty() ? "-" : s;
 }
 
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
@@ -141,12 +153,12 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
             f << "Reference error / smallest RMSE judged: " << fmt("%.3f", sc.ref_stderr / min_err)
               << (sc.ref_stderr <= 0.1 * min_err ? " (below 1/10: the reference is accurate enough)" : " (**above 1/10**)")
               << ".\n\n";
-        f << "| technique | params | RMSE | mean abs | p99 abs | penumbra RMSE | misclassified | GPU ms | CPU ms | GPU MiB | work |\n";
-        f << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+        f << "| technique | params | RMSE | mean abs | p99 abs | penumbra RMSE | misclassified | GPU ms | CPU ms | GPU MiB | work | other metrics |\n";
+        f << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
         for (const Row* r : rs) {
             if (r->failed) {
                 f << "| " << r->technique << " | " << r->params_label << " | failed: " << r->error
-                  << " | | | | | | | | |\n";
+                  << " | | | | | | | | | |\n";
                 continue;
             }
             f << "| " << (r->pareto ? "**" + r->technique + "**" : r->technique) << " | " << r->params_label << " | "
@@ -154,7 +166,7 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
               << " | " << (r->m.has_penumbra ? fmt("%.4f", r->m.penumbra_rmse) : "-") << " | "
               << (r->m.has_misclassified ? fmt("%.2f%%", 100.0 * r->m.misclassified) : "-") << " | "
               << fmt("%.2f", r->gpu_ms) << " | " << fmt("%.3f", r->cpu_ms) << " | "
-              << fmt("%.2f", double(r->gpu_bytes) / 1048576.0) << " | " << work_text(*r) << " |\n";
+              << fmt("%.2f", double(r->gpu_bytes) / 1048576.0) << " | " << work_text(*r) << " | " << quality_text(*r) << " |\n";
         }
         f << "\nBold: on the Pareto front (no other row is both faster and more accurate). Images: reference `"
           << sc.reference_image << "`";

@@ -19,6 +19,7 @@ struct Row {
     int frames = 0;
     long long gpu_bytes = 0;
     std::vector<std::pair<std::string, double>> work;
+    std::vector<std::pair<std::string, double>> quality;
     int ref_samples = 0;
     double ref_stderr = 0.0;
     bool pareto = false;

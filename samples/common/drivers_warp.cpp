@@ -1,0 +1,402 @@
+// Drivers for the shadow-map fitting and warping headers: light_frustum.hpp (tight fit with caster
+// culling), perspective_shadow_maps.hpp (uniform, PSM, LiSPSM, TSM) and cascades.hpp. Each
+// composes the public header with its GLSL snippet, as a user would, and adds the perspective
+// aliasing metric (texel footprint in screen pixels) measured at the G-buffer's receiver points.
+#include <shadowkit/cascades.hpp>
+#include <shadowkit/light_frustum.hpp>
+#include <shadowkit/perspective_shadow_maps.hpp>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "driver_util.hpp"
+
+namespace sk {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+glm::vec4 light_vec4(const Light& L) {
+    if (L.type == LightType::Directional) return glm::vec4(glm::normalize(L.direction), 0.f);
+    return glm::vec4(L.position, 1.f);
+}
+
+void caster_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
+    lo = glm::vec3(INFINITY);
+    hi = glm::vec3(-INFINITY);
+    for (const auto& m : s.meshes) {
+        if (!m.caster) continue;
+        glm::vec3 a, b;
+        mesh_bounds(m, a, b);
+        lo = glm::min(lo, a);
+        hi = glm::max(hi, b);
+    }
+}
+
+// What the light can reach: the scene bounds, and for a spot light their intersection with a box
+// around its cone (apex + the cap disk at the farthest scene corner). Receivers outside the cone
+// are unlit anyway: "leave out what the scene does not need".
+void receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
+    lo = s.bounds_min();
+    hi = s.bounds_max();
+    const Light& L = s.light;
+    if (L.type != LightType::Spot) return;
+    float far_d = 0.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+        far_d = std::max(far_d, glm::length(c - L.position));
+    }
+    const glm::vec3 d = glm::normalize(L.direction);
+    const glm::vec3 cap = L.position + d * far_d;
+    const float r = far_d * std::tan(std::min(L.spot_half_angle, 1.5f));
+    // the cap disk's extent along each axis: r * sqrt(1 - d_axis^2)
+    const glm::vec3 ext = r * glm::sqrt(glm::max(glm::vec3(0.f), 1.f - d * d));
+    const glm::vec3 clo = glm::min(L.position, cap - ext), chi = glm::max(L.position, cap + ext);
+    lo = glm::max(lo, clo);
+    hi = glm::min(hi, chi);
+}
+
+// Perspective aliasing over the receiver pixels that face the light (shadowkit's per-point
+// dp/ds measure): mean, max and the fraction of pixels where one texel covers > 1 pixel.
+void add_aliasing(RunResult& r, const Scene& scene, const SceneGpu& gpu, const GBuffer& g,
+                  const std::vector<glm::mat4>& light_vps, const std::vector<int>& which, int size) {
+    const glm::mat4 cam_vp = gpu.proj * gpu.view;
+    double sum = 0.0, mx = 0.0;
+    std::size_t n = 0, under = 0;
+    for (std::size_t k = 0; k < g.kind.size(); ++k) {
+        if (g.kind[k] != 1) continue;
+        const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+        const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+        const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
+                                                                       : glm::normalize(scene.light.position - p);
+        if (glm::dot(nn, l) <= 0.f) continue;
+        const int c = which.empty() ? 0 : which[k];
+        if (c < 0) continue;
+        const double e = shadowkit::perspective_aliasing_error(light_vps[static_cast<std::size_t>(c)], cam_vp, p, nn,
+                                                               static_cast<std::uint32_t>(size),
+                                                               glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
+        if (!std::isfinite(e)) continue;
+        sum += e;
+        mx = std::max(mx, e);
+        if (e > 1.0) ++under;
+        ++n;
+    }
+    if (n) {
+        r.quality.push_back({"aliasing_mean", sum / double(n)});
+        r.quality.push_back({"aliasing_max", mx});
+        r.quality.push_back({"undersampled_fraction", double(under) / double(n)});
+    }
+}
+
+// ------------------------------------------------------------------------- warped / fitted maps
+// method: 0 fitted (light_frustum.hpp: tight fit + caster culling), 1 uniform, 2 PSM, 3 LiSPSM, 4 TSM.
+class WarpedShadowMap final : public Technique {
+public:
+    std::string name() const override { return "warped_sm"; }
+    std::string description() const override {
+        return "fitted (light_frustum, caster culling) / uniform / PSM / LiSPSM / TSM shadow maps "
+               "(method 0..4), with the perspective aliasing metric";
+    }
+    bool hard() const override { return true; }
+    std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
+        // the warps are about perspective aliasing: the outdoor and duelling-frusta scenes (and user meshes)
+        if (scene.name != "outdoor" && scene.name != "duel" && scene.name.rfind("mesh:", 0) != 0) return {};
+        std::vector<ParamSet> out;
+        const std::vector<int> sizes = quick ? std::vector<int>{1024} : std::vector<int>{512, 1024, 2048};
+        for (int m = 0; m <= 4; ++m)
+            for (int s : sizes) out.push_back(ParamSet{{{"method", double(m)}, {"size", double(s)}}});
+        return out;
+    }
+    RunResult run(const RunContext& ctx, const ParamSet& params) override {
+        const int method = static_cast<int>(params.get("method", 0));
+        const int size = static_cast<int>(params.get("size", 1024));
+        const Scene& scene = ctx.scene;
+        if (scene.light.type == LightType::Point)
+            return RunResult::failure("point light: needs an omnidirectional map (issue 10)");
+        RunResult r;
+        glm::mat4 light_vp(1.f);
+        std::vector<std::uint32_t> keep;
+        bool culled_list = false;
+        // the CPU work (matrix fit and culling) timed as a median like the GPU pass
+        std::vector<double> cpu_samples;
+        std::string fit_error;
+        bool fallback = false;
+        for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
+            const auto t0 = Clock::now();
+            glm::vec3 slo, shi, clo, chi;
+            receiver_bounds(scene, slo, shi);
+            caster_bounds(scene, clo, chi);
+            if (method == 0) {
+                std::vector<float> boxes;
+                for (const auto& m : scene.meshes) {
+                    glm::vec3 a, b;
+                    mesh_bounds(m, a, b);
+                    boxes.insert(boxes.end(), {a.x, a.y, a.z, b.x, b.y, b.z});
+                }
+                shadowkit::LightFrustumInput in;
+                in.camera_view = ctx.gpu.view;
+                in.camera_proj = ctx.gpu.proj;
+                in.has_scene_bounds = true;
+                in.scene_min = slo;
+                in.scene_max = shi;
+                in.light = light_vec4(scene.light);
+                in.casters = boxes.data();
+                in.caster_count = scene.meshes.size();
+                in.shadow_map_size = static_cast<std::uint32_t>(size);
+                keep.assign(scene.meshes.size(), 0);
+                const auto res = shadowkit::fit_light_frustum(in, keep.data(), keep.size());
+                if (res.status != shadowkit::LightFrustumStatus::Ok) {
+                    fit_error = "fit_light_frustum status " + std::to_string(static_cast<int>(res.status));
+                    break;
+                }
+                keep.resize(res.kept_count);
+                light_vp = res.view_proj;
+                culled_list = true;
+            } else {
+                shadowkit::WarpInput in;
+                in.camera_view = ctx.gpu.view;
+                in.camera_proj = ctx.gpu.proj;
+                in.light = light_vec4(scene.light);
+                in.has_scene_bounds = true;
+                in.scene_min = slo;
+                in.scene_max = shi;
+                in.has_caster_bounds = true;
+                in.caster_min = clo;
+                in.caster_max = chi;
+                const shadowkit::WarpResult w = method == 1   ? shadowkit::uniform_shadow_matrix(in)
+                                                : method == 2 ? shadowkit::psm_shadow_matrix(in)
+                                                : method == 3 ? shadowkit::lispsm_shadow_matrix(in)
+                                                              : shadowkit::tsm_shadow_matrix(in);
+                if (w.status != shadowkit::WarpStatus::Ok) {
+                    fit_error = "warp status " + std::to_string(static_cast<int>(w.status));
+                    break;
+                }
+                light_vp = w.light_view_proj;
+                fallback = w.fallback_uniform;
+            }
+            cpu_samples.push_back(ms_since(t0));
+        }
+        if (!fit_error.empty()) return RunResult::failure(fit_error);
+        std::nth_element(cpu_samples.begin(), cpu_samples.begin() + static_cast<std::ptrdiff_t>(cpu_samples.size() / 2),
+                         cpu_samples.end());
+        r.cpu_ms = cpu_samples[cpu_samples.size() / 2];
+
+        std::string why;
+        skgl::Target sm;
+        if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
+        skgl::set_depth_compare(sm.depth, true, true);
+        VisibilityPass pass;
+        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+        const std::string snippet = load_snippet("perspective_shadow_maps", why);
+        if (snippet.empty()) return RunResult::failure(why);
+        std::string log;
+        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
+        GLuint vis = skgl::compile_program(
+            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
+             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_warp;
+float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, p, 0.0, false); }
+)")}},
+            log);
+        if (!depth || !vis) return RunResult::failure(log);
+        glUseProgram(vis);
+        set_light_uniforms(vis, scene.light);
+        glUniformMatrix4fv(glGetUniformLocation(vis, "u_warp"), 1, GL_FALSE, glm::value_ptr(light_vp));
+        auto frame = [&] {
+            glBindFramebuffer(GL_FRAMEBUFFER, sm.fbo);
+            glViewport(0, 0, size, size);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            glClear(GL_DEPTH_BUFFER_BIT);
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(2.f, 2.f);
+            glUseProgram(depth);
+            glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
+            draw_casters(ctx.gpu, culled_list ? &keep : nullptr);
+            glDisable(GL_POLYGON_OFFSET_FILL);
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_2D, sm.depth);
+            pass.draw(vis, ctx.gpu);
+        };
+        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        r.gpu_bytes = std::int64_t(size) * size * 4;
+        std::size_t drawn_tris = 0, drawn = 0;
+        for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+            const bool kept = !culled_list || std::find(keep.begin(), keep.end(), static_cast<std::uint32_t>(i)) != keep.end();
+            if (scene.meshes[i].caster && kept) {
+                drawn_tris += scene.meshes[i].indices.size() / 3;
+                ++drawn;
+            }
+        }
+        r.work = {{"shadow_map_texels", double(size) * size},
+                  {"triangles_drawn", double(drawn_tris)},
+                  {"casters_drawn", double(drawn)},
+                  {"casters_culled", double(caster_count(ctx.gpu) - drawn)}};
+        if (fallback) r.quality.push_back({"fallback_uniform", 1.0});
+        if (ctx.gbuffer) add_aliasing(r, scene, ctx.gpu, *ctx.gbuffer, {light_vp}, {}, size);
+        const std::string err = skgl::gl_error_string();
+        glDeleteProgram(depth);
+        glDeleteProgram(vis);
+        skgl::destroy_target(sm);
+        if (!err.empty()) return RunResult::failure(err);
+        return r;
+    }
+};
+
+// ------------------------------------------------------------------------- cascaded shadow maps
+class CascadedShadowMap final : public Technique {
+public:
+    std::string name() const override { return "cascades"; }
+    std::string description() const override {
+        return "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band";
+    }
+    bool hard() const override { return true; }
+    std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
+        if (scene.light.type != LightType::Directional) return {};
+        std::vector<ParamSet> out;
+        const std::vector<int> sizes = quick ? std::vector<int>{512} : std::vector<int>{256, 512, 1024};
+        for (int s : sizes) out.push_back(ParamSet{{{"size", double(s)}, {"count", 4.0}}});
+        return out;
+    }
+    RunResult run(const RunContext& ctx, const ParamSet& params) override {
+        const int size = static_cast<int>(params.get("size", 512));
+        constexpr std::uint32_t kCount = 4;
+        const Scene& scene = ctx.scene;
+        if (scene.light.type != LightType::Directional) return RunResult::failure("cascades need a directional light");
+        RunResult r;
+        shadowkit::Cascade cs[kCount];
+        float splits[kCount + 1];
+        std::vector<double> cpu_samples;
+        for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
+            const auto t0 = Clock::now();
+            shadowkit::CascadeInput in;
+            in.camera_view = ctx.gpu.view;
+            in.camera_proj = ctx.gpu.proj;
+            in.light_dir = glm::normalize(scene.light.direction);
+            in.shadow_map_size = static_cast<std::uint32_t>(size);
+            glm::vec3 clo, chi;
+            caster_bounds(scene, clo, chi);
+            in.has_caster_bounds = true;
+            in.caster_min = clo;
+            in.caster_max = chi;
+            const auto st = shadowkit::fit_cascades(in, 0.75f, kCount, cs, splits);
+            if (st != shadowkit::CascadeStatus::Ok)
+                return RunResult::failure("fit_cascades status " + std::to_string(static_cast<int>(st)));
+            cpu_samples.push_back(ms_since(t0));
+        }
+        std::nth_element(cpu_samples.begin(), cpu_samples.begin() + static_cast<std::ptrdiff_t>(cpu_samples.size() / 2),
+                         cpu_samples.end());
+        r.cpu_ms = cpu_samples[cpu_samples.size() / 2];
+
+        GLuint arr = 0;
+        glGenTextures(1, &arr);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, arr);
+        glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size, size, kCount);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        GLuint fbo[kCount];
+        glGenFramebuffers(kCount, fbo);
+        for (std::uint32_t i = 0; i < kCount; ++i) {
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, arr, 0, static_cast<GLint>(i));
+            glDrawBuffer(GL_NONE);
+            glReadBuffer(GL_NONE);
+        }
+        std::string why;
+        VisibilityPass pass;
+        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+        const std::string snippet = load_snippet("cascades", why);
+        if (snippet.empty()) return RunResult::failure(why);
+        std::string log;
+        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
+        GLuint vis = skgl::compile_program(
+            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
+             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
+uniform mat4 u_cascade_vp[4];
+uniform vec4 u_split_near;
+uniform vec4 u_split_far;
+uniform mat4 u_camera_view;
+float technique_visibility(vec3 p, vec3 n) {
+    float view_depth = -(u_camera_view * vec4(p, 1.0)).z;
+    return sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, 4, p, view_depth, 0.1, 0.0, false);
+}
+)")}},
+            log);
+        if (!depth || !vis) return RunResult::failure(log);
+        glUseProgram(vis);
+        set_light_uniforms(vis, scene.light);
+        glm::mat4 vps[kCount];
+        for (std::uint32_t i = 0; i < kCount; ++i) vps[i] = cs[i].view_proj;
+        glUniformMatrix4fv(glGetUniformLocation(vis, "u_cascade_vp"), kCount, GL_FALSE, glm::value_ptr(vps[0]));
+        glUniform4f(glGetUniformLocation(vis, "u_split_near"), splits[0], splits[1], splits[2], splits[3]);
+        glUniform4f(glGetUniformLocation(vis, "u_split_far"), splits[1], splits[2], splits[3], splits[4]);
+        glUniformMatrix4fv(glGetUniformLocation(vis, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(ctx.gpu.view));
+        auto frame = [&] {
+            glUseProgram(depth);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(2.f, 2.f);
+            for (std::uint32_t i = 0; i < kCount; ++i) {
+                glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
+                glViewport(0, 0, size, size);
+                glClear(GL_DEPTH_BUFFER_BIT);
+                glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(vps[i]));
+                draw_casters(ctx.gpu);
+            }
+            glDisable(GL_POLYGON_OFFSET_FILL);
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_2D_ARRAY, arr);
+            pass.draw(vis, ctx.gpu);
+        };
+        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        r.gpu_bytes = std::int64_t(size) * size * 4 * kCount;
+        r.work = {{"shadow_map_texels", double(kCount) * size * size},
+                  {"triangles_drawn", double(kCount) * double(ctx.gpu.caster_triangles)},
+                  {"casters_drawn", double(kCount) * double(caster_count(ctx.gpu))},
+                  {"casters_culled", 0.0}};
+        if (ctx.gbuffer) {
+            // aliasing per pixel with the cascade that the lookup selects (by view depth)
+            const GBuffer& g = *ctx.gbuffer;
+            std::vector<int> which(g.kind.size(), -1);
+            for (std::size_t k = 0; k < g.kind.size(); ++k) {
+                if (g.kind[k] == 0) continue;
+                const glm::vec4 v = ctx.gpu.view * glm::vec4(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2], 1.f);
+                which[k] = shadowkit::select_cascade_by_depth(-v.z, splits, kCount);
+            }
+            add_aliasing(r, scene, ctx.gpu, g, std::vector<glm::mat4>(vps, vps + kCount), which, size);
+        }
+        const std::string err = skgl::gl_error_string();
+        glDeleteFramebuffers(kCount, fbo);
+        glDeleteTextures(1, &arr);
+        glDeleteProgram(depth);
+        glDeleteProgram(vis);
+        if (!err.empty()) return RunResult::failure(err);
+        return r;
+    }
+};
+
+}  // namespace
+
+void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
+    out.push_back(std::make_unique<WarpedShadowMap>());
+    out.push_back(std::make_unique<CascadedShadowMap>());
+}
+
+}  // namespace sk
