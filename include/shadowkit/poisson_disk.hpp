@@ -140,8 +140,8 @@ struct Grid {
     double cell = 1.0;
     int dim = 1;
     int cell_of(double v) const {
-        int c = static_cast<int>(std::floor((v + 1.0) / cell));
-        return c < 0 ? 0 : (c >= dim ? dim - 1 : c);
+        const double c = std::floor((v + 1.0) / cell);  // clamp before the cast: no UB for any v
+        return !(c > 0.0) ? 0 : (c >= double(dim) ? dim - 1 : static_cast<int>(c));
     }
     void init(double cell_size) {
         cell = cell_size;
@@ -273,6 +273,49 @@ inline void eliminate(const std::vector<glm::vec2>& pts, std::size_t target, dou
             if (alive[j]) heap.decrease(j, heap.key[j] - nweight[k]);
         }
     }
+}
+
+// Squared minimum pairwise distance: grid search with cell size `cell`, exact whenever the result
+// is below `cell`; brute force otherwise.
+inline double min_dist2(const std::vector<glm::vec2>& pts, double cell_size) {
+    const std::size_t n = pts.size();
+    double best = std::numeric_limits<double>::infinity();
+    if (n < 2) return best;
+    Grid g;
+    g.init(cell_size);
+    const std::size_t cells = std::size_t(g.dim) * std::size_t(g.dim);
+    if (cells <= 4 * n + 16) {
+        std::vector<std::int32_t> head(cells, -1), next(n, -1);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t c = std::size_t(g.cell_of(double(pts[i].y))) * std::size_t(g.dim) +
+                                  std::size_t(g.cell_of(double(pts[i].x)));
+            next[i] = head[c];
+            head[c] = static_cast<std::int32_t>(i);
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            const int cx = g.cell_of(double(pts[i].x)), cy = g.cell_of(double(pts[i].y));
+            for (int y = cy - 1; y <= cy + 1; ++y) {
+                if (y < 0 || y >= g.dim) continue;
+                for (int x = cx - 1; x <= cx + 1; ++x) {
+                    if (x < 0 || x >= g.dim) continue;
+                    for (std::int32_t j = head[std::size_t(y) * std::size_t(g.dim) + std::size_t(x)]; j >= 0;
+                         j = next[std::size_t(j)])
+                        if (std::size_t(j) != i) {
+                            const double q = dist2(pts[i], pts[std::size_t(j)]);
+                            if (q < best) best = q;
+                        }
+                }
+            }
+        }
+        if (best < cell_size * cell_size) return best;
+    }
+    best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            const double q = dist2(pts[i], pts[j]);
+            if (q < best) best = q;
+        }
+    return best;
 }
 
 }  // namespace poisson_detail
@@ -484,16 +527,9 @@ inline PoissonResult poisson_eliminate(PoissonDomain d, std::size_t count, std::
         sorted[0] = cur[0];
         set.swap(sorted);
     }
-    double dmin2 = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < set.size(); ++i) {
-        out[i] = set[i];
-        for (std::size_t j = i + 1; j < set.size(); ++j) {
-            const double q = dist2(set[i], set[j]);
-            if (q < dmin2) dmin2 = q;
-        }
-    }
+    for (std::size_t i = 0; i < set.size(); ++i) out[i] = set[i];
     res.count = count;
-    res.radius = static_cast<float>(std::sqrt(dmin2));
+    res.radius = static_cast<float>(std::sqrt(min_dist2(set, 1.5 * std::sqrt(2.0 * a / (std::sqrt(3.0) * double(count))))));
     return res;
 }
 

@@ -1,0 +1,220 @@
+// glsl/pcss.glsl - percentage-closer soft shadows: blocker search on a depth sampler2D, penumbra
+// estimate on linear depths, Poisson PCF through a sampler2DShadow.
+// versions: 330, 450
+// stages: fragment
+//
+// Inputs (per call):
+//   depth_map  sampler2D view of the shadow map (GL_TEXTURE_COMPARE_MODE = GL_NONE, GL_NEAREST);
+//              bind the same texture twice with two sampler objects (GL 3.3) for depth_map and sm.
+//   sm         sampler2DShadow view (compare mode on, GL_LINEAR, GL_LEQUAL; GL_GEQUAL for reversed-Z).
+//   uvz        shadow coordinate: uv in [0,1], z the receiver's (biased) window depth.
+//   dz_duv     receiver-plane gradient (sk_receiver_plane_depth_bias in pcf.glsl) or vec2(0.0).
+//   light_uv_at_near  perspective light: light width / (near * 2 tan(fov/2)), the light's width in uv
+//              measured on the near plane (shadowkit::pcss_light_uv_at_near). Directional light
+//              (sk_pcss_directional): light_uv_per_depth = 2 tan(theta/2) (far - near) / ortho width.
+//   near, far  the light's clip planes (far <= 0.0 means an infinite far plane).
+//   search_taps, filter_taps  Poisson taps (1..64) for the blocker search and the filter.
+//   angle      rotation of the Poisson disk (0.0 unrotated; 6.2831853 * noise for rotated).
+//   max_filter_uv  clamp of the filter width (uv), e.g. 0.05.
+// Defines: SK_REVERSED_Z before this snippet for reversed-Z depth (1 at near).
+// Taps with uv outside [0,1] are ignored by the blocker search and count as lit in the filter.
+// Usage:
+//   float lit = sk_pcss(depth_map, sm, uvz, vec2(0.0), u_light_uv_at_near, u_near, u_far, 16, 16,
+//                       6.2831853 * sk_interleaved_gradient_noise(gl_FragCoord.xy), 0.05);
+// Formulas (Fernando 2005; Apelles thesis eqs. 3.20-3.22), all on linear depths z:
+//   search width = light_uv_at_near (z_r - near) / z_r
+//   filter width = light_uv_at_near (z_r - z_b) / z_b * near / z_r   (the penumbra on the near plane)
+// MIT License. Copyright (c) shadowkit contributors.
+
+#ifndef SK_POISSON_DISK_DEFINED
+#define SK_POISSON_DISK_DEFINED
+// 64 points of the unit disk, weighted sample elimination (shadowkit/poisson_disk.hpp:
+// poisson_eliminate(PoissonDomain{}, 64, /*seed*/ 1, ...), progressive order, emitted by
+// poisson_to_glsl). Any prefix of length k is itself a Poisson set (normalized radius of the
+// prefixes 8/16/32/64: 0.80/0.74/0.68/0.74), so `taps` may be any count in 1..64.
+// To use your own taps, #define SK_POISSON_DISK_DEFINED and declare
+// `uniform vec2 SK_POISSON_DISK[64];` (or a const array) plus sk_interleaved_gradient_noise.
+const vec2 SK_POISSON_DISK[64] = vec2[64](
+    vec2(0.667273045, 0.596935987),
+    vec2(-0.974912941, 0.140261471),
+    vec2(-0.00817528274, -0.737295032),
+    vec2(-0.357976198, 0.743402183),
+    vec2(0.810684562, -0.55637908),
+    vec2(-0.36176604, -0.220403671),
+    vec2(0.919741094, -0.0295969304),
+    vec2(-0.899047136, -0.401866853),
+    vec2(-0.35729304, 0.256965429),
+    vec2(-0.823843956, 0.556563199),
+    vec2(-0.442809522, -0.788640141),
+    vec2(-0.00385137554, 0.00996741187),
+    vec2(0.496161342, -0.789134264),
+    vec2(0.307677567, 0.479340941),
+    vec2(0.0261630546, -0.361821979),
+    vec2(0.649081528, 0.19646357),
+    vec2(-0.0496209897, 0.569143891),
+    vec2(0.493515879, -0.423292518),
+    vec2(-0.666885555, 0.217370793),
+    vec2(0.90251708, 0.411130309),
+    vec2(0.23290506, 0.758692503),
+    vec2(0.249936044, -0.941124558),
+    vec2(0.311741292, -0.203952923),
+    vec2(0.519844234, 0.84039098),
+    vec2(-0.496722907, -0.457896143),
+    vec2(-0.926848173, -0.135281667),
+    vec2(-0.00672815274, 0.26900959),
+    vec2(-0.0590348318, -0.987052143),
+    vec2(0.721485615, -0.162640795),
+    vec2(-0.248856291, 0.0319613107),
+    vec2(-0.301116526, -0.580681205),
+    vec2(-0.111001909, 0.789575696),
+    vec2(-0.5985865, 0.553151011),
+    vec2(-0.584493697, -0.211627632),
+    vec2(0.192017213, 0.171763808),
+    vec2(-0.137889117, -0.174055114),
+    vec2(0.254576564, -0.729208648),
+    vec2(-0.365630656, 0.529652059),
+    vec2(-0.630011797, 0.0149271172),
+    vec2(-0.925787508, 0.337520659),
+    vec2(-0.24114193, -0.896481395),
+    vec2(0.935237825, -0.222696722),
+    vec2(0.574212909, 0.0197216701),
+    vec2(-0.0712009072, -0.548193455),
+    vec2(0.359571993, 0.289480388),
+    vec2(0.530840635, -0.209503949),
+    vec2(-0.68105185, 0.722644687),
+    vec2(0.10657119, 0.892661333),
+    vec2(0.083066918, -0.177033007),
+    vec2(0.503817022, 0.491984129),
+    vec2(-0.727698088, -0.454516619),
+    vec2(0.694889069, -0.689536989),
+    vec2(0.688220203, 0.412640005),
+    vec2(0.419547528, -0.584399879),
+    vec2(-0.268478572, 0.900935829),
+    vec2(0.125276238, 0.576343596),
+    vec2(0.389038563, -0.0452882573),
+    vec2(-0.474447995, 0.118304528),
+    vec2(-0.713988602, 0.392602742),
+    vec2(0.811533272, 0.118944764),
+    vec2(0.107297376, -0.526566327),
+    vec2(-0.0845918506, 0.963354111),
+    vec2(0.375263661, 0.646681547),
+    vec2(-0.322467238, -0.398355454));
+
+// Interleaved gradient noise (Jimenez 2014) in [0,1) from a pixel position (gl_FragCoord.xy).
+float sk_interleaved_gradient_noise(vec2 pixel) {
+    return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
+}
+#endif
+
+// Window depth -> eye distance for a perspective light (far <= 0.0: infinite far plane).
+float sk_linearize_depth(float z_w, float near, float far) {
+    float z = clamp(z_w, 0.0, 1.0);
+#ifdef SK_REVERSED_Z
+    if (far <= 0.0) return near / max(z, 1e-30);
+    return far * near / (near + z * (far - near));
+#else
+    if (far <= 0.0) return near / max(1.0 - z, 1e-30);
+    return far * near / (far - z * (far - near));
+#endif
+}
+
+// True when stored window depth a is closer to the light than b.
+bool sk_depth_closer(float a, float b) {
+#ifdef SK_REVERSED_Z
+    return a > b;
+#else
+    return a < b;
+#endif
+}
+
+// Average window depth of the blockers (stored depth closer than uvz.z) among `taps` Poisson
+// samples of a disk of diameter search_uv; -1.0 when there is none.
+float sk_pcss_blocker_window_depth(sampler2D depth_map, vec3 uvz, float search_uv, int taps, float angle) {
+    int n = clamp(taps, 1, 64);
+    float c = cos(angle);
+    float s = sin(angle);
+    mat2 rot = mat2(c, s, -s, c);
+    float sum = 0.0;
+    float count = 0.0;
+    for (int i = 0; i < n; ++i) {
+        vec2 uv = uvz.xy + rot * SK_POISSON_DISK[i] * (0.5 * search_uv);
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
+        float d = textureLod(depth_map, uv, 0.0).r;
+        if (sk_depth_closer(d, uvz.z)) {
+            sum += d;
+            count += 1.0;
+        }
+    }
+    return count > 0.0 ? sum / count : -1.0;
+}
+
+// Filter taps for a filter of width filter_uv on a map of map_texels texels: ceil(pi (D/2)^2) for
+// D = filter_uv * map_texels, clamped to [min_taps, max_taps] (shadowkit::pcss_tap_budget).
+int sk_pcss_tap_budget(float filter_uv, float map_texels, int min_taps, int max_taps) {
+    int lo = max(min_taps, 1);
+    int hi = max(max_taps, lo);
+    float d = filter_uv * map_texels;
+    if (!(d > 1.0)) return lo;
+    float want = ceil(3.14159265 * 0.25 * d * d);
+    if (!(want < float(hi))) return hi;
+    return max(int(want), lo);
+}
+
+// Poisson PCF with hardware compare (same as sk_pcf_poisson in pcf.glsl, local copy).
+float sk_pcss_filter(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float width_uv, int taps, float angle) {
+    int n = clamp(taps, 1, 64);
+    float radius = 0.5 * width_uv;
+    if (!(radius > 0.0) || n == 1) {
+        if (any(lessThan(uvz.xy, vec2(0.0))) || any(greaterThan(uvz.xy, vec2(1.0)))) return 1.0;
+        return texture(sm, uvz);
+    }
+    float c = cos(angle);
+    float s = sin(angle);
+    mat2 rot = mat2(c, s, -s, c);
+    float sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        vec2 o = rot * SK_POISSON_DISK[i] * radius;
+        vec2 uv = uvz.xy + o;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+            sum += 1.0;
+            continue;
+        }
+        sum += texture(sm, vec3(uv, uvz.z + dot(dz_duv, o)));
+    }
+    return sum / float(n);
+}
+
+// PCSS for a perspective (spot) light. Returns the lit fraction in [0,1].
+float sk_pcss(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float light_uv_at_near,
+              float near, float far, int search_taps, int filter_taps, float angle, float max_filter_uv) {
+    float z_r = sk_linearize_depth(uvz.z, near, far);
+    float search_uv = light_uv_at_near * max(z_r - near, 0.0) / z_r;
+    float b = sk_pcss_blocker_window_depth(depth_map, uvz, search_uv, search_taps, angle);
+    if (b < 0.0) return 1.0;
+    float z_b = max(sk_linearize_depth(b, near, far), 1e-30);
+    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near / z_r;
+    w = clamp(w, 0.0, max_filter_uv);
+    return sk_pcss_filter(sm, uvz, dz_duv, w, filter_taps, angle);
+}
+
+// PCSS for a directional (orthographic) light: window depth is linear, so the search width is
+// light_uv_per_depth * (window depth from the near plane) and the filter width
+// light_uv_per_depth * (z_r - z_b) in window units.
+float sk_pcss_directional(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float light_uv_per_depth,
+                          int search_taps, int filter_taps, float angle, float max_filter_uv) {
+#ifdef SK_REVERSED_Z
+    float z_r = 1.0 - uvz.z;
+#else
+    float z_r = uvz.z;
+#endif
+    float search_uv = light_uv_per_depth * max(z_r, 0.0);
+    float b = sk_pcss_blocker_window_depth(depth_map, uvz, search_uv, search_taps, angle);
+    if (b < 0.0) return 1.0;
+#ifdef SK_REVERSED_Z
+    float z_b = 1.0 - b;
+#else
+    float z_b = b;
+#endif
+    float w = clamp(light_uv_per_depth * max(z_r - z_b, 0.0), 0.0, max_filter_uv);
+    return sk_pcss_filter(sm, uvz, dz_duv, w, filter_taps, angle);
+}

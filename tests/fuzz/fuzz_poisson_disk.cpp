@@ -1,0 +1,107 @@
+// libFuzzer target for include/shadowkit/poisson_disk.hpp: every public function with decoded
+// domains, radii, counts, seeds, capacities and GLSL names; invariants trap on violation.
+#include <shadowkit/poisson_disk.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace {
+struct Reader {
+    const uint8_t* p;
+    size_t n;
+    template <class T>
+    T get() {
+        T v{};
+        const size_t k = n < sizeof(T) ? n : sizeof(T);
+        std::memcpy(&v, p, k);
+        p += k;
+        n -= k;
+        return v;
+    }
+};
+
+void check_set(const shadowkit::PoissonDomain& d, const glm::vec2* pts, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        if (!shadowkit::poisson_domain_contains(d, pts[i])) __builtin_trap();
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    using namespace shadowkit;
+    Reader r{data, size};
+    const uint8_t op = r.get<uint8_t>();
+    PoissonDomain d;
+    d.shape = static_cast<PoissonShape>(r.get<uint8_t>() % 4);  // 3 is invalid on purpose
+    d.inner_radius = r.get<float>();
+    const float radius = r.get<float>();
+    const uint32_t count_raw = r.get<uint32_t>();
+    const uint64_t seed = r.get<uint64_t>();
+    const size_t capacity = r.get<uint16_t>() % 4096;
+    const uint8_t flags = r.get<uint8_t>();
+    const int attempts = int(r.get<uint8_t>()) - 4;
+    const int factor = int(r.get<uint8_t>() % 80);
+
+    (void)poisson_domain_area(d);
+    (void)poisson_packing_distance(d, count_raw);
+    std::vector<glm::vec2> buf(capacity ? capacity : 1);
+    glm::vec2* out = (flags & 1) && capacity == 0 ? nullptr : buf.data();
+
+    if (op % 3 == 0) {
+        const size_t cap_bound = poisson_bridson_capacity(d, radius);
+        if (cap_bound > 1024 && cap_bound <= kPoissonMaxPoints) return 0;  // valid but slow: skip
+        BridsonOptions o;
+        o.attempts = attempts;
+        o.fill_gaps = (flags & 2) != 0;
+        const PoissonResult res = poisson_bridson(d, radius, seed, out, capacity, o);
+        if (res.count > capacity) __builtin_trap();
+        if (res.status == PoissonStatus::Ok || res.status == PoissonStatus::BufferTooSmall) {
+            if (res.needed > cap_bound) __builtin_trap();
+            if (res.status == PoissonStatus::Ok && res.count != res.needed) __builtin_trap();
+            check_set(d, out, res.count);
+            if (res.count >= 2 && res.count <= 300) {
+                const float md = poisson_min_distance(out, res.count);
+                if (!(double(md) >= double(radius) * (1.0 - 1e-7))) __builtin_trap();
+            }
+        }
+    } else {
+        size_t count = (flags & 4) ? count_raw : count_raw % 300;
+        const size_t f2 = size_t(factor) * size_t(factor);  // work grows with count * factor^2
+        if (factor >= 2 && factor <= 64 && count <= 300 && count * f2 > 20000)
+            count = 20000 / f2;  // keep each run fast
+        EliminationOptions o;
+        o.candidate_factor = factor;
+        o.progressive = (flags & 8) != 0;
+        o.weight_limiting = (flags & 16) != 0;
+        if (count > 300 && count <= kPoissonMaxPoints) return 0;  // valid but slow: skip
+        const PoissonResult res = poisson_eliminate(d, count, seed, out, capacity, o);
+        if (res.count > capacity) __builtin_trap();
+        if (res.status == PoissonStatus::Ok) {
+            if (res.count != count) __builtin_trap();
+            check_set(d, out, res.count);
+            const float md = poisson_min_distance(out, res.count);
+            if (res.count >= 2 && md != res.radius) __builtin_trap();
+            (void)poisson_normalized_radius(d, out, res.count);
+            if (res.count <= 24) {
+                const float cov = poisson_coverage_radius(d, out, res.count);
+                const float grid = poisson_coverage_radius_grid(d, out, res.count, 33);
+                if (res.count > 0 && !(grid <= cov + 1e-5f)) __builtin_trap();
+            }
+            // GLSL emission with a fuzzed name and capacity.
+            char name[9];
+            for (int i = 0; i < 8; ++i) name[i] = char(r.get<uint8_t>() % 128);
+            name[8] = '\0';
+            if (flags & 32) std::memcpy(name, "SK_TAPS", 8);
+            const size_t text_cap = r.get<uint16_t>();
+            std::vector<char> text(text_cap + 1, 'x');
+            const GlslEmitResult g = poisson_to_glsl(out, res.count, name, text_cap ? text.data() : nullptr, text_cap);
+            if (text[text_cap] != 'x') __builtin_trap();  // never writes past capacity
+            if (g.status == PoissonStatus::Ok || g.status == PoissonStatus::BufferTooSmall) {
+                if (text_cap > 0 && std::memchr(text.data(), '\0', text_cap) == nullptr) __builtin_trap();
+                if (g.status == PoissonStatus::Ok && std::strlen(text.data()) + 1 != g.needed) __builtin_trap();
+            }
+        }
+    }
+    return 0;
+}
