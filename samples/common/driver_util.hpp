@@ -34,7 +34,11 @@ void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = 
 std::size_t caster_count(const SceneGpu& gpu);
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 
-// Registration of the drivers that live in their own files.
-void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out);
+// Registration of the drivers that live in their own files (common/drivers_<family>.cpp).
+void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_warp.cpp
+void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_soft.cpp
+void add_volume_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_volume.cpp
+void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out);  // drivers_smoothie.cpp
+void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out);     // drivers_wedge.cpp
 
 }  // namespace sk

@@ -511,6 +511,10 @@ std::vector<std::unique_ptr<Technique>> make_techniques() {
     std::vector<std::unique_ptr<Technique>> t;
     t.push_back(std::make_unique<PlainShadowMap>());
     add_warp_techniques(t);
+    add_soft_techniques(t);
+    add_volume_techniques(t);
+    add_smoothie_techniques(t);
+    add_wedge_techniques(t);
     t.push_back(std::make_unique<Unshadowed>());
     return t;
 }
