@@ -220,8 +220,14 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
             const float hh = 0.5f + 3.f * rnd();
             s.meshes.push_back(make_box("obj" + std::to_string(i), {x, hh, z}, {0.5f + rnd(), hh, 0.5f + rnd()}));
         }
+        // posts near the camera: their shadows cross the ground right in front of the viewer,
+        // where perspective aliasing is worst
+        const glm::vec2 near_posts[] = {{-3.f, 2.f}, {-1.f, -1.f}, {2.f, 0.5f}, {3.5f, 3.f}, {-2.5f, -4.f}, {1.f, -6.f}};
+        int np = 0;
+        for (const glm::vec2& q : near_posts)
+            s.meshes.push_back(make_box("post" + std::to_string(np++), {q.x, 0.75f, q.y}, {0.15f, 0.75f, 0.15f}));
         s.light.type = LightType::Directional;
-        s.light.direction = glm::normalize(glm::vec3(0.4f, -0.8f, -0.45f));
+        s.light.direction = glm::normalize(glm::vec3(0.85f, -0.5f, 0.15f));  // low sun from the left: long shadows
         s.light.position = -200.f * s.light.direction;
         s.camera.eye = {0.f, 1.7f, 8.f};
         s.camera.target = {0.f, 1.2f, -10.f};

@@ -73,7 +73,12 @@ struct Orbit {
 }  // namespace
 
 int run_viewer(int argc, char** argv, const std::string& technique_name) {
+    return run_viewer(argc, argv, std::vector<std::string>{technique_name});
+}
+
+int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_names) {
     ViewerOptions o;
+    std::size_t tech_index = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--scene" && i + 1 < argc) {
@@ -85,6 +90,14 @@ int run_viewer(int argc, char** argv, const std::string& technique_name) {
                 std::fprintf(stderr, "%s: --size wants WxH\n", argv[0]);
                 return 2;
             }
+        } else if (a == "--technique" && i + 1 < argc) {
+            const std::string want = argv[++i];
+            const auto it = std::find(technique_names.begin(), technique_names.end(), want);
+            if (it == technique_names.end()) {
+                std::fprintf(stderr, "%s: --technique must be one of this sample's techniques\n", argv[0]);
+                return 2;
+            }
+            tech_index = static_cast<std::size_t>(it - technique_names.begin());
         } else if (a == "--param" && i + 1 < argc) {
             const std::string kv = argv[++i];
             const auto eq = kv.find('=');
@@ -96,15 +109,20 @@ int run_viewer(int argc, char** argv, const std::string& technique_name) {
             o.params_set = true;
         } else {
             std::fprintf(stderr,
-                         "usage: %s [--scene NAME] [--headless OUT.png] [--size WxH] [--param name=value]...\n",
+                         "usage: %s [--scene NAME] [--technique NAME] [--headless OUT.png] [--size WxH] "
+                         "[--param name=value]...\n",
                          argv[0]);
             return a == "--help" ? 0 : 2;
         }
     }
     auto techniques = make_techniques();
-    Technique* tech = nullptr;
-    for (auto& t : techniques)
-        if (t->name() == technique_name) tech = t.get();
+    auto find_tech = [&](const std::string& name) -> Technique* {
+        for (auto& t : techniques)
+            if (t->name() == name) return t.get();
+        return nullptr;
+    };
+    std::string technique_name = technique_names.at(tech_index);
+    Technique* tech = find_tech(technique_name);
     if (!tech) {
         std::fprintf(stderr, "%s: technique '%s' is not built in\n", argv[0], technique_name.c_str());
         return 2;
@@ -177,10 +195,22 @@ int run_viewer(int argc, char** argv, const std::string& technique_name) {
                 ps = sweep[static_cast<std::size_t>(k)];
                 dirty = true;
             }
+        if (pressed(GLFW_KEY_T) && technique_names.size() > 1) {
+            tech_index = (tech_index + 1) % technique_names.size();
+            technique_name = technique_names[tech_index];
+            if (Technique* t = find_tech(technique_name)) {
+                tech = t;
+                sweep = tech->sweep(scene, false);
+                ps = sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2];
+                dirty = true;
+            }
+        }
         const bool next = pressed(GLFW_KEY_N), prev = pressed(GLFW_KEY_P);
         if (next || prev) {
             scene_index = (scene_index + (next ? 1 : names.size() - 1)) % names.size();
             make_builtin_scene(names[scene_index], scene);
+            sweep = tech->sweep(scene, false);
+            if (!sweep.empty()) ps = sweep[sweep.size() / 2];
             dirty = true;
         }
         double mx, my;

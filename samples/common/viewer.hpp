@@ -3,13 +3,19 @@
 // renders one frame on EGL (no display needed) and writes a PNG instead.
 //
 //   sample [--scene NAME] [--headless OUT.png] [--size WxH] [--param name=value]...
-//   keys: 1-9 pick a sweep entry, N/P next/previous scene, Esc quits; drag to orbit.
+//   keys: 1-9 pick a sweep entry, T next technique, N/P next/previous scene, Esc quits;
+//   drag to orbit.
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace sk {
 
+#include <vector>
+
 int run_viewer(int argc, char** argv, const std::string& technique_name);
+// Several techniques, switched live with T (the first is shown first; --technique NAME picks).
+int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_names);
 
 }  // namespace sk
