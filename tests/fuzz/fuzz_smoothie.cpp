@@ -1,0 +1,135 @@
+// libFuzzer target for include/shadowkit/smoothie.hpp: silhouette edges (positions, indices, face
+// normals, outward hints), light matrices (raw floats or a perspective/ortho light built from the
+// bytes), t, clip conventions and capacities decoded from bytes (NaN/Inf, out-of-range indices and
+// shared vertices included); the scalar helpers get raw floats. Invariants trap on violation.
+#include <shadowkit/smoothie.hpp>
+
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace {
+struct Reader {
+    const uint8_t* p;
+    size_t n;
+    template <class T>
+    T get() {
+        T v{};
+        const size_t k = n < sizeof(T) ? n : sizeof(T);
+        std::memcpy(&v, p, k);
+        p += k;
+        n -= k;
+        return v;
+    }
+    // Either a raw float (NaN/Inf possible) or a small quantized value (shared, valid geometry).
+    float value(bool raw, float scale) {
+        if (raw) return get<float>();
+        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) * scale;
+    }
+};
+
+bool finite_vertex(const shadowkit::SmoothieVertex& v) {
+    const float* f = &v.position.x;
+    for (int k = 0; k < 12; ++k)
+        if (!std::isfinite(f[k])) return false;
+    return true;
+}
+
+void check_unit(float x) {
+    if (!(x >= 0.0f && x <= 1.0f)) __builtin_trap();
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    using namespace shadowkit;
+    Reader r{data, size};
+    const uint8_t flags = r.get<uint8_t>();
+    const uint8_t flags2 = r.get<uint8_t>();
+    const bool raw_pos = flags & 1, raw_matrix = flags & 2, raw_t = flags & 4, raw_idx = flags & 8;
+    const bool with_normals = !(flags & 16), with_hints = flags & 32, ortho = flags & 64;
+
+    // scalar helpers
+    {
+        const float a = r.get<float>(), b = r.get<float>(), rr = r.get<float>(), z = r.get<float>(), bias = r.get<float>();
+        check_unit(smoothie_remap_alpha(a, b, rr));
+        check_unit(smoothie_falloff(a));
+        check_unit(smoothie_visibility_tap(rr, z, b, a, bias));
+        const float w = smoothie_width_for_area_light(a, b, rr), t2 = smoothie_area_light_width(a, b, rr),
+                    pw = smoothie_penumbra_width(a, b, rr, z);
+        if (!(std::isfinite(w) && w >= 0.0f && std::isfinite(t2) && t2 >= 0.0f && std::isfinite(pw) && pw >= 0.0f))
+            __builtin_trap();
+        if (std::isfinite(a) && a >= 0.0f && a <= 1.0f && std::isfinite(b) && std::isfinite(rr) && b >= 0.0f && b < rr &&
+            rr > 0.0f && smoothie_remap_alpha(a, b, rr) < a * (1.0f - 1e-6f))
+            __builtin_trap();  // eq. 1 never darkens: alpha / (1 - b/r) >= alpha
+    }
+
+    SmoothieParams prm;
+    prm.clip_depth = (flags2 & 1) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
+    prm.reversed_z = flags2 & 2;
+    prm.paper_fans = flags2 & 4;
+    prm.t = raw_t ? r.get<float>() : static_cast<float>(r.get<uint8_t>()) / 256.0f;
+
+    glm::mat4 M(1.0f);
+    if (raw_matrix) {
+        for (int c = 0; c < 4; ++c)
+            for (int k = 0; k < 4; ++k) M[c][k] = r.get<float>();
+    } else {
+        const glm::vec3 eye(r.value(false, 0.25f), r.value(false, 0.25f), r.value(false, 0.25f) + 12.0f);
+        const float fov = 0.2f + static_cast<float>(r.get<uint8_t>()) / 100.0f;
+        glm::mat4 P = ortho ? glm::ortho(-8.0f, 8.0f, -8.0f, 8.0f, 0.5f, 60.0f) : glm::perspective(fov, 1.0f, 0.5f, 60.0f);
+        if (prm.clip_depth == ClipDepth::ZeroToOne)
+            P = ortho ? glm::orthoRH_ZO(-8.0f, 8.0f, -8.0f, 8.0f, 0.5f, 60.0f) : glm::perspectiveRH_ZO(fov, 1.0f, 0.5f, 60.0f);
+        M = P * glm::lookAt(eye, glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    }
+
+    const size_t np = r.get<uint8_t>() % 33u;
+    const size_t ne = r.get<uint8_t>() % 65u;
+    std::vector<glm::vec3> pos(np);
+    for (auto& p : pos) p = glm::vec3(r.value(raw_pos, 0.0625f), r.value(raw_pos, 0.0625f), r.value(raw_pos, 0.0625f));
+    std::vector<std::uint32_t> idx(2 * ne);
+    for (auto& i : idx) i = raw_idx ? r.get<std::uint32_t>() : static_cast<std::uint32_t>(r.get<uint8_t>() % (np + 2));
+    std::vector<glm::vec3> normals(2 * ne), hints(ne);
+    for (auto& n : normals) n = glm::vec3(r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f));
+    for (auto& h : hints) h = glm::vec3(r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f));
+    const size_t cap = r.get<uint16_t>() % 4096u;
+
+    SmoothieEdges in;
+    in.positions = pos.empty() ? nullptr : pos.data();
+    in.position_count = np;
+    in.edges = idx.empty() ? nullptr : idx.data();
+    in.edge_count = ne;
+    in.face_normals = with_normals && ne ? normals.data() : nullptr;
+    in.outward = with_hints && ne ? hints.data() : nullptr;
+
+    std::vector<SmoothieVertex> out(cap + 1);
+    std::memset(static_cast<void*>(out.data()), 0, out.size() * sizeof(SmoothieVertex));
+    const SmoothieResult q = build_smoothies(in, M, prm, nullptr, 0);
+    const SmoothieResult res = build_smoothies(in, M, prm, cap ? out.data() : nullptr, cap);
+    if (res.status != q.status && !(q.status == SmoothieStatus::BufferTooSmall || res.status == SmoothieStatus::BufferTooSmall))
+        __builtin_trap();
+    if (res.status == SmoothieStatus::Ok || res.status == SmoothieStatus::BufferTooSmall) {
+        if (res.vertex_count != q.vertex_count) __builtin_trap();            // deterministic, capacity-independent
+        if (res.vertices_written > cap || res.vertices_written % 3 != 0) __builtin_trap();
+        if (res.vertex_count > smoothie_vertex_capacity(ne)) __builtin_trap();
+        if (res.vertex_count % 3 != 0) __builtin_trap();
+        if (res.status == SmoothieStatus::Ok && res.vertices_written != res.vertex_count) __builtin_trap();
+        if (res.status == SmoothieStatus::BufferTooSmall && res.vertices_written != cap / 3 * 3) __builtin_trap();
+        if (prm.t == 0.0f && res.vertex_count != 0) __builtin_trap();        // t = 0: hard shadows, no geometry
+        if (prm.t > 0.0f && res.edge_quads + res.skipped_invalid + res.skipped_behind + res.skipped_end_on + res.skipped_no_outward +
+                res.skipped_unprojectable != ne)
+            __builtin_trap();  // every edge is accounted for
+        for (size_t k = 0; k < res.vertices_written; ++k) {
+            const SmoothieVertex& v = out[k];
+            if (!finite_vertex(v)) __builtin_trap();
+            check_unit(v.alpha);
+            if (v.corner != 0.0f && v.corner != 1.0f) __builtin_trap();
+            if (v.reserved != 0.0f || !(v.inv_t > 0.0f)) __builtin_trap();
+        }
+        if (out[cap].position.x != 0.0f || out[cap].alpha != 0.0f) __builtin_trap();  // nothing past capacity
+    }
+    return 0;
+}
