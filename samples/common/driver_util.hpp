@@ -40,5 +40,8 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out);      // 
 void add_volume_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_volume.cpp
 void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out);  // drivers_smoothie.cpp
 void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out);     // drivers_wedge.cpp
+void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_omni.cpp
+void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_silmap.cpp
+void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_linear.cpp
 
 }  // namespace sk

@@ -515,6 +515,9 @@ std::vector<std::unique_ptr<Technique>> make_techniques() {
     add_volume_techniques(t);
     add_smoothie_techniques(t);
     add_wedge_techniques(t);
+    add_omni_techniques(t);
+    add_silmap_techniques(t);
+    add_linear_techniques(t);
     t.push_back(std::make_unique<Unshadowed>());
     return t;
 }

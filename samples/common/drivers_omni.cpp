@@ -1,0 +1,8 @@
+// Technique drivers: omni family (not yet written).
+#include "driver_util.hpp"
+
+namespace sk {
+
+void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out) { (void)out; }
+
+}  // namespace sk
