@@ -7,13 +7,14 @@
 #   GL:       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri (Mesa llvmpipe, EGL surfaceless)
 #   samples:  libglfw3-dev libstb-dev xvfb xauth
 #   report:   libembree-dev libtbb-dev libassimp-dev   (ray-traced reference, mesh files)
+#   bench:    libbenchmark-dev                     (Google Benchmark, samples/bench)
 #   fuzzing:  clang libclang-rt-14-dev              (only with --fuzz)
 set -euo pipefail
 pkgs=(cmake ninja-build g++ pkg-config git
       libglm-dev doctest-dev glslang-dev glslang-tools
       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
       libglfw3-dev libstb-dev xvfb xauth
-      libembree-dev libtbb-dev libassimp-dev)
+      libembree-dev libtbb-dev libassimp-dev libbenchmark-dev)
 if [[ "${1:-}" == "--fuzz" ]]; then pkgs+=(clang libclang-rt-14-dev); fi
 missing=()
 for p in "${pkgs[@]}"; do

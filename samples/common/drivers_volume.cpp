@@ -22,14 +22,15 @@
 // Projection of the volume pass. The G-buffer depth was written with the camera's finite projection
 // (near N, far F). The infinite projection P_inf with the same near plane does NOT compare
 // consistently with it: window depth w_fin(d) = F/(F-N) (1 - N/d) vs w_inf(d) = 1 - N/d, a difference
-// of N/(F-N) (1 - N/d) (5e-4 at d = 100 N for the built-in cameras, ~4000 float ulps), so a light cap
-// drawn with P_inf lands in front of its own surface and z-fail shadows every lit face (the GL test
-// shows it with projection=1). The driver therefore draws the volumes with the same finite matrix as
-// the G-buffer and GL_DEPTH_CLAMP: vertices at infinity (w = 0) are not clipped by the far (or near)
-// plane, their depth clamps to 1, which is behind every receiver (receivers lie inside the far plane).
-// The light cap coincides with the G-buffer's own triangles (same vertices, same matrix); it is drawn
-// with a small constant polygon offset (units only) so that it reliably fails the depth test at its
-// own surface also for two-sided or re-triangulated copies of it.
+// of N/(F-N) (1 - N/d) (5e-4 at d = 100 N for the built-in cameras: ~8000 float32 steps of 2^-24),
+// so a light cap drawn with P_inf lands in front of its own surface and z-fail shadows lit faces (the
+// GL test shows it with projection=1). The driver therefore draws the volumes with the same finite
+// matrix as the G-buffer and GL_DEPTH_CLAMP: vertices at infinity (w = 0) are not clipped by the far
+// (or near) plane and their depth clamps to 1, behind every receiver (receivers lie inside the far
+// plane). The light cap coincides with the G-buffer's own triangles (same vertices, same matrix); it
+// is drawn with a small constant polygon offset (units only) so that it reliably fails the depth test
+// at its own surface also for two-sided or re-triangulated copies of it (llvmpipe needs no offset:
+// the GL test passes without it).
 //
 // Params: method 0 = z-fail for every caster, 1 = z-pass / z-fail chosen per caster
 //         (choose_stencil_method_box), 2 = z-pass for every caster (wrong when the camera is in a
@@ -40,8 +41,9 @@
 // empty), scissor_pixels (sum of the scissor rectangles' areas), volume_fragments (fragments of the
 // volume draws that survive scissor and depth bounds, counted with GL_SAMPLES_PASSED in an extra
 // instrumented pass with the depth test set to GL_ALWAYS: the fill), volume_fragments_unculled (every
-// caster's full volume without scissor and depth bounds, also those the polytope test culls), fs_invocations (GL_ARB_pipeline_statistics_query, where
-// present: fragment shader runs, which the GLSL emulation does not save), adjacency_ms,
+// caster's full volume without scissor and depth bounds, also those the polytope test culls),
+// fs_invocations (GL_ARB_pipeline_statistics_query, where present: fragment shader runs, which the
+// GLSL emulation does not save), adjacency_ms,
 // depth_bounds_native (1 when GL_EXT_depth_bounds_test was used).
 #include <shadowkit/shadow_volume.hpp>
 #include <shadowkit/silhouette.hpp>

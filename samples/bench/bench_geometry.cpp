@@ -1,0 +1,250 @@
+// shadowkit-bench: the CPU side of stencil shadow volumes on procedural meshes of 10k..1M triangles.
+//
+//   adjacency   build_edge_adjacency (once per mesh; weld of bit-identical positions, sort of half-edges)
+//   facing      compute_facing (one double-precision plane test per face)
+//   silhouette  extract_silhouette (one pass over the edge list)
+//   volume      build_side_quads + build_caps (z-fail index buffer: side quads, light and dark caps)
+//   frame       facing + silhouette + volume: the per-frame work of a moving light
+//
+// Meshes: "sphere" (closed UV sphere with shared vertices: few silhouette edges) and "grid" (a noisy
+// height field: open, many silhouette edges). Every benchmark reports the bytes its stage reads
+// (bytes_per_second), and measures in the same run a memcpy of the same number of bytes (buffers of
+// that size, median of repeated copies): counter `x_memcpy` = stage time / memcpy time, the bound the
+// issue asks to stay within 4x of. `edges_per_s` counts the mesh's edges processed per second.
+#include <shadowkit/shadow_volume.hpp>
+#include <shadowkit/silhouette.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct BenchMesh {
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices;
+};
+
+// Closed UV sphere, shared vertices (one vertex per pole, the seam wraps): 2 * slices * (stacks - 1) triangles.
+BenchMesh make_sphere(std::size_t triangles) {
+    const std::uint32_t stacks = std::max<std::uint32_t>(3, static_cast<std::uint32_t>(std::sqrt(double(triangles) / 4.0)));
+    const std::uint32_t slices = 2 * stacks;
+    BenchMesh m;
+    const double pi = 3.14159265358979323846;
+    m.positions.push_back({0.f, 1.f, 0.f});
+    for (std::uint32_t i = 1; i < stacks; ++i)
+        for (std::uint32_t j = 0; j < slices; ++j) {
+            const double th = pi * i / stacks, ph = 2.0 * pi * j / slices;
+            m.positions.push_back({static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
+                                   static_cast<float>(-std::sin(th) * std::sin(ph))});
+        }
+    m.positions.push_back({0.f, -1.f, 0.f});
+    const std::uint32_t south = static_cast<std::uint32_t>(m.positions.size() - 1);
+    auto ring = [&](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * slices + (j % slices); };
+    for (std::uint32_t j = 0; j < slices; ++j) {
+        m.indices.insert(m.indices.end(), {0u, ring(1, j), ring(1, j + 1)});
+        m.indices.insert(m.indices.end(), {south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
+    }
+    for (std::uint32_t i = 1; i + 1 < stacks; ++i)
+        for (std::uint32_t j = 0; j < slices; ++j) {
+            const std::uint32_t a = ring(i, j), b = ring(i + 1, j), c = ring(i + 1, j + 1), d = ring(i, j + 1);
+            m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+        }
+    return m;
+}
+
+// Noisy height field over [-1, 1]^2 (open mesh, boundary edges): 2 n^2 triangles.
+BenchMesh make_grid(std::size_t triangles) {
+    const std::uint32_t n = std::max<std::uint32_t>(2, static_cast<std::uint32_t>(std::sqrt(double(triangles) / 2.0)));
+    BenchMesh m;
+    std::uint32_t h = 2463534242u;
+    auto rnd = [&h]() {
+        h ^= h << 13;
+        h ^= h >> 17;
+        h ^= h << 5;
+        return static_cast<float>(h & 0xffffffu) / 16777216.f;
+    };
+    for (std::uint32_t i = 0; i <= n; ++i)
+        for (std::uint32_t j = 0; j <= n; ++j) {
+            const float x = -1.f + 2.f * static_cast<float>(i) / static_cast<float>(n);
+            const float z = -1.f + 2.f * static_cast<float>(j) / static_cast<float>(n);
+            m.positions.push_back({x, 0.1f * std::sin(7.f * x) * std::cos(5.f * z) + 0.02f * (rnd() - 0.5f), z});
+        }
+    for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t j = 0; j < n; ++j) {
+            const std::uint32_t a = i * (n + 1) + j, b = a + 1, c = a + (n + 1), d = c + 1;
+            m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+        }
+    return m;
+}
+
+// Everything a stage needs, built once per (mesh kind, size) and shared by the benchmarks.
+struct Fixture {
+    BenchMesh mesh;
+    shadowkit::EdgeAdjacency adj;
+    glm::vec4 light{0.f};
+    std::vector<std::uint8_t> facing;
+    std::vector<std::uint32_t> sil;
+    std::size_t sil_edges = 0;
+    std::vector<std::uint32_t> volume;
+};
+
+Fixture& fixture(int kind, std::size_t triangles) {
+    static std::map<std::pair<int, std::size_t>, std::unique_ptr<Fixture>> cache;
+    auto& slot = cache[{kind, triangles}];
+    if (slot) return *slot;
+    slot = std::make_unique<Fixture>();
+    Fixture& f = *slot;
+    f.mesh = kind == 0 ? make_sphere(triangles) : make_grid(triangles);
+    f.adj = shadowkit::build_edge_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
+                                            f.mesh.indices.size());
+    f.light = kind == 0 ? glm::vec4(3.f, 2.f, 1.f, 1.f) : glm::vec4(0.6f, 1.5f, 0.4f, 1.f);
+    f.facing.assign(f.adj.face_count(), 0);
+    shadowkit::compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
+                              f.facing.size());
+    f.sil.assign(2 * f.adj.max_silhouette_edges(), 0);
+    f.sil_edges = shadowkit::extract_silhouette(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
+                                                f.sil.size() / 2)
+                      .edge_count;
+    f.volume.assign(6 * f.adj.max_silhouette_edges() + 6 * f.adj.face_count(), 0);
+    return f;
+}
+
+// Median time (ns) of a memcpy of `bytes` bytes between two buffers of that size (same run, warm).
+double memcpy_ns(std::size_t bytes) {
+    static std::map<std::size_t, double> cache;
+    if (auto it = cache.find(bytes); it != cache.end()) return it->second;
+    std::vector<unsigned char> src(bytes, 1), dst(bytes, 0);
+    std::vector<double> t;
+    for (int rep = 0; rep < 31; ++rep) {
+        const auto t0 = Clock::now();
+        std::memcpy(dst.data(), src.data(), bytes);
+        benchmark::ClobberMemory();
+        t.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count());
+        benchmark::DoNotOptimize(dst.data());
+    }
+    std::nth_element(t.begin(), t.begin() + 15, t.end());
+    return cache[bytes] = t[15];
+}
+
+// Runs `body` in the benchmark loop; reports bytes, edges/s and the ratio to memcpy of `bytes`.
+template <typename F>
+void measure(benchmark::State& state, std::size_t bytes, std::size_t edges, F&& body) {
+    const double mc = memcpy_ns(bytes);
+    const auto t0 = Clock::now();
+    std::int64_t iters = 0;
+    for (auto _ : state) {
+        body();
+        ++iters;
+    }
+    const double ns = std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / double(std::max<std::int64_t>(iters, 1));
+    state.SetBytesProcessed(static_cast<std::int64_t>(bytes) * iters);
+    state.counters["input_MB"] = double(bytes) / 1e6;
+    state.counters["memcpy_us"] = mc / 1e3;
+    state.counters["x_memcpy"] = ns / mc;
+    state.counters["edges_per_s"] = benchmark::Counter(double(edges) * double(iters), benchmark::Counter::kIsRate);
+}
+
+std::size_t edge_bytes(const shadowkit::EdgeAdjacency& a) {
+    return a.edges.size() * sizeof(shadowkit::AdjacencyEdge) +
+           a.nonmanifold_edges.size() * sizeof(shadowkit::NonManifoldEdge) + a.nonmanifold_faces.size() * 4;
+}
+
+void set_label(benchmark::State& state, const Fixture& f) {
+    state.SetLabel(std::string(state.range(0) == 0 ? "sphere" : "grid") + " tris=" + std::to_string(f.adj.face_count()) +
+                   " edges=" + std::to_string(f.adj.edges.size()) + " sil=" + std::to_string(f.sil_edges));
+}
+
+void BM_adjacency(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.mesh.positions.size() * sizeof(glm::vec3) + f.mesh.indices.size() * 4;
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        auto a = shadowkit::build_edge_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
+                                                 f.mesh.indices.size());
+        benchmark::DoNotOptimize(a.edges.data());
+    });
+    set_label(state, f);
+}
+
+void BM_facing(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3);
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        auto r = shadowkit::compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light,
+                                           f.facing.data(), f.facing.size());
+        benchmark::DoNotOptimize(r);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_silhouette(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = edge_bytes(f.adj) + f.facing.size();
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        auto r = shadowkit::extract_silhouette(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
+                                               f.sil.size() / 2);
+        benchmark::DoNotOptimize(r);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_volume(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.sil_edges * 8 + f.adj.faces.size() * 4 + f.facing.size();
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        const auto sq = shadowkit::build_side_quads(f.sil.data(), f.sil_edges, f.mesh.positions.size(), f.volume.data(),
+                                                    f.volume.size());
+        const auto cp = shadowkit::build_caps(f.adj.faces.data(), f.adj.face_count(), f.facing.data(),
+                                              f.mesh.positions.size(), shadowkit::CapMode::LitOnly, true,
+                                              f.volume.data() + sq.count, f.volume.size() - sq.count);
+        benchmark::DoNotOptimize(cp);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_frame(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3) + edge_bytes(f.adj);
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        shadowkit::compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
+                                  f.facing.size());
+        const auto sr = shadowkit::extract_silhouette(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
+                                                      f.sil.size() / 2);
+        const auto sq = shadowkit::build_side_quads(f.sil.data(), sr.edge_count, f.mesh.positions.size(), f.volume.data(),
+                                                    f.volume.size());
+        const auto cp = shadowkit::build_caps(f.adj.faces.data(), f.adj.face_count(), f.facing.data(),
+                                              f.mesh.positions.size(), shadowkit::CapMode::LitOnly, true,
+                                              f.volume.data() + sq.count, f.volume.size() - sq.count);
+        benchmark::DoNotOptimize(cp);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+    for (int kind : {0, 1})
+        for (std::int64_t t : {10000, 100000, 1000000}) b->Args({kind, t});
+    b->Unit(benchmark::kMicrosecond);
+}
+
+BENCHMARK(BM_adjacency)->Apply(sizes);
+BENCHMARK(BM_facing)->Apply(sizes);
+BENCHMARK(BM_silhouette)->Apply(sizes);
+BENCHMARK(BM_volume)->Apply(sizes);
+BENCHMARK(BM_frame)->Apply(sizes);
+
+}  // namespace
+
+BENCHMARK_MAIN();
