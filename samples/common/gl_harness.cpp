@@ -21,6 +21,9 @@ Context::~Context() {
     }
 }
 
+// Set by create_context: GL timer queries are meaningful only on a real GPU driver.
+static bool g_use_timer_queries = false;
+
 std::unique_ptr<Context> create_context(std::string& why) {
     // eglGetPlatformDisplayEXT: libepoxy cannot resolve the EGL 1.5 core entry point
     // before a display exists, the EXT one is resolved from the client extensions.
@@ -66,6 +69,7 @@ std::unique_ptr<Context> create_context(std::string& why) {
                     ctx->renderer.find("softpipe") != std::string::npos;
     ctx->has_depth_bounds_test = epoxy_has_gl_extension("GL_EXT_depth_bounds_test");
     ctx->has_clip_control = epoxy_gl_version() >= 45 || epoxy_has_gl_extension("GL_ARB_clip_control");
+    g_use_timer_queries = !ctx->llvmpipe;
     return ctx;
 }
 
@@ -260,6 +264,8 @@ bool write_png(const std::string& path, int width, int height, int channels, con
     return stbi_write_png(path.c_str(), width, height, channels, pixels, width * channels) != 0;
 }
 
+bool timer_queries_in_use() { return g_use_timer_queries; }
+
 double median_frame_ms(const std::function<void()>& frame, int warmup, int frames, std::vector<double>* samples) {
     for (int i = 0; i < warmup; ++i) {
         frame();
@@ -268,13 +274,27 @@ double median_frame_ms(const std::function<void()>& frame, int warmup, int frame
     std::vector<double> ms;
     ms.reserve(static_cast<std::size_t>(std::max(frames, 1)));
     glFinish();
+    GLuint query = 0;
+    if (g_use_timer_queries) glGenQueries(1, &query);
     for (int i = 0; i < std::max(frames, 1); ++i) {
+        if (g_use_timer_queries) {
+            // real GPU: the GPU's own elapsed time for the frame's commands
+            glBeginQuery(GL_TIME_ELAPSED, query);
+            frame();
+            glEndQuery(GL_TIME_ELAPSED);
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+            ms.push_back(static_cast<double>(ns) * 1e-6);
+            continue;
+        }
+        // software rasterizer: the work happens on the CPU; time it to completion
         const auto t0 = std::chrono::steady_clock::now();
         frame();
         glFinish();
         const auto t1 = std::chrono::steady_clock::now();
         ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     }
+    if (query) glDeleteQueries(1, &query);
     if (samples) *samples = ms;
     std::vector<double> s = ms;
     std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());

@@ -79,10 +79,15 @@ std::vector<float> read_depth_float(const Target& t);
 bool write_png(const std::string& path, int width, int height, int channels,
                const std::uint8_t* pixels, bool flip_y = true);
 
-// Median wall time in milliseconds of `frame` over `frames` runs after `warmup` runs,
-// each run closed by glFinish(). Samples (ms) are returned in `samples` if non-null.
+// Median time in milliseconds of `frame` over `frames` runs after `warmup` runs. On llvmpipe
+// (and any software rasterizer) each run is closed by glFinish() and timed with steady_clock; on
+// a real GPU driver GL_TIME_ELAPSED timer queries measure the GPU's own time. Samples (ms) are
+// returned in `samples` if non-null.
 double median_frame_ms(const std::function<void()>& frame, int warmup, int frames,
                        std::vector<double>* samples = nullptr);
+
+// True when median_frame_ms uses GL timer queries (a real GPU driver).
+bool timer_queries_in_use();
 
 // Indexed triangle mesh on the GPU: attribute 0 = position (vec3), 1 = normal (vec3).
 struct GpuMesh {

@@ -242,6 +242,7 @@ int main(int argc, char** argv) {
     info.height = o.height;
     info.frames = o.frames;
     info.quick = o.quick;
+    info.timer_queries = skgl::timer_queries_in_use();
 
     std::vector<skr::Row> rows;
     std::vector<skr::SceneInfo> infos;

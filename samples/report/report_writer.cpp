@@ -59,7 +59,8 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
     if (!f) return false;
     f << "{\n  \"renderer\": \"" << json_escape(info.renderer) << "\",\n  \"gl_version\": \""
       << json_escape(info.gl_version) << "\",\n  \"cpu\": \"" << json_escape(info.cpu) << "\",\n  \"date\": \""
-      << json_escape(info.date) << "\",\n  \"quick\": " << (info.quick ? "true" : "false") << ",\n  \"rows\": [";
+      << json_escape(info.date) << "\",\n  \"quick\": " << (info.quick ? "true" : "false")
+      << ",\n  \"gpu_timing\": \"" << (info.timer_queries ? "GL_TIME_ELAPSED" : "glFinish+steady_clock") << "\",\n  \"rows\": [";
     bool first = true;
     for (const auto& r : rows) {
         f << (first ? "\n" : ",\n") << "    {\"technique\": \"" << json_escape(r.technique) << "\", \"params\": {";
@@ -124,7 +125,8 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
     f << "- renderer: `" << info.renderer << "` (" << info.gl_version << ")\n";
     f << "- CPU: " << info.cpu << "\n- date: " << info.date << "\n";
     f << "- image: " << info.width << "x" << info.height << " camera pixels; GPU time = median of " << info.frames
-      << " frames after warm-up (glFinish + steady clock" << (info.renderer.find("llvmpipe") != std::string::npos ? ", llvmpipe: software rasterizer" : "")
+      << " frames after warm-up ("
+      << (info.timer_queries ? "GL_TIME_ELAPSED timer queries" : "glFinish + steady clock; llvmpipe is a software rasterizer, timer queries are meaningless there")
       << ")" << (info.quick ? "; **--quick** run" : "") << "\n";
     f << "- error: |V - V_ref| over receiver pixels facing the light; V_ref ray traced with Embree from the same "
          "G-buffer points. Penumbra RMSE: pixels with 0 < V_ref < 1. Misclassified: hard techniques, pixels "

@@ -38,6 +38,7 @@ struct ReportInfo {
     std::string renderer, gl_version, cpu, date, command;
     int width = 0, height = 0, frames = 0;
     bool quick = false;
+    bool timer_queries = false;
 };
 
 // Marks rows on each scene's Pareto front (no other row of the scene is both faster and lower RMSE).
