@@ -172,8 +172,13 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
         }
         f << "\nBold: on the Pareto front (no other row is both faster and more accurate). Images: reference `"
           << sc.reference_image << "`";
-        if (!rs.empty() && !rs.front()->failed)
-            f << ", best row `" << rs.front()->image_v << "` and its signed error `" << rs.front()->image_err << "`";
+        const Row* most_accurate = nullptr;
+        for (const Row* r : rs)
+            if (!r->failed && (!most_accurate || r->m.rmse < most_accurate->m.rmse)) most_accurate = r;
+        if (most_accurate)
+            f << "; most accurate row (" << most_accurate->technique << " " << most_accurate->params_label << ") `"
+              << most_accurate->image_v << "` and its signed error `" << most_accurate->image_err
+              << "` (red: too bright, blue: too dark)";
         f << ".\n\n";
     }
     return static_cast<bool>(f);
