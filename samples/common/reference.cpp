@@ -172,7 +172,8 @@ bool compute_reference(const Scene& s, const GBuffer& g, const ReferenceOptions&
                 int seen[2] = {0, 0}, count[2] = {0, 0};
                 const glm::vec3 pc = L.position - p;
                 const float dc = glm::length(pc);
-                const bool behind_emitter = (L.type != LightType::Sphere) && glm::dot(p - L.position, ldir) <= 0.f;
+                const bool behind_emitter =
+                    (L.type == LightType::Rect || L.type == LightType::Disk) && glm::dot(p - L.position, ldir) <= 0.f;
                 const bool inside_sphere = L.type == LightType::Sphere && dc <= L.size;
                 glm::vec3 ct, cb;
                 const glm::vec3 cw = pc / dc;
@@ -197,6 +198,13 @@ bool compute_reference(const Scene& s, const GBuffer& g, const ReferenceOptions&
                             const float b = dc * ct_;
                             const float disc = L.size * L.size - dc * dc * st_ * st_;
                             tfar = b - std::sqrt(std::max(0.f, disc));
+                        } else if (L.type == LightType::Linear) {
+                            // stratified along the segment: strata * strata strata, one jittered sample each
+                            const float t = (static_cast<float>(i) + v) / static_cast<float>(strata);
+                            const glm::vec3 q = L.position + (t - 0.5f) * L.size * ldir;
+                            dir = q - org;
+                            tfar = glm::length(dir);
+                            dir /= tfar;
                         } else {
                             glm::vec2 o = L.type == LightType::Rect ? glm::vec2((u - 0.5f) * L.size, (v - 0.5f) * L.size)
                                                                     : concentric_disk(u, v) * L.size;

@@ -45,7 +45,7 @@ struct Reference {
 };
 
 // Visibility fraction as defined here: area lights are sampled uniformly over their area (rect,
-// disk) or uniformly over the solid angle they subtend (sphere); a sample behind the receiver's
+// disk), uniformly over the solid angle they subtend (sphere) or along their length (linear); a sample behind the receiver's
 // tangent plane, or (rect, disk) a receiver behind the emitter's plane, counts as unseen. Spot
 // lights give 0 outside their cone.
 bool compute_reference(const Scene& scene, const GBuffer& g, const ReferenceOptions& opt, Reference& out,

@@ -133,7 +133,7 @@ Mesh make_room(const std::string& name, glm::vec3 c, glm::vec3 h) {
 }
 
 std::vector<std::string> builtin_scene_names() {
-    return {"contact", "overlap", "stack", "fence", "duel", "outdoor", "room", "square"};
+    return {"contact", "overlap", "stack", "fence", "duel", "outdoor", "room", "linear", "square"};
 }
 
 bool make_builtin_scene(const std::string& name, Scene& s) {
@@ -244,6 +244,19 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.eye = {2.4f, 2.4f, 2.6f};
         s.camera.target = {-0.5f, 0.6f, -0.5f};
         s.camera.fovy = 1.2f;
+    } else if (name == "linear") {
+        s.description = "a box and a post on a floor under a line light (tube): linear-light soft shadows";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
+        s.meshes.back().caster = false;
+        s.meshes.push_back(make_box("box", {-0.7f, 0.4f, 0.1f}, {0.4f, 0.4f, 0.4f}));
+        s.meshes.push_back(make_box("post", {0.8f, 0.7f, -0.2f}, {0.06f, 0.7f, 0.06f}));
+        s.light.type = LightType::Linear;
+        s.light.position = {0.1f, 2.6f, 0.3f};
+        s.light.direction = glm::normalize(glm::vec3(1.f, 0.f, 0.35f));  // along the tube
+        s.light.size = 1.6f;
+        s.light.spot_half_angle = 1.1f;
+        s.camera.eye = {0.3f, 3.4f, 4.4f};
+        s.camera.target = {0.f, 0.2f, -0.2f};
     } else if (name == "square") {
         s.description = "square occluder parallel to a floor under a parallel square area light (closed form)";
         s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 3.f, 3.f));

@@ -19,15 +19,20 @@ struct Mesh {
     bool receiver = true;  // counted in the metrics
 };
 
-enum class LightType { Point, Spot, Directional, Rect, Disk, Sphere };
+// Linear: a line segment light (Heidrich et al. 2000) centred at `position`, along `direction`, of
+// length `size`; it shines in every direction (no emitter plane). size 0 is a point light.
+enum class LightType { Point, Spot, Directional, Rect, Disk, Sphere, Linear };
 
 struct Light {
     LightType type = LightType::Spot;
     glm::vec3 position{0.f, 5.f, 0.f};
-    glm::vec3 direction{0.f, -1.f, 0.f};  // spot / directional / rect / disk: where it shines
+    glm::vec3 direction{0.f, -1.f, 0.f};  // spot / directional / rect / disk: where it shines; linear: along the segment
     float spot_half_angle = 0.7f;         // radians, spot lights (and the shadow-map frustum of area lights)
-    float size = 0.f;                     // rect: edge length (square), disk: radius, sphere: radius
-    bool is_area() const { return (type == LightType::Rect || type == LightType::Disk || type == LightType::Sphere) && size > 0.f; }
+    float size = 0.f;                     // rect: edge length (square), disk: radius, sphere: radius, linear: length
+    bool is_area() const {
+        return (type == LightType::Rect || type == LightType::Disk || type == LightType::Sphere || type == LightType::Linear) &&
+               size > 0.f;
+    }
 };
 
 struct Camera {
@@ -63,7 +68,7 @@ Mesh make_sphere(const std::string& name, glm::vec3 center, float radius, int st
 Mesh make_room(const std::string& name, glm::vec3 center, glm::vec3 half_extent);
 
 // The built-in scenes of the report (names: contact, overlap, stack, fence, duel, outdoor, room,
-// and the analytic instrument scene "square").
+// linear, and the analytic instrument scene "square").
 std::vector<std::string> builtin_scene_names();
 bool make_builtin_scene(const std::string& name, Scene& out);
 

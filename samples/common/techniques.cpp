@@ -155,7 +155,7 @@ std::string visibility_fragment_shader(const std::string& snippets, const std::s
     return std::string("#version 450 core\n") + snippets + "\n" + body + R"(
 layout(binding = 0) uniform sampler2D u_gbuf_position;
 layout(binding = 1) uniform sampler2D u_gbuf_normal;
-uniform int u_light_type;        // 0 point, 1 spot, 2 directional, 3 rect, 4 disk, 5 sphere
+uniform int u_light_type;        // 0 point, 1 spot, 2 directional, 3 rect, 4 disk, 5 sphere, 6 linear
 uniform vec3 u_light_position;
 uniform vec3 u_light_direction;
 uniform float u_light_cos_cone;
@@ -185,7 +185,10 @@ LightMatrices fit_light(const Scene& s) {
     const float radius = 0.5f * glm::length(hi - lo);
     const Light& L = s.light;
     glm::vec3 dir = glm::normalize(L.direction);
-    if (L.type == LightType::Sphere || L.type == LightType::Point) dir = glm::normalize(center - L.position);
+    // lights without a facing direction (sphere, point; a line light's direction is its axis)
+    // look at the scene's centre
+    if (L.type == LightType::Sphere || L.type == LightType::Point || L.type == LightType::Linear)
+        dir = glm::normalize(center - L.position);
     const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, 1.f, 0.f);
     if (L.type == LightType::Directional) {
         m.perspective = false;
@@ -215,7 +218,7 @@ LightMatrices fit_light(const Scene& s) {
     m.zfar = zmax * 1.01f;
     m.znear = std::max(zmin * 0.9f, m.zfar * 2e-3f);
     float half = L.spot_half_angle;
-    if (L.type == LightType::Sphere) half = std::min(std::atan(tan_max), 1.4f);
+    if (L.type == LightType::Sphere || L.type == LightType::Linear) half = std::min(std::atan(tan_max), 1.4f);
     m.proj = glm::perspective(2.f * half, 1.f, m.znear, m.zfar);
     return m;
 }
