@@ -8,7 +8,8 @@
 //              bind the same texture twice with two sampler objects (GL 3.3) for depth_map and sm.
 //   sm         sampler2DShadow view (compare mode on, GL_LINEAR, GL_LEQUAL; GL_GEQUAL for reversed-Z).
 //   uvz        shadow coordinate: uv in [0,1], z the receiver's (biased) window depth.
-//   dz_duv     receiver-plane gradient (sk_receiver_plane_depth_bias in pcf.glsl) or vec2(0.0).
+//   dz_duv     receiver-plane gradient (sk_receiver_plane_depth_bias in pcf.glsl) or vec2(0.0); each
+//              blocker-search and filter tap at uv offset o compares with uvz.z + dot(dz_duv, o).
 //   light_uv_at_near  perspective light: light width / (near * 2 tan(fov/2)), the light's width in uv
 //              measured on the near plane (shadowkit::pcss_light_uv_at_near). Directional light
 //              (sk_pcss_directional): light_uv_per_depth = 2 tan(theta/2) (far - near) / ortho width.
@@ -18,6 +19,8 @@
 //   max_filter_uv  clamp of the filter width (uv), e.g. 0.05.
 // Defines: SK_REVERSED_Z before this snippet for reversed-Z depth (1 at near).
 // Taps with uv outside [0,1] are ignored by the blocker search and count as lit in the filter.
+// A search region narrower than one texel (light size 0, receiver at the near plane) returns the
+// single 2x2 hardware compare texture(sm, uvz): PCSS reduces exactly to the hard shadow.
 // Usage:
 //   float lit = sk_pcss(depth_map, sm, uvz, vec2(0.0), u_light_uv_at_near, u_near, u_far, 16, 16,
 //                       6.2831853 * sk_interleaved_gradient_noise(gl_FragCoord.xy), 0.05);
@@ -127,9 +130,11 @@ bool sk_depth_closer(float a, float b) {
 #endif
 }
 
-// Average window depth of the blockers (stored depth closer than uvz.z) among `taps` Poisson
-// samples of a disk of diameter search_uv; -1.0 when there is none.
-float sk_pcss_blocker_window_depth(sampler2D depth_map, vec3 uvz, float search_uv, int taps, float angle) {
+// Average window depth of the blockers among `taps` Poisson samples of a disk of diameter
+// search_uv; -1.0 when there is none. With the receiver plane dz_duv, the tap at uv offset o
+// compares with uvz.z + dot(dz_duv, o), so a receiver tilted towards the light does not find
+// itself as a blocker (vec2(0.0): compare every tap with uvz.z).
+float sk_pcss_blocker_window_depth(sampler2D depth_map, vec3 uvz, vec2 dz_duv, float search_uv, int taps, float angle) {
     int n = clamp(taps, 1, 64);
     float c = cos(angle);
     float s = sin(angle);
@@ -137,15 +142,21 @@ float sk_pcss_blocker_window_depth(sampler2D depth_map, vec3 uvz, float search_u
     float sum = 0.0;
     float count = 0.0;
     for (int i = 0; i < n; ++i) {
-        vec2 uv = uvz.xy + rot * SK_POISSON_DISK[i] * (0.5 * search_uv);
+        vec2 o = rot * SK_POISSON_DISK[i] * (0.5 * search_uv);
+        vec2 uv = uvz.xy + o;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
         float d = textureLod(depth_map, uv, 0.0).r;
-        if (sk_depth_closer(d, uvz.z)) {
+        if (sk_depth_closer(d, uvz.z + dot(dz_duv, o))) {
             sum += d;
             count += 1.0;
         }
     }
     return count > 0.0 ? sum / count : -1.0;
+}
+
+// The search without a receiver plane (every tap compares with uvz.z).
+float sk_pcss_blocker_window_depth(sampler2D depth_map, vec3 uvz, float search_uv, int taps, float angle) {
+    return sk_pcss_blocker_window_depth(depth_map, uvz, vec2(0.0), search_uv, taps, angle);
 }
 
 // Filter taps for a filter of width filter_uv on a map of map_texels texels: ceil(pi (D/2)^2) for
@@ -189,7 +200,10 @@ float sk_pcss(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec2 dz_duv, fl
               float near, float far, int search_taps, int filter_taps, float angle, float max_filter_uv) {
     float z_r = sk_linearize_depth(uvz.z, near, far);
     float search_uv = light_uv_at_near * max(z_r - near, 0.0) / z_r;
-    float b = sk_pcss_blocker_window_depth(depth_map, uvz, search_uv, search_taps, angle);
+    // a search region narrower than a texel (light size 0, receiver at the near plane) cannot see
+    // what the 2x2 compare sees: return that compare, the exact hard-shadow limit
+    if (!(search_uv * float(textureSize(depth_map, 0).x) > 1.0)) return sk_pcss_filter(sm, uvz, dz_duv, 0.0, 1, angle);
+    float b = sk_pcss_blocker_window_depth(depth_map, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;
     float z_b = max(sk_linearize_depth(b, near, far), 1e-30);
     float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near / z_r;
@@ -208,7 +222,8 @@ float sk_pcss_directional(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec
     float z_r = uvz.z;
 #endif
     float search_uv = light_uv_per_depth * max(z_r, 0.0);
-    float b = sk_pcss_blocker_window_depth(depth_map, uvz, search_uv, search_taps, angle);
+    if (!(search_uv * float(textureSize(depth_map, 0).x) > 1.0)) return sk_pcss_filter(sm, uvz, dz_duv, 0.0, 1, angle);
+    float b = sk_pcss_blocker_window_depth(depth_map, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;
 #ifdef SK_REVERSED_Z
     float z_b = 1.0 - b;

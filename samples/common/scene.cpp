@@ -133,7 +133,7 @@ Mesh make_room(const std::string& name, glm::vec3 c, glm::vec3 h) {
 }
 
 std::vector<std::string> builtin_scene_names() {
-    return {"contact", "overlap", "stack", "fence", "duel", "outdoor", "room", "linear", "square"};
+    return {"contact", "overlap", "stack", "fence", "duel", "outdoor", "room", "grazing", "linear", "square"};
 }
 
 bool make_builtin_scene(const std::string& name, Scene& s) {
@@ -257,6 +257,18 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.light.spot_half_angle = 1.1f;
         s.camera.eye = {0.3f, 3.4f, 4.4f};
         s.camera.target = {0.f, 0.2f, -0.2f};
+    } else if (name == "grazing") {
+        s.description = "thin wall and a cube on a floor that casts too, square light 11 degrees above the horizon: acne, peter-panning";
+        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));  // a caster too: self-shadowing at grazing light
+        s.meshes.push_back(make_box("wall", {0.f, 0.4f, 0.f}, {0.8f, 0.4f, 0.01f}));
+        s.meshes.push_back(make_box("cube", {1.4f, 0.15f, -0.4f}, {0.15f, 0.15f, 0.15f}));
+        s.light.type = LightType::Rect;
+        s.light.position = {0.3f, 1.0f, -4.5f};
+        s.light.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, 5.0f));
+        s.light.size = 0.3f;
+        s.light.spot_half_angle = 0.6f;
+        s.camera.eye = {1.0f, 0.9f, 1.5f};
+        s.camera.target = {0.f, 0.05f, 0.2f};
     } else if (name == "square") {
         s.description = "square occluder parallel to a floor under a parallel square area light (closed form)";
         s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 3.f, 3.f));

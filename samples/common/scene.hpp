@@ -67,7 +67,7 @@ Mesh make_sphere(const std::string& name, glm::vec3 center, float radius, int st
 // A closed room (inward-facing walls, floor and ceiling).
 Mesh make_room(const std::string& name, glm::vec3 center, glm::vec3 half_extent);
 
-// The built-in scenes of the report (names: contact, overlap, stack, fence, duel, outdoor, room,
+// The built-in scenes of the report (names: contact, overlap, stack, fence, duel, outdoor, room, grazing, linear,
 // linear, and the analytic instrument scene "square").
 std::vector<std::string> builtin_scene_names();
 bool make_builtin_scene(const std::string& name, Scene& out);

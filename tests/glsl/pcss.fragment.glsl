@@ -21,7 +21,8 @@ void main() {
                       u_search_taps, u_filter_taps, angle, u_max_filter_uv);
     float b = sk_pcss_directional(u_depth_map, u_shadow_map, uvz, g, u_light_uv_per_depth,
                                   u_search_taps, u_filter_taps, angle, u_max_filter_uv);
-    float c = sk_pcss_blocker_window_depth(u_depth_map, uvz, 0.01, u_search_taps, angle);
+    float c = sk_pcss_blocker_window_depth(u_depth_map, uvz, 0.01, u_search_taps, angle)
+            + sk_pcss_blocker_window_depth(u_depth_map, uvz, g, 0.01, u_search_taps, angle);
     float d = sk_pcss_filter(u_shadow_map, uvz, g, 0.01, u_filter_taps, angle);
     int t = sk_pcss_tap_budget(0.01, float(textureSize(u_shadow_map, 0).x), 4, 64);
     float z = sk_linearize_depth(uvz.z, u_near, u_far);

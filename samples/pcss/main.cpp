@@ -1,0 +1,11 @@
+// Sample: percentage-closer soft shadows (shadowkit/pcss.hpp for the uniforms, glsl/pcss.glsl for
+// the blocker search and the filter) on the built-in area-light scenes.
+//
+//   sample_pcss [--scene contact] [--headless out.png] [--size WxH] [--param name=value]...
+//   params: taps=16|32|64 (blocker search = filter taps), rotate=0|1 (per-pixel rotated Poisson),
+//           light_scale=S (emitter width x S; 0 = the hard-shadow limit), depth24=0|1,
+//           hard=1 (the plain 2x2 lookup with the same map and bias), horizon=0|1
+//   keys: 1-6 pick taps 16/32/64 x rotate 0/1, N/P next/previous scene, Esc quits; drag to orbit.
+#include "viewer.hpp"
+
+int main(int argc, char** argv) { return sk::run_viewer(argc, argv, "pcss"); }
