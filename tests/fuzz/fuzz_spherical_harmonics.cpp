@@ -1,0 +1,164 @@
+// libFuzzer target for include/shadowkit/spherical_harmonics.hpp: orders (valid and not),
+// directions, coefficient vectors, rotation matrices (raw floats, or a proper rotation / reflection
+// built from a decoded quaternion), projection samples with values and weights (NaN/Inf, zero
+// directions, huge counts capped by the input), zonal kernels and capacities decoded from bytes.
+// Invariants trap on violation.
+#include <shadowkit/spherical_harmonics.hpp>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace {
+struct Reader {
+    const uint8_t* p;
+    size_t n;
+    template <class T>
+    T get() {
+        T v{};
+        const size_t k = n < sizeof(T) ? n : sizeof(T);
+        std::memcpy(&v, p, k);
+        p += k;
+        n -= k;
+        return v;
+    }
+    // A raw float (NaN/Inf possible) or a small quantized value.
+    float value(bool raw) {
+        if (raw) return get<float>();
+        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) / 64.0f;
+    }
+};
+
+void check(bool ok) {
+    if (!ok) __builtin_trap();
+}
+
+bool finite(const double* v, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        if (!std::isfinite(v[i])) return false;
+    return true;
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    using namespace shadowkit;
+    Reader r{data, size};
+    const uint8_t flags = r.get<uint8_t>();
+    const bool raw = flags & 1, raw_matrix = flags & 2, reflect = flags & 4, use_weights = flags & 8;
+    const int order = static_cast<int>(static_cast<int8_t>(r.get<uint8_t>())) % 8;  // -7 .. 7
+    const size_t cap = r.get<uint8_t>() % 30;
+    const size_t need = sh_coefficient_count(order);
+    check(need == (sh_order_valid(order) ? static_cast<size_t>(order * order) : 0u));
+
+    // evaluation and reconstruction at a direction
+    const glm::vec3 dir(r.value(raw), r.value(raw), r.value(raw));
+    float yf[32];
+    SHResult e = sh_evaluate(order, dir, yf, cap);
+    check(e.count <= 32);
+    if (e.status == SHStatus::Ok) {
+        check(e.count == need && e.count <= cap);
+        double s = 0.0;
+        for (size_t i = 0; i < e.count; ++i) {
+            check(std::isfinite(yf[i]) && std::fabs(yf[i]) < 2.0f);  // |y_lm| <= sqrt((2l+1)/(4 pi)) < 0.85
+            s += double(yf[i]) * double(yf[i]);
+        }
+        // addition theorem: sum_m y_lm^2 = (2l+1)/(4 pi) per band, so the total is order^2 / (4 pi)
+        check(std::fabs(s - double(order * order) / (4.0 * 3.14159265358979323846)) < 1e-5);
+    }
+    if (e.status == SHStatus::BufferTooSmall) check(e.count == need && cap < need);
+
+    double c[25];
+    for (double& v : c) v = static_cast<double>(r.value(raw));
+    const glm::dvec3 ddir(dir);
+    SHValue<double> rv = sh_reconstruct(order, c, cap, ddir);
+    if (rv.status == SHStatus::Ok) check(std::isfinite(rv.value));
+    else check(rv.value == 0.0);
+
+    // rotation
+    glm::dmat3 R(1.0);
+    if (raw_matrix) {
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) R[i][j] = static_cast<double>(r.get<float>());
+    } else {
+        glm::dquat q(r.value(false), r.value(false), r.value(false), r.value(false));
+        if (glm::length(q) > 1e-3) R = glm::mat3_cast(glm::normalize(q));
+        if (reflect) R = -R;
+    }
+    SHRotation rot;
+    const SHStatus rs = sh_make_rotation(order, R, rot);
+    if (!raw_matrix && sh_order_valid(order)) check(rs == SHStatus::Ok);
+    if (rs == SHStatus::Ok) {
+        double out[25];
+        const SHResult rr = sh_rotate(rot, c, 25, out, cap);
+        if (rr.status == SHStatus::Ok) {
+            check(finite(out, need));
+            // each band's length is preserved (orthogonal blocks; R orthogonal within 1e-3)
+            for (int l = 0; l < order; ++l) {
+                double a = 0.0, b = 0.0;
+                for (int m = -l; m <= l; ++m) {
+                    a += c[sh_index(l, m)] * c[sh_index(l, m)];
+                    b += out[sh_index(l, m)] * out[sh_index(l, m)];
+                }
+                check(std::fabs(a - b) <= 0.05 * a + 1e-300);
+            }
+        } else {
+            check(rr.status == SHStatus::BufferTooSmall || rr.status == SHStatus::NonFiniteInput ||
+                  rr.status == SHStatus::Overflow);
+        }
+        // in place
+        double inplace[25];
+        std::memcpy(inplace, c, sizeof c);
+        sh_rotate(rot, inplace, 25, inplace, 25);
+    } else {
+        check(rot.order == 0);
+    }
+
+    // convolution
+    double zonal[5];
+    for (double& z : zonal) z = static_cast<double>(r.value(raw));
+    double conv[25];
+    const SHResult cz = sh_convolve_zonal(order, zonal, 5, c, 25, conv, cap);
+    if (cz.status == SHStatus::Ok) check(finite(conv, need));
+    const SHResult cc = sh_convolve_clamped_cosine(order, c, 25, conv, cap);
+    if (cc.status == SHStatus::Ok) check(finite(conv, need));
+    const SHValue<double> dv = sh_dot(order, c, 25, conv, cap);
+    if (dv.status == SHStatus::Ok) check(std::isfinite(dv.value));
+
+    // projection from samples (float values; count capped by the remaining input)
+    const size_t samples = r.get<uint8_t>() % 64;
+    std::vector<glm::vec3> dirs;
+    std::vector<float> vals, weights;
+    std::vector<glm::vec3> rgb;
+    for (size_t j = 0; j < samples && r.n > 0; ++j) {
+        dirs.emplace_back(r.value(raw), r.value(raw), r.value(raw));
+        vals.push_back(r.value(raw));
+        weights.push_back(r.value(raw));
+        rgb.emplace_back(vals.back(), -vals.back(), r.value(raw));
+    }
+    float proj[25];
+    const SHResult pr = sh_project(order, dirs.data(), vals.data(), use_weights ? weights.data() : nullptr, dirs.size(),
+                                   proj, cap);
+    check(pr.count <= 25);
+    if (pr.status == SHStatus::Ok)
+        for (size_t i = 0; i < need; ++i) check(std::isfinite(proj[i]));
+    glm::vec3 projrgb[25];
+    const SHResult prgb = sh_project_rgb(order, dirs.data(), rgb.data(), use_weights ? weights.data() : nullptr,
+                                         rgb.size(), projrgb, cap);
+    if (prgb.status == SHStatus::Ok)
+        for (size_t i = 0; i < need; ++i)
+            check(std::isfinite(projrgb[i].x) && std::isfinite(projrgb[i].y) && std::isfinite(projrgb[i].z));
+
+    // stratified directions
+    const int strata = static_cast<int>(static_cast<int8_t>(r.get<uint8_t>())) % 12;
+    glm::vec3 sd[128];
+    const SHResult st = sh_stratified_directions(strata, r.get<uint32_t>(), sd, 128);
+    if (st.status == SHStatus::Ok) {
+        check(st.count == size_t(strata * strata));
+        for (size_t i = 0; i < st.count; ++i) check(std::fabs(glm::length(sd[i]) - 1.0f) < 1e-5f);
+    }
+    (void)sh_clamped_cosine_band(order);
+    return 0;
+}
