@@ -469,12 +469,14 @@ inline SilmapLookup silmap_lookup(const glm::vec2* points, const std::uint8_t* w
         iy = std::min(std::max(iy, 0), H - 1);
         return receiver_depth <= depth[std::size_t(iy) * std::size_t(W) + std::size_t(ix)] + bias;
     };
-    const glm::vec2 s = glm::clamp(q, glm::vec2(-1.f), glm::vec2(float(W) + 1.f, float(H) + 1.f)) - glm::vec2(0.5f);
+    // clamped before any float -> int conversion (a lookup far outside the map is a border lookup)
+    const glm::vec2 qc = glm::clamp(q, glm::vec2(-1.f), glm::vec2(float(W) + 1.f, float(H) + 1.f));
+    const glm::vec2 s = qc - glm::vec2(0.5f);
     const glm::ivec2 cell(int(std::floor(s.x)), int(std::floor(s.y)));
     const glm::vec2 local = s - glm::vec2(cell);
     if (cell.x < 0 || cell.y < 0 || cell.x > W - 2 || cell.y > H - 2) {
         r.fallback = true;
-        r.lit = test(int(std::floor(q.x)), int(std::floor(q.y)));
+        r.lit = test(int(std::floor(qc.x)), int(std::floor(qc.y)));
         return r;
     }
     const bool lit[4] = {test(cell.x, cell.y), test(cell.x + 1, cell.y), test(cell.x, cell.y + 1),
