@@ -191,11 +191,13 @@ bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, co
     const int n = static_cast<int>(scenes.size());
     const int nrows = (n + cols - 1) / cols;
     const int W = pw * cols, H = ph * std::max(nrows, 1);
-    static const char* palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
-                                    "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+    // 20 distinguishable colours (techniques keep their colour across panels)
+    static const char* palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
+                                    "#17becf", "#7f7f7f", "#bcbd22", "#000000", "#00a087", "#ffc000", "#4b0082",
+                                    "#ff1493", "#556b2f", "#00008b", "#a0522d", "#20b2aa", "#b30000"};
     std::map<std::string, int> color;
     for (const auto& r : rows)
-        if (!color.count(r.technique)) color[r.technique] = static_cast<int>(color.size()) % 10;
+        if (!color.count(r.technique)) color[r.technique] = static_cast<int>(color.size()) % 20;
     f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     for (int si = 0; si < n; ++si) {
@@ -237,14 +239,29 @@ bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, co
         f << "<text x=\"" << (l + r) / 2 << "\" y=\"" << b + 30 << "\" text-anchor=\"middle\">time per frame, ms (log)</text>\n";
         f << "<text x=\"" << ox + 12 << "\" y=\"" << (t + b) / 2 << "\" transform=\"rotate(-90 " << ox + 12 << ' '
           << (t + b) / 2 << ")\" text-anchor=\"middle\">RMSE</text>\n";
-        // one polyline per technique (its parameter sweep, in sweep order)
+        // per technique: every swept setting as a dot, and a line through the technique's own best
+        // error-for-time settings (its Pareto front), so multi-parameter sweeps stay readable
         std::map<std::string, std::vector<const Row*>> by_tech;
         for (const Row* row : rs) by_tech[row->technique].push_back(row);
         int legend = 0;
         for (const auto& [tech, list] : by_tech) {
             const char* col = palette[color[tech]];
+            std::vector<const Row*> own;
+            for (const Row* row : list) {
+                bool dominated = false;
+                for (const Row* o : list) {
+                    const double to = o->gpu_ms + o->cpu_ms, tr = row->gpu_ms + row->cpu_ms;
+                    if (o != row && to <= tr && o->m.rmse <= row->m.rmse && (to < tr || o->m.rmse < row->m.rmse)) {
+                        dominated = true;
+                        break;
+                    }
+                }
+                if (!dominated) own.push_back(row);
+            }
+            std::sort(own.begin(), own.end(),
+                      [](const Row* a, const Row* c) { return a->gpu_ms + a->cpu_ms < c->gpu_ms + c->cpu_ms; });
             f << "<polyline fill=\"none\" stroke=\"" << col << "\" stroke-width=\"1.5\" points=\"";
-            for (const Row* row : list) f << X(row->gpu_ms + row->cpu_ms) << ',' << Y(row->m.rmse) << ' ';
+            for (const Row* row : own) f << X(row->gpu_ms + row->cpu_ms) << ',' << Y(row->m.rmse) << ' ';
             f << "\"/>\n";
             for (const Row* row : list)
                 f << "<circle cx=\"" << X(row->gpu_ms + row->cpu_ms) << "\" cy=\"" << Y(row->m.rmse) << "\" r=\"3\" fill=\""
