@@ -103,7 +103,7 @@ static std::string work_text(const Row& r) {
     std::string s;
     for (const auto& [k, v] : r.work) {
         if (!s.empty()) s += ", ";
-        s += k + " " + (v >= 1e6 ? fmt("%.3gM", v / 1e6) : fmt("%.0f", v));
+        s += k + " " + (v >= 1e6 ? fmt("%.3gM", v / 1e6) : v == std::floor(v) ? fmt("%.0f", v) : fmt("%.3g", v));
     }
     return s;
 }
@@ -145,7 +145,8 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
             return a->m.rmse < b->m.rmse;
         });
         f << "## " << sc.name << "\n\n" << sc.description << " (" << sc.triangles << " triangles). Reference: "
-          << sc.ref_samples << " shadow rays per pixel";
+          << (sc.ref_samples > 1 ? std::to_string(sc.ref_samples) + " stratified shadow rays per pixel"
+                                 : std::string("one exact shadow ray per pixel (hard light)"));
         if (sc.ref_samples > 1) f << ", standard error " << fmt("%.4f", sc.ref_stderr) << " RMS";
         f << (sc.ref_cached ? " (cached)" : fmt(", %.1f s", sc.ref_seconds)) << ".\n\n";
         double min_err = INFINITY;
