@@ -182,6 +182,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
     glGenFramebuffers(1, &fbo);
     int last_key_state[GLFW_KEY_LAST + 1] = {};
     int shown_w = 0, shown_h = 0;
+    std::size_t param_index = 0;
     while (!glfwWindowShouldClose(win)) {
         auto pressed = [&](int key) {
             const int s = glfwGetKey(win, key);
@@ -195,6 +196,51 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
                 ps = sweep[static_cast<std::size_t>(k)];
                 dirty = true;
             }
+        // live parameters: Tab picks one of the technique's parameters, [ and ] step through the
+        // values its sweep uses (e.g. smoothie t, PCSS taps and rotation, z-pass/z-fail method)
+        if (pressed(GLFW_KEY_TAB) && !ps.values.empty()) {
+            param_index = (param_index + 1) % ps.values.size();
+            std::printf("parameter: %s\n", ps.values[param_index].first.c_str());
+        }
+        const bool up = pressed(GLFW_KEY_RIGHT_BRACKET), down = pressed(GLFW_KEY_LEFT_BRACKET);
+        if ((up || down) && !ps.values.empty()) {
+            param_index %= ps.values.size();
+            auto& [pname, pvalue] = ps.values[param_index];
+            std::vector<double> vals;
+            for (const auto& e : sweep)
+                for (const auto& [k, v] : e.values)
+                    if (k == pname && std::find(vals.begin(), vals.end(), v) == vals.end()) vals.push_back(v);
+            std::sort(vals.begin(), vals.end());
+            auto it = std::find(vals.begin(), vals.end(), pvalue);
+            if (!vals.empty()) {
+                std::size_t i = it == vals.end() ? 0 : static_cast<std::size_t>(it - vals.begin());
+                i = up ? std::min(i + 1, vals.size() - 1) : (i == 0 ? 0 : i - 1);
+                pvalue = vals[i];
+                dirty = true;
+            }
+        }
+        // move the light: arrow keys in x/z, PageUp/PageDown in y (a spot light keeps aiming at
+        // the scene's centre)
+        {
+            glm::vec3 d(0.f);
+            if (glfwGetKey(win, GLFW_KEY_LEFT) == GLFW_PRESS) d.x -= 1.f;
+            if (glfwGetKey(win, GLFW_KEY_RIGHT) == GLFW_PRESS) d.x += 1.f;
+            if (glfwGetKey(win, GLFW_KEY_UP) == GLFW_PRESS) d.z -= 1.f;
+            if (glfwGetKey(win, GLFW_KEY_DOWN) == GLFW_PRESS) d.z += 1.f;
+            if (glfwGetKey(win, GLFW_KEY_PAGE_UP) == GLFW_PRESS) d.y += 1.f;
+            if (glfwGetKey(win, GLFW_KEY_PAGE_DOWN) == GLFW_PRESS) d.y -= 1.f;
+            if (d != glm::vec3(0.f)) {
+                const float step = 0.02f * glm::length(scene.bounds_max() - scene.bounds_min()) / 10.f;
+                if (scene.light.type == LightType::Directional) {
+                    scene.light.direction = glm::normalize(scene.light.direction + 0.5f * step * glm::vec3(d.x, -d.y, d.z));
+                } else {
+                    const glm::vec3 aim = 0.5f * (scene.bounds_min() + scene.bounds_max());
+                    scene.light.position += step * d;
+                    if (scene.light.type != LightType::Linear) scene.light.direction = glm::normalize(aim - scene.light.position);
+                }
+                dirty = true;
+            }
+        }
         if (pressed(GLFW_KEY_T) && technique_names.size() > 1) {
             tech_index = (tech_index + 1) % technique_names.size();
             technique_name = technique_names[tech_index];

@@ -3,7 +3,8 @@
 // renders one frame on EGL (no display needed) and writes a PNG instead.
 //
 //   sample [--scene NAME] [--headless OUT.png] [--size WxH] [--param name=value]...
-//   keys: 1-9 pick a sweep entry, T next technique, N/P next/previous scene, Esc quits;
+//   keys: 1-9 pick a sweep entry, Tab picks a parameter and [ ] change it live, arrow keys and
+//   PageUp/PageDown move the light, T next technique, N/P next/previous scene, Esc quits;
 //   drag to orbit.
 #pragma once
 
