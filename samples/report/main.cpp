@@ -5,6 +5,8 @@
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
+// The scene `prt` (in the default set) is not a visibility scene: it adds a "## prt" section and a
+// top-level "prt" object (PRT shading error vs SH order against a Monte Carlo reference).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +23,7 @@
 
 #include "gl_harness.hpp"
 #include "metrics.hpp"
+#include "prt_section.hpp"
 #include "reference.hpp"
 #include "report_writer.hpp"
 #include "scene.hpp"
@@ -176,6 +179,7 @@ int main(int argc, char** argv) {
             sk::make_builtin_scene(n, s);
             std::printf("  %-10s %s\n", n.c_str(), s.description.c_str());
         }
+        std::printf("  %-10s %s\n", "prt", skr::prt_description());
         std::printf("techniques:\n");
         for (const auto& t : techniques)
             std::printf("  %-12s %s%s\n", t->name().c_str(), t->description().c_str(),
@@ -192,10 +196,17 @@ int main(int argc, char** argv) {
     // what to run
     std::vector<sk::Scene> scenes;
     std::vector<std::string> wanted = o.scenes;
-    if (wanted.empty() && o.meshes.empty())
+    bool run_prt = false;  // the `prt` pseudo-scene: not an sk::Scene, run after the visibility scenes
+    if (wanted.empty() && o.meshes.empty()) {
         for (const auto& n : scene_names)
             if (n != "square") wanted.push_back(n);
+        run_prt = true;
+    }
     for (const auto& n : wanted) {
+        if (n == "prt") {
+            run_prt = true;
+            continue;
+        }
         sk::Scene s;
         if (!sk::make_builtin_scene(n, s)) return fail("unknown scene '" + n + "' (see --list)");
         scenes.push_back(std::move(s));
@@ -224,8 +235,8 @@ int main(int argc, char** argv) {
     std::string why;
     auto gl = skgl::create_context(why);
     if (!gl) return fail("no OpenGL 4.5 context: " + why);
-    std::fprintf(stderr, "shadowkit-report: %s, %zu scenes x %zu techniques at %dx%d\n", gl->renderer.c_str(),
-                 scenes.size(), chosen.size(), o.width, o.height);
+    std::fprintf(stderr, "shadowkit-report: %s, %zu scenes x %zu techniques at %dx%d%s\n", gl->renderer.c_str(),
+                 scenes.size(), chosen.size(), o.width, o.height, run_prt ? ", and prt" : "");
 
     skr::ReportInfo info;
     info.renderer = gl->renderer;
@@ -355,13 +366,30 @@ int main(int argc, char** argv) {
             rows.push_back(std::move(r));
         }
     }
+    skr::PrtReport prt;
+    if (run_prt) {
+        std::fprintf(stderr, "  prt       PRT error vs SH order against a Monte Carlo reference (CPU, Embree)\n");
+        if (!skr::run_prt(o.quick, prt, why)) {
+            prt = skr::PrtReport{};
+            prt.requested = true;
+            prt.failed = true;
+            prt.error = why;
+            std::fprintf(stderr, "shadowkit-report: prt: %s\n", why.c_str());
+        } else {
+            for (const auto& r : prt.orders)
+                std::fprintf(stderr, "  prt       order %-26s RMS %.2f%%  p95 %.2f%%  bias %+.2f%%  shade %.3f ms\n",
+                             r.label.c_str(), 100.0 * r.rms, 100.0 * r.p95, 100.0 * r.bias, r.shade_ms);
+            std::fprintf(stderr, "  prt       precompute %.2f s, reference %.2f s (stderr %.2f%%)\n",
+                         prt.transfer_seconds, prt.ref_seconds, 100.0 * prt.ref_stderr);
+        }
+    }
     skr::mark_pareto(rows);
     const fs::path out(o.out);
-    bool ok = skr::write_json((out / "report.json").string(), info, rows);
-    ok = skr::write_markdown((out / "report.md").string(), info, infos, rows) && ok;
+    bool ok = skr::write_json((out / "report.json").string(), info, rows, &prt);
+    ok = skr::write_markdown((out / "report.md").string(), info, infos, rows, &prt) && ok;
     ok = skr::write_svg((out / "error_vs_time.svg").string(), infos, rows) && ok;
     if (!ok) return fail("cannot write the report files in '" + o.out + "'");
     std::fprintf(stderr, "shadowkit-report: wrote %s/report.md, report.json, error_vs_time.svg (%zu rows)\n",
                  o.out.c_str(), rows.size());
-    return infos.size() == scenes.size() ? 0 : 1;
+    return infos.size() == scenes.size() && !prt.failed ? 0 : 1;
 }

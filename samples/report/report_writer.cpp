@@ -54,7 +54,47 @@ static std::string num(double v) {
     return b;
 }
 
-bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows) {
+static void write_prt_json(std::ofstream& f, const PrtReport& p) {
+    f << ",\n  \"prt\": {";
+    if (p.failed) {
+        f << "\"failed\": \"" << json_escape(p.error) << "\"}";
+        return;
+    }
+    f << "\n    \"scene\": \"prt\", \"description\": \"" << json_escape(p.description) << "\", \"vertices\": "
+      << p.vertices << ", \"triangles\": " << p.triangles << ", \"env_samples\": " << p.env_samples
+      << ",\n    \"errors\": \"fraction of the mean reference radiance; per vertex |PRT - reference|, mean of RGB\""
+      << ",\n    \"transfer\": {\"order\": " << p.transfer_order << ", \"samples\": " << p.transfer_samples
+      << ", \"seconds\": " << num(p.transfer_seconds) << ", \"timing\": \"one run\", \"threads\": " << p.threads
+      << ", \"rays\": " << p.transfer_rays << ", \"degenerate_vertices\": " << p.degenerate_vertices << "}"
+      << ",\n    \"reference\": {\"vertices\": " << p.ref_vertices << ", \"vertex_stride\": " << p.ref_vertex_stride
+      << ", \"samples\": " << p.ref_samples << ", \"stderr\": " << num(p.ref_stderr) << ", \"mean_radiance\": "
+      << num(p.ref_mean) << ", \"seconds\": " << num(p.ref_seconds) << "}"
+      << ",\n    \"shade\": {\"runs\": " << p.shade_runs << ", \"statistic\": \"median\", \"threads\": 1, \"vertices\": "
+      << p.vertices << "}"
+      << ",\n    \"orders\": [";
+    bool first = true;
+    const PrtOrderRow* cpca = nullptr;
+    for (const auto& o : p.orders) {
+        if (o.cpca) {
+            cpca = &o;
+            continue;
+        }
+        f << (first ? "\n" : ",\n") << "      {\"order\": " << o.order << ", \"coefficients\": " << o.coefficients
+          << ", \"rms\": " << num(o.rms) << ", \"p95\": " << num(o.p95) << ", \"bias\": " << num(o.bias)
+          << ", \"unshadowed_rms\": " << num(o.unshadowed_rms) << ", \"shade_ms\": " << num(o.shade_ms) << "}";
+        first = false;
+    }
+    f << "\n    ]";
+    if (cpca)
+        f << ",\n    \"cpca\": {\"order\": " << cpca->order << ", \"clusters\": " << p.cpca_clusters
+          << ", \"components\": " << p.cpca_components << ", \"rms\": " << num(cpca->rms) << ", \"p95\": "
+          << num(cpca->p95) << ", \"bias\": " << num(cpca->bias) << ", \"shade_ms\": " << num(cpca->shade_ms)
+          << ", \"compress_seconds\": " << num(p.cpca_seconds) << ", \"transfer_rms\": " << num(p.cpca_transfer_rms)
+          << "}";
+    f << "\n  }";
+}
+
+bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows, const PrtReport* prt) {
     std::ofstream f(path);
     if (!f) return false;
     f << "{\n  \"renderer\": \"" << json_escape(info.renderer) << "\",\n  \"gl_version\": \""
@@ -89,7 +129,9 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
         }
         f << ", \"ref_samples\": " << r.ref_samples << ", \"ref_stderr\": " << num(r.ref_stderr) << "}";
     }
-    f << "\n  ]\n}\n";
+    f << "\n  ]";
+    if (prt && prt->requested) write_prt_json(f, *prt);
+    f << "\n}\n";
     return static_cast<bool>(f);
 }
 
@@ -117,8 +159,39 @@ static std::string quality_text(const Row& r) {
     return s.empty() ? "-" : s;
 }
 
+static void write_prt_markdown(std::ofstream& f, const PrtReport& p) {
+    f << "## prt\n\n";
+    if (p.failed) {
+        f << "Precomputed radiance transfer: failed: " << p.error << "\n\n";
+        return;
+    }
+    f << "Precomputed radiance transfer (shadowed diffuse transfer, Sloan, Kautz & Snyder 2002) on the procedural "
+         "`prt` scene: "
+      << p.description << ", projected into SH with " << p.env_samples << " sphere samples. Transfer: order "
+      << p.transfer_order << " (orders 1-4 are its prefixes), " << p.transfer_samples
+      << " stratified samples per vertex, Embree visibility, " << p.threads << " threads: "
+      << fmt("%.2f s", p.transfer_seconds) << " (one timed run), " << fmt("%.2f", double(p.transfer_rays) * 1e-6)
+      << " M rays. Reference: Monte Carlo of the same environment with visibility at " << p.ref_vertices
+      << " vertices (every " << p.ref_vertex_stride << "th: floor, blob, box) x " << p.ref_samples
+      << " cosine-weighted samples, standard error " << fmt("%.2f%%", 100.0 * p.ref_stderr) << " of the mean, "
+      << fmt("%.1f s", p.ref_seconds) << ".\n\n";
+    f << "| SH order | coefficients | RMS error | p95 error | bias | unshadowed RMS error | shade ms |\n";
+    f << "|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& o : p.orders)
+        f << "| " << o.label << " | " << o.storage << " | " << fmt("%.2f%%", 100.0 * o.rms) << " | "
+          << fmt("%.2f%%", 100.0 * o.p95) << " | " << fmt("%+.2f%%", 100.0 * o.bias) << " | "
+          << (o.unshadowed_rms >= 0.0 ? fmt("%.1f%%", 100.0 * o.unshadowed_rms) : std::string("-")) << " | "
+          << fmt("%.3f", o.shade_ms) << " |\n";
+    f << "\nErrors: per vertex |PRT - reference| (mean of RGB, albedo 1), relative to the mean reference radiance; "
+         "unshadowed: the same order without visibility (what the shadows add). Shade ms: CPU, one thread, the "
+         "dot products of all "
+      << p.vertices << " vertices (CPCA: the per-cluster projections of the environment, then the weighted sum per "
+         "vertex), median of "
+      << p.shade_runs << " runs. CPCA compression took " << fmt("%.2f s", p.cpca_seconds) << ".\n\n";
+}
+
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
-                    const std::vector<Row>& rows) {
+                    const std::vector<Row>& rows, const PrtReport* prt) {
     std::ofstream f(path);
     if (!f) return false;
     f << "# shadowkit report: error against run time\n\n";
@@ -182,6 +255,7 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
               << "` (red: too bright, blue: too dark)";
         f << ".\n\n";
     }
+    if (prt && prt->requested) write_prt_markdown(f, *prt);
     return static_cast<bool>(f);
 }
 

@@ -1,6 +1,8 @@
 // Output side of shadowkit-report: rows -> report.md, report.json, error_vs_time.svg.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,13 +43,52 @@ struct ReportInfo {
     bool timer_queries = false;
 };
 
+// The `prt` pseudo-scene (not an sk::Scene): precomputed radiance transfer shading of the
+// procedural prt scene against a Monte Carlo reference with visibility, error vs SH order.
+// Errors are fractions of the mean reference radiance (report.md shows them in %).
+struct PrtOrderRow {
+    std::string label;     // "1" .. "5", or "5, CPCA 64 x (mean + 4)"
+    std::string storage;   // per-vertex storage: "25" coefficients, or "4 weights + cluster id"
+    int order = 0;
+    int coefficients = 0;  // floats per vertex
+    bool cpca = false;
+    double rms = 0.0, p95 = 0.0, bias = 0.0;
+    double unshadowed_rms = -1.0;  // < 0: not measured (CPCA row)
+    double shade_ms = 0.0;         // CPU, one thread, all vertices, median of shade_runs
+};
+
+struct PrtReport {
+    bool requested = false;
+    bool failed = false;
+    std::string error;
+    std::string description;
+    std::size_t vertices = 0, triangles = 0;
+    int env_samples = 0;               // sphere samples projecting the environment into SH
+    int transfer_order = 5, transfer_samples = 0;
+    double transfer_seconds = 0.0;     // one timed run (shadowed, all cores)
+    std::uint64_t transfer_rays = 0;
+    std::size_t degenerate_vertices = 0;
+    unsigned threads = 1;
+    std::size_t ref_vertices = 0, ref_vertex_stride = 1;
+    int ref_samples = 0;               // cosine-weighted samples per reference vertex
+    double ref_stderr = 0.0;           // RMS standard error, relative to the mean reference radiance
+    double ref_seconds = 0.0, ref_mean = 0.0;
+    std::size_t cpca_clusters = 0;
+    int cpca_components = 0;
+    double cpca_seconds = 0.0, cpca_transfer_rms = 0.0;
+    int shade_runs = 0;
+    std::vector<PrtOrderRow> orders;   // orders 1 .. 5, then the CPCA row
+};
+
 // Marks rows on each scene's Pareto front (no other row of the scene is both faster and lower RMSE).
 void mark_pareto(std::vector<Row>& rows);
 
 std::string json_escape(const std::string& s);
-bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows);
+// `prt` (may be null or not requested): a top-level "prt" object / a "## prt" section after the scenes.
+bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows,
+                const PrtReport* prt = nullptr);
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
-                    const std::vector<Row>& rows);
+                    const std::vector<Row>& rows, const PrtReport* prt = nullptr);
 bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
 
 }  // namespace skr
