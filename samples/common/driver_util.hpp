@@ -1,6 +1,8 @@
 // Internal helpers shared by the technique drivers (samples/common/drivers_*.cpp).
 #pragma once
 
+#include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -9,6 +11,14 @@
 #include "techniques.hpp"
 
 namespace sk {
+
+// CPU timing of the drivers' own CPU work.
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0);
+// Median of CPU time samples (the upper median for an even count; 0 for none).
+double median_of(std::vector<double> v);
+// Runs work() `runs` times and sets ms to the median of its CPU times; false at the first failing run.
+bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms);
 
 // Light uniforms read by visibility_fragment_shader()'s common light rules.
 void set_light_uniforms(GLuint prog, const Light& L);
@@ -28,6 +38,18 @@ struct VisibilityPass {
     bool init(int w, int h, std::string& why);
     void draw(GLuint prog, const SceneGpu& gpu);
 };
+
+// The depth-only program (depth_only_vs / depth_only_fs) and a visibility program (full-screen vertex
+// shader + visibility_fragment_shader(snippets, body)); 0 on failure, the message appended to log.
+GLuint compile_depth_only_program(std::string& log);
+GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log);
+
+// size x size GL_DEPTH_COMPONENT32F target with hardware depth compare (2x2 PCF): a plain shadow map.
+bool make_shadow_map_target(skgl::Target& sm, int size, std::string& why);
+// The shadow-map pass: clears fbo's depth and draws the casters (all, or only the listed mesh
+// indices) with depth_prog (u_light_view_proj = light_vp), depth test GL_LESS, polygon offset (2, 2).
+void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth_prog, const glm::mat4& light_vp,
+                         const std::vector<std::uint32_t>* only = nullptr);
 
 // Draws the caster meshes (all, or only the listed mesh indices).
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = nullptr);

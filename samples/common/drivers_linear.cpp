@@ -135,14 +135,14 @@ public:
         // discontinuity cells are drawn) or, gpu_skin = 1, by sk_linear_skin_vertex for every cell
         const bool gpu_skin = params.get("gpu_skin", 0.0) != 0.0;
         std::string why;
-        const auto c0 = std::chrono::steady_clock::now();
+        const auto c0 = Clock::now();
         glm::vec3 ends[kMaxSegments + 1];
         shadowkit::linear_light_subdivide(seg, static_cast<std::uint32_t>(k), ends, kMaxSegments + 1);
         const int nmaps = seg.point ? 1 : k + 1;
         std::vector<EndpointView> views;
         for (int i = 0; i < nmaps; ++i) views.push_back(endpoint_view(scene, ends[i]));
         RunResult r;
-        r.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count();
+        r.cpu_ms = ms_since(c0);
 
         std::vector<skgl::Target> maps(static_cast<std::size_t>(nmaps)), vmaps(seg.point ? 0 : static_cast<std::size_t>(2 * k));
         for (auto& t : maps) {
@@ -159,7 +159,7 @@ public:
         const std::string snippet = load_snippet("linear_light", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
+        GLuint depth = compile_depth_only_program(log);
         GLuint skin = skgl::compile_program({{GL_VERTEX_SHADER, "#version 450 core\n" + snippet + kSkinVS},
                                              {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kSkinFS}},
                                             log);
@@ -188,9 +188,7 @@ float technique_visibility(vec3 p, vec3 n) {
                     std::to_string(2 * i + 1) + "], u_vp[" + std::to_string(i + 1) + "], u_end[" +
                     std::to_string(i + 1) + "], p, n, 0.0);\n";
         body += "    return v / float(u_segments);\n}\n";
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, body)}},
-            log);
+        GLuint vis = compile_visibility_program(snippet, body, log);
         GLuint skin_cpu = skgl::compile_program({{GL_VERTEX_SHADER, "#version 450 core\n" + snippet + kSkinCpuVS},
                                                  {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kSkinFS}},
                                                 log);
@@ -229,7 +227,7 @@ float technique_visibility(vec3 p, vec3 n) {
         double cpu_skin_ms = 0.0;
         std::size_t skin_vertex_total = 0;
         auto build_skin_cpu = [&](int m) {
-            const auto t0 = std::chrono::steady_clock::now();
+            const auto t0 = Clock::now();
             const EndpointView& o = views[static_cast<std::size_t>(m)];
             glBindFramebuffer(GL_READ_FRAMEBUFFER, maps[static_cast<std::size_t>(m)].fbo);
             glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, zbuf.data());
@@ -255,7 +253,7 @@ float technique_visibility(vec3 p, vec3 n) {
             }
             sk_.resize(sr.written);
             skin_vertex_total += sr.written;
-            cpu_skin_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            cpu_skin_ms += ms_since(t0);
         };
         auto draw_skin = [&](int from, int into, skgl::Target& vt) {
             const EndpointView& o = views[static_cast<std::size_t>(from)];
@@ -404,10 +402,8 @@ public:
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader("", R"(
+        GLuint depth = compile_depth_only_program(log);
+        GLuint vis = compile_visibility_program("", R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_maps;
 uniform mat4 u_vp[16];
 uniform vec3 u_pos[16];
@@ -424,8 +420,7 @@ float technique_visibility(vec3 p, vec3 n) {
     }
     return v / float(u_count);
 }
-)")}},
-            log);
+)", log);
         if (!depth || !vis) return RunResult::failure(log);
         glUseProgram(vis);
         set_light_uniforms(vis, scene.light);

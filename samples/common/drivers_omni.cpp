@@ -19,16 +19,6 @@ namespace sk {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
 // Range of the stored distance: the farthest scene corner from the light (plus 1%).
 float omni_range(const Scene& s) {
     const glm::vec3 lo = s.bounds_min(), hi = s.bounds_max();
@@ -131,7 +121,7 @@ public:
             }
             cpu.push_back(ms_since(t0));
         }
-        r.cpu_ms = median(cpu);
+        r.cpu_ms = median_of(cpu);
         std::array<std::vector<std::uint32_t>, 6> face_meshes;
         for (int f = 0; f < 6; ++f) {
             if (culling)
@@ -152,9 +142,7 @@ void main() { v_world = a_position; gl_Position = u_light_view_proj * vec4(a_pos
 )";
         GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, vs}, {GL_FRAGMENT_SHADER, distance_fs(snippet)}}, log);
         if (!depth) return RunResult::failure(log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform samplerCubeShadow u_cube;
 layout(binding = 3) uniform samplerCube u_cube_distance;
 uniform vec3 u_light;
@@ -171,8 +159,7 @@ float technique_visibility(vec3 p, vec3 n) {
     if (u_lookup == 2) return sk_omni_cube_pcf(u_cube, u_light, p, u_range, b, u_size, 1);
     return sk_omni_cube_shadow(u_cube, u_light, p, u_range, b);
 }
-)")}},
-            log);
+)", log);
         if (!vis) {
             glDeleteProgram(depth);
             return RunResult::failure(log);
@@ -357,7 +344,7 @@ public:
             cpu.push_back(ms_since(t0));
         }
         if (fr.status != shadowkit::OmniStatus::Ok) return RunResult::failure("omni_paraboloid_frame failed");
-        r.cpu_ms = median(cpu);
+        r.cpu_ms = median_of(cpu);
 
         // tessellate the casters (once per light position: reported as tess_ms, not per frame)
         const auto t_tess = Clock::now();
@@ -415,9 +402,7 @@ void main() {
 }
 )";
         GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, vs}, {GL_FRAGMENT_SHADER, distance_fs(snippet)}}, log);
-        GLuint vis = depth ? skgl::compile_program(
-                                 {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-                                  {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+        GLuint vis = depth ? compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_dp;
 uniform mat4 u_dp_view;
 uniform vec3 u_light;
@@ -436,8 +421,7 @@ float technique_visibility(vec3 p, vec3 n) {
     if (u_pcf > 0) return sk_dp_shadow_pcf(u_dp, u_dp_view, p, u_range, b, u_size, u_pcf);
     return sk_dp_shadow(u_dp, u_dp_view, p, u_range, b);
 }
-)")}},
-                                 log)
+)", log)
                            : 0;
         if (!depth || !vis) {
             for (auto& m : meshes) skgl::destroy_mesh(m);

@@ -22,8 +22,6 @@ namespace sk {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 bool silmap_scene(const Scene& s) {
     // hard lights with a perspective frustum: the straight-edged stack, the thin fence slats, duel
     return s.name == "stack" || s.name == "fence" || s.name == "duel";
@@ -91,40 +89,26 @@ private:
         const LightMatrices lm = fit_light(ctx.scene);
         const glm::mat4 light_vp = lm.proj * lm.view;
         skgl::Target sm;
-        if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
-        skgl::set_depth_compare(sm.depth, true, true);
+        if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         const std::string snippet = load_snippet("shadow_map", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+        GLuint depth = compile_depth_only_program(log);
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_light_view_proj;
 float technique_visibility(vec3 p, vec3 n) {
     return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
 }
-)")}},
-            log);
+)", log);
         if (!depth || !vis) return RunResult::failure(log);
         glUseProgram(vis);
         set_light_uniforms(vis, ctx.scene.light);
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
         auto frame = [&] {
-            glBindFramebuffer(GL_FRAMEBUFFER, sm.fbo);
-            glViewport(0, 0, size, size);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glClear(GL_DEPTH_BUFFER_BIT);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            glUseProgram(depth);
-            glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-            draw_casters(ctx.gpu);
-            glDisable(GL_POLYGON_OFFSET_FILL);
+            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp);
             glActiveTexture(GL_TEXTURE2);
             glBindTexture(GL_TEXTURE_2D, sm.depth);
             pass.draw(vis, ctx.gpu);
@@ -197,10 +181,9 @@ float technique_visibility(vec3 p, vec3 n) {
         for (int i = 0; i < 5; ++i) {
             const auto c0 = Clock::now();
             if (!cpu_work()) return RunResult::failure("silhouette extraction failed");
-            cpu_samples.push_back(std::chrono::duration<double, std::milli>(Clock::now() - c0).count());
+            cpu_samples.push_back(ms_since(c0));
         }
-        std::sort(cpu_samples.begin(), cpu_samples.end());
-        r.cpu_ms = cpu_samples[cpu_samples.size() / 2];
+        r.cpu_ms = median_of(cpu_samples);
 
         skgl::Target sm, silmap;
         if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
@@ -218,13 +201,11 @@ float technique_visibility(vec3 p, vec3 n) {
         const std::string snippet = load_snippet("silhouette_map", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
+        GLuint depth = compile_depth_only_program(log);
         GLuint edge_prog = skgl::compile_program({{GL_VERTEX_SHADER, "#version 450 core\n" + snippet + kEdgeVS},
                                                   {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kEdgeFS}},
                                                  log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform sampler2D u_depth;
 layout(binding = 3) uniform sampler2D u_silmap;
 uniform mat4 u_light_view_proj;
@@ -235,8 +216,7 @@ float technique_visibility(vec3 p, vec3 n) {
     if (any(lessThan(w.xy, vec2(0.0))) || any(greaterThan(w.xy, vec2(1.0)))) return 1.0;
     return sk_silmap_visibility(u_depth, u_silmap, w.xy * vec2(textureSize(u_depth, 0)), w.z, 0.0);
 }
-)")}},
-            log);
+)", log);
         if (!depth || !edge_prog || !vis) return RunResult::failure(log);
         GLuint vao = 0, vbo = 0;
         glGenVertexArrays(1, &vao);
@@ -259,17 +239,7 @@ float technique_visibility(vec3 p, vec3 n) {
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
         auto frame = [&] {
             // (1) depth map
-            glBindFramebuffer(GL_FRAMEBUFFER, sm.fbo);
-            glViewport(0, 0, size, size);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glClear(GL_DEPTH_BUFFER_BIT);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            glUseProgram(depth);
-            glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-            draw_casters(ctx.gpu);
-            glDisable(GL_POLYGON_OFFSET_FILL);
+            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp);
             glDisable(GL_DEPTH_TEST);
             // (2) silhouette map: edges (this frame's CPU output) as widened quads
             glBindBuffer(GL_ARRAY_BUFFER, vbo);

@@ -43,16 +43,6 @@ namespace sk {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-double median_of(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
 constexpr float kLookupBiasRel = 1e-3f;  // umbra test: r > z + kLookupBiasRel * r (linear depth)
 constexpr float kHiddenBiasRel = 2e-3f;  // smoothie pass: discard fragments with b > z + kHiddenBiasRel * b
 
@@ -400,9 +390,7 @@ RunResult Smoothie::run(const RunContext& ctx, const ParamSet& params) {
         glDeleteProgram(p_depth);
         return RunResult::failure(log);
     }
-    GLuint p_vis = skgl::compile_program(
-        {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, kLookupBody)}},
-        log);
+    GLuint p_vis = compile_visibility_program(snippet, kLookupBody, log);
     if (!p_vis) {
         glDeleteProgram(p_depth);
         glDeleteProgram(p_smoothie);

@@ -41,10 +41,6 @@ namespace sk {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
 constexpr float kConstBias = 2e-6f;  // window-depth units: float32 rounding of G-buffer positions and map depth
 constexpr int kMapSize = 2048;       // PCF / PCSS / bias-study shadow map
 constexpr int kSampledMapSize = 1024;
@@ -378,16 +374,14 @@ bool compile_visibility(Program& p, const std::vector<std::string>& snippet_name
     }
     snippets += kCommonGlsl;
     std::string log;
-    p.id = skgl::compile_program(
-        {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippets, body)}},
-        log);
+    p.id = compile_visibility_program(snippets, body, log);
     if (!p.id) why = log;
     return p.id != 0;
 }
 
 bool compile_depth(Program& p, std::string& why) {
     std::string log;
-    p.id = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
+    p.id = compile_depth_only_program(log);
     if (!p.id) why = log;
     return p.id != 0;
 }
@@ -486,13 +480,6 @@ void add_bias_quality(RunResult& r, const Scene& s, const GBuffer* gp) {
     r.quality.push_back({"contact_pixels", double(contacts)});
 }
 
-// Median of CPU samples (ms).
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
 // Times `frame`: ctx.warmup warm-up runs (at least two: llvmpipe compiles shader variants in the
 // first), then the median over ctx.frames runs, or fewer when the warm frame is slow: the timed
 // runs are kept within ~0.4 s per row (llvmpipe on a shared machine; the median of a few long
@@ -539,7 +526,7 @@ RunResult run_single_map(const RunContext& ctx, const SingleMapConfig& cfg) {
         ls = setup_light(scene);
         cpu.push_back(ms_since(t0));
     }
-    r.cpu_ms = median(cpu);
+    r.cpu_ms = median_of(cpu);
     DepthMap dm;
     if (!dm.init(kMapSize, cfg.depth_format, 0, why)) return RunResult::failure(why);
     Samplers smp;
@@ -785,7 +772,7 @@ public:
             }
             cpu.push_back(ms_since(t0));
         }
-        r.cpu_ms = median(cpu);
+        r.cpu_ms = median_of(cpu);
         const int batch = std::min(n, kSampledBatch);
         DepthMap dm;
         if (!dm.init(kSampledMapSize, GL_DEPTH_COMPONENT32F, batch, why)) return RunResult::failure(why);

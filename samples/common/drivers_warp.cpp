@@ -18,10 +18,6 @@ namespace sk {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
 glm::vec4 light_vec4(const Light& L) {
     if (L.type == LightType::Directional) return glm::vec4(glm::normalize(L.direction), 0.f);
     return glm::vec4(L.position, 1.f);
@@ -183,44 +179,28 @@ public:
             cpu_samples.push_back(ms_since(t0));
         }
         if (!fit_error.empty()) return RunResult::failure(fit_error);
-        std::nth_element(cpu_samples.begin(), cpu_samples.begin() + static_cast<std::ptrdiff_t>(cpu_samples.size() / 2),
-                         cpu_samples.end());
-        r.cpu_ms = cpu_samples[cpu_samples.size() / 2];
+        r.cpu_ms = median_of(cpu_samples);
 
         std::string why;
         skgl::Target sm;
-        if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
-        skgl::set_depth_compare(sm.depth, true, true);
+        if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         const std::string snippet = load_snippet("perspective_shadow_maps", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+        GLuint depth = compile_depth_only_program(log);
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_warp;
 float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, p, 0.0, false); }
-)")}},
-            log);
+)", log);
         if (!depth || !vis) return RunResult::failure(log);
         glUseProgram(vis);
         set_light_uniforms(vis, scene.light);
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_warp"), 1, GL_FALSE, glm::value_ptr(light_vp));
         auto frame = [&] {
-            glBindFramebuffer(GL_FRAMEBUFFER, sm.fbo);
-            glViewport(0, 0, size, size);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glClear(GL_DEPTH_BUFFER_BIT);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            glUseProgram(depth);
-            glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-            draw_casters(ctx.gpu, culled_list ? &keep : nullptr);
-            glDisable(GL_POLYGON_OFFSET_FILL);
+            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp, culled_list ? &keep : nullptr);
             glActiveTexture(GL_TEXTURE2);
             glBindTexture(GL_TEXTURE_2D, sm.depth);
             pass.draw(vis, ctx.gpu);
@@ -293,9 +273,7 @@ public:
                 return RunResult::failure("fit_cascades status " + std::to_string(static_cast<int>(st)));
             cpu_samples.push_back(ms_since(t0));
         }
-        std::nth_element(cpu_samples.begin(), cpu_samples.begin() + static_cast<std::ptrdiff_t>(cpu_samples.size() / 2),
-                         cpu_samples.end());
-        r.cpu_ms = cpu_samples[cpu_samples.size() / 2];
+        r.cpu_ms = median_of(cpu_samples);
 
         GLuint arr = 0;
         glGenTextures(1, &arr);
@@ -321,10 +299,8 @@ public:
         const std::string snippet = load_snippet("cascades", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippet, R"(
+        GLuint depth = compile_depth_only_program(log);
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
 uniform mat4 u_cascade_vp[4];
 uniform vec4 u_split_near;
@@ -334,8 +310,7 @@ float technique_visibility(vec3 p, vec3 n) {
     float view_depth = -(u_camera_view * vec4(p, 1.0)).z;
     return sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, 4, p, view_depth, 0.1, 0.0, false);
 }
-)")}},
-            log);
+)", log);
         if (!depth || !vis) return RunResult::failure(log);
         glUseProgram(vis);
         set_light_uniforms(vis, scene.light);

@@ -72,65 +72,21 @@
 // them, the emulated depth bounds only discard after the run starts).
 #include <shadowkit/infinite_projection.hpp>
 #include <shadowkit/penumbra_wedge.hpp>
-#include <shadowkit/shadow_volume.hpp>
-#include <shadowkit/silhouette.hpp>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "driver_util.hpp"
+#include "stencil_volumes.hpp"
 
 namespace sk {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-double median_of(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
-// Homogeneous light for silhouette.hpp / shadow_volume.hpp (copied from drivers_volume.cpp).
-glm::vec4 volume_light(const Light& L) {
-    if (L.type == LightType::Directional) return glm::vec4(-glm::normalize(L.direction), 0.f);
-    return glm::vec4(L.position, 1.f);
-}
-
-// Receiver bounds for the scissor polytope (copied from drivers_volume.cpp).
-void light_receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
-    lo = s.bounds_min();
-    hi = s.bounds_max();
-    const float pad = 1e-4f * std::max(1e-6f, glm::length(hi - lo));
-    const Light& L = s.light;
-    if (L.type == LightType::Spot && L.spot_half_angle < 1.5f) {
-        float far_d = 0.f;
-        for (int i = 0; i < 8; ++i) {
-            const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-            far_d = std::max(far_d, glm::length(c - L.position));
-        }
-        const glm::vec3 d = glm::normalize(L.direction);
-        const glm::vec3 cap = L.position + d * far_d;
-        const float r = far_d * std::tan(L.spot_half_angle);
-        const glm::vec3 ext = r * glm::sqrt(glm::max(glm::vec3(0.f), 1.f - d * d));
-        const glm::vec3 clo = glm::min(L.position, cap - ext), chi = glm::max(L.position, cap + ext);
-        const glm::vec3 nlo = glm::max(lo, clo), nhi = glm::min(hi, chi);
-        if (nlo.x <= nhi.x && nlo.y <= nhi.y && nlo.z <= nhi.z) {
-            lo = nlo;
-            hi = nhi;
-        }
-    }
-    lo -= glm::vec3(pad);
-    hi += glm::vec3(pad);
-}
+using volumes::CasterDraw;
 
 // Radius of the spherical light the wedges use (see the header comment).
 float wedge_light_radius(const Light& L, int rect_radius, float scale) {
@@ -216,35 +172,6 @@ std::size_t clip_hull_to_box(const shadowkit::PenumbraWedgeHull& h, const glm::v
     return n;
 }
 
-struct CasterData {
-    std::size_t mesh = 0;
-    shadowkit::EdgeAdjacency adj;
-    glm::vec3 lo{0.f}, hi{0.f};
-    GLint base_vertex = 0;
-    std::vector<std::uint8_t> facing;
-    std::vector<std::uint32_t> sil;
-    std::size_t index_capacity = 0;
-    std::size_t index_offset = 0;
-};
-
-struct SceneCache {
-    std::uint64_t key = 0;
-    bool valid = false;
-    std::string error;
-    std::vector<CasterData> casters;
-    double adjacency_ms = 0.0;
-    std::size_t total_vertices = 0, total_index_capacity = 0, total_sil_capacity = 0;
-};
-
-struct CasterDraw {
-    bool visible = true;
-    bool zfail = true;
-    std::size_t side_first = 0, side_count = 0;
-    std::size_t cap_first = 0, cap_count = 0;
-    std::size_t sil_edges = 0;
-    shadowkit::ScissorResult sc;
-};
-
 // One wedge as the fragment shader reads it (std430: 7 vec4).
 struct WedgeGpu {
     glm::vec4 outer_bound, inner_bound, side0, side1, e0, e1, bounds;
@@ -260,23 +187,6 @@ struct FrameStats {
     std::size_t triangles = 0, sil_edges = 0, zfail = 0, culled = 0;
     std::size_t wedges = 0, skipped = 0, wedges_culled = 0, wedges_back = 0;
 };
-
-const char* kVolumeVS = R"(
-layout(location = 0) in vec4 a_position;
-uniform mat4 u_view_proj;
-uniform vec4 u_light;
-void main() { gl_Position = u_view_proj * sk_extrude_shadow_volume(a_position, u_light); }
-)";
-const char* kVolumeFSPlain = R"(
-void main() {}
-)";
-const char* kVolumeFSBounds = R"(
-layout(binding = 2) uniform sampler2D u_scene_depth;
-uniform vec2 u_bounds;
-void main() {
-    if (sk_outside_depth_bounds_at(u_scene_depth, ivec2(gl_FragCoord.xy), u_bounds)) discard;
-}
-)";
 
 const char* kWedgeVS = R"(
 layout(location = 0) in vec4 a_position;  // hull vertex (world)
@@ -383,46 +293,8 @@ public:
     RunResult run(const RunContext& ctx, const ParamSet& params) override;
 
 private:
-    SceneCache cache_;
-    bool prepare(const Scene& scene);
+    volumes::VolumeCache cache_;
 };
-
-bool PenumbraWedges::prepare(const Scene& scene) {
-    const std::uint64_t key = scene_hash(scene, 0, 0, 0x3ed9e5ull);
-    if (cache_.valid && cache_.key == key) return true;
-    cache_ = SceneCache{};
-    cache_.key = key;
-    const auto t0 = Clock::now();
-    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-        const Mesh& m = scene.meshes[i];
-        if (!m.caster || m.indices.empty()) continue;
-        CasterData c;
-        c.mesh = i;
-        c.adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-        if (c.adj.status != shadowkit::SilhouetteStatus::Ok) {
-            cache_.error = "build_edge_adjacency failed on mesh '" + m.name + "' (status " +
-                           std::to_string(static_cast<int>(c.adj.status)) + ")";
-            return false;
-        }
-        cache_.casters.push_back(std::move(c));
-    }
-    cache_.adjacency_ms = ms_since(t0);
-    for (CasterData& c : cache_.casters) {
-        const Mesh& m = scene.meshes[c.mesh];
-        mesh_bounds(m, c.lo, c.hi);
-        c.base_vertex = static_cast<GLint>(cache_.total_vertices);
-        cache_.total_vertices += 2 * m.positions.size();
-        c.facing.assign(c.adj.face_count(), 0);
-        const std::size_t max_sil = c.adj.max_silhouette_edges();
-        c.sil.assign(2 * max_sil, 0);
-        cache_.total_sil_capacity += max_sil;
-        c.index_capacity = 6 * max_sil + 6 * c.adj.face_count();
-        c.index_offset = cache_.total_index_capacity;
-        cache_.total_index_capacity += c.index_capacity;
-    }
-    cache_.valid = true;
-    return true;
-}
 
 RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     const float light_scale = static_cast<float>(params.get("light_scale", 1.0));
@@ -439,9 +311,9 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     if (projection < 0 || projection > 1) return RunResult::failure("projection must be 0 or 1");
     if (faces < 0 || faces > 2) return RunResult::failure("faces must be 0, 1 or 2");
     if (!(light_scale >= 0.f) || !std::isfinite(light_scale)) return RunResult::failure("light_scale must be >= 0");
-    if (!prepare(scene)) return RunResult::failure(cache_.error);
+    if (!cache_.prepare(scene, 0x3ed9e5ull)) return RunResult::failure(cache_.error);
 
-    const glm::vec4 light = volume_light(scene.light);
+    const glm::vec4 light = volumes::volume_light(scene.light);
     if (!shadowkit::valid_light(light)) return RunResult::failure("invalid light");
     const bool point = light.w > 0.f;
     shadowkit::PenumbraSphereLight sphere;
@@ -473,15 +345,8 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     // against the depth buffer drawn with draw_vp
     const glm::mat4 bounds_vp = native_bounds ? draw_vp : cam_vp;
 
-    const shadowkit::NearPlaneRect near_rect =
-        shadowkit::near_plane_rect(gpu.view, scene.camera.fovy, aspect, scene.camera.znear);
-    glm::vec3 rlo, rhi;
-    light_receiver_bounds(scene, rlo, rhi);
-    const float margin = 1e-4f * std::max(1e-6f, glm::length(scene.bounds_max() - scene.bounds_min()));
-    shadowkit::ScissorParams sp;
-    sp.view_proj = bounds_vp;
-    sp.viewport[2] = W;
-    sp.viewport[3] = H;
+    const volumes::VolumeSetup setup = volumes::make_volume_setup(scene, gpu, light, bounds_vp);
+    const glm::vec3 rlo = setup.rlo, rhi = setup.rhi;
     shadowkit::PenumbraScissorParams wsp;
     wsp.view_proj = bounds_vp;
     wsp.viewport[2] = W;
@@ -511,27 +376,15 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         stats = FrameStats{};
         std::size_t nw = 0;
         for (std::size_t ci = 0; ci < cache_.casters.size(); ++ci) {
-            CasterData& c = cache_.casters[ci];
+            volumes::CasterData& c = cache_.casters[ci];
             CasterDraw& d = draws[ci];
             d = CasterDraw{};
             const Mesh& m = scene.meshes[c.mesh];
-            const shadowkit::FacingResult fr = shadowkit::compute_facing(c.adj, m.positions.data(), m.positions.size(), light,
-                                                                         c.facing.data(), c.facing.size());
-            if (fr.status != shadowkit::SilhouetteStatus::Ok) {
-                build_error = "compute_facing status " + std::to_string(static_cast<int>(fr.status));
-                return false;
-            }
-            const shadowkit::SilhouetteResult sr = shadowkit::extract_silhouette(
-                c.adj, c.facing.data(), c.facing.size(), c.sil.data(), nullptr, c.sil.size() / 2);
-            if (sr.status != shadowkit::SilhouetteStatus::Ok) {
-                build_error = "extract_silhouette status " + std::to_string(static_cast<int>(sr.status));
-                return false;
-            }
-            d.sil_edges = sr.edge_count;
+            if (!volumes::caster_silhouette(c, m, setup, d, build_error)) return false;
             stats.sil_edges += d.sil_edges;
             // wedges: every silhouette edge, also of casters whose hard volume is culled (the penumbra
             // reaches beyond the hard volume)
-            for (std::size_t e = 0; soft && e < sr.edge_count; ++e) {
+            for (std::size_t e = 0; soft && e < d.sil_edges; ++e) {
                 const glm::vec3 e0 = m.positions[c.sil[2 * e]], e1 = m.positions[c.sil[2 * e + 1]];
                 const shadowkit::PenumbraWedge w = shadowkit::penumbra_wedge(e0, e1, sphere);
                 if (w.status != shadowkit::PenumbraWedgeStatus::Ok) {
@@ -583,47 +436,14 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
             }
             // hard volume (the shadow_volume driver's CPU stage)
             if (culling) {
-                d.sc = shadowkit::shadow_volume_scissor(light, c.lo, c.hi, rlo, rhi, sp);
-                if (d.sc.status != shadowkit::VolumeStatus::Ok) {
-                    build_error = "shadow_volume_scissor status " + std::to_string(static_cast<int>(d.sc.status));
-                    return false;
-                }
-                if (!d.sc.visible) {
-                    d.visible = false;
+                if (!volumes::caster_scissor(c, setup, d, build_error)) return false;
+                if (!d.visible) {
                     ++stats.culled;
                     continue;
                 }
             }
-            if (method == 0) d.zfail = true;
-            else {
-                const shadowkit::MethodResult mr = shadowkit::choose_stencil_method_box(near_rect, light, c.lo, c.hi, margin);
-                if (mr.status != shadowkit::VolumeStatus::Ok) {
-                    build_error = "choose_stencil_method_box status " + std::to_string(static_cast<int>(mr.status));
-                    return false;
-                }
-                d.zfail = mr.method == shadowkit::StencilMethod::ZFail;
-            }
-            std::uint32_t* out = indices.data() + c.index_offset;
-            const shadowkit::VolumeCount sq =
-                shadowkit::build_side_quads(c.sil.data(), sr.edge_count, m.positions.size(), out, c.index_capacity);
-            if (sq.status != shadowkit::VolumeStatus::Ok) {
-                build_error = "build_side_quads status " + std::to_string(static_cast<int>(sq.status));
-                return false;
-            }
-            d.side_first = c.index_offset;
-            d.side_count = sq.count;
-            if (d.zfail) {
-                const shadowkit::VolumeCount cp = shadowkit::build_caps(
-                    c.adj.faces.data(), c.adj.face_count(), c.facing.data(), m.positions.size(), shadowkit::CapMode::LitOnly,
-                    point, out + sq.count, c.index_capacity - sq.count);
-                if (cp.status != shadowkit::VolumeStatus::Ok) {
-                    build_error = "build_caps status " + std::to_string(static_cast<int>(cp.status));
-                    return false;
-                }
-                d.cap_first = c.index_offset + sq.count;
-                d.cap_count = cp.count;
-                ++stats.zfail;
-            }
+            if (!volumes::caster_volume(c, m, setup, method, indices.data(), d, build_error)) return false;
+            if (d.zfail) ++stats.zfail;
             stats.triangles += (d.side_count + d.cap_count) / 3;
         }
         // draw order and hull indices (24 per wedge, in draw order)
@@ -643,13 +463,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         return true;
     };
     RunResult r;
-    std::vector<double> cpu_samples;
-    for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
-        const auto t0 = Clock::now();
-        if (!build()) return RunResult::failure(build_error);
-        cpu_samples.push_back(ms_since(t0));
-    }
-    r.cpu_ms = median_of(cpu_samples);
+    if (!median_cpu_ms(std::max(ctx.frames, 1), build, r.cpu_ms)) return RunResult::failure(build_error);
 
     // ------------------------------------------------------------------ GPU resources
     std::string why, log;
@@ -674,8 +488,11 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         if (p) programs.push_back(p);
         return p;
     };
-    const GLuint vol_prog = compile(
-        {{GL_VERTEX_SHADER, head + kVolumeVS}, {GL_FRAGMENT_SHADER, head + (emulate_bounds ? kVolumeFSBounds : kVolumeFSPlain)}});
+    volumes::VolumeGpu vol;
+    vol.use_scissor = use_scissor;
+    vol.native_bounds = native_bounds;
+    vol.emulate_bounds = emulate_bounds;
+    const GLuint vol_prog = vol.compile(head, emulate_bounds, log);
     const GLuint wedge_prog = compile({{GL_VERTEX_SHADER, whead + kWedgeVS}, {GL_FRAGMENT_SHADER, whead + kWedgeFS}});
     const GLuint comb_prog = compile(
         {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(pw_snippet, kCombineBody)}});
@@ -690,30 +507,12 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         return RunResult::failure(log);
     }
     // hard volumes: one static vertex buffer, per caster the 2n-vertex block (p, 1), (p, 0)
-    std::vector<glm::vec4> verts(cache_.total_vertices);
-    for (const CasterData& c : cache_.casters) {
-        const Mesh& m = scene.meshes[c.mesh];
-        shadowkit::build_volume_vertices(m.positions.data(), m.positions.size(), verts.data() + c.base_vertex,
-                                         2 * m.positions.size());
-    }
-    GLuint vao = 0, vbo = 0, ibo = 0, empty_vao = 0, wvao = 0, wvbo[2] = {0, 0}, wibo = 0, wssbo = 0;
-    glGenVertexArrays(1, &vao);
-    glGenVertexArrays(1, &empty_vao);
+    const std::size_t vertex_count = vol.create_buffers(scene, cache_, indices.size());
+    GLuint wvao = 0, wvbo[2] = {0, 0}, wibo = 0, wssbo = 0;
     glGenVertexArrays(1, &wvao);
-    glGenBuffers(1, &vbo);
-    glGenBuffers(1, &ibo);
     glGenBuffers(2, wvbo);
     glGenBuffers(1, &wibo);
     glGenBuffers(1, &wssbo);
-    glBindVertexArray(vao);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(verts.size(), 1) * sizeof(glm::vec4)),
-                 verts.data(), GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(indices.size(), 1) * 4), nullptr,
-                 GL_DYNAMIC_DRAW);
     glBindVertexArray(wvao);
     glBindBuffer(GL_ARRAY_BUFFER, wvbo[0]);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(hull_verts.size(), 1) * sizeof(glm::vec4)),
@@ -737,10 +536,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     glTexParameteri(GL_TEXTURE_2D, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
     glBindTexture(GL_TEXTURE_2D, 0);
 
-    glUseProgram(vol_prog);
-    glUniformMatrix4fv(glGetUniformLocation(vol_prog, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(draw_vp));
-    glUniform4fv(glGetUniformLocation(vol_prog, "u_light"), 1, glm::value_ptr(light));
-    const GLint loc_bounds = glGetUniformLocation(vol_prog, "u_bounds");
+    vol.set_uniforms(draw_vp, light);
     glUseProgram(wedge_prog);
     glUniformMatrix4fv(glGetUniformLocation(wedge_prog, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(draw_vp));
     glUniform4f(glGetUniformLocation(wedge_prog, "u_sphere_light"), sphere.centre.x, sphere.centre.y, sphere.centre.z,
@@ -769,52 +565,6 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     glUseProgram(depth_prog);
     glUniformMatrix4fv(glGetUniformLocation(depth_prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(draw_vp));
 
-    auto draw_volumes = [&](bool cull) {
-        glUseProgram(vol_prog);
-        glBindVertexArray(vao);
-        if (emulate_bounds) {
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.depth);
-        }
-        for (std::size_t ci = 0; ci < draws.size(); ++ci) {
-            const CasterDraw& d = draws[ci];
-            if (!d.visible) continue;
-            if (d.zfail) {
-                glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-                glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-            } else {
-                glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
-                glStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
-            }
-            if (cull && use_scissor) {
-                glEnable(GL_SCISSOR_TEST);
-                glScissor(d.sc.x, d.sc.y, d.sc.width, d.sc.height);
-            } else {
-                glDisable(GL_SCISSOR_TEST);
-            }
-            if (cull && native_bounds) {
-                glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
-                glDepthBoundsEXT(d.sc.depth_min, d.sc.depth_max);
-            } else if (native_bounds) {
-                glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
-            }
-            if (emulate_bounds) glUniform2f(loc_bounds, cull ? d.sc.depth_min : -1.f, cull ? d.sc.depth_max : 2.f);
-            const GLint base = cache_.casters[ci].base_vertex;
-            if (d.side_count)
-                glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(d.side_count), GL_UNSIGNED_INT,
-                                         reinterpret_cast<const void*>(d.side_first * sizeof(std::uint32_t)), base);
-            if (d.cap_count) {
-                glEnable(GL_POLYGON_OFFSET_FILL);
-                glPolygonOffset(0.f, 8.f);
-                glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(d.cap_count), GL_UNSIGNED_INT,
-                                         reinterpret_cast<const void*>(d.cap_first * sizeof(std::uint32_t)), base);
-                glDisable(GL_POLYGON_OFFSET_FILL);
-            }
-        }
-        glDisable(GL_SCISSOR_TEST);
-        if (native_bounds) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
-        glBindVertexArray(0);
-    };
     // the wedge pass: hulls into the accumulation target (state set by the caller: colour mask, blend)
     auto draw_wedges = [&](bool cull) {
         if (wedge_count == 0) return;
@@ -877,13 +627,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         glBlendFunc(GL_ONE, GL_ONE);
     };
     auto upload = [&]() {
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-        for (std::size_t ci = 0; ci < draws.size(); ++ci) {
-            const std::size_t first = cache_.casters[ci].index_offset, n = draws[ci].side_count + draws[ci].cap_count;
-            if (draws[ci].visible && n)
-                glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(first * sizeof(std::uint32_t)),
-                                static_cast<GLsizeiptr>(n * sizeof(std::uint32_t)), indices.data() + first);
-        }
+        vol.upload(cache_, draws, indices);
         if (wedge_count) {
             glBindBuffer(GL_ARRAY_BUFFER, wvbo[0]);
             glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(6 * wedge_count * sizeof(glm::vec4)), hull_verts.data());
@@ -898,14 +642,11 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         }
     };
     auto scene_depth = [&]() {
-        glDisable(GL_SCISSOR_TEST);
         if (projection == 0) {
-            glBindFramebuffer(GL_READ_FRAMEBUFFER, gpu.gbuffer.fbo);
-            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.fbo);
-            glBlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-            glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+            volumes::blit_gbuffer_depth(gpu, target.fbo);
             return;
         }
+        glDisable(GL_SCISSOR_TEST);
         // projection 1: the scene's depth drawn with P_inf (every mesh, as the G-buffer does)
         glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
         glViewport(0, 0, W, H);
@@ -924,23 +665,11 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         scene_depth();
         glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
         glViewport(0, 0, W, H);
-        glStencilMask(0xFF);
-        glClearStencil(0);
-        glClear(GL_STENCIL_BUFFER_BIT);
+        volumes::clear_stencil();
         const float zero[4] = {0.f, 0.f, 0.f, 0.f};
         glClearBufferfv(GL_COLOR, 0, zero);
         // (2) hard volumes
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glDepthMask(GL_FALSE);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDisable(GL_CULL_FACE);
-        if (projection == 0) glEnable(GL_DEPTH_CLAMP);
-        glEnable(GL_STENCIL_TEST);
-        glStencilFunc(GL_ALWAYS, 0, 0xFF);
-        draw_volumes(cull);
-        glDisable(GL_DEPTH_CLAMP);
-        glDisable(GL_STENCIL_TEST);
+        volumes::stencil_pass(vol, cache_, draws, target.fbo, W, H, projection == 0, gpu.gbuffer.depth, cull);
         // (3) wedges, additive
         begin_accum_state();
         draw_wedges(cull);
@@ -973,29 +702,15 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
         fragments = 0.0;
         invocations = -1.0;
         if (wedge_count == 0) return;
-        GLuint q[2] = {0, 0};
-        glGenQueries(has_stats ? 2 : 1, q);
         begin_accum_state();
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         glUseProgram(wedge_prog);
         glUniform1i(loc_count, reached ? 1 : 0);
-        glBeginQuery(GL_SAMPLES_PASSED, q[0]);
-        if (has_stats) glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, q[1]);
-        draw_wedges(cull);
-        glEndQuery(GL_SAMPLES_PASSED);
-        if (has_stats) glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
+        volumes::count_fragments(has_stats, [&] { draw_wedges(cull); }, fragments, invocations);
         glUseProgram(wedge_prog);
         glUniform1i(loc_count, 0);
         glDisable(GL_BLEND);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        GLuint64 v = 0;
-        glGetQueryObjectui64v(q[0], GL_QUERY_RESULT, &v);
-        fragments = double(v);
-        if (has_stats) {
-            glGetQueryObjectui64v(q[1], GL_QUERY_RESULT, &v);
-            invocations = double(v);
-        }
-        glDeleteQueries(has_stats ? 2 : 1, q);
     };
     // median time of the wedge pass alone, with the row's culling and without it, measured in alternation
     // (the machine's load affects both alike); the unculled draw needs no rebuild: it draws every group
@@ -1026,7 +741,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     double wedge_ms = 0.0, wedge_ms_full = 0.0;
     time_wedges(wedge_ms, wedge_ms_full);
 
-    r.gpu_bytes = std::int64_t(verts.size() * sizeof(glm::vec4) + indices.size() * 4) +
+    r.gpu_bytes = std::int64_t(vertex_count * sizeof(glm::vec4) + indices.size() * 4) +
                   std::int64_t(max_wedges) * std::int64_t(6 * 16 + 6 * 4 + 24 * 4 + sizeof(WedgeGpu)) +
                   std::int64_t(W) * H * (4 + 8 + 4);
     r.work = {{"wedges", double(stats.wedges)},
@@ -1055,14 +770,10 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     glTexParameteri(GL_TEXTURE_2D, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
     glBindTexture(GL_TEXTURE_2D, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-    glDeleteBuffers(1, &vbo);
-    glDeleteBuffers(1, &ibo);
     glDeleteBuffers(2, wvbo);
     glDeleteBuffers(1, &wibo);
     glDeleteBuffers(1, &wssbo);
-    glDeleteVertexArrays(1, &vao);
     glDeleteVertexArrays(1, &wvao);
-    glDeleteVertexArrays(1, &empty_vao);
     cleanup_programs();
     skgl::destroy_target(target);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -274,6 +274,36 @@ void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only) {
         if (gpu.caster[i]) skgl::draw_mesh(gpu.meshes[i]);
 }
 
+GLuint compile_depth_only_program(std::string& log) {
+    return skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
+}
+
+GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log) {
+    return skgl::compile_program(
+        {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippets, body)}}, log);
+}
+
+bool make_shadow_map_target(skgl::Target& sm, int size, std::string& why) {
+    if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return false;
+    skgl::set_depth_compare(sm.depth, true, true);
+    return true;
+}
+
+void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth_prog, const glm::mat4& light_vp,
+                         const std::vector<std::uint32_t>* only) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, size, size);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(2.f, 2.f);
+    glUseProgram(depth_prog);
+    glUniformMatrix4fv(glGetUniformLocation(depth_prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
+    draw_casters(gpu, only);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
 std::size_t caster_count(const SceneGpu& gpu) {
     std::size_t n = 0;
     for (bool c : gpu.caster) n += c ? 1 : 0;
@@ -306,10 +336,7 @@ public:
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         std::string log;
-        GLuint prog = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER, visibility_fragment_shader("", "float technique_visibility(vec3 p, vec3 n) { return 1.0; }")}},
-            log);
+        GLuint prog = compile_visibility_program("", "float technique_visibility(vec3 p, vec3 n) { return 1.0; }", log);
         if (!prog) return RunResult::failure(log);
         glUseProgram(prog);
         set_light_uniforms(prog, ctx.scene.light);
@@ -343,49 +370,32 @@ public:
         if (ctx.scene.light.type == LightType::Point) return run_cube(ctx, size);
         RunResult r;
         std::string why;
-        const auto c0 = std::chrono::steady_clock::now();
+        const auto c0 = Clock::now();
         const LightMatrices lm = fit_light(ctx.scene);
         const glm::mat4 light_vp = lm.proj * lm.view;
-        r.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count();
+        r.cpu_ms = ms_since(c0);
         skgl::Target sm;
-        if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
-        skgl::set_depth_compare(sm.depth, true, true);
+        if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         const std::string snippet = load_snippet("shadow_map", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER,
-              visibility_fragment_shader(snippet, R"(
+        GLuint depth = compile_depth_only_program(log);
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_light_view_proj;
 float technique_visibility(vec3 p, vec3 n) {
     return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
 }
-)")}},
-            log);
+)", log);
         if (!depth || !vis) return RunResult::failure(log);
         glUseProgram(vis);
         set_light_uniforms(vis, ctx.scene.light);
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-        std::size_t casters = 0;
-        for (bool c : ctx.gpu.caster) casters += c ? 1 : 0;
+        const std::size_t casters = caster_count(ctx.gpu);
         auto frame = [&] {
-            glBindFramebuffer(GL_FRAMEBUFFER, sm.fbo);
-            glViewport(0, 0, size, size);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glClear(GL_DEPTH_BUFFER_BIT);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            glUseProgram(depth);
-            glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-            for (std::size_t i = 0; i < ctx.gpu.meshes.size(); ++i)
-                if (ctx.gpu.caster[i]) skgl::draw_mesh(ctx.gpu.meshes[i]);
-            glDisable(GL_POLYGON_OFFSET_FILL);
+            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp);
             glActiveTexture(GL_TEXTURE2);
             glBindTexture(GL_TEXTURE_2D, sm.depth);
             pass.draw(vis, ctx.gpu);
@@ -448,11 +458,8 @@ private:
         const std::string snippet = load_snippet("shadow_map", why);
         if (snippet.empty()) return RunResult::failure(why);
         std::string log;
-        GLuint depth = skgl::compile_program({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}}, log);
-        GLuint vis = skgl::compile_program(
-            {{GL_VERTEX_SHADER, fullscreen_vertex_shader()},
-             {GL_FRAGMENT_SHADER,
-              visibility_fragment_shader(snippet, R"(
+        GLuint depth = compile_depth_only_program(log);
+        GLuint vis = compile_visibility_program(snippet, R"(
 layout(binding = 2) uniform samplerCubeShadow u_cube;
 uniform vec3 u_cube_light;
 uniform float u_cube_near;
@@ -460,8 +467,7 @@ uniform float u_cube_far;
 float technique_visibility(vec3 p, vec3 n) {
     return sk_cube_shadow_visibility(u_cube, u_cube_light, p, u_cube_near, u_cube_far);
 }
-)")}},
-            log);
+)", log);
         if (!depth || !vis) return RunResult::failure(log);
         glUseProgram(vis);
         set_light_uniforms(vis, L);
@@ -492,8 +498,7 @@ float technique_visibility(vec3 p, vec3 n) {
         r.frames = ctx.frames;
         r.visibility = skgl::read_color_float(pass.target, 0, 1);
         r.gpu_bytes = std::int64_t(size) * size * 4 * 6;
-        std::size_t casters = 0;
-        for (bool c : ctx.gpu.caster) casters += c ? 1 : 0;
+        const std::size_t casters = caster_count(ctx.gpu);
         r.work = {{"shadow_map_texels", 6.0 * size * size},
                   {"triangles_drawn", 6.0 * double(ctx.gpu.caster_triangles)},
                   {"casters_drawn", 6.0 * double(casters)},

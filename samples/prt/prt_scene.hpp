@@ -296,4 +296,38 @@ inline double reference_radiance(const PrtScene& s, const EmbreeVisibility& vis,
     }, progress);
 }
 
+// Errors of PRT shading against the reference at the same vertices: per vertex |PRT - ref| (mean
+// of RGB), relative to the mean reference radiance (or `mean` when > 0).
+struct PrtErrors {
+    double rms = 0.0;   // RMS over vertices
+    double p95 = 0.0;   // 95th percentile
+    double bias = 0.0;  // mean signed error
+};
+
+inline PrtErrors compare_to_reference(const std::vector<glm::vec3>& prt, const std::vector<glm::vec3>& ref,
+                                      double mean = 0.0) {
+    PrtErrors out;
+    if (ref.empty() || prt.size() < ref.size()) return out;
+    if (!(mean > 0.0)) {
+        mean = 0.0;
+        for (const auto& r : ref) mean += (double(r.x) + double(r.y) + double(r.z)) / 3.0;
+        mean /= double(ref.size());
+    }
+    std::vector<double> e(ref.size());
+    double se = 0.0, sum = 0.0;
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+        const glm::dvec3 d = glm::dvec3(prt[i]) - glm::dvec3(ref[i]);
+        const double m = (d.x + d.y + d.z) / 3.0;
+        e[i] = std::fabs(m);
+        se += m * m;
+        sum += m;
+    }
+    std::sort(e.begin(), e.end());
+    const double n = double(ref.size());
+    out.rms = std::sqrt(se / n) / mean;
+    out.p95 = e[static_cast<std::size_t>(0.95 * (n - 1.0))] / mean;
+    out.bias = sum / n / mean;
+    return out;
+}
+
 }  // namespace skprt

@@ -19,20 +19,10 @@ namespace {
 
 // Per-vertex |PRT - ref| (mean of RGB) over the reference vertices, relative to the mean reference.
 void compare(const std::vector<glm::vec3>& prt, const std::vector<glm::vec3>& ref, double mean, PrtOrderRow& row) {
-    std::vector<double> e(ref.size());
-    double se = 0.0, sum = 0.0;
-    for (std::size_t i = 0; i < ref.size(); ++i) {
-        const glm::dvec3 d = glm::dvec3(prt[i]) - glm::dvec3(ref[i]);
-        const double m = (d.x + d.y + d.z) / 3.0;
-        e[i] = std::fabs(m);
-        se += m * m;
-        sum += m;
-    }
-    std::sort(e.begin(), e.end());
-    const double n = static_cast<double>(ref.size());
-    row.rms = std::sqrt(se / n) / mean;
-    row.p95 = e[static_cast<std::size_t>(0.95 * (n - 1.0))] / mean;
-    row.bias = sum / n / mean;
+    const skprt::PrtErrors e = skprt::compare_to_reference(prt, ref, mean);
+    row.rms = e.rms;
+    row.p95 = e.p95;
+    row.bias = e.bias;
 }
 
 template <class F>

@@ -21,31 +21,10 @@ namespace sk = shadowkit;
 
 namespace {
 
-struct Errors {
-    double rms = 0.0;   // RMS over vertices of |PRT - ref| (mean of RGB), relative to the mean reference
-    double p95 = 0.0;   // 95th percentile of the same, relative to the mean reference
-    double bias = 0.0;  // mean signed error, relative
-};
+using Errors = skprt::PrtErrors;
 
 Errors compare(const std::vector<glm::vec3>& prt, const std::vector<glm::vec3>& ref) {
-    double mean = 0.0;
-    for (const auto& r : ref) mean += (r.x + r.y + r.z) / 3.0;
-    mean /= double(ref.size());
-    std::vector<double> e(ref.size());
-    double se = 0.0, sum = 0.0;
-    for (std::size_t i = 0; i < ref.size(); ++i) {
-        const glm::dvec3 d = glm::dvec3(prt[i]) - glm::dvec3(ref[i]);
-        const double m = (d.x + d.y + d.z) / 3.0;
-        e[i] = std::fabs(m);
-        se += m * m;
-        sum += m;
-    }
-    std::sort(e.begin(), e.end());
-    Errors out;
-    out.rms = std::sqrt(se / double(ref.size())) / mean;
-    out.p95 = e[std::size_t(0.95 * double(e.size() - 1))] / mean;
-    out.bias = sum / double(ref.size()) / mean;
-    return out;
+    return skprt::compare_to_reference(prt, ref);
 }
 
 }  // namespace
