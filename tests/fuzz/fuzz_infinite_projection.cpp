@@ -2,54 +2,34 @@
 // floats (NaN / Inf / denormals) and flags. Invariants trap on violation.
 #include <shadowkit/infinite_projection.hpp>
 
+#include "fuzz_input.hpp"
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 
 namespace {
-struct Reader {
-    const std::uint8_t* p;
-    std::size_t n;
-    float f() {
-        float v = 0.0f;
-        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
-        return v;
-    }
-    double d() {
-        double v = 0.0;
-        if (n >= 8) { std::memcpy(&v, p, 8); p += 8; n -= 8; }
-        return v;
-    }
-    std::uint8_t b() {
-        if (!n) return 0;
-        --n;
-        return *p++;
-    }
-};
 void check_matrix(const shadowkit::ProjectionResult& r) {
     if (r.status != shadowkit::ProjectionStatus::Ok) return;
-    for (int c = 0; c < 4; ++c)
-        for (int k = 0; k < 4; ++k)
-            if (!std::isfinite(r.matrix[c][k])) __builtin_trap();
+    if (!shadowkit_fuzz::all_finite(r.matrix)) __builtin_trap();
     if (r.matrix[2][3] != -1.0f || r.matrix[3][3] != 0.0f) __builtin_trap();
 }
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     namespace sk = shadowkit;
-    Reader in{data, size};
-    const std::uint8_t flags = in.b();
+    shadowkit_fuzz::FuzzInput in(data, size);
+    const std::uint8_t flags = in.u8();
     sk::DepthParams p;
-    p.near_z = in.f();
-    p.far_z = (flags & 4) ? in.f() : HUGE_VALF;
+    p.near_z = in.f32();
+    p.far_z = (flags & 4) ? in.f32() : HUGE_VALF;
     p.clip_depth = (flags & 1) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne;
     p.reversed_z = (flags & 2) != 0;
-    p.epsilon = (flags & 8) ? in.f() : 0.0f;
-    const float fovy = in.f(), aspect = in.f();
-    const float l = in.f(), r = in.f(), b = in.f(), t = in.f();
-    const double dist = in.d(), window = in.d();
-    const sk::DepthFormat fmt = static_cast<sk::DepthFormat>(in.b() % 3);
+    p.epsilon = (flags & 8) ? in.f32() : 0.0f;
+    const float fovy = in.f32(), aspect = in.f32();
+    const float l = in.f32(), r = in.f32(), b = in.f32(), t = in.f32();
+    const double dist = in.f64(), window = in.f64();
+    const sk::DepthFormat fmt = static_cast<sk::DepthFormat>(in.range(0, 2));
 
     const sk::ProjectionStatus vs = sk::validate(p);
     check_matrix(sk::perspective(fovy, aspect, p));
@@ -76,7 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (e.status == sk::ProjectionStatus::Ok && !(e.value > 0.0)) __builtin_trap();
     const sk::DepthValue res = sk::depth_resolution(p, fmt, dist);
     if (res.status == sk::ProjectionStatus::Ok && !(res.value > 0.0)) __builtin_trap();
-    const sk::EpsilonBound eb = sk::infinite_epsilon_bound(fovy, aspect, p.clip_depth, p.reversed_z, fmt, in.f());
+    const sk::EpsilonBound eb = sk::infinite_epsilon_bound(fovy, aspect, p.clip_depth, p.reversed_z, fmt, in.f32());
     if (eb.status == sk::ProjectionStatus::Ok) {
         if (!(eb.epsilon >= 0.0f && eb.epsilon <= 0.5f) || eb.epsilon < eb.clip || eb.epsilon < eb.storage) __builtin_trap();
     }

@@ -4,55 +4,35 @@
 // skin values 0/1, zero length gives 0 or 1.
 #include <shadowkit/linear_light.hpp>
 
-#include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <vector>
+#include "fuzz_input.hpp"
 
-namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-    float value(bool raw, float scale) {
-        if (raw) return get<float>();
-        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) * scale;
-    }
-    glm::vec3 vec(bool raw, float scale) { return glm::vec3(value(raw, scale), value(raw, scale), value(raw, scale)); }
-};
-}  // namespace
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     namespace sk = shadowkit;
-    Reader r{data, size};
-    const uint8_t mode = r.get<uint8_t>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const uint8_t mode = r.u8();
     const bool raw = (mode & 1) != 0;
-    const glm::vec3 c = r.vec(raw, 0.1f), dir = r.vec(raw, 0.1f);
+    const glm::vec3 c = r.vec3(raw, 0.1f), dir = r.vec3(raw, 0.1f);
     const float len = (mode & 2) ? 0.f : r.value(raw, 0.05f);
     const sk::LinearLightSegment s = sk::linear_light_segment(c, dir, len);
     if (s.status == sk::LinearLightStatus::Ok && len == 0.f && !(s.point && s.a == s.b)) __builtin_trap();
-    const uint32_t k = r.get<uint8_t>() % 9u;
+    const uint32_t k = r.range<uint32_t>(0, 8);
     glm::vec3 ends[9];
-    const size_t cap = r.get<uint8_t>() % 10u;
+    const size_t cap = r.size(9);
     const size_t need = sk::linear_light_subdivide(s, k, ends, cap);
     if (s.status == sk::LinearLightStatus::Ok && k > 0 && need != k + 1) __builtin_trap();
-    const size_t nb = r.get<uint8_t>() % 6u;
+    const size_t nb = r.size(5);
     std::vector<sk::LinearLightBox> boxes(nb);
     for (auto& b : boxes) {
-        b.lo = r.vec(raw, 0.1f);
-        b.hi = b.lo + glm::abs(r.vec(raw, 0.05f));
+        b.lo = r.vec3(raw, 0.1f);
+        b.hi = b.lo + glm::abs(r.vec3(raw, 0.05f));
     }
     for (int it = 0; it < 4; ++it) {
-        const glm::vec3 p = r.vec(raw, 0.1f), n = r.vec(raw, 0.1f);
-        const glm::vec3 a = (mode & 4) ? s.a : r.vec(raw, 0.1f), b = (mode & 4) ? s.b : r.vec(raw, 0.1f);
+        const glm::vec3 p = r.vec3(raw, 0.1f), n = r.vec3(raw, 0.1f);
+        const glm::vec3 a = (mode & 4) ? s.a : r.vec3(raw, 0.1f), b = (mode & 4) ? s.b : r.vec3(raw, 0.1f);
         const float mf = (mode & 8) ? r.value(raw, 0.01f) : 1e-4f;
         const sk::LinearLightFraction f = sk::linear_light_visible_fraction(p, n, a, b, boxes.data(), boxes.size(), mf);
         if (f.status == sk::LinearLightStatus::Ok) {
@@ -69,15 +49,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!(v >= 0.f && v <= 2.f)) __builtin_trap();
     }
     // skin from a small map
-    const uint32_t W = r.get<uint8_t>() % 9u, H = r.get<uint8_t>() % 9u;
+    const uint32_t W = r.range<uint32_t>(0, 8), H = r.range<uint32_t>(0, 8);
     std::vector<glm::vec3> pos(size_t(W) * H);
     std::vector<float> dist(size_t(W) * H);
     for (size_t i = 0; i < pos.size(); ++i) {
-        pos[i] = r.vec(raw, 0.1f);
+        pos[i] = r.vec3(raw, 0.1f);
         dist[i] = r.value(raw, 0.05f);
     }
     const float thr = r.value(raw, 0.01f);
-    const size_t scap = (mode & 16) ? r.get<uint8_t>() % 32u : sk::linear_light_skin_capacity(W, H);
+    const size_t scap = (mode & 16) ? r.size(31) : sk::linear_light_skin_capacity(W, H);
     std::vector<sk::LinearLightSkinVertex> skin(scap);
     const sk::LinearLightSkinResult sr =
         sk::linear_light_build_skin(pos.data(), dist.data(), W, H, thr, skin.data(), skin.size());

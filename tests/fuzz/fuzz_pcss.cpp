@@ -2,52 +2,38 @@
 // decoded from bytes (NaN/Inf included); invariants trap on violation.
 #include <shadowkit/pcss.hpp>
 
-#include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <vector>
+#include "fuzz_input.hpp"
 
-namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-};
-}  // namespace
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace shadowkit;
-    Reader r{data, size};
+    shadowkit_fuzz::FuzzInput r(data, size);
     PcssLight L;
-    L.type = (r.get<uint8_t>() & 1) ? PcssLightType::Directional : PcssLightType::Perspective;
-    L.size = r.get<float>();
-    L.near = r.get<float>();
-    L.far = r.get<float>();
-    L.frustum_width = r.get<float>();
-    const float z_r = r.get<float>();
-    const float z_w = r.get<float>();
-    const float bias = r.get<float>();
-    const uint8_t flags = r.get<uint8_t>();
+    L.type = r.boolean() ? PcssLightType::Directional : PcssLightType::Perspective;
+    L.size = r.f32();
+    L.near = r.f32();
+    L.far = r.f32();
+    L.frustum_width = r.f32();
+    const float z_r = r.f32();
+    const float z_w = r.f32();
+    const float bias = r.f32();
+    const uint8_t flags = r.u8();
     const bool reversed = flags & 1;
     PcssPolicy pol;
     if (flags & 2) {
-        pol.min_filter_uv = r.get<float>();
-        pol.max_filter_uv = r.get<float>();
-        pol.map_resolution = r.get<float>();
-        pol.min_taps = r.get<int32_t>();
-        pol.max_taps = r.get<int32_t>();
-        pol.texels_per_tap = r.get<float>();
+        pol.min_filter_uv = r.f32();
+        pol.max_filter_uv = r.f32();
+        pol.map_resolution = r.f32();
+        pol.min_taps = r.i32();
+        pol.max_taps = r.i32();
+        pol.texels_per_tap = r.f32();
     }
     std::vector<float> samples;
-    while (r.n >= 4 && samples.size() < 256) samples.push_back(r.get<float>());
+    while (r.remaining() >= 4 && samples.size() < 256) samples.push_back(r.f32());
 
     // Linearization: valid planes and a window depth in [0,1] give a distance in [n, f].
     const float lin = linearize_window_depth(z_w, L.near, L.far, reversed);

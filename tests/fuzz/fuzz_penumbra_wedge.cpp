@@ -6,57 +6,45 @@
 // viewport with 0 <= depth_min <= depth_max <= 1.
 #include <shadowkit/penumbra_wedge.hpp>
 
+#include "fuzz_input.hpp"
+
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
-#include <cstring>
 
 namespace {
-struct Reader {
-    const uint8_t* d;
-    size_t n, i = 0;
-    float f() {
-        uint32_t u = 0;
-        for (int k = 0; k < 4; ++k) u = (u << 8) | (i < n ? d[i++] : 0u);
-        float x;
-        std::memcpy(&x, &u, sizeof x);
-        return x;
-    }
-    // mostly "reasonable" values so the deep paths are reached, raw bits otherwise
-    float g() {
-        const uint8_t sel = i < n ? d[i++] : 0;
-        const float x = f();
-        if (sel < 192 && std::isfinite(x)) return std::fmod(x, 100.0f);
-        return x;
-    }
-    glm::vec3 v3() { float a = g(), b = g(), c = g(); return glm::vec3(a, b, c); }
-    int i32() { uint32_t u = 0; for (int k = 0; k < 4; ++k) u = (u << 8) | (i < n ? d[i++] : 0u); return static_cast<int>(u); }
-};
+using shadowkit_fuzz::all_finite;
 
-bool fin4(const glm::vec4& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w); }
-bool fin3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+// mostly "reasonable" values (|x| < 100) so the deep paths are reached, raw bits otherwise
+float g(shadowkit_fuzz::FuzzInput& in) { return in.mostly_within(100.0f); }
+glm::vec3 v3(shadowkit_fuzz::FuzzInput& in) {
+    const float a = g(in), b = g(in), c = g(in);
+    return glm::vec3(a, b, c);
+}
 double mag(const glm::vec3& v) { return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z); }
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    Reader R{data, size};
-    const glm::vec3 e0 = R.v3(), e1 = R.v3();
+    shadowkit_fuzz::FuzzInput R(data, size);
+    const glm::vec3 e0 = v3(R), e1 = v3(R);
     shadowkit::PenumbraSphereLight L;
-    L.centre = R.v3();
-    L.radius = R.g();
-    const glm::vec3 p = R.v3();
-    const float pad = R.g();
-    const float extent = R.g();
+    L.centre = v3(R);
+    L.radius = g(R);
+    const glm::vec3 p = v3(R);
+    const float pad = g(R);
+    const float extent = g(R);
 
     const shadowkit::PenumbraWedge w = shadowkit::penumbra_wedge(e0, e1, L, pad);
     if (w.status == shadowkit::PenumbraWedgeStatus::Ok) {
         const glm::vec4 pl[5] = {w.outer_bound, w.inner_bound, w.side[0], w.side[1], w.hard_plane};
         for (const glm::vec4& q : pl) {
-            if (!fin4(q)) __builtin_trap();
+            if (!all_finite(q)) __builtin_trap();
             const double nl = mag(glm::vec3(q));
             if (std::fabs(nl - 1.0) > 1e-3) __builtin_trap();
         }
         for (int i = 0; i < 2; ++i)
-            if (!fin3(w.apex[i]) || !fin3(w.ray_outer[i]) || !fin3(w.ray_inner[i])) __builtin_trap();
+            if (!all_finite(w.apex[i]) || !all_finite(w.ray_outer[i]) || !all_finite(w.ray_inner[i])) __builtin_trap();
         // conservative: the edge and the apex are inside (tolerance relative to the coordinates)
         const double scale = std::max({mag(e0), mag(e1), mag(L.centre), double(L.radius), 1.0});
         const float tol = static_cast<float>(1e-4 * scale);
@@ -80,24 +68,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float cf = shadowkit::penumbra_edge_coverage(e0, e1, L, p);
     if (!std::isfinite(cf)) __builtin_trap();
     const glm::vec3 ends[4] = {e0, e1, e1, p};
-    const float v = shadowkit::penumbra_visibility(ends, 2, L, p, R.i32() % 5);
+    const float v = shadowkit::penumbra_visibility(ends, 2, L, p, R.range(-4, 4));
     if (!(v >= 0.0f && v <= 1.0f)) __builtin_trap();
 
     const shadowkit::PenumbraWedgeHull h = shadowkit::penumbra_wedge_hull(w, extent);
     if (h.valid) {
         for (const glm::vec4& x : h.vertices)
-            if (!fin4(x)) __builtin_trap();
+            if (!all_finite(x)) __builtin_trap();
         for (uint8_t idx : h.indices)
             if (idx >= 6) __builtin_trap();
     }
     shadowkit::PenumbraScissorParams sp;
     for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) sp.view_proj[c][r] = R.g();
-    sp.clip_depth = (R.i32() & 1) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
-    sp.reversed_z = (R.i32() & 1) != 0;
-    for (int k = 0; k < 4; ++k) sp.viewport[k] = R.i32() % 5000;
+        for (int r = 0; r < 4; ++r) sp.view_proj[c][r] = g(R);
+    sp.clip_depth = R.boolean() ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
+    sp.reversed_z = R.boolean();
+    for (int k = 0; k < 4; ++k) sp.viewport[k] = R.range(-4999, 4999);
     const shadowkit::PenumbraScissor s = shadowkit::penumbra_wedge_scissor(h, sp);
-    const glm::vec4 raw[3] = {glm::vec4(e0, 1.0f), glm::vec4(e1, R.g()), glm::vec4(p, 0.0f)};
+    const glm::vec4 raw[3] = {glm::vec4(e0, 1.0f), glm::vec4(e1, g(R)), glm::vec4(p, 0.0f)};
     const shadowkit::PenumbraScissor s2 = shadowkit::penumbra_points_scissor(raw, 3, sp);
     for (const shadowkit::PenumbraScissor* q : {&s, &s2}) {
         if (!q->visible) continue;
@@ -108,9 +96,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const glm::vec4 tp = shadowkit::penumbra_transform_plane(w.outer_bound, sp.view_proj);
     (void)tp;
-    const glm::mat4 vt = shadowkit::penumbra_viewport_transform(glm::vec4(R.g(), R.g(), R.g(), R.g()), sp.clip_depth);
+    const glm::mat4 vt = shadowkit::penumbra_viewport_transform(glm::vec4(v3(R), g(R)), sp.clip_depth);
     (void)vt;
     const shadowkit::PenumbraSphereLight rl = shadowkit::penumbra_rect_bounding_sphere(e0, e1, p);
-    if (fin3(e0) && fin3(e1) && fin3(p) && std::isfinite(rl.radius) && rl.radius < 0.0f) __builtin_trap();
+    if (all_finite(e0) && all_finite(e1) && all_finite(p) && std::isfinite(rl.radius) && rl.radius < 0.0f) __builtin_trap();
     return 0;
 }

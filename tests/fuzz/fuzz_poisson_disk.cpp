@@ -2,26 +2,14 @@
 // domains, radii, counts, seeds, capacities and GLSL names; invariants trap on violation.
 #include <shadowkit/poisson_disk.hpp>
 
-#include <cmath>
+#include "fuzz_input.hpp"
+
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-};
-
 void check_set(const shadowkit::PoissonDomain& d, const glm::vec2* pts, size_t n) {
     for (size_t i = 0; i < n; ++i)
         if (!shadowkit::poisson_domain_contains(d, pts[i])) __builtin_trap();
@@ -30,18 +18,18 @@ void check_set(const shadowkit::PoissonDomain& d, const glm::vec2* pts, size_t n
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace shadowkit;
-    Reader r{data, size};
-    const uint8_t op = r.get<uint8_t>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const uint8_t op = r.u8();
     PoissonDomain d;
-    d.shape = static_cast<PoissonShape>(r.get<uint8_t>() % 4);  // 3 is invalid on purpose
-    d.inner_radius = r.get<float>();
-    const float radius = r.get<float>();
-    const uint32_t count_raw = r.get<uint32_t>();
-    const uint64_t seed = r.get<uint64_t>();
-    const size_t capacity = r.get<uint16_t>() % 4096;
-    const uint8_t flags = r.get<uint8_t>();
-    const int attempts = int(r.get<uint8_t>()) - 4;
-    const int factor = int(r.get<uint8_t>() % 80);
+    d.shape = static_cast<PoissonShape>(r.range(0, 3));  // 3 is invalid on purpose
+    d.inner_radius = r.f32();
+    const float radius = r.f32();
+    const uint32_t count_raw = r.u32();
+    const uint64_t seed = r.u64();
+    const size_t capacity = r.size(4095);
+    const uint8_t flags = r.u8();
+    const int attempts = r.range(-4, 251);
+    const int factor = r.range(0, 79);
 
     (void)poisson_domain_area(d);
     (void)poisson_packing_distance(d, count_raw);
@@ -90,10 +78,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             }
             // GLSL emission with a fuzzed name and capacity.
             char name[9];
-            for (int i = 0; i < 8; ++i) name[i] = char(r.get<uint8_t>() % 128);
+            for (int i = 0; i < 8; ++i) name[i] = static_cast<char>(r.range(0, 127));
             name[8] = '\0';
             if (flags & 32) std::memcpy(name, "SK_TAPS", 8);
-            const size_t text_cap = r.get<uint16_t>();
+            const size_t text_cap = r.u16();
             std::vector<char> text(text_cap + 1, 'x');
             const GlslEmitResult g = poisson_to_glsl(out, res.count, name, text_cap ? text.data() : nullptr, text_cap);
             if (text[text_cap] != 'x') __builtin_trap();  // never writes past capacity

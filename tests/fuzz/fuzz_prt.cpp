@@ -4,60 +4,41 @@
 // Invariants trap on violation.
 #include <shadowkit/prt.hpp>
 
+#include "fuzz_input.hpp"
+
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
-namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-    float value(bool raw) {
-        if (raw) return get<float>();
-        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) / 32.0f;
-    }
-};
-
-void check(bool ok) {
-    if (!ok) __builtin_trap();
-}
-}  // namespace
+using shadowkit_fuzz::check;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace shadowkit;
-    Reader r{data, size};
-    const uint8_t flags = r.get<uint8_t>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const uint8_t flags = r.u8();
     const bool raw = flags & 1, unshadowed = flags & 2;
-    const int order = static_cast<int>(static_cast<int8_t>(r.get<uint8_t>())) % 7;
-    const int strata = static_cast<int>(r.get<uint8_t>() % 10);
+    constexpr float kStep = 1.0f / 32.0f;  // quantized positions, normals and radiance scale
+    const int order = r.range(-6, 6);
+    const int strata = r.range(0, 9);
     PrtSamples samples;
-    const PrtStatus ms = prt_make_samples(order, strata, r.get<uint32_t>(), samples);
+    const PrtStatus ms = prt_make_samples(order, strata, r.u32(), samples);
     if (ms == PrtStatus::Ok) check(samples.count() == size_t(strata * strata));
     const size_t n = prt_coefficient_count(order);
 
     PrtTransferOptions opt;
     opt.mode = unshadowed ? PrtMode::Unshadowed : PrtMode::Shadowed;
-    opt.albedo = raw ? r.get<float>() : 1.0f;
-    opt.ray_offset = raw ? r.get<float>() : 0.0f;
-    const size_t verts = r.get<uint8_t>() % 24;
+    opt.albedo = raw ? r.f32() : 1.0f;
+    opt.ray_offset = raw ? r.f32() : 0.0f;
+    const size_t verts = r.size(23);
     std::vector<glm::vec3> pos, nrm;
     for (size_t v = 0; v < verts; ++v) {
-        pos.emplace_back(r.value(raw), r.value(raw), r.value(raw));
-        nrm.emplace_back(r.value(raw), r.value(raw), r.value(raw));
+        pos.push_back(r.vec3(raw, kStep));
+        nrm.push_back(r.vec3(raw, kStep));
     }
-    const uint32_t pattern = r.get<uint32_t>();
+    const uint32_t pattern = r.u32();
     uint32_t calls = 0;
-    const size_t cap = static_cast<size_t>(r.get<uint16_t>() % 700);
+    const size_t cap = r.size(699);
     std::vector<float> T(cap + 1, -7.0f);
     const PrtTransferResult tr = prt_compute_transfer(
         samples, opt, pos.data(), nrm.data(), pos.size(),
@@ -75,11 +56,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     // environment projection
     glm::vec3 env[25];
-    const float scale = r.value(raw);
-    const PrtResult pe = prt_project_environment(samples, [&](const glm::vec3& d) { return scale * d; }, env,
-                                                 static_cast<size_t>(r.get<uint8_t>() % 30));
+    const float scale = r.value(raw, kStep);
+    const PrtResult pe = prt_project_environment(samples, [&](const glm::vec3& d) { return scale * d; }, env, r.size(29));
     if (pe.status == PrtStatus::Ok) {
-        for (size_t i = 0; i < n; ++i) check(std::isfinite(env[i].x) && std::isfinite(env[i].y) && std::isfinite(env[i].z));
+        for (size_t i = 0; i < n; ++i) check(shadowkit_fuzz::all_finite(env[i]));
         if (tr.status == PrtStatus::Ok && tr.count > 0) {
             std::vector<glm::vec3> out(pos.size());
             const PrtResult sm = prt_shade_mesh(order, T.data(), n, pos.size(), env, out.data(), out.size());
@@ -90,10 +70,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // clustered PCA on whatever transfer vectors came out
     if (tr.status == PrtStatus::Ok && tr.count > 0) {
         PrtCpcaOptions co;
-        co.clusters = r.get<uint8_t>() % 8;
-        co.components = static_cast<int>(static_cast<int8_t>(r.get<uint8_t>())) % 30;
-        co.iterations = r.get<uint8_t>() % 5;
-        co.seed = r.get<uint32_t>();
+        co.clusters = r.size(7);
+        co.components = r.range(-29, 29);
+        co.iterations = r.range(0, 4);
+        co.seed = r.u32();
         PrtCpca cp;
         const PrtStatus cs = prt_cpca_compress(order, T.data(), n, pos.size(), co, cp);
         if (cs == PrtStatus::Ok) {
@@ -115,6 +95,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         }
     }
     float y[25];
-    (void)prt_sh_basis(order, glm::vec3(r.value(raw), r.value(raw), r.value(raw)), y, r.get<uint8_t>() % 30);
+    (void)prt_sh_basis(order, r.vec3(raw, kStep), y, r.size(29));
     return 0;
 }

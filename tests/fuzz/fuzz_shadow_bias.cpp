@@ -2,40 +2,23 @@
 // depths, formats and metrics (NaN/Inf included); invariants trap on violation.
 #include <shadowkit/shadow_bias.hpp>
 
-#include <cmath>
-#include <cstdint>
-#include <cstring>
+#include "fuzz_input.hpp"
 
-namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-    glm::vec3 vec3() {
-        const float x = get<float>(), y = get<float>(), z = get<float>();
-        return glm::vec3(x, y, z);
-    }
-};
-bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+using shadowkit_fuzz::all_finite;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace shadowkit;
-    Reader r{data, size};
-    const DepthFormat fmt = static_cast<DepthFormat>(r.get<uint8_t>() % 3);
-    const DepthMetric metric = static_cast<DepthMetric>(r.get<uint8_t>() % 4);
-    const double v = r.get<double>(), dist = r.get<double>(), n = r.get<double>(), f = r.get<double>();
-    const float a = r.get<float>(), b = r.get<float>(), c = r.get<float>(), e = r.get<float>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const DepthFormat fmt = static_cast<DepthFormat>(r.range(0, 2));
+    const DepthMetric metric = static_cast<DepthMetric>(r.range(0, 3));
+    const double v = r.f64(), dist = r.f64(), n = r.f64(), f = r.f64();
+    const float a = r.f32(), b = r.f32(), c = r.f32(), e = r.f32();
     const glm::vec3 p = r.vec3(), nrm = r.vec3(), l = r.vec3(), dx = r.vec3(), dy = r.vec3();
-    const bool rev = r.get<uint8_t>() & 1;
+    const bool rev = r.boolean();
 
     const double q = quantize_depth(fmt, v);
     if (!std::isnan(v) && fmt != DepthFormat::Float32 && !(q >= 0.0 && q <= 1.0)) __builtin_trap();
@@ -66,8 +49,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     (void)polygon_offset_units_for_world_bias(v, metric, fmt, dist, n, f);
 
     const glm::vec3 off = normal_offset_position(p, nrm, l, a, b);
-    if (finite3(p) && std::isfinite(a * b) && std::fabs(a * b) < 1e30f && !finite3(off)) __builtin_trap();
-    if (!finite3(nrm) || !finite3(l)) {
+    if (all_finite(p) && std::isfinite(a * b) && std::fabs(a * b) < 1e30f && !all_finite(off)) __builtin_trap();
+    if (!all_finite(nrm) || !all_finite(l)) {
         if (!(off == p) && !(std::isnan(p.x) || std::isnan(p.y) || std::isnan(p.z))) __builtin_trap();
     }
 

@@ -2,47 +2,25 @@
 // capacities, lights, bounds, matrices and viewports. Invariants trap on violation.
 #include <shadowkit/shadow_volume.hpp>
 
-#include <cmath>
+#include "fuzz_input.hpp"
+
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <vector>
-
-namespace {
-struct Reader {
-    const std::uint8_t* p;
-    std::size_t n;
-    float f() {
-        float v = 0.0f;
-        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
-        return v;
-    }
-    std::uint32_t u() {
-        std::uint32_t v = 0;
-        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
-        return v;
-    }
-    std::uint8_t b() {
-        if (!n) return 0;
-        --n;
-        return *p++;
-    }
-    glm::vec3 v3() { return glm::vec3(f(), f(), f()); }
-};
-} // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     namespace sk = shadowkit;
-    Reader in{data, size};
-    const std::uint8_t mode = in.b();
-    const std::size_t nv = in.b() % 32, ne = in.b() % 40, nt = in.b() % 40, cap = in.b();
+    shadowkit_fuzz::FuzzInput in(data, size);
+    const std::uint8_t mode = in.u8();
+    const std::size_t nv = in.size(31), ne = in.size(39), nt = in.size(39), cap = in.size(255);
     std::vector<glm::vec3> pos(nv);
-    for (auto& v : pos) v = in.v3();
+    for (auto& v : pos) v = in.vec3();
     std::vector<std::uint32_t> edges(2 * ne), tris(3 * nt);
-    for (auto& e : edges) e = (mode & 1) ? in.u() : static_cast<std::uint32_t>(in.b() % (nv + 1));
-    for (auto& t : tris) t = (mode & 1) ? in.u() : static_cast<std::uint32_t>(in.b() % (nv + 1));
+    for (auto& e : edges) e = (mode & 1) ? in.u32() : in.range<std::uint32_t>(0, static_cast<std::uint32_t>(nv));
+    for (auto& t : tris) t = (mode & 1) ? in.u32() : in.range<std::uint32_t>(0, static_cast<std::uint32_t>(nv));
     std::vector<std::uint8_t> lit(nt);
-    for (auto& l : lit) l = in.b();
+    for (auto& l : lit) l = in.u8();
 
     std::vector<glm::vec4> vb(cap + 1, glm::vec4(-7.0f));
     const sk::VolumeCount rv = sk::build_volume_vertices(nv ? pos.data() : nullptr, nv, vb.data(), cap);
@@ -67,29 +45,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (ib[k] >= 2 * nv) __builtin_trap();
     }
 
-    const glm::vec4 L(in.f(), in.f(), in.f(), (mode & 8) ? 0.0f : in.f());
+    const glm::vec4 L(in.vec3(), (mode & 8) ? 0.0f : in.f32());
     sk::NearPlaneRect rect;
-    for (auto& c : rect.corners) c = in.v3();
-    const glm::vec3 bmin = in.v3(), bmax = in.v3();
-    const float margin = (mode & 16) ? in.f() : 0.0f;
+    for (auto& c : rect.corners) c = in.vec3();
+    const glm::vec3 bmin = in.vec3(), bmax = in.vec3();
+    const float margin = (mode & 16) ? in.f32() : 0.0f;
     const sk::MethodResult mb = sk::choose_stencil_method_box(rect, L, bmin, bmax, margin);
     if (mb.status != sk::VolumeStatus::Ok && mb.method != sk::StencilMethod::ZFail) __builtin_trap();
-    const sk::MethodResult ms = sk::choose_stencil_method_sphere(rect, L, bmin, in.f(), margin);
+    const sk::MethodResult ms = sk::choose_stencil_method_sphere(rect, L, bmin, in.f32(), margin);
     if (ms.status != sk::VolumeStatus::Ok && ms.method != sk::StencilMethod::ZFail) __builtin_trap();
 
-    glm::mat4 view(1.0f);
-    for (int c = 0; c < 4; ++c)
-        for (int k = 0; k < 4; ++k) view[c][k] = (mode & 32) ? in.f() : view[c][k];
-    (void)sk::near_plane_rect(view, in.f(), in.f(), in.f());
+    const glm::mat4 view = (mode & 32) ? in.mat4() : glm::mat4(1.0f);
+    (void)sk::near_plane_rect(view, in.f32(), in.f32(), in.f32());
     (void)sk::near_plane_rect_from_inverse(view, (mode & 64) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne, (mode & 128) != 0);
 
     sk::ScissorParams sp;
-    for (int c = 0; c < 4; ++c)
-        for (int k = 0; k < 4; ++k) sp.view_proj[c][k] = in.f();
+    sp.view_proj = in.mat4();
     sp.clip_depth = (mode & 64) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne;
     sp.reversed_z = (mode & 128) != 0;
-    for (int& v : sp.viewport) v = static_cast<int>(in.u());
-    const glm::vec3 lmin = in.v3(), lmax = in.v3();
+    for (int& v : sp.viewport) v = in.i32();
+    const glm::vec3 lmin = in.vec3(), lmax = in.vec3();
     const sk::ScissorResult s = sk::shadow_volume_scissor(L, bmin, bmax, lmin, lmax, sp);
     if (s.status == sk::VolumeStatus::Ok && s.visible) {
         const long long x0 = sp.viewport[0], y0 = sp.viewport[1];

@@ -2,52 +2,34 @@
 // range), weld tolerances, lights and capacities. Invariants trap on violation.
 #include <shadowkit/silhouette.hpp>
 
-#include <cmath>
+#include "fuzz_input.hpp"
+
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <vector>
-
-namespace {
-struct Reader {
-    const std::uint8_t* p;
-    std::size_t n;
-    float f() {
-        float v = 0.0f;
-        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
-        return v;
-    }
-    std::uint32_t u() {
-        std::uint32_t v = 0;
-        if (n >= 4) { std::memcpy(&v, p, 4); p += 4; n -= 4; }
-        return v;
-    }
-    std::uint8_t b() {
-        if (!n) return 0;
-        --n;
-        return *p++;
-    }
-};
-} // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     namespace sk = shadowkit;
-    Reader in{data, size};
-    const std::uint8_t mode = in.b();
-    const std::size_t nv = in.b() % 48;
-    const std::size_t ni = in.b() % 200;
+    shadowkit_fuzz::FuzzInput in(data, size);
+    const std::uint8_t mode = in.u8();
+    const std::size_t nv = in.size(47);
+    const std::size_t ni = in.size(199);
     std::vector<glm::vec3> pos(nv);
     const bool small_grid = (mode & 1) != 0; // snap to a small integer grid: many shared / coplanar
     for (auto& v : pos) {
-        if (small_grid) v = glm::vec3(static_cast<float>(in.b() % 4), static_cast<float>(in.b() % 4), static_cast<float>(in.b() % 4));
-        else v = glm::vec3(in.f(), in.f(), in.f());
+        if (small_grid) {
+            const int x = in.range(0, 3), y = in.range(0, 3), z = in.range(0, 3);
+            v = glm::vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+        } else {
+            v = in.vec3();
+        }
     }
     std::vector<std::uint32_t> idx(ni);
-    for (auto& i : idx) i = (mode & 2) ? in.u() : static_cast<std::uint32_t>(in.b() % (nv + 1));
+    for (auto& i : idx) i = (mode & 2) ? in.u32() : in.range<std::uint32_t>(0, static_cast<std::uint32_t>(nv));
     sk::AdjacencyOptions o;
-    o.weld_tolerance = (mode & 4) ? in.f() : ((mode & 8) ? -1.0f : 0.0f);
-    const glm::vec4 L(in.f(), in.f(), in.f(), (mode & 16) ? 0.0f : in.f());
-    const std::size_t cap = in.b();
+    o.weld_tolerance = (mode & 4) ? in.f32() : ((mode & 8) ? -1.0f : 0.0f);
+    const glm::vec4 L(in.vec3(), (mode & 16) ? 0.0f : in.f32());
+    const std::size_t cap = in.size(255);
 
     const sk::EdgeAdjacency adj = sk::build_edge_adjacency(nv ? pos.data() : nullptr, nv, ni ? idx.data() : nullptr, ni, o);
     if (adj.status != sk::SilhouetteStatus::Ok) {

@@ -7,53 +7,36 @@
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 
-#include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <vector>
+#include "fuzz_input.hpp"
 
-namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-    float value(bool raw, float scale) {
-        if (raw) return get<float>();
-        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) * scale;
-    }
-};
-}  // namespace
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     namespace sk = shadowkit;
-    Reader r{data, size};
-    const uint8_t mode = r.get<uint8_t>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const uint8_t mode = r.u8();
     const bool raw = (mode & 1) != 0;
-    const glm::uvec2 msize(1u + r.get<uint8_t>() % 40u, 1u + r.get<uint8_t>() % 40u);
+    const uint32_t mw = r.range(1u, 40u), mh = r.range(1u, 40u);
+    const glm::uvec2 msize(mw, mh);
     // geometry
-    const size_t nv = r.get<uint8_t>() % 16u;
+    const size_t nv = r.size(15);
     std::vector<glm::vec3> pos(nv);
-    for (auto& p : pos) p = glm::vec3(r.value(raw, 0.1f), r.value(raw, 0.1f), r.value(raw, 0.1f));
-    const size_t ne = r.get<uint8_t>() % 16u;
+    for (auto& p : pos) p = r.vec3(raw, 0.1f);
+    const size_t ne = r.size(15);
     std::vector<uint32_t> idx(2 * ne);
-    for (auto& i : idx) i = r.get<uint8_t>() % 20u;
+    for (auto& i : idx) i = r.range(0u, 19u);
     glm::mat4 vp;
     if (mode & 2) {
-        float* m = &vp[0][0];
-        for (int k = 0; k < 16; ++k) m[k] = r.value(true, 1.f);
+        vp = r.mat4();
     } else {
-        const glm::vec3 eye(r.value(raw, 0.1f), r.value(raw, 0.1f) + 5.f, r.value(raw, 0.1f));
+        glm::vec3 eye = r.vec3(raw, 0.1f);
+        eye.y += 5.f;
         vp = glm::perspective(1.2f, 1.f, 0.1f, 50.f) * glm::lookAt(eye, glm::vec3(0.f), glm::vec3(0.f, 0.f, 1.f));
     }
-    const size_t cap = r.get<uint8_t>() % 20u;
+    const size_t cap = r.size(19);
     std::vector<sk::SilmapEdge> edges(cap + 1);
     const sk::ClipDepth cd = (mode & 4) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne;
     const sk::SilmapProjectResult pr =
@@ -65,11 +48,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             __builtin_trap();
     // raw texel-space edges appended (NaN, huge)
     std::vector<sk::SilmapEdge> all(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(pr.written));
-    const size_t extra = r.get<uint8_t>() % 8u;
+    const size_t extra = r.size(7);
     for (size_t k = 0; k < extra; ++k) {
         sk::SilmapEdge e;
-        e.a = glm::vec2(r.value(raw, 0.5f), r.value(raw, 0.5f));
-        e.b = glm::vec2(r.value(raw, 0.5f), r.value(raw, 0.5f));
+        e.a = r.vec2(raw, 0.5f);
+        e.b = r.vec2(raw, 0.5f);
         e.depth_a = r.value(raw, 0.01f);
         e.depth_b = r.value(raw, 0.01f);
         all.push_back(e);
@@ -78,7 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (size_t c = 0; c < (nc < 64 ? nc : 64); ++c)
             if (cells[c].x < 0 || cells[c].y < 0 || cells[c].x >= int(msize.x) || cells[c].y >= int(msize.y))
                 __builtin_trap();
-        const sk::SilmapPoint sp = sk::silmap_select_point(e.a, e.b, glm::ivec2(r.get<int8_t>(), r.get<int8_t>()));
+        const sk::SilmapPoint sp = sk::silmap_select_point(e.a, e.b, glm::ivec2(r.i8(), r.i8()));
         if (sp.kase != sk::SilmapCase::NoIntersection &&
             (!(sp.local.x >= 0.f && sp.local.x <= 1.f && sp.local.y >= 0.f && sp.local.y <= 1.f) || sp.weight < 0 ||
              sp.weight > 2))
@@ -104,7 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     if (fails != br.failure_texels) __builtin_trap();
     for (int k = 0; k < 8; ++k) {
-        const glm::vec2 q(r.value(raw, 0.4f), r.value(raw, 0.4f));
+        const glm::vec2 q = r.vec2(raw, 0.4f);
         const float z = r.value(raw, 0.01f), bias = r.value(raw, 0.001f);
         const sk::SilmapLookup l = sk::silmap_lookup(pts.data(), wts.data(), depth.data(), msize, q, z, bias);
         if (l.corner < 0 || l.corner > 3) __builtin_trap();

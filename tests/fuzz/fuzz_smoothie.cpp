@@ -7,31 +7,15 @@
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 
+#include "fuzz_input.hpp"
+
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-    // Either a raw float (NaN/Inf possible) or a small quantized value (shared, valid geometry).
-    float value(bool raw, float scale) {
-        if (raw) return get<float>();
-        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) * scale;
-    }
-};
-
 bool finite_vertex(const shadowkit::SmoothieVertex& v) {
     const float* f = &v.position.x;
     for (int k = 0; k < 12; ++k)
@@ -46,15 +30,15 @@ void check_unit(float x) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace shadowkit;
-    Reader r{data, size};
-    const uint8_t flags = r.get<uint8_t>();
-    const uint8_t flags2 = r.get<uint8_t>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const uint8_t flags = r.u8();
+    const uint8_t flags2 = r.u8();
     const bool raw_pos = flags & 1, raw_matrix = flags & 2, raw_t = flags & 4, raw_idx = flags & 8;
     const bool with_normals = !(flags & 16), with_hints = flags & 32, ortho = flags & 64;
 
     // scalar helpers
     {
-        const float a = r.get<float>(), b = r.get<float>(), rr = r.get<float>(), z = r.get<float>(), bias = r.get<float>();
+        const float a = r.f32(), b = r.f32(), rr = r.f32(), z = r.f32(), bias = r.f32();
         check_unit(smoothie_remap_alpha(a, b, rr));
         check_unit(smoothie_falloff(a));
         check_unit(smoothie_visibility_tap(rr, z, b, a, bias));
@@ -71,31 +55,31 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     prm.clip_depth = (flags2 & 1) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
     prm.reversed_z = flags2 & 2;
     prm.paper_fans = flags2 & 4;
-    prm.t = raw_t ? r.get<float>() : static_cast<float>(r.get<uint8_t>()) / 256.0f;
+    prm.t = raw_t ? r.f32() : static_cast<float>(r.u8()) / 256.0f;
 
     glm::mat4 M(1.0f);
     if (raw_matrix) {
-        for (int c = 0; c < 4; ++c)
-            for (int k = 0; k < 4; ++k) M[c][k] = r.get<float>();
+        M = r.mat4();
     } else {
-        const glm::vec3 eye(r.value(false, 0.25f), r.value(false, 0.25f), r.value(false, 0.25f) + 12.0f);
-        const float fov = 0.2f + static_cast<float>(r.get<uint8_t>()) / 100.0f;
+        glm::vec3 eye = r.vec3(false, 0.25f);
+        eye.z += 12.0f;
+        const float fov = 0.2f + static_cast<float>(r.u8()) / 100.0f;
         glm::mat4 P = ortho ? glm::ortho(-8.0f, 8.0f, -8.0f, 8.0f, 0.5f, 60.0f) : glm::perspective(fov, 1.0f, 0.5f, 60.0f);
         if (prm.clip_depth == ClipDepth::ZeroToOne)
             P = ortho ? glm::orthoRH_ZO(-8.0f, 8.0f, -8.0f, 8.0f, 0.5f, 60.0f) : glm::perspectiveRH_ZO(fov, 1.0f, 0.5f, 60.0f);
         M = P * glm::lookAt(eye, glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
     }
 
-    const size_t np = r.get<uint8_t>() % 33u;
-    const size_t ne = r.get<uint8_t>() % 65u;
+    const size_t np = r.size(32);
+    const size_t ne = r.size(64);
     std::vector<glm::vec3> pos(np);
-    for (auto& p : pos) p = glm::vec3(r.value(raw_pos, 0.0625f), r.value(raw_pos, 0.0625f), r.value(raw_pos, 0.0625f));
+    for (auto& p : pos) p = r.vec3(raw_pos, 0.0625f);
     std::vector<std::uint32_t> idx(2 * ne);
-    for (auto& i : idx) i = raw_idx ? r.get<std::uint32_t>() : static_cast<std::uint32_t>(r.get<uint8_t>() % (np + 2));
+    for (auto& i : idx) i = raw_idx ? r.u32() : r.range<std::uint32_t>(0, static_cast<std::uint32_t>(np + 1));
     std::vector<glm::vec3> normals(2 * ne), hints(ne);
-    for (auto& n : normals) n = glm::vec3(r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f));
-    for (auto& h : hints) h = glm::vec3(r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f), r.value(raw_pos, 0.01f));
-    const size_t cap = r.get<uint16_t>() % 4096u;
+    for (auto& n : normals) n = r.vec3(raw_pos, 0.01f);
+    for (auto& h : hints) h = r.vec3(raw_pos, 0.01f);
+    const size_t cap = r.size(4095);
 
     SmoothieEdges in;
     in.positions = pos.empty() ? nullptr : pos.data();

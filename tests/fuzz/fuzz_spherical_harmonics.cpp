@@ -7,34 +7,16 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "fuzz_input.hpp"
+
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 namespace {
-struct Reader {
-    const uint8_t* p;
-    size_t n;
-    template <class T>
-    T get() {
-        T v{};
-        const size_t k = n < sizeof(T) ? n : sizeof(T);
-        std::memcpy(&v, p, k);
-        p += k;
-        n -= k;
-        return v;
-    }
-    // A raw float (NaN/Inf possible) or a small quantized value.
-    float value(bool raw) {
-        if (raw) return get<float>();
-        return static_cast<float>(static_cast<int8_t>(get<uint8_t>())) / 64.0f;
-    }
-};
-
-void check(bool ok) {
-    if (!ok) __builtin_trap();
-}
+using shadowkit_fuzz::check;
 
 bool finite(const double* v, size_t n) {
     for (size_t i = 0; i < n; ++i)
@@ -45,16 +27,17 @@ bool finite(const double* v, size_t n) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace shadowkit;
-    Reader r{data, size};
-    const uint8_t flags = r.get<uint8_t>();
+    shadowkit_fuzz::FuzzInput r(data, size);
+    const uint8_t flags = r.u8();
     const bool raw = flags & 1, raw_matrix = flags & 2, reflect = flags & 4, use_weights = flags & 8;
-    const int order = static_cast<int>(static_cast<int8_t>(r.get<uint8_t>())) % 8;  // -7 .. 7
-    const size_t cap = r.get<uint8_t>() % 30;
+    constexpr float kStep = 1.0f / 64.0f;  // quantized (not raw) values: a signed byte / 64
+    const int order = r.range(-7, 7);
+    const size_t cap = r.size(29);
     const size_t need = sh_coefficient_count(order);
     check(need == (sh_order_valid(order) ? static_cast<size_t>(order * order) : 0u));
 
     // evaluation and reconstruction at a direction
-    const glm::vec3 dir(r.value(raw), r.value(raw), r.value(raw));
+    const glm::vec3 dir = r.vec3(raw, kStep);
     float yf[32];
     SHResult e = sh_evaluate(order, dir, yf, cap);
     check(e.count <= 32);
@@ -71,7 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (e.status == SHStatus::BufferTooSmall) check(e.count == need && cap < need);
 
     double c[25];
-    for (double& v : c) v = static_cast<double>(r.value(raw));
+    for (double& v : c) v = static_cast<double>(r.value(raw, kStep));
     const glm::dvec3 ddir(dir);
     SHValue<double> rv = sh_reconstruct(order, c, cap, ddir);
     if (rv.status == SHStatus::Ok) check(std::isfinite(rv.value));
@@ -81,9 +64,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     glm::dmat3 R(1.0);
     if (raw_matrix) {
         for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) R[i][j] = static_cast<double>(r.get<float>());
+            for (int j = 0; j < 3; ++j) R[i][j] = static_cast<double>(r.f32());
     } else {
-        glm::dquat q(r.value(false), r.value(false), r.value(false), r.value(false));
+        const float qw = r.quantized(kStep), qx = r.quantized(kStep), qy = r.quantized(kStep), qz = r.quantized(kStep);
+        glm::dquat q(qw, qx, qy, qz);
         if (glm::length(q) > 1e-3) R = glm::mat3_cast(glm::normalize(q));
         if (reflect) R = -R;
     }
@@ -118,7 +102,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     // convolution
     double zonal[5];
-    for (double& z : zonal) z = static_cast<double>(r.value(raw));
+    for (double& z : zonal) z = static_cast<double>(r.value(raw, kStep));
     double conv[25];
     const SHResult cz = sh_convolve_zonal(order, zonal, 5, c, 25, conv, cap);
     if (cz.status == SHStatus::Ok) check(finite(conv, need));
@@ -128,15 +112,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (dv.status == SHStatus::Ok) check(std::isfinite(dv.value));
 
     // projection from samples (float values; count capped by the remaining input)
-    const size_t samples = r.get<uint8_t>() % 64;
+    const size_t samples = r.size(63);
     std::vector<glm::vec3> dirs;
     std::vector<float> vals, weights;
     std::vector<glm::vec3> rgb;
-    for (size_t j = 0; j < samples && r.n > 0; ++j) {
-        dirs.emplace_back(r.value(raw), r.value(raw), r.value(raw));
-        vals.push_back(r.value(raw));
-        weights.push_back(r.value(raw));
-        rgb.emplace_back(vals.back(), -vals.back(), r.value(raw));
+    for (size_t j = 0; j < samples && r.remaining() > 0; ++j) {
+        dirs.push_back(r.vec3(raw, kStep));
+        vals.push_back(r.value(raw, kStep));
+        weights.push_back(r.value(raw, kStep));
+        rgb.emplace_back(vals.back(), -vals.back(), r.value(raw, kStep));
     }
     float proj[25];
     const SHResult pr = sh_project(order, dirs.data(), vals.data(), use_weights ? weights.data() : nullptr, dirs.size(),
@@ -152,9 +136,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             check(std::isfinite(projrgb[i].x) && std::isfinite(projrgb[i].y) && std::isfinite(projrgb[i].z));
 
     // stratified directions
-    const int strata = static_cast<int>(static_cast<int8_t>(r.get<uint8_t>())) % 12;
+    const int strata = r.range(-11, 11);
     glm::vec3 sd[128];
-    const SHResult st = sh_stratified_directions(strata, r.get<uint32_t>(), sd, 128);
+    const SHResult st = sh_stratified_directions(strata, r.u32(), sd, 128);
     if (st.status == SHStatus::Ok) {
         check(st.count == size_t(strata * strata));
         for (size_t i = 0; i < st.count; ++i) check(std::fabs(glm::length(sd[i]) - 1.0f) < 1e-5f);
