@@ -581,7 +581,8 @@ public:
     }
     bool hard() const override { return false; }
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
-        if (!soft_scene(scene)) return {};
+        // area lights, and spot lights (stack, fence, duel) where the kernels filter a hard shadow
+        if (!soft_scene(scene) && scene.light.type != LightType::Spot) return {};
         const double radius = std::round(10.0 * double(default_pcf_radius_texels(scene, kMapSize))) / 10.0;
         std::vector<ParamSet> out;
         out.push_back(ParamSet{{{"kernel", 4.0}, {"taps", 1.0}}});  // the hard 2x2 compare, same bias and horizon
@@ -653,6 +654,7 @@ public:
                "(16/32/64), rotate 0/1; x the emitter's fraction above the tangent plane; params depth24, light_scale, hard";
     }
     bool hard() const override { return false; }
+    std::vector<std::pair<std::string, double>> live_params() const override { return {{"light_scale", 1.0}}; }
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         if (!soft_scene(scene)) return {};
         std::vector<ParamSet> out;

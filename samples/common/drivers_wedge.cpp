@@ -267,6 +267,7 @@ float technique_visibility(vec3 p, vec3 n) {
 
 class PenumbraWedges final : public Technique {
 public:
+    std::vector<std::pair<std::string, double>> live_params() const override { return {{"light_scale", 1.0}}; }
     std::string name() const override { return "penumbra_wedges"; }
     std::string description() const override {
         return "soft shadow volumes: hard stencil volume from the light centre + one penumbra wedge per silhouette "

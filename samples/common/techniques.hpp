@@ -71,6 +71,9 @@ public:
     virtual std::string description() const = 0;
     virtual bool hard() const = 0;                 // produces 0/1 visibility
     virtual bool listed_by_default() const { return true; }
+    // Parameters a viewer may change live besides the swept ones, with their defaults (e.g. the
+    // light size of PCSS or penumbra wedges, which the report keeps at the scene's light).
+    virtual std::vector<std::pair<std::string, double>> live_params() const { return {}; }
     // Parameter sweep for the report; `quick` gives a shorter one.
     virtual std::vector<ParamSet> sweep(const Scene& scene, bool quick) const = 0;
     virtual RunResult run(const RunContext& ctx, const ParamSet& params) = 0;

@@ -64,6 +64,16 @@ bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, 
     return true;
 }
 
+// The sweep entry plus the technique's live-only parameters (at their defaults, unless set).
+ParamSet with_live_params(ParamSet ps, const Technique& t) {
+    for (const auto& [k, v] : t.live_params()) {
+        bool present = false;
+        for (const auto& e : ps.values) present = present || e.first == k;
+        if (!present) ps.values.emplace_back(k, v);
+    }
+    return ps;
+}
+
 struct Orbit {
     float yaw = 0.f, pitch = 0.f;
     bool dragging = false;
@@ -133,7 +143,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
         return 2;
     }
     auto sweep = tech->sweep(scene, false);
-    ParamSet ps = o.params_set ? o.params : (sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2]);
+    ParamSet ps = with_live_params(o.params_set ? o.params : (sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2]), *tech);
     std::string why;
 
     if (!o.headless.empty()) {
@@ -193,7 +203,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
         if (pressed(GLFW_KEY_ESCAPE)) break;
         for (int k = 0; k < 9; ++k)
             if (pressed(GLFW_KEY_1 + k) && static_cast<std::size_t>(k) < sweep.size()) {
-                ps = sweep[static_cast<std::size_t>(k)];
+                ps = with_live_params(sweep[static_cast<std::size_t>(k)], *tech);
                 dirty = true;
             }
         // live parameters: Tab picks one of the technique's parameters, [ and ] step through the
@@ -212,7 +222,12 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
                     if (k == pname && std::find(vals.begin(), vals.end(), v) == vals.end()) vals.push_back(v);
             std::sort(vals.begin(), vals.end());
             auto it = std::find(vals.begin(), vals.end(), pvalue);
-            if (!vals.empty()) {
+            if (vals.size() < 2) {
+                // not swept (a live parameter such as light_scale): step by 25%
+                pvalue = up ? (pvalue > 0.0 ? pvalue * 1.25 : 0.05) : (pvalue > 0.05 ? pvalue / 1.25 : 0.0);
+                std::printf("%s = %g\n", pname.c_str(), pvalue);
+                dirty = true;
+            } else if (!vals.empty()) {
                 std::size_t i = it == vals.end() ? 0 : static_cast<std::size_t>(it - vals.begin());
                 i = up ? std::min(i + 1, vals.size() - 1) : (i == 0 ? 0 : i - 1);
                 pvalue = vals[i];
@@ -247,7 +262,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             if (Technique* t = find_tech(technique_name)) {
                 tech = t;
                 sweep = tech->sweep(scene, false);
-                ps = sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2];
+                ps = with_live_params(sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2], *tech);
                 dirty = true;
             }
         }
@@ -256,7 +271,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             scene_index = (scene_index + (next ? 1 : names.size() - 1)) % names.size();
             make_builtin_scene(names[scene_index], scene);
             sweep = tech->sweep(scene, false);
-            if (!sweep.empty()) ps = sweep[sweep.size() / 2];
+            if (!sweep.empty()) ps = with_live_params(sweep[sweep.size() / 2], *tech);
             dirty = true;
         }
         double mx, my;
