@@ -501,6 +501,13 @@ RunResult Smoothie::run(const RunContext& ctx, const ParamSet& params) {
     r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
     r.frames = ctx.frames;
     r.visibility = skgl::read_color_float(pass.target, 0, 1);
+    if (ctx.debug_images) {
+        // the smoothie buffer (light space): alpha (0 on the silhouette, 1 at the smoothie's outer
+        // edge, white where no smoothie), and its depth b
+        const std::vector<float> buf = skgl::read_color_float(sb, 0, 2);
+        r.debug.push_back(grey_debug_image("smoothie buffer alpha (light space)", size, size, buf, 2, 1, 1.f));
+        r.debug.push_back(grey_debug_image("smoothie buffer depth b (light space)", size, size, buf, 2, 0, 1e29f));
+    }
     r.gpu_bytes = std::int64_t(size) * size * (4 + 4 + 8) + std::int64_t(vb_bytes);
     const double smoothie_tris = double(st.vertices / 3);
     std::size_t map_triangles = gpu.caster_triangles;

@@ -90,6 +90,37 @@ void add_aliasing(RunResult& r, const Scene& scene, const SceneGpu& gpu, const G
     }
 }
 
+// The samples' texel-density view: per receiver pixel the perspective aliasing error (screen
+// pixels per shadow-map texel) in false colour: blue = oversampled (< 1/4), green = 1, red =
+// undersampled (> 4), log scale; grey = not a lit-facing receiver.
+DebugImage texel_density_image(const Scene& scene, const SceneGpu& gpu, const GBuffer& g, const glm::mat4& light_vp,
+                               int size) {
+    DebugImage d;
+    d.name = "texel density (blue oversampled, green 1 texel/pixel, red undersampled)";
+    d.width = g.width;
+    d.height = g.height;
+    d.rgb.assign(g.kind.size() * 3, 60);
+    const glm::mat4 cam_vp = gpu.proj * gpu.view;
+    for (std::size_t k = 0; k < g.kind.size(); ++k) {
+        if (g.kind[k] != 1) continue;
+        const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+        const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+        const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
+                                                                       : glm::normalize(scene.light.position - p);
+        if (glm::dot(nn, l) <= 0.f) continue;
+        const double e = shadowkit::perspective_aliasing_error(
+            light_vp, cam_vp, p, nn, static_cast<std::uint32_t>(size),
+            glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
+        if (!std::isfinite(e) || e <= 0.0) continue;
+        const double t = std::clamp(std::log2(e) / 2.0, -1.0, 1.0);  // -1: 1/4, 0: 1, +1: 4
+        const double r = t > 0 ? t : 0.0, b = t < 0 ? -t : 0.0, gg = 1.0 - std::abs(t);
+        d.rgb[3 * k] = static_cast<std::uint8_t>(std::lround(255.0 * r));
+        d.rgb[3 * k + 1] = static_cast<std::uint8_t>(std::lround(255.0 * gg));
+        d.rgb[3 * k + 2] = static_cast<std::uint8_t>(std::lround(255.0 * b));
+    }
+    return d;
+}
+
 // ------------------------------------------------------------------------- warped / fitted maps
 // method: 0 fitted (light_frustum.hpp: tight fit + caster culling), 1 uniform, 2 PSM, 3 LiSPSM, 4 TSM.
 class WarpedShadowMap final : public Technique {
@@ -223,6 +254,15 @@ float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map,
                   {"casters_culled", double(caster_count(ctx.gpu) - drawn)}};
         if (fallback) r.quality.push_back({"fallback_uniform", 1.0});
         if (ctx.gbuffer) add_aliasing(r, scene, ctx.gpu, *ctx.gbuffer, {light_vp}, {}, size);
+        if (ctx.debug_images && ctx.gbuffer) {
+            r.debug.push_back(texel_density_image(scene, ctx.gpu, *ctx.gbuffer, light_vp, size));
+            std::vector<float> texels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
+            skgl::set_depth_compare(sm.depth, false, false);
+            glBindTexture(GL_TEXTURE_2D, sm.depth);
+            glPixelStorei(GL_PACK_ALIGNMENT, 1);
+            glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, texels.data());
+            r.debug.push_back(grey_debug_image("shadow map (window depth, near = black)", size, size, texels, 1, 0, 1.f));
+        }
         const std::string err = skgl::gl_error_string();
         glDeleteProgram(depth);
         glDeleteProgram(vis);

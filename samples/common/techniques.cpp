@@ -29,6 +29,31 @@ std::string ParamSet::label() const {
     return s.str();
 }
 
+DebugImage grey_debug_image(const std::string& name, int w, int h, const std::vector<float>& data, int stride, int c,
+                            float ignore_above) {
+    DebugImage d;
+    d.name = name;
+    d.width = w;
+    d.height = h;
+    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    float lo = INFINITY, hi = -INFINITY;
+    for (std::size_t k = 0; k < n; ++k) {
+        const float v = data[k * static_cast<std::size_t>(stride) + static_cast<std::size_t>(c)];
+        if (std::isfinite(v) && v < ignore_above) {
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    }
+    d.rgb.assign(n * 3, 255);
+    for (std::size_t k = 0; k < n; ++k) {
+        const float v = data[k * static_cast<std::size_t>(stride) + static_cast<std::size_t>(c)];
+        if (!std::isfinite(v) || v >= ignore_above || !(hi > lo)) continue;
+        const auto g = static_cast<std::uint8_t>(std::lround(255.0 * (v - lo) / (hi - lo)));
+        d.rgb[3 * k] = d.rgb[3 * k + 1] = d.rgb[3 * k + 2] = g;
+    }
+    return d;
+}
+
 SceneGpu::~SceneGpu() {
     for (auto& m : meshes) skgl::destroy_mesh(m);
     skgl::destroy_target(gbuffer);

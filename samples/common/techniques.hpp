@@ -38,6 +38,14 @@ struct SceneGpu {
 // Uploads the scene and renders the camera G-buffer; `cpu` receives the read-back copy.
 bool prepare_scene_gpu(const Scene& scene, int width, int height, SceneGpu& gpu, GBuffer& cpu, std::string& why);
 
+// An extra image a technique can show in the samples (shadow map, smoothie buffer, texel density):
+// 8-bit RGB, bottom-up rows.
+struct DebugImage {
+    std::string name;
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+};
+
 struct RunResult {
     bool ok = true;
     std::string error;
@@ -48,6 +56,7 @@ struct RunResult {
     std::int64_t gpu_bytes = 0;     // the technique's GPU buffers (shadow maps, vertex buffers)
     std::vector<std::pair<std::string, double>> work;  // texels, triangles drawn, casters culled...
     std::vector<std::pair<std::string, double>> quality;  // technique-specific quality metrics (aliasing...)
+    std::vector<DebugImage> debug;  // filled only when RunContext::debug_images
     static RunResult failure(std::string why) {
         RunResult r;
         r.ok = false;
@@ -62,7 +71,13 @@ struct RunContext {
     int frames = 20;
     int warmup = 3;
     const GBuffer* gbuffer = nullptr;  // CPU copy of the G-buffer, for CPU-side metrics
+    bool debug_images = false;         // the samples ask for RunResult::debug (never the report)
 };
+
+// Grey image of a float buffer (w x h, `stride` floats per pixel, channel `c`), mapped from the
+// [lo, hi] range of its finite values below `ignore_above` to [0, 255].
+DebugImage grey_debug_image(const std::string& name, int w, int h, const std::vector<float>& data, int stride, int c,
+                            float ignore_above);
 
 class Technique {
 public:

@@ -26,6 +26,7 @@ struct ViewerOptions {
     int width = 800, height = 600;
     ParamSet params;
     bool params_set = false;
+    int view = 0;  // 0 shaded, k: the technique's k-th debug image
 };
 
 // Simple shading so the sample shows something a person recognises: albedo * (ambient + V * N.L).
@@ -49,18 +50,30 @@ std::vector<std::uint8_t> shade(const Scene& scene, const GBuffer& g, const std:
     return rgb;
 }
 
-bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, std::vector<std::uint8_t>& rgb,
-            std::string& why) {
+// view 0: the shaded scene; view k > 0: the technique's k-th debug image (if it has one).
+bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, int view, std::vector<std::uint8_t>& rgb,
+            int& out_w, int& out_h, std::string& view_name, std::string& why) {
     SceneGpu gpu;
     GBuffer g;
     if (!prepare_scene_gpu(scene, w, h, gpu, g, why)) return false;
-    RunContext ctx{scene, gpu, 1, 0};
+    RunContext ctx{scene, gpu, 1, 0, &g, view > 0};
     RunResult r = t.run(ctx, ps);
     if (!r.ok) {
         why = r.error;
         return false;
     }
+    if (view > 0 && static_cast<std::size_t>(view) <= r.debug.size()) {
+        const DebugImage& d = r.debug[static_cast<std::size_t>(view - 1)];
+        rgb = d.rgb;
+        out_w = d.width;
+        out_h = d.height;
+        view_name = d.name;
+        return true;
+    }
     rgb = shade(scene, g, r.visibility);
+    out_w = w;
+    out_h = h;
+    view_name = view > 0 ? "shaded (no debug image " + std::to_string(view) + ")" : "shaded";
     return true;
 }
 
@@ -100,6 +113,8 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
                 std::fprintf(stderr, "%s: --size wants WxH\n", argv[0]);
                 return 2;
             }
+        } else if (a == "--view" && i + 1 < argc) {
+            o.view = std::atoi(argv[++i]);
         } else if (a == "--technique" && i + 1 < argc) {
             const std::string want = argv[++i];
             const auto it = std::find(technique_names.begin(), technique_names.end(), want);
@@ -120,7 +135,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
         } else {
             std::fprintf(stderr,
                          "usage: %s [--scene NAME] [--technique NAME] [--headless OUT.png] [--size WxH] "
-                         "[--param name=value]...\n",
+                         "[--param name=value]... [--view N]\n",
                          argv[0]);
             return a == "--help" ? 0 : 2;
         }
@@ -153,11 +168,14 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             return 1;
         }
         std::vector<std::uint8_t> rgb;
-        if (!render(scene, *tech, ps, o.width, o.height, rgb, why)) {
+        int iw = 0, ih = 0;
+        std::string view_name;
+        if (!render(scene, *tech, ps, o.width, o.height, o.view, rgb, iw, ih, view_name, why)) {
             std::fprintf(stderr, "%s: %s\n", argv[0], why.c_str());
             return 1;
         }
-        if (!skgl::write_png(o.headless, o.width, o.height, 3, rgb.data())) {
+        if (o.view > 0) std::printf("%s: view %d = %s\n", argv[0], o.view, view_name.c_str());
+        if (!skgl::write_png(o.headless, iw, ih, 3, rgb.data())) {
             std::fprintf(stderr, "%s: cannot write %s\n", argv[0], o.headless.c_str());
             return 1;
         }
@@ -193,6 +211,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
     int last_key_state[GLFW_KEY_LAST + 1] = {};
     int shown_w = 0, shown_h = 0;
     std::size_t param_index = 0;
+    int view = o.view;
     while (!glfwWindowShouldClose(win)) {
         auto pressed = [&](int key) {
             const int s = glfwGetKey(win, key);
@@ -201,6 +220,10 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             return edge;
         };
         if (pressed(GLFW_KEY_ESCAPE)) break;
+        if (pressed(GLFW_KEY_V)) {  // shaded scene -> the technique's debug images -> shaded
+            view = view >= 3 ? 0 : view + 1;
+            dirty = true;
+        }
         for (int k = 0; k < 9; ++k)
             if (pressed(GLFW_KEY_1 + k) && static_cast<std::size_t>(k) < sweep.size()) {
                 ps = with_live_params(sweep[static_cast<std::size_t>(k)], *tech);
@@ -299,13 +322,17 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             int w, h;
             glfwGetFramebufferSize(win, &w, &h);
             std::vector<std::uint8_t> rgb;
-            if (render(scene, *tech, ps, w, h, rgb, why)) {
+            int iw = 0, ih = 0;
+            std::string view_name;
+            if (render(scene, *tech, ps, w, h, view, rgb, iw, ih, view_name, why)) {
                 glBindTexture(GL_TEXTURE_2D, tex);
                 glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-                glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
-                shown_w = w;
-                shown_h = h;
-                glfwSetWindowTitle(win, ("shadowkit: " + technique_name + " on " + scene.name + "  " + ps.label()).c_str());
+                glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, iw, ih, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+                shown_w = iw;
+                shown_h = ih;
+                glfwSetWindowTitle(win, ("shadowkit: " + technique_name + " on " + scene.name + "  " + ps.label() +
+                                         "  [" + view_name + "]")
+                                            .c_str());
             } else {
                 std::fprintf(stderr, "%s\n", why.c_str());
             }
@@ -315,7 +342,10 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
             glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
             glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-            glBlitFramebuffer(0, 0, shown_w, shown_h, 0, 0, shown_w, shown_h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            int fw = 0, fh = 0;
+            glfwGetFramebufferSize(win, &fw, &fh);
+            glClear(GL_COLOR_BUFFER_BIT);
+            glBlitFramebuffer(0, 0, shown_w, shown_h, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_LINEAR);
             glfwSwapBuffers(win);
         }
         glfwWaitEventsTimeout(0.02);

@@ -3,6 +3,8 @@
 // renders one frame on EGL (no display needed) and writes a PNG instead.
 //
 //   sample [--scene NAME] [--headless OUT.png] [--size WxH] [--param name=value]...
+//   --view N (or key V) shows the technique's N-th debug image (shadow map, smoothie buffer,
+//   texel density, ...) instead of the shaded scene.
 //   keys: 1-9 pick a sweep entry, Tab picks a parameter and [ ] change it live, arrow keys and
 //   PageUp/PageDown move the light, T next technique, N/P next/previous scene, Esc quits;
 //   drag to orbit.
