@@ -203,6 +203,31 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
     r.frames = ctx.frames;
     r.visibility = skgl::read_color_float(target, 0, 1);
+    if (ctx.debug_images) {
+        // the samples' scissor view: V in grey, each caster's scissor rectangle outlined (red:
+        // z-fail caster, green: z-pass caster)
+        DebugImage d = grey_debug_image("scissor rectangles (red z-fail, green z-pass)", W, H, r.visibility, 1, 0, 2.f);
+        for (const CasterDraw& cd : draws) {
+            if (!cd.visible || !use_scissor) continue;
+            const int x0 = std::max(cd.sc.x, 0), y0 = std::max(cd.sc.y, 0);
+            const int x1 = std::min(cd.sc.x + cd.sc.width - 1, W - 1), y1 = std::min(cd.sc.y + cd.sc.height - 1, H - 1);
+            auto put = [&](int x, int y) {
+                const std::size_t k = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x));
+                d.rgb[k] = cd.zfail ? 255 : 0;
+                d.rgb[k + 1] = cd.zfail ? 0 : 200;
+                d.rgb[k + 2] = 0;
+            };
+            for (int x = x0; x <= x1; ++x) {
+                put(x, y0);
+                put(x, y1);
+            }
+            for (int y = y0; y <= y1; ++y) {
+                put(x0, y);
+                put(x1, y);
+            }
+        }
+        r.debug.push_back(std::move(d));
+    }
 
     // ------------------------------------------------------------------ instrumented fill count
     const bool has_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
