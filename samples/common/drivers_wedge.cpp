@@ -695,6 +695,37 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
     r.frames = ctx.frames;
     r.visibility = skgl::read_color_float(vis_pass.target, 0, 1);
+    if (ctx.debug_images) {
+        // the samples' wedge view: V in grey with every wedge hull's edges (projected, clipped to
+        // the near side of the camera) drawn in orange
+        DebugImage d = grey_debug_image("penumbra wedges (hull wireframe over V)", W, H, r.visibility, 1, 0, 2.f);
+        auto to_pixel = [&](const glm::vec4& world, glm::vec2& px) {
+            const glm::vec4 c = cam_vp * world;
+            if (!(c.w > 1e-6f)) return false;
+            px = glm::vec2((c.x / c.w * 0.5f + 0.5f) * float(W), (c.y / c.w * 0.5f + 0.5f) * float(H));
+            return std::isfinite(px.x) && std::isfinite(px.y);
+        };
+        for (std::size_t wi = 0; wi < wedge_count; ++wi)
+            for (std::size_t t = 0; t < 24; t += 3)
+                for (std::size_t e = 0; e < 3; ++e) {
+                    const std::size_t a = 6 * wi + hull_local[24 * wi + t + e];
+                    const std::size_t b = 6 * wi + hull_local[24 * wi + t + (e + 1) % 3];
+                    glm::vec2 pa, pb;
+                    if (!to_pixel(hull_verts[a], pa) || !to_pixel(hull_verts[b], pb)) continue;
+                    const float len = std::min(glm::length(pb - pa), 4.f * float(W + H));
+                    const int steps = std::max(1, static_cast<int>(len));
+                    for (int i = 0; i <= steps; ++i) {
+                        const glm::vec2 q = pa + (pb - pa) * (float(i) / float(steps));
+                        const int x = static_cast<int>(q.x), y = static_cast<int>(q.y);
+                        if (x < 0 || y < 0 || x >= W || y >= H) continue;
+                        const std::size_t k = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x));
+                        d.rgb[k] = 255;
+                        d.rgb[k + 1] = 140;
+                        d.rgb[k + 2] = 0;
+                    }
+                }
+        r.debug.push_back(std::move(d));
+    }
 
     // ------------------------------------------------------------------ instrumented fill and wedge-pass time
     const bool has_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
