@@ -56,6 +56,15 @@ void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = 
 std::size_t caster_count(const SceneGpu& gpu);
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 
+// The emitter's fraction above a receiver's tangent plane (the reference counts light samples below
+// it as unseen): GLSL declaring u_emitter* and `float sk_emitter_horizon(vec3 p, vec3 n)` (rect: 16
+// columns of the square, each clipped exactly; disk: the circular segment; sphere: the disk of its
+// radius facing p; 0 = no area light: 1), and its uniforms: `enabled` false sets u_emitter = 0.
+const char* emitter_horizon_glsl();
+void set_emitter_uniforms(GLuint prog, const Light& L, bool enabled);
+// Duff et al. 2017 orthonormal basis: the reference's basis of an emitter plane with normal n.
+void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b);
+
 // Registration of the drivers that live in their own files (common/drivers_<family>.cpp).
 void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_warp.cpp
 void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_soft.cpp

@@ -18,7 +18,7 @@
 //   constant (kConstBias, window units).
 // - Area lights: the reference counts light samples below the receiver's tangent plane as unseen.
 //   PCF and PCSS (param horizon=1, the default) multiply their result by the emitter's fraction
-//   above that plane (skd_horizon, closed form); the sampled area light tests each sample.
+//   above that plane (sk_emitter_horizon from driver_util, closed form); the sampled area light tests each sample.
 // - Every single-map row also reports acne_fraction and peter_pan_px (add_bias_quality).
 #include <shadowkit/pcss.hpp>
 #include <shadowkit/poisson_disk.hpp>
@@ -73,14 +73,6 @@ bool perspective_light(const Light& L) {
     return L.type == LightType::Spot || L.type == LightType::Rect || L.type == LightType::Disk || L.type == LightType::Sphere;
 }
 
-// Duff et al. 2017 orthonormal basis, the same as the reference uses to orient rect lights.
-void orthonormal_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-    const float sign = std::copysign(1.0f, n.z);
-    const float a = -1.0f / (sign + n.z);
-    const float bb = n.x * n.y * a;
-    t = glm::vec3(1.0f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-    b = glm::vec3(bb, sign + n.y * n.y * a, -n.y);
-}
 
 struct LightSetup {
     LightMatrices lm;
@@ -193,39 +185,6 @@ vec2 skd_plane_gradient(mat4 vp, vec3 eye, vec3 p, vec3 n) {
     if (!(abs(det) > 1e-7 * scale)) return vec2(0.0);
     return vec2(d2.y * d1.z - d1.y * d2.z, d1.x * d2.z - d2.x * d1.z) / det;
 }
-// Fraction of the emitter above the receiver's tangent plane (the reference counts light samples
-// below it as unseen). Rect: 16 columns of the square, each clipped exactly; disk: the circular
-// segment; sphere: the disk of its radius facing p. u_emitter 0: no area (returns 1).
-uniform int u_emitter;       // 0 none, 1 rect, 2 disk, 3 sphere
-uniform vec3 u_emitter_c;    // centre
-uniform vec3 u_emitter_t;    // rect: half-edge vector; disk: radius vector
-uniform vec3 u_emitter_b;    // rect: half-edge vector; disk: radius vector
-float skd_horizon(vec3 p, vec3 n) {
-    if (u_emitter == 0) return 1.0;
-    float alpha = dot(n, u_emitter_c - p);
-    if (u_emitter == 1) {
-        float beta = dot(n, u_emitter_t);
-        float gamma = dot(n, u_emitter_b);
-        float sum = 0.0;
-        for (int i = 0; i < 16; ++i) {
-            float r = alpha + beta * (-1.0 + (float(i) + 0.5) / 8.0);   // need r + gamma y > 0, |y| <= 1
-            if (abs(gamma) < 1e-20) { sum += r > 0.0 ? 2.0 : 0.0; continue; }
-            float y0 = -r / gamma;
-            sum += gamma > 0.0 ? clamp(1.0 - y0, 0.0, 2.0) : clamp(y0 + 1.0, 0.0, 2.0);
-        }
-        return sum / 32.0;
-    }
-    float s;
-    if (u_emitter == 3) {
-        vec3 w = normalize(u_emitter_c - p);
-        s = length(u_emitter_t) * length(n - dot(n, w) * w);
-    } else {
-        s = length(vec2(dot(n, u_emitter_t), dot(n, u_emitter_b)));
-    }
-    if (!(s > 1e-20)) return alpha > 0.0 ? 1.0 : 0.0;
-    float d = clamp(-alpha / s, -1.0, 1.0);
-    return (acos(d) - d * sqrt(1.0 - d * d)) / 3.14159265;
-}
 // receiver-plane biased shadow coordinate: z minus margin texels of slope and the constant
 vec3 skd_rp_bias(vec3 uvz, vec2 g, float texel_uv) {
     uvz.z -= u_margin * texel_uv * (abs(g.x) + abs(g.y)) + u_const_bias;
@@ -332,20 +291,7 @@ void set_common_uniforms(const Program& p, const Scene& s, const LightSetup& ls,
     glUniform1f(p.loc("u_tan_half"), ls.tan_half);
     glUniform1f(p.loc("u_margin"), 1.f);
     glUniform1f(p.loc("u_const_bias"), kConstBias);
-    const Light& L = s.light;
-    int emitter = 0;
-    glm::vec3 t(0.f), b(0.f);
-    if (horizon && surface_area_light(L)) {
-        emitter = L.type == LightType::Rect ? 1 : (L.type == LightType::Disk ? 2 : 3);
-        orthonormal_basis(glm::normalize(L.direction), t, b);
-        const float r = L.type == LightType::Rect ? 0.5f * L.size : L.size;
-        t *= r;
-        b *= r;
-    }
-    glUniform1i(p.loc("u_emitter"), emitter);
-    glUniform3fv(p.loc("u_emitter_c"), 1, glm::value_ptr(L.position));
-    glUniform3fv(p.loc("u_emitter_t"), 1, glm::value_ptr(t));
-    glUniform3fv(p.loc("u_emitter_b"), 1, glm::value_ptr(b));
+    set_emitter_uniforms(p.id, s.light, horizon && surface_area_light(s.light));
 }
 
 // Renders the casters into layer `layer` of the map with view-projection vp.
@@ -373,6 +319,7 @@ bool compile_visibility(Program& p, const std::vector<std::string>& snippet_name
         snippets += s + "\n";
     }
     snippets += kCommonGlsl;
+    snippets += emitter_horizon_glsl();
     std::string log;
     p.id = compile_visibility_program(snippets, body, log);
     if (!p.id) why = log;
@@ -510,7 +457,7 @@ struct SingleMapConfig {
     bool raw_view = false;  // also bind the raw depth view at unit 2 (compare view at unit 3)
     std::function<void(const Program&)> setup;
     double taps_per_pixel = 1.0;
-    bool horizon = false;  // multiply by skd_horizon (the emitter's fraction above the tangent plane)
+    bool horizon = false;  // multiply by sk_emitter_horizon (the emitter's fraction above the tangent plane)
 };
 
 RunResult run_single_map(const RunContext& ctx, const SingleMapConfig& cfg) {
@@ -626,7 +573,7 @@ float technique_visibility(vec3 p, vec3 n) {
 #else
     float v = sk_pcf_hard(u_sm, uvz);
 #endif
-    return v * skd_horizon(p, n);
+    return v * sk_emitter_horizon(p, n);
 }
 )";
         const int r_texels = kernel < 2 ? box_radius(taps) : 0;
@@ -700,7 +647,7 @@ float technique_visibility(vec3 p, vec3 n) {
 #endif
     float v = sk_pcss(u_depth, u_sm, uvz, g, u_light_uv_at_near, u_near, u_far, u_taps, u_taps, angle, u_max_filter_uv);
 #endif
-    return v * skd_horizon(p, n);
+    return v * sk_emitter_horizon(p, n);
 }
 )";
         cfg.depth_format = d24 ? GL_DEPTH_COMPONENT24 : GL_DEPTH_COMPONENT32F;
@@ -765,7 +712,7 @@ public:
             if (surface_area_light(L)) {
                 scale = L.type == LightType::Rect ? 0.5f * L.size : L.size;
                 // rect / disk: the emitter's plane as the reference orients it; sphere: the disk facing the scene
-                orthonormal_basis(L.type == LightType::Sphere ? ls.dir : glm::normalize(L.direction), t, b);
+                emitter_basis(L.type == LightType::Sphere ? ls.dir : glm::normalize(L.direction), t, b);
             }
             for (int i = 0; i < n; ++i) {
                 const auto k = static_cast<std::size_t>(i);

@@ -106,14 +106,6 @@ float wedge_light_radius(const Light& L, int rect_radius, float scale) {
     return std::max(0.f, r * scale);
 }
 
-// Duff et al. 2017 (the reference's basis of the emitter plane; copied from reference.cpp).
-void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-    const float sign = std::copysign(1.0f, n.z);
-    const float a = -1.0f / (sign + n.z);
-    const float bb = n.x * n.y * a;
-    t = glm::vec3(1.0f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-    b = glm::vec3(bb, sign + n.y * n.y * a, -n.y);
-}
 
 // Vertices of (wedge hull) intersected with the receiver box [lo, hi] (Lengyel: the wedge's bounds
 // clipped to the region that can receive the light): hull faces clipped against the box planes
@@ -220,48 +212,16 @@ void main() {
     o_coverage = sk_wedge_edge_coverage(w.e0.xyz, w.e1.xyz, u_sphere_light.xyz, u_sphere_light.w, pk.xyz);
 }
 )";
-// Fraction of the emitter above the receiver's tangent plane (the reference counts light samples
-// below it as unseen; the wedges see only the casters' silhouettes). Same closed form as the PCSS
-// driver's skd_horizon (drivers_soft.cpp): rect: 16 columns of the square, each clipped exactly; disk:
-// the circular segment; sphere: the disk of its radius facing p; u_emitter 0: no area (returns 1).
+// The combine multiplies by sk_emitter_horizon (driver_util): the fraction of the emitter above the
+// receiver's tangent plane, which the reference counts as unseen and the wedges do not model.
 const char* kCombineBody = R"(
 layout(binding = 3) uniform sampler2D u_accum;
 layout(binding = 4) uniform usampler2D u_stencil;
-uniform int u_emitter;       // 0 none, 1 rect, 2 disk, 3 sphere
-uniform vec3 u_emitter_c;
-uniform vec3 u_emitter_t;    // rect: half-edge vector; disk: radius vector
-uniform vec3 u_emitter_b;
-float skw_horizon(vec3 p, vec3 n) {
-    if (u_emitter == 0) return 1.0;
-    float alpha = dot(n, u_emitter_c - p);
-    if (u_emitter == 1) {
-        float beta = dot(n, u_emitter_t);
-        float gamma = dot(n, u_emitter_b);
-        float sum = 0.0;
-        for (int i = 0; i < 16; ++i) {
-            float r = alpha + beta * (-1.0 + (float(i) + 0.5) / 8.0);
-            if (abs(gamma) < 1e-20) { sum += r > 0.0 ? 2.0 : 0.0; continue; }
-            float y0 = -r / gamma;
-            sum += gamma > 0.0 ? clamp(1.0 - y0, 0.0, 2.0) : clamp(y0 + 1.0, 0.0, 2.0);
-        }
-        return sum / 32.0;
-    }
-    float s;
-    if (u_emitter == 3) {
-        vec3 w = normalize(u_emitter_c - p);
-        s = length(u_emitter_t) * length(n - dot(n, w) * w);
-    } else {
-        s = length(vec2(dot(n, u_emitter_t), dot(n, u_emitter_b)));
-    }
-    if (!(s > 1e-20)) return alpha > 0.0 ? 1.0 : 0.0;
-    float d = clamp(-alpha / s, -1.0, 1.0);
-    return (acos(d) - d * sqrt(1.0 - d * d)) / 3.14159265;
-}
 float technique_visibility(vec3 p, vec3 n) {
     ivec2 px = ivec2(gl_FragCoord.xy);
     uint s = texelFetch(u_stencil, px, 0).r & 255u;
     float hard = float(int(s) - (s >= 128u ? 256 : 0));  // wrapped 8-bit count, signed
-    return sk_wedge_visibility(hard, texelFetch(u_accum, px, 0).r) * skw_horizon(p, n);
+    return sk_wedge_visibility(hard, texelFetch(u_accum, px, 0).r) * sk_emitter_horizon(p, n);
 }
 )";
 
@@ -496,7 +456,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     const GLuint vol_prog = vol.compile(head, emulate_bounds, log);
     const GLuint wedge_prog = compile({{GL_VERTEX_SHADER, whead + kWedgeVS}, {GL_FRAGMENT_SHADER, whead + kWedgeFS}});
     const GLuint comb_prog = compile(
-        {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(pw_snippet, kCombineBody)}});
+        {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(pw_snippet + emitter_horizon_glsl(), kCombineBody)}});
     const GLuint depth_prog = compile({{GL_VERTEX_SHADER, depth_only_vs()}, {GL_FRAGMENT_SHADER, depth_only_fs()}});
     auto cleanup_programs = [&]() {
         for (GLuint p : programs) glDeleteProgram(p);
@@ -547,22 +507,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     glUniform1i(loc_count, 0);
     glUseProgram(comb_prog);
     set_light_uniforms(comb_prog, scene.light);
-    {
-        const Light& L = scene.light;
-        int emitter = 0;
-        glm::vec3 t(0.f), b(0.f);
-        if (horizon && soft && L.is_area()) {
-            emitter = L.type == LightType::Rect ? 1 : (L.type == LightType::Disk ? 2 : 3);
-            emitter_basis(glm::normalize(L.direction), t, b);
-            const float hr = L.type == LightType::Rect ? 0.5f * L.size : L.size;
-            t *= hr;
-            b *= hr;
-        }
-        glUniform1i(glGetUniformLocation(comb_prog, "u_emitter"), emitter);
-        glUniform3fv(glGetUniformLocation(comb_prog, "u_emitter_c"), 1, glm::value_ptr(L.position));
-        glUniform3fv(glGetUniformLocation(comb_prog, "u_emitter_t"), 1, glm::value_ptr(t));
-        glUniform3fv(glGetUniformLocation(comb_prog, "u_emitter_b"), 1, glm::value_ptr(b));
-    }
+    set_emitter_uniforms(comb_prog, scene.light, horizon && soft && scene.light.is_area());
     glUseProgram(depth_prog);
     glUniformMatrix4fv(glGetUniformLocation(depth_prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(draw_vp));
 
