@@ -159,8 +159,9 @@ inline bool silmap_clip(glm::dvec2& a, glm::dvec2& b, glm::dvec2 lo, glm::dvec2 
     }
     if (t0 > t1) return false;
     const glm::dvec2 a0 = a;
-    a = a0 + t0 * d;
-    b = a0 + t1 * d;
+    // with huge endpoints (1e30 apart) a0 + t * d cancels badly; the clipped points are clamped back
+    a = glm::clamp(a0 + t0 * d, lo, hi);
+    b = glm::clamp(a0 + t1 * d, lo, hi);
     return true;
 }
 
@@ -303,6 +304,9 @@ inline std::size_t silmap_rasterize_edge(glm::vec2 a, glm::vec2 b, glm::uvec2 si
             yb = p1.y;
         }
         if (ya > yb) std::swap(ya, yb);
+        // a near-vertical segment has a huge slope; rounding in xa/xb must not push y off the segment
+        ya = std::max(ya, std::min(p0.y, p1.y));
+        yb = std::min(yb, std::max(p0.y, p1.y));
         const int cy0 = std::max(0, int(std::floor(ya - 0.5 - m))), cy1 = std::min(H - 1, int(std::floor(yb - 0.5 + m)));
         for (int cy = cy0; cy <= cy1; ++cy) {
             if (n < capacity) out[n] = glm::ivec2(cx, cy);

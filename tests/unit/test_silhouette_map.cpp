@@ -489,3 +489,38 @@ TEST_CASE("stiff input: NaN, huge and tiny coordinates, zero-length edges, grid-
     CHECK(l.fallback);
     CHECK(l.lit);
 }
+
+TEST_CASE("rasterization of edges 1e12 to 1e30 texels long: only in-map cells (fuzz regression)") {
+    // Found by fuzz_silhouette_map: the clipped end points a + t (b - a) of a 2e30-long segment lose
+    // every digit (x ~ -5e11 came out, then a float-to-int overflow). The clip now clamps its result
+    // to the map. Expected cells by hand for 1e12: y(x) = 2.5 + 0.2 x / 1e12 is 2.5 to 1e-11 over the
+    // map, on the boundary between cell rows 1 and 2 (cells span [j + 0.5, j + 1.5]): both rows,
+    // every column, 16 cells.
+    std::vector<glm::ivec2> cells(64);
+    const std::size_t n = sk::silmap_rasterize_edge({-1e12f, 2.3f}, {1e12f, 2.7f}, {8, 8}, cells.data(), cells.size());
+    REQUIRE(n == 16);
+    for (std::size_t k = 0; k < n; ++k) {
+        CHECK(cells[k].x == int(k / 2));
+        CHECK(cells[k].y == 1 + int(k % 2));
+    }
+    // near-vertical at x = 4.2: column 3, every row
+    const std::size_t m = sk::silmap_rasterize_edge({4.2f, -1e12f}, {4.2f + 1e-7f, 1e12f}, {8, 8}, cells.data(), cells.size());
+    REQUIRE(m == 8);
+    for (std::size_t k = 0; k < m; ++k) CHECK(cells[k] == glm::ivec2(3, int(k)));
+    // 1e30: double precision cannot place the crossing (t = 0.5 +- 2^-53 for the whole map), but
+    // every cell returned is inside the map and there are at most W + H of them
+    for (float len : {1e20f, 1e30f, 3e38f}) {
+        for (const auto& ab : {std::pair<glm::vec2, glm::vec2>{{-len, 2.3f}, {len, 2.7f}},
+                               std::pair<glm::vec2, glm::vec2>{{4.2f, -len}, {4.2f, len}},
+                               std::pair<glm::vec2, glm::vec2>{{-len, -len}, {len, len * 0.999f}}}) {
+            const std::size_t c = sk::silmap_rasterize_edge(ab.first, ab.second, {8, 8}, cells.data(), cells.size());
+            CHECK(c <= 16);
+            for (std::size_t k = 0; k < std::min<std::size_t>(c, 64); ++k) {
+                CHECK(cells[k].x >= 0);
+                CHECK(cells[k].x < 8);
+                CHECK(cells[k].y >= 0);
+                CHECK(cells[k].y < 8);
+            }
+        }
+    }
+}
