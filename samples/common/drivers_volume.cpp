@@ -36,7 +36,11 @@
 //         (choose_stencil_method_box), 2 = z-pass for every caster (wrong when the camera is in a
 //         shadow; for tests only, not swept); scissor {0, 1}; depth_bounds {0, 1};
 //         projection 0 = finite + depth clamp (default), 1 = P_inf against the finite depth
-//         (inconsistent: the check above; tests only, not swept).
+//         (inconsistent: the check above; tests only, not swept), 2 = the scene depth re-drawn and
+//         the volumes drawn with the epsilon-tweaked P_inf of infinite_projection.hpp (GL depth,
+//         float32 epsilon of infinite_epsilon_bound), 3 = the same with reversed-Z zero-to-one P_inf
+//         (glClipControl, clear depth 0, GL_GREATER, light-cap offset negated); 2 and 3 use the GLSL
+//         depth-bounds emulation (the native bounds are window depths of the finite matrix).
 // Work: volume_triangles, silhouette_edges, casters, casters_zfail, casters_culled (scissor polytope
 // empty), scissor_pixels (sum of the scissor rectangles' areas), volume_fragments (fragments of the
 // volume draws that survive scissor and depth bounds, counted with GL_SAMPLES_PASSED in an extra
@@ -44,9 +48,14 @@
 // caster's full volume without scissor and depth bounds, also those the polytope test culls),
 // fs_invocations (GL_ARB_pipeline_statistics_query, where present: fragment shader runs, which the
 // GLSL emulation does not save), adjacency_ms,
-// depth_bounds_native (1 when GL_EXT_depth_bounds_test was used).
+// depth_bounds_native (1 when GL_EXT_depth_bounds_test was used), projection_epsilon (projections 2, 3).
+#include <shadowkit/infinite_projection.hpp>
+
+#include <glm/gtc/type_ptr.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "driver_util.hpp"
 #include "stencil_volumes.hpp"
@@ -92,6 +101,9 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     const Scene& scene = ctx.scene;
     const SceneGpu& gpu = ctx.gpu;
     if (method < 0 || method > 2) return RunResult::failure("method must be 0, 1 or 2");
+    if (projection < 0 || projection > 3) return RunResult::failure("projection must be 0, 1, 2 or 3");
+    const bool own_depth = projection >= 2;  // the scene depth re-drawn with the volumes' matrix
+    const bool reversed = projection == 3;
     if (!cache_.prepare(scene, 0x5eed5eedull)) return RunResult::failure(cache_.error);
 
     const glm::vec4 light = volumes::volume_light(scene.light);
@@ -99,7 +111,23 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     const float aspect = float(gpu.width) / float(gpu.height);
     const glm::mat4 cam_vp = gpu.proj * gpu.view;  // exactly the G-buffer's matrix (same float product)
     glm::mat4 volume_vp = cam_vp;
-    if (projection == 1) {
+    float proj_epsilon = 0.f;
+    if (own_depth) {
+        // infinite_projection.hpp: GL depth with the float32 epsilon of infinite_epsilon_bound
+        // (projection 2), or reversed-Z zero-to-one depth (projection 3, its bound is 0 or tiny)
+        shadowkit::DepthParams dp;
+        dp.near_z = scene.camera.znear;
+        dp.far_z = std::numeric_limits<float>::infinity();
+        dp.clip_depth = reversed ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
+        dp.reversed_z = reversed;
+        const shadowkit::EpsilonBound eb = shadowkit::infinite_epsilon_bound(scene.camera.fovy, aspect, dp.clip_depth,
+                                                                             reversed, shadowkit::DepthFormat::Float32);
+        if (eb.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("infinite_epsilon_bound failed");
+        dp.epsilon = proj_epsilon = eb.epsilon;
+        const shadowkit::ProjectionResult pr = shadowkit::perspective(scene.camera.fovy, aspect, dp);
+        if (pr.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("shadowkit::perspective failed");
+        volume_vp = pr.matrix * gpu.view;
+    } else if (projection == 1) {
         // P_inf with the camera's near plane (Everitt-Kilgard 3.2.1): inconsistent with the finite depth
         const float t = 1.f / std::tan(0.5f * scene.camera.fovy);
         glm::mat4 P(0.f);
@@ -158,13 +186,18 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     }
     volumes::VolumeGpu vol;
     vol.use_scissor = use_scissor;
-    vol.native_bounds = use_bounds && epoxy_has_gl_extension("GL_EXT_depth_bounds_test");
+    // native bounds are window depths of cam_vp: only where the depth buffer holds cam_vp's depth
+    vol.native_bounds = use_bounds && !own_depth && epoxy_has_gl_extension("GL_EXT_depth_bounds_test");
     vol.emulate_bounds = use_bounds && !vol.native_bounds;
+    vol.reversed_z = reversed;
     const std::string head = std::string("#version 450 core\n") + snippet + "\n";
     const GLuint vol_prog = vol.compile(head, vol.emulate_bounds, log);
     GLuint vis_prog = compile_visibility_program("", "float technique_visibility(vec3 p, vec3 n) { return 1.0; }", log);
-    if (!vol_prog || !vis_prog) {
+    GLuint depth_prog = 0;
+    if (own_depth) depth_prog = compile_depth_only_program(log);
+    if (!vol_prog || !vis_prog || (own_depth && !depth_prog)) {
         if (vis_prog) glDeleteProgram(vis_prog);
+        if (depth_prog) glDeleteProgram(depth_prog);
         skgl::destroy_target(target);
         return RunResult::failure(log);
     }
@@ -174,12 +207,40 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     vol.set_uniforms(volume_vp, light);
     glUseProgram(vis_prog);
     set_light_uniforms(vis_prog, scene.light);
+    if (depth_prog) {
+        glUseProgram(depth_prog);
+        glUniformMatrix4fv(glGetUniformLocation(depth_prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(volume_vp));
+    }
 
     const int W = gpu.width, H = gpu.height;
+    // scene depth -> own depth-stencil: the G-buffer's (projections 0, 1) or every mesh re-drawn with
+    // the volumes' infinite matrix (2; 3 with zero-to-one clip depth, clear 0 and GL_GREATER)
+    auto scene_depth = [&]() {
+        if (!own_depth) {
+            volumes::blit_gbuffer_depth(gpu, target.fbo);
+            return;
+        }
+        glDisable(GL_SCISSOR_TEST);
+        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+        glViewport(0, 0, W, H);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glDepthMask(GL_TRUE);
+        glClearDepth(reversed ? 0.0 : 1.0);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glClearDepth(1.0);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(reversed ? GL_GREATER : GL_LESS);
+        if (reversed) glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+        glDisable(GL_CULL_FACE);
+        glUseProgram(depth_prog);
+        for (const auto& m : gpu.meshes) skgl::draw_mesh(m);
+        glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+        glDepthFunc(GL_LESS);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    };
     auto frame = [&]() {
         vol.upload(cache_, draws, indices);  // the CPU stage's output of this frame: each caster's used index range
-        // scene depth -> own depth-stencil, stencil = 0
-        volumes::blit_gbuffer_depth(gpu, target.fbo);
+        scene_depth();  // stencil = 0 below
         volumes::clear_stencil();
         // volumes: two-sided stencil, z-pass or z-fail per caster
         volumes::stencil_pass(vol, cache_, draws, target.fbo, W, H, projection == 0, gpu.gbuffer.depth, true);
@@ -232,13 +293,12 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     // ------------------------------------------------------------------ instrumented fill count
     const bool has_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
     auto count_fill = [&](bool cull, double& fragments, double& invocations) {
-        volumes::begin_volume_state(target.fbo, W, H, projection == 0);
+        volumes::begin_volume_state(target.fbo, W, H, projection == 0, reversed);
         glDepthFunc(GL_ALWAYS);
         glDisable(GL_STENCIL_TEST);
         volumes::count_fragments(
             has_stats, [&] { vol.draw(cache_, draws, gpu.gbuffer.depth, false, cull); }, fragments, invocations);
         volumes::end_volume_state();
-        glDepthFunc(GL_LESS);
     };
     double frags = 0.0, frags_full = 0.0, inv = -1.0, inv_full = -1.0;
     count_fill(true, frags, inv);
@@ -265,6 +325,7 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
               {"boundary_edges", double(cache_.boundary)},
               {"nonmanifold_edges", double(cache_.nonmanifold)},
               {"depth_bounds_native", vol.native_bounds ? 1.0 : 0.0}};
+    if (own_depth) r.work.push_back({"projection_epsilon", double(proj_epsilon)});
     if (has_stats) {
         r.work.push_back({"fs_invocations", inv});
         r.work.push_back({"fs_invocations_unculled", inv_full});
@@ -272,6 +333,7 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     const std::string err = skgl::gl_error_string();
     glDeleteVertexArrays(1, &empty_vao);
     glDeleteProgram(vis_prog);
+    if (depth_prog) glDeleteProgram(depth_prog);
     skgl::destroy_target(target);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!err.empty()) return RunResult::failure("shadow_volume: " + err);

@@ -278,7 +278,7 @@ void VolumeGpu::draw(const VolumeCache& cache, const std::vector<CasterDraw>& dr
             // the light cap coincides with the caster's own surface: a constant offset makes it fail
             // the depth test there robustly (it must count as "behind" the lit surface)
             glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(0.f, 8.f);
+            glPolygonOffset(0.f, reversed_z ? -8.f : 8.f);  // away from the eye in either depth direction
             glDrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(d.cap_count), GL_UNSIGNED_INT,
                                      reinterpret_cast<const void*>(d.cap_first * sizeof(std::uint32_t)), base);
             glDisable(GL_POLYGON_OFFSET_FILL);
@@ -289,19 +289,22 @@ void VolumeGpu::draw(const VolumeCache& cache, const std::vector<CasterDraw>& dr
     glBindVertexArray(0);
 }
 
-void begin_volume_state(GLuint fbo, int w, int h, bool depth_clamp) {
+void begin_volume_state(GLuint fbo, int w, int h, bool depth_clamp, bool reversed_z) {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, w, h);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glDepthMask(GL_FALSE);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    glDepthFunc(reversed_z ? GL_GREATER : GL_LESS);
+    if (reversed_z) glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDisable(GL_CULL_FACE);
     if (depth_clamp) glEnable(GL_DEPTH_CLAMP);
 }
 
 void end_volume_state() {
     glDisable(GL_DEPTH_CLAMP);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glDisable(GL_STENCIL_TEST);
@@ -309,7 +312,7 @@ void end_volume_state() {
 
 void stencil_pass(const VolumeGpu& gpu_volumes, const VolumeCache& cache, const std::vector<CasterDraw>& draws,
                   GLuint fbo, int w, int h, bool depth_clamp, GLuint gbuffer_depth, bool cull) {
-    begin_volume_state(fbo, w, h, depth_clamp);
+    begin_volume_state(fbo, w, h, depth_clamp, gpu_volumes.reversed_z);
     glEnable(GL_STENCIL_TEST);
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     gpu_volumes.draw(cache, draws, gbuffer_depth, true, cull);

@@ -116,17 +116,21 @@ public:
     bool use_scissor = false;
     bool native_bounds = false;   // GL_EXT_depth_bounds_test
     bool emulate_bounds = false;  // shadow_volume.glsl's emulation (G-buffer depth on unit 2)
+    bool reversed_z = false;      // volumes drawn with a reversed-Z matrix (light-cap offset away from the eye)
 
 private:
     GLuint prog_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0;
     GLint loc_bounds_ = -1;
 };
 
-// State of the volume draws into fbo: no colour or depth writes, depth test GL_LESS, no face culling,
-// GL_DEPTH_CLAMP when depth_clamp; end_volume_state restores the masks and disables clamp and stencil.
-void begin_volume_state(GLuint fbo, int w, int h, bool depth_clamp);
+// State of the volume draws into fbo: no colour or depth writes, depth test GL_LESS (reversed_z:
+// GL_GREATER and glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)), no face culling, GL_DEPTH_CLAMP when
+// depth_clamp; end_volume_state restores the masks, GL_LESS and the GL clip depth, disables clamp and
+// stencil.
+void begin_volume_state(GLuint fbo, int w, int h, bool depth_clamp, bool reversed_z = false);
 void end_volume_state();
-// The stencil pass: begin_volume_state, stencil test GL_ALWAYS, VolumeGpu::draw with stencil, end.
+// The stencil pass: begin_volume_state (reversed_z of gpu_volumes), stencil test GL_ALWAYS,
+// VolumeGpu::draw with stencil, end.
 void stencil_pass(const VolumeGpu& gpu_volumes, const VolumeCache& cache, const std::vector<CasterDraw>& draws,
                   GLuint fbo, int w, int h, bool depth_clamp, GLuint gbuffer_depth, bool cull);
 

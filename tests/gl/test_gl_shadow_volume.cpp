@@ -3,7 +3,9 @@
 // (stack: spot light; room: point light inside a closed room), an open mesh, non-manifold meshes, a
 // camera inside a shadow volume, a light in a triangle's plane, a directional light; scissor and depth
 // bounds must leave V pixel-identical while drawing fewer volume fragments. Also checks (and documents)
-// that the infinite projection does not compare consistently with the G-buffer's finite depth.
+// that the infinite projection does not compare consistently with the G-buffer's finite depth, and runs
+// z-fail with the infinite projection (GL depth with the float32 epsilon, and reversed-Z) at the stiff
+// scales: coordinates at 1e6 and 1e-6, near plane 1e-5 (also with the camera inside a volume).
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
@@ -371,4 +373,89 @@ TEST_CASE("the infinite projection does not compare consistently with the G-buff
                                                            << bad.m.misclassified);
     CHECK(good.m.misclassified <= 0.005);
     CHECK(bad.m.misclassified > 0.02);
+}
+
+namespace {
+
+// Every length of the scene times s (meshes, camera, near and far, light position and size).
+sk::Scene scaled(const sk::Scene& in, float s) {
+    sk::Scene out = in;
+    for (sk::Mesh& m : out.meshes)
+        for (glm::vec3& p : m.positions) p *= s;
+    out.camera.eye *= s;
+    out.camera.target *= s;
+    out.camera.znear *= s;
+    out.camera.zfar *= s;
+    out.light.position *= s;
+    out.light.size *= s;
+    out.name = in.name + "_x" + std::to_string(s);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("coordinates at 1e6 and 1e-6: z-fail with the infinite projection (GL and reversed-Z) matches the reference") {
+    sk::Scene base;
+    REQUIRE(sk::make_builtin_scene("stack", base));
+    for (float s : {1e-6f, 1e6f}) {
+        const sk::Scene scene = scaled(base, s);
+        Prepared p;
+        prepare(scene, p);
+        const std::size_t shadowed = count_shadowed(p);
+        CHECK(shadowed > p.ref.visibility.size() / 50);
+        for (int projection : {0, 2, 3}) {
+            for (int method : {0, 1}) {
+                const Run r = run(scene, p, method, 1, 1, projection);
+                MESSAGE("scale " << s << ", projection " << projection << ", method " << method << ": misclassified "
+                                 << r.m.misclassified << " of " << r.m.pixels << " (shadowed " << shadowed << ")");
+                CHECK(r.m.misclassified <= 0.005);
+                if (projection == 2) CHECK(r.work("projection_epsilon") > 0.0);
+            }
+        }
+    }
+}
+
+TEST_CASE("near plane 1e-5: reversed-Z infinite projection keeps z-fail right where GL float32 depth runs out") {
+    sk::Scene scene;
+    REQUIRE(sk::make_builtin_scene("stack", scene));
+    scene.camera.znear = 1e-5f;
+    Prepared p;
+    prepare(scene, p);
+    // GL depth at eye distance d with near N and far at infinity: 1 - N/d; a float32 step near 1
+    // (2^-24) spans d^2 2^-24 / N eye units (0.15 at d = 5), reversed-Z float N/d keeps d 2^-24
+    shadowkit::DepthParams gl, rev;
+    gl.near_z = rev.near_z = 1e-5f;
+    rev.clip_depth = shadowkit::ClipDepth::ZeroToOne;
+    rev.reversed_z = true;
+    const double step_gl = shadowkit::depth_resolution(gl, shadowkit::DepthFormat::Float32, 5.0).value;
+    const double step_rev = shadowkit::depth_resolution(rev, shadowkit::DepthFormat::Float32, 5.0).value;
+    CHECK(step_gl > 0.05);
+    CHECK(step_rev < 1e-5);
+    const Run rev_zfail = run(scene, p, 0, 1, 1, 3);
+    const Run rev_auto = run(scene, p, 1, 1, 1, 3);
+    const Run gl_zfail = run(scene, p, 0, 1, 1, 2);
+    MESSAGE("near 1e-5: reversed-Z z-fail misclassified " << rev_zfail.m.misclassified << ", auto "
+                                                         << rev_auto.m.misclassified << "; GL float32 P_inf z-fail "
+                                                         << gl_zfail.m.misclassified << " (depth step at d = 5: GL "
+                                                         << step_gl << ", reversed " << step_rev << ")");
+    CHECK(rev_zfail.m.misclassified <= 0.005);
+    CHECK(rev_auto.m.misclassified <= 0.005);
+    CHECK(gl_zfail.m.misclassified > 3.0 * rev_zfail.m.misclassified);  // the precision argument, measured
+}
+
+TEST_CASE("near plane 1e-5 with the camera inside a shadow volume: reversed-Z z-fail is right") {
+    sk::Scene s = floor_scene("under_table_near", 6.f);
+    s.meshes.push_back(sk::make_box("table_top", {0.f, 1.2f, 0.f}, {1.5f, 0.05f, 1.5f}));
+    s.light.position = {0.2f, 4.f, 0.1f};
+    s.camera.eye = {0.3f, 0.6f, 0.4f};
+    s.camera.target = {0.f, 0.f, 3.5f};
+    s.camera.znear = 1e-5f;
+    Prepared p;
+    prepare(s, p);
+    const Run r = run(s, p, 1, 1, 1, 3);
+    MESSAGE("camera in shadow, near 1e-5, reversed-Z: misclassified " << r.m.misclassified << " (z-fail casters "
+                                                                      << r.work("casters_zfail") << ")");
+    CHECK(count_shadowed(p) > r.m.pixels / 10);
+    CHECK(r.work("casters_zfail") == 1);
+    CHECK(r.m.misclassified <= 0.005);
 }
