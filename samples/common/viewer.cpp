@@ -22,7 +22,9 @@ namespace {
 
 struct ViewerOptions {
     std::string scene = "contact";
-    std::string headless;  // PNG path
+    bool headless = false;
+    std::string out;  // PNG path (--out, or --headless's argument)
+    int frames = 1;   // headless: frames rendered, the light moving between them; the last is written
     int width = 800, height = 600;
     ParamSet params;
     bool params_set = false;
@@ -52,7 +54,8 @@ std::vector<std::uint8_t> shade(const Scene& scene, const GBuffer& g, const std:
 
 // view 0: the shaded scene; view k > 0: the technique's k-th debug image (if it has one).
 bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, int view, std::vector<std::uint8_t>& rgb,
-            int& out_w, int& out_h, std::string& view_name, std::string& why) {
+            int& out_w, int& out_h, std::string& view_name, std::string& why, double* cpu_ms = nullptr,
+            double* gpu_ms = nullptr) {
     SceneGpu gpu;
     GBuffer g;
     if (!prepare_scene_gpu(scene, w, h, gpu, g, why)) return false;
@@ -62,6 +65,8 @@ bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, 
         why = r.error;
         return false;
     }
+    if (cpu_ms) *cpu_ms = r.cpu_ms;
+    if (gpu_ms) *gpu_ms = r.gpu_ms;
     if (view > 0 && static_cast<std::size_t>(view) <= r.debug.size()) {
         const DebugImage& d = r.debug[static_cast<std::size_t>(view - 1)];
         rgb = d.rgb;
@@ -106,8 +111,17 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
         const std::string a = argv[i];
         if (a == "--scene" && i + 1 < argc) {
             o.scene = argv[++i];
-        } else if (a == "--headless" && i + 1 < argc) {
-            o.headless = argv[++i];
+        } else if (a == "--headless") {
+            o.headless = true;
+            if (i + 1 < argc && argv[i + 1][0] != '-') o.out = argv[++i];  // --headless OUT.png
+        } else if (a == "--out" && i + 1 < argc) {
+            o.out = argv[++i];
+        } else if (a == "--frames" && i + 1 < argc) {
+            o.frames = std::atoi(argv[++i]);
+            if (o.frames < 1 || o.frames > 100000) {
+                std::fprintf(stderr, "%s: --frames wants a count >= 1\n", argv[0]);
+                return 2;
+            }
         } else if (a == "--size" && i + 1 < argc) {
             if (std::sscanf(argv[++i], "%dx%d", &o.width, &o.height) != 2 || o.width <= 0 || o.height <= 0) {
                 std::fprintf(stderr, "%s: --size wants WxH\n", argv[0]);
@@ -134,8 +148,8 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
             o.params_set = true;
         } else {
             std::fprintf(stderr,
-                         "usage: %s [--scene NAME] [--technique NAME] [--headless OUT.png] [--size WxH] "
-                         "[--param name=value]... [--view N]\n",
+                         "usage: %s [--scene NAME] [--technique NAME] [--headless [OUT.png]] [--frames N] "
+                         "[--out OUT.png] [--size WxH] [--param name=value]... [--view N]\n",
                          argv[0]);
             return a == "--help" ? 0 : 2;
         }
@@ -161,31 +175,54 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
     ParamSet ps = with_live_params(o.params_set ? o.params : (sweep.empty() ? ParamSet{} : sweep[sweep.size() / 2]), *tech);
     std::string why;
 
-    if (!o.headless.empty()) {
+    if (o.headless || !o.out.empty()) {
+        if (o.out.empty()) o.out = "shot.png";
         auto gl = skgl::create_context(why);
         if (!gl) {
             std::fprintf(stderr, "%s: no headless GL context: %s\n", argv[0], why.c_str());
-            return 1;
+            return 77;  // CTest: skipped
         }
         std::vector<std::uint8_t> rgb;
         int iw = 0, ih = 0;
         std::string view_name;
-        if (!render(scene, *tech, ps, o.width, o.height, o.view, rgb, iw, ih, view_name, why)) {
-            std::fprintf(stderr, "%s: %s\n", argv[0], why.c_str());
-            return 1;
+        // --frames N: the light turns about the vertical axis through the scene's centre, 360/N
+        // degrees per frame, as a moving light would (frame 0 is the scene's own light); the last
+        // frame is written; the technique's CPU and GPU times are reported as medians over frames
+        const Scene base = scene;
+        const glm::vec3 centre = 0.5f * (base.bounds_min() + base.bounds_max());
+        std::vector<double> cpu(static_cast<std::size_t>(o.frames)), gpu(cpu.size());
+        for (int f = 0; f < o.frames; ++f) {
+            const float ang = 6.2831853f * float(f) / float(o.frames);
+            const float c = std::cos(ang), sn = std::sin(ang);
+            auto turn = [&](glm::vec3 v) { return glm::vec3(c * v.x + sn * v.z, v.y, -sn * v.x + c * v.z); };
+            scene.light = base.light;
+            if (f > 0) {
+                scene.light.position = centre + turn(base.light.position - centre);
+                scene.light.direction = turn(base.light.direction);
+            }
+            if (!render(scene, *tech, ps, o.width, o.height, o.view, rgb, iw, ih, view_name, why,
+                        &cpu[static_cast<std::size_t>(f)], &gpu[static_cast<std::size_t>(f)])) {
+                std::fprintf(stderr, "%s: frame %d: %s\n", argv[0], f, why.c_str());
+                return 1;
+            }
         }
         if (o.view > 0) std::printf("%s: view %d = %s\n", argv[0], o.view, view_name.c_str());
-        if (!skgl::write_png(o.headless, iw, ih, 3, rgb.data())) {
-            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], o.headless.c_str());
+        if (!skgl::write_png(o.out, iw, ih, 3, rgb.data())) {
+            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], o.out.c_str());
             return 1;
         }
-        std::printf("%s: %s on %s (%s) -> %s\n", argv[0], technique_name.c_str(), o.scene.c_str(), ps.label().c_str(),
-                    o.headless.c_str());
+        auto median = [](std::vector<double> v) {
+            std::sort(v.begin(), v.end());
+            return v[v.size() / 2];
+        };
+        std::printf("%s: %s on %s (%s), %d frame%s (median cpu %.3f ms, gpu %.3f ms) -> %s\n", argv[0],
+                    technique_name.c_str(), o.scene.c_str(), ps.label().c_str(), o.frames, o.frames == 1 ? "" : "s",
+                    median(cpu), median(gpu), o.out.c_str());
         return 0;
     }
 
     if (!glfwInit()) {
-        std::fprintf(stderr, "%s: glfwInit failed (no display? use --headless OUT.png or xvfb-run)\n", argv[0]);
+        std::fprintf(stderr, "%s: glfwInit failed (no display? use --headless --out OUT.png or xvfb-run)\n", argv[0]);
         return 1;
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
