@@ -1,7 +1,14 @@
 // shadowkit-report: every technique's error against a ray-traced reference, against its run time.
 //
 //   shadowkit-report [--out DIR] [--scenes a,b] [--techniques x,y] [--mesh FILE]... [--size WxH]
-//                    [--frames N] [--quick] [--list]
+//                    [--frames N] [--light-sizes k,k|none] [--quick] [--list]
+//
+// Light sizes: `contact`, `overlap`, `stack`, `room` and every --mesh scene are also run with the
+// light resized by each factor k (default 0.5,2; none with --quick): area lights scale their size,
+// point and spot lights become sphere lights of radius 4k% of the scene's diagonal (k = 1 added).
+// These variants (`NAME@light=K`) run only the soft techniques compared across light sizes (pcss,
+// smoothie, penumbra_wedges), each against its own area-light reference; report.md sums them up in
+// "## light size".
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
@@ -20,6 +27,8 @@
 #include <thread>
 #include <string>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "gl_harness.hpp"
 #include "metrics.hpp"
@@ -40,7 +49,47 @@ struct Options {
     int frames = 20;
     bool frames_set = false, size_set = false;
     bool quick = false, list = false;
+    std::vector<double> light_sizes{0.5, 2.0};
+    bool light_sizes_set = false;
 };
+
+// Scenes with light-size variants, and the techniques run on the variants.
+const std::set<std::string> kLightSizeScenes = {"contact", "overlap", "stack", "room"};
+const std::set<std::string> kLightSizeTechniques = {"pcss", "smoothie", "penumbra_wedges"};
+
+std::string light_text(const sk::Light& L) {
+    char b[96];
+    switch (L.type) {
+    case sk::LightType::Rect: std::snprintf(b, sizeof b, "square light, edge %.3g", double(L.size)); break;
+    case sk::LightType::Disk: std::snprintf(b, sizeof b, "disk light, radius %.3g", double(L.size)); break;
+    case sk::LightType::Sphere: std::snprintf(b, sizeof b, "sphere light, radius %.3g", double(L.size)); break;
+    case sk::LightType::Linear: std::snprintf(b, sizeof b, "line light, length %.3g", double(L.size)); break;
+    case sk::LightType::Point: std::snprintf(b, sizeof b, "point light"); break;
+    case sk::LightType::Spot: std::snprintf(b, sizeof b, "spot light"); break;
+    default: std::snprintf(b, sizeof b, "directional light"); break;
+    }
+    return b;
+}
+
+// The light of `base` resized by k (see the header comment); false if the light has no size.
+bool resize_light(const sk::Scene& base, double k, sk::Scene& out) {
+    out = base;
+    sk::Light& L = out.light;
+    if (L.type == sk::LightType::Rect || L.type == sk::LightType::Disk || L.type == sk::LightType::Sphere) {
+        if (!(L.size > 0.f)) return false;
+        L.size = static_cast<float>(double(L.size) * k);
+    } else if (L.type == sk::LightType::Point || L.type == sk::LightType::Spot) {
+        L.type = sk::LightType::Sphere;
+        L.size = static_cast<float>(0.04 * k * double(glm::length(base.bounds_max() - base.bounds_min())));
+    } else {
+        return false;
+    }
+    char b[48];
+    std::snprintf(b, sizeof b, "@light=%g", k);
+    out.name = base.name + b;
+    out.description = base.description + "; light resized x" + std::string(b + 7) + ": " + light_text(L);
+    return true;
+}
 
 int fail(const std::string& msg) {
     std::fprintf(stderr, "shadowkit-report: %s\n", msg.c_str());
@@ -66,7 +115,7 @@ bool parse_int(const char* s, int& v) {
 
 const char* kUsage =
     "usage: shadowkit-report [--out DIR] [--scenes a,b] [--techniques x,y] [--mesh FILE]... [--size WxH]\n"
-    "                        [--frames N] [--quick] [--list]\n";
+    "                        [--frames N] [--light-sizes k,k|none] [--quick] [--list]\n";
 
 std::string cpu_name() {
     std::ifstream f("/proc/cpuinfo");
@@ -162,6 +211,21 @@ int main(int argc, char** argv) {
             o.width = w;
             o.height = h;
             o.size_set = true;
+        } else if (a == "--light-sizes") {
+            const char* v = value("--light-sizes");
+            if (!v) return fail("--light-sizes needs a comma-separated list of factors or 'none'");
+            o.light_sizes.clear();
+            o.light_sizes_set = true;
+            if (std::string(v) != "none") {
+                for (const auto& item : split(v)) {
+                    char* end = nullptr;
+                    const double k = std::strtod(item.c_str(), &end);
+                    if (end == item.c_str() || *end != '\0' || !(k > 0.0) || k > 100.0)
+                        return fail("--light-sizes wants factors in (0, 100], got '" + item + "'");
+                    o.light_sizes.push_back(k);
+                }
+                if (o.light_sizes.empty()) return fail("--light-sizes needs at least one factor or 'none'");
+            }
         } else if (a == "--frames") {
             const char* v = value("--frames");
             if (!v || !parse_int(v, o.frames) || o.frames < 1) return fail("--frames wants a positive integer");
@@ -192,6 +256,7 @@ int main(int argc, char** argv) {
             o.height = 192;
         }
         if (!o.frames_set) o.frames = 10;
+        if (!o.light_sizes_set) o.light_sizes.clear();
     }
     // what to run
     std::vector<sk::Scene> scenes;
@@ -216,6 +281,30 @@ int main(int argc, char** argv) {
         std::string why;
         if (!sk::load_mesh_scene(m, s, why)) return fail(why);
         scenes.push_back(std::move(s));
+    }
+    // light-size variants, right after the scenes they resize
+    std::set<std::string> variants;
+    std::vector<std::string> variant_base;  // per scene: the scene it resizes ("" for none)
+    {
+        const std::size_t mesh_first = scenes.size() - o.meshes.size();
+        std::vector<sk::Scene> all;
+        for (std::size_t i = 0; i < scenes.size(); ++i) {
+            all.push_back(scenes[i]);
+            variant_base.push_back("");
+            if (!kLightSizeScenes.count(scenes[i].name) && i < mesh_first) continue;
+            std::vector<double> ks = o.light_sizes;
+            const bool point = scenes[i].light.type == sk::LightType::Point || scenes[i].light.type == sk::LightType::Spot;
+            if (point && !ks.empty() && std::find(ks.begin(), ks.end(), 1.0) == ks.end()) ks.push_back(1.0);
+            std::sort(ks.begin(), ks.end());
+            for (double k : ks) {
+                sk::Scene v;
+                if (!resize_light(scenes[i], k, v)) continue;
+                variants.insert(v.name);
+                all.push_back(std::move(v));
+                variant_base.push_back(scenes[i].name);
+            }
+        }
+        scenes = std::move(all);
     }
     std::vector<sk::Technique*> chosen;
     if (o.techniques.empty()) {
@@ -257,11 +346,15 @@ int main(int argc, char** argv) {
 
     std::vector<skr::Row> rows;
     std::vector<skr::SceneInfo> infos;
-    for (const auto& scene : scenes) {
+    for (std::size_t scene_index = 0; scene_index < scenes.size(); ++scene_index) {
+        const sk::Scene& scene = scenes[scene_index];
         sk::SceneGpu gpu;
         sk::GBuffer g;
         skr::SceneInfo si;
         si.name = scene.name;
+        si.base = variant_base[scene_index];
+        si.light = light_text(scene.light);
+        si.light_size = scene.light.is_area() ? double(scene.light.size) : 0.0;
         si.description = scene.description;
         si.triangles = scene.triangle_count();
         if (!sk::prepare_scene_gpu(scene, o.width, o.height, gpu, g, why)) {
@@ -294,6 +387,7 @@ int main(int argc, char** argv) {
         };
         std::vector<Pending> pending;
         for (sk::Technique* t : chosen) {
+            if (variants.count(scene.name) && !kLightSizeTechniques.count(t->name())) continue;
             for (const auto& ps : t->sweep(scene, o.quick)) {
                 Pending p;
                 skr::Row& r = p.row;
@@ -388,6 +482,7 @@ int main(int argc, char** argv) {
     bool ok = skr::write_json((out / "report.json").string(), info, rows, &prt);
     ok = skr::write_markdown((out / "report.md").string(), info, infos, rows, &prt) && ok;
     ok = skr::write_svg((out / "error_vs_time.svg").string(), infos, rows) && ok;
+    ok = skr::write_light_size_svg((out / "error_vs_light_size.svg").string(), infos, rows) && ok;
     if (!ok) return fail("cannot write the report files in '" + o.out + "'");
     std::fprintf(stderr, "shadowkit-report: wrote %s/report.md, report.json, error_vs_time.svg (%zu rows)\n",
                  o.out.c_str(), rows.size());

@@ -190,6 +190,53 @@ static void write_prt_markdown(std::ofstream& f, const PrtReport& p) {
       << p.shade_runs << " runs. CPCA compression took " << fmt("%.2f s", p.cpca_seconds) << ".\n\n";
 }
 
+
+// Light-size groups: each scene that has variants, followed by its variants (report order).
+static std::vector<std::vector<const SceneInfo*>> light_size_groups(const std::vector<SceneInfo>& scenes) {
+    std::vector<std::vector<const SceneInfo*>> groups;
+    for (const auto& sc : scenes) {
+        if (!sc.base.empty()) continue;
+        std::vector<const SceneInfo*> g{&sc};
+        for (const auto& v : scenes)
+            if (v.base == sc.name) g.push_back(&v);
+        if (g.size() > 1) {
+            std::stable_sort(g.begin(), g.end(),
+                             [](const SceneInfo* a, const SceneInfo* b) { return a->light_size < b->light_size; });
+            groups.push_back(std::move(g));
+        }
+    }
+    return groups;
+}
+
+static const char* const kSoftOrder[] = {"penumbra_wedges", "pcss", "smoothie"};
+
+// The lowest-RMSE row of a technique on a scene (nullptr if none ran).
+static const Row* best_row(const std::vector<Row>& rows, const std::string& scene, const std::string& tech) {
+    const Row* best = nullptr;
+    for (const auto& r : rows)
+        if (r.scene == scene && r.technique == tech && !r.failed && (!best || r.m.rmse < best->m.rmse)) best = &r;
+    return best;
+}
+
+static void write_light_size_markdown(std::ofstream& f, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    const auto groups = light_size_groups(scenes);
+    if (groups.empty()) return;
+    f << "## light size\n\nThe soft techniques on the same scene with the light resized (area lights scaled; point and "
+         "spot lights replaced by sphere lights), each against its own area-light reference: the lowest-RMSE "
+         "setting of each technique's sweep. Plot: `error_vs_light_size.svg`.\n\n";
+    f << "| scene | light | technique | best setting | RMSE | penumbra RMSE | ms |\n|---|---|---|---|---:|---:|---:|\n";
+    for (const auto& g : groups)
+        for (const SceneInfo* sc : g)
+            for (const char* tech : kSoftOrder) {
+                const Row* r = best_row(rows, sc->name, tech);
+                if (!r) continue;
+                f << "| " << sc->name << " | " << sc->light << " | " << tech << " | " << r->params_label << " | "
+                  << fmt("%.4f", r->m.rmse) << " | " << (r->m.has_penumbra ? fmt("%.4f", r->m.penumbra_rmse) : "-")
+                  << " | " << fmt("%.2f", r->gpu_ms + r->cpu_ms) << " |\n";
+            }
+    f << "\n";
+}
+
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
                     const std::vector<Row>& rows, const PrtReport* prt) {
     std::ofstream f(path);
@@ -206,6 +253,7 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
          "away from 1-pixel edges of round(V_ref).\n";
     f << "- command: `" << info.command << "`\n\n";
     f << "![error against time](error_vs_time.svg)\n\n";
+    write_light_size_markdown(f, scenes, rows);
     for (const auto& sc : scenes) {
         std::vector<const Row*> rs;
         for (const auto& r : rows)
@@ -263,7 +311,10 @@ bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, co
     std::ofstream f(path);
     if (!f) return false;
     const int pw = 440, ph = 300, cols = 2;
-    const int n = static_cast<int>(scenes.size());
+    std::vector<SceneInfo> panels;  // light-size variants have their own plot
+    for (const auto& sc : scenes)
+        if (sc.base.empty()) panels.push_back(sc);
+    const int n = static_cast<int>(panels.size());
     const int nrows = (n + cols - 1) / cols;
     const int W = pw * cols, H = ph * std::max(nrows, 1);
     // 20 distinguishable colours (techniques keep their colour across panels)
@@ -276,7 +327,7 @@ bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, co
     f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     for (int si = 0; si < n; ++si) {
-        const auto& sc = scenes[static_cast<std::size_t>(si)];
+        const auto& sc = panels[static_cast<std::size_t>(si)];
         const int ox = (si % cols) * pw, oy = (si / cols) * ph;
         const int l = ox + 55, r = ox + pw - 15, t = oy + 25, b = oy + ph - 40;
         std::vector<const Row*> rs;
@@ -363,6 +414,64 @@ bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, co
                 f << "<circle cx=\"" << X(row->gpu_ms + row->cpu_ms) << "\" cy=\"" << Y(row->m.rmse)
                   << "\" r=\"6\" fill=\"none\" stroke=\"black\"/>\n";
             f << "<text x=\"" << r - 5 << "\" y=\"" << b - 6 << "\" text-anchor=\"end\">rings: Pareto front</text>\n";
+        }
+    }
+    f << "</svg>\n";
+    return static_cast<bool>(f);
+}
+
+
+bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    const auto groups = light_size_groups(scenes);
+    if (groups.empty()) return true;
+    std::ofstream f(path);
+    if (!f) return false;
+    const int pw = 360, ph = 260, cols = 2;
+    const int n = static_cast<int>(groups.size());
+    const int W = pw * std::min(n, cols), H = ph * ((n + cols - 1) / cols);
+    static const char* colors[] = {"#d62728", "#1f77b4", "#2ca02c"};
+    f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    for (int gi = 0; gi < n; ++gi) {
+        const auto& g = groups[static_cast<std::size_t>(gi)];
+        const int ox = (gi % cols) * pw, oy = (gi / cols) * ph;
+        const int l = ox + 55, r = ox + pw - 15, t = oy + 25, b = oy + ph - 40;
+        double smax = 0.0, emax = 0.0;
+        for (const SceneInfo* sc : g) {
+            smax = std::max(smax, sc->light_size);
+            for (const char* tech : kSoftOrder)
+                if (const Row* row = best_row(rows, sc->name, tech)) emax = std::max(emax, row->m.rmse);
+        }
+        smax = smax > 0 ? smax * 1.05 : 1.0;
+        emax = emax > 0 ? emax * 1.1 : 1.0;
+        auto X = [&](double s) { return l + s / smax * (r - l); };
+        auto Y = [&](double e) { return b - e / emax * (b - t); };
+        f << "<text x=\"" << ox + pw / 2 << "\" y=\"" << oy + 15 << "\" text-anchor=\"middle\" font-weight=\"bold\">"
+          << (g.front()->base.empty() ? g.front()->name : g.front()->base) << "</text>\n<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << r - l << "\" height=\""
+          << b - t << "\" fill=\"none\" stroke=\"#444\"/>\n";
+        for (int k = 0; k <= 4; ++k) {
+            f << "<text x=\"" << X(smax * k / 4.0) << "\" y=\"" << b + 14 << "\" text-anchor=\"middle\">"
+              << fmt("%.2g", smax * k / 4.0) << "</text>\n";
+            f << "<line x1=\"" << l << "\" y1=\"" << Y(emax * k / 4.0) << "\" x2=\"" << r << "\" y2=\"" << Y(emax * k / 4.0)
+              << "\" stroke=\"#eee\"/><text x=\"" << l - 4 << "\" y=\"" << Y(emax * k / 4.0) + 4
+              << "\" text-anchor=\"end\">" << fmt("%.3g", emax * k / 4.0) << "</text>\n";
+        }
+        f << "<text x=\"" << (l + r) / 2 << "\" y=\"" << b + 30 << "\" text-anchor=\"middle\">light size (edge or radius)</text>\n";
+        f << "<text x=\"" << ox + 12 << "\" y=\"" << (t + b) / 2 << "\" transform=\"rotate(-90 " << ox + 12 << ' '
+          << (t + b) / 2 << ")\" text-anchor=\"middle\">best RMSE</text>\n";
+        for (int ti = 0; ti < 3; ++ti) {
+            const char* tech = kSoftOrder[ti];
+            f << "<polyline fill=\"none\" stroke=\"" << colors[ti] << "\" stroke-width=\"1.5\" points=\"";
+            for (const SceneInfo* sc : g)
+                if (const Row* row = best_row(rows, sc->name, tech)) f << X(sc->light_size) << ',' << Y(row->m.rmse) << ' ';
+            f << "\"/>\n";
+            for (const SceneInfo* sc : g)
+                if (const Row* row = best_row(rows, sc->name, tech))
+                    f << "<circle cx=\"" << X(sc->light_size) << "\" cy=\"" << Y(row->m.rmse) << "\" r=\"3\" fill=\""
+                      << colors[ti] << "\"><title>" << tech << ' ' << row->params_label << ": " << fmt("%.4f", row->m.rmse)
+                      << "</title></circle>\n";
+            f << "<text x=\"" << l + 6 << "\" y=\"" << t + 14 + 13 * ti << "\" fill=\"" << colors[ti] << "\">" << tech
+              << "</text>\n";
         }
     }
     f << "</svg>\n";

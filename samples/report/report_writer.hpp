@@ -30,6 +30,9 @@ struct Row {
 
 struct SceneInfo {
     std::string name, description, reference_image;
+    std::string base;   // light-size variant: the scene it resizes (empty otherwise)
+    std::string light;  // the light, in words (type and size)
+    double light_size = 0.0;  // Light::size (0 for point, spot and directional lights)
     std::size_t triangles = 0;
     int ref_samples = 0;
     double ref_stderr = 0.0, ref_seconds = 0.0;
@@ -90,5 +93,8 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
                     const std::vector<Row>& rows, const PrtReport* prt = nullptr);
 bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
+// error_vs_light_size.svg: per scene with light-size variants, each soft technique's best RMSE
+// against the light's size (false if it cannot be written; nothing is written without variants).
+bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
 
 }  // namespace skr
