@@ -15,6 +15,12 @@
 //   shadowkit::SilhouetteResult r = shadowkit::extract_silhouette(adj, lit.data(), lit.size(),
 //                                                                 sil.data(), nullptr, sil.size() / 2);
 //   // sil[2i], sil[2i+1] = edge (a, b) oriented as in its light-facing triangle, r.edge_count edges
+//   // the same on several threads, with any job system's parallel_for(n, fn) (see "parallel
+//   // silhouettes" below; identical output):
+//   std::vector<shadowkit::SilhouetteResult> chunks(16);
+//   r = shadowkit::extract_silhouette_parallel(adj, pos, vertex_count, light, lit.data(), lit.size(),
+//                                              sil.data(), nullptr, sil.size() / 2, chunks.data(),
+//                                              chunks.size(), parallel_for);
 //
 // Based on:
 //   C. Everitt, M. J. Kilgard, "Practical and Robust Stenciled Shadow Volumes for Hardware-Accelerated
@@ -366,27 +372,94 @@ inline double face_light_distance(const glm::vec3& a, const glm::vec3& b, const 
     return nrm.x * d.x + nrm.y * d.y + nrm.z * d.z;
 }
 
+namespace detail {
+
+// facing[i] for kept faces [begin, end); returns the lit count
+inline std::size_t sil_facing_range(const EdgeAdjacency& adj, const glm::vec3* positions, const glm::vec4& light,
+                                    std::uint8_t* facing, std::size_t begin, std::size_t end) {
+    const std::uint32_t* f = adj.faces.data();
+    std::size_t lit_faces = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+        const double d = face_light_distance(positions[f[3 * i]], positions[f[3 * i + 1]], positions[f[3 * i + 2]], light);
+        const std::uint8_t lit = d > 0.0 ? 1u : 0u;
+        facing[i] = lit;
+        lit_faces += lit;
+    }
+    return lit_faces;
+}
+
+inline SilhouetteStatus sil_check_facing_args(const EdgeAdjacency& adj, const glm::vec3* positions,
+                                              std::size_t vertex_count, const glm::vec4& light, const std::uint8_t* facing,
+                                              std::size_t capacity) {
+    if (adj.status != SilhouetteStatus::Ok) return SilhouetteStatus::InvalidAdjacency;
+    if (vertex_count != adj.vertex_count || (vertex_count > 0 && positions == nullptr) || (capacity > 0 && facing == nullptr))
+        return SilhouetteStatus::InvalidArgument;
+    if (!valid_light(light)) return SilhouetteStatus::InvalidLight;
+    if (capacity < adj.face_count()) return SilhouetteStatus::BufferTooSmall;
+    return SilhouetteStatus::Ok;
+}
+
+// Silhouette of the manifold / boundary edges [begin, end) (and the non-manifold edges if
+// `nonmanifold`) into out[0, capacity) edges; adds to r's counts, r.edge_count = edges needed.
+inline void sil_extract_range(const EdgeAdjacency& adj, const std::uint8_t* facing, std::uint32_t* edge_indices,
+                              std::uint8_t* edge_flags, std::size_t capacity, std::size_t begin, std::size_t end,
+                              bool nonmanifold, SilhouetteResult& r) {
+    std::size_t n = 0;
+    auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint8_t flags) {
+        if (n < capacity) {
+            edge_indices[2 * n] = a;
+            edge_indices[2 * n + 1] = b;
+            if (edge_flags) edge_flags[n] = flags;
+        }
+        ++n;
+    };
+    const AdjacencyEdge* e = adj.edges.data();
+    for (std::size_t i = begin; i < end; ++i) {
+        const AdjacencyEdge& E = e[i];
+        const bool l0 = facing[E.f0] != 0;
+        if (E.f1 == kNoFace) {
+            if (l0) { emit(E.v0, E.v1, SilhouetteBoundary); ++r.boundary_edges; }
+            continue;
+        }
+        const bool l1 = facing[E.f1] != 0;
+        if (l0 != l1) {
+            if (l0) emit(E.v0, E.v1, 0);
+            else emit(E.v1, E.v0, 0);
+        }
+    }
+    if (nonmanifold) {
+        for (const NonManifoldEdge& E : adj.nonmanifold_edges) {
+            long k = 0;
+            for (std::uint32_t j = 0; j < E.count; ++j) {
+                const std::uint32_t fd = adj.nonmanifold_faces[E.first + j];
+                if (facing[fd & 0x7FFFFFFFu]) k += (fd & 0x80000000u) ? -1 : 1;
+            }
+            for (long m = 0; m < (k < 0 ? -k : k); ++m) {
+                if (k > 0) emit(E.v0, E.v1, SilhouetteNonManifold);
+                else emit(E.v1, E.v0, SilhouetteNonManifold);
+                ++r.nonmanifold_edges;
+            }
+        }
+    }
+    r.edge_count += n;
+}
+
+// First item of chunk c when n items are split into `count` balanced chunks (no overflow).
+inline std::size_t sil_chunk_begin(std::size_t n, std::size_t c, std::size_t count) {
+    return (n / count) * c + std::min(c, n % count);
+}
+
+}  // namespace detail
+
 /// Writes facing[f] = 1 if kept face f is lit by `light`, else 0. positions must be the buffer the
 /// adjacency was built from (vertex_count checked). Needs capacity >= adj.face_count().
 inline FacingResult compute_facing(const EdgeAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
                                    const glm::vec4& light, std::uint8_t* facing, std::size_t capacity) {
     FacingResult r;
     r.face_count = adj.face_count();
-    if (adj.status != SilhouetteStatus::Ok) { r.status = SilhouetteStatus::InvalidAdjacency; return r; }
-    if (vertex_count != adj.vertex_count || (vertex_count > 0 && positions == nullptr) ||
-        (capacity > 0 && facing == nullptr)) {
-        r.status = SilhouetteStatus::InvalidArgument;
-        return r;
-    }
-    if (!valid_light(light)) { r.status = SilhouetteStatus::InvalidLight; return r; }
-    if (capacity < r.face_count) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
-    const std::uint32_t* f = adj.faces.data();
-    for (std::size_t i = 0; i < r.face_count; ++i) {
-        const double d = face_light_distance(positions[f[3 * i]], positions[f[3 * i + 1]], positions[f[3 * i + 2]], light);
-        const std::uint8_t lit = d > 0.0 ? 1u : 0u;
-        facing[i] = lit;
-        r.lit_faces += lit;
-    }
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light, facing, capacity);
+    if (r.status != SilhouetteStatus::Ok) return r;
+    r.lit_faces = detail::sil_facing_range(adj, positions, light, facing, 0, r.face_count);
     return r;
 }
 
@@ -404,45 +477,134 @@ inline SilhouetteResult extract_silhouette(const EdgeAdjacency& adj, const std::
         r.status = SilhouetteStatus::InvalidArgument;
         return r;
     }
-    std::size_t n = 0;
-    auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint8_t flags) {
-        if (n < capacity) {
-            edge_indices[2 * n] = a;
-            edge_indices[2 * n + 1] = b;
-            if (edge_flags) edge_flags[n] = flags;
-        }
-        ++n;
-    };
-    const AdjacencyEdge* e = adj.edges.data();
-    const std::size_t ec = adj.edges.size();
-    for (std::size_t i = 0; i < ec; ++i) {
-        const AdjacencyEdge& E = e[i];
-        const bool l0 = facing[E.f0] != 0;
-        if (E.f1 == kNoFace) {
-            if (l0) { emit(E.v0, E.v1, SilhouetteBoundary); ++r.boundary_edges; }
-            continue;
-        }
-        const bool l1 = facing[E.f1] != 0;
-        if (l0 != l1) {
-            if (l0) emit(E.v0, E.v1, 0);
-            else emit(E.v1, E.v0, 0);
-        }
+    detail::sil_extract_range(adj, facing, edge_indices, edge_flags, capacity, 0, adj.edges.size(), true, r);
+    if (r.edge_count > capacity) r.status = SilhouetteStatus::BufferTooSmall;
+    return r;
+}
+
+// ------------------------------------------------------------------ parallel silhouettes (chunks)
+// The same facing + silhouette split into `chunk_count` chunks that may run concurrently on any job
+// system (shadowkit starts no threads and allocates nothing here):
+//   1. compute_facing_chunk(c) for every chunk c           (faces split evenly; writes facing[])
+//   2. barrier (a chunk's edges read the facing of any face)
+//   3. extract_silhouette_chunk(c) for every chunk c       (edges split evenly; the last chunk also
+//      takes the non-manifold edges). Chunk c writes its edges at edge silhouette_chunk_offset(c) of
+//      a buffer with room for adj.max_silhouette_edges() edges (each manifold or boundary edge emits
+//      at most one, so the chunks never overlap)
+//   4. compact_silhouette_chunks: moves the chunks together (serial, O(silhouette))
+// The result (edges, order, flags, counts) is identical to extract_silhouette's for any chunk_count.
+// extract_silhouette_parallel does the four steps with a caller's parallel_for(n, fn), which must
+// call fn(i) once for each i in [0, n) and return when all have finished.
+
+/// Facing of the kept faces of chunk `chunk` of `chunk_count` (same rule and checks as
+/// compute_facing; face_count / lit_faces are this chunk's). chunk_count >= 1, chunk < chunk_count.
+inline FacingResult compute_facing_chunk(const EdgeAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
+                                         const glm::vec4& light, std::uint8_t* facing, std::size_t capacity,
+                                         std::size_t chunk, std::size_t chunk_count) {
+    FacingResult r;
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = SilhouetteStatus::InvalidArgument; return r; }
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light, facing, capacity);
+    if (r.status != SilhouetteStatus::Ok) return r;
+    const std::size_t fc = adj.face_count();
+    const std::size_t b = detail::sil_chunk_begin(fc, chunk, chunk_count), e = detail::sil_chunk_begin(fc, chunk + 1, chunk_count);
+    r.face_count = e - b;
+    r.lit_faces = detail::sil_facing_range(adj, positions, light, facing, b, e);
+    return r;
+}
+
+/// Edge offset at which chunk `chunk` of `chunk_count` writes its silhouette edges (0 for invalid
+/// arguments).
+inline std::size_t silhouette_chunk_offset(const EdgeAdjacency& adj, std::size_t chunk, std::size_t chunk_count) {
+    if (chunk_count == 0 || chunk >= chunk_count) return 0;
+    return detail::sil_chunk_begin(adj.edges.size(), chunk, chunk_count);
+}
+
+/// Silhouette edges of chunk `chunk` of `chunk_count`, written from edge silhouette_chunk_offset()
+/// on. capacity (in edges) must be >= adj.max_silhouette_edges(), else BufferTooSmall and nothing
+/// is written; facing must be complete (every chunk's compute_facing_chunk has finished).
+inline SilhouetteResult extract_silhouette_chunk(const EdgeAdjacency& adj, const std::uint8_t* facing,
+                                                 std::size_t facing_count, std::uint32_t* edge_indices,
+                                                 std::uint8_t* edge_flags, std::size_t capacity, std::size_t chunk,
+                                                 std::size_t chunk_count) {
+    SilhouetteResult r;
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = SilhouetteStatus::InvalidArgument; return r; }
+    if (adj.status != SilhouetteStatus::Ok) { r.status = SilhouetteStatus::InvalidAdjacency; return r; }
+    const std::size_t fc = adj.face_count();
+    if (facing_count != fc || (fc > 0 && facing == nullptr) || (capacity > 0 && edge_indices == nullptr)) {
+        r.status = SilhouetteStatus::InvalidArgument;
+        return r;
     }
-    for (const NonManifoldEdge& E : adj.nonmanifold_edges) {
-        long k = 0;
-        for (std::uint32_t j = 0; j < E.count; ++j) {
-            const std::uint32_t fd = adj.nonmanifold_faces[E.first + j];
-            if (facing[fd & 0x7FFFFFFFu]) k += (fd & 0x80000000u) ? -1 : 1;
+    if (capacity < adj.max_silhouette_edges()) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
+    const std::size_t ec = adj.edges.size();
+    const std::size_t b = detail::sil_chunk_begin(ec, chunk, chunk_count), e = detail::sil_chunk_begin(ec, chunk + 1, chunk_count);
+    // this chunk's room: up to the next chunk's offset, the last chunk up to the capacity
+    const std::size_t room = chunk + 1 == chunk_count ? capacity - b : e - b;
+    detail::sil_extract_range(adj, facing, edge_indices + 2 * b, edge_flags ? edge_flags + b : nullptr, room, b, e,
+                              chunk + 1 == chunk_count, r);
+    return r;
+}
+
+/// Moves the chunks' edges (and flags) together so that the buffer holds the silhouette exactly as
+/// extract_silhouette writes it; returns the totals (first failing chunk status, if any).
+inline SilhouetteResult compact_silhouette_chunks(const EdgeAdjacency& adj, const SilhouetteResult* chunks,
+                                                  std::size_t chunk_count, std::uint32_t* edge_indices,
+                                                  std::uint8_t* edge_flags, std::size_t capacity) {
+    SilhouetteResult r;
+    if (chunk_count == 0 || chunks == nullptr || (capacity > 0 && edge_indices == nullptr)) {
+        r.status = SilhouetteStatus::InvalidArgument;
+        return r;
+    }
+    for (std::size_t c = 0; c < chunk_count; ++c)
+        if (chunks[c].status != SilhouetteStatus::Ok) { r.status = chunks[c].status; return r; }
+    if (capacity < adj.max_silhouette_edges()) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
+    // a chunk cannot have more edges than its room (results that do are not extract_silhouette_chunk's)
+    for (std::size_t c = 0; c < chunk_count; ++c) {
+        const std::size_t off = silhouette_chunk_offset(adj, c, chunk_count);
+        const std::size_t room = c + 1 == chunk_count ? capacity - off : silhouette_chunk_offset(adj, c + 1, chunk_count) - off;
+        if (chunks[c].edge_count > room) { r.status = SilhouetteStatus::InvalidArgument; return r; }
+    }
+    std::size_t n = 0;
+    for (std::size_t c = 0; c < chunk_count; ++c) {
+        const std::size_t off = silhouette_chunk_offset(adj, c, chunk_count), k = chunks[c].edge_count;
+        if (off != n && k > 0) {  // off >= n: moving down, ranges may overlap
+            std::memmove(edge_indices + 2 * n, edge_indices + 2 * off, 2 * k * sizeof(std::uint32_t));
+            if (edge_flags) std::memmove(edge_flags + n, edge_flags + off, k);
         }
-        for (long m = 0; m < (k < 0 ? -k : k); ++m) {
-            if (k > 0) emit(E.v0, E.v1, SilhouetteNonManifold);
-            else emit(E.v1, E.v0, SilhouetteNonManifold);
-            ++r.nonmanifold_edges;
-        }
+        n += k;
+        r.boundary_edges += chunks[c].boundary_edges;
+        r.nonmanifold_edges += chunks[c].nonmanifold_edges;
     }
     r.edge_count = n;
-    if (n > capacity) r.status = SilhouetteStatus::BufferTooSmall;
     return r;
+}
+
+/// Facing + silhouette on a caller's job system: parallel_for(chunk_count, fn) (see above), with
+/// caller-provided buffers: facing (adj.face_count()), edge_indices / edge_flags (capacity >=
+/// adj.max_silhouette_edges() edges; flags optional) and chunk_results (chunk_count entries).
+/// Same output as compute_facing + extract_silhouette.
+template <class ParallelFor>
+inline SilhouetteResult extract_silhouette_parallel(const EdgeAdjacency& adj, const glm::vec3* positions,
+                                                    std::size_t vertex_count, const glm::vec4& light, std::uint8_t* facing,
+                                                    std::size_t facing_capacity, std::uint32_t* edge_indices,
+                                                    std::uint8_t* edge_flags, std::size_t capacity,
+                                                    SilhouetteResult* chunk_results, std::size_t chunk_count,
+                                                    ParallelFor&& parallel_for) {
+    SilhouetteResult r;
+    if (chunk_count == 0 || chunk_results == nullptr) { r.status = SilhouetteStatus::InvalidArgument; return r; }
+    // validate once, so that no chunk can fail and the facing pass needs no per-chunk results
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light, facing, facing_capacity);
+    if (r.status != SilhouetteStatus::Ok) return r;
+    if (capacity > 0 && edge_indices == nullptr) { r.status = SilhouetteStatus::InvalidArgument; return r; }
+    if (capacity < adj.max_silhouette_edges()) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
+    const std::size_t fc = adj.face_count();
+    parallel_for(chunk_count, [&](std::size_t c) {
+        detail::sil_facing_range(adj, positions, light, facing, detail::sil_chunk_begin(fc, c, chunk_count),
+                                 detail::sil_chunk_begin(fc, c + 1, chunk_count));
+    });
+    parallel_for(chunk_count, [&](std::size_t c) {
+        chunk_results[c] = extract_silhouette_chunk(adj, facing, fc, edge_indices, edge_flags, capacity, c, chunk_count);
+    });
+    return compact_silhouette_chunks(adj, chunk_results, chunk_count, edge_indices, edge_flags, capacity);
 }
 
 /// Convenience (allocates): facing + silhouette into vectors. indices holds 2 per edge.

@@ -5,6 +5,10 @@
 //   silhouette  extract_silhouette (one pass over the edge list)
 //   volume      build_side_quads + build_caps (z-fail index buffer: side quads, light and dark caps)
 //   frame       facing + silhouette + volume: the per-frame work of a moving light
+//   silhouette_parallel / frame_parallel: the same on T threads (third argument) of a persistent
+//               pool, through extract_silhouette_parallel (chunked facing + silhouette, then the
+//               serial compaction) and per-chunk build_caps into each chunk's own range of the
+//               index buffer (drawn as one range per chunk: no compaction of the caps)
 //
 // Meshes: "sphere" (closed UV sphere with shared vertices: few silhouette edges) and "grid" (a noisy
 // height field: open, many silhouette edges). Every benchmark reports the bytes its stage reads
@@ -17,7 +21,12 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -233,6 +242,119 @@ void BM_frame(benchmark::State& state) {
     set_label(state, f);
 }
 
+// A persistent pool: parallel_for(n, fn) runs fn(0..n-1) on the workers and the calling thread,
+// returns when all are done (what an engine's job system provides).
+class Pool {
+public:
+    explicit Pool(std::size_t threads) {
+        for (std::size_t t = 1; t < threads; ++t) workers_.emplace_back([this] { loop(); });
+    }
+    ~Pool() {
+        {
+            std::lock_guard<std::mutex> lk(m_);
+            stop_ = true;
+            ++gen_;
+        }
+        cv_.notify_all();
+        for (auto& w : workers_) w.join();
+    }
+    template <typename F>
+    void operator()(std::size_t n, const F& fn) {
+        {
+            std::lock_guard<std::mutex> lk(m_);
+            job_ = [&fn](std::size_t i) { fn(i); };
+            n_ = n;
+            next_.store(0);
+            done_.store(0);
+            ++gen_;
+        }
+        cv_.notify_all();
+        work();
+        while (done_.load(std::memory_order_acquire) < n) std::this_thread::yield();
+    }
+
+private:
+    void work() {
+        for (std::size_t i; (i = next_.fetch_add(1)) < n_;) {
+            job_(i);
+            done_.fetch_add(1, std::memory_order_release);
+        }
+    }
+    void loop() {
+        std::uint64_t seen = 0;
+        for (;;) {
+            std::unique_lock<std::mutex> lk(m_);
+            cv_.wait(lk, [&] { return gen_ != seen; });
+            seen = gen_;
+            if (stop_) return;
+            lk.unlock();
+            work();
+        }
+    }
+    std::vector<std::thread> workers_;
+    std::mutex m_;
+    std::condition_variable cv_;
+    std::function<void(std::size_t)> job_;
+    std::size_t n_ = 0;
+    std::atomic<std::size_t> next_{0}, done_{0};
+    std::uint64_t gen_ = 0;
+    bool stop_ = false;
+};
+
+Pool& pool(std::size_t threads) {
+    static std::map<std::size_t, std::unique_ptr<Pool>> pools;
+    auto& p = pools[threads];
+    if (!p) p = std::make_unique<Pool>(threads);
+    return *p;
+}
+
+void BM_silhouette_parallel(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t threads = static_cast<std::size_t>(state.range(2)), chunks = 4 * threads;
+    Pool& pl = pool(threads);
+    std::vector<shadowkit::SilhouetteResult> per(chunks);
+    const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3) + edge_bytes(f.adj);
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        auto r = shadowkit::extract_silhouette_parallel(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light,
+                                                        f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
+                                                        f.sil.size() / 2, per.data(), chunks, pl);
+        benchmark::DoNotOptimize(r);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+    state.counters["threads"] = double(threads);
+}
+
+void BM_frame_parallel(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t threads = static_cast<std::size_t>(state.range(2)), chunks = 4 * threads;
+    Pool& pl = pool(threads);
+    std::vector<shadowkit::SilhouetteResult> per(chunks);
+    std::vector<std::size_t> cap_counts(chunks);
+    const std::size_t fc = f.adj.face_count(), side_room = 6 * f.adj.max_silhouette_edges();
+    const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3) + edge_bytes(f.adj);
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        const auto sr = shadowkit::extract_silhouette_parallel(f.adj, f.mesh.positions.data(), f.mesh.positions.size(),
+                                                               f.light, f.facing.data(), f.facing.size(), f.sil.data(),
+                                                               nullptr, f.sil.size() / 2, per.data(), chunks, pl);
+        const auto sq = shadowkit::build_side_quads(f.sil.data(), sr.edge_count, f.mesh.positions.size(), f.volume.data(),
+                                                    f.volume.size());
+        pl(chunks, [&](std::size_t c) {  // caps: chunk c's faces into its own 6-per-face range
+            const std::size_t b = fc / chunks * c + std::min(c, fc % chunks);
+            const std::size_t e = fc / chunks * (c + 1) + std::min(c + 1, fc % chunks);
+            cap_counts[c] = shadowkit::build_caps(f.adj.faces.data() + 3 * b, e - b, f.facing.data() + b,
+                                                  f.mesh.positions.size(), shadowkit::CapMode::LitOnly, true,
+                                                  f.volume.data() + side_room + 6 * b, 6 * (e - b))
+                                .count;
+        });
+        benchmark::DoNotOptimize(sq);
+        benchmark::DoNotOptimize(cap_counts.data());
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+    state.counters["threads"] = double(threads);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
     for (int kind : {0, 1})
         for (std::int64_t t : {10000, 100000, 1000000}) b->Args({kind, t});
@@ -244,6 +366,15 @@ BENCHMARK(BM_facing)->Apply(sizes);
 BENCHMARK(BM_silhouette)->Apply(sizes);
 BENCHMARK(BM_volume)->Apply(sizes);
 BENCHMARK(BM_frame)->Apply(sizes);
+
+void parallel_sizes(benchmark::internal::Benchmark* b) {
+    for (int kind : {0, 1})
+        for (std::int64_t t : {100000, 1000000})
+            for (std::int64_t threads : {1, 2, 4}) b->Args({kind, t, threads});
+    b->Unit(benchmark::kMicrosecond)->UseRealTime();
+}
+BENCHMARK(BM_silhouette_parallel)->Apply(parallel_sizes);
+BENCHMARK(BM_frame_parallel)->Apply(parallel_sizes);
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <algorithm>
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -79,5 +80,30 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (long x : bal)
             if (x != 0) __builtin_trap();
     }
+    // Chunked / parallel path (serial loop, chunks in reverse): identical to the serial result.
+    const std::size_t chunks = 1 + in.size(40);
+    const std::size_t pcap = adj.max_silhouette_edges() + in.size(3);
+    std::vector<std::uint8_t> pf(fc + 1, 0xCD);
+    std::vector<std::uint32_t> pidx(2 * pcap + 2, 0xDEADBEEFu);
+    std::vector<std::uint8_t> pflags(pcap + 1, 0xEE);
+    std::vector<sk::SilhouetteResult> per(chunks);
+    auto rev_for = [](std::size_t n, const auto& fn) {
+        for (std::size_t i = n; i-- > 0;) fn(i);
+    };
+    const sk::SilhouetteResult pr = sk::extract_silhouette_parallel(adj, pos.data(), nv, L, pf.data(), fc, pidx.data(),
+                                                                    pflags.data(), pcap, per.data(), chunks, rev_for);
+    if (pr.status != sk::SilhouetteStatus::Ok || pr.edge_count != r.edge_count) __builtin_trap();
+    if (pf[fc] != 0xCD || pidx[2 * pcap] != 0xDEADBEEFu || pflags[pcap] != 0xEE) __builtin_trap();
+    if (!std::equal(s.indices.begin(), s.indices.end(), pidx.begin()) || !std::equal(s.flags.begin(), s.flags.end(), pflags.begin()))
+        __builtin_trap();
+    // arbitrary chunk indices, capacities and (lying) chunk results are rejected, never overrun
+    const std::size_t c = in.size(50), cc = in.size(50);
+    (void)sk::compute_facing_chunk(adj, pos.data(), nv, L, pf.data(), in.size(fc + 2), c, cc);
+    const std::size_t ccap = in.size(pcap);
+    const sk::SilhouetteResult cr = sk::extract_silhouette_chunk(adj, pf.data(), fc, pidx.data(), pflags.data(), ccap, c, cc);
+    if (cr.status == sk::SilhouetteStatus::Ok && cr.edge_count > adj.max_silhouette_edges()) __builtin_trap();
+    for (auto& x : per) x.edge_count = in.size(pcap + 4);
+    (void)sk::compact_silhouette_chunks(adj, per.data(), chunks, pidx.data(), pflags.data(), pcap);
+    if (pidx[2 * pcap] != 0xDEADBEEFu || pflags[pcap] != 0xEE) __builtin_trap();
     return 0;
 }

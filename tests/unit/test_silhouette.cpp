@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -482,28 +483,116 @@ TEST_CASE("invalid input: statuses, empty input, NaN, buffer too small") {
     CHECK(sk::extract_silhouette(adj, f.data(), f.size(), nullptr, nullptr, 0).edge_count == 6);
 }
 
-TEST_CASE("silhouette pass throughput vs memcpy of the same bytes (informative)") {
-    const Mesh m = torus(400, 250, 3.0f, 1.0f); // 200k triangles, 300k edges
-    const sk::EdgeAdjacency adj = sk::build_edge_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
-    REQUIRE(adj.closed());
-    std::vector<std::uint8_t> f(adj.face_count());
-    sk::compute_facing(adj, m.p.data(), m.p.size(), glm::vec4(10, 5, 8, 1), f.data(), f.size());
-    std::vector<std::uint32_t> out(2 * adj.max_silhouette_edges());
-    const std::size_t bytes = adj.edges.size() * sizeof(sk::AdjacencyEdge) + f.size();
-    std::vector<std::uint8_t> src(bytes, 1), dst(bytes);
-    double best_sil = 1e30, best_cpy = 1e30;
-    std::size_t n = 0;
-    for (int rep = 0; rep < 20; ++rep) {
-        auto t0 = std::chrono::steady_clock::now();
-        n += sk::extract_silhouette(adj, f.data(), f.size(), out.data(), nullptr, out.size() / 2).edge_count;
-        auto t1 = std::chrono::steady_clock::now();
-        std::memcpy(dst.data(), src.data(), bytes);
-        auto t2 = std::chrono::steady_clock::now();
-        best_sil = std::min(best_sil, std::chrono::duration<double>(t1 - t0).count());
-        best_cpy = std::min(best_cpy, std::chrono::duration<double>(t2 - t1).count());
-        src[static_cast<std::size_t>(rep)] = dst[static_cast<std::size_t>(rep) + 1];
+TEST_CASE("property: chunked / parallel silhouettes equal extract_silhouette exactly (any chunk count, threads)") {
+    // reference: the serial compute_facing + extract_silhouette (itself checked against brute force
+    // above); chunk counts 1..97 (more chunks than edges included), serial and std::thread loops
+    auto serial_for = [](std::size_t n, const auto& fn) {
+        for (std::size_t i = n; i-- > 0;) fn(i);  // reverse order: chunks must not depend on each other
+    };
+    auto thread_for = [](std::size_t n, const auto& fn) {
+        std::vector<std::thread> ts;
+        for (std::size_t i = 0; i < n; ++i) ts.emplace_back([&fn, i] { fn(i); });
+        for (auto& t : ts) t.join();
+    };
+    std::mt19937 rng(777);
+    int cases = 0;
+    for (int it = 0; it < 1200; ++it) {
+        Mesh m;
+        if (it % 4 == 0) {
+            m = torus(6 + static_cast<int>(rng() % 20), 4 + static_cast<int>(rng() % 12), 3.f, 1.f, &rng, 0.2f);
+        } else {
+            const int nv = 4 + static_cast<int>(rng() % 30);
+            std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+            for (int k = 0; k < nv; ++k) m.p.emplace_back(u(rng), u(rng), u(rng));
+            const int nt = static_cast<int>(rng() % 60);
+            for (int t = 0; t < 3 * nt; ++t) m.i.push_back(static_cast<std::uint32_t>(rng() % static_cast<unsigned>(nv)));
+        }
+        const sk::EdgeAdjacency adj = sk::build_edge_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size(), no_weld());
+        REQUIRE(adj.status == sk::SilhouetteStatus::Ok);
+        const glm::vec4 L = random_light(rng, 4.0f);
+        const sk::Silhouette ref = sk::extract_silhouette(adj, m.p.data(), m.p.size(), L);
+        REQUIRE(ref.status == sk::SilhouetteStatus::Ok);
+        std::size_t ref_boundary = 0, ref_nonmanifold = 0;
+        for (std::uint8_t f : ref.flags) {
+            ref_boundary += (f & sk::SilhouetteBoundary) != 0;
+            ref_nonmanifold += (f & sk::SilhouetteNonManifold) != 0;
+        }
+        const std::size_t chunks = 1 + rng() % (it % 3 == 0 ? 97 : 8);
+        const std::size_t cap = adj.max_silhouette_edges();
+        std::vector<std::uint8_t> facing(adj.face_count(), 7);
+        std::vector<std::uint32_t> idx(2 * cap + 2, 0xDEADBEEFu);
+        std::vector<std::uint8_t> flags(cap + 1, 0xEE);
+        std::vector<sk::SilhouetteResult> per(chunks);
+        const sk::SilhouetteResult r =
+            it % 2 ? sk::extract_silhouette_parallel(adj, m.p.data(), m.p.size(), L, facing.data(), facing.size(), idx.data(),
+                                                     flags.data(), cap, per.data(), chunks, serial_for)
+                   : sk::extract_silhouette_parallel(adj, m.p.data(), m.p.size(), L, facing.data(), facing.size(), idx.data(),
+                                                     flags.data(), cap, per.data(), chunks, thread_for);
+        REQUIRE(r.status == sk::SilhouetteStatus::Ok);
+        CHECK(facing == ref.facing);
+        REQUIRE(r.edge_count == ref.indices.size() / 2);
+        CHECK(std::equal(ref.indices.begin(), ref.indices.end(), idx.begin()));
+        CHECK(std::equal(ref.flags.begin(), ref.flags.end(), flags.begin()));
+        CHECK(r.boundary_edges == ref_boundary);
+        CHECK(r.nonmanifold_edges == ref_nonmanifold);
+        CHECK(idx[2 * cap] == 0xDEADBEEFu);  // nothing written past the capacity
+        // facing chunks: lit counts add up to the serial count, face counts to the face count
+        std::size_t lit = 0, faces = 0;
+        for (std::size_t c = 0; c < chunks; ++c) {
+            const sk::FacingResult fr = sk::compute_facing_chunk(adj, m.p.data(), m.p.size(), L, facing.data(), facing.size(), c, chunks);
+            REQUIRE(fr.status == sk::SilhouetteStatus::Ok);
+            lit += fr.lit_faces;
+            faces += fr.face_count;
+        }
+        CHECK(faces == adj.face_count());
+        CHECK(lit == static_cast<std::size_t>(std::count(ref.facing.begin(), ref.facing.end(), 1)));
+        ++cases;
     }
-    MESSAGE("silhouette: " << static_cast<double>(adj.edges.size()) / best_sil / 1e6 << " M edges/s; ratio to memcpy of the input bytes: "
-                           << best_sil / best_cpy << " (" << n / 20 << " silhouette edges)");
-    CHECK(n > 0);
+    CHECK(cases == 1200);
+}
+
+TEST_CASE("chunked silhouettes: invalid arguments and small buffers are reported") {
+    const Mesh m = cube();
+    const sk::EdgeAdjacency adj = sk::build_edge_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+    REQUIRE(adj.status == sk::SilhouetteStatus::Ok);
+    const glm::vec4 L(3.f, 4.f, 5.f, 1.f);
+    std::vector<std::uint8_t> f(adj.face_count());
+    std::vector<std::uint32_t> idx(2 * adj.max_silhouette_edges());
+    const std::size_t cap = idx.size() / 2;
+    CHECK(sk::compute_facing_chunk(adj, m.p.data(), m.p.size(), L, f.data(), f.size(), 2, 2).status ==
+          sk::SilhouetteStatus::InvalidArgument);
+    CHECK(sk::compute_facing_chunk(adj, m.p.data(), m.p.size(), L, f.data(), f.size(), 0, 0).status ==
+          sk::SilhouetteStatus::InvalidArgument);
+    CHECK(sk::compute_facing_chunk(adj, m.p.data(), m.p.size(), glm::vec4(0.f), f.data(), f.size(), 0, 1).status ==
+          sk::SilhouetteStatus::InvalidLight);
+    CHECK(sk::compute_facing_chunk(adj, m.p.data(), m.p.size(), L, f.data(), f.size() - 1, 0, 1).status ==
+          sk::SilhouetteStatus::BufferTooSmall);
+    sk::compute_facing(adj, m.p.data(), m.p.size(), L, f.data(), f.size());
+    CHECK(sk::extract_silhouette_chunk(adj, f.data(), f.size(), idx.data(), nullptr, cap - 1, 0, 1).status ==
+          sk::SilhouetteStatus::BufferTooSmall);
+    CHECK(sk::extract_silhouette_chunk(adj, f.data(), f.size() - 1, idx.data(), nullptr, cap, 0, 1).status ==
+          sk::SilhouetteStatus::InvalidArgument);
+    CHECK(sk::extract_silhouette_chunk(adj, f.data(), f.size(), idx.data(), nullptr, cap, 3, 3).status ==
+          sk::SilhouetteStatus::InvalidArgument);
+    sk::SilhouetteResult bad;
+    bad.status = sk::SilhouetteStatus::InvalidLight;
+    CHECK(sk::compact_silhouette_chunks(adj, &bad, 1, idx.data(), nullptr, cap).status == sk::SilhouetteStatus::InvalidLight);
+    CHECK(sk::compact_silhouette_chunks(adj, nullptr, 1, idx.data(), nullptr, cap).status ==
+          sk::SilhouetteStatus::InvalidArgument);
+    CHECK(sk::silhouette_chunk_offset(adj, 5, 2) == 0);
+    std::size_t calls = 0;
+    auto counting_for = [&calls](std::size_t n, const auto& fn) {
+        for (std::size_t i = 0; i < n; ++i) fn(i);
+        ++calls;
+    };
+    std::vector<sk::SilhouetteResult> per(4);
+    CHECK(sk::extract_silhouette_parallel(adj, m.p.data(), m.p.size(), L, f.data(), f.size(), idx.data(), nullptr, cap - 1,
+                                          per.data(), 4, counting_for)
+              .status == sk::SilhouetteStatus::BufferTooSmall);
+    CHECK(calls == 0);  // rejected before any work
+    const sk::SilhouetteResult ok = sk::extract_silhouette_parallel(adj, m.p.data(), m.p.size(), L, f.data(), f.size(),
+                                                                    idx.data(), nullptr, cap, per.data(), 4, counting_for);
+    CHECK(ok.status == sk::SilhouetteStatus::Ok);
+    CHECK(ok.edge_count == 6);  // a cube seen from a general point: a hexagon
+    CHECK(calls == 2);          // facing, then silhouette
 }
