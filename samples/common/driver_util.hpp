@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +20,11 @@ double ms_since(Clock::time_point t0);
 double median_of(std::vector<double> v);
 // Runs work() `runs` times and sets ms to the median of its CPU times; false at the first failing run.
 bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms);
+
+// Perspective depth range of the box lo..hi seen through view (zfar 1.01 x the farthest corner, znear the
+// larger of 0.9 x the nearest and 2e-3 zfar) and the largest tangent max(|x|, |y|) / -z of its corners.
+void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,
+                   float& tan_max);
 
 // Light uniforms read by visibility_fragment_shader()'s common light rules.
 void set_light_uniforms(GLuint prog, const Light& L);
@@ -37,12 +43,25 @@ struct VisibilityPass {
     ~VisibilityPass();
     bool init(int w, int h, std::string& why);
     void draw(GLuint prog, const SceneGpu& gpu);
+    // draw() with `map` (a texture of map_target) bound at unit 2, where the lookups read their shadow map.
+    void draw(GLuint prog, const SceneGpu& gpu, GLenum map_target, GLuint map);
 };
+
+// Times `frame` (median over ctx.frames after ctx.warmup) and reads V back from pass into r.
+void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPass& pass,
+                        const std::function<void()>& frame);
+// Closes a run: takes the pending GL error, then deletes the programs and runs release (may be empty);
+// r, or the GL error as a failure.
+RunResult finish_run(RunResult r, std::initializer_list<GLuint> programs, const std::function<void()>& release = {});
 
 // The depth-only program (depth_only_vs / depth_only_fs) and a visibility program (full-screen vertex
 // shader + visibility_fragment_shader(snippets, body)); 0 on failure, the message appended to log.
 GLuint compile_depth_only_program(std::string& log);
 GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log);
+// Loads glsl/<snippet>.glsl (none for "") and compiles the depth-only program and the visibility program
+// (snippet + body), then binds vis with L's light uniforms; false with the message in why.
+bool compile_shadow_programs(const std::string& snippet, const std::string& body, const Light& L, GLuint& depth,
+                             GLuint& vis, std::string& why);
 
 // size x size GL_DEPTH_COMPONENT32F target with hardware depth compare (2x2 PCF): a plain shadow map.
 bool make_shadow_map_target(skgl::Target& sm, int size, std::string& why);
@@ -50,6 +69,37 @@ bool make_shadow_map_target(skgl::Target& sm, int size, std::string& why);
 // indices) with depth_prog (u_light_view_proj = light_vp), depth test GL_LESS, polygon offset (2, 2).
 void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth_prog, const glm::mat4& light_vp,
                          const std::vector<std::uint32_t>* only = nullptr);
+
+// How a single 2D shadow map is read: glsl/<snippet>.glsl and a visibility body sampling a
+// sampler2DShadow at binding 2, with the light's view-projection in uniform `matrix_uniform`.
+struct SingleMapLookup {
+    const char* snippet;
+    const char* body;
+    const char* matrix_uniform;
+};
+// The plain shadow map's lookup (glsl/shadow_map.glsl, 2x2 hardware PCF, u_light_view_proj).
+const SingleMapLookup& plain_shadow_map_lookup();
+// The single-map pipeline (shadow_map, silmap_plain, warped_sm): each frame a size x size map from
+// light_vp (render_shadow_depth, casters `only` or all), then the lookup's visibility pass. Fills r's
+// gpu_ms, frames, visibility and gpu_bytes; extras (may be empty) runs before the map is freed.
+RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
+                                const SingleMapLookup& lookup, const std::vector<std::uint32_t>* only = nullptr,
+                                const std::function<void(RunResult&, const skgl::Target&)>& extras = {});
+
+// GL_DEPTH_COMPONENT32F texture (a 2D array of `layers`, or a cube map) with linear filtering,
+// clamp-to-edge and depth compare GL_LEQUAL: a layered hardware-PCF shadow map.
+GLuint make_depth_compare_texture(GLenum target, int size, int layers);
+// Generates count framebuffers, fbo[i] with layer i of tex (array layer, or cube face) as its only attachment.
+void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo);
+// Nearest filtering and clamp-to-edge on a 2D texture (exact texel reads).
+void set_nearest_clamped(GLuint tex);
+// Shadow-depth pass state: depth_prog bound, depth test GL_LESS, polygon offset (2, 2) enabled.
+void begin_offset_depth_pass(GLuint depth_prog);
+// Binds fbo with a size x size viewport and clears its depth.
+void clear_depth_layer(GLuint fbo, int size);
+// Depth-only passes into count layers (fbo[i] from vps[i], as begin_offset_depth_pass): the casters, or every mesh.
+void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4* vps, int count, int size,
+                         GLuint depth_prog, bool every_mesh = false);
 
 // Draws the caster meshes (all, or only the listed mesh indices).
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = nullptr);

@@ -39,16 +39,8 @@ EndpointView endpoint_view(const Scene& s, glm::vec3 pos) {
     dir = glm::length(dir) > 0.f ? glm::normalize(dir) : glm::vec3(0.f, -1.f, 0.f);
     const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, 1.f, 0.f);
     e.view = glm::lookAt(pos, pos + dir, up);
-    float zmin = INFINITY, zmax = 0.f, tan_max = 0.f;
-    for (int i = 0; i < 8; ++i) {
-        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-        const glm::vec3 v = glm::vec3(e.view * glm::vec4(c, 1.f));
-        zmax = std::max(zmax, -v.z);
-        zmin = std::min(zmin, -v.z);
-        if (-v.z > 1e-6f) tan_max = std::max(tan_max, std::max(std::abs(v.x), std::abs(v.y)) / -v.z);
-    }
-    e.zfar = zmax * 1.01f;
-    e.znear = std::max(zmin * 0.9f, e.zfar * 2e-3f);
+    float tan_max = 0.f;
+    fit_box_depth(e.view, lo, hi, e.znear, e.zfar, tan_max);
     const float half = std::min(std::atan(tan_max) * 1.02f, 1.45f);
     e.proj = glm::perspective(2.f * half, 1.f, e.znear, e.zfar);
     e.vp = e.proj * e.view;
@@ -61,14 +53,6 @@ bool linear_scene(const Scene& s) { return s.light.type == LightType::Linear; }
 shadowkit::LinearLightSegment scene_segment(const Light& L) {
     if (L.type != LightType::Linear) return shadowkit::linear_light_segment(L.position, glm::vec3(1.f, 0.f, 0.f), 0.f);
     return shadowkit::linear_light_segment(L.position, L.direction, L.size);
-}
-
-void set_nearest(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
 constexpr int kMaxSegments = 4;
@@ -148,11 +132,11 @@ public:
         for (auto& t : maps) {
             if (!skgl::make_target(t, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
             skgl::set_depth_compare(t.depth, false, false);
-            set_nearest(t.depth);
+            set_nearest_clamped(t.depth);
         }
         for (auto& t : vmaps) {
             if (!skgl::make_target(t, size, size, {GL_RGBA32F}, 0, why)) return RunResult::failure(why);
-            set_nearest(t.color[0]);
+            set_nearest_clamped(t.color[0]);
         }
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
@@ -255,6 +239,13 @@ float technique_visibility(vec3 p, vec3 n) {
             skin_vertex_total += sr.written;
             cpu_skin_ms += ms_since(t0);
         };
+        // binds the visibility map vt (size x size) and clears it to 1 (all visible)
+        auto clear_to_visible = [&](skgl::Target& vt) {
+            glBindFramebuffer(GL_FRAMEBUFFER, vt.fbo);
+            glViewport(0, 0, size, size);
+            const float one[4] = {1.f, 1.f, 1.f, 1.f};
+            glClearBufferfv(GL_COLOR, 0, one);
+        };
         auto draw_skin = [&](int from, int into, skgl::Target& vt) {
             const EndpointView& o = views[static_cast<std::size_t>(from)];
             if (!gpu_skin) {
@@ -262,10 +253,7 @@ float technique_visibility(vec3 p, vec3 n) {
                 glUseProgram(skin_cpu);
                 glUniformMatrix4fv(glGetUniformLocation(skin_cpu, "u_this_vp"), 1, GL_FALSE,
                                    glm::value_ptr(views[static_cast<std::size_t>(into)].vp));
-                glBindFramebuffer(GL_FRAMEBUFFER, vt.fbo);
-                glViewport(0, 0, size, size);
-                const float one[4] = {1.f, 1.f, 1.f, 1.f};
-                glClearBufferfv(GL_COLOR, 0, one);
+                clear_to_visible(vt);
                 if (sv.empty()) return;
                 glBindBuffer(GL_ARRAY_BUFFER, skin_vbo);
                 glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(sv.size() * sizeof(sv[0])), sv.data(), GL_STREAM_DRAW);
@@ -279,31 +267,17 @@ float technique_visibility(vec3 p, vec3 n) {
             glUniform2f(glGetUniformLocation(skin, "u_other_near_far"), o.znear, o.zfar);
             glUniformMatrix4fv(glGetUniformLocation(skin, "u_this_vp"), 1, GL_FALSE,
                                glm::value_ptr(views[static_cast<std::size_t>(into)].vp));
-            glBindFramebuffer(GL_FRAMEBUFFER, vt.fbo);
-            glViewport(0, 0, size, size);
-            const float one[4] = {1.f, 1.f, 1.f, 1.f};
-            glClearBufferfv(GL_COLOR, 0, one);
+            clear_to_visible(vt);
             glActiveTexture(GL_TEXTURE4);
             glBindTexture(GL_TEXTURE_2D, maps[static_cast<std::size_t>(from)].depth);
             glDrawArrays(GL_TRIANGLES, 0, skin_vertices);
         };
+        std::vector<GLuint> map_fbos;
+        for (const auto& t : maps) map_fbos.push_back(t.fbo);
         auto frame = [&] {
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            glUseProgram(depth);
-            for (int i = 0; i < nmaps; ++i) {
-                glBindFramebuffer(GL_FRAMEBUFFER, maps[static_cast<std::size_t>(i)].fbo);
-                glViewport(0, 0, size, size);
-                glClear(GL_DEPTH_BUFFER_BIT);
-                glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE,
-                                   glm::value_ptr(views[static_cast<std::size_t>(i)].vp));
-                // every mesh: the skins need the receivers' depth behind the discontinuities
-                // (non-casters below everything they receive cannot shadow anything)
-                for (const auto& m : ctx.gpu.meshes) skgl::draw_mesh(m);
-            }
-            glDisable(GL_POLYGON_OFFSET_FILL);
+            // every mesh: the skins need the receivers' depth behind the discontinuities
+            // (non-casters below everything they receive cannot shadow anything)
+            render_depth_layers(ctx.gpu, map_fbos.data(), vps.data(), nmaps, size, depth, true);
             glDisable(GL_DEPTH_TEST);
             if (!seg.point) {
                 if (!gpu_skin) {
@@ -334,9 +308,7 @@ float technique_visibility(vec3 p, vec3 n) {
             }
             pass.draw(vis, ctx.gpu);
         };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, frame);
         r.cpu_ms += cpu_skin_ms;  // read-back + skin triangulation of the last frame (inside gpu_ms too)
         r.gpu_bytes = std::int64_t(size) * size * (4 * nmaps + 16 * std::int64_t(vmaps.size()));
         r.work = {{"shadow_maps", double(nmaps)},
@@ -344,18 +316,13 @@ float technique_visibility(vec3 p, vec3 n) {
                   {"skin_vertices_drawn",
                    seg.point ? 0.0 : (gpu_skin ? double(skin_vertices) * 2.0 * k : 2.0 * double(skin_vertex_total))},
                   {"triangles_drawn", double(ctx.gpu.caster_triangles) * nmaps}};
-        const std::string err = skgl::gl_error_string();
-        glDeleteVertexArrays(1, &empty_vao);
-        glDeleteVertexArrays(1, &skin_vao);
-        glDeleteBuffers(1, &skin_vbo);
-        glDeleteProgram(skin_cpu);
-        glDeleteProgram(depth);
-        glDeleteProgram(skin);
-        glDeleteProgram(vis);
-        for (auto& t : maps) skgl::destroy_target(t);
-        for (auto& t : vmaps) skgl::destroy_target(t);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {skin_cpu, depth, skin, vis}, [&] {
+            glDeleteVertexArrays(1, &empty_vao);
+            glDeleteVertexArrays(1, &skin_vao);
+            glDeleteBuffers(1, &skin_vbo);
+            for (auto& t : maps) skgl::destroy_target(t);
+            for (auto& t : vmaps) skgl::destroy_target(t);
+        });
     }
 };
 
@@ -387,23 +354,14 @@ public:
             views.push_back(endpoint_view(scene, seg.a + t * (seg.b - seg.a)));
         }
         RunResult r;
-        GLuint arr = 0, fbo = 0;
-        glGenTextures(1, &arr);
-        glBindTexture(GL_TEXTURE_2D_ARRAY, arr);
-        glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size, size, n);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        const GLuint arr = make_depth_compare_texture(GL_TEXTURE_2D_ARRAY, size, n);
+        GLuint fbo = 0;
         glGenFramebuffers(1, &fbo);
         std::string why;
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
-        std::string log;
-        GLuint depth = compile_depth_only_program(log);
-        GLuint vis = compile_visibility_program("", R"(
+        GLuint depth = 0, vis = 0;
+        if (!compile_shadow_programs("", R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_maps;
 uniform mat4 u_vp[16];
 uniform vec3 u_pos[16];
@@ -420,10 +378,8 @@ float technique_visibility(vec3 p, vec3 n) {
     }
     return v / float(u_count);
 }
-)", log);
-        if (!depth || !vis) return RunResult::failure(log);
-        glUseProgram(vis);
-        set_light_uniforms(vis, scene.light);
+)", scene.light, depth, vis, why))
+            return RunResult::failure(why);
         std::vector<glm::mat4> vps(kMaxLineSamples, glm::mat4(1.f));
         std::vector<glm::vec3> ps(kMaxLineSamples, glm::vec3(0.f));
         for (int i = 0; i < n; ++i) {
@@ -438,11 +394,7 @@ float technique_visibility(vec3 p, vec3 n) {
             glDrawBuffer(GL_NONE);
             glReadBuffer(GL_NONE);
             glViewport(0, 0, size, size);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            glUseProgram(depth);
+            begin_offset_depth_pass(depth);
             for (int i = 0; i < n; ++i) {
                 glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, arr, 0, i);
                 glClear(GL_DEPTH_BUFFER_BIT);
@@ -451,24 +403,17 @@ float technique_visibility(vec3 p, vec3 n) {
                 draw_casters(ctx.gpu);
             }
             glDisable(GL_POLYGON_OFFSET_FILL);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D_ARRAY, arr);
-            pass.draw(vis, ctx.gpu);
+            pass.draw(vis, ctx.gpu, GL_TEXTURE_2D_ARRAY, arr);
         };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, frame);
         r.gpu_bytes = std::int64_t(size) * size * 4 * n;
         r.work = {{"shadow_maps", double(n)}, {"triangles_drawn", double(ctx.gpu.caster_triangles) * n}};
-        const std::string err = skgl::gl_error_string();
-        glActiveTexture(GL_TEXTURE2);
-        glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-        glDeleteFramebuffers(1, &fbo);
-        glDeleteTextures(1, &arr);
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {depth, vis}, [&] {
+            glActiveTexture(GL_TEXTURE2);
+            glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+            glDeleteFramebuffers(1, &fbo);
+            glDeleteTextures(1, &arr);
+        });
     }
 };
 

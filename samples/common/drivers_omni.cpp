@@ -44,19 +44,19 @@ void main() { gl_FragDepth = sk_omni_linear_depth(v_world, u_light, u_range); }
 // constant for the rasterizer's interpolation of world positions (a few float ulps of the scene).
 const float kStorageRelative = 2.3841858e-7f;  // 2^-22
 
-GLuint make_depth_texture(GLenum target, int size, int layers) {
-    GLuint tex = 0;
-    glGenTextures(1, &tex);
-    glBindTexture(target, tex);
-    if (target == GL_TEXTURE_2D_ARRAY) glTexStorage3D(target, 1, GL_DEPTH_COMPONENT32F, size, size, layers);
-    else glTexStorage2D(target, 1, GL_DEPTH_COMPONENT32F, size, size);
-    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    return tex;
+// Distance-pass state shared by both techniques: depth_prog bound, depth test GL_LESS, no culling, clear depth 1.
+void begin_distance_pass(GLuint depth_prog) {
+    glUseProgram(depth_prog);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glClearDepth(1.0);
+}
+
+// u_light and u_range (the stored distance's range), read by both the distance pass and the lookup.
+void set_distance_uniforms(GLuint prog, const glm::vec3& light, float range) {
+    glUniform3fv(glGetUniformLocation(prog, "u_light"), 1, glm::value_ptr(light));
+    glUniform1f(glGetUniformLocation(prog, "u_range"), range);
 }
 
 // ----------------------------------------------------------------------------------- cube map
@@ -104,11 +104,13 @@ public:
         shadowkit::OmniCullResult cr;
         std::vector<std::uint32_t> lists(6 * mesh_of.size() + 1);
         std::size_t off[7] = {0, 0, 0, 0, 0, 0, 0};
-        std::vector<double> cpu;
-        for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
-            const auto t0 = Clock::now();
+        const char* failed = "";
+        auto cull = [&]() -> bool {
             cm = shadowkit::omni_cube_matrices(ci);
-            if (cm.status != shadowkit::OmniStatus::Ok) return RunResult::failure("omni_cube_matrices failed");
+            if (cm.status != shadowkit::OmniStatus::Ok) {
+                failed = "omni_cube_matrices failed";
+                return false;
+            }
             if (culling) {
                 shadowkit::OmniCullInput in;
                 in.light = ci.light;
@@ -117,11 +119,14 @@ public:
                 in.boxes = boxes.data();
                 in.box_count = mesh_of.size();
                 cr = shadowkit::omni_cull_face_lists(in, lists.data(), lists.size(), off);
-                if (cr.status != shadowkit::OmniStatus::Ok) return RunResult::failure("omni_cull_face_lists failed");
+                if (cr.status != shadowkit::OmniStatus::Ok) {
+                    failed = "omni_cull_face_lists failed";
+                    return false;
+                }
             }
-            cpu.push_back(ms_since(t0));
-        }
-        r.cpu_ms = median_of(cpu);
+            return true;
+        };
+        if (!median_cpu_ms(std::max(ctx.frames, 1), cull, r.cpu_ms)) return RunResult::failure(failed);
         std::array<std::vector<std::uint32_t>, 6> face_meshes;
         for (int f = 0; f < 6; ++f) {
             if (culling)
@@ -164,7 +169,7 @@ float technique_visibility(vec3 p, vec3 n) {
             glDeleteProgram(depth);
             return RunResult::failure(log);
         }
-        const GLuint cube = make_depth_texture(GL_TEXTURE_CUBE_MAP, size, 1);
+        const GLuint cube = make_depth_compare_texture(GL_TEXTURE_CUBE_MAP, size, 1);
         glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
         GLuint nearest = 0;  // the manual variant reads the same texture without compare
         glGenSamplers(1, &nearest);
@@ -172,51 +177,32 @@ float technique_visibility(vec3 p, vec3 n) {
         glSamplerParameteri(nearest, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glSamplerParameteri(nearest, GL_TEXTURE_COMPARE_MODE, GL_NONE);
         GLuint fbo[6];
-        glGenFramebuffers(6, fbo);
-        for (int f = 0; f < 6; ++f) {
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo[f]);
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
-                                   static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), cube, 0);
-            glDrawBuffer(GL_NONE);
-            glReadBuffer(GL_NONE);
-        }
+        make_depth_layer_fbos(GL_TEXTURE_CUBE_MAP, cube, 6, fbo);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         glUseProgram(vis);
         set_light_uniforms(vis, scene.light);
-        glUniform3fv(glGetUniformLocation(vis, "u_light"), 1, glm::value_ptr(scene.light.position));
-        glUniform1f(glGetUniformLocation(vis, "u_range"), range);
+        set_distance_uniforms(vis, scene.light.position, range);
         glUniform1f(glGetUniformLocation(vis, "u_size"), float(size));
         glUniform1i(glGetUniformLocation(vis, "u_lookup"), lookup);
         glUniform2f(glGetUniformLocation(vis, "u_storage"), 1e-5f * range, kStorageRelative);
         glUseProgram(depth);
-        glUniform3fv(glGetUniformLocation(depth, "u_light"), 1, glm::value_ptr(scene.light.position));
-        glUniform1f(glGetUniformLocation(depth, "u_range"), range);
+        set_distance_uniforms(depth, scene.light.position, range);
         const GLint loc_vp = glGetUniformLocation(depth, "u_light_view_proj");
         auto frame = [&] {
-            glUseProgram(depth);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glDisable(GL_CULL_FACE);
-            glClearDepth(1.0);
+            begin_distance_pass(depth);
             for (int f = 0; f < 6; ++f) {
-                glBindFramebuffer(GL_FRAMEBUFFER, fbo[f]);
-                glViewport(0, 0, size, size);
-                glClear(GL_DEPTH_BUFFER_BIT);
+                clear_depth_layer(fbo[f], size);
                 glUniformMatrix4fv(loc_vp, 1, GL_FALSE, glm::value_ptr(cm.view_proj[f]));
                 draw_casters(ctx.gpu, &face_meshes[static_cast<std::size_t>(f)]);
             }
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_CUBE_MAP, cube);
             glActiveTexture(GL_TEXTURE3);
             glBindTexture(GL_TEXTURE_CUBE_MAP, cube);
             glBindSampler(3, nearest);
-            pass.draw(vis, ctx.gpu);
+            pass.draw(vis, ctx.gpu, GL_TEXTURE_CUBE_MAP, cube);
             glBindSampler(3, 0);
         };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, frame);
         r.gpu_bytes = std::int64_t(size) * size * 4 * 6;
         double tris = 0.0, draws = 0.0;
         static const char* kFace[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
@@ -230,14 +216,11 @@ float technique_visibility(vec3 p, vec3 n) {
         r.work.push_back({"draws", draws});
         r.work.push_back({"draws_saved", 6.0 * double(mesh_of.size()) - draws});
         r.work.push_back({"triangles_drawn", tris});
-        const std::string err = skgl::gl_error_string();
-        glDeleteSamplers(1, &nearest);
-        glDeleteFramebuffers(6, fbo);
-        glDeleteTextures(1, &cube);
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {depth, vis}, [&] {
+            glDeleteSamplers(1, &nearest);
+            glDeleteFramebuffers(6, fbo);
+            glDeleteTextures(1, &cube);
+        });
     }
 };
 
@@ -336,15 +319,12 @@ public:
         const float margin = 0.1f;                                   // clip margin beyond the rim
         const float max_r = std::sqrt((1.f + margin) / (1.f - margin));  // map radius at n.z = -margin
         // frame: axis up, so the seam runs around the horizon
-        std::vector<double> cpu;
         shadowkit::OmniParaboloidFrame fr;
-        for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
-            const auto t0 = Clock::now();
+        median_cpu_ms(std::max(ctx.frames, 1), [&] {
             fr = shadowkit::omni_paraboloid_frame(light, {0.f, 1.f, 0.f}, {0.f, 0.f, 1.f});
-            cpu.push_back(ms_since(t0));
-        }
+            return true;
+        }, r.cpu_ms);
         if (fr.status != shadowkit::OmniStatus::Ok) return RunResult::failure("omni_paraboloid_frame failed");
-        r.cpu_ms = median_of(cpu);
 
         // tessellate the casters (once per light position: reported as tess_ms, not per frame)
         const auto t_tess = Clock::now();
@@ -428,54 +408,36 @@ float technique_visibility(vec3 p, vec3 n) {
             if (depth) glDeleteProgram(depth);
             return RunResult::failure(log);
         }
-        const GLuint tex = make_depth_texture(GL_TEXTURE_2D_ARRAY, size, 2);
+        const GLuint tex = make_depth_compare_texture(GL_TEXTURE_2D_ARRAY, size, 2);
         GLuint fbo[2];
-        glGenFramebuffers(2, fbo);
-        for (int layer = 0; layer < 2; ++layer) {
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo[layer]);
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex, 0, layer);
-            glDrawBuffer(GL_NONE);
-            glReadBuffer(GL_NONE);
-        }
+        make_depth_layer_fbos(GL_TEXTURE_2D_ARRAY, tex, 2, fbo);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
         glUseProgram(vis);
         set_light_uniforms(vis, scene.light);
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_dp_view"), 1, GL_FALSE, glm::value_ptr(fr.view));
-        glUniform3fv(glGetUniformLocation(vis, "u_light"), 1, glm::value_ptr(light));
-        glUniform1f(glGetUniformLocation(vis, "u_range"), range);
+        set_distance_uniforms(vis, light, range);
         glUniform1f(glGetUniformLocation(vis, "u_size"), float(size));
         glUniform1f(glGetUniformLocation(vis, "u_tess"), float(tess));
         glUniform1i(glGetUniformLocation(vis, "u_pcf"), radius);
         glUniform2f(glGetUniformLocation(vis, "u_storage"), 1e-5f * range, kStorageRelative);
         glUseProgram(depth);
         glUniformMatrix4fv(glGetUniformLocation(depth, "u_dp_view"), 1, GL_FALSE, glm::value_ptr(fr.view));
-        glUniform3fv(glGetUniformLocation(depth, "u_light"), 1, glm::value_ptr(light));
-        glUniform1f(glGetUniformLocation(depth, "u_range"), range);
+        set_distance_uniforms(depth, light, range);
         glUniform1f(glGetUniformLocation(depth, "u_margin"), margin);
         const GLint loc_side = glGetUniformLocation(depth, "u_side");
         auto frame = [&] {
-            glUseProgram(depth);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glDisable(GL_CULL_FACE);
+            begin_distance_pass(depth);
             glEnable(GL_CLIP_DISTANCE0);
-            glClearDepth(1.0);
             for (int layer = 0; layer < 2; ++layer) {
-                glBindFramebuffer(GL_FRAMEBUFFER, fbo[layer]);
-                glViewport(0, 0, size, size);
-                glClear(GL_DEPTH_BUFFER_BIT);
+                clear_depth_layer(fbo[layer], size);
                 glUniform1f(loc_side, layer == 0 ? 1.f : -1.f);
                 for (const auto& m : meshes) skgl::draw_mesh(m);
             }
             glDisable(GL_CLIP_DISTANCE0);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D_ARRAY, tex);
-            pass.draw(vis, ctx.gpu);
+            pass.draw(vis, ctx.gpu, GL_TEXTURE_2D_ARRAY, tex);
         };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, frame);
         r.gpu_bytes = std::int64_t(size) * size * 4 * 2;
         r.work = {{"shadow_map_texels", 2.0 * size * size},
                   {"draws", 2.0 * double(meshes.size())},
@@ -495,14 +457,11 @@ float technique_visibility(vec3 p, vec3 n) {
             }
         }
         r.quality.push_back({"edge_error_bound_texels", worst});
-        const std::string err = skgl::gl_error_string();
-        glDeleteFramebuffers(2, fbo);
-        glDeleteTextures(1, &tex);
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        for (auto& m : meshes) skgl::destroy_mesh(m);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {depth, vis}, [&] {
+            glDeleteFramebuffers(2, fbo);
+            glDeleteTextures(1, &tex);
+            for (auto& m : meshes) skgl::destroy_mesh(m);
+        });
     }
 };
 

@@ -13,7 +13,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "driver_util.hpp"
@@ -85,45 +84,9 @@ private:
 
     RunResult run_plain(const RunContext& ctx, int size) {
         RunResult r;
-        std::string why;
         const LightMatrices lm = fit_light(ctx.scene);
-        const glm::mat4 light_vp = lm.proj * lm.view;
-        skgl::Target sm;
-        if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
-        VisibilityPass pass;
-        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
-        const std::string snippet = load_snippet("shadow_map", why);
-        if (snippet.empty()) return RunResult::failure(why);
-        std::string log;
-        GLuint depth = compile_depth_only_program(log);
-        GLuint vis = compile_visibility_program(snippet, R"(
-layout(binding = 2) uniform sampler2DShadow u_shadow_map;
-uniform mat4 u_light_view_proj;
-float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
-}
-)", log);
-        if (!depth || !vis) return RunResult::failure(log);
-        glUseProgram(vis);
-        set_light_uniforms(vis, ctx.scene.light);
-        glUniformMatrix4fv(glGetUniformLocation(vis, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-        auto frame = [&] {
-            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D, sm.depth);
-            pass.draw(vis, ctx.gpu);
-        };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
-        r.gpu_bytes = std::int64_t(size) * size * 4;
         r.work = {{"shadow_map_texels", double(size) * size}, {"triangles_drawn", double(ctx.gpu.caster_triangles)}};
-        const std::string err = skgl::gl_error_string();
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        skgl::destroy_target(sm);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return run_single_shadow_map(ctx, std::move(r), size, lm.proj * lm.view, plain_shadow_map_lookup());
     }
 
     RunResult run_silmap(const RunContext& ctx, int size) {
@@ -177,24 +140,12 @@ float technique_visibility(vec3 p, vec3 n) {
             }
             return true;
         };
-        std::vector<double> cpu_samples;
-        for (int i = 0; i < 5; ++i) {
-            const auto c0 = Clock::now();
-            if (!cpu_work()) return RunResult::failure("silhouette extraction failed");
-            cpu_samples.push_back(ms_since(c0));
-        }
-        r.cpu_ms = median_of(cpu_samples);
+        if (!median_cpu_ms(5, cpu_work, r.cpu_ms)) return RunResult::failure("silhouette extraction failed");
 
         skgl::Target sm, silmap;
         if (!skgl::make_target(sm, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
         if (!skgl::make_target(silmap, size, size, {GL_RGBA8}, 0, why)) return RunResult::failure(why);
-        for (GLuint t : {sm.depth, silmap.color[0]}) {
-            glBindTexture(GL_TEXTURE_2D, t);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        }
+        for (GLuint t : {sm.depth, silmap.color[0]}) set_nearest_clamped(t);
         skgl::set_depth_compare(sm.depth, false, false);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
@@ -258,15 +209,11 @@ float technique_visibility(vec3 p, vec3 n) {
             glBindVertexArray(0);
             glDisable(GL_BLEND);
             // (3) lookup
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D, sm.depth);
             glActiveTexture(GL_TEXTURE3);
             glBindTexture(GL_TEXTURE_2D, silmap.color[0]);
-            pass.draw(vis, ctx.gpu);
+            pass.draw(vis, ctx.gpu, GL_TEXTURE_2D, sm.depth);
         };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, frame);
         r.gpu_bytes = std::int64_t(size) * size * shadowkit::kSilmapBytesPerTexel;
         // failure texels (two silhouette curves in one texel) from the GPU map
         const std::vector<float> sv = skgl::read_color_float(silmap, 0, 4);
@@ -282,16 +229,12 @@ float technique_visibility(vec3 p, vec3 n) {
                   {"triangles_drawn", double(ctx.gpu.caster_triangles)}};
         r.quality = {{"failure_texels", double(fail)},
                      {"failure_fraction", written ? double(fail) / double(written) : 0.0}};
-        const std::string err = skgl::gl_error_string();
-        glDeleteBuffers(1, &vbo);
-        glDeleteVertexArrays(1, &vao);
-        glDeleteProgram(depth);
-        glDeleteProgram(edge_prog);
-        glDeleteProgram(vis);
-        skgl::destroy_target(sm);
-        skgl::destroy_target(silmap);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {depth, edge_prog, vis}, [&] {
+            glDeleteBuffers(1, &vbo);
+            glDeleteVertexArrays(1, &vao);
+            skgl::destroy_target(sm);
+            skgl::destroy_target(silmap);
+        });
     }
 };
 

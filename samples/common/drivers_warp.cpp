@@ -9,7 +9,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "driver_util.hpp"
@@ -58,6 +57,16 @@ void receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
     hi = glm::min(hi, chi);
 }
 
+// G-buffer pixel k when it is a receiver facing the light: its point p and normal n; false otherwise.
+bool lit_receiver(const Scene& scene, const GBuffer& g, std::size_t k, glm::vec3& p, glm::vec3& n) {
+    if (g.kind[k] != 1) return false;
+    p = glm::vec3(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+    n = glm::vec3(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+    const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
+                                                                   : glm::normalize(scene.light.position - p);
+    return !(glm::dot(n, l) <= 0.f);  // NaN counts as facing
+}
+
 // Perspective aliasing over the receiver pixels that face the light (shadowkit's per-point
 // dp/ds measure): mean, max and the fraction of pixels where one texel covers > 1 pixel.
 void add_aliasing(RunResult& r, const Scene& scene, const SceneGpu& gpu, const GBuffer& g,
@@ -66,12 +75,8 @@ void add_aliasing(RunResult& r, const Scene& scene, const SceneGpu& gpu, const G
     double sum = 0.0, mx = 0.0;
     std::size_t n = 0, under = 0;
     for (std::size_t k = 0; k < g.kind.size(); ++k) {
-        if (g.kind[k] != 1) continue;
-        const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
-        const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-        const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
-                                                                       : glm::normalize(scene.light.position - p);
-        if (glm::dot(nn, l) <= 0.f) continue;
+        glm::vec3 p, nn;
+        if (!lit_receiver(scene, g, k, p, nn)) continue;
         const int c = which.empty() ? 0 : which[k];
         if (c < 0) continue;
         const double e = shadowkit::perspective_aliasing_error(light_vps[static_cast<std::size_t>(c)], cam_vp, p, nn,
@@ -102,12 +107,8 @@ DebugImage texel_density_image(const Scene& scene, const SceneGpu& gpu, const GB
     d.rgb.assign(g.kind.size() * 3, 60);
     const glm::mat4 cam_vp = gpu.proj * gpu.view;
     for (std::size_t k = 0; k < g.kind.size(); ++k) {
-        if (g.kind[k] != 1) continue;
-        const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
-        const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-        const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
-                                                                       : glm::normalize(scene.light.position - p);
-        if (glm::dot(nn, l) <= 0.f) continue;
+        glm::vec3 p, nn;
+        if (!lit_receiver(scene, g, k, p, nn)) continue;
         const double e = shadowkit::perspective_aliasing_error(
             light_vp, cam_vp, p, nn, static_cast<std::uint32_t>(size),
             glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
@@ -151,11 +152,9 @@ public:
         std::vector<std::uint32_t> keep;
         bool culled_list = false;
         // the CPU work (matrix fit and culling) timed as a median like the GPU pass
-        std::vector<double> cpu_samples;
         std::string fit_error;
         bool fallback = false;
-        for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
-            const auto t0 = Clock::now();
+        auto fit = [&]() -> bool {
             glm::vec3 slo, shi, clo, chi;
             receiver_bounds(scene, slo, shi);
             caster_bounds(scene, clo, chi);
@@ -180,7 +179,7 @@ public:
                 const auto res = shadowkit::fit_light_frustum(in, keep.data(), keep.size());
                 if (res.status != shadowkit::LightFrustumStatus::Ok) {
                     fit_error = "fit_light_frustum status " + std::to_string(static_cast<int>(res.status));
-                    break;
+                    return false;
                 }
                 keep.resize(res.kept_count);
                 light_vp = res.view_proj;
@@ -202,44 +201,15 @@ public:
                                                               : shadowkit::tsm_shadow_matrix(in);
                 if (w.status != shadowkit::WarpStatus::Ok) {
                     fit_error = "warp status " + std::to_string(static_cast<int>(w.status));
-                    break;
+                    return false;
                 }
                 light_vp = w.light_view_proj;
                 fallback = w.fallback_uniform;
             }
-            cpu_samples.push_back(ms_since(t0));
-        }
-        if (!fit_error.empty()) return RunResult::failure(fit_error);
-        r.cpu_ms = median_of(cpu_samples);
-
-        std::string why;
-        skgl::Target sm;
-        if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
-        VisibilityPass pass;
-        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
-        const std::string snippet = load_snippet("perspective_shadow_maps", why);
-        if (snippet.empty()) return RunResult::failure(why);
-        std::string log;
-        GLuint depth = compile_depth_only_program(log);
-        GLuint vis = compile_visibility_program(snippet, R"(
-layout(binding = 2) uniform sampler2DShadow u_shadow_map;
-uniform mat4 u_warp;
-float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, p, 0.0, false); }
-)", log);
-        if (!depth || !vis) return RunResult::failure(log);
-        glUseProgram(vis);
-        set_light_uniforms(vis, scene.light);
-        glUniformMatrix4fv(glGetUniformLocation(vis, "u_warp"), 1, GL_FALSE, glm::value_ptr(light_vp));
-        auto frame = [&] {
-            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp, culled_list ? &keep : nullptr);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D, sm.depth);
-            pass.draw(vis, ctx.gpu);
+            return true;
         };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
-        r.gpu_bytes = std::int64_t(size) * size * 4;
+        if (!median_cpu_ms(std::max(ctx.frames, 1), fit, r.cpu_ms)) return RunResult::failure(fit_error);
+
         std::size_t drawn_tris = 0, drawn = 0;
         for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
             const bool kept = !culled_list || std::find(keep.begin(), keep.end(), static_cast<std::uint32_t>(i)) != keep.end();
@@ -252,23 +222,26 @@ float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map,
                   {"triangles_drawn", double(drawn_tris)},
                   {"casters_drawn", double(drawn)},
                   {"casters_culled", double(caster_count(ctx.gpu) - drawn)}};
-        if (fallback) r.quality.push_back({"fallback_uniform", 1.0});
-        if (ctx.gbuffer) add_aliasing(r, scene, ctx.gpu, *ctx.gbuffer, {light_vp}, {}, size);
-        if (ctx.debug_images && ctx.gbuffer) {
-            r.debug.push_back(texel_density_image(scene, ctx.gpu, *ctx.gbuffer, light_vp, size));
+        static const SingleMapLookup kWarpLookup{"perspective_shadow_maps", R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_warp;
+float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, p, 0.0, false); }
+)", "u_warp"};
+        auto extras = [&](RunResult& rr, const skgl::Target& sm) {
+            if (fallback) rr.quality.push_back({"fallback_uniform", 1.0});
+            if (ctx.gbuffer) add_aliasing(rr, scene, ctx.gpu, *ctx.gbuffer, {light_vp}, {}, size);
+            if (!ctx.debug_images || !ctx.gbuffer) return;
+            rr.debug.push_back(texel_density_image(scene, ctx.gpu, *ctx.gbuffer, light_vp, size));
             std::vector<float> texels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
             skgl::set_depth_compare(sm.depth, false, false);
             glBindTexture(GL_TEXTURE_2D, sm.depth);
             glPixelStorei(GL_PACK_ALIGNMENT, 1);
             glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, texels.data());
-            r.debug.push_back(grey_debug_image("shadow map (window depth, near = black)", size, size, texels, 1, 0, 1.f));
-        }
-        const std::string err = skgl::gl_error_string();
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        skgl::destroy_target(sm);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+            rr.debug.push_back(
+                grey_debug_image("shadow map (window depth, near = black)", size, size, texels, 1, 0, 1.f));
+        };
+        return run_single_shadow_map(ctx, std::move(r), size, light_vp, kWarpLookup, culled_list ? &keep : nullptr,
+                                     extras);
     }
 };
 
@@ -295,9 +268,8 @@ public:
         RunResult r;
         shadowkit::Cascade cs[kCount];
         float splits[kCount + 1];
-        std::vector<double> cpu_samples;
-        for (int it = 0; it < std::max(ctx.frames, 1); ++it) {
-            const auto t0 = Clock::now();
+        shadowkit::CascadeStatus st = shadowkit::CascadeStatus::Ok;
+        auto fit = [&]() -> bool {
             shadowkit::CascadeInput in;
             in.camera_view = ctx.gpu.view;
             in.camera_proj = ctx.gpu.proj;
@@ -308,39 +280,20 @@ public:
             in.has_caster_bounds = true;
             in.caster_min = clo;
             in.caster_max = chi;
-            const auto st = shadowkit::fit_cascades(in, 0.75f, kCount, cs, splits);
-            if (st != shadowkit::CascadeStatus::Ok)
-                return RunResult::failure("fit_cascades status " + std::to_string(static_cast<int>(st)));
-            cpu_samples.push_back(ms_since(t0));
-        }
-        r.cpu_ms = median_of(cpu_samples);
+            st = shadowkit::fit_cascades(in, 0.75f, kCount, cs, splits);
+            return st == shadowkit::CascadeStatus::Ok;
+        };
+        if (!median_cpu_ms(std::max(ctx.frames, 1), fit, r.cpu_ms))
+            return RunResult::failure("fit_cascades status " + std::to_string(static_cast<int>(st)));
 
-        GLuint arr = 0;
-        glGenTextures(1, &arr);
-        glBindTexture(GL_TEXTURE_2D_ARRAY, arr);
-        glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size, size, kCount);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-        glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        const GLuint arr = make_depth_compare_texture(GL_TEXTURE_2D_ARRAY, size, kCount);
         GLuint fbo[kCount];
-        glGenFramebuffers(kCount, fbo);
-        for (std::uint32_t i = 0; i < kCount; ++i) {
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, arr, 0, static_cast<GLint>(i));
-            glDrawBuffer(GL_NONE);
-            glReadBuffer(GL_NONE);
-        }
+        make_depth_layer_fbos(GL_TEXTURE_2D_ARRAY, arr, kCount, fbo);
         std::string why;
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
-        const std::string snippet = load_snippet("cascades", why);
-        if (snippet.empty()) return RunResult::failure(why);
-        std::string log;
-        GLuint depth = compile_depth_only_program(log);
-        GLuint vis = compile_visibility_program(snippet, R"(
+        GLuint depth = 0, vis = 0;
+        if (!compile_shadow_programs("cascades", R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
 uniform mat4 u_cascade_vp[4];
 uniform vec4 u_split_near;
@@ -350,37 +303,18 @@ float technique_visibility(vec3 p, vec3 n) {
     float view_depth = -(u_camera_view * vec4(p, 1.0)).z;
     return sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, 4, p, view_depth, 0.1, 0.0, false);
 }
-)", log);
-        if (!depth || !vis) return RunResult::failure(log);
-        glUseProgram(vis);
-        set_light_uniforms(vis, scene.light);
+)", scene.light, depth, vis, why))
+            return RunResult::failure(why);
         glm::mat4 vps[kCount];
         for (std::uint32_t i = 0; i < kCount; ++i) vps[i] = cs[i].view_proj;
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_cascade_vp"), kCount, GL_FALSE, glm::value_ptr(vps[0]));
         glUniform4f(glGetUniformLocation(vis, "u_split_near"), splits[0], splits[1], splits[2], splits[3]);
         glUniform4f(glGetUniformLocation(vis, "u_split_far"), splits[1], splits[2], splits[3], splits[4]);
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(ctx.gpu.view));
-        auto frame = [&] {
-            glUseProgram(depth);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            for (std::uint32_t i = 0; i < kCount; ++i) {
-                glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
-                glViewport(0, 0, size, size);
-                glClear(GL_DEPTH_BUFFER_BIT);
-                glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(vps[i]));
-                draw_casters(ctx.gpu);
-            }
-            glDisable(GL_POLYGON_OFFSET_FILL);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D_ARRAY, arr);
-            pass.draw(vis, ctx.gpu);
-        };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, [&] {
+            render_depth_layers(ctx.gpu, fbo, vps, kCount, size, depth);
+            pass.draw(vis, ctx.gpu, GL_TEXTURE_2D_ARRAY, arr);
+        });
         r.gpu_bytes = std::int64_t(size) * size * 4 * kCount;
         r.work = {{"shadow_map_texels", double(kCount) * size * size},
                   {"triangles_drawn", double(kCount) * double(ctx.gpu.caster_triangles)},
@@ -397,13 +331,10 @@ float technique_visibility(vec3 p, vec3 n) {
             }
             add_aliasing(r, scene, ctx.gpu, g, std::vector<glm::mat4>(vps, vps + kCount), which, size);
         }
-        const std::string err = skgl::gl_error_string();
-        glDeleteFramebuffers(kCount, fbo);
-        glDeleteTextures(1, &arr);
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {depth, vis}, [&] {
+            glDeleteFramebuffers(kCount, fbo);
+            glDeleteTextures(1, &arr);
+        });
     }
 };
 

@@ -203,6 +203,21 @@ void main() {
 )";
 }
 
+void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,
+                   float& tan_max) {
+    float zmin = INFINITY, zmax = 0.f;
+    tan_max = 0.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+        const glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.f));
+        zmax = std::max(zmax, -v.z);
+        zmin = std::min(zmin, -v.z);
+        if (-v.z > 1e-6f) tan_max = std::max(tan_max, std::max(std::abs(v.x), std::abs(v.y)) / -v.z);
+    }
+    zfar = zmax * 1.01f;
+    znear = std::max(zmin * 0.9f, zfar * 2e-3f);
+}
+
 LightMatrices fit_light(const Scene& s) {
     LightMatrices m;
     const glm::vec3 lo = s.bounds_min(), hi = s.bounds_max();
@@ -232,16 +247,8 @@ LightMatrices fit_light(const Scene& s) {
         return m;
     }
     m.view = glm::lookAt(L.position, L.position + dir, up);
-    float zmin = INFINITY, zmax = 0.f, tan_max = 0.f;
-    for (int i = 0; i < 8; ++i) {
-        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-        const glm::vec3 v = glm::vec3(m.view * glm::vec4(c, 1.f));
-        zmax = std::max(zmax, -v.z);
-        zmin = std::min(zmin, -v.z);
-        if (-v.z > 1e-6f) tan_max = std::max(tan_max, std::max(std::abs(v.x), std::abs(v.y)) / -v.z);
-    }
-    m.zfar = zmax * 1.01f;
-    m.znear = std::max(zmin * 0.9f, m.zfar * 2e-3f);
+    float tan_max = 0.f;
+    fit_box_depth(m.view, lo, hi, m.znear, m.zfar, tan_max);
     float half = L.spot_half_angle;
     if (L.type == LightType::Sphere || L.type == LightType::Linear) half = std::min(std::atan(tan_max), 1.4f);
     m.proj = glm::perspective(2.f * half, 1.f, m.znear, m.zfar);
@@ -289,6 +296,27 @@ void VisibilityPass::draw(GLuint prog, const SceneGpu& gpu) {
     glBindVertexArray(0);
 }
 
+void VisibilityPass::draw(GLuint prog, const SceneGpu& gpu, GLenum map_target, GLuint map) {
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(map_target, map);
+    draw(prog, gpu);
+}
+
+void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPass& pass,
+                        const std::function<void()>& frame) {
+    r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
+    r.frames = ctx.frames;
+    r.visibility = skgl::read_color_float(pass.target, 0, 1);
+}
+
+RunResult finish_run(RunResult r, std::initializer_list<GLuint> programs, const std::function<void()>& release) {
+    const std::string err = skgl::gl_error_string();
+    for (GLuint p : programs) glDeleteProgram(p);
+    if (release) release();
+    if (!err.empty()) return RunResult::failure(err);
+    return r;
+}
+
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only) {
     if (only) {
         for (std::uint32_t i : *only)
@@ -306,6 +334,22 @@ GLuint compile_depth_only_program(std::string& log) {
 GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log) {
     return skgl::compile_program(
         {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippets, body)}}, log);
+}
+
+bool compile_shadow_programs(const std::string& snippet, const std::string& body, const Light& L, GLuint& depth,
+                             GLuint& vis, std::string& why) {
+    const std::string text = snippet.empty() ? std::string() : load_snippet(snippet, why);
+    if (!snippet.empty() && text.empty()) return false;
+    std::string log;
+    depth = compile_depth_only_program(log);
+    vis = compile_visibility_program(text, body, log);
+    if (!depth || !vis) {
+        why = log;
+        return false;
+    }
+    glUseProgram(vis);
+    set_light_uniforms(vis, L);
+    return true;
 }
 
 bool make_shadow_map_target(skgl::Target& sm, int size, std::string& why) {
@@ -326,6 +370,103 @@ void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth
     glUseProgram(depth_prog);
     glUniformMatrix4fv(glGetUniformLocation(depth_prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
     draw_casters(gpu, only);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+const SingleMapLookup& plain_shadow_map_lookup() {
+    static const SingleMapLookup lookup{"shadow_map", R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_light_view_proj;
+float technique_visibility(vec3 p, vec3 n) {
+    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
+}
+)", "u_light_view_proj"};
+    return lookup;
+}
+
+RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
+                                const SingleMapLookup& lookup, const std::vector<std::uint32_t>* only,
+                                const std::function<void(RunResult&, const skgl::Target&)>& extras) {
+    std::string why;
+    skgl::Target sm;
+    if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
+    VisibilityPass pass;
+    if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+    GLuint depth = 0, vis = 0;
+    if (!compile_shadow_programs(lookup.snippet, lookup.body, ctx.scene.light, depth, vis, why))
+        return RunResult::failure(why);
+    glUniformMatrix4fv(glGetUniformLocation(vis, lookup.matrix_uniform), 1, GL_FALSE, glm::value_ptr(light_vp));
+    measure_visibility(r, ctx, pass, [&] {
+        render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp, only);
+        pass.draw(vis, ctx.gpu, GL_TEXTURE_2D, sm.depth);
+    });
+    r.gpu_bytes = std::int64_t(size) * size * 4;
+    if (extras) extras(r, sm);
+    return finish_run(std::move(r), {depth, vis}, [&] { skgl::destroy_target(sm); });
+}
+
+GLuint make_depth_compare_texture(GLenum target, int size, int layers) {
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(target, tex);
+    if (target == GL_TEXTURE_2D_ARRAY) glTexStorage3D(target, 1, GL_DEPTH_COMPONENT32F, size, size, layers);
+    else glTexStorage2D(target, 1, GL_DEPTH_COMPONENT32F, size, size);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    return tex;
+}
+
+void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo) {
+    glGenFramebuffers(count, fbo);
+    for (int i = 0; i < count; ++i) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
+        if (target == GL_TEXTURE_CUBE_MAP)
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                   static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i), tex, 0);
+        else
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex, 0, i);
+        glDrawBuffer(GL_NONE);
+        glReadBuffer(GL_NONE);
+    }
+}
+
+void set_nearest_clamped(GLuint tex) {
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+void begin_offset_depth_pass(GLuint depth_prog) {
+    glUseProgram(depth_prog);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(2.f, 2.f);
+}
+
+void clear_depth_layer(GLuint fbo, int size) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, size, size);
+    glClear(GL_DEPTH_BUFFER_BIT);
+}
+
+void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4* vps, int count, int size,
+                         GLuint depth_prog, bool every_mesh) {
+    begin_offset_depth_pass(depth_prog);
+    for (int i = 0; i < count; ++i) {
+        clear_depth_layer(fbo[i], size);
+        glUniformMatrix4fv(glGetUniformLocation(depth_prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(vps[i]));
+        if (every_mesh)
+            for (const auto& m : gpu.meshes) skgl::draw_mesh(m);
+        else
+            draw_casters(gpu);
+    }
     glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
@@ -365,9 +506,7 @@ public:
         if (!prog) return RunResult::failure(log);
         glUseProgram(prog);
         set_light_uniforms(prog, ctx.scene.light);
-        r.gpu_ms = skgl::median_frame_ms([&] { pass.draw(prog, ctx.gpu); }, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, [&] { pass.draw(prog, ctx.gpu); });
         glDeleteProgram(prog);
         return r;
     }
@@ -394,51 +533,15 @@ public:
         const int size = static_cast<int>(params.get("size", 1024));
         if (ctx.scene.light.type == LightType::Point) return run_cube(ctx, size);
         RunResult r;
-        std::string why;
         const auto c0 = Clock::now();
         const LightMatrices lm = fit_light(ctx.scene);
         const glm::mat4 light_vp = lm.proj * lm.view;
         r.cpu_ms = ms_since(c0);
-        skgl::Target sm;
-        if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
-        VisibilityPass pass;
-        if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
-        const std::string snippet = load_snippet("shadow_map", why);
-        if (snippet.empty()) return RunResult::failure(why);
-        std::string log;
-        GLuint depth = compile_depth_only_program(log);
-        GLuint vis = compile_visibility_program(snippet, R"(
-layout(binding = 2) uniform sampler2DShadow u_shadow_map;
-uniform mat4 u_light_view_proj;
-float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
-}
-)", log);
-        if (!depth || !vis) return RunResult::failure(log);
-        glUseProgram(vis);
-        set_light_uniforms(vis, ctx.scene.light);
-        glUniformMatrix4fv(glGetUniformLocation(vis, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp));
-        const std::size_t casters = caster_count(ctx.gpu);
-        auto frame = [&] {
-            render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_2D, sm.depth);
-            pass.draw(vis, ctx.gpu);
-        };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
-        r.gpu_bytes = std::int64_t(size) * size * 4;
         r.work = {{"shadow_map_texels", double(size) * size},
                   {"triangles_drawn", double(ctx.gpu.caster_triangles)},
-                  {"casters_drawn", double(casters)},
+                  {"casters_drawn", double(caster_count(ctx.gpu))},
                   {"casters_culled", 0.0}};
-        const std::string err = skgl::gl_error_string();
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        skgl::destroy_target(sm);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return run_single_shadow_map(ctx, std::move(r), size, light_vp, plain_shadow_map_lookup());
     }
 
 private:
@@ -470,21 +573,11 @@ private:
         glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
         glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
         GLuint fbo[6];
-        glGenFramebuffers(6, fbo);
-        for (int f = 0; f < 6; ++f) {
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo[f]);
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f),
-                                   cube, 0);
-            glDrawBuffer(GL_NONE);
-            glReadBuffer(GL_NONE);
-        }
+        make_depth_layer_fbos(GL_TEXTURE_CUBE_MAP, cube, 6, fbo);
         VisibilityPass pass;
         if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
-        const std::string snippet = load_snippet("shadow_map", why);
-        if (snippet.empty()) return RunResult::failure(why);
-        std::string log;
-        GLuint depth = compile_depth_only_program(log);
-        GLuint vis = compile_visibility_program(snippet, R"(
+        GLuint depth = 0, vis = 0;
+        if (!compile_shadow_programs("shadow_map", R"(
 layout(binding = 2) uniform samplerCubeShadow u_cube;
 uniform vec3 u_cube_light;
 uniform float u_cube_near;
@@ -492,49 +585,25 @@ uniform float u_cube_far;
 float technique_visibility(vec3 p, vec3 n) {
     return sk_cube_shadow_visibility(u_cube, u_cube_light, p, u_cube_near, u_cube_far);
 }
-)", log);
-        if (!depth || !vis) return RunResult::failure(log);
-        glUseProgram(vis);
-        set_light_uniforms(vis, L);
+)", L, depth, vis, why))
+            return RunResult::failure(why);
         glUniform3fv(glGetUniformLocation(vis, "u_cube_light"), 1, glm::value_ptr(L.position));
         glUniform1f(glGetUniformLocation(vis, "u_cube_near"), near_plane);
         glUniform1f(glGetUniformLocation(vis, "u_cube_far"), far_plane);
-        auto frame = [&] {
-            glUseProgram(depth);
-            glEnable(GL_DEPTH_TEST);
-            glDepthFunc(GL_LESS);
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
-            for (int f = 0; f < 6; ++f) {
-                glBindFramebuffer(GL_FRAMEBUFFER, fbo[f]);
-                glViewport(0, 0, size, size);
-                glClear(GL_DEPTH_BUFFER_BIT);
-                glUniformMatrix4fv(glGetUniformLocation(depth, "u_light_view_proj"), 1, GL_FALSE,
-                                   glm::value_ptr(face_vp[f]));
-                for (std::size_t i = 0; i < ctx.gpu.meshes.size(); ++i)
-                    if (ctx.gpu.caster[i]) skgl::draw_mesh(ctx.gpu.meshes[i]);
-            }
-            glDisable(GL_POLYGON_OFFSET_FILL);
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_CUBE_MAP, cube);
-            pass.draw(vis, ctx.gpu);
-        };
-        r.gpu_ms = skgl::median_frame_ms(frame, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
-        r.visibility = skgl::read_color_float(pass.target, 0, 1);
+        measure_visibility(r, ctx, pass, [&] {
+            render_depth_layers(ctx.gpu, fbo, face_vp, 6, size, depth);
+            pass.draw(vis, ctx.gpu, GL_TEXTURE_CUBE_MAP, cube);
+        });
         r.gpu_bytes = std::int64_t(size) * size * 4 * 6;
         const std::size_t casters = caster_count(ctx.gpu);
         r.work = {{"shadow_map_texels", 6.0 * size * size},
                   {"triangles_drawn", 6.0 * double(ctx.gpu.caster_triangles)},
                   {"casters_drawn", 6.0 * double(casters)},
                   {"casters_culled", 0.0}};
-        const std::string err = skgl::gl_error_string();
-        glDeleteFramebuffers(6, fbo);
-        glDeleteTextures(1, &cube);
-        glDeleteProgram(depth);
-        glDeleteProgram(vis);
-        if (!err.empty()) return RunResult::failure(err);
-        return r;
+        return finish_run(std::move(r), {depth, vis}, [&] {
+            glDeleteFramebuffers(6, fbo);
+            glDeleteTextures(1, &cube);
+        });
     }
 };
 
