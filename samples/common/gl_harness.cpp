@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -353,6 +354,11 @@ std::string gl_error_string() {
         }
     }
     return first;
+}
+
+int no_context_exit_code() {
+    const char* v = std::getenv("SHADOWKIT_REQUIRE_GL");
+    return v && *v && std::string(v) != "0" ? 1 : kSkipReturnCode;
 }
 
 }  // namespace skgl

@@ -40,6 +40,9 @@ std::unique_ptr<Context> create_context(std::string& why);
 
 // Process exit code for "skipped" that tests register with CTest's SKIP_RETURN_CODE.
 constexpr int kSkipReturnCode = 77;
+// The exit code when no GL context can be had: kSkipReturnCode, or 1 (a failure) when the
+// environment sets SHADOWKIT_REQUIRE_GL (CI does: there the GL tests must run, never skip).
+int no_context_exit_code();
 
 struct ShaderStage {
     GLenum type;         // GL_VERTEX_SHADER, GL_FRAGMENT_SHADER, ...

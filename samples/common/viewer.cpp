@@ -180,7 +180,7 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
         auto gl = skgl::create_context(why);
         if (!gl) {
             std::fprintf(stderr, "%s: no headless GL context: %s\n", argv[0], why.c_str());
-            return 77;  // CTest: skipped
+            return skgl::no_context_exit_code();  // 77: CTest skipped (1 under SHADOWKIT_REQUIRE_GL)
         }
         std::vector<std::uint8_t> rgb;
         int iw = 0, ih = 0;

@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -399,7 +400,14 @@ int main(int argc, char** argv) {
                 r.height = o.height;
                 std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
                 sk::RunContext ctx{scene, gpu, o.frames, 3, &g};
-                sk::RunResult res = t->run(ctx, ps);
+                sk::RunResult res;
+                try {  // a driver that throws (bad_alloc, ...) becomes a failed row, not a crash
+                    res = t->run(ctx, ps);
+                } catch (const std::exception& e) {
+                    res = sk::RunResult::failure(std::string("exception: ") + e.what());
+                } catch (...) {
+                    res = sk::RunResult::failure("exception of unknown type");
+                }
                 if (res.ok && res.visibility.size() != g.kind.size()) {
                     res.ok = false;
                     res.error = "technique returned a visibility image of the wrong size";
