@@ -268,6 +268,27 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     r.frames = ctx.frames;
     r.visibility = skgl::read_color_float(target, 0, 1);
     if (ctx.debug_images) {
+        // the stencil counts of the last frame: red = the raw 8-bit stencil value (the number of
+        // shadow volumes around the pixel's surface point; the GL tests compare it with a CPU ray
+        // count), green and blue = 64 x the count (saturated) to look at
+        {
+            std::vector<std::uint8_t> st(static_cast<std::size_t>(W) * static_cast<std::size_t>(H));
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, target.fbo);
+            glPixelStorei(GL_PACK_ALIGNMENT, 1);
+            glReadPixels(0, 0, W, H, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, st.data());
+            DebugImage sd;
+            sd.name = "stencil counts (red: raw count, grey: 64 x count)";
+            sd.width = W;
+            sd.height = H;
+            sd.rgb.resize(3 * st.size());
+            for (std::size_t k = 0; k < st.size(); ++k) {
+                const auto shown = static_cast<std::uint8_t>(std::min(255, 64 * int(st[k])));
+                sd.rgb[3 * k] = st[k];
+                sd.rgb[3 * k + 1] = shown;
+                sd.rgb[3 * k + 2] = shown;
+            }
+            r.debug.push_back(std::move(sd));
+        }
         // the samples' scissor view: V in grey, each caster's scissor rectangle outlined (red:
         // z-fail caster, green: z-pass caster)
         DebugImage d = grey_debug_image("scissor rectangles (red z-fail, green z-pass)", W, H, r.visibility, 1, 0, 2.f);

@@ -5,7 +5,10 @@
 // bounds must leave V pixel-identical while drawing fewer volume fragments. Also checks (and documents)
 // that the infinite projection does not compare consistently with the G-buffer's finite depth, and runs
 // z-fail with the infinite projection (GL depth with the float32 epsilon, and reversed-Z) at the stiff
-// scales: coordinates at 1e6 and 1e-6, near plane 1e-5 (also with the camera inside a volume).
+// scales: coordinates at 1e6 and 1e-6, near plane 1e-5 (also with the camera inside a volume); and
+// reads the stencil buffer back to compare its counts with a CPU ray count per pixel (lit caster
+// triangles crossed on the way to the light) for those cases, a light at infinity and a light
+// inside the caster's bounding box.
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
@@ -60,12 +63,13 @@ void prepare(const sk::Scene& scene, Prepared& p) {
     REQUIRE_MESSAGE(sk::compute_reference(scene, p.g, opt, p.ref, why), why);
 }
 
-Run run(const sk::Scene& scene, Prepared& p, int method, int scissor, int bounds, int projection = 0) {
+Run run(const sk::Scene& scene, Prepared& p, int method, int scissor, int bounds, int projection = 0,
+        bool debug = false) {
     sk::ParamSet ps{{{"method", double(method)},
                      {"scissor", double(scissor)},
                      {"depth_bounds", double(bounds)},
                      {"projection", double(projection)}}};
-    sk::RunContext ctx{scene, p.gpu, 1, 0, &p.g};
+    sk::RunContext ctx{scene, p.gpu, 1, 0, &p.g, debug};
     Run r;
     r.res = volume_technique().run(ctx, ps);
     REQUIRE_MESSAGE(r.res.ok, r.res.error);
@@ -458,4 +462,163 @@ TEST_CASE("near plane 1e-5 with the camera inside a shadow volume: reversed-Z z-
     CHECK(count_shadowed(p) > r.m.pixels / 10);
     CHECK(r.work("casters_zfail") == 1);
     CHECK(r.m.misclassified <= 0.005);
+}
+
+namespace {
+
+// Möller-Trumbore in double: does the segment o + t d, t in (0, tmax), cross triangle (a, b, c)?
+bool segment_hits(const glm::dvec3& o, const glm::dvec3& d, double tmax, const glm::dvec3& a, const glm::dvec3& b,
+                  const glm::dvec3& c) {
+    const glm::dvec3 e1 = b - a, e2 = c - a, q = glm::cross(d, e2);
+    const double det = glm::dot(e1, q);
+    if (det == 0.0) return false;
+    const double inv = 1.0 / det;
+    const glm::dvec3 s = o - a;
+    const double u = glm::dot(s, q) * inv;
+    if (u < 0.0 || u > 1.0) return false;
+    const glm::dvec3 r = glm::cross(s, e1);
+    const double v = glm::dot(d, r) * inv;
+    if (v < 0.0 || u + v > 1.0) return false;
+    const double t = glm::dot(e2, r) * inv;
+    return t > 0.0 && t < tmax;
+}
+
+// The CPU ray count per pixel: the number of caster triangles that face the light (Everitt-Kilgard
+// 3.2.2 facing) and that the segment from the surface point (lifted along its normal) to the
+// light crosses. With LitOnly caps every lit triangle bounds one prism of shadow, so this is the
+// number of shadow volumes around the point: what z-fail leaves in the stencil buffer. -1 for
+// pixels that are not receivers or face away from the light (as the metrics leave them out).
+// Directional lights: the ray runs 1e3 scene diagonals.
+std::vector<int> cpu_ray_counts(const sk::Scene& s, const sk::GBuffer& g) {
+    struct Tri {
+        glm::dvec3 a, b, c;
+    };
+    struct Caster {
+        glm::dvec3 lo, hi;
+        std::vector<Tri> lit;
+    };
+    const bool dir = s.light.type == sk::LightType::Directional;
+    const glm::dvec3 L(s.light.position), to_light_dir = -glm::normalize(glm::dvec3(s.light.direction));
+    const double diag = glm::length(glm::dvec3(s.bounds_max()) - glm::dvec3(s.bounds_min()));
+    std::vector<Caster> casters;
+    for (const sk::Mesh& m : s.meshes) {
+        if (!m.caster) continue;
+        Caster c{glm::dvec3(1e300), glm::dvec3(-1e300), {}};
+        for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
+            const glm::dvec3 a(m.positions[m.indices[i]]), b(m.positions[m.indices[i + 1]]), d(m.positions[m.indices[i + 2]]);
+            const glm::dvec3 n = glm::cross(b - a, d - a);
+            const double facing = dir ? glm::dot(n, to_light_dir) : glm::dot(n, L - a);
+            if (!(facing > 0.0)) continue;
+            c.lit.push_back({a, b, d});
+            c.lo = glm::min(c.lo, glm::min(a, glm::min(b, d)));
+            c.hi = glm::max(c.hi, glm::max(a, glm::max(b, d)));
+        }
+        if (!c.lit.empty()) casters.push_back(std::move(c));
+    }
+    std::vector<int> out(g.kind.size(), -1);
+    for (std::size_t k = 0; k < g.kind.size(); ++k) {
+        if (g.kind[k] != 1) continue;
+        const glm::dvec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+        const glm::dvec3 n(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+        const glm::dvec3 o = p + n * (1e-5 * diag);  // the reference's documented offset
+        const glm::dvec3 d = dir ? to_light_dir * (1e3 * diag) : L - o;
+        if (!(glm::dot(n, d) > 0.0)) continue;  // faces away from the light: in shadow by facing alone
+        int count = 0;
+        for (const Caster& c : casters) {
+            // slab test of the segment against the caster's box first
+            double t0 = 0.0, t1 = 1.0;
+            for (int a = 0; a < 3 && t0 <= t1; ++a) {
+                if (d[a] == 0.0) {
+                    if (o[a] < c.lo[a] || o[a] > c.hi[a]) t0 = 2.0;
+                    continue;
+                }
+                double ta = (c.lo[a] - o[a]) / d[a], tb = (c.hi[a] - o[a]) / d[a];
+                if (ta > tb) std::swap(ta, tb);
+                t0 = std::max(t0, ta);
+                t1 = std::min(t1, tb);
+            }
+            if (t0 > t1) continue;
+            for (const Tri& t : c.lit) count += segment_hits(o, d, 1.0, t.a, t.b, t.c);
+        }
+        out[k] = count;
+    }
+    return out;
+}
+
+struct CountCheck {
+    std::size_t compared = 0, wrong = 0, in_volume = 0, in_two = 0;
+};
+
+// Stencil (red channel of the driver's "stencil counts" debug image) against the CPU ray count on
+// the receiver pixels whose 3x3 neighbourhood has one CPU count (away from volume boundaries, where
+// a pixel centre and the rasterizer's sample may fall on either side).
+CountCheck compare_counts(const sk::Scene& s, const Prepared& p, const Run& r) {
+    const std::vector<int> cpu = cpu_ray_counts(s, p.g);
+    const sk::DebugImage* img = nullptr;
+    for (const auto& d : r.res.debug)
+        if (d.name.rfind("stencil counts", 0) == 0) img = &d;
+    REQUIRE(img != nullptr);
+    const int W = p.g.width, H = p.g.height;
+    REQUIRE(img->width == W);
+    CountCheck c;
+    for (int y = 1; y + 1 < H; ++y)
+        for (int x = 1; x + 1 < W; ++x) {
+            const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
+            if (cpu[k] < 0) continue;
+            bool stable = true;
+            for (int dy = -1; dy <= 1 && stable; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                    stable = stable && cpu[k + static_cast<std::size_t>(dy * W + dx)] == cpu[k];
+            if (!stable) continue;
+            ++c.compared;
+            c.wrong += int(img->rgb[3 * k]) != cpu[k];
+            c.in_volume += cpu[k] >= 1;
+            c.in_two += cpu[k] >= 2;
+        }
+    return c;
+}
+
+void expect_counts(const std::string& what, const sk::Scene& s, Prepared& p, int method, int projection,
+                   std::size_t min_in_volume) {
+    const Run r = run(s, p, method, 1, 1, projection, true);
+    const CountCheck c = compare_counts(s, p, r);
+    MESSAGE(what << " (method " << method << ", projection " << projection << "): stencil != CPU ray count on " << c.wrong
+                 << " of " << c.compared << " pixels; " << c.in_volume << " inside >= 1 volume, " << c.in_two
+                 << " inside >= 2");
+    CHECK(c.compared > p.g.kind.size() / 4);
+    CHECK(c.in_volume >= min_in_volume);
+    CHECK(c.wrong <= c.compared / 2000);  // <= 0.05%
+}
+
+}  // namespace
+
+TEST_CASE("stencil counts equal a CPU ray count per pixel: infinite projection at the stiff cases") {
+    // stack (two boxes: counts up to 2), at scale 1, 1e-6 and 1e6, GL P_inf and reversed-Z
+    sk::Scene stack;
+    REQUIRE(sk::make_builtin_scene("stack", stack));
+    for (float scale : {1.f, 1e-6f, 1e6f}) {
+        const sk::Scene s = scale == 1.f ? stack : scaled(stack, scale);
+        Prepared p;
+        prepare(s, p);
+        for (int projection : {2, 3}) expect_counts(s.name, s, p, 0, projection, 1000);
+    }
+    // light at infinity (outdoor: directional), light inside the caster's bounding box (room: a
+    // point light inside the closed room, which is itself a caster)
+    for (const char* name : {"outdoor", "room"}) {
+        sk::Scene s;
+        REQUIRE(sk::make_builtin_scene(name, s));
+        Prepared p;
+        prepare(s, p);
+        for (int projection : {2, 3}) expect_counts(name, s, p, 1, projection, 300);
+    }
+    // camera inside a volume with the near plane (1e-5) cutting it, reversed-Z
+    sk::Scene t = floor_scene("under_table_counts", 6.f);
+    t.meshes.push_back(sk::make_box("table_top", {0.f, 1.2f, 0.f}, {1.5f, 0.05f, 1.5f}));
+    t.light.position = {0.2f, 4.f, 0.1f};
+    t.camera.eye = {0.3f, 0.6f, 0.4f};
+    t.camera.target = {0.f, 0.f, 3.5f};
+    t.camera.znear = 1e-5f;
+    Prepared p;
+    prepare(t, p);
+    expect_counts("camera in shadow, near 1e-5", t, p, 1, 3, 10000);
 }
