@@ -1,6 +1,6 @@
 // shadowkit-report: every technique's error against a ray-traced reference, against its run time.
 //
-//   shadowkit-report [--out DIR] [--scenes a,b] [--techniques x,y] [--mesh FILE]... [--size WxH]
+//   shadowkit-report [--out DIR] [--scenes a,b|default] [--techniques x,y] [--mesh FILE]... [--size WxH]
 //                    [--frames N] [--light-sizes k,k|none] [--quick] [--list]
 //
 // Light sizes: `contact`, `overlap`, `stack`, `room` and every --mesh scene are also run with the
@@ -115,7 +115,7 @@ bool parse_int(const char* s, int& v) {
 }
 
 const char* kUsage =
-    "usage: shadowkit-report [--out DIR] [--scenes a,b] [--techniques x,y] [--mesh FILE]... [--size WxH]\n"
+    "usage: shadowkit-report [--out DIR] [--scenes a,b|default] [--techniques x,y] [--mesh FILE]... [--size WxH]\n"
     "                        [--frames N] [--light-sizes k,k|none] [--quick] [--list]\n";
 
 std::string cpu_name() {
@@ -267,6 +267,20 @@ int main(int argc, char** argv) {
         for (const auto& n : scene_names)
             if (n != "square") wanted.push_back(n);
         run_prt = true;
+    }
+    // `--scenes default` (alone or with others) stands for the default set, e.g. beside --mesh
+    if (std::find(wanted.begin(), wanted.end(), "default") != wanted.end()) {
+        std::vector<std::string> expanded;
+        for (const auto& n : wanted) {
+            if (n != "default") {
+                expanded.push_back(n);
+                continue;
+            }
+            for (const auto& b : scene_names)
+                if (b != "square") expanded.push_back(b);
+            expanded.push_back("prt");
+        }
+        wanted = std::move(expanded);
     }
     for (const auto& n : wanted) {
         if (n == "prt") {

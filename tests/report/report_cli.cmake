@@ -23,6 +23,7 @@ endfunction()
 
 expect_fail("unknown scene 'nosuch'" --scenes nosuch)
 expect_fail("unknown technique 'nosuch'" --techniques nosuch)
+expect_fail("unknown scene 'nosuch'" --scenes default,nosuch)
 expect_fail("--size must be between" --size 0x10)
 expect_fail("--size wants WxH" --size 12)
 expect_fail("--frames wants a positive integer" --frames 0)
