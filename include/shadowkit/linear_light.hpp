@@ -327,8 +327,10 @@ inline int linear_light_skin_cell(const float d[4], float threshold, int tri[2][
         hi = std::max(hi, d[k]);
     }
     if (!linear_light_is_discontinuity(lo, hi, threshold)) return 0;
-    const float mid = 0.5f * (lo + hi);
-    for (int k = 0; k < 4; ++k) value[k] = d[k] > mid ? 1.f : 0.f;
+    // midpoint in double: 0.5f * (lo + hi) overflows near FLT_MAX and rounds onto hi for adjacent
+    // floats, which left a cell with no receiver corner (found by fuzz_linear_light)
+    const double mid = 0.5 * (static_cast<double>(lo) + static_cast<double>(hi));
+    for (int k = 0; k < 4; ++k) value[k] = static_cast<double>(d[k]) < mid ? 0.f : 1.f;
     static const int cand[2][3] = {{0, 1, 3}, {0, 3, 2}};
     for (int t = 0; t < 2; ++t)
         for (int k = 0; k < 3; ++k) tri[t][k] = cand[t][k];

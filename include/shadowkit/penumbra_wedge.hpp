@@ -383,7 +383,9 @@ inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSp
             return W;
         }
     }
-    const glm::dvec3 nh = pw_cross(E0 - c, E1 - c);
+    // = cross(e0 - c, e1 - c), but e1 - c cancels against e0 - c for an edge far shorter than its
+    // distance to the light (the plane then missed the edge; found by fuzz_penumbra_wedge)
+    const glm::dvec3 nh = pw_cross(E0 - c, ed);
     const double nl = pw_len(nh);
     if (!(nl > 0.0) || !std::isfinite(nl)) {
         W.status = PenumbraWedgeStatus::RadialEdge;
@@ -417,6 +419,10 @@ inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSp
         const glm::dvec3 through = c + r * u;
         W.shape = PenumbraWedgeShape::HalfSpace;
         W.outer_bound = W.inner_bound = W.side[0] = W.side[1] = pw_plane_f(u, through);
+        W.outer_bound.w += padding;  // padding moves every bounding plane outward, here too
+        W.inner_bound.w += padding;
+        W.side[0].w += padding;
+        W.side[1].w += padding;
         W.hard_plane = pw_plane_f(nhat, c);
         W.apex[0] = W.apex[1] = glm::vec3(through);
         W.ray_outer[0] = W.ray_outer[1] = W.ray_inner[0] = W.ray_inner[1] = glm::vec3(u);

@@ -3,7 +3,9 @@
 // Invariants (trap on violation): Ok wedges have finite unit-normal planes and contain their own edge
 // endpoints and apex (relative tolerance); skipped wedges are never "inside"; coverage is finite with
 // |c| <= 1/2; visibility is in [0, 1]; hulls are finite with indices < 6; scissor rectangles lie in the
-// viewport with 0 <= depth_min <= depth_max <= 1.
+// viewport with 0 <= depth_min <= depth_max <= 1; penumbra_plane_eval: hard plane through c, e0, e1,
+// bounding planes tangent to the ball moved out by the padding, point_in_(half_)wedge = its plane tests,
+// finite and linear in the plane for finite input.
 #include <shadowkit/penumbra_wedge.hpp>
 
 #include "fuzz_input.hpp"
@@ -100,5 +102,56 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     (void)vt;
     const shadowkit::PenumbraSphereLight rl = shadowkit::penumbra_rect_bounding_sphere(e0, e1, p);
     if (all_finite(e0) && all_finite(e1) && all_finite(p) && std::isfinite(rl.radius) && rl.radius < 0.0f) __builtin_trap();
+
+    // penumbra_plane_eval: the inside test (>= 0) of every wedge plane
+    if (w.status == shadowkit::PenumbraWedgeStatus::Ok) {
+        const double scale = std::max({mag(e0), mag(e1), mag(L.centre), double(L.radius), double(pad), 1.0});
+        const double tol = 1e-4 * scale;
+        if (scale < 1e30) {
+            // hard plane through c, e0, e1
+            for (const glm::vec3& q : {L.centre, e0, e1})
+                if (std::fabs(shadowkit::penumbra_plane_eval(w.hard_plane, q)) > tol) __builtin_trap();
+            // the four bounding planes are tangent to the ball (ball outside), moved outward by the padding
+            for (const glm::vec4& q : {w.outer_bound, w.inner_bound, w.side[0], w.side[1]}) {
+                const double c = shadowkit::penumbra_plane_eval(q, L.centre);
+                if (std::fabs(c - (double(pad) - double(L.radius))) > tol) __builtin_trap();
+            }
+        }
+        // point_in_wedge / point_in_half_wedge are the documented plane_eval tests
+        const float t = std::fabs(g(R));
+        if (std::isfinite(t)) {
+            const double mt = -double(t);
+            const bool inside = shadowkit::penumbra_plane_eval(w.outer_bound, p) >= mt &&
+                                shadowkit::penumbra_plane_eval(w.inner_bound, p) >= mt &&
+                                shadowkit::penumbra_plane_eval(w.side[0], p) >= mt &&
+                                shadowkit::penumbra_plane_eval(w.side[1], p) >= mt;
+            if (shadowkit::point_in_wedge(p, w, t) != inside) __builtin_trap();
+            const double hv = shadowkit::penumbra_plane_eval(w.hard_plane, p);
+            if (shadowkit::point_in_half_wedge(p, w, true, t) != (inside && hv >= mt)) __builtin_trap();
+            if (shadowkit::point_in_half_wedge(p, w, false, t) != (inside && hv <= double(t))) __builtin_trap();
+            if (inside && !std::isnan(hv) && !shadowkit::point_in_half_wedge(p, w, true, t) &&
+                !shadowkit::point_in_half_wedge(p, w, false, t))
+                __builtin_trap();  // a point in the wedge is in one of its halves
+        }
+    }
+    // arbitrary planes and points (NaN/Inf): finite for finite input; linear in the plane
+    for (int it = 0; it < 2; ++it) {
+        const bool rawbits = R.boolean();
+        const glm::vec4 pl = rawbits ? glm::vec4(R.f32(), R.f32(), R.f32(), R.f32()) : glm::vec4(v3(R), g(R));
+        const glm::vec3 x = rawbits ? R.vec3() : v3(R);
+        const double e = shadowkit::penumbra_plane_eval(pl, x);
+        if (!all_finite(pl) || !all_finite(x)) continue;
+        if (!std::isfinite(e)) __builtin_trap();
+        if (shadowkit::penumbra_plane_eval(-pl, x) != -e) __builtin_trap();  // exact: negation commutes with rounding
+        const glm::vec4 pl2 = 2.0f * pl;
+        if (all_finite(pl2) && shadowkit::penumbra_plane_eval(pl2, x) != 2.0 * e) __builtin_trap();
+        if (shadowkit::penumbra_plane_eval(pl, glm::vec3(0.0f)) != double(pl.w)) __builtin_trap();
+        // error of the double evaluation against an exact-ish long double one
+        const long double ref = static_cast<long double>(pl.x) * x.x + static_cast<long double>(pl.y) * x.y +
+                                static_cast<long double>(pl.z) * x.z + static_cast<long double>(pl.w);
+        const long double m = std::fabs(static_cast<long double>(pl.x) * x.x) + std::fabs(static_cast<long double>(pl.y) * x.y) +
+                              std::fabs(static_cast<long double>(pl.z) * x.z) + std::fabs(static_cast<long double>(pl.w));
+        if (std::fabs(static_cast<long double>(e) - ref) > 1e-15L * m) __builtin_trap();
+    }
     return 0;
 }

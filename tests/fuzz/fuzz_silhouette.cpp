@@ -105,5 +105,62 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (auto& x : per) x.edge_count = in.size(pcap + 4);
     (void)sk::compact_silhouette_chunks(adj, per.data(), chunks, pidx.data(), pflags.data(), pcap);
     if (pidx[2 * pcap] != 0xDEADBEEFu || pflags[pcap] != 0xEE) __builtin_trap();
+
+    // face_light_distance: the facing rule (lit iff d > 0) that compute_facing applied to every kept face.
+    // Reversed winding negates d (exactly without FMA contraction; bound from the terms' magnitudes).
+    const auto negated = [](double d2, double d, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c3, const glm::vec4& Lq) {
+        const glm::dvec3 A(a), e1 = glm::dvec3(b) - A, e2 = glm::dvec3(c3) - A;
+        const double lw = Lq.w;
+        const glm::dvec3 q(double(Lq.x) - lw * A.x, double(Lq.y) - lw * A.y, double(Lq.z) - lw * A.z);
+        const double m = (std::fabs(e1.x) + std::fabs(e1.y) + std::fabs(e1.z)) *
+                         (std::fabs(e2.x) + std::fabs(e2.y) + std::fabs(e2.z)) * (std::fabs(q.x) + std::fabs(q.y) + std::fabs(q.z));
+        return std::fabs(d2 + d) <= 1e-12 * m;
+    };
+    for (std::size_t f = 0; f < fc; ++f) {
+        const glm::vec3 &A = pos[adj.faces[3 * f]], &B = pos[adj.faces[3 * f + 1]], &C = pos[adj.faces[3 * f + 2]];
+        const double d = sk::face_light_distance(A, B, C, L);
+        if (!std::isfinite(d)) __builtin_trap();  // finite positions and a valid light
+        if ((d > 0.0) != (facing[f] != 0)) __builtin_trap();
+        if (!negated(sk::face_light_distance(A, C, B, L), d, A, B, C, L)) __builtin_trap();  // reversed winding
+    }
+    // ... and on arbitrary triangles and lights (NaN/Inf, degenerate, w < 0)
+    for (int it = 0; it < 4; ++it) {
+        const bool raw = (in.u8() & 1) != 0;
+        const glm::vec3 A = in.vec3(raw, 0.5f), B = in.vec3(raw, 0.5f);
+        const std::uint8_t sel = in.u8();
+        const glm::vec3 C = (sel & 1) ? A : ((sel & 2) ? B : in.vec3(raw, 0.5f));
+        const glm::vec4 Lx((sel & 4) ? in.interesting_f32() : in.value(raw, 0.5f), in.value(raw, 0.5f),
+                           in.value(raw, 0.5f), (sel & 8) ? 0.0f : ((sel & 16) ? in.interesting_f32() : in.value(raw, 0.5f)));
+        const bool valid = sk::valid_light(Lx);
+        const bool lfin = std::isfinite(Lx.x) && std::isfinite(Lx.y) && std::isfinite(Lx.z) && std::isfinite(Lx.w);
+        if (valid != (lfin && Lx.w >= 0.0f && !(Lx.x == 0.0f && Lx.y == 0.0f && Lx.z == 0.0f && Lx.w == 0.0f)))
+            __builtin_trap();
+        const double d = sk::face_light_distance(A, B, C, Lx);
+        const bool fin = shadowkit_fuzz::all_finite(A) && shadowkit_fuzz::all_finite(B) && shadowkit_fuzz::all_finite(C) && lfin;
+        if (fin && !std::isfinite(d)) __builtin_trap();
+        if (fin && (A == B || B == C || C == A) && d != 0.0) __builtin_trap();  // zero-area face: never lit
+        if (fin && !negated(sk::face_light_distance(A, C, B, Lx), d, A, B, C, Lx)) __builtin_trap();
+        // homogeneous light: scaling (x, y, z, w) by 2 doubles d exactly (no rounding in the scaling)
+        const glm::vec4 L2 = 2.0f * Lx;
+        if (fin && shadowkit_fuzz::all_finite(L2) && sk::face_light_distance(A, B, C, L2) != 2.0 * d) __builtin_trap();
+    }
+    // silhouette_chunk_offset: balanced split of the edge list, 0 for invalid arguments
+    {
+        const std::size_t ne = adj.edges.size();
+        const std::size_t cnt = (in.u8() & 1) ? static_cast<std::size_t>(in.u64()) : in.size(70);
+        const std::size_t probe = (in.u8() & 1) ? static_cast<std::size_t>(in.u64()) : in.size(72);
+        const std::size_t off = sk::silhouette_chunk_offset(adj, probe, cnt);
+        if ((cnt == 0 || probe >= cnt) && off != 0) __builtin_trap();
+        if (off > ne) __builtin_trap();
+        if (cnt != 0 && cnt <= 64) {
+            std::size_t prev = sk::silhouette_chunk_offset(adj, 0, cnt);
+            if (prev != 0) __builtin_trap();
+            for (std::size_t c2 = 1; c2 <= cnt; ++c2) {
+                const std::size_t next = c2 < cnt ? sk::silhouette_chunk_offset(adj, c2, cnt) : ne;
+                if (next < prev || next - prev < ne / cnt || next - prev > ne / cnt + 1) __builtin_trap();
+                prev = next;
+            }
+        }
+    }
     return 0;
 }

@@ -280,3 +280,24 @@ TEST_CASE("stiff input: NaN, huge coordinates, degenerate boxes, receiver on the
     // shade clamps and treats NaN as the default
     CHECK(sk::linear_light_shade(true, nan, true, 2.f) == doctest::Approx(1.5f));
 }
+
+TEST_CASE("skin cell midpoint at the float extremes: one occluder and one receiver corner (fuzz regression)") {
+    // Found by fuzz_linear_light: 0.5f * (lo + hi) overflowed near FLT_MAX and rounded onto hi for
+    // adjacent floats, so no corner was a receiver. Expected by hand: nearer than the midpoint -> 0.
+    const float one_up = std::nextafter(1.f, 2.f), two_up = std::nextafter(one_up, 2.f);
+    const float tiny = std::numeric_limits<float>::denorm_min();
+    const struct {
+        float d[4];
+        float threshold;
+    } cases[] = {{{1e38f, 3e38f, 1e38f, 3e38f}, 0.5f}, {{one_up, two_up, one_up, two_up}, 0.f},
+                 {{tiny, 2 * tiny, tiny, 2 * tiny}, 0.f}};
+    for (const auto& c : cases) {
+        int tri[2][3];
+        float value[4];
+        REQUIRE(sk::linear_light_skin_cell(c.d, c.threshold, tri, value) == 2);
+        CHECK(value[0] == 0.f);
+        CHECK(value[1] == 1.f);
+        CHECK(value[2] == 0.f);
+        CHECK(value[3] == 1.f);
+    }
+}

@@ -978,3 +978,17 @@ TEST_CASE("depth bounds: fragments a wedge pass shades on a floor scene, with an
     CHECK(frag_db <= frag);
     CHECK(frag_db >= useful);
 }
+
+TEST_CASE("hard plane of a very short edge far from the light passes through the edge (fuzz regression)") {
+    // Found by fuzz_penumbra_wedge: cross(e0 - c, e1 - c) cancels when |e1 - e0| << |e0 - c|; the
+    // plane then missed e0 by up to 5.7 units. The plane through c, e0, e1 must contain all three
+    // (to rounding of their size), whenever the wedge is built.
+    const sk::PenumbraSphereLight light{{8.f, 92.f, -84.f}, 0.5f};
+    for (float len : {1e-3f, 1e-6f, 1e-9f, 1e-12f}) {
+        const glm::vec3 e0(1.8e-3f, 0.f, 0.f), e1 = e0 + glm::vec3(0.f, 0.f, len);
+        const sk::PenumbraWedge w = sk::penumbra_wedge(e0, e1, light);
+        if (w.status != sk::PenumbraWedgeStatus::Ok) continue;
+        const double scale = 125.0;  // |c|
+        for (const glm::vec3& q : {e0, e1, light.centre}) CHECK(std::abs(sk::penumbra_plane_eval(w.hard_plane, q)) <= 1e-6 * scale);
+    }
+}
