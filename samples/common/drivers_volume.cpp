@@ -219,27 +219,8 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     // scene depth -> own depth-stencil: the G-buffer's (projections 0, 1) or every mesh re-drawn with
     // the volumes' infinite matrix (2; 3 with zero-to-one clip depth, clear 0 and GL_GREATER)
     auto scene_depth = [&]() {
-        if (!own_depth) {
-            volumes::blit_gbuffer_depth(gpu, target.fbo);
-            return;
-        }
-        glDisable(GL_SCISSOR_TEST);
-        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
-        glViewport(0, 0, W, H);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glDepthMask(GL_TRUE);
-        glClearDepth(reversed ? 0.0 : 1.0);
-        glClear(GL_DEPTH_BUFFER_BIT);
-        glClearDepth(1.0);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(reversed ? GL_GREATER : GL_LESS);
-        if (reversed) glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-        glDisable(GL_CULL_FACE);
-        glUseProgram(depth_prog);
-        for (const auto& m : gpu.meshes) skgl::draw_mesh(m);
-        glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-        glDepthFunc(GL_LESS);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        if (own_depth) volumes::draw_scene_depth(gpu, target.fbo, W, H, depth_prog, reversed);
+        else volumes::blit_gbuffer_depth(gpu, target.fbo);
     };
     auto frame = [&]() {
         vol.upload(cache_, draws, indices);  // the CPU stage's output of this frame: each caster's used index range

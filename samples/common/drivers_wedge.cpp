@@ -587,25 +587,9 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
             glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(wedge_count * sizeof(WedgeGpu)), wedges.data());
         }
     };
-    auto scene_depth = [&]() {
-        if (projection == 0) {
-            volumes::blit_gbuffer_depth(gpu, target.fbo);
-            return;
-        }
-        glDisable(GL_SCISSOR_TEST);
-        // projection 1: the scene's depth drawn with P_inf (every mesh, as the G-buffer does)
-        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
-        glViewport(0, 0, W, H);
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glDepthMask(GL_TRUE);
-        glClearDepth(1.0);
-        glClear(GL_DEPTH_BUFFER_BIT);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDisable(GL_CULL_FACE);
-        glUseProgram(depth_prog);
-        for (const auto& m : gpu.meshes) skgl::draw_mesh(m);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    auto scene_depth = [&]() {  // projection 1: the scene's depth drawn with P_inf (every mesh)
+        if (projection == 1) volumes::draw_scene_depth(gpu, target.fbo, W, H, depth_prog, false);
+        else volumes::blit_gbuffer_depth(gpu, target.fbo);
     };
     auto frame_passes = [&](bool cull) {
         scene_depth();

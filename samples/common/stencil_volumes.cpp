@@ -327,6 +327,26 @@ void blit_gbuffer_depth(const SceneGpu& gpu, GLuint fbo) {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
 }
 
+void draw_scene_depth(const SceneGpu& gpu, GLuint fbo, int w, int h, GLuint depth_prog, bool reversed_z) {
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, w, h);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDepthMask(GL_TRUE);
+    glClearDepth(reversed_z ? 0.0 : 1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glClearDepth(1.0);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(reversed_z ? GL_GREATER : GL_LESS);
+    if (reversed_z) glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(depth_prog);
+    for (const auto& m : gpu.meshes) skgl::draw_mesh(m);
+    if (reversed_z) glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
 void clear_stencil() {
     glStencilMask(0xFF);
     glClearStencil(0);

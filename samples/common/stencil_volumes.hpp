@@ -136,6 +136,10 @@ void stencil_pass(const VolumeGpu& gpu_volumes, const VolumeCache& cache, const 
 
 // Blits the G-buffer's depth into fbo's depth (same format), scissor off; leaves fbo bound.
 void blit_gbuffer_depth(const SceneGpu& gpu, GLuint fbo);
+// Re-draws every mesh's depth into fbo (w x h) with depth_prog (its matrix already set): cleared to
+// 1 with GL_LESS, or for reversed_z cleared to 0 with GL_GREATER and zero-to-one clip depth (restored
+// afterwards). Scissor off, no colour writes; leaves fbo bound.
+void draw_scene_depth(const SceneGpu& gpu, GLuint fbo, int w, int h, GLuint depth_prog, bool reversed_z);
 // Stencil = 0 in the bound framebuffer (stencil mask 0xFF).
 void clear_stencil();
 

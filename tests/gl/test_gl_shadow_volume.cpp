@@ -116,6 +116,17 @@ sk::Scene floor_scene(const std::string& name, float floor_half = 4.f) {
     return s;
 }
 
+// A table top over a floor with the camera under it, in the table's shadow volume.
+sk::Scene under_table(const std::string& name, float znear) {
+    sk::Scene s = floor_scene(name, 6.f);
+    s.meshes.push_back(sk::make_box("table_top", {0.f, 1.2f, 0.f}, {1.5f, 0.05f, 1.5f}));
+    s.light.position = {0.2f, 4.f, 0.1f};
+    s.camera.eye = {0.3f, 0.6f, 0.4f};
+    s.camera.target = {0.f, 0.f, 3.5f};
+    s.camera.znear = znear;
+    return s;
+}
+
 // Every method / culling combination on one scene: correct vs the reference, V identical with and
 // without scissor / depth bounds, fewer fragments with them.
 void check_scene_all_params(const sk::Scene& scene, double min_shadow_fraction, bool expect_fewer_fragments) {
@@ -292,11 +303,7 @@ TEST_CASE("non-manifold mesh: three quads sharing an edge cast correct shadows (
 }
 
 TEST_CASE("camera inside a shadow volume: z-fail (forced or chosen) is right, z-pass is not") {
-    sk::Scene s = floor_scene("under_table", 6.f);
-    s.meshes.push_back(sk::make_box("table_top", {0.f, 1.2f, 0.f}, {1.5f, 0.05f, 1.5f}));
-    s.light.position = {0.2f, 4.f, 0.1f};
-    s.camera.eye = {0.3f, 0.6f, 0.4f};  // under the table top: in its shadow
-    s.camera.target = {0.f, 0.f, 3.5f};
+    const sk::Scene s = under_table("under_table", 0.05f);
     Prepared p;
     prepare(s, p);
     const Run zfail = run(s, p, 0, 1, 1);
@@ -448,12 +455,7 @@ TEST_CASE("near plane 1e-5: reversed-Z infinite projection keeps z-fail right wh
 }
 
 TEST_CASE("near plane 1e-5 with the camera inside a shadow volume: reversed-Z z-fail is right") {
-    sk::Scene s = floor_scene("under_table_near", 6.f);
-    s.meshes.push_back(sk::make_box("table_top", {0.f, 1.2f, 0.f}, {1.5f, 0.05f, 1.5f}));
-    s.light.position = {0.2f, 4.f, 0.1f};
-    s.camera.eye = {0.3f, 0.6f, 0.4f};
-    s.camera.target = {0.f, 0.f, 3.5f};
-    s.camera.znear = 1e-5f;
+    const sk::Scene s = under_table("under_table_near", 1e-5f);
     Prepared p;
     prepare(s, p);
     const Run r = run(s, p, 1, 1, 1, 3);
@@ -612,12 +614,7 @@ TEST_CASE("stencil counts equal a CPU ray count per pixel: infinite projection a
         for (int projection : {2, 3}) expect_counts(name, s, p, 1, projection, 300);
     }
     // camera inside a volume with the near plane (1e-5) cutting it, reversed-Z
-    sk::Scene t = floor_scene("under_table_counts", 6.f);
-    t.meshes.push_back(sk::make_box("table_top", {0.f, 1.2f, 0.f}, {1.5f, 0.05f, 1.5f}));
-    t.light.position = {0.2f, 4.f, 0.1f};
-    t.camera.eye = {0.3f, 0.6f, 0.4f};
-    t.camera.target = {0.f, 0.f, 3.5f};
-    t.camera.znear = 1e-5f;
+    const sk::Scene t = under_table("under_table_counts", 1e-5f);
     Prepared p;
     prepare(t, p);
     expect_counts("camera in shadow, near 1e-5", t, p, 1, 3, 10000);
