@@ -1,6 +1,8 @@
 // Internal helpers shared by the technique drivers (samples/common/drivers_*.cpp).
 #pragma once
 
+#include <shadowkit/silhouette.hpp>
+
 #include <chrono>
 #include <functional>
 #include <initializer_list>
@@ -105,6 +107,12 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = nullptr);
 std::size_t caster_count(const SceneGpu& gpu);
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
+// Box around a spot light's cone: the apex and the cap disk at the farthest corner of lo..hi, the half
+// angle clamped to max_half_angle.
+void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, float max_half_angle, glm::vec3& clo,
+                   glm::vec3& chi);
+// Edge adjacency of a caster mesh (silhouette.hpp); false with `error` naming the mesh and the status.
+bool build_caster_adjacency(const Mesh& m, shadowkit::EdgeAdjacency& adj, std::string& error);
 
 // The emitter's fraction above a receiver's tangent plane (the reference counts light samples below
 // it as unseen): GLSL declaring u_emitter* and `float sk_emitter_horizon(vec3 p, vec3 n)` (rect: 16

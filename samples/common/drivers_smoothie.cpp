@@ -233,12 +233,7 @@ bool Smoothie::prepare(const Scene& scene, const glm::mat4& light_view, const gl
         if (!m.caster || m.indices.empty()) continue;
         CasterData c;
         c.mesh = i;
-        c.adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-        if (c.adj.status != shadowkit::SilhouetteStatus::Ok) {
-            cache_.error = "build_edge_adjacency failed on mesh '" + m.name + "' (status " +
-                           std::to_string(static_cast<int>(c.adj.status)) + ")";
-            return false;
-        }
+        if (!build_caster_adjacency(m, c.adj, cache_.error)) return false;
         const std::size_t fc = c.adj.face_count();
         c.face_normal.resize(fc);
         c.directed.reserve(3 * fc);

@@ -42,17 +42,8 @@ void receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
     hi = s.bounds_max();
     const Light& L = s.light;
     if (L.type != LightType::Spot) return;
-    float far_d = 0.f;
-    for (int i = 0; i < 8; ++i) {
-        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-        far_d = std::max(far_d, glm::length(c - L.position));
-    }
-    const glm::vec3 d = glm::normalize(L.direction);
-    const glm::vec3 cap = L.position + d * far_d;
-    const float r = far_d * std::tan(std::min(L.spot_half_angle, 1.5f));
-    // the cap disk's extent along each axis: r * sqrt(1 - d_axis^2)
-    const glm::vec3 ext = r * glm::sqrt(glm::max(glm::vec3(0.f), 1.f - d * d));
-    const glm::vec3 clo = glm::min(L.position, cap - ext), chi = glm::max(L.position, cap + ext);
+    glm::vec3 clo, chi;
+    spot_cone_box(L, lo, hi, 1.5f, clo, chi);
     lo = glm::max(lo, clo);
     hi = glm::min(hi, chi);
 }

@@ -21,16 +21,8 @@ void light_receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
     const float pad = 1e-4f * std::max(1e-6f, glm::length(hi - lo));
     const Light& L = s.light;
     if (L.type == LightType::Spot && L.spot_half_angle < 1.5f) {
-        float far_d = 0.f;
-        for (int i = 0; i < 8; ++i) {
-            const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-            far_d = std::max(far_d, glm::length(c - L.position));
-        }
-        const glm::vec3 d = glm::normalize(L.direction);
-        const glm::vec3 cap = L.position + d * far_d;
-        const float r = far_d * std::tan(L.spot_half_angle);
-        const glm::vec3 ext = r * glm::sqrt(glm::max(glm::vec3(0.f), 1.f - d * d));
-        const glm::vec3 clo = glm::min(L.position, cap - ext), chi = glm::max(L.position, cap + ext);
+        glm::vec3 clo, chi;
+        spot_cone_box(L, lo, hi, 1.5f, clo, chi);
         const glm::vec3 nlo = glm::max(lo, clo), nhi = glm::min(hi, chi);
         if (nlo.x <= nhi.x && nlo.y <= nhi.y && nlo.z <= nhi.z) {
             lo = nlo;
@@ -52,12 +44,7 @@ bool VolumeCache::prepare(const Scene& scene, std::uint64_t salt) {
         if (!m.caster || m.indices.empty()) continue;
         CasterData c;
         c.mesh = i;
-        c.adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-        if (c.adj.status != shadowkit::SilhouetteStatus::Ok) {
-            error = "build_edge_adjacency failed on mesh '" + m.name + "' (status " +
-                    std::to_string(static_cast<int>(c.adj.status)) + ")";
-            return false;
-        }
+        if (!build_caster_adjacency(m, c.adj, error)) return false;
         welded += c.adj.welded_vertices;
         boundary += c.adj.boundary_edges;
         nonmanifold += c.adj.nonmanifold_edges.size();

@@ -485,6 +485,30 @@ void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi) {
     }
 }
 
+void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, float max_half_angle, glm::vec3& clo,
+                   glm::vec3& chi) {
+    float far_d = 0.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+        far_d = std::max(far_d, glm::length(c - L.position));
+    }
+    const glm::vec3 d = glm::normalize(L.direction);
+    const glm::vec3 cap = L.position + d * far_d;
+    const float r = far_d * std::tan(std::min(L.spot_half_angle, max_half_angle));
+    // the cap disk's extent along each axis: r * sqrt(1 - d_axis^2)
+    const glm::vec3 ext = r * glm::sqrt(glm::max(glm::vec3(0.f), 1.f - d * d));
+    clo = glm::min(L.position, cap - ext);
+    chi = glm::max(L.position, cap + ext);
+}
+
+bool build_caster_adjacency(const Mesh& m, shadowkit::EdgeAdjacency& adj, std::string& error) {
+    adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+    if (adj.status == shadowkit::SilhouetteStatus::Ok) return true;
+    error = "build_edge_adjacency failed on mesh '" + m.name + "' (status " + std::to_string(static_cast<int>(adj.status)) +
+            ")";
+    return false;
+}
+
 namespace {
 
 // --------------------------------------------------------------------------- unshadowed (V = 1)

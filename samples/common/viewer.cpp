@@ -52,13 +52,11 @@ std::vector<std::uint8_t> shade(const Scene& scene, const GBuffer& g, const std:
     return rgb;
 }
 
-// view 0: the shaded scene; view k > 0: the technique's k-th debug image (if it has one).
-bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, int view, std::vector<std::uint8_t>& rgb,
-            int& out_w, int& out_h, std::string& view_name, std::string& why, double* cpu_ms = nullptr,
-            double* gpu_ms = nullptr) {
-    SceneGpu gpu;
-    GBuffer g;
-    if (!prepare_scene_gpu(scene, w, h, gpu, g, why)) return false;
+// view 0: the shaded scene; view k > 0: the technique's k-th debug image (if it has one). gpu / g:
+// the scene's G-buffer (it depends on the camera and the meshes, not on the light).
+bool render_prepared(const Scene& scene, const SceneGpu& gpu, const GBuffer& g, Technique& t, const ParamSet& ps, int w,
+                     int h, int view, std::vector<std::uint8_t>& rgb, int& out_w, int& out_h, std::string& view_name,
+                     std::string& why, double* cpu_ms = nullptr, double* gpu_ms = nullptr) {
     RunContext ctx{scene, gpu, 1, 0, &g, view > 0};
     RunResult r = t.run(ctx, ps);
     if (!r.ok) {
@@ -80,6 +78,14 @@ bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, 
     out_h = h;
     view_name = view > 0 ? "shaded (no debug image " + std::to_string(view) + ")" : "shaded";
     return true;
+}
+
+bool render(const Scene& scene, Technique& t, const ParamSet& ps, int w, int h, int view, std::vector<std::uint8_t>& rgb,
+            int& out_w, int& out_h, std::string& view_name, std::string& why) {
+    SceneGpu gpu;
+    GBuffer g;
+    if (!prepare_scene_gpu(scene, w, h, gpu, g, why)) return false;
+    return render_prepared(scene, gpu, g, t, ps, w, h, view, rgb, out_w, out_h, view_name, why);
 }
 
 // The sweep entry plus the technique's live-only parameters (at their defaults, unless set).
@@ -191,6 +197,12 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
         const Scene base = scene;
         const glm::vec3 centre = 0.5f * (base.bounds_min() + base.bounds_max());
         std::vector<double> cpu(static_cast<std::size_t>(o.frames)), gpu(cpu.size());
+        SceneGpu scene_gpu;  // the G-buffer does not depend on the light: prepared once
+        GBuffer gbuf;
+        if (!prepare_scene_gpu(scene, o.width, o.height, scene_gpu, gbuf, why)) {
+            std::fprintf(stderr, "%s: %s\n", argv[0], why.c_str());
+            return 1;
+        }
         for (int f = 0; f < o.frames; ++f) {
             const float ang = 6.2831853f * float(f) / float(o.frames);
             const float c = std::cos(ang), sn = std::sin(ang);
@@ -200,8 +212,8 @@ int run_viewer(int argc, char** argv, const std::vector<std::string>& technique_
                 scene.light.position = centre + turn(base.light.position - centre);
                 scene.light.direction = turn(base.light.direction);
             }
-            if (!render(scene, *tech, ps, o.width, o.height, o.view, rgb, iw, ih, view_name, why,
-                        &cpu[static_cast<std::size_t>(f)], &gpu[static_cast<std::size_t>(f)])) {
+            if (!render_prepared(scene, scene_gpu, gbuf, *tech, ps, o.width, o.height, o.view, rgb, iw, ih, view_name, why,
+                                 &cpu[static_cast<std::size_t>(f)], &gpu[static_cast<std::size_t>(f)])) {
                 std::fprintf(stderr, "%s: frame %d: %s\n", argv[0], f, why.c_str());
                 return 1;
             }

@@ -54,9 +54,8 @@ struct Options {
     bool light_sizes_set = false;
 };
 
-// Scenes with light-size variants, and the techniques run on the variants.
+// Scenes with light-size variants (the techniques run on them: skr::kLightSizeTechniques).
 const std::set<std::string> kLightSizeScenes = {"contact", "overlap", "stack", "room"};
-const std::set<std::string> kLightSizeTechniques = {"pcss", "smoothie", "penumbra_wedges"};
 
 std::string light_text(const sk::Light& L) {
     char b[96];
@@ -298,7 +297,6 @@ int main(int argc, char** argv) {
         scenes.push_back(std::move(s));
     }
     // light-size variants, right after the scenes they resize
-    std::set<std::string> variants;
     std::vector<std::string> variant_base;  // per scene: the scene it resizes ("" for none)
     {
         const std::size_t mesh_first = scenes.size() - o.meshes.size();
@@ -314,7 +312,6 @@ int main(int argc, char** argv) {
             for (double k : ks) {
                 sk::Scene v;
                 if (!resize_light(scenes[i], k, v)) continue;
-                variants.insert(v.name);
                 all.push_back(std::move(v));
                 variant_base.push_back(scenes[i].name);
             }
@@ -402,7 +399,9 @@ int main(int argc, char** argv) {
         };
         std::vector<Pending> pending;
         for (sk::Technique* t : chosen) {
-            if (variants.count(scene.name) && !kLightSizeTechniques.count(t->name())) continue;
+            if (!si.base.empty() && std::find(std::begin(skr::kLightSizeTechniques), std::end(skr::kLightSizeTechniques),
+                                              t->name()) == std::end(skr::kLightSizeTechniques))
+                continue;  // a light-size variant runs only the soft techniques compared across sizes
             for (const auto& ps : t->sweep(scene, o.quick)) {
                 Pending p;
                 skr::Row& r = p.row;

@@ -208,8 +208,6 @@ static std::vector<std::vector<const SceneInfo*>> light_size_groups(const std::v
     return groups;
 }
 
-static const char* const kSoftOrder[] = {"penumbra_wedges", "pcss", "smoothie"};
-
 // The lowest-RMSE row of a technique on a scene (nullptr if none ran).
 static const Row* best_row(const std::vector<Row>& rows, const std::string& scene, const std::string& tech) {
     const Row* best = nullptr;
@@ -227,7 +225,7 @@ static void write_light_size_markdown(std::ofstream& f, const std::vector<SceneI
     f << "| scene | light | technique | best setting | RMSE | penumbra RMSE | ms |\n|---|---|---|---|---:|---:|---:|\n";
     for (const auto& g : groups)
         for (const SceneInfo* sc : g)
-            for (const char* tech : kSoftOrder) {
+            for (const char* tech : kLightSizeTechniques) {
                 const Row* r = best_row(rows, sc->name, tech);
                 if (!r) continue;
                 f << "| " << sc->name << " | " << sc->light << " | " << tech << " | " << r->params_label << " | "
@@ -446,7 +444,7 @@ bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>&
         double smax = 0.0, emax = 0.0;
         for (const SceneInfo* sc : g) {
             smax = std::max(smax, sc->light_size);
-            for (const char* tech : kSoftOrder)
+            for (const char* tech : kLightSizeTechniques)
                 if (const Row* row = best_row(rows, sc->name, tech)) emax = std::max(emax, row->m.rmse);
         }
         smax = smax > 0 ? smax * 1.05 : 1.0;
@@ -467,7 +465,7 @@ bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>&
         f << "<text x=\"" << ox + 12 << "\" y=\"" << (t + b) / 2 << "\" transform=\"rotate(-90 " << ox + 12 << ' '
           << (t + b) / 2 << ")\" text-anchor=\"middle\">best RMSE</text>\n";
         for (int ti = 0; ti < 3; ++ti) {
-            const char* tech = kSoftOrder[ti];
+            const char* tech = kLightSizeTechniques[ti];
             f << "<polyline fill=\"none\" stroke=\"" << colors[ti] << "\" stroke-width=\"1.5\" points=\"";
             for (const SceneInfo* sc : g)
                 if (const Row* row = best_row(rows, sc->name, tech)) f << X(sc->light_size) << ',' << Y(row->m.rmse) << ' ';

@@ -28,6 +28,9 @@ struct Row {
     std::string image_v, image_err;
 };
 
+// The soft techniques run on the light-size variants (and listed, in this order, in "## light size").
+inline const char* const kLightSizeTechniques[] = {"penumbra_wedges", "pcss", "smoothie"};
+
 struct SceneInfo {
     std::string name, description, reference_image;
     std::string base;   // light-size variant: the scene it resizes (empty otherwise)
