@@ -538,6 +538,7 @@ inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, flo
     const float s = std::sqrt(disc);
     const float q = -0.5f * (c2 + (c2 >= 0.0f ? s : -s));
     const float r1 = q / c3, r2 = c1 / q;
+    if (std::isnan(r1) || std::isnan(r2)) return pf_two_depths_shadow(b, z, l32);
     z2 = r1 < r2 ? r1 : r2;
     z3 = r1 < r2 ? r2 : r1;
     float g;

@@ -132,5 +132,6 @@ void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out);     // 
 void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_omni.cpp
 void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_silmap.cpp
 void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_linear.cpp
+void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out); // drivers_prefilter.cpp
 
 }  // namespace sk

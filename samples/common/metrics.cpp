@@ -26,6 +26,11 @@ Metrics compute_metrics(const GBuffer& g, const Reference& ref, const std::vecto
                 psq += e * e;
                 ++m.penumbra_pixels;
             }
+            if (vr == 0.0) {
+                ++m.umbra_pixels;
+                m.leak_mean_excess += double(v[k]);
+                if (v[k] > 0.1f) m.leak_fraction += 1.0;
+            }
             if (hard && x > 0 && y > 0 && x < w - 1 && y < h - 1) {
                 const int cls = vr >= 0.5 ? 1 : 0;
                 bool edge = false;
@@ -47,6 +52,11 @@ Metrics compute_metrics(const GBuffer& g, const Reference& ref, const std::vecto
         const std::size_t idx = std::min(abs_err.size() - 1, static_cast<std::size_t>(0.99 * double(abs_err.size())));
         std::nth_element(abs_err.begin(), abs_err.begin() + static_cast<std::ptrdiff_t>(idx), abs_err.end());
         m.p99_abs = abs_err[idx];
+    }
+    if (m.umbra_pixels) {
+        m.has_leak = true;
+        m.leak_fraction /= double(m.umbra_pixels);
+        m.leak_mean_excess /= double(m.umbra_pixels);
     }
     if (m.penumbra_pixels) {
         m.has_penumbra = true;

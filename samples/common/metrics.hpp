@@ -18,6 +18,11 @@ struct Metrics {
     bool has_misclassified = false;  // hard techniques only
     double misclassified = 0.0;      // fraction of compared pixels away from 1-pixel edges
     std::size_t pixels = 0, penumbra_pixels = 0;
+    // Light leaking into the reference's umbra (compared pixels with V_ref == 0): the fraction of
+    // them where V > 0.1, and the mean excess V - V_ref (= mean V) over all of them.
+    bool has_leak = false;  // some compared pixels have V_ref == 0
+    double leak_fraction = 0.0, leak_mean_excess = 0.0;
+    std::size_t umbra_pixels = 0;
 };
 
 // `hard`: the technique produces 0/1 visibility, so the misclassified-pixel rate is computed

@@ -644,6 +644,7 @@ std::vector<std::unique_ptr<Technique>> make_techniques() {
     add_omni_techniques(t);
     add_silmap_techniques(t);
     add_linear_techniques(t);
+    add_prefilter_techniques(t);
     t.push_back(std::make_unique<Unshadowed>());
     return t;
 }

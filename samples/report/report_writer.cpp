@@ -111,12 +111,16 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
         if (r.failed) {
             f << ", \"failed\": \"" << json_escape(r.error) << "\"";
             f << ", \"rmse\": null, \"mean_abs\": null, \"p99_abs\": null, \"penumbra_rmse\": null, \"misclassified\": null"
+              << ", \"leak_fraction\": null, \"leak_mean_excess\": null"
               << ", \"gpu_ms\": null, \"cpu_ms\": null, \"frames\": 0, \"gpu_bytes\": 0, \"work\": {}";
         } else {
             f << ", \"rmse\": " << num(r.m.rmse) << ", \"mean_abs\": " << num(r.m.mean_abs)
               << ", \"p99_abs\": " << num(r.m.p99_abs)
               << ", \"penumbra_rmse\": " << (r.m.has_penumbra ? num(r.m.penumbra_rmse) : "null")
               << ", \"misclassified\": " << (r.m.has_misclassified ? num(r.m.misclassified) : "null")
+              << ", \"leak_fraction\": " << (r.m.has_leak ? num(r.m.leak_fraction) : "null")
+              << ", \"leak_mean_excess\": " << (r.m.has_leak ? num(r.m.leak_mean_excess) : "null")
+              << ", \"umbra_pixels\": " << r.m.umbra_pixels
               << ", \"gpu_ms\": " << num(r.gpu_ms) << ", \"cpu_ms\": " << num(r.cpu_ms) << ", \"frames\": " << r.frames
               << ", \"gpu_bytes\": " << r.gpu_bytes << ", \"work\": {";
             for (std::size_t i = 0; i < r.work.size(); ++i)
@@ -248,7 +252,8 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
       << ")" << (info.quick ? "; **--quick** run" : "") << "\n";
     f << "- error: |V - V_ref| over receiver pixels facing the light; V_ref ray traced with Embree from the same "
          "G-buffer points. Penumbra RMSE: pixels with 0 < V_ref < 1. Misclassified: hard techniques, pixels "
-         "away from 1-pixel edges of round(V_ref).\n";
+         "away from 1-pixel edges of round(V_ref). Leak: light leaking into the reference's umbra, the fraction of "
+         "pixels with V_ref = 0 where V > 0.1 / the mean V over them.\n";
     f << "- command: `" << info.command << "`\n\n";
     f << "![error against time](error_vs_time.svg)\n\n";
     write_light_size_markdown(f, scenes, rows);
@@ -282,18 +287,19 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
                                   fmt("%.4f", 10.0 * sc.ref_stderr) + " RMSE are not ranked reliably)"
                             : std::string(" (**above 1/10**)"))
               << ".\n\n";
-        f << "| technique | params | RMSE | mean abs | p99 abs | penumbra RMSE | misclassified | GPU ms | CPU ms | GPU MiB | work | other metrics |\n";
-        f << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
+        f << "| technique | params | RMSE | mean abs | p99 abs | penumbra RMSE | misclassified | leak | GPU ms | CPU ms | GPU MiB | work | other metrics |\n";
+        f << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
         for (const Row* r : rs) {
             if (r->failed) {
                 f << "| " << r->technique << " | " << r->params_label << " | failed: " << r->error
-                  << " | | | | | | | | | |\n";
+                  << " | | | | | | | | | | |\n";
                 continue;
             }
             f << "| " << (r->pareto ? "**" + r->technique + "**" : r->technique) << " | " << r->params_label << " | "
               << fmt("%.4f", r->m.rmse) << " | " << fmt("%.4f", r->m.mean_abs) << " | " << fmt("%.3f", r->m.p99_abs)
               << " | " << (r->m.has_penumbra ? fmt("%.4f", r->m.penumbra_rmse) : "-") << " | "
               << (r->m.has_misclassified ? fmt("%.2f%%", 100.0 * r->m.misclassified) : "-") << " | "
+              << (r->m.has_leak ? fmt("%.1f%%", 100.0 * r->m.leak_fraction) + fmt(" / %.3f", r->m.leak_mean_excess) : "-") << " | "
               << fmt("%.2f", r->gpu_ms) << " | " << fmt("%.3f", r->cpu_ms) << " | "
               << fmt("%.2f", double(r->gpu_bytes) / 1048576.0) << " | " << work_text(*r) << " | " << quality_text(*r) << " |\n";
         }

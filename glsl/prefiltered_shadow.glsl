@@ -1,0 +1,297 @@
+// shadowkit/glsl/prefiltered_shadow.glsl - pre-filtered shadow maps: moment pass, separable blur, MSAA resolve and lookups for VSM, ESM, EVSM2/4 and MSM (Hamburger, Hausdorff).
+// Mirrors include/shadowkit/prefiltered_shadow.hpp (prefilter_moments, prefilter_visibility, ...):
+// the header derives the numerics and computes the uniforms (prefilter_uniforms, prefilter_blur_weights).
+// versions: 430, 450
+// stages: fragment, compute
+//
+// Moment depth t in [0, 1]: linear in the eye distance d along the light's axis over the range the
+// map encodes, t = d * scale + offset (prefilter_depth_range): sk_prefilter_depth. From a depth
+// buffer (the MSAA resolve): sk_prefilter_depth_from_window with prefilter_window_depth_map's vec4
+// (standard or reversed-Z, GL or zero-to-one clip depth: window depth is the same for both).
+// `method`: 0 VSM, 1 ESM, 2 EVSM2, 3 EVSM4, 4 MSM, 5 MSM Hausdorff (PrefilterMethod).
+// `params` = (c+, c-, min_variance, bleed_reduction) = PrefilterUniforms::params(); `exponents` =
+// (c+, c-); `quantized`: MSM moments stored with the optimized 16-bit quantization (GL_RGBA16).
+//
+// Passes and GL state:
+// 1. Moment pass: render the casters into a color target of the format prefilter_uniforms checked
+//    (GL_RG32F / GL_RG16F / GL_RG16 for VSM and EVSM2, GL_R32F / GL_R16F for ESM, GL_RGBA32F /
+//    GL_RGBA16F for EVSM4, GL_RGBA32F / GL_RGBA16 for MSM) with a depth buffer, GL_DEPTH_TEST
+//    GL_LESS (GL_GREATER for reversed-Z), no blending, no culling (or front-face culling), after
+//    glClearBufferfv with PrefilterUniforms::clear_value (the moments of t = 1: nothing there).
+//    The fragment writes sk_prefilter_moments(t, vec2(dFdx(t), dFdy(t)), method, exponents, quantized).
+//    No polygon offset: the filter replaces it (the minimum variance / moment bias / depth bias do).
+// 2. Blur: two passes of sk_prefilter_blur (dir (1, 0), then (0, 1)) into a second texture of the
+//    same format and back, weights from prefilter_blur_weights (uniform float[33]); fragment (a
+//    full-screen triangle, viewport = map size) or compute (one invocation per texel, imageStore).
+//    Reads texelFetch with the coordinate clamped to the map (clamp-to-edge); the filter normalizes
+//    in registers, so accumulated_samples = 1 (NUMERICS item 2).
+// 3. Optional: glGenerateMipmap on the blurred texture and GL_LINEAR_MIPMAP_LINEAR (trilinear) or
+//    anisotropic filtering in the lookup: every method's moments are linear in the samples (MSM's
+//    quantization is affine), so any hardware filter of them is a valid filtered texel; use plain
+//    GL_LINEAR without mipmaps in a deferred pass (derivatives jump at silhouettes). Clamp to edge.
+// 4. Lookup: visibility = sk_prefilter_visibility(texture(moments, uv), t_receiver - depth_bias,
+//    method, params, moment_bias, quantized); 1 = lit.
+// MSAA: render depth only into a multisampled depth texture, then sk_prefilter_resolve per texel
+// writes the mean of the samples' moments (not the moments of the mean depth) into the moment map.
+// Every lookup returns a value in [0, 1] for any texel contents, NaN and Inf included (a
+// non-finite texel counts as lit: keep exponents below prefilter_exponent_limit).
+//
+// Usage:
+//   // moment pass fragment shader
+//   float t = sk_prefilter_depth(v_light_distance, u_depth_scale_offset);
+//   o_moments = sk_prefilter_moments(t, vec2(dFdx(t), dFdy(t)), u_method, u_exponents, u_quantized);
+//   // lookup
+//   float v = sk_prefilter_visibility(textureLod(u_moments, uv, 0.0), t_r - 0.002, u_method, u_params,
+//                                     u_moment_bias, u_quantized);
+// MIT License. Copyright (c) shadowkit contributors.
+
+#ifndef SK_PREFILTER_MAX_WEIGHTS
+#define SK_PREFILTER_MAX_WEIGHTS 33
+#endif
+
+// ---------------------------------------------------------------------------------------- helpers
+float sk_pf_clamp(float x, float lo, float hi) {
+    if (!(x >= lo)) return lo;
+    return x > hi ? hi : x;
+}
+// t sanitized: NaN -> 1, clamped to [0, 1]
+float sk_pf_depth(float t) {
+    if (!(t >= 0.0)) return isnan(t) ? 1.0 : 0.0;
+    return t > 1.0 ? 1.0 : t;
+}
+bool sk_pf_finite(vec4 m) {
+    return !any(isnan(m)) && !any(isinf(m));
+}
+float sk_pf_moment(float x) {
+    if (isnan(x) || isinf(x)) return 0.0;
+    return clamp(x, -1e6, 1e6);
+}
+
+// ---------------------------------------------------------------------------------------- depth
+// t = d * scale + offset, clamped to [0, 1] (NaN -> 1).
+float sk_prefilter_depth(float eye_distance, vec2 scale_offset) {
+    return sk_pf_depth(eye_distance * scale_offset.x + scale_offset.y);
+}
+// t = (c.x + c.y z_w) / (c.z + c.w z_w), clamped to [0, 1] (NaN -> 1).
+float sk_prefilter_depth_from_window(float z_w, vec4 c) {
+    return sk_pf_depth((c.x + c.y * z_w) / (c.z + c.w * z_w));
+}
+
+// ---------------------------------------------------------------------------------------- moments
+// VSM (t, t^2 + 0.25 |dt|^2): the derivative term (clamped to [0, 1]) covers the plane's spread.
+vec2 sk_vsm_moments(float t, vec2 dt) {
+    float z = sk_pf_depth(t);
+    vec2 d = vec2(isnan(dt.x) || isinf(dt.x) ? 0.0 : dt.x, isnan(dt.y) || isinf(dt.y) ? 0.0 : dt.y);
+    float extra = sk_pf_clamp(0.25 * dot(d, d), 0.0, 1.0);
+    return vec2(z, z * z + extra);
+}
+// ESM e^(c t), c clamped to [0, 88.72].
+float sk_esm_moment(float t, float c) {
+    return exp(sk_pf_clamp(c, 0.0, 88.72283) * sk_pf_depth(t));
+}
+// EVSM (e^(c+ x), e^(2 c+ x), -e^(-c- x), e^(-2 c- x)), x = 2t - 1, exponents clamped to [0, 44.36].
+vec4 sk_evsm_moments(float t, vec2 c) {
+    float x = 2.0 * sk_pf_depth(t) - 1.0;
+    float p = exp(sk_pf_clamp(c.x, 0.0, 44.36141) * x);
+    float n = -exp(-sk_pf_clamp(c.y, 0.0, 44.36141) * x);
+    return vec4(p, p * p, n, n * n);
+}
+// MSM power moments (t, t^2, t^3, t^4).
+vec4 sk_msm_moments(float t) {
+    float z = sk_pf_depth(t);
+    float z2 = z * z;
+    return vec4(z, z2, z2 * z, z2 * z2);
+}
+// Peters & Klein 2015, Sec. 4.3: q = A b + (0.035955884801, 0, 0, 0), every q in [0, 1].
+vec4 sk_msm_quantize(vec4 b) {
+    b = vec4(sk_pf_moment(b.x), sk_pf_moment(b.y), sk_pf_moment(b.z), sk_pf_moment(b.w));
+    return vec4(-2.07224649 * b.x + 32.23703778 * b.y - 68.571074599 * b.z + 39.3703274134 * b.w + 0.035955884801,
+                13.7948857237 * b.x - 59.4683975703 * b.y + 82.0359750338 * b.z - 35.364903257 * b.w,
+                0.105877704 * b.x - 1.9077466311 * b.y + 9.3496555107 * b.z - 6.6543490743 * b.w,
+                9.7924062118 * b.x - 33.7652110555 * b.y + 47.9456096605 * b.z - 23.9728048165 * b.w);
+}
+// b = A^-1 (q - (0.035955884801, 0, 0, 0)).
+vec4 sk_msm_dequantize(vec4 q) {
+    q = vec4(sk_pf_moment(q.x) - 0.035955884801, sk_pf_moment(q.y), sk_pf_moment(q.z), sk_pf_moment(q.w));
+    return vec4(0.22277441459 * q.x + 0.0771972860781 * q.y + 0.792698663656 * q.z + 0.0319417554614 * q.w,
+                0.154967926116 * q.x + 0.139462942654 * q.y + 0.796341583786 * q.z - 0.172282317302 * q.w,
+                0.145198894564 * q.x + 0.212020215683 * q.y + 0.725869446385 * q.z - 0.275801481149 * q.w,
+                0.163127442991 * q.x + 0.259143226644 * q.y + 0.653909249674 * q.z - 0.337613173406 * q.w);
+}
+// The moments of `method` for a fragment at t (VSM: xy; ESM: x; EVSM2: xy; EVSM4, MSM: xyzw).
+vec4 sk_prefilter_moments(float t, vec2 dt, int method, vec2 exponents, bool quantized) {
+    if (method == 1) return vec4(sk_esm_moment(t, exponents.x), 0.0, 0.0, 0.0);
+    if (method == 2) return vec4(sk_evsm_moments(t, vec2(exponents.x, 0.0)).xy, 0.0, 0.0);
+    if (method == 3) return sk_evsm_moments(t, exponents);
+    if (method == 4 || method == 5) {
+        vec4 b = sk_msm_moments(t);
+        return quantized ? sk_msm_quantize(b) : b;
+    }
+    return vec4(sk_vsm_moments(t, dt), 0.0, 0.0);
+}
+
+// ---------------------------------------------------------------------------------------- lookups
+// Chebyshev's one-sided bound (Donnelly & Lauritzen 2006, eq. 5), variance raised to min_var.
+float sk_pf_chebyshev(float mean, float m2, float x, float min_var) {
+    if (x <= mean) return 1.0;
+    float var = m2 - mean * mean;
+    if (!(var >= min_var)) var = min_var;
+    if (!(var > 0.0)) return 0.0;
+    float d = x - mean;
+    float p = var / (var + d * d);
+    return p >= 0.0 ? (p > 1.0 ? 1.0 : p) : 0.0;
+}
+// Light-bleeding reduction linstep(amount, 1, p) (Lauritzen 2007), amount in [0, 0.999].
+float sk_pf_linstep(float amount, float p) {
+    float a = sk_pf_clamp(amount, 0.0, 0.999);
+    float v = (p - a) / (1.0 - a);
+    return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
+}
+
+float sk_vsm_visibility(vec2 moments, float t, float min_variance, float bleed_reduction) {
+    if (!sk_pf_finite(vec4(moments, 0.0, 0.0)) || isnan(t)) return 1.0;
+    float p = sk_pf_chebyshev(moments.x, moments.y, t, sk_pf_clamp(min_variance, 0.0, 1.0));
+    return sk_pf_linstep(bleed_reduction, p);
+}
+
+float sk_esm_visibility(float moment, float t, float c) {
+    if (isnan(moment) || isinf(moment) || isnan(t)) return 1.0;
+    float v = exp(-sk_pf_clamp(c, 0.0, 88.72283) * sk_pf_clamp(t, -1.0, 2.0)) * moment;
+    return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
+}
+
+float sk_evsm_visibility(vec4 moments, float t, vec2 c, bool use_negative, float min_variance, float bleed_reduction) {
+    if (!sk_pf_finite(moments) || isnan(t)) return 1.0;
+    float x = 2.0 * sk_pf_depth(t) - 1.0;
+    float mv = sk_pf_clamp(min_variance, 0.0, 1.0);
+    float cp = sk_pf_clamp(c.x, 0.0, 44.36141);
+    float wp = exp(cp * x);
+    float sp = 2.0 * cp * wp;
+    float v = sk_pf_linstep(bleed_reduction, sk_pf_chebyshev(moments.x, moments.y, wp, sk_pf_clamp(mv * sp * sp, 0.0, 1e37)));
+    if (use_negative) {
+        float cn = sk_pf_clamp(c.y, 0.0, 44.36141);
+        float wn = -exp(-cn * x);
+        float sn = 2.0 * cn * wn;
+        float n = sk_pf_linstep(bleed_reduction, sk_pf_chebyshev(moments.z, moments.w, wn, sk_pf_clamp(mv * sn * sn, 0.0, 1e37)));
+        v = min(v, n);
+    }
+    return v;
+}
+
+// Shadow of a texel with a singular Hankel matrix: its two depths, roots of x^2 - l32 x + (l32 b1 - b2).
+float sk_pf_two_depths_shadow(vec4 b, float z, float l32) {
+    float a0 = l32 * b.x - b.y;
+    float disc = l32 * l32 - 4.0 * a0;
+    if (!(disc > 0.0)) disc = 0.0;
+    float s = sqrt(disc);
+    float x1 = 0.5 * (l32 - s), x2 = 0.5 * (l32 + s);
+    float w1 = (x2 - b.x) / (x2 - x1);
+    float g = (x1 < z ? w1 : 0.0) + (x2 < z ? 1.0 - w1 : 0.0);
+    if (!(g >= -1e30 && g <= 1e30)) g = z > b.x ? 1.0 : 0.0;
+    return g < 0.0 ? 0.0 : (g > 1.0 ? 1.0 : g);
+}
+// Hamburger 4MSM (Peters & Klein 2015, Algorithm 2): the sharpest lower bound G of the shadow from
+// biased moments b; z23 receives the two other support points, solved = false on a fallback.
+float sk_pf_msm_hamburger(vec4 b, float z, out vec2 z23, out bool solved) {
+    solved = false;
+    z23 = vec2(0.0);
+    float d22 = b.y - b.x * b.x;
+    if (!(d22 > 0.0)) return z > b.x ? 1.0 : 0.0;
+    float l32d22 = b.z - b.x * b.y;
+    float l32 = l32d22 / d22;
+    float d33 = (b.w - b.y * b.y) - l32d22 * l32;
+    if (!(d33 > 0.0)) return sk_pf_two_depths_shadow(b, z, l32);
+    float y2 = z - b.x;
+    float y3 = z * z - b.y - l32 * y2;
+    float c3 = y3 / d33;
+    float c2 = y2 / d22 - l32 * c3;
+    float c1 = 1.0 - b.x * c2 - b.y * c3;
+    float disc = c2 * c2 - 4.0 * c1 * c3;
+    if (!(disc > 0.0)) disc = 0.0;
+    float s = sqrt(disc);
+    float q = -0.5 * (c2 + (c2 >= 0.0 ? s : -s));
+    float r1 = q / c3, r2 = c1 / q;
+    if (isnan(r1) || isnan(r2)) return sk_pf_two_depths_shadow(b, z, l32);
+    float z2 = min(r1, r2), z3 = max(r1, r2);
+    z23 = vec2(z2, z3);
+    float g;
+    if (z <= z2) g = 0.0;
+    else if (z <= z3) g = (z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2));
+    else g = 1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3));
+    if (!(g >= -1e30 && g <= 1e30)) return sk_pf_two_depths_shadow(b, z, l32);
+    solved = true;
+    return g < 0.0 ? 0.0 : (g > 1.0 ? 1.0 : g);
+}
+vec4 sk_pf_msm_prepare(vec4 moments, float moment_bias, bool quantized) {
+    vec4 b = quantized ? sk_msm_dequantize(moments) : moments;
+    float k = sk_pf_clamp(moment_bias, 0.0, 1.0);
+    return (1.0 - k) * b + k * vec4(0.5);
+}
+
+float sk_msm_visibility(vec4 moments, float t, float moment_bias, bool quantized, float bleed_reduction) {
+    if (!sk_pf_finite(moments) || isnan(t)) return 1.0;
+    vec2 z23;
+    bool solved;
+    float g = sk_pf_msm_hamburger(sk_pf_msm_prepare(moments, moment_bias, quantized), sk_pf_clamp(t, -1.0, 2.0), z23, solved);
+    return sk_pf_linstep(bleed_reduction, 1.0 - g);
+}
+
+// The Hausdorff variant: where the Hamburger support points leave [0, 1], the representation
+// {0, t, z_free, 1} (z_free = E[x^2 (x - t)(x - 1)] / E[x (x - t)(x - 1)]) gives the bound on [0, 1].
+float sk_msm_hausdorff_visibility(vec4 moments, float t, float moment_bias, bool quantized, float bleed_reduction) {
+    if (!sk_pf_finite(moments) || isnan(t)) return 1.0;
+    vec4 b = sk_pf_msm_prepare(moments, moment_bias, quantized);
+    float z = sk_pf_clamp(t, -1.0, 2.0);
+    vec2 z23;
+    bool solved;
+    float g = sk_pf_msm_hamburger(b, z, z23, solved);
+    if (solved && (z23.x < 0.0 || z23.y > 1.0) && z > 0.0 && z < 1.0) {
+        float e3 = b.z - (1.0 + z) * b.y + z * b.x;
+        float e4 = b.w - (1.0 + z) * b.z + z * b.y;
+        float zf = e4 / e3;
+        float e0 = b.z - (z + zf + 1.0) * b.y + (z * zf + z + zf) * b.x - z * zf;
+        float h = -e0 / (z * zf);
+        if (zf < z) h += e3 / (zf * (zf - z) * (zf - 1.0));
+        if (h >= -1e30 && h <= 1e30) g = max(g, clamp(h, 0.0, 1.0));
+    }
+    return sk_pf_linstep(bleed_reduction, 1.0 - g);
+}
+
+// Visibility (1 lit) of a receiver at moment depth t (depth bias already subtracted) from filtered
+// moments; params = (c+, c-, min_variance, bleed_reduction).
+float sk_prefilter_visibility(vec4 moments, float t, int method, vec4 params, float moment_bias, bool quantized) {
+    if (method == 1) return sk_esm_visibility(moments.x, t, params.x);
+    if (method == 2) return sk_evsm_visibility(vec4(moments.xy, 0.0, 0.0), t, params.xy, false, params.z, params.w);
+    if (method == 3) return sk_evsm_visibility(moments, t, params.xy, true, params.z, params.w);
+    if (method == 4) return sk_msm_visibility(moments, t, moment_bias, quantized, params.w);
+    if (method == 5) return sk_msm_hausdorff_visibility(moments, t, moment_bias, quantized, params.w);
+    return sk_vsm_visibility(moments.xy, t, params.z, params.w);
+}
+
+// ---------------------------------------------------------------------------------------- filtering
+// One pass of the separable blur at texel px along dir ((1, 0) or (0, 1)): sum over i in
+// [-radius, radius] of weights[|i|] * texel(px + i dir), coordinates clamped to the map.
+vec4 sk_prefilter_blur(sampler2D src, ivec2 px, ivec2 dir, int radius, float weights[SK_PREFILTER_MAX_WEIGHTS]) {
+    ivec2 last = textureSize(src, 0) - ivec2(1);
+    int r = clamp(radius, 0, SK_PREFILTER_MAX_WEIGHTS - 1);
+    vec4 sum = weights[0] * texelFetch(src, clamp(px, ivec2(0), last), 0);
+    for (int i = 1; i <= r; ++i) {
+        sum += weights[i] * (texelFetch(src, clamp(px + i * dir, ivec2(0), last), 0) +
+                             texelFetch(src, clamp(px - i * dir, ivec2(0), last), 0));
+    }
+    return sum;
+}
+
+// MSAA resolve into moments: the mean over the samples of the moments of each sample's depth
+// (window depth -> t through window_map). No derivative term: the samples carry the spread.
+vec4 sk_prefilter_resolve(sampler2DMS depth_ms, ivec2 px, int samples, vec4 window_map, int method, vec2 exponents,
+                          bool quantized) {
+    vec4 sum = vec4(0.0);
+    int n = max(samples, 1);
+    for (int s = 0; s < n; ++s) {
+        float t = sk_prefilter_depth_from_window(texelFetch(depth_ms, px, s).r, window_map);
+        sum += sk_prefilter_moments(t, vec2(0.0), method, exponents, false);
+    }
+    vec4 m = sum / float(n);
+    return (method == 4 || method == 5) && quantized ? sk_msm_quantize(m) : m;
+}
