@@ -51,7 +51,9 @@
 //        N e^(k c) < T,   c_max = ln(T / N) / k,   k = 1 (ESM), 2 (both EVSM warps);
 //    N = 1: Float32 ESM 88.72, EVSM 44.36; Float16 ESM 11.090, EVSM 5.545 (the published 42 and 5.54
 //    are these with a margin). prefilter_exponent_limit returns the largest float c with
-//    N e^(k c) < T: at it the worst texel is finite, one float step above it rounds to Inf.
+//    N e^(k c) < T: at it the worst texel is finite, one float step above it rounds to Inf (or, on
+//    drivers that saturate render-target conversions, such as llvmpipe's fp16, to 65504: wrong
+//    either way).
 //    Conventions: t is linear and convention-free (above), so the limits are the same for standard and
 //    reversed-Z, GL and zero-to-one depth. A user who warps the raw stored depth instead of t changes
 //    the domain: GL NDC z in [-1, 1] keeps the overflow side (e^c at +1) but underflows e^-c at -1
@@ -61,6 +63,13 @@
 // 3. Lookup range. ESM: visibility = e^(-c t_r) M with M <= N e^c in fp32 registers: finite. EVSM:
 //    Chebyshev in the warped domain with the minimum variance scaled by the warp's slope squared,
 //    (2 c w)^2 min_variance, clamped to 1e37, so var + d^2 stays finite or is +Inf (p = 0).
+//    Jensen: the positive warp is convex, so a receiver on a plane whose depths spread by sigma
+//    (slope x blur width) sees a mean above its own warped depth: lit. The negative warp is
+//    concave: its mean falls below the receiver by ~ (2c)^2 |w| sigma^2 / 2 against a spread of
+//    2c |w| sigma, so Chebyshev gives p ~ 1 / (1 + c^2 sigma^2): self-shadowing that grows with c-.
+//    Hence c- defaults to 5 (p >= 0.94 for sigma <= 0.05) and c+ to the limit. ESM and both warps
+//    also need every receiver in the map: a texel left at the clear value t = 1 behind a receiver
+//    lights it (ESM by e^(c (1 - t_r))).
 // 4. Variance cancellation. var = E[t^2] - E[t]^2 from stored moments: with t in [0, 1] the stored
 //    M2 and the product M1^2 each carry a relative error <= u (plus fp32 register rounding), so the
 //    computed variance is off by at most 3u (float formats), 3 / 131070 (Unorm16): that floor is
@@ -657,7 +666,7 @@ struct PrefilterSettings {
     PrefilterMethod method = PrefilterMethod::Vsm;
     PrefilterFormat format = PrefilterFormat::Float32;
     float exponent_positive = -1.0f;         ///< ESM c, EVSM c+ (< 0: 99% of prefilter_exponent_limit)
-    float exponent_negative = -1.0f;         ///< EVSM4 c- (< 0: 99% of the limit)
+    float exponent_negative = -1.0f;         ///< EVSM4 c- (< 0: 5, or 99% of the limit if lower; NUMERICS item 3)
     std::uint32_t accumulated_samples = 1u;  ///< samples summed in the texture before normalizing (NUMERICS 2)
     float min_variance = -1.0f;              ///< VSM / EVSM, t^2 units (< 0: prefilter_min_variance(format))
     float bleed_reduction = 0.0f;            ///< linstep amount in [0, 1): 0 off, 0.2-0.4 typical
@@ -715,8 +724,9 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
             return u;
         }
         const float c_pos = s.exponent_positive < 0.0f ? 0.99f * lim.exponent : s.exponent_positive;
+        const float c_neg_default = 0.99f * lim.exponent < 5.0f ? 0.99f * lim.exponent : 5.0f;
         const float c_neg = s.method != PrefilterMethod::Evsm4 ? 0.0f
-                            : (s.exponent_negative < 0.0f ? 0.99f * lim.exponent : s.exponent_negative);
+                            : (s.exponent_negative < 0.0f ? c_neg_default : s.exponent_negative);
         if (c_pos > lim.exponent || c_neg > lim.exponent) {
             u.status = Status::Overflow;
             return u;

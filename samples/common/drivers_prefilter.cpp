@@ -5,10 +5,13 @@
 // vsm, esm, evsm2, evsm4, msm, msm_hausdorff.
 //
 // Pipeline per frame (the same a user writes from the snippet's header comment):
-// 1. moment pass: the casters into a size x size colour target (format from `format`) with a depth
+// 1. moment pass: every mesh (casters AND receivers: the filters compare a receiver with its own
+//    depth in the map; a texel left at the clear value t = 1 behind a receiver lights it, ESM by
+//    e^(c (1 - t)), so receivers that cast nothing must be drawn too) into a size x size colour
+//    target (format from `format`) with a depth
 //    buffer, cleared to PrefilterUniforms::clear_value; the fragment computes t from its eye distance
 //    along the light's axis over [znear, zfar] of fit_light (the scene's extent along the light) and
-//    writes sk_prefilter_moments (VSM with the depth-derivative term). msaa=4: the casters' depth into
+//    writes sk_prefilter_moments (VSM with the depth-derivative term). msaa=4: the meshes' depth into
 //    a 4x multisampled depth texture instead, then sk_prefilter_resolve per texel.
 // 2. blur: sk_prefilter_blur horizontally into a second texture and vertically back, Gaussian (or
 //    box, blur=0) of full width `width` texels (prefilter_blur_weights); width 1 = no blur.
@@ -379,7 +382,7 @@ RunResult PrefilteredTechnique::run(const RunContext& ctx, const ParamSet& param
             glDepthMask(GL_TRUE);
             glClear(GL_DEPTH_BUFFER_BIT);
             glUseProgram(depth_prog);
-            draw_casters(ctx.gpu);
+            for (const auto& mesh : ctx.gpu.meshes) skgl::draw_mesh(mesh);
             glActiveTexture(GL_TEXTURE0);
             glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, ms_tex);
             fullscreen(resolve_prog, a);
@@ -394,7 +397,7 @@ RunResult PrefilteredTechnique::run(const RunContext& ctx, const ParamSet& param
         glDepthMask(GL_TRUE);
         glClear(GL_DEPTH_BUFFER_BIT);
         glUseProgram(moment_prog);
-        draw_casters(ctx.gpu);
+        for (const auto& mesh : ctx.gpu.meshes) skgl::draw_mesh(mesh);
     };
     auto frame = [&] {
         moment_pass();
@@ -416,6 +419,8 @@ RunResult PrefilteredTechnique::run(const RunContext& ctx, const ParamSet& param
         pass.draw(vis_prog, ctx.gpu, GL_TEXTURE_2D, a.color[0]);
     };
     r.gpu_ms = time_frames(ctx, frame, r.frames);
+    std::size_t triangles = 0;
+    for (const auto& mesh : ctx.gpu.meshes) triangles += static_cast<std::size_t>(mesh.index_count) / 3u;
     r.visibility = skgl::read_color_float(pass.target, 0, 1);
     const std::int64_t texel_bytes = std::int64_t(u.channels) * format_bytes(s.format);
     const std::int64_t texels = std::int64_t(size) * size;
@@ -424,7 +429,7 @@ RunResult PrefilteredTechnique::run(const RunContext& ctx, const ParamSet& param
               {"blur_taps_per_texel", kernel.radius > 0 ? 2.0 * (2 * kernel.radius + 1) : 0.0},
               {"kernel_radius", double(kernel.radius)},
               {"exponent", double(u.exponents.x)},
-              {"triangles_drawn", double(ctx.gpu.caster_triangles)}};
+              {"triangles_drawn", double(triangles)}};
     if (ctx.debug_images) {
         const std::vector<float> m = skgl::read_color_float(a, 0, 4);
         r.debug.push_back(grey_debug_image(std::string(kMethodNames[static_cast<int>(method_)]) + " moment 1 (light space)",

@@ -218,7 +218,7 @@ double hamburger_double(const glm::dvec4& b, double z) {
 }
 
 float random_bits(std::mt19937& rng) {
-    const std::uint32_t x = rng();
+    const auto x = static_cast<std::uint32_t>(rng());
     float f;
     std::memcpy(&f, &x, 4);
     return f;
