@@ -193,9 +193,12 @@ public:
     }
     bool hard() const override { return false; }
     std::vector<std::pair<std::string, double>> live_params() const override {
-        return {{"format", default_format()}, {"exponent", -1.0},  {"bleed", 0.0}, {"min_variance", -1.0},
-                {"moment_bias", -1.0},        {"depth_bias", default_depth_bias()}, {"blur", 1.0}, {"mips", 0.0},
-                {"msaa", 0.0}};
+        // exponent: c+ as a fraction of prefilter_exponent_limit (above 1: Overflow, the row fails);
+        // exponent_neg: EVSM4's c- (< 0: the header's default 5); min_variance and moment_bias: multiples
+        // of the format's defaults (prefilter_min_variance, prefilter_msm_moment_bias)
+        return {{"format", default_format()}, {"exponent", 0.99},   {"exponent_neg", -1.0}, {"bleed", 0.0},
+                {"min_variance", 1.0},        {"moment_bias", 1.0}, {"depth_bias", default_depth_bias()},
+                {"blur", 1.0},                {"mips", 0.0},        {"msaa", 0.0}};
     }
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         if (!prefilter_light(scene.light) || scene.name == "linear") return {};
@@ -243,11 +246,13 @@ RunResult PrefilteredTechnique::run(const RunContext& ctx, const ParamSet& param
     PrefilterSettings s;
     s.method = method_;
     s.format = static_cast<PrefilterFormat>(fmt);
-    s.exponent_positive = static_cast<float>(params.get("exponent", -1.0));
-    s.exponent_negative = s.exponent_positive;
+    const PrefilterExponent limit = prefilter_exponent_limit(method_, s.format, 1);
+    s.exponent_positive =
+        limit.status == Status::Ok ? static_cast<float>(params.get("exponent", 0.99) * double(limit.exponent)) : -1.0f;
+    s.exponent_negative = static_cast<float>(params.get("exponent_neg", -1.0));
     s.bleed_reduction = static_cast<float>(params.get("bleed", 0.0));
-    s.min_variance = static_cast<float>(params.get("min_variance", -1.0));
-    s.moment_bias = static_cast<float>(params.get("moment_bias", -1.0));
+    s.min_variance = static_cast<float>(params.get("min_variance", 1.0)) * prefilter_min_variance(s.format);
+    s.moment_bias = static_cast<float>(params.get("moment_bias", 1.0)) * prefilter_msm_moment_bias(s.format);
     std::vector<double> cpu;
     for (int i = 0; i < 5; ++i) {
         const auto t0 = Clock::now();
