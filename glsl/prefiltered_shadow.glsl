@@ -30,7 +30,8 @@
 //    quantization is affine), so any hardware filter of them is a valid filtered texel; use plain
 //    GL_LINEAR without mipmaps in a deferred pass (derivatives jump at silhouettes). Clamp to edge.
 // 4. Lookup: visibility = sk_prefilter_visibility(texture(moments, uv), t_receiver - depth_bias,
-//    method, params, moment_bias, quantized); 1 = lit.
+//    method, params, moment_bias, quantized); 1 = lit. depth_bias: a constant (MSM ~0.002) plus
+//    sk_prefilter_receiver_bias of the receiver plane for the blur's radius.
 // MSAA: render depth only into a multisampled depth texture, then sk_prefilter_resolve per texel
 // writes the mean of the samples' moments (not the moments of the mean depth) into the moment map.
 // Every lookup returns a value in [0, 1] for any texel contents, NaN and Inf included (a
@@ -266,6 +267,21 @@ float sk_prefilter_visibility(vec4 moments, float t, int method, vec4 params, fl
     if (method == 4) return sk_msm_visibility(moments, t, moment_bias, quantized, params.w);
     if (method == 5) return sk_msm_hausdorff_visibility(moments, t, moment_bias, quantized, params.w);
     return sk_vsm_visibility(moments.xy, t, params.z, params.w);
+}
+
+// Receiver-plane depth bias (Isidoro 2006) for a filtered lookup: the plane's depth change across the
+// kernel, kernel_radius_uv (|dt/du| + |dt/dv|), dt/duv solved from two neighbouring steps of (u, v, t)
+// (vec3(dFdx(uv), dFdx(t)), vec3(dFdy(uv), dFdy(t)), or two tangent steps in a deferred pass).
+// Subtract it from t: a receiver tilted against the light otherwise shadows itself (its depths spread
+// over the filter region, half of them in front). 0 for a singular solve; clamped to [0, 1].
+float sk_prefilter_receiver_bias(vec3 duvt_dx, vec3 duvt_dy, float kernel_radius_uv) {
+    float det = duvt_dx.x * duvt_dy.y - duvt_dx.y * duvt_dy.x;
+    float scale = (abs(duvt_dx.x) + abs(duvt_dx.y)) * (abs(duvt_dy.x) + abs(duvt_dy.y));
+    if (!(abs(det) > 1e-7 * scale) || !(abs(det) > 0.0)) return 0.0;
+    float gx = (duvt_dy.y * duvt_dx.z - duvt_dx.y * duvt_dy.z) / det;
+    float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
+    float b = sk_pf_clamp(kernel_radius_uv, 0.0, 1.0) * (abs(gx) + abs(gy));
+    return sk_pf_clamp(b, 0.0, 1.0);
 }
 
 // ---------------------------------------------------------------------------------------- filtering

@@ -688,6 +688,8 @@ struct PrefilterUniforms {
     glm::vec4 params() const { return glm::vec4(exponents.x, exponents.y, min_variance, bleed_reduction); }
 };
 
+inline glm::vec4 prefilter_moments(float t, const glm::vec2& dt, const PrefilterUniforms& u);
+
 /// Checks the settings against the format and resolves the defaults. InvalidArgument: an unknown
 /// method or format, a warp in Unorm16, MSM in Float16 (use Unorm16 with the quantization, or
 /// Float32), accumulated_samples = 0, bleed_reduction outside [0, 1), min_variance > 1, moment_bias
@@ -740,6 +742,7 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
     default: u.channels = 4; break;
     }
     u.status = Status::Ok;
+    u.clear_value = prefilter_moments(1.0f, glm::vec2(0.0f), u);
     return u;
 }
 
@@ -784,6 +787,24 @@ inline float prefilter_visibility(const glm::vec4& moments, float t, const Prefi
         return prefilter_msm_hausdorff(moments, t, u.moment_bias, u.quantized, u.bleed_reduction);
     }
     return 1.0f;
+}
+
+/// Receiver-plane depth bias for a filtered lookup (mirror of sk_prefilter_receiver_bias): a receiver
+/// on a plane tilted against the light has depths spread over the filter region, half of them in
+/// front of it; every method then shadows it partly (MSM and EVSM's negative warp most). Shifting the
+/// receiver by the plane's depth change across the kernel, r (|dt/du| + |dt/dv|), removes that.
+/// duvt_dx, duvt_dy: the changes of (u, v, t) between two neighbouring points of the receiver plane
+/// (screen derivatives, or two tangent steps), which give dt/duv by a 2x2 solve (Isidoro 2006);
+/// kernel_radius_uv: the blur's radius (plus one texel for the bilinear tap) in uv. Total: 0 for a
+/// plane seen edge-on from the light (singular solve) or non-finite input; clamped to [0, 1].
+inline float prefilter_receiver_bias(const glm::vec3& duvt_dx, const glm::vec3& duvt_dy, float kernel_radius_uv) {
+    const float det = duvt_dx.x * duvt_dy.y - duvt_dx.y * duvt_dy.x;
+    const float scale = (std::fabs(duvt_dx.x) + std::fabs(duvt_dx.y)) * (std::fabs(duvt_dy.x) + std::fabs(duvt_dy.y));
+    if (!(std::fabs(det) > 1e-7f * scale) || !(std::fabs(det) > 0.0f)) return 0.0f;
+    const float gx = (duvt_dy.y * duvt_dx.z - duvt_dx.y * duvt_dy.z) / det;
+    const float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
+    const float b = detail::pf_clamp(kernel_radius_uv, 0.0f, 1.0f) * (std::fabs(gx) + std::fabs(gy));
+    return detail::pf_clamp(b, 0.0f, 1.0f);
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -98,6 +98,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const bool q = r.boolean();
     check(unit(prefilter_msm(m, t, a, q, b)));
     check(unit(prefilter_msm_hausdorff(m, t, a, q, b)));
+    check(unit(prefilter_receiver_bias(r.vec3(), r.vec3(), r.f32())));
     // moment vectors of a real (two-depth) texel, stored in the format: still in [0, 1]
     const float t0 = r.f32(), t1 = r.f32(), w = r.f32();
     if (u.status == Status::Ok) {

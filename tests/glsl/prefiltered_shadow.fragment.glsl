@@ -15,7 +15,8 @@ in vec2 v_uv;
 out vec4 o_color;
 void main() {
     float t = sk_prefilter_depth(v_light_distance, u_depth_scale_offset);
-    float tw = sk_prefilter_depth_from_window(gl_FragCoord.z, u_window_map);
+    float tw = sk_prefilter_depth_from_window(gl_FragCoord.z, u_window_map)
+             - sk_prefilter_receiver_bias(vec3(dFdx(v_uv), dFdx(t)), vec3(dFdy(v_uv), dFdy(t)), 0.01);
     vec4 m = sk_prefilter_moments(t, vec2(dFdx(t), dFdy(t)), u_method, u_exponents, u_quantized);
     vec2 vm = sk_vsm_moments(t, vec2(dFdx(t), dFdy(t)));
     float em = sk_esm_moment(t, u_exponents.x);

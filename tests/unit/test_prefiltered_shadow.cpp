@@ -393,6 +393,7 @@ TEST_CASE("prefilter_uniforms: defaults below the limit, Overflow above, combina
         const PrefilterUniforms uq = prefilter_uniforms(q);
         REQUIRE(uq.status == Status::Ok);
         const glm::vec4 cl = prefilter_moments(1.0f, glm::vec2(0.0f), uq);
+        CHECK(uq.clear_value == cl);
         // a lit receiver in front of a cleared texel
         CHECK(prefilter_visibility(cl, 0.5f, uq) == doctest::Approx(1.0).epsilon(1e-3));
     }
@@ -763,6 +764,23 @@ TEST_CASE("blur weights: closed forms and the buffer contract") {
             for (int j = 1; j <= kk.radius; ++j) sum += 2.0 * double(w[j]);
             CHECK(sum == doctest::Approx(1.0).epsilon(1e-6));
         }
+    }
+}
+
+TEST_CASE("receiver-plane bias: closed form of the plane's depth change across the kernel") {
+    // t = 2 u - v on the plane: steps (0.01, 0, 0.02) and (0, 0.01, -0.01); rotated steps give the same
+    CHECK(prefilter_receiver_bias(glm::vec3(0.01f, 0.0f, 0.02f), glm::vec3(0.0f, 0.01f, -0.01f), 0.004f) ==
+          doctest::Approx(0.004 * 3.0).epsilon(1e-4));
+    CHECK(prefilter_receiver_bias(glm::vec3(0.01f, 0.01f, 0.01f), glm::vec3(-0.01f, 0.01f, -0.03f), 0.004f) ==
+          doctest::Approx(0.004 * 3.0).epsilon(1e-4));
+    CHECK(prefilter_receiver_bias(glm::vec3(0.01f, 0.0f, 0.02f), glm::vec3(0.02f, 0.0f, 0.04f), 0.004f) == 0.0f);  // edge-on
+    CHECK(prefilter_receiver_bias(glm::vec3(NAN, 0.0f, 0.0f), glm::vec3(0.0f, 0.01f, 0.0f), 0.004f) == 0.0f);
+    CHECK(prefilter_receiver_bias(glm::vec3(1e-6f, 0.0f, 1.0f), glm::vec3(0.0f, 1e-6f, 0.0f), 0.5f) == 1.0f);  // clamped
+    std::mt19937 rng(8);
+    for (int i = 0; i < 20000; ++i) {
+        const float b = prefilter_receiver_bias(glm::vec3(random_bits(rng), random_bits(rng), random_bits(rng)),
+                                                glm::vec3(random_bits(rng), random_bits(rng), random_bits(rng)), random_bits(rng));
+        REQUIRE((b >= 0.0f && b <= 1.0f));
     }
 }
 
