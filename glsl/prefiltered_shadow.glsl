@@ -1,4 +1,5 @@
-// shadowkit/glsl/prefiltered_shadow.glsl - pre-filtered shadow maps: moment pass, separable blur, MSAA resolve and lookups for VSM, ESM, EVSM2/4 and MSM (Hamburger, Hausdorff).
+// shadowkit/glsl/prefiltered_shadow.glsl - pre-filtered shadow maps: moment pass, blur, MSAA resolve, lookups.
+// Methods: VSM, ESM, EVSM2/4 and MSM (Hamburger, Hausdorff).
 // Mirrors include/shadowkit/prefiltered_shadow.hpp (prefilter_moments, prefilter_visibility, ...):
 // the header derives the numerics and computes the uniforms (prefilter_uniforms, prefilter_blur_weights).
 // versions: 430, 450

@@ -1,4 +1,7 @@
-// shadowkit/prefiltered_shadow.hpp - pre-filtered shadow maps: variance (VSM), exponential (ESM), exponential-variance (EVSM2/4) and moment (MSM, Hamburger and Hausdorff) shadow maps, with their storage limits proven.
+// shadowkit/prefiltered_shadow.hpp - pre-filtered shadow maps (VSM, ESM, EVSM2/4, MSM) and their storage limits.
+// Variance, exponential, exponential-variance and moment (Hamburger and Hausdorff) shadow maps: the
+// depth range, the uniforms checked against the texture format, blur kernels and CPU mirrors of the
+// GLSL, with the numerics derived below and checked by the unit tests.
 //
 // USAGE
 //   #include <shadowkit/prefiltered_shadow.hpp>
@@ -430,7 +433,8 @@ inline float prefilter_msm_moment_bias(PrefilterFormat format) {
 
 
 /// VSM moments (t, t^2 + 0.25 (dt_dx^2 + dt_dy^2)) of a fragment at moment depth t with screen
-/// derivatives dt_dx, dt_dy (GPU Gems 3 ch. 8: the variance of the plane over the texel). Total:
+/// derivatives dt_dx, dt_dy (GPU Gems 3 ch. 8: the plane's spread over the pixel, 3x the variance
+/// (dt_dx^2 + dt_dy^2) / 12 of a plane over a uniform pixel footprint: a margin against acne). Total:
 /// t as prefilter_depth clamps it; non-finite derivatives count as 0; the derivative term is
 /// clamped to [0, 1].
 inline glm::vec2 prefilter_vsm_moments(float t, float dt_dx, float dt_dy) {
