@@ -132,6 +132,18 @@ TEST_CASE("cascades: every point of each slice is inside its cascade (random cam
         const float* s = fit.splits;
         for (std::uint32_t i = 0; i < count; ++i) {
             CHECK(c[i].status == Status::Ok);
+            {  // winding: a triangle counter-clockwise seen from the light stays counter-clockwise
+                const glm::dvec3 e1 = glm::normalize(glm::cross(glm::dvec3(toward), glm::dvec3(rdir(rng))));
+                const glm::dvec3 e2 = glm::cross(glm::dvec3(toward), e1);
+                const glm::dvec3 a = glm::dvec3(glm::vec3(c[i].sphere));
+                const glm::dvec3 b = a + e1, cc = a + e2;
+                auto nd = [&](const glm::dvec3& p) {
+                    const glm::dvec4 h = glm::dmat4(c[i].view_proj) * glm::dvec4(p, 1.0);
+                    return glm::dvec2(h.x, h.y) / h.w;
+                };
+                const glm::dvec2 na = nd(a), nb = nd(b), nc = nd(cc);
+                CHECK((nb.x - na.x) * (nc.y - na.y) - (nb.y - na.y) * (nc.x - na.x) > 0.0);
+            }
             for (int k = 0; k < 30; ++k) {
                 const double dep = s[i] + (s[i + 1] - s[i]) * double(u(rng));
                 const glm::dvec3 p = view_point(in.camera_view, fovy, aspect, dep, 2 * double(u(rng)) - 1, 2 * double(u(rng)) - 1);

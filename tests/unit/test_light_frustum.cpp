@@ -457,6 +457,20 @@ TEST_CASE("light_frustum: containment and no false culling over thousands of ran
             pl[10] = {0, 0, 1, -in.scene_min.z}; pl[11] = {0, 0, -1, in.scene_max.z};
             np = 12;
         }
+        // (0) winding: a triangle counter-clockwise seen from the light is counter-clockwise in the map
+        for (int s = 0; s < 4; ++s) {
+            const glm::dvec3 a = lerp3(sc, u(rng), u(rng), u(rng));
+            if (in.has_scene_bounds && !in_box(a, in.scene_min, in.scene_max, 0.0)) continue;  // not a receiver
+            const glm::dvec3 to_light = point ? glm::dvec3(in.light_position) - a : glm::dvec3(in.light_position);
+            const glm::dvec3 e1 = glm::normalize(glm::cross(to_light, glm::dvec3(random_dir(rng))));
+            const glm::dvec3 e2 = glm::normalize(glm::cross(to_light, e1));  // (e1 x e2) . to_light > 0
+            const double sz = 1e-3 * glm::length(to_light);
+            const glm::dvec3 b = a + sz * e1, c = a + sz * e2;
+            REQUIRE(glm::dot(glm::cross(b - a, c - a), to_light) > 0.0);
+            const glm::dvec2 na = ndc_xy(r.view_proj, a), nb = ndc_xy(r.view_proj, b), nc = ndc_xy(r.view_proj, c);
+            const double area = (nb.x - na.x) * (nc.y - na.y) - (nb.y - na.y) * (nc.x - na.x);
+            CHECK(area > 0.0);
+        }
         // (1) every receiver point maps inside the light clip volume
         for (int s = 0; s < 40; ++s) {
             const glm::dvec3 p = lerp3(sc, u(rng), u(rng), u(rng));
