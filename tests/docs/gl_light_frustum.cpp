@@ -140,8 +140,8 @@ void main() { gl_Position = u_view_proj * vec4(position, 1.0); })",
     const glm::mat4 inv_vp = glm::inverse(proj * view);
     for (int j = 0; j < 96; ++j)
         for (int i = 0; i < 96; ++i) {
-            const glm::vec4 a = inv_vp * glm::vec4(-1 + 2 * (i + 0.5f) / 96, -1 + 2 * (j + 0.5f) / 96, -1, 1);
-            const glm::vec4 b = inv_vp * glm::vec4(-1 + 2 * (i + 0.5f) / 96, -1 + 2 * (j + 0.5f) / 96, 1, 1);
+            const glm::vec4 a = inv_vp * glm::vec4(-1.0f + 2.0f * (float(i) + 0.5f) / 96.0f, -1.0f + 2.0f * (float(j) + 0.5f) / 96.0f, -1, 1);
+            const glm::vec4 b = inv_vp * glm::vec4(-1.0f + 2.0f * (float(i) + 0.5f) / 96.0f, -1.0f + 2.0f * (float(j) + 0.5f) / 96.0f, 1, 1);
             const glm::vec3 o = glm::vec3(a) / a.w, dir = glm::vec3(b) / b.w - o;
             if (!(dir.y < 0.0f)) continue;
             const glm::vec3 p = o - dir * (o.y / dir.y);  // on the ground y = 0

@@ -467,8 +467,8 @@ TEST_CASE("light_frustum: containment and no false culling over thousands of ran
             const double sz = 1e-3 * glm::length(to_light);
             const glm::dvec3 b = a + sz * e1, c = a + sz * e2;
             REQUIRE(glm::dot(glm::cross(b - a, c - a), to_light) > 0.0);
-            const glm::dvec2 na = ndc_xy(r.view_proj, a), nb = ndc_xy(r.view_proj, b), nc = ndc_xy(r.view_proj, c);
-            const double area = (nb.x - na.x) * (nc.y - na.y) - (nb.y - na.y) * (nc.x - na.x);
+            const glm::dvec2 na = ndc_xy(r.view_proj, a), nb = ndc_xy(r.view_proj, b), nt = ndc_xy(r.view_proj, c);
+            const double area = (nb.x - na.x) * (nt.y - na.y) - (nb.y - na.y) * (nt.x - na.x);
             CHECK(area > 0.0);
         }
         // (1) every receiver point maps inside the light clip volume
