@@ -422,11 +422,12 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
 ///
 /// Whole-texel test (in double): the difference of the two maps at the 8 corners of this frame's
 /// map volume (its NDC cube in world space) must be one integer texel translation in x/y and zero in
-/// depth, up to the round-off bound tolerance_texels = 16 u (S_prev + S_cur) * size / 2 per axis,
+/// depth, up to the round-off bound tolerance_texels = 8 u (S_prev + S_cur) * size / 2 per axis,
 /// where S is the largest sum of |terms| of the row over those corners and u the unit round-off
-/// (2^-53, or 2^-24 with float_matrices): 16 u covers a matrix product chain built in that
-/// precision plus this test's own evaluation. A larger residual is a change (a 1e-7 rad turn moves
-/// a 2048-texel map's corners by 1e-4 texel: ProjectionChanged). If the bound itself exceeds
+/// (2^-53, or 2^-24 with float_matrices): 8 u per matrix covers its entries' rounding (a product
+/// chain in that precision) plus the 4-term evaluation. For a map N texels from the world origin
+/// that is ~32 u N texels. A larger residual is a change (a 1e-7 rad turn moves the points of a
+/// 2048-texel map by 1e-4 texel or more: ProjectionChanged). If the bound itself exceeds
 /// kShadowCacheMaxResidualTexels the answer is PrecisionTooLow: with double that is ~2^40 texels
 /// from the world origin, with float ~2^11 (so a float fit 1e5 units away cannot scroll).
 /// Depth: for an orthographic light window depth is linear, so a translation along the light axis
