@@ -232,14 +232,16 @@ inline bool silmap_size_ok(glm::uvec2 size) {
     return size.x != 0 && size.y != 0 && size.x <= kSilmapMaxSize && size.y <= kSilmapMaxSize;
 }
 
-// Clips the homogeneous segment ca-cb to f(c) = k0 x + k1 y + k2 z + k3 w >= 0; false if nothing
-// is left. Points already inside stay bit-identical.
-inline bool silmap_clip_plane(glm::dvec4& ca, glm::dvec4& cb, const glm::dvec4& k) {
-    const double fa = glm::dot(k, ca), fb = glm::dot(k, cb);
+// Clips the homogeneous segment ca-cb to the guard plane side * c[axis] <= g * c.w (axis 0..2,
+// side +-1); false if nothing is left. Points already inside stay bit-identical; a clipped point
+// gets c[axis] = side * g * w exactly (a + t (b - a) cancels for 1e38-long edges).
+inline bool silmap_clip_guard(glm::dvec4& ca, glm::dvec4& cb, int axis, double side, double g) {
+    const double fa = g * ca.w - side * ca[axis], fb = g * cb.w - side * cb[axis];
     if (fa >= 0.0 && fb >= 0.0) return true;
     if (fa < 0.0 && fb < 0.0) return false;
     const double t = fa / (fa - fb);
-    const glm::dvec4 c = ca + t * (cb - ca);
+    glm::dvec4 c = ca + t * (cb - ca);
+    c[axis] = side * g * c.w;
     if (fa < 0.0) ca = c;
     else cb = c;
     return true;
@@ -309,14 +311,8 @@ inline SilmapProjectResult silmap_project_edges(const glm::mat4& light_view_proj
         }
         // guard band: -g w <= x, y, z <= g w (keeps x / w, y / w, z / w finite and bounded)
         bool keep = true;
-        for (int k = 0; k < 3 && keep; ++k) {
-            glm::dvec4 lo(0.0), hi(0.0);
-            lo[k] = 1.0;
-            lo.w = g;
-            hi[k] = -1.0;
-            hi.w = g;
-            keep = detail::silmap_clip_plane(ca, cb, lo) && detail::silmap_clip_plane(ca, cb, hi);
-        }
+        for (int k = 0; k < 3 && keep; ++k)
+            keep = detail::silmap_clip_guard(ca, cb, k, -1.0, g) && detail::silmap_clip_guard(ca, cb, k, 1.0, g);
         if (!keep || !(ca.w > 0.0) || !(cb.w > 0.0)) {
             ++r.culled;
             continue;
