@@ -1,4 +1,4 @@
-// shadowkit/glsl/linear_light.glsl - soft shadows from a linear light (Heidrich, Brabec & Seidel 2000), GPU side.
+// shadowkit/glsl/linear_light.glsl - soft shadows from a line-segment light (Heidrich et al. 2000), GPU side.
 //
 // The skin pass (depth discontinuities of one endpoint's shadow map triangulated, warped into the
 // other endpoint's view, Gouraud 0 on the occluder / 1 on the receiver, MIN-blended into that

@@ -1,4 +1,4 @@
-// shadowkit/glsl/prt.glsl - runtime shading of precomputed radiance transfer (PRT): one dot product per color channel.
+// shadowkit/glsl/prt.glsl - precomputed radiance transfer shading: one dot product per color channel.
 //
 // Exit radiance = dot(transfer vector, environment SH coefficients) per color channel (Sloan, Kautz
 // & Snyder 2002; Kautz, SIGGRAPH 2004 course notes). Same rules as include/shadowkit/prt.hpp

@@ -1,4 +1,4 @@
-// shadowkit/linear_light.hpp - soft shadows from a linear (line-segment) light (Heidrich, Brabec & Seidel 2000), the CPU side.
+// shadowkit/linear_light.hpp - soft shadows from a line-segment light (Heidrich et al. 2000), the CPU side.
 //
 // The light is sampled at its two endpoints with shadow maps; between them the visible fraction is
 // interpolated with a visibility map per endpoint, made by triangulating the depth discontinuities

@@ -7,7 +7,7 @@
 // lit_a v_a + lit_b v_b. k = 1 is the paper's method; k > 1 its fix for thin occluders that hide
 // the middle of the light from points that see both ends. A zero-length light (or a point light)
 // takes the point-light path: one map, V = its depth test.
-// sampled_line (size, samples N): N shadow maps at the centres of N equal pieces of the segment
+// sampled_line (size, samples N): N shadow maps at the centers of N equal pieces of the segment
 // (2x2 hardware PCF each), averaged: the brute-force baseline for equal-time comparisons.
 #include <shadowkit/linear_light.hpp>
 
@@ -30,7 +30,7 @@ struct EndpointView {
     float znear = 0.f, zfar = 0.f;
 };
 
-// A perspective frustum from `pos` looking at the scene's bounding-box centre, covering the box.
+// A perspective frustum from `pos` looking at the scene's bounding-box center, covering the box.
 EndpointView endpoint_view(const Scene& s, glm::vec3 pos) {
     EndpointView e;
     e.pos = pos;
@@ -334,7 +334,7 @@ class SampledLine final : public Technique {
 public:
     std::string name() const override { return "sampled_line"; }
     std::string description() const override {
-        return "N shadow maps at the centres of N equal pieces of the line light, 2x2 PCF each, averaged (baseline)";
+        return "N shadow maps at the centers of N equal pieces of the line light, 2x2 PCF each, averaged (baseline)";
     }
     bool hard() const override { return false; }
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {

@@ -1,4 +1,4 @@
-// libFuzzer target for include/shadowkit/linear_light.hpp: light centre/direction/length, receiver
+// libFuzzer target for include/shadowkit/linear_light.hpp: light center/direction/length, receiver
 // point and normal, boxes, subdivision counts, shadow-map samples for the skin and capacities
 // decoded from bytes (NaN/Inf possible). Calls every public function. Invariants trap: Status::Ok
 // only with finite outputs (endpoints and their difference, fractions in [0,1], intervals in

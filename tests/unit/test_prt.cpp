@@ -19,7 +19,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A sphere (centre c, radius r) floating over the plane z = 0.
+// A sphere (center c, radius r) floating over the plane z = 0.
 struct SphereOverPlane {
     glm::dvec3 c;
     double r;
