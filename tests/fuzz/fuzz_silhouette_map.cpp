@@ -33,9 +33,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     shadowkit_fuzz::FuzzInput r(data, size);
     const uint8_t mode = r.u8();
     const bool raw = (mode & 1) != 0;
-    // mode bit 7: a side of 0 or past kSilmapMaxSize (InvalidArgument) or the largest valid one
+    // mode bit 7 with a width of 37..40: a side of 0 or past kSilmapMaxSize (InvalidArgument) or the
+    // largest valid one (no extra byte read: inputs kept in regressions/ decode as before)
     static const uint32_t odd_sides[4] = {0u, 32768u, 32769u, 0xFFFFFFFFu};
-    const uint32_t mw = (mode & 128) ? odd_sides[r.u8() & 3u] : r.range(1u, 40u), mh = r.range(1u, 40u);
+    uint32_t mw = r.range(1u, 40u);
+    const uint32_t mh = r.range(1u, 40u);
+    if ((mode & 128) && mw > 36) mw = odd_sides[mw - 37];
     const glm::uvec2 msize(mw, mh);
     const bool size_ok = mw >= 1 && mw <= sk::kSilmapMaxSize && mh >= 1 && mh <= sk::kSilmapMaxSize;
     // geometry
