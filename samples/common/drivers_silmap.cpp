@@ -131,7 +131,8 @@ private:
                                                                 m.positions.data(), m.positions.size(), sil.data(),
                                                                 sr.edge_count, edges.data() + edge_count,
                                                                 edges.size() - edge_count);
-                edge_count += pr.written;
+                if (pr.status != shadowkit::Status::Ok) return false;
+                edge_count += pr.count;
             }
             for (std::size_t e = 0; e < edge_count; ++e) {
                 const auto& E = edges[e];

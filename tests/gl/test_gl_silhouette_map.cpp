@@ -38,7 +38,7 @@ std::vector<shadowkit::SilmapEdge> boundary_edges(const sk::Scene& s, const glm:
         const auto pr = shadowkit::silmap_project_edges(vp, shadowkit::ClipDepth::NegativeOneToOne, glm::uvec2(size, size),
                                                         m.positions.data(), m.positions.size(), sil.indices.data(),
                                                         sil.indices.size() / 2, e.data(), e.size());
-        out.insert(out.end(), e.begin(), e.begin() + static_cast<std::ptrdiff_t>(pr.written));
+        out.insert(out.end(), e.begin(), e.begin() + static_cast<std::ptrdiff_t>(pr.count));
     }
     return out;
 }
