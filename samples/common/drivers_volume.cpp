@@ -110,7 +110,7 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     if (!cache_.prepare(scene, 0x5eed5eedull)) return RunResult::failure(cache_.error);
 
     const glm::vec4 light = volumes::volume_light(scene.light);
-    if (!shadowkit::valid_light(light)) return RunResult::failure("invalid light");
+    if (!shadowkit::silhouette_valid_light(light)) return RunResult::failure("invalid light");
     const float aspect = float(gpu.width) / float(gpu.height);
     const glm::mat4 cam_vp = gpu.proj * gpu.view;  // exactly the G-buffer's matrix (same float product)
     glm::mat4 volume_vp = cam_vp;
