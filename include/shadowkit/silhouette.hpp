@@ -339,9 +339,10 @@ constexpr int kSilNonFinite = 2;
 // e2 = C - A, q = l - w A (w A is exact: float * float fits a double). Every term carries at most 8
 // rounding factors (1 + delta), |delta| <= u = 2^-53 (e1, e2, q: one each; products, difference,
 // product, two sums), with or without FMA contraction (a fused operation only drops factors). So
-// |d_computed - d| <= gamma_8 P with P = sum |e1_j e2_k| + |e1_k e2_j|) |q_i| of the exact values
-// (Higham, Accuracy and Stability of Numerical Algorithms, 3.1), and the computed P is >= P (1 - u)^8.
-// 10 u >= gamma_8 / (1 - u)^9 bounds it. No underflow: every nonzero intermediate is a multiple of
+// |d_computed - d| <= gamma_8 P with P = sum_i (|e1_j e2_k| + |e1_k e2_j|) |q_i| of the exact values
+// (Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., 3.1), and the computed P is
+// >= P (1 - u)^8, so 10 u times the computed P (itself rounded once more) bounds the error:
+// 10 u (1 - u)^9 >= gamma_8 = 8 u / (1 - 8 u). No underflow: every nonzero intermediate is a multiple of
 // 2^-447 (all floats are multiples of 2^-149); no overflow: |d| < 4e155.
 constexpr double kSilFilterBound = 10.0 * 1.1102230246251565e-16; // 10 * 2^-53
 

@@ -55,7 +55,7 @@ Mesh random_soup(std::mt19937& rng, int nv, int nt, float scale) {
 }
 
 struct Volume {
-    std::vector<glm::vec4> verts;      // 2n, from build_volume_vertices
+    std::vector<glm::vec4> verts;      // 2n, from volume_build_vertices
     std::vector<std::uint32_t> tris;   // sides + caps
     std::vector<std::uint8_t> lit;     // per adjacency face
     sk::SilhouetteAdjacency adj;

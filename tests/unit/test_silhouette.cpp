@@ -500,8 +500,8 @@ TEST_CASE("invalid input: statuses, empty input, NaN, buffer too small") {
     CHECK(sk::silhouette_compute_facing(sk::SilhouetteAdjacency{}, nullptr, 0, glm::vec4(0, 0, 1, 0), nullptr, 0).status == S::InvalidArgument);
 }
 
-TEST_CASE("property: chunked / parallel silhouettes equal extract_silhouette exactly (any chunk count, threads)") {
-    // reference: the serial compute_facing + extract_silhouette (itself checked against brute force
+TEST_CASE("property: chunked / parallel silhouettes equal silhouette_extract exactly (any chunk count, threads)") {
+    // reference: the serial silhouette_compute_facing + silhouette_extract (itself checked against brute force
     // above); chunk counts 1..97 (more chunks than edges included), serial and std::thread loops
     auto serial_for = [](std::size_t n, const auto& fn) {
         for (std::size_t i = n; i-- > 0;) fn(i);  // reverse order: chunks must not depend on each other
