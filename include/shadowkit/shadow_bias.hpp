@@ -15,10 +15,14 @@
 //
 // Conventions. Units: "world" values are distances in the light's depth metric (eye distance along
 // the light's axis, or distance to the light); "window" values are stored depth in [0, 1]
-// (glDepthRange(0, 1)); uv offsets are in shadow-map uv [0, 1]. `to_light` is a direction from the
-// receiver toward the light: light_position.xyz / w - p for a point or spot light, light_position.xyz
-// for a directional light (w = 0), the convention of the other shadowkit headers; its length is
-// free. Normals need not be unit length. Results: a struct whose first member is `status`; `Ok`
+// (glDepthRange(0, 1)); uv offsets are in shadow-map uv [0, 1].
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+// This header takes no light itself: `to_light` is the direction from the receiver p toward the
+// light, light_position.xyz / w - p (w > 0) or light_position.xyz (w = 0); its length is free.
+// Normals need not be unit length. Results: a struct whose first member is `status`; `Ok`
 // only with finite outputs in their documented range; outcomes (a surface facing away, an edge-on
 // plane, a singular receiver Jacobian) are fields with Ok. Functions marked "total:" take any
 // input. No buffers, no allocation.
