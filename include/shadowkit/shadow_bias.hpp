@@ -487,7 +487,10 @@ inline BiasDepthValue bias_polygon_offset_units_for_world_bias(double world_bias
 /// along the light ray: the same margin as bias_slope_scaled with the same scale, without a depth
 /// bias (no acne for scale >= sqrt(2)/2), and it moves the lookup sideways by delta * sin(theta),
 /// which is why it stays small where light hits head-on. The offset is along the normal on either
-/// side of the light. Inputs: p, normal, to_light finite; normal, to_light nonzero; texel_world,
+/// side of the light. Exact for orthographic lights; a perspective light stores depth along its axis,
+/// which changes across a texel by up to texel * sin(a) cos(a) even on a surface facing the light
+/// (a: its angle off the light's axis), where sin(theta) = 0 gives no margin: add a constant offset
+/// of half a texel or more (docs/shadow_map.md measures it). Inputs: p, normal, to_light finite; normal, to_light nonzero; texel_world,
 /// scale finite >= 0. NonFinite, InvalidArgument accordingly; Overflow beyond float range.
 /// Fails: the lateral shift moves shadow edges (visible on thin or contact geometry), lookups at
 /// silhouettes cross to the other side of thin walls (light leaks), and it needs a correct normal.
