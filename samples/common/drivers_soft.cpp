@@ -595,7 +595,8 @@ float technique_visibility(vec3 p, vec3 n) {
 // taps: blocker-search taps = filter taps (16+16, 32+32, 64+64); rotate: per-pixel rotation by
 // interleaved gradient noise; depth24: GL_DEPTH_COMPONENT24 map instead of 32F; light_scale:
 // multiplies the emitter width (0: a point light, the hard limit); hard: the plain 2x2 lookup
-// with the same map and bias (the reference point for light_scale = 0).
+// with the same map and bias (the reference point for light_scale = 0); fit_near (default 1): the
+// light's near plane moved to the casters' bounds (pcss_fit_near_plane) for the map and the search.
 class PcssTechnique final : public Technique {
 public:
     std::string name() const override { return "pcss"; }

@@ -1,6 +1,6 @@
 // Unit tests for shadowkit/infinite_projection.hpp.
 // Expected values: glm::frustum / glm::perspective (independent reference), the closed forms
-// 1 - N/d and N/d, the limit Far -> inf evaluated in double, brute-force quantisation.
+// 1 - N/d and N/d, the limit Far -> inf evaluated in double, brute-force quantization.
 #include <shadowkit/infinite_projection.hpp>
 
 #include <doctest/doctest.h>
@@ -70,7 +70,7 @@ TEST_CASE("finite far equals glm::perspective / glm::frustum (RH, NO and ZO)") {
         REQUIRE(zo.status == sk::Status::Ok);
         CHECK(mat_close(gl.matrix, glm::perspectiveRH_NO(fy, a, n, f), 2e-6));
         CHECK(mat_close(zo.matrix, glm::perspectiveRH_ZO(fy, a, n, f), 2e-6));
-        // Off-centre frustum.
+        // Off-center frustum.
         const float l = -n * asp(rng), r = n * asp(rng), b = -n * asp(rng), t = n * asp(rng);
         const sk::ProjectionResult fg = sk::projection_frustum(l, r, b, t, params(n, f, sk::ClipDepth::NegativeOneToOne, false));
         const sk::ProjectionResult fz = sk::projection_frustum(l, r, b, t, params(n, f, sk::ClipDepth::ZeroToOne, false));
@@ -221,7 +221,7 @@ TEST_CASE("epsilon bound is needed: a too-small epsilon lets w = 0 vertices past
 }
 
 TEST_CASE("epsilon storage bound: infinity stores strictly inside the cleared depth value") {
-    // Float pipeline: ndc = z_c / w_c, window = 0.5 ndc + 0.5 (GL) or ndc, then quantise.
+    // Float pipeline: ndc = z_c / w_c, window = 0.5 ndc + 0.5 (GL) or ndc, then quantize.
     auto stored = [](const glm::mat4& P, sk::ClipDepth cd, sk::DepthFormat fmt) -> double {
         const glm::vec4 cc = P * glm::vec4(0.3f, -0.2f, -1.0f, 0.0f);
         const float ndc = cc.z / cc.w;
@@ -256,7 +256,7 @@ TEST_CASE("epsilon storage bound: infinity stores strictly inside the cleared de
     MESSAGE("eps bound (fovy 90, aspect 1, GL): clip " << e24.clip << ", storage 24-bit " << e24.storage);
 }
 
-TEST_CASE("depth resolution: closed forms, brute-force quantisation, reversed-Z float wins") {
+TEST_CASE("depth resolution: closed forms, brute-force quantization, reversed-Z float wins") {
     const double N = 0.1, d = 100.0;
     const float n = 0.1f;
     const sk::ProjectionDepth gl = params(n, kInf, sk::ClipDepth::NegativeOneToOne, false);

@@ -20,9 +20,9 @@ using namespace shadowkit;
 
 namespace {
 
-// Brute-force visibility of a square light (side w, centred at the origin in the plane z = 0,
+// Brute-force visibility of a square light (side w, centered at the origin in the plane z = 0,
 // facing +z, sampled on an M x M grid including its edges) from receiver point (x, 0, z_r) past a
-// square occluder (side s, centred on the axis) at depth z_b.
+// square occluder (side s, centered on the axis) at depth z_b.
 double visibility(double x, double w, double s, double z_b, double z_r, int m = 32) {
     const double a = z_b / z_r;
     int visible = 0;

@@ -231,8 +231,8 @@ TEST_CASE("Coverage radius: closed forms and agreement with a grid estimate") {
     // Disk, two points: in the left cell the circle point (cos t, sin t), cos t <= 0, is at squared
     // distance 1.25 + cos t from (-0.5, 0): the maximum is on the bisector, (0, +-1).
     CHECK(double(val(poisson_coverage_radius(kDisk, two, 2))) == doctest::Approx(std::sqrt(1.25)));
-    // Regular hexagon of radius 1/2 plus the centre in the unit disk: the largest empty circle is
-    // centred on the unit circle midway between two hexagon vertices.
+    // Regular hexagon of radius 1/2 plus the center in the unit disk: the largest empty circle is
+    // centered on the unit circle midway between two hexagon vertices.
     std::vector<glm::vec2> hex{glm::vec2(0.0f)};
     for (int k = 0; k < 6; ++k) hex.emplace_back(0.5f * std::cos(float(k) * 1.0471975512f), 0.5f * std::sin(float(k) * 1.0471975512f));
     {

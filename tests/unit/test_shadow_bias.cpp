@@ -166,7 +166,7 @@ TEST_CASE("depth resolution: reversed float32 keeps relative precision, standard
     CHECK(BiasDepthValue{}.status == Status::NotRun);
 }
 
-TEST_CASE("texel world size matches unprojected texel centres of glm::perspective") {
+TEST_CASE("texel world size matches unprojected texel centers of glm::perspective") {
     CHECK(val(bias_texel_world_size_perspective(10.0f, 1.5707963f, 1000.0f)) == doctest::Approx(0.02).epsilon(1e-5));
     CHECK(val(bias_texel_world_size_ortho(20.0f, 1024.0f)) == doctest::Approx(20.0 / 1024.0));
     const float fov = 0.9f, res = 512.0f, d = 7.0f;
@@ -429,7 +429,7 @@ TEST_CASE("second-depth midpoint: margins for closed slabs, caps for open caster
     CHECK(bias_second_depth_value(3e38f, INFINITY, 3e38f).status == Status::Overflow);
     CHECK(val(bias_second_depth_value(3e38f, 3.4e38f)) == doctest::Approx(3.2e38));  // no overflow
     // Brute force: a closed slab of thickness T tilted against an orthographic light. Front-face
-    // receivers compared with the texel-centre midpoint are lit without any bias when the depth
+    // receivers compared with the texel-center midpoint are lit without any bias when the depth
     // change over a texel is below T/2 along the ray, back faces and the floor below are shadowed.
     std::mt19937 g(8);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
