@@ -118,17 +118,17 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     if (own_depth) {
         // infinite_projection.hpp: GL depth with the float32 epsilon of infinite_epsilon_bound
         // (projection 2), or reversed-Z zero-to-one depth (projection 3, its bound is 0 or tiny)
-        shadowkit::DepthParams dp;
+        shadowkit::ProjectionDepth dp;
         dp.near_z = scene.camera.znear;
         dp.far_z = std::numeric_limits<float>::infinity();
         dp.clip_depth = reversed ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
         dp.reversed_z = reversed;
-        const shadowkit::EpsilonBound eb = shadowkit::infinite_epsilon_bound(scene.camera.fovy, aspect, dp.clip_depth,
+        const shadowkit::ProjectionEpsilonBound eb = shadowkit::projection_infinite_epsilon_bound(scene.camera.fovy, aspect, dp.clip_depth,
                                                                              reversed, shadowkit::DepthFormat::Float32);
-        if (eb.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("infinite_epsilon_bound failed");
+        if (eb.status != shadowkit::Status::Ok) return RunResult::failure("infinite_epsilon_bound failed");
         dp.epsilon = proj_epsilon = eb.epsilon;
-        const shadowkit::ProjectionResult pr = shadowkit::perspective(scene.camera.fovy, aspect, dp);
-        if (pr.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("shadowkit::perspective failed");
+        const shadowkit::ProjectionResult pr = shadowkit::projection_perspective(scene.camera.fovy, aspect, dp);
+        if (pr.status != shadowkit::Status::Ok) return RunResult::failure("shadowkit::perspective failed");
         volume_vp = pr.matrix * gpu.view;
     } else if (projection == 1) {
         // P_inf with the camera's near plane (Everitt-Kilgard 3.2.1): inconsistent with the finite depth

@@ -378,7 +378,7 @@ const SingleMapLookup& plain_shadow_map_lookup() {
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_light_view_proj;
 float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
+    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
 }
 )", "u_light_view_proj"};
     return lookup;
@@ -607,7 +607,7 @@ uniform vec3 u_cube_light;
 uniform float u_cube_near;
 uniform float u_cube_far;
 float technique_visibility(vec3 p, vec3 n) {
-    return sk_cube_shadow_visibility(u_cube, u_cube_light, p, u_cube_near, u_cube_far);
+    return sk_cube_shadow_visibility(u_cube, vec4(u_cube_light, 1.0), p, u_cube_near, u_cube_far, 0.0);
 }
 )", L, depth, vis, why))
             return RunResult::failure(why);
