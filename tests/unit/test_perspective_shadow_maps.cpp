@@ -692,7 +692,7 @@ TEST_CASE("warp: continuity - every method, directional and point lights, throug
     // cameras (finite, infinite, epsilon P_inf, off-center, GL/ZO, reversed-Z) and scenes; the sweep
     // passes exactly through the view direction and its opposite. See sweep() for the step plan.
     std::mt19937 rng(1414);
-    const int kScenes = 10;
+    const int kScenes = 16;
     double worst[4] = {0, 0, 0, 0}, worst_ext[4] = {0, 0, 0, 0};
     int transitions[4] = {0, 0, 0, 0}, calls = 0, scenes = 0;
     while (scenes < kScenes) {
