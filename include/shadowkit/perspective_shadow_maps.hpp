@@ -39,7 +39,7 @@
 //   trapezoid (compressed by up to eta / (eta + lambda) at the far end). `depth_view_proj` is the
 //   light's own post-perspective depth, as Martin & Tan keep it (their TSM recipe writes it per
 //   fragment): render the map with gl_FragDepth from it (sk_warp_map_depth) and compare against it
-//   (`separate_depth`); in the report this cuts TSM's misclassified pixels 10 to 30 times at 512^2
+//   (`separate_depth`); in the report this cuts TSM's misclassified pixels 7 to 10 times at 512^2
 //   (docs/perspective_shadow_maps.md). For the other methods both matrices are equal.
 // Continuity: for a fixed scene, every matrix is a continuous function of the camera and the light
 //   (no jumps at the LiSPSM fade, the TSM fallback, PSM's slide-back or its light-sink switch),
@@ -297,10 +297,15 @@ inline double wp_smooth01(double x) {
     return x * x * (3.0 - 2.0 * x);
 }
 
-inline glm::dvec3 wp_centroid(const glm::dvec3* p, int n) {
-    glm::dvec3 c(0.0);
-    for (int i = 0; i < n; ++i) c += p[i];
-    return c / double(n);
+/// Center of the points' bounding box: unlike their mean it does not move when a vertex of the
+/// receiver volume splits into coincident ones, so the fits built on it stay continuous.
+inline glm::dvec3 wp_center(const glm::dvec3* p, int n) {
+    glm::dvec3 mn(p[0]), mx(p[0]);
+    for (int i = 1; i < n; ++i) {
+        mn = glm::min(mn, p[i]);
+        mx = glm::max(mx, p[i]);
+    }
+    return 0.5 * (mn + mx);
 }
 
 /// Everything the methods share: the receiver volume and the body (receivers extended towards the light).
@@ -555,7 +560,7 @@ inline glm::dvec3 wp_up(const glm::dvec3& f, const glm::dvec3& to_line, const gl
 /// Uniform (orthographic) fit of points along travel direction d (unit) with the given up (unit, _|_ d).
 /// Returns GL clip, depth increasing along d.
 inline glm::dmat4 wp_ortho_fit(const glm::dvec3* pts, int n, const glm::dvec3& d, const glm::dvec3& up, double unit) {
-    const glm::dmat4 lv = wp_look_dir(wp_centroid(pts, n), d, up);
+    const glm::dmat4 lv = wp_look_dir(wp_center(pts, n), d, up);
     glm::dvec3 mn(1e300), mx(-1e300);
     for (int i = 0; i < n; ++i) {
         glm::dvec3 p = glm::dvec3(lv * glm::dvec4(pts[i], 1.0));
@@ -604,14 +609,40 @@ inline bool wp_persp_fit(const glm::dvec3* pts, int n, const glm::dvec3& S, cons
     return wp_fin(out);
 }
 
-/// The point-light uniform fit's frame: axis towards the body's centroid, up from the center line.
+/// Axis of a perspective fit from S: start at the points' box center, then twice through the middle
+/// of their angular extents (a nearly symmetric frustum, so no resolution is spent off to one side).
+/// Every step uses bounding boxes, not means, so the axis moves continuously with the points.
+inline glm::dvec3 wp_persp_axis(const glm::dvec3* pts, int n, const glm::dvec3& S, const glm::dvec3& to_line,
+                                const glm::dvec3& v, const glm::dvec3& ref) {
+    glm::dvec3 f = wp_center(pts, n) - S;
+    const double l = glm::length(f);
+    if (!(l > 0.0) || !wp_fin(l)) return glm::dvec3(0.0);
+    f /= l;
+    for (int it = 0; it < 2; ++it) {
+        const glm::dvec3 up = wp_up(f, to_line, v, ref);
+        const glm::dvec3 sx = glm::cross(f, up);
+        double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300;
+        for (int i = 0; i < n; ++i) {
+            const glm::dvec3 r = pts[i] - S;
+            const double dep = glm::dot(r, f);
+            if (!(dep > 1e-9 * glm::length(r))) return f;  // a point beside or behind: keep the box axis
+            const double ax = std::atan2(glm::dot(r, sx), dep), ay = std::atan2(glm::dot(r, up), dep);
+            xl = std::fmin(xl, ax); xr = std::fmax(xr, ax);
+            yb = std::fmin(yb, ay); yt = std::fmax(yt, ay);
+        }
+        const glm::dvec3 g = f + std::tan(0.5 * (xl + xr)) * sx + std::tan(0.5 * (yb + yt)) * up;
+        if (!(glm::length(g) > 0.0) || !wp_fin(g)) return f;
+        f = glm::normalize(g);
+    }
+    return f;
+}
+
+/// The point-light uniform fit: axis from wp_persp_axis, up from the view's center line.
 inline bool wp_point_fit(const wp_Setup& s, double max_tan, glm::dmat4& out) {
-    const glm::dvec3 c = wp_centroid(s.body, s.nbody);
-    const double cl = glm::length(c - s.L);
-    if (!(cl > 0.0)) return false;
-    const glm::dvec3 f = (c - s.L) / cl;
     const glm::dvec3 ml = s.mc - s.L;
     const glm::dvec3 to_line = glm::length(ml) > 0.0 ? glm::normalize(ml) : s.vdir;
+    const glm::dvec3 f = wp_persp_axis(s.body, s.nbody, s.L, to_line, s.vdir, s.cam_up);
+    if (!(glm::length(f) > 0.0)) return false;
     return wp_persp_fit(s.body, s.nbody, s.L, f, wp_up(f, to_line, s.vdir, s.cam_up), max_tan, false, out);
 }
 
@@ -703,7 +734,7 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     wp_gamma(s, sg_w, cg_w);
     glm::dmat4 base(1.0);  // world -> a right-handed space where the light is directional along d
     glm::dvec3 d = s.d, v = s.vdir, ref = s.cam_up;
-    glm::dvec3 pts[2 * wp_kMaxRecv];
+    glm::dvec3 pts[2 * wp_kMaxRecv] = {};
     bool line_ok = true;
     if (s.directional) {
         for (int i = 0; i < s.nbody; ++i) pts[i] = s.body[i];
@@ -735,7 +766,7 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     glm::dvec3 origin = s.nc;
     if (!s.directional) {
         const glm::dvec4 h = base * glm::dvec4(s.nc, 1.0);
-        origin = h.w > 0.0 ? glm::dvec3(h) / h.w : wp_centroid(pts, s.nbody);
+        origin = h.w > 0.0 ? glm::dvec3(h) / h.w : wp_center(pts, s.nbody);
     }
     const glm::dmat4 lv = wp_look_dir(origin, d, up);
     double ymin = 1e300, ymax = -1e300;
@@ -813,7 +844,7 @@ inline WarpResult warp_tsm_matrix(const WarpInput& in) {
     // the receivers in U's NDC; U's +y is the center line's image (see wp_up), so the trapezoid's axis
     // is the y axis and its apex lies on the center line's image x = xc
     double tmin = 1e300, tmax = -1e300;
-    glm::dvec2 p2[wp_kMaxRecv];
+    glm::dvec2 p2[wp_kMaxRecv] = {};
     for (int i = 0; i < s.nrecv; ++i) {
         p2[i] = glm::dvec2(wp_project(U, s.recv[i]));
         tmin = std::fmin(tmin, p2[i].y);
@@ -932,12 +963,12 @@ inline WarpResult warp_psm_matrix(const WarpInput& in) {
         // world -> virtual post-perspective space, z negated (right-handed: near at +1, far at -1)
         const glm::dmat4 PP = wp_flip_z() * wp_frustum(mn.x * dn, mx.x * dn, mn.y * dn, mx.y * dn, dn, df) * Vv;
         if (!wp_fin(PP)) return e;
-        glm::dvec3 pts[2 * wp_kMaxRecv];
+        glm::dvec3 pts[2 * wp_kMaxRecv] = {};
         for (int i = 0; i < s.nbody; ++i) {
             pts[i] = wp_project(PP, s.body[i]);
             if (!wp_fin(pts[i])) return e;
         }
-        const glm::dvec3 c = wp_centroid(pts, s.nbody);
+        const glm::dvec3 c = wp_center(pts, s.nbody);
         double rad = 0.0;
         for (int i = 0; i < s.nbody; ++i) rad = std::fmax(rad, glm::length(pts[i] - c));
         rad = std::fmax(rad, 1e-12);

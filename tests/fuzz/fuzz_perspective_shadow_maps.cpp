@@ -31,8 +31,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const uint8_t flags = r.u8();
     shadowkit::WarpInput in;
     in.camera_view = (flags & 1) ? r.mat4() : r.look_at_view();
-    in.camera_proj = (flags & 2) ? r.mat4() : r.perspective(1.7f, (flags & 64) != 0);
-    if ((flags & 130) == 128) in.camera_proj[2][2] += r.quantized(1e-3f);  // epsilon-tweaked P_inf and friends
+    if (flags & 2) {
+        in.camera_proj = r.mat4();
+    } else if (flags & 128) {
+        // a well-formed camera from bytes, so the fits' deep paths run: fovy, near, far (or infinite)
+        const float fovy = 0.05f + 0.012f * float(r.u8()), near_z = std::ldexp(1.0f + float(r.u8()) / 64.0f, r.range(-20, 6));
+        const float far_z = near_z * (1.0f + std::ldexp(float(r.u8()), r.range(-8, 12)));
+        in.camera_proj = (flags & 64) ? glm::infinitePerspective(fovy, 1.0f + r.quantized(0.01f), near_z)
+                                      : glm::perspective(fovy, 1.0f + r.quantized(0.01f), near_z, far_z);
+        in.camera_proj[2][2] += r.quantized(1e-3f);  // epsilon-tweaked P_inf and friends
+    } else {
+        in.camera_proj = r.perspective(1.7f, (flags & 64) != 0);
+    }
     in.camera_depth = (flags & 4) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
     in.camera_reversed_z = (flags & 8) != 0;
     in.max_distance = r.mostly_within(1000.0f);
@@ -40,10 +50,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     in.receiver_max_depth = r.f32();
     const uint8_t lsel = r.u8();
     if (lsel & 1) in.light_position = r.vec4();
+    else if (lsel & 8) in.light_position = glm::vec4(r.vec3(false, 0.5f), (lsel & 4) ? 1.0f : 0.0f);  // quantized
     else in.light_position = glm::vec4(r.vec3(), (lsel & 2) ? r.interesting_f32() : ((lsel & 4) ? 1.0f : 0.0f));
     in.has_scene_bounds = (flags & 32) != 0;
-    in.scene_min = r.vec3();
-    in.scene_max = in.scene_min + glm::abs(r.vec3());
+    in.scene_min = (lsel & 16) ? r.vec3(false, 0.5f) : r.vec3();
+    in.scene_max = in.scene_min + glm::abs((lsel & 16) ? r.vec3(false, 0.5f) : r.vec3());
     const uint8_t f2 = r.u8();
     in.has_caster_bounds = (f2 & 1) != 0;
     in.caster_min = r.vec3();
