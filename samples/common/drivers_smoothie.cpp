@@ -63,7 +63,7 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t
 
 struct CasterData {
     std::size_t mesh = 0;
-    shadowkit::EdgeAdjacency adj;
+    shadowkit::SilhouetteAdjacency adj;
     std::vector<glm::vec3> face_normal;                         // per kept face, unit (0 if degenerate)
     std::unordered_map<std::uint64_t, std::uint32_t> directed;  // (a, b) -> a kept face traversing a -> b
     std::vector<std::uint8_t> facing;
@@ -258,10 +258,10 @@ bool Smoothie::prepare(const Scene& scene, const glm::mat4& light_view, const gl
     std::vector<float> depths;
     for (CasterData& c : cache_.casters) {
         const Mesh& m = scene.meshes[c.mesh];
-        shadowkit::compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(), c.facing.size());
-        const auto r = shadowkit::extract_silhouette(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), nullptr,
-                                                     c.sil.size() / 2);
-        const std::size_t n = std::min(r.edge_count, c.sil.size() / 2);
+        shadowkit::silhouette_compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(), c.facing.size());
+        const auto r = shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(),
+                                                     nullptr, 0);
+        const std::size_t n = r.count / 2;
         for (std::size_t i = 0; i < 2 * n; ++i) {
             const glm::vec3 p = m.positions[c.sil[i]];
             const glm::vec4 cl = light_vp * glm::vec4(p, 1.f);
@@ -288,15 +288,15 @@ void Smoothie::build_frame(const Scene& scene, const glm::mat4& light_vp, float 
     sp.t = t;
     for (CasterData& c : cache_.casters) {
         const Mesh& m = scene.meshes[c.mesh];
-        const auto fr = shadowkit::compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(),
-                                                  c.facing.size());
-        if (fr.status != shadowkit::SilhouetteStatus::Ok) {
-            st.error = "compute_facing status " + std::to_string(static_cast<int>(fr.status));
+        const auto fr = shadowkit::silhouette_compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(),
+                                                             c.facing.size());
+        if (fr.status != shadowkit::Status::Ok) {
+            st.error = std::string("silhouette_compute_facing status ") + shadowkit::status_name(fr.status);
             return;
         }
-        const auto sr = shadowkit::extract_silhouette(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), nullptr,
-                                                      c.sil.size() / 2);
-        const std::size_t n = std::min(sr.edge_count, c.sil.size() / 2);
+        const auto sr = shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(),
+                                                      nullptr, 0);
+        const std::size_t n = sr.count / 2;
         st.silhouette_edges += n;
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint32_t a = c.sil[2 * i], b = c.sil[2 * i + 1];

@@ -6,7 +6,7 @@
 // Per frame, on the CPU (cpu_ms, median): for every caster mesh, facing of its faces for the
 // homogeneous light (point / spot: (p, 1); directional: (-dir, 0); area lights: their centre as a
 // point light), the silhouette (edge rule of silhouette.hpp: open and non-manifold meshes included),
-// side quads, and for z-fail casters the light and dark caps (CapMode::LitOnly: closed for any
+// side quads, and for z-fail casters the light and dark caps (VolumeCapMode::LitOnly: closed for any
 // triangle soup), the z-pass / z-fail decision (near-plane occlusion pyramid vs the caster's box) and
 // the scissor rectangle and depth bounds (Lengyel). The adjacency is built once per scene (cached
 // across parameter sets; its build time is reported as work "adjacency_ms").
@@ -33,7 +33,7 @@
 // the GL test passes without it).
 //
 // Params: method 0 = z-fail for every caster, 1 = z-pass / z-fail chosen per caster
-//         (choose_stencil_method_box), 2 = z-pass for every caster (wrong when the camera is in a
+//         (volume_choose_stencil_method_box), 2 = z-pass for every caster (wrong when the camera is in a
 //         shadow: the tests show it; swept, as the built-in cameras are lit); scissor {0, 1};
 //         depth_bounds {0, 1};
 //         projection 0 = finite + depth clamp (default), 1 = P_inf against the finite depth
@@ -110,7 +110,7 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     if (!cache_.prepare(scene, 0x5eed5eedull)) return RunResult::failure(cache_.error);
 
     const glm::vec4 light = volumes::volume_light(scene.light);
-    if (!shadowkit::valid_light(light)) return RunResult::failure("invalid light");
+    if (!shadowkit::silhouette_valid_light(light)) return RunResult::failure("invalid light");
     const float aspect = float(gpu.width) / float(gpu.height);
     const glm::mat4 cam_vp = gpu.proj * gpu.view;  // exactly the G-buffer's matrix (same float product)
     glm::mat4 volume_vp = cam_vp;

@@ -223,17 +223,19 @@ public:
                 in.has_scene_bounds = true;
                 in.scene_min = slo;
                 in.scene_max = shi;
-                in.light = light_vec4(scene.light);
+                in.light_position = scene.light.type == LightType::Directional  // w = 0: toward the light
+                                        ? glm::vec4(-glm::normalize(scene.light.direction), 0.f)
+                                        : glm::vec4(scene.light.position, 1.f);
                 in.casters = boxes.data();
                 in.caster_count = scene.meshes.size();
                 in.shadow_map_size = static_cast<std::uint32_t>(size);
                 keep.assign(scene.meshes.size(), 0);
-                const auto res = shadowkit::fit_light_frustum(in, keep.data(), keep.size());
-                if (res.status != shadowkit::LightFrustumStatus::Ok) {
-                    fit_error = "fit_light_frustum status " + std::to_string(static_cast<int>(res.status));
+                const auto res = shadowkit::light_frustum_fit(in, keep.data(), keep.size());
+                if (res.status != shadowkit::Status::Ok) {
+                    fit_error = std::string("light_frustum_fit status ") + shadowkit::status_name(res.status);
                     return false;
                 }
-                keep.resize(res.kept_count);
+                keep.resize(res.count);
                 light_vp = res.view_proj;
                 culled_list = true;
             } else {
@@ -326,23 +328,25 @@ public:
         RunResult r;
         shadowkit::Cascade cs[kCount];
         float splits[kCount + 1];
-        shadowkit::CascadeStatus st = shadowkit::CascadeStatus::Ok;
+        shadowkit::Status st = shadowkit::Status::NotRun;
         auto fit = [&]() -> bool {
             shadowkit::CascadeInput in;
             in.camera_view = ctx.gpu.view;
             in.camera_proj = ctx.gpu.proj;
-            in.light_dir = glm::normalize(scene.light.direction);
+            in.light_position = glm::vec4(-glm::normalize(scene.light.direction), 0.f);  // toward the light
             in.shadow_map_size = static_cast<std::uint32_t>(size);
             glm::vec3 clo, chi;
             caster_bounds(scene, clo, chi);
             in.has_caster_bounds = true;
             in.caster_min = clo;
             in.caster_max = chi;
-            st = shadowkit::fit_cascades(in, 0.75f, kCount, cs, splits);
-            return st == shadowkit::CascadeStatus::Ok;
+            const shadowkit::CascadeFitResult res = shadowkit::cascade_fit(in, 0.75f, kCount, cs, kCount);
+            st = res.status;
+            std::copy(res.splits, res.splits + kCount + 1, splits);
+            return st == shadowkit::Status::Ok;
         };
         if (!median_cpu_ms(std::max(ctx.frames, 1), fit, r.cpu_ms))
-            return RunResult::failure("fit_cascades status " + std::to_string(static_cast<int>(st)));
+            return RunResult::failure(std::string("cascade_fit status ") + shadowkit::status_name(st));
 
         const GLuint arr = make_depth_compare_texture(GL_TEXTURE_2D_ARRAY, size, kCount);
         GLuint fbo[kCount];
@@ -385,7 +389,7 @@ float technique_visibility(vec3 p, vec3 n) {
             for (std::size_t k = 0; k < g.kind.size(); ++k) {
                 if (g.kind[k] == 0) continue;
                 const glm::vec4 v = ctx.gpu.view * glm::vec4(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2], 1.f);
-                which[k] = shadowkit::select_cascade_by_depth(-v.z, splits, kCount);
+                which[k] = shadowkit::cascade_select_by_depth(-v.z, splits, kCount).index;
             }
             add_aliasing(r, scene, ctx.gpu, g, std::vector<glm::mat4>(vps, vps + kCount), which, size);
         }

@@ -275,7 +275,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     if (!cache_.prepare(scene, 0x3ed9e5ull)) return RunResult::failure(cache_.error);
 
     const glm::vec4 light = volumes::volume_light(scene.light);
-    if (!shadowkit::valid_light(light)) return RunResult::failure("invalid light");
+    if (!shadowkit::silhouette_valid_light(light)) return RunResult::failure("invalid light");
     const bool point = light.w > 0.f;
     shadowkit::PenumbraSphereLight sphere;
     sphere.centre = scene.light.position;

@@ -501,10 +501,10 @@ void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, flo
     chi = glm::max(L.position, cap + ext);
 }
 
-bool build_caster_adjacency(const Mesh& m, shadowkit::EdgeAdjacency& adj, std::string& error) {
-    adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-    if (adj.status == shadowkit::SilhouetteStatus::Ok) return true;
-    error = "build_edge_adjacency failed on mesh '" + m.name + "' (status " + std::to_string(static_cast<int>(adj.status)) +
+bool build_caster_adjacency(const Mesh& m, shadowkit::SilhouetteAdjacency& adj, std::string& error) {
+    adj = shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+    if (adj.status == shadowkit::Status::Ok) return true;
+    error = "silhouette_build_adjacency failed on mesh '" + m.name + "' (status " + shadowkit::status_name(adj.status) +
             ")";
     return false;
 }

@@ -4,7 +4,12 @@
 # and blank lines ignored) across all headers. Input: HEADERS (;-list).
 set(failures "")
 foreach(h ${HEADERS})
-  file(STRINGS ${h} lines)
+  # one list element per line: neutralise ; [ ] first (they would split or glue CMake list items)
+  file(READ ${h} lines)
+  string(REPLACE ";" "<sc>" lines "${lines}")
+  string(REPLACE "[" "<lb>" lines "${lines}")
+  string(REPLACE "]" "<rb>" lines "${lines}")
+  string(REPLACE "\n" ";" lines "${lines}")
   set(in_block "")
   foreach(line IN LISTS lines)
     if(line MATCHES "^#ifndef (SHADOWKIT_[A-Z0-9_]+_DEFINED)")
