@@ -17,11 +17,6 @@ namespace sk {
 
 namespace {
 
-glm::vec4 light_vec4(const Light& L) {
-    if (L.type == LightType::Directional) return glm::vec4(glm::normalize(L.direction), 0.f);
-    return glm::vec4(L.position, 1.f);
-}
-
 void caster_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
     lo = glm::vec3(INFINITY);
     hi = glm::vec3(-INFINITY);

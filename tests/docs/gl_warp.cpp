@@ -2,75 +2,21 @@
 // a TSM (Martin & Tan's separate depth) and a LiSPSM map rendered with the documented GL state, looked
 // up with glsl/perspective_shadow_maps.glsl at receiver points and compared with a CPU ray cast.
 // Exit 0: >= 99.5% of the points away from shadow edges agree; 77: no GL 4.5 context; 1: failure.
+// The context, shader and snippet helpers are tests/docs/docs_gl.hpp (what a user's renderer has).
 #include <shadowkit/perspective_shadow_maps.hpp>
 
-#include <epoxy/egl.h>
-#include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
+#include "docs_gl.hpp"
+
 namespace {
-
-bool make_context() {
-    const char* ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    if (!ext || std::string(ext).find("EGL_MESA_platform_surfaceless") == std::string::npos) return false;
-    EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    EGLint major = 0, minor = 0;
-    if (d == EGL_NO_DISPLAY || !eglInitialize(d, &major, &minor) || !eglBindAPI(EGL_OPENGL_API)) return false;
-    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-    EGLContext c = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    return c != EGL_NO_CONTEXT && eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, c);
-}
-
-std::string read_snippet() {
-    std::vector<std::string> dirs = {".", "..", "../..", "../../.."};
-    if (const char* env = std::getenv("SHADOWKIT_SOURCE_DIR")) dirs.insert(dirs.begin(), env);
-#ifdef SHADOWKIT_SOURCE_DIR
-    dirs.insert(dirs.begin(), SHADOWKIT_SOURCE_DIR);
-#endif
-    for (const std::string& d : dirs) {
-        std::ifstream f(d + "/glsl/perspective_shadow_maps.glsl");
-        if (f) {
-            std::stringstream s;
-            s << f.rdbuf();
-            return s.str();
-        }
-    }
-    return {};
-}
-
-GLuint compile(const std::string& vs, const std::string& fs) {
-    auto stage = [](GLenum type, const std::string& src) {
-        const GLuint s = glCreateShader(type);
-        const char* p = src.c_str();
-        glShaderSource(s, 1, &p, nullptr);
-        glCompileShader(s);
-        GLint ok = 0;
-        glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-            char log[2048];
-            glGetShaderInfoLog(s, sizeof log, nullptr, log);
-            std::fprintf(stderr, "shader: %s\n", log);
-        }
-        return s;
-    };
-    const GLuint p = glCreateProgram();
-    glAttachShader(p, stage(GL_VERTEX_SHADER, vs));
-    glAttachShader(p, stage(GL_FRAGMENT_SHADER, fs));
-    glLinkProgram(p);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    return ok ? p : 0;
-}
 
 struct Box { glm::vec3 lo, hi; };
 
@@ -104,15 +50,8 @@ bool ray_blocked(const glm::dvec3& p, const glm::dvec3& to_sun, const std::vecto
 }  // namespace
 
 int main() {
-    if (!make_context()) {
-        std::printf("SKIPPED: no OpenGL 4.5 context\n");
-        return 77;
-    }
-    const std::string snippet = read_snippet();
-    if (snippet.empty()) {
-        std::printf("glsl/perspective_shadow_maps.glsl not found (set SHADOWKIT_SOURCE_DIR)\n");
-        return 1;
-    }
+    if (!docs::gl_context(64, 64)) return docs::no_gl_exit_code();
+    const std::string snippet = docs::snippet("perspective_shadow_maps");
     // the scene: a camera near the ground, a low sun from the side, boxes near and far
     std::vector<Box> boxes;
     for (int i = 0; i < 12; ++i) {
@@ -161,13 +100,13 @@ void main() {
     v_depth_clip = u_depth_proj * vec4(a_position, 1.0);
 }
 )";
-    const GLuint depth_prog = compile(shadow_vs, version + "void main() {}\n");
-    const GLuint depth_prog_tsm = compile(shadow_vs, version + snippet + R"(
+    const GLuint depth_prog = docs::gl_program(shadow_vs, version + "void main() {}\n");
+    const GLuint depth_prog_tsm = docs::gl_program(shadow_vs, version + snippet + R"(
 in vec4 v_depth_clip;
 void main() { gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, false); }
 )");
     // receiver pass: one point per receiver sample, visibility written to an R32F target
-    const GLuint look_prog = compile(version + R"(
+    const GLuint look_prog = docs::gl_program(version + R"(
 layout(location = 0) in vec3 a_position;
 uniform int u_width;
 out vec3 v_world_pos;
@@ -186,7 +125,6 @@ uniform mat4 u_depth_proj;
 out float o_lit;
 void main() { o_lit = sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, v_world_pos, 0.0, false); }
 )");
-    if (!depth_prog || !depth_prog_tsm || !look_prog) return 1;
 
     // receiver points on the ground in view, with the CPU reference; points whose reference changes
     // within 0.15 wu are near a shadow edge and not scored
