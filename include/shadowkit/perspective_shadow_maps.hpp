@@ -41,14 +41,16 @@
 //   fragment): render the map with gl_FragDepth from it (sk_warp_map_depth) and compare against it
 //   (`separate_depth`); in the report this cuts TSM's misclassified pixels 7 to 10 times at 512^2
 //   (docs/perspective_shadow_maps.md). For the other methods both matrices are equal.
-// Continuity: for a fixed scene, every matrix is a continuous function of the camera and the light
+// Continuity: for a fixed scene and camera, every matrix is a continuous function of the light
 //   (no jumps at the LiSPSM fade, the TSM fallback, PSM's slide-back or its light-sink switch),
 //   except within 0.5 degree of the light being parallel or anti-parallel to the view's center line
 //   (directional: its direction; point light: the light on or near that line). There the map's roll
 //   about the light axis is free: it follows the center line projected onto the map, which turns half
 //   a turn as the light passes through the view direction (exactly parallel: the camera's up vector),
 //   so the image may rotate by up to 180 degrees within that cone. Measured on random scenes with
-//   0.002 degree steps: receiver points move < 0.01 NDC per step outside it (tests/unit).
+//   0.002 degree steps: receiver points move < 0.01 NDC per step outside it (tests/unit). The fits
+//   use only quantities that also move continuously with the camera (bounding-box centers and
+//   extents, never means of vertex lists), but camera sweeps are not measured.
 // Buffers: none; no call allocates.
 //
 // Based on:
