@@ -171,7 +171,7 @@ uniform mat4 u_light_view_proj;
 flat in vec4 v_point;
 out float lit;
 void main() {
-    lit = sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, v_point.xyz, false, 1.0);
+    lit = sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, v_point.xyz, false, 0.0, 1.0);
 })");
     GLuint out_tex = 0, out_fbo = 0, pts_vao = 0, pts_vbo = 0;
     glGenTextures(1, &out_tex);

@@ -306,7 +306,7 @@ TEST_CASE("cascades: every projection of infinite_projection.hpp is accepted (is
             for (float eps : {0.0f, 4.8e-7f, 1e-4f, 0.5f}) {
                 const ClipDepth cd = cdi ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
                 CascadeInput in = base_input();
-                in.camera_proj = perspective_infinite(fovy, aspect, n, cd, rev != 0, eps).matrix;
+                in.camera_proj = projection_perspective_infinite(fovy, aspect, n, cd, rev != 0, eps).matrix;
                 REQUIRE(in.camera_proj[2][3] == -1.0f);
                 in.camera_depth = cd;
                 in.camera_reversed_z = rev != 0;
@@ -325,12 +325,12 @@ TEST_CASE("cascades: every projection of infinite_projection.hpp is accepted (is
                                 CHECK(in_clip(c[i].view_proj, view_point(in.camera_view, fovy, aspect, dep, sx, sy), in.light_depth, 1e-4));
                 ++fits;
                 // a finite far plane from the same header
-                DepthParams dp;
+                ProjectionDepth dp;
                 dp.near_z = n;
                 dp.far_z = 120.0f;
                 dp.clip_depth = cd;
                 dp.reversed_z = rev != 0;
-                in.camera_proj = perspective(fovy, aspect, dp).matrix;
+                in.camera_proj = projection_perspective(fovy, aspect, dp).matrix;
                 in.max_distance = 0.0f;
                 const CascadeFitResult ff = cascade_fit(in, 0.75f, 4, c, 4);
                 REQUIRE(ff.status == Status::Ok);

@@ -352,16 +352,16 @@ TEST_CASE("light_frustum: every projection of infinite_projection.hpp is accepte
                 for (int fin = 0; fin < 2; ++fin) {
                     if (fin && eps != 0.0f) continue;
                     const ClipDepth cd = cdi ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
-                    DepthParams dp;
+                    ProjectionDepth dp;
                     dp.near_z = n;
                     dp.far_z = fin ? 500.0f : std::numeric_limits<float>::infinity();
                     dp.clip_depth = cd;
                     dp.reversed_z = rev != 0;
                     dp.epsilon = eps;
-                    const glm::mat4 P = perspective(fovy, aspect, dp).matrix;
+                    const glm::mat4 P = projection_perspective(fovy, aspect, dp).matrix;
                     REQUIRE(P[2][3] == -1.0f);  // a perspective matrix came back
                     // the convenience builder gives the same matrix
-                    if (!fin) CHECK(perspective_infinite(fovy, aspect, n, cd, rev != 0, eps).matrix == P);
+                    if (!fin) CHECK(projection_perspective_infinite(fovy, aspect, n, cd, rev != 0, eps).matrix == P);
                     LightFrustumInput in = base_input();
                     in.camera_view = glm::mat4(1.0f);
                     in.camera_proj = P;
@@ -678,7 +678,7 @@ TEST_CASE("light_frustum: stable mode is rotation invariant and moves by whole t
 TEST_CASE("light_frustum: the stable fit honours the scene bounds (issue 13 item 4)") {
     LightFrustumInput in;
     in.camera_view = glm::lookAt(glm::vec3(0, 2, 5), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-    in.camera_proj = perspective_infinite(60.0f * float(kPi) / 180.0f, 1.0f, 0.1f).matrix;
+    in.camera_proj = projection_perspective_infinite(60.0f * float(kPi) / 180.0f, 1.0f, 0.1f).matrix;
     in.max_distance = 300.0f;
     in.light_position = glm::vec4(0, 1, 0, 0);  // straight down: map axes = world x and -z
     in.stable = true;
