@@ -39,7 +39,7 @@
 //
 // Based on:
 //   R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 sketch.
-//   M. Gerlach (Apelles thesis, 2010), eqs. 3.20 (search width), 3.21 (penumbra), 3.22 (filter width).
+//   A. Moschig, "Apelles: A Library for GPU-Based Real-Time Global Illumination", master's thesis, TU Graz (2012), eqs. 3.20 (search width), 3.21 (penumbra), 3.22 (filter width).
 //   W. Reeves, D. Salesin, R. Cook, "Rendering Antialiased Shadows with Depth Maps", SIGGRAPH 1987 (PCF).
 //
 // MIT License. Copyright (c) shadowkit contributors.

@@ -33,7 +33,7 @@
 //   OpenGL 4.6 core spec, Sec. 14.6.5 "Depth Offset" (o = m * factor + r * units).
 //   J. Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006 (receiver plane depth bias).
 //   D. Holbert, "Saying Goodbye to Shadow Acne", GDC 2011 poster (normal offset).
-//   M. Gerlach (Apelles thesis, 2010): distance to the light as a linear depth metric.
+//   A. Moschig, "Apelles: A Library for GPU-Based Real-Time Global Illumination", master's thesis, TU Graz (2012): distance to the light as a linear depth metric.
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once

@@ -569,7 +569,7 @@ bool make_cont_scene(std::mt19937& rng, ContScene& cs) {
     const double sx = kind == 3 ? (u(rng) - 0.5) * t : 0.0, sy = kind == 3 ? (u(rng) - 0.5) * t : 0.0;
     Scene sc = make_scene_rect(pos, fwd, -t * aspect + sx, t * aspect + sx, -t + sy, t + sy, n, f, kind == 1 || kind == 2,
                                kind == 1 || kind == 2 ? f : 0.0f, cd, rev, 0, 0);
-    if (kind == 2) sc.in.camera_proj = perspective_infinite(fovy, aspect, n, cd, rev, 1e-3f + 0.3f * u(rng)).matrix;
+    if (kind == 2) sc.in.camera_proj = projection_perspective_infinite(fovy, aspect, n, cd, rev, 1e-3f + 0.3f * u(rng)).matrix;
     cs.in = sc.in;
     cs.in.has_scene_bounds = rng() % 4 != 0;
     cs.in.scene_min = glm::vec3(-60, -2, -60) + glm::vec3(u(rng), 0.0f, u(rng)) * 20.0f;
@@ -752,8 +752,8 @@ TEST_CASE("warp: the epsilon-tweaked and reversed-Z P_inf of infinite_projection
         for (bool rev : {false, true})
             for (float eps : {0.0f, 2.4e-7f, 1e-3f, 0.5f}) {
                 WarpInput in = outdoor(70.0f);
-                const ProjectionResult pr = perspective_infinite(1.0f, 16.0f / 9.0f, 0.1f, cd, rev, eps);
-                REQUIRE(pr.status == ProjectionStatus::Ok);
+                const ProjectionResult pr = projection_perspective_infinite(1.0f, 16.0f / 9.0f, 0.1f, cd, rev, eps);
+                REQUIRE(pr.status == Status::Ok);
                 in.camera_proj = pr.matrix;
                 in.camera_depth = cd;
                 in.camera_reversed_z = rev;
