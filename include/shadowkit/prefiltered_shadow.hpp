@@ -111,7 +111,8 @@
 //   A. Lauritzen, M. McCool, "Layered Variance Shadow Maps", GI 2008 (exponential warps, EVSM).
 //   C. Peters, R. Klein, "Moment Shadow Mapping", I3D 2015 (Hamburger 4MSM, moment bias, Sec. 4.3
 //     optimized quantization, the Hausdorff variant).
-//   M. Gerlach (Apelles thesis, 2010), Sec. 2.1.6: VSM, ESM, CSM and light bleeding.
+//   A. Moschig, "Apelles: A Library for GPU-Based Real-Time Global Illumination", master's thesis, TU
+//     Graz (2012), Sec. 2.1.2 (oversampling: VSM, ESM, CSM, layered VSM; light bleeding, Fig. 2.11).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
