@@ -978,7 +978,8 @@ struct SilhouettePlanes {
     double scale = 1.0;                        ///< R: a power of two >= the positions' half extent
     std::vector<float> plane_x, plane_y, plane_z, plane_w; ///< per kept face: P_f (structure of arrays)
     std::vector<glm::vec3> positions;          ///< copy of the positions: the exact fallback reads them
-    std::vector<std::uint32_t> edge_faces;     ///< 2 per adjacency edge: f0, f1 (boundary: f0 | 2^31)
+    std::vector<std::uint64_t> edge_faces;     ///< per adjacency edge: f0 | f1 << 32 (a boundary edge: f1 = f0)
+    std::vector<std::uint8_t> edge_boundary;   ///< per 8 adjacency edges: bit j set if edge 8 k + j is a boundary edge
     std::vector<std::uint32_t> edge_vertices;  ///< 2 per adjacency edge: v0, v1
     std::size_t exact_faces = 0;               ///< faces stored as P_f = 0: always decided by the exact path
 
@@ -1108,7 +1109,8 @@ inline std::size_t sil_planes_facing_range(const SilhouetteAdjacency& adj, const
 
 inline Status sil_check_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl) {
     if (adj.status != Status::Ok || pl.status != Status::Ok || pl.vertex_count != adj.vertex_count ||
-        pl.face_count() != adj.face_count() || pl.edge_faces.size() != 2 * adj.edges.size() ||
+        pl.face_count() != adj.face_count() || pl.edge_faces.size() != adj.edges.size() ||
+        pl.edge_boundary.size() != (adj.edges.size() + 7) / 8 ||
         pl.edge_vertices.size() != 2 * adj.edges.size() || pl.positions.size() != adj.vertex_count ||
         pl.plane_y.size() != pl.face_count() || pl.plane_z.size() != pl.face_count() || pl.plane_w.size() != pl.face_count())
         return Status::InvalidArgument;
@@ -1145,41 +1147,56 @@ inline std::size_t sil_extract_nonmanifold(const SilhouetteAdjacency& adj, const
     return n;
 }
 
-// sil_extract_range on the planes' edge arrays: 64 edges at a time, a branch-free pass builds the
-// block's silhouette mask from the two faces' bits, then only its set bits are read and written.
+// sil_extract_range on the planes' edge layout, 8 edges at a time: t_j = facing[f0] ^ facing[f1]
+// for the 8 edges (one 8-byte load and two byte loads each, no branch), packed into a 64-bit word
+// whose non-zero bytes are the candidates (a boundary edge has f1 = f0, so t = 0: its block's
+// boundary byte adds it when its face is lit); only candidates are read further and verified with
+// the edge rule (facing values other than 0 / 1 give extra candidates, never wrong edges).
 inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const std::uint8_t* facing,
                                             std::uint32_t* edge_indices, std::uint8_t* edge_flags, std::size_t room,
                                             std::size_t begin, std::size_t end, bool nonmanifold, SilhouetteResult& r) {
-    const std::uint32_t* ef = pl.edge_faces.data();
+    const std::uint64_t* ef = pl.edge_faces.data();
     const std::uint32_t* ev = pl.edge_vertices.data();
+    const std::uint8_t* eb = pl.edge_boundary.data();
     std::size_t n = 0, boundary = 0;
-    for (std::size_t i0 = begin; i0 < end; i0 += 64) {
-        const std::size_t m = end - i0 < 64 ? end - i0 : 64;
-        const std::uint32_t* e = ef + 2 * i0;
-        std::uint64_t sil = 0, lit0 = 0;
-        for (std::size_t j = 0; j < m; ++j) {
-            const std::uint32_t f1 = e[2 * j + 1];
-            const std::uint64_t l0 = facing[e[2 * j]] != 0 ? 1u : 0u;
-            const std::uint64_t l1 = (facing[f1 & 0x7FFFFFFFu] != 0 ? 1u : 0u) & ((f1 >> 31) ^ 1u);
-            sil |= (l0 ^ l1) << j;
-            lit0 |= l0 << j;
+    auto emit = [&](std::size_t i, std::uint64_t bnd_bit) {
+        const std::uint64_t x = ef[i];
+        const bool l0 = facing[static_cast<std::uint32_t>(x)] != 0;
+        const bool l1 = bnd_bit == 0 && facing[static_cast<std::uint32_t>(x >> 32)] != 0;
+        if (l0 == l1) return;
+        if (n < room) {
+            const std::uint32_t v0 = ev[2 * i], v1 = ev[2 * i + 1];
+            edge_indices[2 * n] = l0 ? v0 : v1;
+            edge_indices[2 * n + 1] = l0 ? v1 : v0;
+            if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bnd_bit); // SilhouetteBoundary == 1
         }
-        while (sil != 0) {
-            const int j = sil_ctz64(sil);
-            sil &= sil - 1;
-            const std::size_t i = i0 + static_cast<std::size_t>(j);
-            const bool l0 = ((lit0 >> j) & 1u) != 0;
-            const std::uint8_t flag = static_cast<std::uint8_t>(ef[2 * i + 1] >> 31); // SilhouetteBoundary == 1
-            boundary += flag;
-            if (n < room) {
-                const std::uint32_t v0 = ev[2 * i], v1 = ev[2 * i + 1];
-                edge_indices[2 * n] = l0 ? v0 : v1;
-                edge_indices[2 * n + 1] = l0 ? v1 : v0;
-                if (edge_flags) edge_flags[n] = flag;
-            }
-            ++n;
+        ++n;
+        boundary += bnd_bit;
+    };
+    std::size_t i0 = begin;
+    // head up to a multiple of 8 (the boundary bytes cover edges 8 k .. 8 k + 7)
+    for (; i0 < end && (i0 % 8) != 0; ++i0) emit(i0, (eb[i0 / 8] >> (i0 % 8)) & 1u);
+    for (; i0 + 8 <= end; i0 += 8) {
+        std::uint64_t t = 0;
+        for (unsigned j = 0; j < 8; ++j) {
+            const std::uint64_t x = ef[i0 + j];
+            t |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x)] ^ facing[static_cast<std::uint32_t>(x >> 32)]) << (8 * j);
+        }
+        // bit 7 of every non-zero byte of t
+        std::uint64_t cand = ((t & 0x7F7F7F7F7F7F7F7Full) + 0x7F7F7F7F7F7F7F7Full) | t;
+        cand &= 0x8080808080808080ull;
+        const std::uint64_t bnd = eb[i0 / 8];
+        if (bnd != 0) {  // boundary edges: candidates when their face is lit
+            for (unsigned j = 0; j < 8; ++j)
+                if ((bnd >> j) & 1u) cand |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(ef[i0 + j])] != 0) << (8 * j + 7);
+        }
+        while (cand != 0) {
+            const unsigned j = static_cast<unsigned>(sil_ctz64(cand)) >> 3;
+            cand &= cand - 1;
+            emit(i0 + j, (bnd >> j) & 1u);
         }
     }
+    for (; i0 < end; ++i0) emit(i0, (eb[i0 / 8] >> (i0 % 8)) & 1u);
     r.boundary_edges += boundary;
     if (nonmanifold) n = sil_extract_nonmanifold(adj, facing, edge_indices, edge_flags, room, n, r);
     r.needed += 2 * n;
@@ -1255,12 +1272,14 @@ inline SilhouettePlanes silhouette_build_planes(const SilhouetteAdjacency& adj, 
         pl.plane_z[f] = out[2];
         pl.plane_w[f] = out[3];
     }
-    pl.edge_faces.resize(2 * adj.edges.size());
+    pl.edge_faces.resize(adj.edges.size());
+    pl.edge_boundary.assign((adj.edges.size() + 7) / 8, 0);
     pl.edge_vertices.resize(2 * adj.edges.size());
     for (std::size_t i = 0; i < adj.edges.size(); ++i) {
         const SilhouetteEdge& E = adj.edges[i];
-        pl.edge_faces[2 * i] = E.f0;
-        pl.edge_faces[2 * i + 1] = E.f1 == kSilhouetteNoFace ? (E.f0 | 0x80000000u) : E.f1;
+        const bool boundary = E.f1 == kSilhouetteNoFace;
+        pl.edge_faces[i] = static_cast<std::uint64_t>(E.f0) | static_cast<std::uint64_t>(boundary ? E.f0 : E.f1) << 32;
+        if (boundary) pl.edge_boundary[i / 8] = static_cast<std::uint8_t>(pl.edge_boundary[i / 8] | (1u << (i % 8)));
         pl.edge_vertices[2 * i] = E.v0;
         pl.edge_vertices[2 * i + 1] = E.v1;
     }

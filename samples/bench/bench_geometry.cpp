@@ -20,6 +20,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_meshes.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -38,63 +40,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct BenchMesh {
-    std::vector<glm::vec3> positions;
-    std::vector<std::uint32_t> indices;
-};
-
-// Closed UV sphere, shared vertices (one vertex per pole, the seam wraps): 2 * slices * (stacks - 1) triangles.
-BenchMesh make_sphere(std::size_t triangles) {
-    const std::uint32_t stacks = std::max<std::uint32_t>(3, static_cast<std::uint32_t>(std::sqrt(double(triangles) / 4.0)));
-    const std::uint32_t slices = 2 * stacks;
-    BenchMesh m;
-    const double pi = 3.14159265358979323846;
-    m.positions.push_back({0.f, 1.f, 0.f});
-    for (std::uint32_t i = 1; i < stacks; ++i)
-        for (std::uint32_t j = 0; j < slices; ++j) {
-            const double th = pi * i / stacks, ph = 2.0 * pi * j / slices;
-            m.positions.push_back({static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
-                                   static_cast<float>(-std::sin(th) * std::sin(ph))});
-        }
-    m.positions.push_back({0.f, -1.f, 0.f});
-    const std::uint32_t south = static_cast<std::uint32_t>(m.positions.size() - 1);
-    auto ring = [&](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * slices + (j % slices); };
-    for (std::uint32_t j = 0; j < slices; ++j) {
-        m.indices.insert(m.indices.end(), {0u, ring(1, j), ring(1, j + 1)});
-        m.indices.insert(m.indices.end(), {south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
-    }
-    for (std::uint32_t i = 1; i + 1 < stacks; ++i)
-        for (std::uint32_t j = 0; j < slices; ++j) {
-            const std::uint32_t a = ring(i, j), b = ring(i + 1, j), c = ring(i + 1, j + 1), d = ring(i, j + 1);
-            m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
-        }
-    return m;
-}
-
-// Noisy height field over [-1, 1]^2 (open mesh, boundary edges): 2 n^2 triangles.
-BenchMesh make_grid(std::size_t triangles) {
-    const std::uint32_t n = std::max<std::uint32_t>(2, static_cast<std::uint32_t>(std::sqrt(double(triangles) / 2.0)));
-    BenchMesh m;
-    std::uint32_t h = 2463534242u;
-    auto rnd = [&h]() {
-        h ^= h << 13;
-        h ^= h >> 17;
-        h ^= h << 5;
-        return static_cast<float>(h & 0xffffffu) / 16777216.f;
-    };
-    for (std::uint32_t i = 0; i <= n; ++i)
-        for (std::uint32_t j = 0; j <= n; ++j) {
-            const float x = -1.f + 2.f * static_cast<float>(i) / static_cast<float>(n);
-            const float z = -1.f + 2.f * static_cast<float>(j) / static_cast<float>(n);
-            m.positions.push_back({x, 0.1f * std::sin(7.f * x) * std::cos(5.f * z) + 0.02f * (rnd() - 0.5f), z});
-        }
-    for (std::uint32_t i = 0; i < n; ++i)
-        for (std::uint32_t j = 0; j < n; ++j) {
-            const std::uint32_t a = i * (n + 1) + j, b = a + 1, c = a + (n + 1), d = c + 1;
-            m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
-        }
-    return m;
-}
+using bench::BenchMesh;
+using bench::make_grid;
+using bench::make_sphere;
 
 // Everything a stage needs, built once per (mesh kind, size) and shared by the benchmarks.
 struct Fixture {
@@ -378,4 +326,15 @@ BENCHMARK(BM_frame_parallel)->Apply(parallel_sizes);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int run_compare(int argc, char** argv);  // bench_compare.cpp
+
+// `--compare [...]`: the side-by-side table of bench_compare.cpp; otherwise Google Benchmark.
+int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--compare") return run_compare(argc, argv);
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
