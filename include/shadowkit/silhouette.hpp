@@ -1147,11 +1147,18 @@ inline std::size_t sil_extract_nonmanifold(const SilhouetteAdjacency& adj, const
     return n;
 }
 
-// sil_extract_range on the planes' edge layout, 8 edges at a time: t_j = facing[f0] ^ facing[f1]
-// for the 8 edges (one 8-byte load and two byte loads each, no branch), packed into a 64-bit word
-// whose non-zero bytes are the candidates (a boundary edge has f1 = f0, so t = 0: its block's
-// boundary byte adds it when its face is lit); only candidates are read further and verified with
-// the edge rule (facing values other than 0 / 1 give extra candidates, never wrong edges).
+// bit 0 of byte j = (byte j of x != 0), for the 8 bytes of x
+inline std::uint64_t sil_nonzero_bytes(std::uint64_t x) {
+    return ((((x & 0x7F7F7F7F7F7F7F7Full) + 0x7F7F7F7F7F7F7F7Full) | x) >> 7) & 0x0101010101010101ull;
+}
+
+// sil_extract_range on the planes' edge layout, 8 edges at a time. A branch-free pass loads the 8
+// edges' face pairs (one 8-byte load each) and their facing bytes into two words (byte j: edge j),
+// whose non-zero bytes give l0, l1 and s = l0 xor l1 (a boundary edge has f1 = f0, so its block's
+// boundary byte sets s = l0). A block without a silhouette edge ends there. Else, while 8 more edges
+// fit, all 8 are written branch-free at n (the vertex pair as loaded or swapped, one 8-byte store)
+// and n advances by s (so elements past `count`, within the room, may be overwritten); near the end
+// of the room, edge by edge.
 inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const std::uint8_t* facing,
                                             std::uint32_t* edge_indices, std::uint8_t* edge_flags, std::size_t room,
                                             std::size_t begin, std::size_t end, bool nonmanifold, SilhouetteResult& r) {
@@ -1159,44 +1166,69 @@ inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, cons
     const std::uint32_t* ev = pl.edge_vertices.data();
     const std::uint8_t* eb = pl.edge_boundary.data();
     std::size_t n = 0, boundary = 0;
-    auto emit = [&](std::size_t i, std::uint64_t bnd_bit) {
-        const std::uint64_t x = ef[i];
-        const bool l0 = facing[static_cast<std::uint32_t>(x)] != 0;
-        const bool l1 = bnd_bit == 0 && facing[static_cast<std::uint32_t>(x >> 32)] != 0;
-        if (l0 == l1) return;
+    auto emit = [&](std::size_t i, bool l0, bool sil, std::uint32_t bb) {
+        if (!sil) return;
         if (n < room) {
             const std::uint32_t v0 = ev[2 * i], v1 = ev[2 * i + 1];
             edge_indices[2 * n] = l0 ? v0 : v1;
             edge_indices[2 * n + 1] = l0 ? v1 : v0;
-            if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bnd_bit); // SilhouetteBoundary == 1
+            if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bb);  // SilhouetteBoundary == 1
         }
         ++n;
-        boundary += bnd_bit;
+        boundary += bb;
+    };
+    auto single = [&](std::size_t i) {
+        const std::uint64_t x = ef[i];
+        const std::uint32_t bb = (eb[i / 8] >> (i % 8)) & 1u;
+        const bool l0 = facing[static_cast<std::uint32_t>(x)] != 0;
+        const bool l1 = bb == 0 && facing[static_cast<std::uint32_t>(x >> 32)] != 0;
+        emit(i, l0, l0 != l1, bb);
     };
     std::size_t i0 = begin;
-    // head up to a multiple of 8 (the boundary bytes cover edges 8 k .. 8 k + 7)
-    for (; i0 < end && (i0 % 8) != 0; ++i0) emit(i0, (eb[i0 / 8] >> (i0 % 8)) & 1u);
+    for (; i0 < end && (i0 % 8) != 0; ++i0) single(i0);  // the boundary bytes cover edges 8 k .. 8 k + 7
     for (; i0 + 8 <= end; i0 += 8) {
-        std::uint64_t t = 0;
+        std::uint64_t a = 0, b = 0;
         for (unsigned j = 0; j < 8; ++j) {
             const std::uint64_t x = ef[i0 + j];
-            t |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x)] ^ facing[static_cast<std::uint32_t>(x >> 32)]) << (8 * j);
+            a |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x)]) << (8 * j);
+            b |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x >> 32)]) << (8 * j);
         }
-        // bit 7 of every non-zero byte of t
-        std::uint64_t cand = ((t & 0x7F7F7F7F7F7F7F7Full) + 0x7F7F7F7F7F7F7F7Full) | t;
-        cand &= 0x8080808080808080ull;
-        const std::uint64_t bnd = eb[i0 / 8];
-        if (bnd != 0) {  // boundary edges: candidates when their face is lit
-            for (unsigned j = 0; j < 8; ++j)
-                if ((bnd >> j) & 1u) cand |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(ef[i0 + j])] != 0) << (8 * j + 7);
+        const std::uint64_t l0 = sil_nonzero_bytes(a);
+        std::uint64_t sil = l0 ^ sil_nonzero_bytes(b);
+        const std::uint32_t bnd = eb[i0 / 8];
+        if (bnd != 0) {  // boundary edges: s = l0
+            std::uint64_t bb = 0;
+            for (unsigned j = 0; j < 8; ++j) bb |= static_cast<std::uint64_t>((bnd >> j) & 1u) << (8 * j);
+            sil = (sil & ~bb) | (l0 & bb);
         }
-        while (cand != 0) {
-            const unsigned j = static_cast<unsigned>(sil_ctz64(cand)) >> 3;
-            cand &= cand - 1;
-            emit(i0 + j, (bnd >> j) & 1u);
+        if (sil == 0) continue;
+        if (n + 8 <= room && bnd == 0 && edge_flags == nullptr) {  // the common case, fewest operations
+            std::uint64_t lj = l0, sj = sil;
+            for (unsigned j = 0; j < 8; ++j, lj >>= 8, sj >>= 8) {
+                std::uint64_t v;
+                std::memcpy(&v, ev + 2 * (i0 + j), sizeof v);  // v0, v1 in memory order
+                const std::uint64_t w = (lj & 1u) != 0 ? v : (v >> 32 | v << 32);
+                std::memcpy(edge_indices + 2 * n, &w, sizeof w);
+                n += static_cast<std::size_t>(sj & 1u);
+            }
+            continue;
         }
+        if (n + 8 <= room) {
+            for (unsigned j = 0; j < 8; ++j) {
+                std::uint64_t v;
+                std::memcpy(&v, ev + 2 * (i0 + j), sizeof v);
+                const std::uint64_t w = ((l0 >> (8 * j)) & 1u) != 0 ? v : (v >> 32 | v << 32);
+                std::memcpy(edge_indices + 2 * n, &w, sizeof w);
+                const std::size_t sj = static_cast<std::size_t>((sil >> (8 * j)) & 1u), bj = (bnd >> j) & 1u;
+                if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bj);
+                n += sj;
+                boundary += sj & bj;
+            }
+            continue;
+        }
+        for (unsigned j = 0; j < 8; ++j) emit(i0 + j, ((l0 >> (8 * j)) & 1u) != 0, ((sil >> (8 * j)) & 1u) != 0, (bnd >> j) & 1u);
     }
-    for (; i0 < end; ++i0) emit(i0, (eb[i0 / 8] >> (i0 % 8)) & 1u);
+    for (; i0 < end; ++i0) single(i0);
     r.boundary_edges += boundary;
     if (nonmanifold) n = sil_extract_nonmanifold(adj, facing, edge_indices, edge_flags, room, n, r);
     r.needed += 2 * n;
