@@ -14,6 +14,11 @@
 //   shadowkit::SilhouetteResult r = shadowkit::silhouette_extract(adj, lit.data(), lit.size(), sil.data(),
 //                                                                 sil.size(), nullptr, 0);
 //   // sil[0, r.count): edges (sil[2i], sil[2i+1]), each oriented as in its lit triangle
+//   // rigid meshes (positions fixed): cache the face planes once (allocates), then per frame the
+//   // fast path, bit for bit the same facing and edges (3.5-7x faster a frame; docs/benchmarks.md):
+//   shadowkit::SilhouettePlanes planes = shadowkit::silhouette_build_planes(adj, pos, vertex_count);
+//   shadowkit::silhouette_compute_facing_planes(adj, planes, light_position, lit.data(), lit.size());
+//   r = shadowkit::silhouette_extract_planes(adj, planes, lit.data(), lit.size(), sil.data(), sil.size(), nullptr, 0);
 //   // the same on several threads, with any job system's parallel_for(n, fn) (see "parallel
 //   // silhouettes" below; identical output):
 //   std::vector<shadowkit::SilhouetteResult> chunks(16);
@@ -30,8 +35,9 @@
 //     counter-clockwise seen from their front (lit) side.
 //   * Buffers: every capacity counts elements of its pointer's type (uint8 facing bits, uint32
 //     indices: 2 per silhouette edge); results say `count` (elements written, a valid prefix) and
-//     `needed` (elements the whole output needs; count == needed when Ok). The adjacency build
-//     allocates; nothing else does, except silhouette_compute (says so).
+//     `needed` (elements the whole output needs; count == needed when Ok). The adjacency and planes
+//     builds allocate; nothing else does, except silhouette_compute (says so). The *_planes
+//     extractions may overwrite elements past `count` (never past a capacity).
 //   * Facing (exact). For a kept face (A, B, C) and light_position L = (l, w):
 //       d = dot(cross(B - A, C - A), l - w A)      (= w * (plane . L) for the plane through A)
 //     with real arithmetic on the float inputs: the sign of d is computed EXACTLY (an orient3d-style
@@ -43,7 +49,9 @@
 //     on no lit face, hence on no silhouette edge and in no LitOnly cap, and shadow_volume.hpp never
 //     extrudes it (its extrusion V w - l would be (0, 0, 0, 0)). The facing bit never depends on the
 //     rounding, compiler or FMA contraction (the filter's bound holds with or without contraction;
-//     -ffast-math reassociation is outside IEEE 754 and voids it).
+//     -ffast-math reassociation is outside IEEE 754 and voids it). The cached-plane path
+//     (silhouette_build_planes) gives the same bits: a float filter with its own proven bound in
+//     front of the same exact evaluation ("cached face planes" below).
 //   * Edge rule. For an edge {u, v} with incident faces f_i, let s_i = +1 if f_i traverses u -> v and
 //     -1 if it traverses v -> u. The silhouette multiplicity is  k = sum over LIT faces of s_i.
 //     The edge is emitted |k| times, oriented u -> v if k > 0, v -> u if k < 0 (i.e. as in the lit
