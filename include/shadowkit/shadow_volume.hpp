@@ -604,7 +604,10 @@ inline VolumeMethod volume_choose_stencil_method_box(const VolumeNearRect& near_
     {
         const SvVec c = (lo + hi) * 0.5;
         double far2 = 0.0;
-        for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, sv_len2(sv_of(near_rect.corners[i]) - c));
+        for (int i = 0; i < 4; ++i) {  // not std::fmax: aarch64 GCC 12.2 -O2 crashes vectorizing that reduction
+            const double d2 = sv_len2(sv_of(near_rect.corners[i]) - c);
+            far2 = d2 > far2 ? d2 : far2;
+        }
         reach = 2.0 * (std::sqrt(far2) + std::sqrt(sv_len2(hi - lo))) + 1.0;
     }
     const SvPoly p = sv_near_poly(near_rect, light_position, reach);
@@ -649,7 +652,10 @@ inline VolumeMethod volume_choose_stencil_method_sphere(const VolumeNearRect& ne
     const SvVec c = sv_of(center);
     const double rr = static_cast<double>(radius) + static_cast<double>(margin);
     double far2 = 0.0;
-    for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, sv_len2(sv_of(near_rect.corners[i]) - c));
+    for (int i = 0; i < 4; ++i) {  // not std::fmax: aarch64 GCC 12.2 -O2 crashes vectorizing that reduction
+        const double d2 = sv_len2(sv_of(near_rect.corners[i]) - c);
+        far2 = d2 > far2 ? d2 : far2;
+    }
     const SvPoly p = sv_near_poly(near_rect, light_position, 2.0 * (std::sqrt(far2) + rr) + 1.0);
     // Inside test: only for a solid polytope; planes oriented outwards via the centroid.
     SvVec cen{0, 0, 0};
