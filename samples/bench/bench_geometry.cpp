@@ -5,6 +5,10 @@
 //   silhouette  silhouette_extract (one pass over the edge list)
 //   volume      volume_build_side_quads + volume_build_caps (z-fail index buffer: side quads, light and dark caps)
 //   frame       facing + silhouette + volume: the per-frame work of a moving light
+//   facing_planes / frame_planes: the same with the rigid-mesh fast path (silhouette_build_planes
+//               once, silhouette_compute_facing_planes + silhouette_extract_planes per frame)
+//   --compare   not Google Benchmark: the side-by-side table of bench_compare.cpp (a bgfx-style
+//               baseline, the exact path, the fast path, memcpy; docs/benchmarks.md)
 //   silhouette_parallel / frame_parallel: the same on T threads (third argument) of a persistent
 //               pool, through silhouette_extract_parallel (chunked facing + silhouette, then the
 //               serial compaction) and per-chunk volume_build_caps into each chunk's own range of the
@@ -48,6 +52,7 @@ using bench::make_sphere;
 struct Fixture {
     BenchMesh mesh;
     shadowkit::SilhouetteAdjacency adj;
+    shadowkit::SilhouettePlanes planes;
     glm::vec4 light{0.f};
     std::vector<std::uint8_t> facing;
     std::vector<std::uint32_t> sil;
@@ -64,6 +69,7 @@ Fixture& fixture(int kind, std::size_t triangles) {
     f.mesh = kind == 0 ? make_sphere(triangles) : make_grid(triangles);
     f.adj = shadowkit::silhouette_build_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
                                                   f.mesh.indices.size());
+    f.planes = shadowkit::silhouette_build_planes(f.adj, f.mesh.positions.data(), f.mesh.positions.size());
     f.light = kind == 0 ? glm::vec4(3.f, 2.f, 1.f, 1.f) : glm::vec4(0.6f, 1.5f, 0.4f, 1.f);
     f.facing.assign(f.adj.face_count(), 0);
     shadowkit::silhouette_compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
@@ -179,6 +185,35 @@ void BM_frame(benchmark::State& state) {
                                              f.facing.size());
         const auto sr = shadowkit::silhouette_extract(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), f.sil.size(),
                                                       nullptr, 0);
+        const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
+                                                           f.volume.size());
+        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
+                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
+                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
+        benchmark::DoNotOptimize(cp);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_facing_planes(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.adj.face_count() * 16;
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        auto r = shadowkit::silhouette_compute_facing_planes(f.adj, f.planes, f.light, f.facing.data(), f.facing.size());
+        benchmark::DoNotOptimize(r);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_frame_planes(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.adj.face_count() * 16 + f.planes.edge_faces.size() * 8 + f.sil_edges * 8 + f.adj.faces.size() * 4;
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        shadowkit::silhouette_compute_facing_planes(f.adj, f.planes, f.light, f.facing.data(), f.facing.size());
+        const auto sr = shadowkit::silhouette_extract_planes(f.adj, f.planes, f.facing.data(), f.facing.size(), f.sil.data(),
+                                                             f.sil.size(), nullptr, 0);
         const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
                                                            f.volume.size());
         const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
@@ -314,6 +349,8 @@ BENCHMARK(BM_facing)->Apply(sizes);
 BENCHMARK(BM_silhouette)->Apply(sizes);
 BENCHMARK(BM_volume)->Apply(sizes);
 BENCHMARK(BM_frame)->Apply(sizes);
+BENCHMARK(BM_facing_planes)->Apply(sizes);
+BENCHMARK(BM_frame_planes)->Apply(sizes);
 
 void parallel_sizes(benchmark::internal::Benchmark* b) {
     for (int kind : {0, 1})
