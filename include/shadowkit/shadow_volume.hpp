@@ -108,6 +108,13 @@
 #include <initializer_list>
 #include <limits>
 
+// SSE2 (the baseline of x86-64) for volume_build_caps; portable code elsewhere. SHADOWKIT_NO_SIMD
+// forces the portable code. Both write the same indices.
+#if !defined(SHADOWKIT_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
+#include <emmintrin.h>
+#define SHADOWKIT_SV_SSE2 1
+#endif
+
 namespace shadowkit {
 
 #ifndef SHADOWKIT_STATUS_DEFINED
@@ -390,7 +397,8 @@ inline VolumeBuffer volume_build_vertices(const glm::vec3* positions, std::size_
 /// (b, a, a + n) and (b, a + n, b + n), n = vertex_count <= 2^31 - 1. `edge_indices` holds
 /// edge_index_count uint32 elements (even: 2 per edge, as silhouette_extract writes them). `out`
 /// holds out_capacity uint32 elements; it needs 3 * edge_index_count (6 per edge, `needed`); a
-/// short buffer gets the whole quads that fit (BufferTooSmall).
+/// short buffer gets the whole quads that fit (BufferTooSmall). The index check shares the pass with
+/// the writes: with IndexOutOfRange out's contents are unspecified.
 inline VolumeBuffer volume_build_side_quads(const std::uint32_t* edge_indices, std::size_t edge_index_count,
                                             std::size_t vertex_count, std::uint32_t* out, std::size_t out_capacity) {
     VolumeBuffer r;
@@ -399,18 +407,36 @@ inline VolumeBuffer volume_build_side_quads(const std::uint32_t* edge_indices, s
         r.status = Status::InvalidArgument;
         return r;
     }
-    for (std::size_t i = 0; i < edge_index_count; ++i)
-        if (edge_indices[i] >= vertex_count) { r.status = Status::IndexOutOfRange; return r; }
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
     const std::size_t edges = edge_index_count / 2;
-    r.needed = 6 * edges;
     const std::size_t full = out_capacity / 6 < edges ? out_capacity / 6 : edges;
-    for (std::size_t e = 0; e < full; ++e) {
+    bool bad = false;  // the index check, fused with the writes (one pass over the edges)
+    std::size_t e = 0;
+#if defined(SHADOWKIT_SV_SSE2)
+    if (n > 0) {
+        const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u)), nv = _mm_set1_epi32(static_cast<int>(n));
+        const __m128i lim = _mm_xor_si128(nv, sign);
+        __m128i ok = _mm_set1_epi32(-1);
+        for (; e < full; ++e) {
+            const __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(edge_indices + 2 * e));  // a b 0 0
+            ok = _mm_and_si128(ok, _mm_cmplt_epi32(_mm_xor_si128(v, sign), lim));
+            const __m128i t = _mm_unpacklo_epi64(v, _mm_add_epi32(v, nv));                              // a b a+n b+n
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 6 * e), _mm_shuffle_epi32(t, _MM_SHUFFLE(1, 2, 0, 1)));  // b a a+n b
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 6 * e + 4), _mm_unpackhi_epi64(t, t));               // a+n b+n
+        }
+        bad = _mm_movemask_epi8(ok) != 0xFFFF;
+    }
+#endif
+    for (; e < full; ++e) {
         const std::uint32_t a = edge_indices[2 * e], b = edge_indices[2 * e + 1];
+        bad |= (a >= n) | (b >= n);
         std::uint32_t* o = out + 6 * e;
         o[0] = b; o[1] = a; o[2] = a + n;
         o[3] = b; o[4] = a + n; o[5] = b + n;
     }
+    for (std::size_t i = 2 * full; i < edge_index_count; ++i) bad |= edge_indices[i] >= n;
+    if (bad) { r.status = Status::IndexOutOfRange; return r; }
+    r.needed = 6 * edges;
     r.count = 6 * full;
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
     return r;
@@ -422,7 +448,9 @@ inline VolumeBuffer volume_build_side_quads(const std::uint32_t* edge_indices, s
 /// facing of the adjacency's faces). Any sub-range of triangles works (chunks). `out` holds
 /// out_capacity uint32 elements; it needs 3 per lit triangle plus 3 per dark-cap triangle (at most
 /// 2 * index_count, `needed`); a short buffer gets the whole triangles that fit (BufferTooSmall).
-/// An out-of-range `mode` is InvalidArgument.
+/// An out-of-range `mode` is InvalidArgument. One branch-free pass (SSE2 where available): up to 7
+/// elements past `count` (never past out_capacity) may be overwritten, and with IndexOutOfRange
+/// (checked in the same pass) out's contents are unspecified.
 inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t index_count, const std::uint8_t* lit,
                                       std::size_t lit_count, std::size_t vertex_count, VolumeCapMode mode, bool dark_cap,
                                       std::uint32_t* out, std::size_t out_capacity) {
@@ -434,23 +462,65 @@ inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t 
         r.status = Status::InvalidArgument;
         return r;
     }
-    for (std::size_t i = 0; i < index_count; ++i)
-        if (indices[i] >= vertex_count) { r.status = Status::IndexOutOfRange; return r; }
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
-    std::size_t k = 0;
+    const bool lit_only = mode == VolumeCapMode::LitOnly;
+    std::size_t k = 0, t = 0;
+    bool bad = false;  // the index check, fused with the writes (one pass over the triangles)
+    // Branch-free while there is room: every triangle's indices are written, k advances by what the
+    // triangle contributes (the next triangle overwrites the rest).
+#if defined(SHADOWKIT_SV_SSE2)
+    if (n > 0) {
+        const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u)), nv = _mm_set1_epi32(static_cast<int>(n));
+        const __m128i lim = _mm_xor_si128(nv, sign);
+        __m128i ok = _mm_set1_epi32(-1);
+        const std::size_t lit_step = lit_only && dark_cap ? 6 : 3, dark_step = !lit_only && dark_cap ? 3 : 0;
+        // 16-byte loads: triangle t's three indices and the next one's first (in range: t + 2 <= count)
+        for (; t + 2 <= lit_count && k + 7 <= out_capacity; ++t) {
+            const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(indices + 3 * t));
+            ok = _mm_and_si128(ok, _mm_cmplt_epi32(_mm_xor_si128(v, sign), lim));
+            const __m128i vn = _mm_add_epi32(v, nv);
+            const bool l = lit[t] != 0;
+            if (lit_only) {
+                _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k), v);  // a b c (x)
+                _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k + 3), _mm_shuffle_epi32(vn, _MM_SHUFFLE(3, 1, 2, 0))); // a+n c+n b+n (x)
+            } else {
+                _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k), l ? v : vn);
+            }
+            k += l ? lit_step : dark_step;
+        }
+        bad = _mm_movemask_epi8(ok) != 0xFFFF;
+    }
+#endif
+    for (; t < lit_count && k + 6 <= out_capacity; ++t) {
+        const std::uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+        bad |= (a >= n) | (b >= n) | (c >= n);
+        const bool l = lit[t] != 0;
+        std::uint32_t* o = out + k;
+        if (lit_only) {
+            o[0] = a; o[1] = b; o[2] = c;
+            o[3] = a + n; o[4] = c + n; o[5] = b + n;
+            k += l ? (dark_cap ? 6 : 3) : 0;
+        } else {
+            o[0] = l ? a : a + n; o[1] = l ? b : b + n; o[2] = l ? c : c + n;
+            k += (l || dark_cap) ? 3 : 0;
+        }
+    }
+    // the rest (a buffer near its end): whole triangles while they fit, then only counted
     auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
         if (k + 3 <= out_capacity) { out[k] = a; out[k + 1] = b; out[k + 2] = c; }
         k += 3;
     };
-    for (std::size_t t = 0; t < lit_count; ++t) {
+    for (; t < lit_count; ++t) {
         const std::uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+        bad |= (a >= n) | (b >= n) | (c >= n);
         if (lit[t]) {
             put(a, b, c);
-            if (dark_cap && mode == VolumeCapMode::LitOnly) put(a + n, c + n, b + n);
-        } else if (dark_cap && mode == VolumeCapMode::EverittKilgard) {
+            if (dark_cap && lit_only) put(a + n, c + n, b + n);
+        } else if (dark_cap && !lit_only) {
             put(a + n, b + n, c + n);
         }
     }
+    if (bad) { r.status = Status::IndexOutOfRange; return r; }
     r.needed = k;
     r.count = k <= out_capacity ? k : (out_capacity / 3) * 3;
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
@@ -534,7 +604,10 @@ inline VolumeMethod volume_choose_stencil_method_box(const VolumeNearRect& near_
     {
         const SvVec c = (lo + hi) * 0.5;
         double far2 = 0.0;
-        for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, sv_len2(sv_of(near_rect.corners[i]) - c));
+        for (int i = 0; i < 4; ++i) {  // not std::fmax: aarch64 GCC 12.2 -O2 crashes vectorizing that reduction
+            const double d2 = sv_len2(sv_of(near_rect.corners[i]) - c);
+            far2 = d2 > far2 ? d2 : far2;
+        }
         reach = 2.0 * (std::sqrt(far2) + std::sqrt(sv_len2(hi - lo))) + 1.0;
     }
     const SvPoly p = sv_near_poly(near_rect, light_position, reach);
@@ -579,7 +652,10 @@ inline VolumeMethod volume_choose_stencil_method_sphere(const VolumeNearRect& ne
     const SvVec c = sv_of(center);
     const double rr = static_cast<double>(radius) + static_cast<double>(margin);
     double far2 = 0.0;
-    for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, sv_len2(sv_of(near_rect.corners[i]) - c));
+    for (int i = 0; i < 4; ++i) {  // not std::fmax: aarch64 GCC 12.2 -O2 crashes vectorizing that reduction
+        const double d2 = sv_len2(sv_of(near_rect.corners[i]) - c);
+        far2 = d2 > far2 ? d2 : far2;
+    }
     const SvPoly p = sv_near_poly(near_rect, light_position, 2.0 * (std::sqrt(far2) + rr) + 1.0);
     // Inside test: only for a solid polytope; planes oriented outwards via the centroid.
     SvVec cen{0, 0, 0};

@@ -14,6 +14,11 @@
 //   shadowkit::SilhouetteResult r = shadowkit::silhouette_extract(adj, lit.data(), lit.size(), sil.data(),
 //                                                                 sil.size(), nullptr, 0);
 //   // sil[0, r.count): edges (sil[2i], sil[2i+1]), each oriented as in its lit triangle
+//   // rigid meshes (positions fixed): cache the face planes once (allocates), then per frame the
+//   // fast path, bit for bit the same facing and edges (3.5-7x faster a frame; docs/benchmarks.md):
+//   shadowkit::SilhouettePlanes planes = shadowkit::silhouette_build_planes(adj, pos, vertex_count);
+//   shadowkit::silhouette_compute_facing_planes(adj, planes, light_position, lit.data(), lit.size());
+//   r = shadowkit::silhouette_extract_planes(adj, planes, lit.data(), lit.size(), sil.data(), sil.size(), nullptr, 0);
 //   // the same on several threads, with any job system's parallel_for(n, fn) (see "parallel
 //   // silhouettes" below; identical output):
 //   std::vector<shadowkit::SilhouetteResult> chunks(16);
@@ -30,8 +35,9 @@
 //     counter-clockwise seen from their front (lit) side.
 //   * Buffers: every capacity counts elements of its pointer's type (uint8 facing bits, uint32
 //     indices: 2 per silhouette edge); results say `count` (elements written, a valid prefix) and
-//     `needed` (elements the whole output needs; count == needed when Ok). The adjacency build
-//     allocates; nothing else does, except silhouette_compute (says so).
+//     `needed` (elements the whole output needs; count == needed when Ok). The adjacency and planes
+//     builds allocate; nothing else does, except silhouette_compute (says so). The *_planes
+//     extractions may overwrite elements past `count` (never past a capacity).
 //   * Facing (exact). For a kept face (A, B, C) and light_position L = (l, w):
 //       d = dot(cross(B - A, C - A), l - w A)      (= w * (plane . L) for the plane through A)
 //     with real arithmetic on the float inputs: the sign of d is computed EXACTLY (an orient3d-style
@@ -43,7 +49,9 @@
 //     on no lit face, hence on no silhouette edge and in no LitOnly cap, and shadow_volume.hpp never
 //     extrudes it (its extrusion V w - l would be (0, 0, 0, 0)). The facing bit never depends on the
 //     rounding, compiler or FMA contraction (the filter's bound holds with or without contraction;
-//     -ffast-math reassociation is outside IEEE 754 and voids it).
+//     -ffast-math reassociation is outside IEEE 754 and voids it). The cached-plane path
+//     (silhouette_build_planes) gives the same bits: a float filter with its own proven bound in
+//     front of the same exact evaluation ("cached face planes" below).
 //   * Edge rule. For an edge {u, v} with incident faces f_i, let s_i = +1 if f_i traverses u -> v and
 //     -1 if it traverses v -> u. The silhouette multiplicity is  k = sum over LIT faces of s_i.
 //     The edge is emitted |k| times, oriented u -> v if k > 0, v -> u if k < 0 (i.e. as in the lit
@@ -106,6 +114,17 @@
 #include <tuple>
 #include <unordered_map>
 #include <vector>
+
+// SIMD for the cached-plane facing (silhouette_compute_facing_planes): SSE2 on x86 (baseline of
+// x86-64), NEON on AArch64, else portable scalar code; define SHADOWKIT_NO_SIMD to force the scalar
+// path. Every path gives the same (exact) facing bits.
+#if !defined(SHADOWKIT_NO_SIMD) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
+#include <emmintrin.h>
+#define SHADOWKIT_SIL_SSE2 1
+#elif !defined(SHADOWKIT_NO_SIMD) && defined(__ARM_NEON) && defined(__aarch64__)
+#include <arm_neon.h>
+#define SHADOWKIT_SIL_NEON 1
+#endif
 
 namespace shadowkit {
 
@@ -304,6 +323,29 @@ struct SilExactSum {
         }
         return 0;
     }
+    // pos - neg as a double with relative error < 2^-50 (0 exactly when the sum is 0): the top 96
+    // bits of the magnitude (dropped bits < 2^-64 of it), two double roundings, an exact scaling.
+    double to_double() const {
+        const int sg = sign();
+        if (sg == 0) return 0.0;
+        const std::uint32_t* big = sg > 0 ? pos : neg;
+        const std::uint32_t* small = sg > 0 ? neg : pos;
+        std::uint32_t mag[kSilLimbs];
+        std::int64_t borrow = 0;
+        for (int j = 0; j < kSilLimbs; ++j) {
+            std::int64_t t = static_cast<std::int64_t>(big[j]) - static_cast<std::int64_t>(small[j]) - borrow;
+            borrow = t < 0 ? 1 : 0;
+            if (t < 0) t += std::int64_t(1) << 32;
+            mag[j] = static_cast<std::uint32_t>(t);
+        }
+        int top = kSilLimbs - 1;
+        while (mag[top] == 0u) --top;
+        double v = 0.0;
+        for (int j = top; j >= 0 && j > top - 3; --j) v = v * 4294967296.0 + static_cast<double>(mag[j]);
+        const int low = top - 2 > 0 ? top - 2 : 0;
+        v = std::ldexp(v, 32 * low - 596);
+        return sg > 0 ? v : -v;
+    }
 };
 
 // adds sign * det(P, Q, R) (times *extra if given): the 6 permutation products
@@ -368,6 +410,33 @@ inline int sil_face_sign(const glm::vec3& a, const glm::vec3& b, const glm::vec3
           std::isfinite(L.z) && std::isfinite(L.w)))
         return kSilNonFinite;
     return sil_face_sign_exact(a, b, c, L);
+}
+
+/// d (header comment) as a double with relative error <= 2^-30 (exactly 0 iff d == 0) for finite
+/// inputs: the filter's value when its bound is below 2^-31 of it, else the exact sum rounded.
+inline double sil_face_value(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L) {
+    const double ax = a.x, ay = a.y, az = a.z, lw = L.w;
+    const double e1x = static_cast<double>(b.x) - ax, e1y = static_cast<double>(b.y) - ay, e1z = static_cast<double>(b.z) - az;
+    const double e2x = static_cast<double>(c.x) - ax, e2y = static_cast<double>(c.y) - ay, e2z = static_cast<double>(c.z) - az;
+    const double qx = static_cast<double>(L.x) - lw * ax, qy = static_cast<double>(L.y) - lw * ay,
+                 qz = static_cast<double>(L.z) - lw * az;
+    const double p1 = e1y * e2z, p2 = e1z * e2y, p3 = e1z * e2x, p4 = e1x * e2z, p5 = e1x * e2y, p6 = e1y * e2x;
+    const double d = (p1 - p2) * qx + (p3 - p4) * qy + (p5 - p6) * qz;
+    const double perm = (std::fabs(p1) + std::fabs(p2)) * std::fabs(qx) + (std::fabs(p3) + std::fabs(p4)) * std::fabs(qy) +
+                        (std::fabs(p5) + std::fabs(p6)) * std::fabs(qz);
+    if (perm == 0.0) return 0.0;                                   // every term exactly 0
+    if (kSilFilterBound * perm <= 0x1p-31 * std::fabs(d)) return d; // |error| <= 2^-31 |d|
+    const SilFloat A[3] = {sil_decompose(a.x), sil_decompose(a.y), sil_decompose(a.z)};
+    const SilFloat B[3] = {sil_decompose(b.x), sil_decompose(b.y), sil_decompose(b.z)};
+    const SilFloat C[3] = {sil_decompose(c.x), sil_decompose(c.y), sil_decompose(c.z)};
+    const SilFloat l[3] = {sil_decompose(L.x), sil_decompose(L.y), sil_decompose(L.z)};
+    const SilFloat w = sil_decompose(L.w);
+    SilExactSum s;
+    sil_exact_add_det(s, A, B, l, nullptr, false);
+    sil_exact_add_det(s, B, C, l, nullptr, false);
+    sil_exact_add_det(s, C, A, l, nullptr, false);
+    if (w.m != 0u) sil_exact_add_det(s, A, B, C, &w, true);
+    return s.to_double();
 }
 
 // Zero-area face: cross(B - A, C - A) == 0 exactly (d == 0 for every light): the three axis
@@ -880,6 +949,496 @@ inline SilhouetteResult silhouette_extract_parallel(const SilhouetteAdjacency& a
     parallel_for(chunk_count, [&](std::size_t c) {
         chunk_results[c] = silhouette_extract_chunk(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags,
                                                     edge_flags_capacity, c, chunk_count);
+    });
+    return silhouette_compact_chunks(adj, chunk_results, chunk_count, edge_indices, edge_indices_capacity, edge_flags,
+                                     edge_flags_capacity);
+}
+
+// ------------------------------------------------------------------ cached face planes (rigid meshes)
+// The fast path for a mesh whose positions do not change: silhouette_build_planes stores, once, each
+// kept face's plane in float, and per frame the facing is one 4-term float dot product per face
+// (SIMD), decided by a proven error bound; the few faces inside the bound fall back to the exact
+// path above. The facing bits are identical to silhouette_compute_facing's.
+//
+// The arithmetic. Local frame: O (float, the center of the positions' bounds) and R = 2^k >= their
+// half extent. For a face with exact n = cross(B - A, C - A) and c = n . (O - A) (both d of the
+// header comment, for the lights (e_x, 0), (e_y, 0), (e_z, 0) and (O, 1)), and a light (l, w):
+//     d = n . (l - w O) + (c / R) (w R) = P . L*,   P = (n, c / R),  L* = (l - w O, w R).
+// Setup: P to relative 2^-30 per component (sil_face_value: filter or exact), scaled by a power of
+// two to max |P_i| in [1, 2), rounded to float: |P_f,i - P_i| <= r |P_f,i| with r < 1.02 * 2^-24 (a
+// face with a non-zero component below 2^-126 after scaling stores P_f = 0: it is always decided
+// exactly). Per frame: L* in double (w O_i and w R exact, one rounding in l - w O), scaled by a
+// power of two to max in [1, 2), rounded to float: |L_f,i - L*_i| <= r_L |L_f,i| + 2^-126 (r_L <
+// 1.0001 * 2^-24; the absolute term covers subnormals and flush-to-zero). The float dot product
+// (any order, with or without FMA: at most 4 roundings per term) is within gamma_4 S + 2^-123 of
+// sum P_f,i L_f,i, S = sum |P_f,i L_f,i| <= 2 ||L_f||_1. So with positive scale factors s:
+//     |d_float - s d| <= (gamma_4 + r + r_L + r r_L) S + 2^-121 < 12.2 * 2^-24 ||L_f||_1 + 2^-121
+// and ||L_f||_1 >= 1, so bound = 2^-20 ||L_f||_1 (float; 16 against 12.2) decides: d_float > bound
+// -> lit, d_float < -bound -> not lit, else the exact path (which also gets every d == 0 face).
+
+/// Cached face planes of a rigid mesh for the fast exact facing (silhouette_build_planes: allocates,
+/// once per mesh). `status` first; the rest is valid when Ok. Built for one adjacency and one
+/// positions buffer: pass the same adjacency to the *_planes functions (the counts are checked).
+struct SilhouettePlanes {
+    Status status = Status::NotRun;
+    std::uint32_t vertex_count = 0;            ///< the adjacency's vertex count
+    glm::vec3 origin = glm::vec3(0.0f);        ///< O: local frame center (header comment above)
+    double scale = 1.0;                        ///< R: a power of two >= the positions' half extent
+    std::vector<float> plane_x, plane_y, plane_z, plane_w; ///< per kept face: P_f (structure of arrays)
+    std::vector<glm::vec3> positions;          ///< copy of the positions: the exact fallback reads them
+    std::vector<std::uint64_t> edge_faces;     ///< per adjacency edge: f0 | f1 << 32 (a boundary edge: f1 = f0)
+    std::vector<std::uint8_t> edge_boundary;   ///< per 8 adjacency edges: bit j set if edge 8 k + j is a boundary edge
+    std::vector<std::uint32_t> edge_vertices;  ///< 2 per adjacency edge: v0, v1
+    std::size_t exact_faces = 0;               ///< faces stored as P_f = 0: always decided by the exact path
+
+    /// Kept faces (= the adjacency's face_count()).
+    std::size_t face_count() const { return plane_x.size(); }
+};
+
+namespace detail {
+
+inline int sil_ctz64(std::uint64_t x) {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctzll(x);
+#else
+    int n = 0;
+    while ((x & 1u) == 0u) { x >>= 1; ++n; }
+    return n;
+#endif
+}
+
+// The light in the planes' frame (header comment above): out[4] = L_f, *bound = 2^-20 ||L_f||_1.
+inline void sil_planes_light(const SilhouettePlanes& pl, const glm::vec4& L, float* out, float* bound) {
+    const double w = L.w;
+    const double q[4] = {static_cast<double>(L.x) - w * static_cast<double>(pl.origin.x),
+                         static_cast<double>(L.y) - w * static_cast<double>(pl.origin.y),
+                         static_cast<double>(L.z) - w * static_cast<double>(pl.origin.z), w * pl.scale};
+    double m = 0.0;
+    for (double v : q) m = std::fmax(m, std::fabs(v));
+    int ex = 0;
+    (void)std::frexp(m, &ex); // m = f 2^ex, f in [0.5, 1): scaled max in [1, 2)
+    float sum = 0.0f;
+    for (int i = 0; i < 4; ++i) {
+        out[i] = static_cast<float>(std::ldexp(q[i], 1 - ex));
+        sum += std::fabs(out[i]);
+    }
+    *bound = sum * 0x1p-20f;
+}
+
+// facing[f] for kept faces f in [begin, end) from the cached planes; returns the lit count.
+inline std::size_t sil_planes_facing_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const glm::vec4& light,
+                                           std::uint8_t* facing, std::size_t begin, std::size_t end) {
+    float Lf[4], bound = 0.0f;
+    sil_planes_light(pl, light, Lf, &bound);
+    const float* px = pl.plane_x.data();
+    const float* py = pl.plane_y.data();
+    const float* pz = pl.plane_z.data();
+    const float* pw = pl.plane_w.data();
+    const std::uint32_t* fi = adj.faces.data();
+    const glm::vec3* pos = pl.positions.data();
+    auto exact = [&](std::size_t f) -> std::uint8_t {
+        return sil_face_sign(pos[fi[3 * f]], pos[fi[3 * f + 1]], pos[fi[3 * f + 2]], light) == 1 ? 1u : 0u;
+    };
+    std::size_t lit = 0, i = begin;
+#if defined(SHADOWKIT_SIL_SSE2)
+    {
+        const __m128 lx = _mm_set1_ps(Lf[0]), ly = _mm_set1_ps(Lf[1]), lz = _mm_set1_ps(Lf[2]), lw = _mm_set1_ps(Lf[3]);
+        const __m128 bp = _mm_set1_ps(bound), bn = _mm_set1_ps(-bound);
+        const __m128i one = _mm_set1_epi8(1), zero = _mm_setzero_si128();
+        __m128i acc = _mm_setzero_si128();
+        for (; i + 16 <= end; i += 16) {
+            __m128i g[4];
+            int decided = 0;
+            for (int k = 0; k < 4; ++k) {
+                const std::size_t j = i + 4 * static_cast<std::size_t>(k);
+                const __m128 d = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(px + j), lx), _mm_mul_ps(_mm_loadu_ps(py + j), ly)),
+                                            _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(pz + j), lz), _mm_mul_ps(_mm_loadu_ps(pw + j), lw)));
+                const __m128 gt = _mm_cmpgt_ps(d, bp);
+                decided |= _mm_movemask_ps(_mm_or_ps(gt, _mm_cmplt_ps(d, bn))) << (4 * k);
+                g[k] = _mm_castps_si128(gt);
+            }
+            const __m128i bytes = _mm_and_si128(_mm_packs_epi16(_mm_packs_epi32(g[0], g[1]), _mm_packs_epi32(g[2], g[3])), one);
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(facing + i), bytes);
+            acc = _mm_add_epi64(acc, _mm_sad_epu8(bytes, zero));
+            if (decided != 0xFFFF) {
+                for (int k = 0; k < 16; ++k)
+                    if (!((decided >> k) & 1)) {
+                        const std::uint8_t v = exact(i + static_cast<std::size_t>(k));
+                        facing[i + static_cast<std::size_t>(k)] = v;
+                        lit += v;
+                    }
+            }
+        }
+        alignas(16) std::uint64_t sums[2];
+        _mm_store_si128(reinterpret_cast<__m128i*>(sums), acc);
+        lit += static_cast<std::size_t>(sums[0] + sums[1]);
+    }
+#elif defined(SHADOWKIT_SIL_NEON)
+    {
+        const float32x4_t lx = vdupq_n_f32(Lf[0]), ly = vdupq_n_f32(Lf[1]), lz = vdupq_n_f32(Lf[2]), lw = vdupq_n_f32(Lf[3]);
+        const float32x4_t bp = vdupq_n_f32(bound), bn = vdupq_n_f32(-bound);
+        for (; i + 16 <= end; i += 16) {
+            uint16x4_t g[4], u[4];
+            for (int k = 0; k < 4; ++k) {
+                const std::size_t j = i + 4 * static_cast<std::size_t>(k);
+                const float32x4_t d = vaddq_f32(vaddq_f32(vmulq_f32(vld1q_f32(px + j), lx), vmulq_f32(vld1q_f32(py + j), ly)),
+                                                vaddq_f32(vmulq_f32(vld1q_f32(pz + j), lz), vmulq_f32(vld1q_f32(pw + j), lw)));
+                const uint32x4_t gt = vcgtq_f32(d, bp);
+                g[k] = vmovn_u32(gt);
+                u[k] = vmovn_u32(vmvnq_u32(vorrq_u32(gt, vcltq_f32(d, bn))));
+            }
+            const uint8x16_t bytes = vandq_u8(vcombine_u8(vmovn_u16(vcombine_u16(g[0], g[1])), vmovn_u16(vcombine_u16(g[2], g[3]))),
+                                              vdupq_n_u8(1));
+            const uint8x16_t undecided = vcombine_u8(vmovn_u16(vcombine_u16(u[0], u[1])), vmovn_u16(vcombine_u16(u[2], u[3])));
+            vst1q_u8(facing + i, bytes);
+            lit += vaddvq_u8(bytes);
+            if (vmaxvq_u8(undecided) != 0) {
+                for (std::size_t k = 0; k < 16; ++k)
+                    if (!(facing[i + k] != 0)) {
+                        const float d = px[i + k] * Lf[0] + py[i + k] * Lf[1] + pz[i + k] * Lf[2] + pw[i + k] * Lf[3];
+                        if (!(d < -bound)) {
+                            const std::uint8_t v = exact(i + k);
+                            facing[i + k] = v;
+                            lit += v;
+                        }
+                    }
+            }
+        }
+    }
+#endif
+    for (; i < end; ++i) {
+        const float d = px[i] * Lf[0] + py[i] * Lf[1] + pz[i] * Lf[2] + pw[i] * Lf[3];
+        const std::uint8_t v = d > bound ? 1u : (d < -bound ? 0u : exact(i));
+        facing[i] = v;
+        lit += v;
+    }
+    return lit;
+}
+
+inline Status sil_check_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl) {
+    if (adj.status != Status::Ok || pl.status != Status::Ok || pl.vertex_count != adj.vertex_count ||
+        pl.face_count() != adj.face_count() || pl.edge_faces.size() != adj.edges.size() ||
+        pl.edge_boundary.size() != (adj.edges.size() + 7) / 8 ||
+        pl.edge_vertices.size() != 2 * adj.edges.size() || pl.positions.size() != adj.vertex_count ||
+        pl.plane_y.size() != pl.face_count() || pl.plane_z.size() != pl.face_count() || pl.plane_w.size() != pl.face_count())
+        return Status::InvalidArgument;
+    return Status::Ok;
+}
+
+inline Status sil_check_planes_facing_args(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const glm::vec4& light,
+                                           const std::uint8_t* facing, std::size_t capacity) {
+    if (sil_check_planes(adj, pl) != Status::Ok || (capacity > 0 && facing == nullptr)) return Status::InvalidArgument;
+    if (!silhouette_valid_light(light)) return Status::InvalidLight;
+    if (capacity < adj.face_count()) return Status::BufferTooSmall;
+    return Status::Ok;
+}
+
+// Non-manifold edges (edge rule) into out[2 n, ...) while n < room; returns the new n.
+inline std::size_t sil_extract_nonmanifold(const SilhouetteAdjacency& adj, const std::uint8_t* facing, std::uint32_t* edge_indices,
+                                           std::uint8_t* edge_flags, std::size_t room, std::size_t n, SilhouetteResult& r) {
+    for (const SilhouetteNonManifoldEdge& E : adj.nonmanifold_edges) {
+        long k = 0;
+        for (std::uint32_t j = 0; j < E.count; ++j) {
+            const std::uint32_t fd = adj.nonmanifold_faces[E.first + j];
+            if (facing[fd & 0x7FFFFFFFu]) k += (fd & 0x80000000u) ? -1 : 1;
+        }
+        for (long m = 0; m < (k < 0 ? -k : k); ++m) {
+            if (n < room) {
+                edge_indices[2 * n] = k > 0 ? E.v0 : E.v1;
+                edge_indices[2 * n + 1] = k > 0 ? E.v1 : E.v0;
+                if (edge_flags) edge_flags[n] = SilhouetteNonManifold;
+            }
+            ++n;
+            ++r.nonmanifold_edges;
+        }
+    }
+    return n;
+}
+
+// bit 0 of byte j = (byte j of x != 0), for the 8 bytes of x
+inline std::uint64_t sil_nonzero_bytes(std::uint64_t x) {
+    return ((((x & 0x7F7F7F7F7F7F7F7Full) + 0x7F7F7F7F7F7F7F7Full) | x) >> 7) & 0x0101010101010101ull;
+}
+
+// sil_extract_range on the planes' edge layout, 8 edges at a time. A branch-free pass loads the 8
+// edges' face pairs (one 8-byte load each) and their facing bytes into two words (byte j: edge j),
+// whose non-zero bytes give l0, l1 and s = l0 xor l1 (a boundary edge has f1 = f0, so its block's
+// boundary byte sets s = l0). A block without a silhouette edge ends there. Else, while 8 more edges
+// fit, all 8 are written branch-free at n (the vertex pair as loaded or swapped, one 8-byte store)
+// and n advances by s (so elements past `count`, within the room, may be overwritten); near the end
+// of the room, edge by edge.
+inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const std::uint8_t* facing,
+                                            std::uint32_t* edge_indices, std::uint8_t* edge_flags, std::size_t room,
+                                            std::size_t begin, std::size_t end, bool nonmanifold, SilhouetteResult& r) {
+    const std::uint64_t* ef = pl.edge_faces.data();
+    const std::uint32_t* ev = pl.edge_vertices.data();
+    const std::uint8_t* eb = pl.edge_boundary.data();
+    std::size_t n = 0, boundary = 0;
+    auto emit = [&](std::size_t i, bool l0, bool sil, std::uint32_t bb) {
+        if (!sil) return;
+        if (n < room) {
+            const std::uint32_t v0 = ev[2 * i], v1 = ev[2 * i + 1];
+            edge_indices[2 * n] = l0 ? v0 : v1;
+            edge_indices[2 * n + 1] = l0 ? v1 : v0;
+            if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bb);  // SilhouetteBoundary == 1
+        }
+        ++n;
+        boundary += bb;
+    };
+    auto single = [&](std::size_t i) {
+        const std::uint64_t x = ef[i];
+        const std::uint32_t bb = (eb[i / 8] >> (i % 8)) & 1u;
+        const bool l0 = facing[static_cast<std::uint32_t>(x)] != 0;
+        const bool l1 = bb == 0 && facing[static_cast<std::uint32_t>(x >> 32)] != 0;
+        emit(i, l0, l0 != l1, bb);
+    };
+    std::size_t i0 = begin;
+    for (; i0 < end && (i0 % 8) != 0; ++i0) single(i0);  // the boundary bytes cover edges 8 k .. 8 k + 7
+    for (; i0 + 8 <= end; i0 += 8) {
+        std::uint64_t a = 0, b = 0;
+        for (unsigned j = 0; j < 8; ++j) {
+            const std::uint64_t x = ef[i0 + j];
+            a |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x)]) << (8 * j);
+            b |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x >> 32)]) << (8 * j);
+        }
+        const std::uint64_t l0 = sil_nonzero_bytes(a);
+        std::uint64_t sil = l0 ^ sil_nonzero_bytes(b);
+        const std::uint32_t bnd = eb[i0 / 8];
+        if (bnd != 0) {  // boundary edges: s = l0
+            std::uint64_t bb = 0;
+            for (unsigned j = 0; j < 8; ++j) bb |= static_cast<std::uint64_t>((bnd >> j) & 1u) << (8 * j);
+            sil = (sil & ~bb) | (l0 & bb);
+        }
+        if (sil == 0) continue;
+        if (n + 8 <= room && bnd == 0 && edge_flags == nullptr) {  // the common case, fewest operations
+            std::uint64_t lj = l0, sj = sil;
+            for (unsigned j = 0; j < 8; ++j, lj >>= 8, sj >>= 8) {
+                std::uint64_t v;
+                std::memcpy(&v, ev + 2 * (i0 + j), sizeof v);  // v0, v1 in memory order
+                const std::uint64_t w = (lj & 1u) != 0 ? v : (v >> 32 | v << 32);
+                std::memcpy(edge_indices + 2 * n, &w, sizeof w);
+                n += static_cast<std::size_t>(sj & 1u);
+            }
+            continue;
+        }
+        if (n + 8 <= room) {
+            for (unsigned j = 0; j < 8; ++j) {
+                std::uint64_t v;
+                std::memcpy(&v, ev + 2 * (i0 + j), sizeof v);
+                const std::uint64_t w = ((l0 >> (8 * j)) & 1u) != 0 ? v : (v >> 32 | v << 32);
+                std::memcpy(edge_indices + 2 * n, &w, sizeof w);
+                const std::size_t sj = static_cast<std::size_t>((sil >> (8 * j)) & 1u), bj = (bnd >> j) & 1u;
+                if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bj);
+                n += sj;
+                boundary += sj & bj;
+            }
+            continue;
+        }
+        for (unsigned j = 0; j < 8; ++j) emit(i0 + j, ((l0 >> (8 * j)) & 1u) != 0, ((sil >> (8 * j)) & 1u) != 0, (bnd >> j) & 1u);
+    }
+    for (; i0 < end; ++i0) single(i0);
+    r.boundary_edges += boundary;
+    if (nonmanifold) n = sil_extract_nonmanifold(adj, facing, edge_indices, edge_flags, room, n, r);
+    r.needed += 2 * n;
+    return n;
+}
+
+} // namespace detail
+
+/// Once per rigid mesh (allocates): the cached face planes of `adj`'s kept faces for the fast exact
+/// facing, and the adjacency's edges in the layout the fast extraction reads. `positions` holds
+/// vertex_count glm::vec3: the buffer the adjacency was built from (its count; NaN/Inf: NonFinite).
+/// A failed adjacency: InvalidArgument. Positions that change later need a new call (or the
+/// per-frame silhouette_compute_facing, which takes fresh positions).
+inline SilhouettePlanes silhouette_build_planes(const SilhouetteAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count) {
+    SilhouettePlanes pl;
+    if (adj.status != Status::Ok || vertex_count != adj.vertex_count || (vertex_count > 0 && positions == nullptr)) {
+        pl.status = Status::InvalidArgument;
+        return pl;
+    }
+    for (std::size_t i = 0; i < vertex_count; ++i)
+        if (!detail::sil_finite(positions[i])) { pl.status = Status::NonFinite; return pl; }
+    pl.vertex_count = adj.vertex_count;
+    pl.positions.assign(positions, positions + vertex_count);
+    glm::vec3 lo(0.0f), hi(0.0f);
+    if (vertex_count > 0) {
+        lo = hi = positions[0];
+        for (std::size_t i = 1; i < vertex_count; ++i) {
+            lo = glm::vec3(std::fmin(lo.x, positions[i].x), std::fmin(lo.y, positions[i].y), std::fmin(lo.z, positions[i].z));
+            hi = glm::vec3(std::fmax(hi.x, positions[i].x), std::fmax(hi.y, positions[i].y), std::fmax(hi.z, positions[i].z));
+        }
+    }
+    // O: the bounds' center (any float works; this one keeps |A - O| small); R >= the half extent
+    pl.origin = glm::vec3(static_cast<float>(0.5 * (static_cast<double>(lo.x) + hi.x)),
+                          static_cast<float>(0.5 * (static_cast<double>(lo.y) + hi.y)),
+                          static_cast<float>(0.5 * (static_cast<double>(lo.z) + hi.z)));
+    double half = 0.0;
+    for (int k = 0; k < 3; ++k)
+        half = std::fmax(half, std::fmax(std::fabs(static_cast<double>(hi[k]) - pl.origin[k]),
+                                         std::fabs(static_cast<double>(lo[k]) - pl.origin[k])));
+    int ex = 0;
+    if (half > 0.0) (void)std::frexp(half, &ex);  // half < 2^ex
+    pl.scale = std::ldexp(1.0, ex);
+    const std::size_t fc = adj.face_count();
+    pl.plane_x.resize(fc);
+    pl.plane_y.resize(fc);
+    pl.plane_z.resize(fc);
+    pl.plane_w.resize(fc);
+    const glm::vec4 axes[3] = {glm::vec4(1.0f, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)};
+    const glm::vec4 center(pl.origin, 1.0f);
+    for (std::size_t f = 0; f < fc; ++f) {
+        const glm::vec3& A = positions[adj.faces[3 * f]];
+        const glm::vec3& B = positions[adj.faces[3 * f + 1]];
+        const glm::vec3& C = positions[adj.faces[3 * f + 2]];
+        const double P[4] = {detail::sil_face_value(A, B, C, axes[0]), detail::sil_face_value(A, B, C, axes[1]),
+                             detail::sil_face_value(A, B, C, axes[2]), detail::sil_face_value(A, B, C, center) / pl.scale};
+        double m = 0.0;
+        for (double v : P) m = std::fmax(m, std::fabs(v));
+        float out[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        bool exact_only = !(m > 0.0);  // cannot happen for a kept face (non-zero cross product)
+        if (!exact_only) {
+            (void)std::frexp(m, &ex);
+            for (int k = 0; k < 4; ++k) {
+                out[k] = static_cast<float>(std::ldexp(P[k], 1 - ex));
+                if (P[k] != 0.0 && !(std::fabs(out[k]) >= 0x1p-126f)) exact_only = true;  // subnormal: not relative
+            }
+        }
+        if (exact_only) {
+            out[0] = out[1] = out[2] = out[3] = 0.0f;  // d_float = 0: always inside the bound
+            ++pl.exact_faces;
+        }
+        pl.plane_x[f] = out[0];
+        pl.plane_y[f] = out[1];
+        pl.plane_z[f] = out[2];
+        pl.plane_w[f] = out[3];
+    }
+    pl.edge_faces.resize(adj.edges.size());
+    pl.edge_boundary.assign((adj.edges.size() + 7) / 8, 0);
+    pl.edge_vertices.resize(2 * adj.edges.size());
+    for (std::size_t i = 0; i < adj.edges.size(); ++i) {
+        const SilhouetteEdge& E = adj.edges[i];
+        const bool boundary = E.f1 == kSilhouetteNoFace;
+        pl.edge_faces[i] = static_cast<std::uint64_t>(E.f0) | static_cast<std::uint64_t>(boundary ? E.f0 : E.f1) << 32;
+        if (boundary) pl.edge_boundary[i / 8] = static_cast<std::uint8_t>(pl.edge_boundary[i / 8] | (1u << (i % 8)));
+        pl.edge_vertices[2 * i] = E.v0;
+        pl.edge_vertices[2 * i + 1] = E.v1;
+    }
+    pl.status = Status::Ok;
+    return pl;
+}
+
+/// The fast exact facing of a rigid mesh: facing[f] = 1 if kept face f is lit by light_position,
+/// else 0, bit for bit silhouette_compute_facing's (for the positions `planes` was built from).
+/// No allocation. `planes` from silhouette_build_planes(adj, ...) (else InvalidArgument). `facing`
+/// holds facing_capacity uint8 elements; it needs adj.face_count() (`needed`).
+inline SilhouetteFacing silhouette_compute_facing_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& planes,
+                                                         const glm::vec4& light_position, std::uint8_t* facing,
+                                                         std::size_t facing_capacity) {
+    SilhouetteFacing r;
+    r.needed = adj.face_count();
+    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
+    if (r.status != Status::Ok) return r;
+    r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, 0, r.needed);
+    r.count = r.needed;
+    return r;
+}
+
+/// silhouette_compute_facing_planes for chunk `chunk` of `chunk_count` (faces split as in
+/// silhouette_compute_facing_chunk; count / lit_faces are this chunk's). chunk < chunk_count.
+inline SilhouetteFacing silhouette_compute_facing_planes_chunk(const SilhouetteAdjacency& adj, const SilhouettePlanes& planes,
+                                                               const glm::vec4& light_position, std::uint8_t* facing,
+                                                               std::size_t facing_capacity, std::size_t chunk,
+                                                               std::size_t chunk_count) {
+    SilhouetteFacing r;
+    r.needed = adj.face_count();
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
+    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
+    if (r.status != Status::Ok) return r;
+    const std::size_t fc = adj.face_count();
+    const std::size_t b = detail::sil_chunk_begin(fc, chunk, chunk_count), e = detail::sil_chunk_begin(fc, chunk + 1, chunk_count);
+    r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, b, e);
+    r.count = e - b;
+    return r;
+}
+
+/// silhouette_extract on the planes' edge layout: the same edges, order, flags and counts, faster
+/// (reads 8 bytes per edge, and the vertices of silhouette edges only). Buffers as silhouette_extract.
+inline SilhouetteResult silhouette_extract_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& planes,
+                                                  const std::uint8_t* facing, std::size_t facing_count,
+                                                  std::uint32_t* edge_indices, std::size_t edge_indices_capacity,
+                                                  std::uint8_t* edge_flags, std::size_t edge_flags_capacity) {
+    SilhouetteResult r;
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
+                                              edge_flags_capacity);
+    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes);
+    if (r.status != Status::Ok) return r;
+    std::size_t room = edge_indices_capacity / 2;
+    if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
+    const std::size_t n =
+        detail::sil_planes_extract_range(adj, planes, facing, edge_indices, edge_flags, room, 0, adj.edges.size(), true, r);
+    r.count = 2 * (n < room ? n : room);
+    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    return r;
+}
+
+/// silhouette_extract_chunk on the planes' edge layout (same offsets, rooms and results).
+inline SilhouetteResult silhouette_extract_planes_chunk(const SilhouetteAdjacency& adj, const SilhouettePlanes& planes,
+                                                        const std::uint8_t* facing, std::size_t facing_count,
+                                                        std::uint32_t* edge_indices, std::size_t edge_indices_capacity,
+                                                        std::uint8_t* edge_flags, std::size_t edge_flags_capacity,
+                                                        std::size_t chunk, std::size_t chunk_count) {
+    SilhouetteResult r;
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
+                                              edge_flags_capacity);
+    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes);
+    if (r.status != Status::Ok) return r;
+    const std::size_t max_edges = adj.max_silhouette_edges();
+    if (edge_indices_capacity / 2 < max_edges || (edge_flags && edge_flags_capacity < max_edges)) {
+        r.status = Status::BufferTooSmall;
+        return r;
+    }
+    const std::size_t ec = adj.edges.size();
+    const std::size_t b = detail::sil_chunk_begin(ec, chunk, chunk_count), e = detail::sil_chunk_begin(ec, chunk + 1, chunk_count);
+    const std::size_t room = chunk + 1 == chunk_count ? max_edges - b : e - b;
+    const std::size_t n = detail::sil_planes_extract_range(adj, planes, facing, edge_indices + 2 * b,
+                                                           edge_flags ? edge_flags + b : nullptr, room, b, e,
+                                                           chunk + 1 == chunk_count, r);
+    r.count = 2 * n;
+    return r;
+}
+
+/// silhouette_extract_parallel for a rigid mesh: the cached-plane facing and the fast extraction in
+/// chunks on a caller's parallel_for, then silhouette_compact_chunks. Buffers as there; the output
+/// is identical to silhouette_compute_facing + silhouette_extract.
+template <class ParallelFor>
+inline SilhouetteResult silhouette_extract_parallel_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& planes,
+                                                           const glm::vec4& light_position, std::uint8_t* facing,
+                                                           std::size_t facing_capacity, std::uint32_t* edge_indices,
+                                                           std::size_t edge_indices_capacity, std::uint8_t* edge_flags,
+                                                           std::size_t edge_flags_capacity, SilhouetteResult* chunk_results,
+                                                           std::size_t chunk_count, ParallelFor&& parallel_for) {
+    SilhouetteResult r;
+    if (chunk_count == 0 || chunk_results == nullptr) { r.status = Status::InvalidArgument; return r; }
+    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
+    if (r.status != Status::Ok) return r;
+    const std::size_t fc = adj.face_count();
+    r.status = detail::sil_check_extract_args(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags, edge_flags_capacity);
+    if (r.status != Status::Ok) return r;
+    const std::size_t cap = silhouette_indices_capacity(adj);
+    if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) {
+        r.status = Status::BufferTooSmall;
+        r.needed = cap;
+        return r;
+    }
+    for (std::size_t c = 0; c < chunk_count; ++c) chunk_results[c] = SilhouetteResult{};
+    parallel_for(chunk_count, [&](std::size_t c) {
+        detail::sil_planes_facing_range(adj, planes, light_position, facing, detail::sil_chunk_begin(fc, c, chunk_count),
+                                        detail::sil_chunk_begin(fc, c + 1, chunk_count));
+    });
+    parallel_for(chunk_count, [&](std::size_t c) {
+        chunk_results[c] = silhouette_extract_planes_chunk(adj, planes, facing, fc, edge_indices, edge_indices_capacity, edge_flags,
+                                                           edge_flags_capacity, c, chunk_count);
     });
     return silhouette_compact_chunks(adj, chunk_results, chunk_count, edge_indices, edge_indices_capacity, edge_flags,
                                      edge_flags_capacity);

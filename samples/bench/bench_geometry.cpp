@@ -5,6 +5,10 @@
 //   silhouette  silhouette_extract (one pass over the edge list)
 //   volume      volume_build_side_quads + volume_build_caps (z-fail index buffer: side quads, light and dark caps)
 //   frame       facing + silhouette + volume: the per-frame work of a moving light
+//   facing_planes / frame_planes: the same with the rigid-mesh fast path (silhouette_build_planes
+//               once, silhouette_compute_facing_planes + silhouette_extract_planes per frame)
+//   --compare   not Google Benchmark: the side-by-side table of bench_compare.cpp (a bgfx-style
+//               baseline, the exact path, the fast path, memcpy; docs/benchmarks.md)
 //   silhouette_parallel / frame_parallel: the same on T threads (third argument) of a persistent
 //               pool, through silhouette_extract_parallel (chunked facing + silhouette, then the
 //               serial compaction) and per-chunk volume_build_caps into each chunk's own range of the
@@ -19,6 +23,8 @@
 #include <shadowkit/silhouette.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include "bench_meshes.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -38,68 +44,15 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct BenchMesh {
-    std::vector<glm::vec3> positions;
-    std::vector<std::uint32_t> indices;
-};
-
-// Closed UV sphere, shared vertices (one vertex per pole, the seam wraps): 2 * slices * (stacks - 1) triangles.
-BenchMesh make_sphere(std::size_t triangles) {
-    const std::uint32_t stacks = std::max<std::uint32_t>(3, static_cast<std::uint32_t>(std::sqrt(double(triangles) / 4.0)));
-    const std::uint32_t slices = 2 * stacks;
-    BenchMesh m;
-    const double pi = 3.14159265358979323846;
-    m.positions.push_back({0.f, 1.f, 0.f});
-    for (std::uint32_t i = 1; i < stacks; ++i)
-        for (std::uint32_t j = 0; j < slices; ++j) {
-            const double th = pi * i / stacks, ph = 2.0 * pi * j / slices;
-            m.positions.push_back({static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
-                                   static_cast<float>(-std::sin(th) * std::sin(ph))});
-        }
-    m.positions.push_back({0.f, -1.f, 0.f});
-    const std::uint32_t south = static_cast<std::uint32_t>(m.positions.size() - 1);
-    auto ring = [&](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * slices + (j % slices); };
-    for (std::uint32_t j = 0; j < slices; ++j) {
-        m.indices.insert(m.indices.end(), {0u, ring(1, j), ring(1, j + 1)});
-        m.indices.insert(m.indices.end(), {south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
-    }
-    for (std::uint32_t i = 1; i + 1 < stacks; ++i)
-        for (std::uint32_t j = 0; j < slices; ++j) {
-            const std::uint32_t a = ring(i, j), b = ring(i + 1, j), c = ring(i + 1, j + 1), d = ring(i, j + 1);
-            m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
-        }
-    return m;
-}
-
-// Noisy height field over [-1, 1]^2 (open mesh, boundary edges): 2 n^2 triangles.
-BenchMesh make_grid(std::size_t triangles) {
-    const std::uint32_t n = std::max<std::uint32_t>(2, static_cast<std::uint32_t>(std::sqrt(double(triangles) / 2.0)));
-    BenchMesh m;
-    std::uint32_t h = 2463534242u;
-    auto rnd = [&h]() {
-        h ^= h << 13;
-        h ^= h >> 17;
-        h ^= h << 5;
-        return static_cast<float>(h & 0xffffffu) / 16777216.f;
-    };
-    for (std::uint32_t i = 0; i <= n; ++i)
-        for (std::uint32_t j = 0; j <= n; ++j) {
-            const float x = -1.f + 2.f * static_cast<float>(i) / static_cast<float>(n);
-            const float z = -1.f + 2.f * static_cast<float>(j) / static_cast<float>(n);
-            m.positions.push_back({x, 0.1f * std::sin(7.f * x) * std::cos(5.f * z) + 0.02f * (rnd() - 0.5f), z});
-        }
-    for (std::uint32_t i = 0; i < n; ++i)
-        for (std::uint32_t j = 0; j < n; ++j) {
-            const std::uint32_t a = i * (n + 1) + j, b = a + 1, c = a + (n + 1), d = c + 1;
-            m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
-        }
-    return m;
-}
+using bench::BenchMesh;
+using bench::make_grid;
+using bench::make_sphere;
 
 // Everything a stage needs, built once per (mesh kind, size) and shared by the benchmarks.
 struct Fixture {
     BenchMesh mesh;
     shadowkit::SilhouetteAdjacency adj;
+    shadowkit::SilhouettePlanes planes;
     glm::vec4 light{0.f};
     std::vector<std::uint8_t> facing;
     std::vector<std::uint32_t> sil;
@@ -116,6 +69,7 @@ Fixture& fixture(int kind, std::size_t triangles) {
     f.mesh = kind == 0 ? make_sphere(triangles) : make_grid(triangles);
     f.adj = shadowkit::silhouette_build_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
                                                   f.mesh.indices.size());
+    f.planes = shadowkit::silhouette_build_planes(f.adj, f.mesh.positions.data(), f.mesh.positions.size());
     f.light = kind == 0 ? glm::vec4(3.f, 2.f, 1.f, 1.f) : glm::vec4(0.6f, 1.5f, 0.4f, 1.f);
     f.facing.assign(f.adj.face_count(), 0);
     shadowkit::silhouette_compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
@@ -231,6 +185,35 @@ void BM_frame(benchmark::State& state) {
                                              f.facing.size());
         const auto sr = shadowkit::silhouette_extract(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), f.sil.size(),
                                                       nullptr, 0);
+        const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
+                                                           f.volume.size());
+        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
+                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
+                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
+        benchmark::DoNotOptimize(cp);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_facing_planes(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.adj.face_count() * 16;
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        auto r = shadowkit::silhouette_compute_facing_planes(f.adj, f.planes, f.light, f.facing.data(), f.facing.size());
+        benchmark::DoNotOptimize(r);
+        benchmark::ClobberMemory();
+    });
+    set_label(state, f);
+}
+
+void BM_frame_planes(benchmark::State& state) {
+    Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+    const std::size_t bytes = f.adj.face_count() * 16 + f.planes.edge_faces.size() * 8 + f.sil_edges * 8 + f.adj.faces.size() * 4;
+    measure(state, bytes, f.adj.edges.size(), [&] {
+        shadowkit::silhouette_compute_facing_planes(f.adj, f.planes, f.light, f.facing.data(), f.facing.size());
+        const auto sr = shadowkit::silhouette_extract_planes(f.adj, f.planes, f.facing.data(), f.facing.size(), f.sil.data(),
+                                                             f.sil.size(), nullptr, 0);
         const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
                                                            f.volume.size());
         const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
@@ -366,6 +349,8 @@ BENCHMARK(BM_facing)->Apply(sizes);
 BENCHMARK(BM_silhouette)->Apply(sizes);
 BENCHMARK(BM_volume)->Apply(sizes);
 BENCHMARK(BM_frame)->Apply(sizes);
+BENCHMARK(BM_facing_planes)->Apply(sizes);
+BENCHMARK(BM_frame_planes)->Apply(sizes);
 
 void parallel_sizes(benchmark::internal::Benchmark* b) {
     for (int kind : {0, 1})
@@ -378,4 +363,15 @@ BENCHMARK(BM_frame_parallel)->Apply(parallel_sizes);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int run_compare(int argc, char** argv);  // bench_compare.cpp
+
+// `--compare [...]`: the side-by-side table of bench_compare.cpp; otherwise Google Benchmark.
+int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--compare") return run_compare(argc, argv);
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

@@ -45,6 +45,11 @@ bool VolumeCache::prepare(const Scene& scene, std::uint64_t salt) {
         CasterData c;
         c.mesh = i;
         if (!build_caster_adjacency(m, c.adj, error)) return false;
+        c.planes = shadowkit::silhouette_build_planes(c.adj, m.positions.data(), m.positions.size());
+        if (c.planes.status != shadowkit::Status::Ok) {
+            error = std::string("silhouette_build_planes status ") + shadowkit::status_name(c.planes.status);
+            return false;
+        }
         welded += c.adj.welded_vertices;
         boundary += c.adj.boundary_edges;
         nonmanifold += c.adj.nonmanifold_edges.size();
@@ -98,16 +103,17 @@ bool caster_scissor(const CasterData& c, const VolumeSetup& s, CasterDraw& d, st
 }
 
 bool caster_silhouette(CasterData& c, const Mesh& m, const VolumeSetup& s, CasterDraw& d, std::string& error) {
-    const shadowkit::SilhouetteFacing fr = shadowkit::silhouette_compute_facing(c.adj, m.positions.data(), m.positions.size(),
-                                                                                s.light, c.facing.data(), c.facing.size());
+    (void)m;  // rigid: the planes were cached from m.positions in VolumeCache::prepare
+    const shadowkit::SilhouetteFacing fr =
+        shadowkit::silhouette_compute_facing_planes(c.adj, c.planes, s.light, c.facing.data(), c.facing.size());
     if (fr.status != shadowkit::Status::Ok) {
-        error = std::string("silhouette_compute_facing status ") + shadowkit::status_name(fr.status);
+        error = std::string("silhouette_compute_facing_planes status ") + shadowkit::status_name(fr.status);
         return false;
     }
     const shadowkit::SilhouetteResult sr =
-        shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(), nullptr, 0);
+        shadowkit::silhouette_extract_planes(c.adj, c.planes, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(), nullptr, 0);
     if (sr.status != shadowkit::Status::Ok) {
-        error = std::string("silhouette_extract status ") + shadowkit::status_name(sr.status);
+        error = std::string("silhouette_extract_planes status ") + shadowkit::status_name(sr.status);
         return false;
     }
     d.sil_edges = sr.count / 2;

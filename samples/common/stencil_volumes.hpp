@@ -36,6 +36,7 @@ void light_receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi);
 struct CasterData {
     std::size_t mesh = 0;
     shadowkit::SilhouetteAdjacency adj;
+    shadowkit::SilhouettePlanes planes;  // cached face planes (rigid meshes): the fast exact facing
     glm::vec3 lo{0.f}, hi{0.f};
     GLint base_vertex = 0;  // first vertex of this caster's 2n-vertex block in the shared buffer
     std::vector<std::uint8_t> facing;
@@ -81,7 +82,8 @@ VolumeSetup make_volume_setup(const Scene& scene, const SceneGpu& gpu, const glm
 
 // volume_scissor of the caster's volume into d.sc, d.visible = d.sc.visible.
 bool caster_scissor(const CasterData& c, const VolumeSetup& s, CasterDraw& d, std::string& error);
-// Facing for the light and the silhouette into c.sil; d.sil_edges = the edge count.
+// Facing for the light (cached planes: silhouette_compute_facing_planes) and the silhouette into
+// c.sil; d.sil_edges = the edge count.
 bool caster_silhouette(CasterData& c, const Mesh& m, const VolumeSetup& s, CasterDraw& d, std::string& error);
 // z-fail for method 0, z-pass for method 2, else volume_choose_stencil_method_box (d.zfail); then the side
 // quads and, for z-fail, the LitOnly caps into indices[c.index_offset ...] (d.side_*, d.cap_*).

@@ -1,7 +1,8 @@
 // libFuzzer target for shadowkit/silhouette.hpp: arbitrary positions (NaN / Inf), indices (out of
 // range), weld tolerances, lights and capacities. Invariants trap on violation: Ok only with valid
 // outputs, count <= capacity, count == needed when Ok, nothing written past a capacity, the
-// chunked path identical to the serial one, and the facing filter equal to the exact fallback.
+// chunked path identical to the serial one, the facing filter equal to the exact fallback, and the
+// cached-plane fast path (silhouette_build_planes, *_planes, *_planes_chunk) identical to the exact path.
 #include <shadowkit/silhouette.hpp>
 
 #include "fuzz_input.hpp"
@@ -139,6 +140,70 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (auto& x : per) x.count = x.needed = in.size(pcap + 4);
     (void)sk::silhouette_compact_chunks(adj, per.data(), chunks, pidx.data(), pcap, pflags.data(), pcap / 2);
     if (pidx[pcap] != 0xDEADBEEFu || pflags[pcap / 2] != 0xEE) __builtin_trap();
+
+    // The cached-plane fast path (issue 16): facing bits, silhouette, flags and counts identical to
+    // the exact path; chunked and parallel forms identical; short buffers and bad chunk arguments
+    // reported, nothing written past a capacity.
+    {
+        const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, pos.data(), nv);
+        if (pl.status != sk::Status::Ok || pl.face_count() != fc || pl.exact_faces > fc) __builtin_trap();
+        std::vector<std::uint8_t> ff(fc + 1, 0xCD);
+        const std::size_t fcap2 = (in.u8() & 3) == 0 ? in.size(fc + 1) : fc;
+        const sk::SilhouetteFacing pf2 = sk::silhouette_compute_facing_planes(adj, pl, L, ff.data(), fcap2);
+        if (fcap2 < fc) {
+            if (pf2.status != sk::Status::BufferTooSmall || pf2.needed != fc) __builtin_trap();
+        } else {
+            if (pf2.status != sk::Status::Ok || pf2.count != fc || pf2.lit_faces != fr.lit_faces) __builtin_trap();
+            if (!std::equal(facing.begin(), facing.begin() + static_cast<std::ptrdiff_t>(fc), ff.begin())) __builtin_trap();
+        }
+        if (ff[fc] != 0xCD) __builtin_trap();
+        // extraction on the planes' layout from the exact facing, any capacity
+        std::vector<std::uint32_t> po(cap + 2, 0xDEADBEEFu);
+        std::vector<std::uint8_t> pfl(fcap + 1, 0xEE);
+        const bool with_flags = (in.u8() & 1) != 0;
+        const sk::SilhouetteResult rp = sk::silhouette_extract_planes(adj, pl, facing.data(), fc, po.data(), cap,
+                                                                      with_flags ? pfl.data() : nullptr, with_flags ? fcap : 0);
+        const std::size_t room = with_flags ? std::min(cap / 2, fcap) : cap / 2;
+        if (rp.needed != r.needed || rp.count != std::min(2 * room, r.needed) || rp.boundary_edges != r.boundary_edges ||
+            rp.nonmanifold_edges != r.nonmanifold_edges || (rp.count < rp.needed) != (rp.status == sk::Status::BufferTooSmall))
+            __builtin_trap();
+        if (po[cap] != 0xDEADBEEFu || pfl[fcap] != 0xEE) __builtin_trap();
+        if (!std::equal(po.begin(), po.begin() + static_cast<std::ptrdiff_t>(rp.count), s.indices.begin())) __builtin_trap();
+        if (with_flags && !std::equal(pfl.begin(), pfl.begin() + static_cast<std::ptrdiff_t>(rp.count / 2), s.flags.begin())) __builtin_trap();
+        // facing bytes other than 0 / 1 (non-zero = lit): the same edges as silhouette_extract
+        std::vector<std::uint8_t> odd(fc);
+        for (std::size_t f = 0; f < fc; ++f) odd[f] = static_cast<std::uint8_t>(facing[f] ? 1 + in.u8() % 255 : 0);
+        std::vector<std::uint32_t> o1(sk::silhouette_indices_capacity(adj) + 1, 1u), o2(o1.size(), 2u);
+        const sk::SilhouetteResult a1 = sk::silhouette_extract(adj, odd.data(), fc, o1.data(), o1.size() - 1, nullptr, 0);
+        const sk::SilhouetteResult a2 = sk::silhouette_extract_planes(adj, pl, odd.data(), fc, o2.data(), o2.size() - 1, nullptr, 0);
+        if (a1.status != sk::Status::Ok || a2.status != sk::Status::Ok || a1.count != a2.count ||
+            !std::equal(o1.begin(), o1.begin() + static_cast<std::ptrdiff_t>(a1.count), o2.begin()) || o2.back() != 2u)
+            __builtin_trap();
+        // parallel planes path (chunks in reverse), then arbitrary chunk arguments
+        const std::size_t pchunks = 1 + in.size(40);
+        std::vector<std::uint8_t> qf(fc + 1, 0xCD);
+        std::vector<std::uint32_t> qidx(pcap + 2, 0xDEADBEEFu);
+        std::vector<std::uint8_t> qfl(pcap / 2 + 1, 0xEE);
+        std::vector<sk::SilhouetteResult> qper(pchunks);
+        const sk::SilhouetteResult qr = sk::silhouette_extract_parallel_planes(adj, pl, L, qf.data(), fc, qidx.data(), pcap, qfl.data(),
+                                                                               pcap / 2, qper.data(), pchunks, rev_for);
+        if (qr.status != sk::Status::Ok || qr.count != r.needed || qf[fc] != 0xCD || qidx[pcap] != 0xDEADBEEFu || qfl[pcap / 2] != 0xEE)
+            __builtin_trap();
+        if (!std::equal(s.indices.begin(), s.indices.end(), qidx.begin()) || !std::equal(s.flags.begin(), s.flags.end(), qfl.begin()) ||
+            !std::equal(facing.begin(), facing.begin() + static_cast<std::ptrdiff_t>(fc), qf.begin()))
+            __builtin_trap();
+        const std::size_t c2 = in.size(50), cc2 = in.size(50), fcap3 = in.size(fc + 2), ccap2 = in.size(pcap);
+        const sk::SilhouetteFacing cf2 = sk::silhouette_compute_facing_planes_chunk(adj, pl, L, qf.data(), fcap3, c2, cc2);
+        if (cf2.status == sk::Status::Ok && (cf2.count > fc || cf2.lit_faces > cf2.count || fcap3 < fc || c2 >= cc2)) __builtin_trap();
+        if (qf[fc] != 0xCD) __builtin_trap();
+        const sk::SilhouetteResult cr2 = sk::silhouette_extract_planes_chunk(adj, pl, qf.data(), fc, qidx.data(), ccap2, qfl.data(), ccap2 / 2, c2, cc2);
+        if (cr2.status == sk::Status::Ok && (cr2.count > sk::silhouette_indices_capacity(adj) || cr2.count > ccap2)) __builtin_trap();
+        if (qidx[pcap] != 0xDEADBEEFu || qfl[pcap / 2] != 0xEE) __builtin_trap();
+        // a mismatched adjacency (the empty one) is rejected
+        const sk::SilhouetteAdjacency none = sk::silhouette_build_adjacency(nullptr, 0, nullptr, 0);
+        if (fc > 0 && sk::silhouette_compute_facing_planes(none, pl, L, qf.data(), fc).status != sk::Status::InvalidArgument) __builtin_trap();
+        if (nv > 0 && sk::silhouette_build_planes(adj, pos.data(), nv - 1).status != sk::Status::InvalidArgument) __builtin_trap();
+    }
 
     // silhouette_face_orientation on arbitrary triangles and lights (NaN/Inf, degenerate, w < 0,
     // light on a corner): the filter equals the exact fallback; reversed winding negates the sign;

@@ -744,3 +744,91 @@ TEST_CASE("property (issue 19): inputs in the documented ranges give Ok with fin
         }
     }
 }
+
+TEST_CASE("property (issue 16): the one-pass branch-free side quads and caps equal a plain reference (any mode, capacity, index)") {
+    // The writers now check indices in the same pass and write branch-free (SSE2 where available);
+    // this compares every result field and every element of the valid prefix with the plain
+    // two-pass loops they replaced, over random triangles (some indices out of range), facing bytes
+    // 0..3, both cap modes, with and without a dark cap, and every capacity from 0 to the need + 8.
+    std::mt19937 rng(1616);
+    struct Ref {
+        sk::Status status;
+        std::size_t count, needed;
+        std::vector<std::uint32_t> out;
+    };
+    auto ref_caps = [](const std::vector<std::uint32_t>& idx, const std::vector<std::uint8_t>& lit, std::size_t n, bool ek, bool dark,
+                       std::size_t cap) {
+        Ref r{sk::Status::Ok, 0, 0, {}};
+        for (std::uint32_t i : idx)
+            if (i >= n) return Ref{sk::Status::IndexOutOfRange, 0, 0, {}};
+        std::size_t k = 0;
+        auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            if (k + 3 <= cap) r.out.insert(r.out.end(), {a, b, c});
+            k += 3;
+        };
+        const std::uint32_t nn = static_cast<std::uint32_t>(n);
+        for (std::size_t t = 0; t < lit.size(); ++t) {
+            const std::uint32_t a = idx[3 * t], b = idx[3 * t + 1], c = idx[3 * t + 2];
+            if (lit[t]) {
+                put(a, b, c);
+                if (dark && !ek) put(a + nn, c + nn, b + nn);
+            } else if (dark && ek) {
+                put(a + nn, b + nn, c + nn);
+            }
+        }
+        r.needed = k;
+        r.count = r.out.size();
+        r.status = r.count < r.needed ? sk::Status::BufferTooSmall : sk::Status::Ok;
+        return r;
+    };
+    std::size_t compared = 0;
+    for (int it = 0; it < 400; ++it) {
+        const std::size_t n = 1 + rng() % 40, tris = rng() % 30;
+        const bool oob = rng() % 5 == 0;
+        std::vector<std::uint32_t> idx(3 * tris);
+        for (auto& i : idx) i = static_cast<std::uint32_t>(rng() % (oob ? n + 2 : n));
+        std::vector<std::uint8_t> lit(tris);
+        for (auto& l : lit) l = static_cast<std::uint8_t>(rng() % 4 == 0 ? 0 : rng() % 4);
+        const bool ek = rng() % 2 == 0, dark = rng() % 3 != 0;
+        for (std::size_t cap = 0; cap <= 2 * idx.size() + 8; ++cap) {
+            const Ref r = ref_caps(idx, lit, n, ek, dark, cap);
+            std::vector<std::uint32_t> out(cap + 1, 0xC0FFEEu);
+            const sk::VolumeBuffer b = sk::volume_build_caps(idx.data(), idx.size(), lit.data(), lit.size(), n,
+                                                             ek ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly, dark,
+                                                             out.data(), cap);
+            REQUIRE(b.status == r.status);
+            CHECK(out[cap] == 0xC0FFEEu);  // never past the capacity
+            if (r.status == sk::Status::IndexOutOfRange) continue;
+            REQUIRE(b.count == r.count);
+            REQUIRE(b.needed == r.needed);
+            CHECK(std::equal(r.out.begin(), r.out.end(), out.begin()));
+            ++compared;
+        }
+        // side quads of random edges, any capacity
+        const std::size_t ne = rng() % 20;
+        std::vector<std::uint32_t> e(2 * ne);
+        for (auto& v : e) v = static_cast<std::uint32_t>(rng() % (oob ? n + 2 : n));
+        bool bad = false;
+        for (std::uint32_t v : e) bad |= v >= n;
+        for (std::size_t cap = 0; cap <= 6 * ne + 7; ++cap) {
+            std::vector<std::uint32_t> out(cap + 1, 0xC0FFEEu);
+            const sk::VolumeBuffer q = sk::volume_build_side_quads(e.data(), e.size(), n, out.data(), cap);
+            CHECK(out[cap] == 0xC0FFEEu);
+            if (bad) {
+                CHECK(q.status == sk::Status::IndexOutOfRange);
+                continue;
+            }
+            const std::size_t full = std::min(cap / 6, ne);
+            REQUIRE(q.count == 6 * full);
+            REQUIRE(q.needed == 6 * ne);
+            CHECK(q.status == (full < ne ? sk::Status::BufferTooSmall : sk::Status::Ok));
+            const std::uint32_t nn = static_cast<std::uint32_t>(n);
+            for (std::size_t k = 0; k < full; ++k) {
+                const std::uint32_t a = e[2 * k], bb = e[2 * k + 1];
+                const std::uint32_t want[6] = {bb, a, a + nn, bb, a + nn, bb + nn};
+                CHECK(std::equal(want, want + 6, out.begin() + static_cast<std::ptrdiff_t>(6 * k)));
+            }
+        }
+    }
+    CHECK(compared > 10000);
+}

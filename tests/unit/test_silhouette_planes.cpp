@@ -1,0 +1,323 @@
+// Unit tests for the cached-plane fast path of shadowkit/silhouette.hpp (silhouette_build_planes,
+// silhouette_compute_facing_planes[_chunk], silhouette_extract_planes[_chunk],
+// silhouette_extract_parallel_planes; issue 16).
+// Expected values: the exact reference path of the same header (silhouette_compute_facing, which the
+// tests of test_silhouette.cpp check against brute force) and, for the facing bits, the independent
+// big-integer evaluation of exact_facing_reference.hpp. The claim tested: the fast path's facing bits
+// and every output buffer (silhouette edges, flags, counts, side quads, caps) are identical to the
+// exact path's, for any mesh and light, including lights on face planes and vertices, 1e-6 / 1e6
+// scales, meshes far from the origin and denormal coordinates.
+#include <shadowkit/shadow_volume.hpp>
+#include <shadowkit/silhouette.hpp>
+
+#include "exact_facing_reference.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <thread>
+#include <vector>
+
+namespace sk = shadowkit;
+
+namespace {
+
+struct Mesh {
+    std::vector<glm::vec3> p;
+    std::vector<std::uint32_t> i;
+};
+
+// Closed torus grid (outward), optional noise, offset and scale.
+Mesh torus(int R, int S, std::mt19937& rng, float noise, glm::vec3 offset, float scale) {
+    Mesh m;
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int a = 0; a < R; ++a)
+        for (int b = 0; b < S; ++b) {
+            const float t = 6.2831853f * static_cast<float>(a) / static_cast<float>(R);
+            const float s = 6.2831853f * static_cast<float>(b) / static_cast<float>(S);
+            const float rr = 0.4f + noise * u(rng);
+            const glm::vec3 q((1.0f + rr * std::cos(s)) * std::cos(t), (1.0f + rr * std::cos(s)) * std::sin(t), rr * std::sin(s));
+            m.p.push_back(offset + scale * q);
+        }
+    auto id = [&](int a, int b) { return static_cast<std::uint32_t>(((a + R) % R) * S + ((b + S) % S)); };
+    for (int a = 0; a < R; ++a)
+        for (int b = 0; b < S; ++b) {
+            const std::uint32_t v00 = id(a, b), v10 = id(a + 1, b), v11 = id(a + 1, b + 1), v01 = id(a, b + 1);
+            m.i.insert(m.i.end(), {v00, v10, v11, v00, v11, v01});
+        }
+    return m;
+}
+
+// Random soup: kind 0 uniform floats, 1 a small integer grid (coplanar faces, shared planes), 2
+// denormal coordinates, 3 mixed magnitudes (1e-30 .. 1e30 per coordinate).
+Mesh soup(std::mt19937& rng, int kind, float scale, glm::vec3 offset) {
+    Mesh m;
+    const int nv = 4 + static_cast<int>(rng() % 30), nt = 1 + static_cast<int>(rng() % 60);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int k = 0; k < nv; ++k) {
+        glm::vec3 q;
+        if (kind == 1) q = glm::vec3(float(rng() % 4), float(rng() % 4), float(rng() % 4));
+        else if (kind == 2) q = glm::vec3(u(rng), u(rng), u(rng)) * 1e-39f;
+        else if (kind == 3) q = glm::vec3(u(rng) * std::pow(10.0f, float(int(rng() % 61) - 30)), u(rng) * std::pow(10.0f, float(int(rng() % 61) - 30)),
+                                          u(rng) * std::pow(10.0f, float(int(rng() % 61) - 30)));
+        else q = glm::vec3(u(rng), u(rng), u(rng));
+        m.p.push_back(kind >= 2 ? q : offset + scale * q);
+    }
+    for (int t = 0; t < 3 * nt; ++t) m.i.push_back(static_cast<std::uint32_t>(rng() % static_cast<unsigned>(nv)));
+    return m;
+}
+
+// A light of many kinds: random point / directional, on a vertex (w = 1 or 4), in a face's plane
+// (on an edge's line, on a corner's opposite extension), parallel to a face, at 1e6, denormal, w
+// not a power of two.
+glm::vec4 some_light(std::mt19937& rng, const Mesh& m, float scale, glm::vec3 offset) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const glm::vec3& a = m.p[rng() % m.p.size()];
+    const glm::vec3& b = m.p[rng() % m.p.size()];
+    const glm::vec3& c = m.p[rng() % m.p.size()];
+    switch (rng() % 10) {
+    case 0: return glm::vec4(a, 1.0f);                                   // on a vertex
+    case 1: return glm::vec4(4.0f * a, 4.0f);                            // on a vertex, w = 4
+    case 2: return glm::vec4(a + (a - b), 1.0f);                         // on an edge's line (rounded)
+    case 3: return glm::vec4(b - a, 0.0f).x == 0.0f && b.y == a.y && b.z == a.z ? glm::vec4(1, 0, 0, 0) : glm::vec4(b - a, 0.0f); // parallel to an edge
+    case 4: return glm::vec4(glm::cross(b - a, c - a), 0.0f) == glm::vec4(0.0f) ? glm::vec4(0, 1, 0, 0)
+                                                                                  : glm::vec4(glm::cross(b - a, c - a), 0.0f);
+    case 5: return glm::vec4(offset + 3.0f * scale * glm::vec3(u(rng), u(rng), u(rng)), 1.0f);
+    case 6: return glm::vec4(glm::vec3(u(rng), u(rng), u(rng)) * 1e6f, 1.0f);
+    case 7: return glm::vec4(glm::vec3(u(rng), u(rng), u(rng)) * 1e-40f, (rng() & 1) ? 0.0f : 1e-41f); // denormal
+    case 8: return glm::vec4(offset + scale * glm::vec3(u(rng), u(rng), u(rng)), 0.3f);                // w not a power of two
+    default: return glm::vec4(u(rng), u(rng), u(rng), 0.0f);                                            // directional
+    }
+}
+
+// Everything the exact path and the fast path output for one light: identical or the test fails.
+void check_same(const Mesh& m, const sk::SilhouetteAdjacency& adj, const sk::SilhouettePlanes& pl, const glm::vec4& L,
+                std::size_t& checked_faces, std::size_t& lit_total) {
+    if (!sk::silhouette_valid_light(L)) return;
+    const std::size_t fc = adj.face_count();
+    std::vector<std::uint8_t> ref(fc + 1, 7), fast(fc + 1, 9);
+    const sk::SilhouetteFacing fr = sk::silhouette_compute_facing(adj, m.p.data(), m.p.size(), L, ref.data(), fc);
+    const sk::SilhouetteFacing ff = sk::silhouette_compute_facing_planes(adj, pl, L, fast.data(), fc);
+    REQUIRE(fr.status == sk::Status::Ok);
+    REQUIRE(ff.status == sk::Status::Ok);
+    CHECK(ff.count == fr.count);
+    CHECK(ff.lit_faces == fr.lit_faces);
+    CHECK(fast[fc] == 9);  // nothing past the capacity
+    for (std::size_t f = 0; f < fc; ++f) {
+        if (fast[f] != ref[f]) {
+            const glm::vec3 &A = m.p[adj.faces[3 * f]], &B = m.p[adj.faces[3 * f + 1]], &C = m.p[adj.faces[3 * f + 2]];
+            FAIL_CHECK("face " << f << " fast " << int(fast[f]) << " exact " << int(ref[f]) << " independent "
+                                << exact_ref::facing_sign(A, B, C, L) << " light " << L.x << " " << L.y << " " << L.z << " " << L.w);
+        }
+    }
+    checked_faces += fc;
+    lit_total += ff.lit_faces;
+    // silhouettes: indices, flags, counts
+    const std::size_t cap = sk::silhouette_indices_capacity(adj);
+    std::vector<std::uint32_t> si(cap + 1, 0xABu), fi(cap + 1, 0xCDu);
+    std::vector<std::uint8_t> sf(cap / 2 + 1, 3), ffl(cap / 2 + 1, 4);
+    const sk::SilhouetteResult rs = sk::silhouette_extract(adj, ref.data(), fc, si.data(), cap, sf.data(), cap / 2);
+    const sk::SilhouetteResult rf = sk::silhouette_extract_planes(adj, pl, fast.data(), fc, fi.data(), cap, ffl.data(), cap / 2);
+    REQUIRE(rs.status == sk::Status::Ok);
+    REQUIRE(rf.status == sk::Status::Ok);
+    CHECK(rf.count == rs.count);
+    CHECK(rf.needed == rs.needed);
+    CHECK(rf.boundary_edges == rs.boundary_edges);
+    CHECK(rf.nonmanifold_edges == rs.nonmanifold_edges);
+    CHECK(std::equal(si.begin(), si.begin() + static_cast<std::ptrdiff_t>(rs.count), fi.begin()));
+    CHECK(std::equal(sf.begin(), sf.begin() + static_cast<std::ptrdiff_t>(rs.count / 2), ffl.begin()));
+    CHECK(fi[cap] == 0xCDu);
+    // the volume index buffers built from both: identical
+    const std::size_t vcap = sk::volume_indices_capacity(cap, adj.faces.size());
+    std::vector<std::uint32_t> vs(vcap), vf(vcap);
+    for (int which = 0; which < 2; ++which) {
+        std::vector<std::uint32_t>& v = which ? vf : vs;
+        const std::vector<std::uint32_t>& s = which ? fi : si;
+        const std::vector<std::uint8_t>& lit = which ? fast : ref;
+        const sk::VolumeBuffer sq = sk::volume_build_side_quads(s.data(), rs.count, m.p.size(), v.data(), v.size());
+        const sk::VolumeBuffer cp = sk::volume_build_caps(adj.faces.data(), adj.faces.size(), lit.data(), fc, m.p.size(),
+                                                          sk::VolumeCapMode::LitOnly, true, v.data() + sq.count, v.size() - sq.count);
+        REQUIRE(sq.status == sk::Status::Ok);
+        REQUIRE(cp.status == sk::Status::Ok);
+        v.resize(sq.count + cp.count);
+    }
+    CHECK(vs == vf);
+}
+
+} // namespace
+
+TEST_CASE("property: cached-plane facing and silhouette equal the exact path bit for bit (thousands of meshes and lights)") {
+    std::mt19937 rng(16016);
+    std::size_t meshes = 0, lights = 0, faces = 0, lit = 0, exact_faces = 0;
+    const float scales[] = {1e-6f, 1.0f, 1e6f};
+    for (int it = 0; it < 2400; ++it) {
+        const int kind = static_cast<int>(rng() % 6);
+        const float scale = scales[rng() % 3];
+        std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+        const glm::vec3 offset = (rng() % 3 == 0) ? glm::vec3(u(rng), u(rng), u(rng)) * scale * 1000.0f : glm::vec3(0.0f);
+        const Mesh m = kind >= 4 ? torus(3 + static_cast<int>(rng() % 10), 3 + static_cast<int>(rng() % 8), rng, kind == 5 ? 0.05f : 0.0f,
+                                         offset, scale)
+                                 : soup(rng, kind, scale, offset);
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+        REQUIRE(adj.status == sk::Status::Ok);
+        const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+        REQUIRE(pl.status == sk::Status::Ok);
+        REQUIRE(pl.face_count() == adj.face_count());
+        exact_faces += pl.exact_faces;
+        ++meshes;
+        for (int k = 0; k < 4; ++k) {
+            check_same(m, adj, pl, some_light(rng, m, scale, offset), faces, lit);
+            ++lights;
+        }
+    }
+    MESSAGE(meshes << " meshes, " << lights << " lights, " << faces << " face facings compared, " << lit << " lit, "
+                   << exact_faces << " faces stored for the exact path only");
+    CHECK(faces > 100000);
+}
+
+TEST_CASE("cached planes: every face's bit equals the independent big-integer sign, light on every vertex") {
+    // a noisy torus far from the origin (the plane form n . l + c w cancels there: the local frame
+    // and the filter must still give exact bits), the light on each vertex in turn: all faces around
+    // it are d == 0 (not lit) and must come out of the exact path
+    std::mt19937 rng(7);
+    const Mesh m = torus(12, 8, rng, 0.05f, glm::vec3(1000.0f, -250.0f, 4096.0f), 3.0f);
+    const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+    const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+    REQUIRE(pl.status == sk::Status::Ok);
+    std::vector<std::uint8_t> fast(adj.face_count());
+    std::size_t zero = 0;
+    for (std::size_t v = 0; v < m.p.size(); ++v)
+        for (float w : {1.0f, 2.0f}) {
+            const glm::vec4 L(m.p[v] * w, w);
+            REQUIRE(sk::silhouette_compute_facing_planes(adj, pl, L, fast.data(), fast.size()).status == sk::Status::Ok);
+            for (std::size_t f = 0; f < adj.face_count(); ++f) {
+                const int s = exact_ref::facing_sign(m.p[adj.faces[3 * f]], m.p[adj.faces[3 * f + 1]], m.p[adj.faces[3 * f + 2]], L);
+                zero += s == 0;
+                CHECK((fast[f] != 0) == (s > 0));
+            }
+        }
+    CHECK(zero >= 6 * 2 * m.p.size());  // each vertex has 6 faces, all exactly in the light's planes
+}
+
+TEST_CASE("regression (issue 16): a plane cached in float without a filter gets the light-on-vertex faces wrong") {
+    // What the filter is for: the naive cached plane (float n, c = -n . A, sign of n . l + c w)
+    // lights faces whose plane contains the light (d == 0 exactly) or misses the sign of tiny d; the
+    // fast path never does.
+    std::mt19937 rng(99);
+    const Mesh m = torus(16, 12, rng, 0.05f, glm::vec3(37.0f, 11.0f, -5.0f), 1.0f);
+    const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+    const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+    std::vector<std::uint8_t> fast(adj.face_count());
+    std::size_t naive_wrong = 0, fast_wrong = 0;
+    for (std::size_t v = 0; v < m.p.size(); ++v) {
+        const glm::vec4 L(m.p[v], 1.0f);
+        sk::silhouette_compute_facing_planes(adj, pl, L, fast.data(), fast.size());
+        for (std::size_t f = 0; f < adj.face_count(); ++f) {
+            const glm::vec3 &A = m.p[adj.faces[3 * f]], &B = m.p[adj.faces[3 * f + 1]], &C = m.p[adj.faces[3 * f + 2]];
+            const glm::vec3 n = glm::cross(B - A, C - A);
+            const float naive = glm::dot(n, glm::vec3(L)) - glm::dot(n, A) * L.w;
+            const bool truth = exact_ref::facing_sign(A, B, C, L) > 0;
+            naive_wrong += (naive > 0.0f) != truth;
+            fast_wrong += (fast[f] != 0) != truth;
+        }
+    }
+    MESSAGE("naive float planes: " << naive_wrong << " wrong bits; fast path: " << fast_wrong);
+    CHECK(naive_wrong > 0);
+    CHECK(fast_wrong == 0);
+}
+
+TEST_CASE("property: chunked and parallel cached-plane silhouettes equal silhouette_extract (any chunk count, threads)") {
+    std::mt19937 rng(4242);
+    for (int it = 0; it < 300; ++it) {
+        const Mesh m = (it % 3 == 0) ? torus(4 + it % 9, 3 + it % 7, rng, 0.1f, glm::vec3(0.0f), 1.0f)
+                                     : soup(rng, static_cast<int>(rng() % 2), 1.0f, glm::vec3(0.0f));
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+        const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+        const glm::vec4 L = some_light(rng, m, 1.0f, glm::vec3(0.0f));
+        if (!sk::silhouette_valid_light(L)) continue;
+        const sk::Silhouette ref = sk::silhouette_compute(adj, m.p.data(), m.p.size(), L);
+        REQUIRE(ref.status == sk::Status::Ok);
+        const std::size_t cap = sk::silhouette_indices_capacity(adj), fc = adj.face_count();
+        const std::size_t chunks = 1 + rng() % 9;
+        std::vector<std::uint8_t> facing(fc);
+        std::vector<std::uint32_t> idx(cap);
+        std::vector<std::uint8_t> flags(cap / 2);
+        std::vector<sk::SilhouetteResult> per(chunks);
+        auto threads = [](std::size_t n, const auto& fn) {
+            std::vector<std::thread> t;
+            for (std::size_t i = 0; i < n; ++i) t.emplace_back([&fn, i] { fn(i); });
+            for (auto& x : t) x.join();
+        };
+        const sk::SilhouetteResult r = sk::silhouette_extract_parallel_planes(adj, pl, L, facing.data(), fc, idx.data(), cap,
+                                                                              flags.data(), cap / 2, per.data(), chunks, threads);
+        REQUIRE(r.status == sk::Status::Ok);
+        CHECK(facing == ref.facing);
+        REQUIRE(r.count == ref.indices.size());
+        CHECK(std::equal(ref.indices.begin(), ref.indices.end(), idx.begin()));
+        CHECK(std::equal(ref.flags.begin(), ref.flags.end(), flags.begin()));
+        // the same with the chunk functions, run in reverse order
+        std::vector<std::uint8_t> f2(fc, 5);
+        for (std::size_t c = chunks; c-- > 0;)
+            REQUIRE(sk::silhouette_compute_facing_planes_chunk(adj, pl, L, f2.data(), fc, c, chunks).status == sk::Status::Ok);
+        CHECK(f2 == ref.facing);
+    }
+}
+
+TEST_CASE("cached planes: statuses (mismatched adjacency, failed build, bad light, short buffers, NaN)") {
+    std::mt19937 rng(1);
+    const Mesh m = torus(6, 5, rng, 0.0f, glm::vec3(0.0f), 1.0f);
+    const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+    const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+    REQUIRE(pl.status == sk::Status::Ok);
+    std::vector<std::uint8_t> facing(adj.face_count());
+    const glm::vec4 L(3.0f, 2.0f, 1.0f, 1.0f);
+    CHECK(sk::SilhouettePlanes{}.status == sk::Status::NotRun);
+    CHECK(sk::silhouette_build_planes(adj, m.p.data(), m.p.size() - 1).status == sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_build_planes(adj, nullptr, m.p.size()).status == sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_build_planes(sk::SilhouetteAdjacency{}, m.p.data(), m.p.size()).status == sk::Status::InvalidArgument);
+    std::vector<glm::vec3> bad = m.p;
+    bad[3].y = std::nanf("");
+    CHECK(sk::silhouette_build_planes(adj, bad.data(), bad.size()).status == sk::Status::NonFinite);
+    CHECK(sk::silhouette_compute_facing_planes(adj, pl, glm::vec4(0.0f), facing.data(), facing.size()).status == sk::Status::InvalidLight);
+    CHECK(sk::silhouette_compute_facing_planes(adj, pl, glm::vec4(1, 1, 1, -1), facing.data(), facing.size()).status ==
+          sk::Status::InvalidLight);
+    const sk::SilhouetteFacing small = sk::silhouette_compute_facing_planes(adj, pl, L, facing.data(), facing.size() - 1);
+    CHECK(small.status == sk::Status::BufferTooSmall);
+    CHECK(small.needed == adj.face_count());
+    CHECK(sk::silhouette_compute_facing_planes(adj, pl, L, nullptr, 5).status == sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_compute_facing_planes(adj, sk::SilhouettePlanes{}, L, facing.data(), facing.size()).status ==
+          sk::Status::InvalidArgument);
+    // planes of another mesh
+    const Mesh m2 = torus(7, 5, rng, 0.0f, glm::vec3(0.0f), 1.0f);
+    const sk::SilhouetteAdjacency adj2 = sk::silhouette_build_adjacency(m2.p.data(), m2.p.size(), m2.i.data(), m2.i.size());
+    CHECK(sk::silhouette_compute_facing_planes(adj2, pl, L, facing.data(), facing.size()).status == sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_compute_facing_planes_chunk(adj, pl, L, facing.data(), facing.size(), 2, 2).status == sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_compute_facing_planes_chunk(adj, pl, L, facing.data(), facing.size(), 0, 0).status == sk::Status::InvalidArgument);
+    REQUIRE(sk::silhouette_compute_facing_planes(adj, pl, L, facing.data(), facing.size()).status == sk::Status::Ok);
+    std::vector<std::uint32_t> idx(sk::silhouette_indices_capacity(adj));
+    const sk::SilhouetteResult full = sk::silhouette_extract_planes(adj, pl, facing.data(), facing.size(), idx.data(), idx.size(), nullptr, 0);
+    REQUIRE(full.status == sk::Status::Ok);
+    REQUIRE(full.count >= 4);
+    std::vector<std::uint32_t> shortbuf(full.count - 2 + 1, 0xEEu);
+    const sk::SilhouetteResult part = sk::silhouette_extract_planes(adj, pl, facing.data(), facing.size(), shortbuf.data(),
+                                                                    full.count - 2, nullptr, 0);
+    CHECK(part.status == sk::Status::BufferTooSmall);
+    CHECK(part.count == full.count - 2);
+    CHECK(part.needed == full.count);
+    CHECK(shortbuf.back() == 0xEEu);
+    CHECK(std::equal(shortbuf.begin(), shortbuf.end() - 1, idx.begin()));
+    CHECK(sk::silhouette_extract_planes(adj, pl, facing.data(), facing.size() - 1, idx.data(), idx.size(), nullptr, 0).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_extract_planes(adj2, pl, facing.data(), facing.size(), idx.data(), idx.size(), nullptr, 0).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_extract_planes_chunk(adj, pl, facing.data(), facing.size(), idx.data(), idx.size() - 1, nullptr, 0, 0, 1)
+              .status == sk::Status::BufferTooSmall);
+    // an empty mesh is Ok
+    const sk::SilhouetteAdjacency empty = sk::silhouette_build_adjacency(nullptr, 0, nullptr, 0);
+    const sk::SilhouettePlanes pe = sk::silhouette_build_planes(empty, nullptr, 0);
+    CHECK(pe.status == sk::Status::Ok);
+    CHECK(sk::silhouette_compute_facing_planes(empty, pe, L, nullptr, 0).status == sk::Status::Ok);
+}
