@@ -103,6 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (res.status == Status::NotRun) __builtin_trap();
     if (null_scratch && scap > 0 && res.status != Status::InvalidArgument) __builtin_trap();  // null with a capacity
     const bool scratch_short = res.scratch_needed > scap;
+    if (res.scratch_needed > smoothie_scratch_capacity(ne)) __builtin_trap();  // the size query covers it
     if (scratch_short && res.status != Status::BufferTooSmall) __builtin_trap();
     if (res.status != q.status && !(q.status == Status::BufferTooSmall || res.status == Status::BufferTooSmall))
         __builtin_trap();
