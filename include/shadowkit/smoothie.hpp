@@ -88,7 +88,7 @@
 //     end-on neighbor edge whose two ends project to the same point.
 //   * Edges are clipped against the light's near plane (ClipDepth, reversed_z); a clipped end gets
 //     no corner. Corners use vertex indices: weld positions first (silhouette.hpp does).
-//   * t == 0 produces NO geometry (status Ok, vertex_count 0, no edge examined or counted): the
+//   * t == 0 produces NO geometry (status Ok, needed 0, no edge examined or counted): the
 //     smoothie buffer stays at its clear value and the final pass is exactly the hard shadow test.
 //     For t > 0 every edge is counted once: edge_quads + skipped_* (except skipped_corners) = edge_count.
 //   * Output: a non-indexed triangle list of SmoothieVertex, counter-clockwise in light NDC
