@@ -3,66 +3,80 @@
 // stages: fragment
 //
 // Inputs (from shadowkit/cascades.hpp, up to 4 cascades):
-//   splitFar      vec4   far view depth of cascades 0..3 (splits[1..4] of fit_cascades)
-//   splitNear     vec4   near view depth of cascades 0..3 (splits[0..3])
-//   spheres[4]    vec4   world bounding spheres (Cascade::sphere) for selection by sphere
-//   lightVP[4]    mat4   Cascade::view_proj
-//   shadowMaps    sampler2DArrayShadow, layer i = cascade i (compare mode on)
-//   viewDepth     float  positive distance along the camera's view direction (-view-space z)
-//   zeroToOne     bool   true if the matrices were built with ClipDepth::ZeroToOne
-// Usage: float lit = sk_cascade_shadow(shadowMaps, lightVP, splitNear, splitFar, count, worldPos,
-//        viewDepth, 0.1, 0.0005, false);  // blend over the last 10% of each cascade
-// Reversed-Z light matrices need a GREATER compare func on the sampler and a negative bias.
+//   split_near      vec4   near view depth of cascades 0..3 (CascadeFitResult::splits[0..3])
+//   split_far       vec4   far view depth of cascades 0..3 (CascadeFitResult::splits[1..4])
+//   spheres[4]      vec4   world bounding spheres (Cascade::sphere) for selection by sphere
+//   light_vp[4]     mat4   Cascade::view_proj
+//   shadow_maps     sampler2DArrayShadow, layer i = cascade i
+//   view_depth      float  positive distance along the camera's view direction (-view-space z)
+//   zero_to_one     bool   true if the matrices were built with ClipDepth::ZeroToOne
+// No function takes a light: the light (CascadeInput::light_position, w = 0, xyz toward the light)
+// is baked into the matrices.
+// GL state: shadow_maps is a GL_TEXTURE_2D_ARRAY depth texture with GL_TEXTURE_COMPARE_MODE =
+// GL_COMPARE_REF_TO_TEXTURE, GL_TEXTURE_COMPARE_FUNC = GL_LEQUAL (GL_GEQUAL and a negative bias for
+// reversed-Z light matrices), GL_LINEAR filtering for a 2x2 hardware PCF (GL_NEAREST: hard), wrap
+// GL_CLAMP_TO_EDGE. Render cascade i into layer i (glFramebufferTextureLayer) with its view_proj,
+// depth test GL_LESS, depth writes on, no blending. The matrices are an ordinary right-handed view
+// and projection: a triangle counter-clockwise seen from the light is counter-clockwise in the map,
+// so back-face culling (or front-face culling against acne) works with glFrontFace(GL_CCW).
+// Usage: float lit = sk_cascade_shadow(shadow_maps, light_vp, split_near, split_far, count, world_pos,
+//        view_depth, 0.1, 0.0005, false);  // blend over the last 10% of each cascade
+// Points outside the selected cascade's map (uv outside [0,1]) and beyond the last split are lit.
+// MIT License. Copyright (c) shadowkit contributors.
 
-int sk_cascade_by_depth(float viewDepth, vec4 splitFar, int count)
+// The first cascade whose far split is >= view_depth; -1 beyond the last one.
+int sk_cascade_by_depth(float view_depth, vec4 split_far, int count)
 {
     for (int i = 0; i < 4; ++i) {
-        if (i < count && viewDepth <= splitFar[i]) return i;
+        if (i < count && view_depth <= split_far[i]) return i;
     }
     return -1;
 }
 
-int sk_cascade_by_sphere(vec3 worldPos, vec4 spheres[4], int count)
+// The first cascade whose bounding sphere holds world_pos; -1 if none.
+int sk_cascade_by_sphere(vec3 world_pos, vec4 spheres[4], int count)
 {
     for (int i = 0; i < 4; ++i) {
-        vec3 d = worldPos - spheres[i].xyz;
+        vec3 d = world_pos - spheres[i].xyz;
         if (i < count && dot(d, d) <= spheres[i].w * spheres[i].w) return i;
     }
     return -1;
 }
 
-// Weight of the next cascade: 0 until the last `band` fraction of [splitNear, splitFar], 1 at splitFar.
-float sk_cascade_blend(float viewDepth, float splitNear, float splitFar, float band)
+// Weight of the next cascade: 0 until the last `band` fraction of [split_near, split_far], 1 at split_far.
+float sk_cascade_blend(float view_depth, float split_near, float split_far, float band)
 {
-    float start = splitFar - clamp(band, 0.0, 1.0) * (splitFar - splitNear);
-    return clamp((viewDepth - start) / max(splitFar - start, 1e-20), 0.0, 1.0);
+    float start = split_far - clamp(band, 0.0, 1.0) * (split_far - split_near);
+    return clamp((view_depth - start) / max(split_far - start, 1e-20), 0.0, 1.0);
 }
 
 // World position -> (u, v, depth) in [0,1] for one cascade (orthographic: w == 1, divide kept).
-vec3 sk_cascade_coord(mat4 lightViewProj, vec3 worldPos, bool zeroToOne)
+vec3 sk_cascade_coord(mat4 light_view_proj, vec3 world_pos, bool zero_to_one)
 {
-    vec4 h = lightViewProj * vec4(worldPos, 1.0);
+    vec4 h = light_view_proj * vec4(world_pos, 1.0);
     vec3 ndc = h.xyz / h.w;
-    return vec3(ndc.xy * 0.5 + 0.5, zeroToOne ? ndc.z : ndc.z * 0.5 + 0.5);
+    return vec3(ndc.xy * 0.5 + 0.5, zero_to_one ? ndc.z : ndc.z * 0.5 + 0.5);
 }
 
-float sk_cascade_sample(sampler2DArrayShadow maps, mat4 lightViewProj, int layer, vec3 worldPos, float bias, bool zeroToOne)
+// One cascade's compare lookup: 1 = lit, 0 = shadowed; outside the map: 1.
+float sk_cascade_sample(sampler2DArrayShadow maps, mat4 light_view_proj, int layer, vec3 world_pos, float bias,
+                        bool zero_to_one)
 {
-    vec3 c = sk_cascade_coord(lightViewProj, worldPos, zeroToOne);
+    vec3 c = sk_cascade_coord(light_view_proj, world_pos, zero_to_one);
     if (any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0)))) return 1.0;
     return texture(maps, vec4(c.xy, float(layer), c.z - bias));
 }
 
 // 1 = lit, 0 = shadowed; blends with the next cascade inside the band.
-float sk_cascade_shadow(sampler2DArrayShadow maps, mat4 lightVP[4], vec4 splitNear, vec4 splitFar, int count,
-                        vec3 worldPos, float viewDepth, float band, float bias, bool zeroToOne)
+float sk_cascade_shadow(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_near, vec4 split_far, int count,
+                        vec3 world_pos, float view_depth, float band, float bias, bool zero_to_one)
 {
-    int i = sk_cascade_by_depth(viewDepth, splitFar, count);
+    int i = sk_cascade_by_depth(view_depth, split_far, count);
     if (i < 0) return 1.0;
-    float s = sk_cascade_sample(maps, lightVP[i], i, worldPos, bias, zeroToOne);
-    float w = sk_cascade_blend(viewDepth, splitNear[i], splitFar[i], band);
+    float s = sk_cascade_sample(maps, light_vp[i], i, world_pos, bias, zero_to_one);
+    float w = sk_cascade_blend(view_depth, split_near[i], split_far[i], band);
     if (w > 0.0 && i + 1 < count) {
-        float s2 = sk_cascade_sample(maps, lightVP[i + 1], i + 1, worldPos, bias, zeroToOne);
+        float s2 = sk_cascade_sample(maps, light_vp[i + 1], i + 1, world_pos, bias, zero_to_one);
         s = mix(s, s2, w);
     }
     return s;

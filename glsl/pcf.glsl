@@ -1,34 +1,38 @@
-// glsl/pcf.glsl - percentage-closer filtering kernels: box, tent, Poisson and rotated Poisson,
-// each with an optional receiver-plane depth bias.
+// shadowkit/glsl/pcf.glsl - percentage-closer filtering kernels: box, tent, Poisson and rotated Poisson, each with an optional receiver-plane depth bias
 // versions: 330, 450
 // stages: fragment
 //
 // Inputs (per call):
-//   sm      sampler2DShadow: a depth texture with GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE,
-//           compare func GL_LEQUAL (GL_GEQUAL for reversed-Z), GL_LINEAR filtering so each tap is a
-//           hardware 2x2 bilinear compare (GL_NEAREST works, with harder steps).
-//   uvz     shadow coordinate: xy in [0,1] uv, z the (already biased) window depth of the receiver.
+//   sm      sampler2DShadow: the shadow map, a depth texture.
+//   uvz     shadow coordinate: xy in [0,1] uv, z the (already biased) window depth of the receiver
+//           (sk_shadow_coord in shadow_map.glsl gives it).
 //   dz_duv  receiver-plane depth gradient from sk_receiver_plane_depth_bias(uvz), or vec2(0.0) to
 //           disable it. Each tap at uv offset o then compares with z + dot(dz_duv, o).
 // Uniforms: none required. Taps with uv outside [0,1] count as lit.
+// GL state: the map's GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE, compare func GL_LEQUAL
+// (GL_GEQUAL for reversed-Z), GL_LINEAR filtering so each tap is a hardware 2x2 bilinear compare
+// (GL_NEAREST works, with harder steps); no blending or culling needed by the lookups.
+// Taps: the Poisson kernels read SK_POISSON_TAPS[0 .. SK_POISSON_TAP_COUNT), by default the built-in
+// 64-point disk sk_poisson_disk64. A generated array (shadowkit/poisson_disk.hpp poisson_to_glsl)
+// under any other name compiles next to it; emitted with PoissonGlsl::ArrayForSnippets before this
+// snippet, it replaces it. pcss.glsl shares the block (guarded), so both may be pasted.
 // Usage:
 //   vec2 g = sk_receiver_plane_depth_bias(uvz);          // call in uniform control flow (dFdx)
 //   float lit = sk_pcf_poisson(sm, uvz, g, 3.0 / 2048.0, 16,
 //                              6.2831853 * sk_interleaved_gradient_noise(gl_FragCoord.xy));
-//   box: (2r+1)^2 taps; tent: (2r+1)^2 taps weighted (r+1-|i|)(r+1-|j|); Poisson: `taps` in 1..64,
-//   rotated by `angle` (0.0: unrotated; per-pixel noise turns banding into noise).
+//   box: (2r+1)^2 taps; tent: (2r+1)^2 taps weighted (r+1-|i|)(r+1-|j|); Poisson: `taps` in
+//   1..SK_POISSON_TAP_COUNT, rotated by `angle` (0.0: unrotated; per-pixel noise turns banding into noise).
 // Based on Reeves et al. 1987 (PCF), Isidoro 2006 (receiver plane depth bias), Jimenez 2014
-// (interleaved gradient noise). MIT License. Copyright (c) shadowkit contributors.
+// (interleaved gradient noise).
+// MIT License. Copyright (c) shadowkit contributors.
 
-#ifndef SK_POISSON_DISK_DEFINED
-#define SK_POISSON_DISK_DEFINED
+#ifndef SK_POISSON_DISK64_DEFINED
+#define SK_POISSON_DISK64_DEFINED
 // 64 points of the unit disk, weighted sample elimination (shadowkit/poisson_disk.hpp:
 // poisson_eliminate(PoissonDomain{}, 64, /*seed*/ 1, ...), progressive order, emitted by
 // poisson_to_glsl). Any prefix of length k is itself a Poisson set (normalized radius of the
 // prefixes 8/16/32/64: 0.80/0.74/0.68/0.74), so `taps` may be any count in 1..64.
-// To use your own taps, #define SK_POISSON_DISK_DEFINED and declare
-// `uniform vec2 SK_POISSON_DISK[64];` (or a const array) plus sk_interleaved_gradient_noise.
-const vec2 SK_POISSON_DISK[64] = vec2[64](
+const vec2 sk_poisson_disk64[64] = vec2[64](
     vec2(0.667273045, 0.596935987),
     vec2(-0.974912941, 0.140261471),
     vec2(-0.00817528274, -0.737295032),
@@ -99,6 +103,15 @@ float sk_interleaved_gradient_noise(vec2 pixel) {
     return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
 }
 #endif
+// The tap array of the Poisson kernels: the built-in disk, or your own (poisson_to_glsl with
+// PoissonGlsl::ArrayForSnippets emits `#define SK_POISSON_TAPS NAME` and SK_POISSON_TAP_COUNT).
+#ifndef SK_POISSON_TAPS
+#define SK_POISSON_TAPS sk_poisson_disk64
+#define SK_POISSON_TAP_COUNT 64
+#endif
+#ifndef SK_POISSON_TAP_COUNT
+#error "SK_POISSON_TAPS needs SK_POISSON_TAP_COUNT, the length of its array"
+#endif
 
 // Receiver-plane depth gradient (dz/du, dz/dv) from screen-space derivatives of uvz: solves
 // [du/dx dv/dx; du/dy dv/dy] (dz/du, dz/dv) = (dz/dx, dz/dy). vec2(0.0) when singular.
@@ -152,17 +165,17 @@ float sk_pcf_tent(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, int radius_texels) 
     return sum / wsum;
 }
 
-// Poisson disk: `taps` (clamped to 1..64) points of SK_POISSON_DISK scaled to radius_uv and
+// Poisson disk: `taps` (clamped to 1..SK_POISSON_TAP_COUNT) points of SK_POISSON_TAPS scaled to radius_uv and
 // rotated by `angle` radians (0.0: unrotated). radius_uv <= 0 or taps == 1 is the hard shadow.
 float sk_pcf_poisson(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float radius_uv, int taps, float angle) {
-    int n = clamp(taps, 1, 64);
+    int n = clamp(taps, 1, SK_POISSON_TAP_COUNT);
     if (!(radius_uv > 0.0) || n == 1) return sk_pcf_tap(sm, uvz, dz_duv, vec2(0.0));
     float c = cos(angle);
     float s = sin(angle);
     mat2 rot = mat2(c, s, -s, c);
     float sum = 0.0;
     for (int i = 0; i < n; ++i)
-        sum += sk_pcf_tap(sm, uvz, dz_duv, rot * SK_POISSON_DISK[i] * radius_uv);
+        sum += sk_pcf_tap(sm, uvz, dz_duv, rot * SK_POISSON_TAPS[i] * radius_uv);
     return sum / float(n);
 }
 

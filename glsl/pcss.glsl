@@ -1,23 +1,27 @@
-// glsl/pcss.glsl - percentage-closer soft shadows: blocker search on a depth sampler2D, penumbra
-// estimate on linear depths, Poisson PCF through a sampler2DShadow.
+// shadowkit/glsl/pcss.glsl - percentage-closer soft shadows: blocker search on a depth sampler2D, penumbra estimate on linear depths, Poisson PCF through a sampler2DShadow
 // versions: 330, 450
 // stages: fragment
 //
 // Inputs (per call):
-//   depth_map  sampler2D view of the shadow map (GL_TEXTURE_COMPARE_MODE = GL_NONE, GL_NEAREST);
-//              bind the same texture twice with two sampler objects (GL 3.3) for depth_map and sm.
-//   sm         sampler2DShadow view (compare mode on, GL_LINEAR, GL_LEQUAL; GL_GEQUAL for reversed-Z).
+//   depth_map  sampler2D view of the shadow map (compare mode off, nearest).
+//   sm         sampler2DShadow view of the same map (compare mode on).
 //   uvz        shadow coordinate: uv in [0,1], z the receiver's (biased) window depth.
 //   dz_duv     receiver-plane gradient (sk_receiver_plane_depth_bias in pcf.glsl) or vec2(0.0); each
 //              blocker-search and filter tap at uv offset o compares with uvz.z + dot(dz_duv, o).
 //   light_uv_at_near  perspective light: light width / (near * 2 tan(fov/2)), the light's width in uv
 //              measured on the near plane (shadowkit::pcss_light_uv_at_near). Directional light
 //              (sk_pcss_directional): light_uv_per_depth = 2 tan(theta/2) (far - near) / ortho width.
-//   near, far  the light's clip planes (far <= 0.0 means an infinite far plane).
-//   search_taps, filter_taps  Poisson taps (1..64) for the blocker search and the filter.
+//   near, far  the light's clip planes (far <= 0.0 means an infinite far plane). Put the near plane at
+//              the casters (shadowkit::pcss_fit_near_plane): the blocker search is cut there.
+//   search_taps, filter_taps  Poisson taps (1..SK_POISSON_TAP_COUNT) for the blocker search and the filter.
 //   angle      rotation of the Poisson disk (0.0 unrotated; 6.2831853 * noise for rotated).
-//   max_filter_uv  clamp of the filter width (uv), e.g. 0.05.
-// Defines: SK_REVERSED_Z before this snippet for reversed-Z depth (1 at near).
+//   max_filter_uv  clamp of the filter width and of the search width (uv), e.g. 0.05: a blocker
+//              farther than that from the receiver could only widen the filter beyond its clamp.
+// Uniforms: none required (pass the values above). Defines: SK_REVERSED_Z before this snippet for
+// reversed-Z depth (1 at near); SK_POISSON_TAPS / SK_POISSON_TAP_COUNT as in pcf.glsl.
+// GL state: bind the map twice with two sampler objects (GL 3.3): depth_map with
+// GL_TEXTURE_COMPARE_MODE = GL_NONE and GL_NEAREST, sm with GL_COMPARE_REF_TO_TEXTURE, GL_LEQUAL
+// (GL_GEQUAL for reversed-Z) and GL_LINEAR; GL_CLAMP_TO_BORDER with border depth 1 (reversed: 0).
 // Taps with uv outside [0,1] are ignored by the blocker search and count as lit in the filter.
 // A search region narrower than one texel (light size 0, receiver at the near plane) returns the
 // single 2x2 hardware compare texture(sm, uvz): PCSS reduces exactly to the hard shadow.
@@ -25,19 +29,17 @@
 //   float lit = sk_pcss(depth_map, sm, uvz, vec2(0.0), u_light_uv_at_near, u_near, u_far, 16, 16,
 //                       6.2831853 * sk_interleaved_gradient_noise(gl_FragCoord.xy), 0.05);
 // Formulas (Fernando 2005; Apelles thesis eqs. 3.20-3.22), all on linear depths z:
-//   search width = light_uv_at_near (z_r - near) / z_r
+//   search width = min(light_uv_at_near (z_r - near) / z_r, max_filter_uv)
 //   filter width = light_uv_at_near (z_r - z_b) / z_b * near / z_r   (the penumbra on the near plane)
 // MIT License. Copyright (c) shadowkit contributors.
 
-#ifndef SK_POISSON_DISK_DEFINED
-#define SK_POISSON_DISK_DEFINED
+#ifndef SK_POISSON_DISK64_DEFINED
+#define SK_POISSON_DISK64_DEFINED
 // 64 points of the unit disk, weighted sample elimination (shadowkit/poisson_disk.hpp:
 // poisson_eliminate(PoissonDomain{}, 64, /*seed*/ 1, ...), progressive order, emitted by
 // poisson_to_glsl). Any prefix of length k is itself a Poisson set (normalized radius of the
 // prefixes 8/16/32/64: 0.80/0.74/0.68/0.74), so `taps` may be any count in 1..64.
-// To use your own taps, #define SK_POISSON_DISK_DEFINED and declare
-// `uniform vec2 SK_POISSON_DISK[64];` (or a const array) plus sk_interleaved_gradient_noise.
-const vec2 SK_POISSON_DISK[64] = vec2[64](
+const vec2 sk_poisson_disk64[64] = vec2[64](
     vec2(0.667273045, 0.596935987),
     vec2(-0.974912941, 0.140261471),
     vec2(-0.00817528274, -0.737295032),
@@ -108,6 +110,15 @@ float sk_interleaved_gradient_noise(vec2 pixel) {
     return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
 }
 #endif
+// The tap array of the Poisson kernels: the built-in disk, or your own (poisson_to_glsl with
+// PoissonGlsl::ArrayForSnippets emits `#define SK_POISSON_TAPS NAME` and SK_POISSON_TAP_COUNT).
+#ifndef SK_POISSON_TAPS
+#define SK_POISSON_TAPS sk_poisson_disk64
+#define SK_POISSON_TAP_COUNT 64
+#endif
+#ifndef SK_POISSON_TAP_COUNT
+#error "SK_POISSON_TAPS needs SK_POISSON_TAP_COUNT, the length of its array"
+#endif
 
 // Window depth -> eye distance for a perspective light (far <= 0.0: infinite far plane).
 float sk_linearize_depth(float z_w, float near, float far) {
@@ -135,14 +146,14 @@ bool sk_depth_closer(float a, float b) {
 // compares with uvz.z + dot(dz_duv, o), so a receiver tilted towards the light does not find
 // itself as a blocker (vec2(0.0): compare every tap with uvz.z).
 float sk_pcss_blocker_window_depth(sampler2D depth_map, vec3 uvz, vec2 dz_duv, float search_uv, int taps, float angle) {
-    int n = clamp(taps, 1, 64);
+    int n = clamp(taps, 1, SK_POISSON_TAP_COUNT);
     float c = cos(angle);
     float s = sin(angle);
     mat2 rot = mat2(c, s, -s, c);
     float sum = 0.0;
     float count = 0.0;
     for (int i = 0; i < n; ++i) {
-        vec2 o = rot * SK_POISSON_DISK[i] * (0.5 * search_uv);
+        vec2 o = rot * SK_POISSON_TAPS[i] * (0.5 * search_uv);
         vec2 uv = uvz.xy + o;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
         float d = textureLod(depth_map, uv, 0.0).r;
@@ -173,7 +184,7 @@ int sk_pcss_tap_budget(float filter_uv, float map_texels, int min_taps, int max_
 
 // Poisson PCF with hardware compare (same as sk_pcf_poisson in pcf.glsl, local copy).
 float sk_pcss_filter(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float width_uv, int taps, float angle) {
-    int n = clamp(taps, 1, 64);
+    int n = clamp(taps, 1, SK_POISSON_TAP_COUNT);
     float radius = 0.5 * width_uv;
     if (!(radius > 0.0) || n == 1) {
         if (any(lessThan(uvz.xy, vec2(0.0))) || any(greaterThan(uvz.xy, vec2(1.0)))) return 1.0;
@@ -184,7 +195,7 @@ float sk_pcss_filter(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float width_uv, 
     mat2 rot = mat2(c, s, -s, c);
     float sum = 0.0;
     for (int i = 0; i < n; ++i) {
-        vec2 o = rot * SK_POISSON_DISK[i] * radius;
+        vec2 o = rot * SK_POISSON_TAPS[i] * radius;
         vec2 uv = uvz.xy + o;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             sum += 1.0;
@@ -199,7 +210,8 @@ float sk_pcss_filter(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float width_uv, 
 float sk_pcss(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float light_uv_at_near,
               float near, float far, int search_taps, int filter_taps, float angle, float max_filter_uv) {
     float z_r = sk_linearize_depth(uvz.z, near, far);
-    float search_uv = light_uv_at_near * max(z_r - near, 0.0) / z_r;
+    // the pyramid from the receiver to the light cut at the near plane, clamped like the filter
+    float search_uv = min(light_uv_at_near * max(z_r - near, 0.0) / z_r, max_filter_uv);
     // a search region narrower than a texel (light size 0, receiver at the near plane) cannot see
     // what the 2x2 compare sees: return that compare, the exact hard-shadow limit
     if (!(search_uv * float(textureSize(depth_map, 0).x) > 1.0)) return sk_pcss_filter(sm, uvz, dz_duv, 0.0, 1, angle);
@@ -221,7 +233,7 @@ float sk_pcss_directional(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec
 #else
     float z_r = uvz.z;
 #endif
-    float search_uv = light_uv_per_depth * max(z_r, 0.0);
+    float search_uv = min(light_uv_per_depth * max(z_r, 0.0), max_filter_uv);
     if (!(search_uv * float(textureSize(depth_map, 0).x) > 1.0)) return sk_pcss_filter(sm, uvz, dz_duv, 0.0, 1, angle);
     float b = sk_pcss_blocker_window_depth(depth_map, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;

@@ -1,6 +1,8 @@
-// shadowkit/glsl/prt.glsl - runtime shading of precomputed radiance transfer (Sloan, Kautz &
-// Snyder 2002; Kautz, SIGGRAPH 2004 course notes): exit radiance = dot(transfer vector, environment
-// SH coefficients) per colour channel. Same rules as include/shadowkit/prt.hpp (prt_shade_rgb).
+// shadowkit/glsl/prt.glsl - precomputed radiance transfer shading: one dot product per color channel.
+//
+// Exit radiance = dot(transfer vector, environment SH coefficients) per color channel (Sloan, Kautz
+// & Snyder 2002; Kautz, SIGGRAPH 2004 course notes). Same rules as include/shadowkit/prt.hpp
+// (prt_shade_rgb); docs/prt.md has the whole setup.
 // versions: 450
 // stages: vertex, fragment
 //
@@ -14,12 +16,18 @@
 //     of the environment's radiance (prt_project_environment, rotated on the CPU with sh_rotate
 //     when the environment turns); coefficients past `count` are ignored.
 //   count = order * order (1, 4, 9, 16, 25).
+// No light: the lighting is the environment in SH.
+// GL state: the SSBO bound with glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SK_PRT_TRANSFER_BINDING,
+// buffer) (GL 4.3+; vertex-stage SSBOs need GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS >= 1); nothing else
+// (ordinary depth test, no blending).
 //
-// Usage (vertex stage, Gouraud; the dot product is linear, so interpolating the colour equals
+// Usage (vertex stage, Gouraud; the dot product is linear, so interpolating the color equals
 // interpolating the transfer vector):
 //   v_radiance = u_albedo * sk_prt_shade_vertex(gl_VertexID, 25, u_order * u_order, u_env);
 // Fragment stage: the same function (e.g. with a per-texel index), or sk_prt_dot on transfer
 // coefficients from anywhere else.
+//
+// MIT License. Copyright (c) shadowkit contributors.
 
 #ifndef SK_PRT_TRANSFER_BINDING
 #define SK_PRT_TRANSFER_BINDING 0

@@ -1,9 +1,10 @@
-// shadowkit/glsl/silhouette_map.glsl - shadow silhouette maps (Sen, Cammarano & Hanrahan 2003):
-// the silhouette-map rasterization pass (each silhouette edge drawn as a quad widened so that every
+// shadowkit/glsl/silhouette_map.glsl - shadow silhouette maps (Sen, Cammarano & Hanrahan 2003), GPU side.
+//
+// The silhouette-map rasterization pass (each silhouette edge drawn as a quad widened so that every
 // crossed dual-grid texel gets a fragment, the paper's four point cases, the occlusion test) and
 // the lookup (non-silhouette pixels: the four depth tests; silhouette pixels: the sector of the
 // piecewise-linear boundary through the five silhouette points decides). Same rules and encoding
-// as include/shadowkit/silhouette_map.hpp.
+// as include/shadowkit/silhouette_map.hpp; docs/silhouette_map.md has the whole setup.
 // versions: 330, 450
 // stages: vertex, fragment
 //
@@ -14,8 +15,11 @@
 // window depths (silmap_project_edges on the CPU); gl_VertexID 0..5 -> `corner`.
 // Uniforms (user-declared, passed in): the depth map as sampler2D (GL_NEAREST, compare mode OFF);
 // the silhouette map as sampler2D (RGBA8, GL_NEAREST): rg = point offset in the cell, a = edge
-// weight / 255. Render target setup for the pass: clear to (0.5, 0.5, 0, 0); blending on with
-// glBlendFuncSeparate(GL_ONE, GL_ZERO, GL_ONE, GL_ONE) (rgb: last point wins, a: weights add).
+// weight / 255. No light: the light is in the matrix that projected the edges and the depth map.
+// GL state of the rasterization pass: an RGBA8 target of the depth map's size cleared to
+// (0.5, 0.5, 0, 0); glViewport(0, 0, W, H); blending on with glBlendFuncSeparate(GL_ONE, GL_ZERO,
+// GL_ONE, GL_ONE) (rgb: last point wins, a: weights add); depth test, depth writes and culling off.
+// Lookup: any pass, both maps bound as above; no blending needed.
 //
 // Usage:
 //   // vertex:   gl_Position = sk_silmap_edge_vertex(a_ab.xy, a_ab.zw, gl_VertexID, u_size);
@@ -23,6 +27,8 @@
 //   //           if (sk_silmap_occluded(u_depth, ivec2(gl_FragCoord.xy), v_a, v_b, v_za, v_zb, local, 1e-4)) discard;
 //   //           o_silmap = vec4(local, 0.0, w / 255.0);
 //   // lookup:   float lit = sk_silmap_visibility(u_depth, u_silmap, uv * size, receiver_window_depth, 0.0);
+//
+// MIT License. Copyright (c) shadowkit contributors.
 
 // Clip position of corner 0..5 of the quad around edge a-b (texel space), extended by one texel at
 // both ends and one texel to each side (>= sqrt(2)/2 covers every touched cell).
@@ -39,7 +45,7 @@ vec4 sk_silmap_edge_vertex(vec2 a, vec2 b, int corner, vec2 map_size) {
     return vec4(w / map_size * 2.0 - 1.0, 0.0, 1.0);
 }
 
-// Diagonal hit of segment p0-p1 against q0-q1; returns false if parallel or missed.
+// Diagonal hit of segment p0-p1 against q0-q1 (texel-space offsets in a cell); returns false if parallel or missed.
 bool sk_silmap_seg_hit(vec2 p0, vec2 p1, vec2 q0, vec2 q1, out vec2 hit) {
     vec2 r = p1 - p0, s = q1 - q0;
     float den = r.x * s.y - r.y * s.x;
@@ -98,29 +104,31 @@ bool sk_silmap_occluded(sampler2D depth_map, ivec2 cell, vec2 a, vec2 b, float z
     return behind || !casts;
 }
 
+// An angle wrapped to [0, 2 pi).
 float sk_silmap_wrap(float a) {
     const float two_pi = 6.28318530718;
     return a - two_pi * floor(a / two_pi);
 }
 
-// 1 = lit, 0 = shadowed at texel-space position `texel` for a receiver of window depth z:
-// nearest-sample result at the border and in failure texels (weight > 2), the four depth tests
-// where they agree, else the sector of the silhouette-point boundary.
-float sk_silmap_visibility(sampler2D depth_map, sampler2D silmap, vec2 texel, float z, float bias) {
+// 1 = lit, 0 = shadowed at texel-space position `texel` for a receiver of window depth
+// receiver_depth: nearest-sample result at the border and in failure texels (weight > 2), the four
+// depth tests where they agree, else the sector of the silhouette-point boundary.
+float sk_silmap_visibility(sampler2D depth_map, sampler2D silmap, vec2 texel, float receiver_depth, float bias) {
     ivec2 sz = textureSize(depth_map, 0);
     vec2 s = texel - 0.5;
     ivec2 cell = ivec2(floor(s));
     vec2 local = s - vec2(cell);
     ivec2 nearest_ij = clamp(ivec2(floor(texel)), ivec2(0), sz - 1);
-    float plain = z <= texelFetch(depth_map, nearest_ij, 0).r + bias ? 1.0 : 0.0;
+    float plain = receiver_depth <= texelFetch(depth_map, nearest_ij, 0).r + bias ? 1.0 : 0.0;
     if (cell.x < 0 || cell.y < 0 || cell.x > sz.x - 2 || cell.y > sz.y - 2) return plain;
     float lit[4];
-    for (int k = 0; k < 4; ++k) lit[k] = z <= texelFetch(depth_map, cell + ivec2(k & 1, k >> 1), 0).r + bias ? 1.0 : 0.0;
+    for (int k = 0; k < 4; ++k)
+        lit[k] = receiver_depth <= texelFetch(depth_map, cell + ivec2(k & 1, k >> 1), 0).r + bias ? 1.0 : 0.0;
     float sum = lit[0] + lit[1] + lit[2] + lit[3];
     if (sum == 0.0 || sum == 4.0) return lit[0];
     vec4 c = texelFetch(silmap, cell, 0);
     if (c.a * 255.0 > 2.5) return plain;  // two silhouette curves in this texel: the known failure
-    vec2 C = c.rg;
+    vec2 center_point = c.rg;
     vec2 nb[4];
     nb[0] = texelFetch(silmap, min(cell + ivec2(1, 0), sz - 1), 0).rg + vec2(1.0, 0.0);
     nb[1] = texelFetch(silmap, min(cell + ivec2(0, 1), sz - 1), 0).rg + vec2(0.0, 1.0);
@@ -128,15 +136,16 @@ float sk_silmap_visibility(sampler2D depth_map, sampler2D silmap, vec2 texel, fl
     nb[3] = texelFetch(silmap, max(cell - ivec2(0, 1), ivec2(0)), 0).rg - vec2(0.0, 1.0);
     float ang[4];
     for (int k = 0; k < 4; ++k) {
-        vec2 d = nb[k] - C;
+        vec2 d = nb[k] - center_point;
         if (d == vec2(0.0)) return plain;
         ang[k] = atan(d.y, d.x);
     }
-    vec2 ds = local - C;
+    vec2 ds = local - center_point;
     if (ds == vec2(0.0)) return plain;
-    float aT = sk_silmap_wrap(ang[1] - ang[0]), aL = sk_silmap_wrap(ang[2] - ang[0]), aB = sk_silmap_wrap(ang[3] - ang[0]);
-    if (!(aT > 0.0 && aT < aL && aL < aB)) return plain;
+    float a_top = sk_silmap_wrap(ang[1] - ang[0]), a_left = sk_silmap_wrap(ang[2] - ang[0]),
+          a_bottom = sk_silmap_wrap(ang[3] - ang[0]);
+    if (!(a_top > 0.0 && a_top < a_left && a_left < a_bottom)) return plain;
     float as = sk_silmap_wrap(atan(ds.y, ds.x) - ang[0]);
-    int corner = as < aT ? 3 : (as < aL ? 2 : (as < aB ? 0 : 1));
+    int corner = as < a_top ? 3 : (as < a_left ? 2 : (as < a_bottom ? 0 : 1));
     return lit[corner];
 }

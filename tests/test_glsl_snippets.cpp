@@ -4,6 +4,8 @@
 // A snippet without a driver for a declared stage fails; a broken fixture must fail.
 #include <doctest/doctest.h>
 
+#include <shadowkit/poisson_disk.hpp>
+
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
@@ -14,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -178,6 +181,108 @@ TEST_CASE("the same snippet and driver compile when correct (fixture sanity)") {
     check_snippet(fs::path(SHADOWKIT_GLSL_FIXTURE_DIR) / "good.glsl", SHADOWKIT_GLSL_FIXTURE_DIR, failures, compiled);
     CHECK(failures.empty());
     CHECK(compiled == 2);  // versions 330 and 450
+}
+
+// ---------------------------------------------------------------------------------- Poisson arrays
+// Issue 13 item 5: an array from shadowkit::poisson_to_glsl pasted before pcf.glsl and pcss.glsl
+// (the README's name SK_POISSON_DISK) redeclared the snippets' own array and did not compile. The
+// built-in disk is sk_poisson_disk64 now; a generated array of any accepted name compiles next to it,
+// and with PoissonGlsl::ArrayForSnippets the kernels read it (SK_POISSON_TAPS / SK_POISSON_TAP_COUNT).
+namespace {
+
+std::string generated_taps(const char* name, shadowkit::PoissonGlsl mode, std::size_t n) {
+    std::vector<glm::vec2> taps(n);
+    REQUIRE(shadowkit::poisson_eliminate(shadowkit::PoissonDomain{}, n, 3, taps.data(), taps.size()).status ==
+            shadowkit::Status::Ok);
+    const shadowkit::PoissonGlslResult size = shadowkit::poisson_to_glsl(taps.data(), n, name, mode, nullptr, 0);
+    REQUIRE(size.status == shadowkit::Status::BufferTooSmall);
+    std::vector<char> text(size.needed);
+    REQUIRE(shadowkit::poisson_to_glsl(taps.data(), n, name, mode, text.data(), text.size()).status == shadowkit::Status::Ok);
+    return std::string(text.data());
+}
+
+// A fragment main() using both snippets' Poisson kernels and the user's own array.
+const char* kBothKernels = R"(
+uniform sampler2D u_depth;
+uniform sampler2DShadow u_sm;
+in vec3 v_uvz;
+out vec4 o_color;
+void main() {
+    float a = sk_pcf_poisson(u_sm, v_uvz, vec2(0.0), 0.01, 16, 0.0);
+    float b = sk_pcss(u_depth, u_sm, v_uvz, vec2(0.0), 0.5, 0.1, 50.0, 16, 16, 0.0, 0.05);
+    o_color = vec4(a, b, SK_POISSON_DISK[31]);
+}
+)";
+
+}  // namespace
+
+TEST_CASE("a generated Poisson array pasted before pcf.glsl and pcss.glsl compiles (issue 13.5)") {
+    const std::string pcf = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcf.glsl");
+    const std::string pcss = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcss.glsl");
+    for (const char* version : {"330", "450"}) {
+        const int v = std::atoi(version);
+        // The array alone: the kernels keep the built-in disk; the user's array is theirs.
+        const std::string arr = generated_taps("SK_POISSON_DISK", shadowkit::PoissonGlsl::Array, 32);
+        std::string src = std::string("#version ") + version + " core\n" + arr + pcf + pcss +
+                          "#if SK_POISSON_TAP_COUNT != 64\n#error built-in disk expected\n#endif\n" + kBothKernels;
+        CHECK_MESSAGE(compile(src, EShLangFragment, v).empty(), compile(src, EShLangFragment, v));
+        // With the switch: the kernels read the generated 32 taps.
+        const std::string sw = generated_taps("SK_POISSON_DISK", shadowkit::PoissonGlsl::ArrayForSnippets, 32);
+        src = std::string("#version ") + version + " core\n" + sw + pcf + pcss +
+              "#if SK_POISSON_TAP_COUNT != 32\n#error generated taps expected\n#endif\n" + kBothKernels;
+        CHECK_MESSAGE(compile(src, EShLangFragment, v).empty(), compile(src, EShLangFragment, v));
+        // pcss.glsl before pcf.glsl works too (one guarded block).
+        src = std::string("#version ") + version + " core\n" + sw + pcss + pcf + kBothKernels;
+        CHECK(compile(src, EShLangFragment, v).empty());
+    }
+    // Control (the check can fail): an array under the snippets' own name is a redeclaration.
+    const std::string clash = "#version 450 core\nconst vec2 sk_poisson_disk64[1] = vec2[1](vec2(0.0));\n" + pcf +
+                              "out vec4 o_color;\nvoid main() { o_color = vec4(0.0); }\n";
+    CHECK_FALSE(compile(clash, EShLangFragment, 450).empty());
+}
+
+TEST_CASE("every name poisson_to_glsl accepts compiles; glslang's reserved names are rejected (issue 19.6)") {
+    // Seeded random identifiers, many near reserved words (keywords with a suffix, "__", gl_ / sk_).
+    std::mt19937 rng(196);
+    const std::string alphabet = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_0123456789";
+    const char* stems[] = {"float", "if", "in", "out", "sample", "filter", "gl_", "sk_", "vec2", "input", "half",
+                           "patch", "image2D", "common", "sizeof", "namespace", "__", "a__b", "texture", "SK_POISSON_DISK"};
+    const glm::vec2 pts[2] = {{0.25f, 0.5f}, {-0.5f, 0.125f}};
+    int accepted = 0, rejected = 0;
+    for (int i = 0; i < 600; ++i) {
+        std::string name;
+        if (i % 3 == 0) name = stems[std::size_t(i / 3) % (sizeof stems / sizeof stems[0])];
+        const int extra = (i % 3 == 0) ? int(rng() % 3) : 1 + int(rng() % 10);
+        for (int k = 0; k < extra; ++k) name += alphabet[rng() % alphabet.size()];
+        char text[512];
+        const bool ok = shadowkit::poisson_to_glsl(pts, 2, name.c_str(), shadowkit::PoissonGlsl::Array, text, sizeof text)
+                            .status == shadowkit::Status::Ok;
+        const std::string src = std::string(ok ? text : "") + "out vec4 o_color;\nvoid main() { o_color = vec4(" +
+                                name + "[1], 0.0, 1.0); }\n";
+        if (!ok) {
+            ++rejected;
+            continue;
+        }
+        ++accepted;
+        for (int v : {330, 450}) {
+            const std::string err = compile("#version " + std::to_string(v) + " core\n" + src, EShLangFragment, v);
+            INFO("name '" << name << "', GLSL " << v);
+            CHECK_MESSAGE(err.empty(), err);
+        }
+    }
+    // The issue's names, and every reserved word glslang refuses, are rejected.
+    for (const char* bad : {"float", "if", "a__b", "gl_X", "filter", "input", "sample", "subroutine", "buffer"}) {
+        char text[512];
+        INFO(bad);
+        CHECK(shadowkit::poisson_to_glsl(pts, 2, bad, shadowkit::PoissonGlsl::Array, text, sizeof text).status ==
+              shadowkit::Status::InvalidArgument);
+        const std::string raw = std::string("#version 450 core\nconst vec2 ") + bad + "[1] = vec2[1](vec2(0.0));\n" +
+                                "out vec4 o_color;\nvoid main() { o_color = vec4(0.0); }\n";
+        if (std::string(bad) != "a__b") CHECK_FALSE(compile(raw, EShLangFragment, 450).empty());  // glslang: an error
+    }
+    MESSAGE(accepted << " random names accepted (each compiles with glslang at 330 and 450), " << rejected << " rejected");
+    CHECK(accepted > 300);
+    CHECK(rejected > 50);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -3,16 +3,33 @@
 //
 // Usage:
 //   shadowkit::CascadeInput in;
-//   in.camera_view = view; in.camera_proj = proj;        // GLM, right-handed, column-major
-//   in.max_distance = 300.0f;                           // shadow distance (required for infinite far)
-//   in.light_dir = sun_dir;                             // direction the light travels
+//   in.camera_view = view; in.camera_proj = proj;        // GLM, right-handed, column-major (required)
+//   in.max_distance = 300.0f;                           // shadow distance (required for an infinite far)
+//   in.light_position = glm::vec4(to_sun, 0.0f);        // directional: w = 0, xyz toward the light (required)
 //   in.shadow_map_size = 2048;
 //   shadowkit::Cascade cascades[4];
-//   float splits[5];
-//   if (shadowkit::fit_cascades(in, 0.75f, 4, cascades, splits) == shadowkit::CascadeStatus::Ok) {
+//   const shadowkit::CascadeFitResult fit = shadowkit::cascade_fit(in, 0.75f, 4, cascades, 4);
+//   if (fit.status == shadowkit::Status::Ok) {
 //       // render cascade i with cascades[i].view_proj into layer i of a depth array texture;
-//       // in the shader pick the cascade with glsl/cascades.glsl (splits[1..4] as view depths).
+//       // in the shader pick the cascade with glsl/cascades.glsl (fit.splits[1..4] as view depths).
 //   }
+//
+// Conventions: world units; GLM right-handed, column-major matrices; camera view depth d = -z_view > 0.
+// The camera projection may be any perspective or orthographic projection with its near plane in front
+// of the eye (view depth > 0), in either ClipDepth, reversed-Z or not, with a finite far plane, a far
+// plane at infinity, or the epsilon-tweaked infinite projection of infinite_projection.hpp (NDC depth
+// +1 (reversed: -1 or 0) lies beyond infinity there); an infinite far plane needs max_distance > 0.
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+// Cascades need a directional light: a point or spot light (w > 0) gives Status::InvalidLight.
+// Buffers: cascade_fit's `out_cascades` holds `out_capacity` Cascade elements; it needs
+// `cascade_count` (`needed`). Split distances live in the results (at most 16 cascades, 17 splits).
+// Map orientation (the roll about the light axis) is a fixed function of the light direction (a
+// cascade must not rotate with the camera): the shortest-arc rotation of the frame of a light shining
+// straight down (-y: map x = world +x, map y = world -z), continuous for every light direction except
+// one shining straight up (+y travel, light_position (0, -1, 0, 0)), around which it spins.
 //
 // Based on:
 //   Zhang, Sun, Xu & Lun 2006, "Parallel-Split Shadow Maps for Large-scale Virtual Environments"
@@ -32,36 +49,67 @@
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
+
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
-/// Depth range of normalized device coordinates: OpenGL [-1,1] or D3D/Vulkan/GL-clip-control [0,1].
+/// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
 
-enum class CascadeStatus {
-    Ok,
-    InvalidInput,   ///< NaN/Inf, near <= 0, far <= near, lambda outside [0,1], count 0 or > 16, ...
-    InfiniteFar     ///< the projection's far plane is infinite and max_distance <= 0
-};
-
-/// Stable-fit inputs (directional light).
+/// Stable-fit inputs (directional light). Fields marked (required) default to a value the fit rejects.
 struct CascadeInput {
-    glm::mat4 camera_view{1.0f};
-    glm::mat4 camera_proj{1.0f};
+    glm::mat4 camera_view = glm::mat4(0.0f);       ///< world -> camera view, looks down -z (required)
+    glm::mat4 camera_proj = glm::mat4(0.0f);       ///< camera projection, near plane in front of the eye (required)
     ClipDepth camera_depth = ClipDepth::NegativeOneToOne;
     bool camera_reversed_z = false;
-    float max_distance = 0.0f;                     ///< [wu] shadow distance; 0: the projection's far plane
-    glm::vec3 light_dir{0.0f, -1.0f, 0.0f};        ///< direction the light travels
+    /// [Units: wu, view depth] [Limit: >= 0] shadow distance; 0: the projection's far plane (finite).
+    float max_distance = 0.0f;
+    /// The light, see "Lights:" above; directional only (required: (0, 0, 0, 0) gives InvalidLight).
+    glm::vec4 light_position{0.0f};
     std::uint32_t shadow_map_size = 2048;          ///< [Limit: >= 4] texels per side of each cascade
-    float radius_quantum = 1.0f / 16.0f;           ///< [wu] [Limit: > 0] sphere radius rounding step
+    float radius_quantum = 1.0f / 16.0f;           ///< [Units: wu] [Limit: > 0] sphere radius rounding step
     bool has_caster_bounds = false;                ///< casters: the near plane is pulled back to them
-    glm::vec3 caster_min{0.0f};
+    glm::vec3 caster_min{0.0f};                    ///< [Limit: caster_min <= caster_max]
     glm::vec3 caster_max{0.0f};
     ClipDepth light_depth = ClipDepth::NegativeOneToOne;
     bool light_reversed_z = false;
 };
 
+/// One fitted cascade (the result of cascade_fit_slice, and an element of cascade_fit's output).
 struct Cascade {
+    Status status = Status::NotRun;
     glm::mat4 view_proj{1.0f};       ///< world -> cascade clip space
     float split_near = 0.0f;         ///< view-depth range covered by this cascade
     float split_far = 0.0f;
@@ -69,126 +117,197 @@ struct Cascade {
     float texel_world_size = 0.0f;   ///< world size of one shadow-map texel
 };
 
-namespace csm_detail {
+/// Split distances of cascade_split_distances: distances[0 .. count] (count + 1 values).
+struct CascadeSplits {
+    Status status = Status::NotRun;
+    std::uint32_t count = 0;         ///< cascades (distances holds count + 1 values)
+    float distances[17] = {};        ///< distances[0] == near, distances[count] == far, strictly increasing
+};
 
-inline bool fin(const glm::mat4& m) {
+/// Result of cascade_fit.
+struct CascadeFitResult {
+    Status status = Status::NotRun;
+    std::size_t count = 0;           ///< cascades written to out_cascades (a valid prefix)
+    std::size_t needed = 0;          ///< cascades the output needs (cascade_count)
+    float splits[17] = {};           ///< view depths: cascade i covers [splits[i], splits[i + 1]]
+};
+
+/// Result of the cascade selection functions.
+struct CascadeIndex {
+    Status status = Status::NotRun;
+    int index = -1;                  ///< the cascade; -1 (with Ok): outside every cascade
+};
+
+namespace detail {
+
+inline bool cs_finite(const glm::mat4& m) {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(m[c][r])) return false;
     return true;
 }
-inline bool fin(const glm::dmat4& m) {
+inline bool cs_finite(const glm::dmat4& m) {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(m[c][r])) return false;
     return true;
 }
-inline bool fin(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool cs_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool cs_finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool cs_finite(const glm::vec4& v) { return cs_finite(glm::vec3(v)) && std::isfinite(v.w); }
 
 /// Camera rays of the four frustum edges in view space: point at the near plane, direction, depths.
-struct Rays {
+struct CsRays {
     glm::dvec3 pn[4], dir[4];
     double dn[4] = {0, 0, 0, 0};
     double near_depth = 0.0, far_depth = 0.0;  ///< far_depth may be +inf
 };
 
-inline CascadeStatus camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, Rays& r) {
+/// Un-projects the corner rays of a projection: the ray through NDC depths zn (near) and
+/// zn + (zf - zn) / 64 (finite for every projection, the epsilon-tweaked P_inf with epsilon <= 0.5
+/// included). The far plane is found from NDC depth zf: a point there that lies beyond the second
+/// point on the ray is a finite far plane; w = 0 or a point behind the eye (the epsilon-tweaked P_inf
+/// puts zf beyond infinity) is a far plane at infinity.
+inline Status cs_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, CsRays& r) {
     const glm::dmat4 P(proj);
-    if (!fin(P)) return CascadeStatus::InvalidInput;
+    if (!cs_finite(P)) return Status::NonFinite;
     const double det = glm::determinant(P);
-    if (!std::isfinite(det) || std::fabs(det) < 1e-300) return CascadeStatus::InvalidInput;
+    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) return Status::InvalidArgument;
     const glm::dmat4 ip = glm::inverse(P);
-    if (!fin(ip)) return CascadeStatus::InvalidInput;
+    if (!cs_finite(ip)) return Status::InvalidArgument;
     const double lo = cd == ClipDepth::ZeroToOne ? 0.0 : -1.0;
-    const double zn = reversed ? 1.0 : lo, zf = reversed ? lo : 1.0;
-    r.near_depth = -1e300;
+    const double zn = reversed ? 1.0 : lo, zf = reversed ? lo : 1.0, zm = zn + (zf - zn) / 64.0;
+    r.near_depth = -std::numeric_limits<double>::infinity();
     r.far_depth = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 4; ++i) {
         const double x = (i & 1) ? 1.0 : -1.0, y = (i & 2) ? 1.0 : -1.0;
-        const glm::dvec4 hn = ip * glm::dvec4(x, y, zn, 1.0), hf = ip * glm::dvec4(x, y, zf, 1.0);
+        const glm::dvec4 hn = ip * glm::dvec4(x, y, zn, 1.0), hm = ip * glm::dvec4(x, y, zm, 1.0),
+                         hf = ip * glm::dvec4(x, y, zf, 1.0);
         const double sn = std::fabs(hn.x) + std::fabs(hn.y) + std::fabs(hn.z);
-        if (!(std::fabs(hn.w) > 1e-12 * sn) || std::fabs(hn.w) < 1e-300) return CascadeStatus::InvalidInput;
+        const double sm = std::fabs(hm.x) + std::fabs(hm.y) + std::fabs(hm.z);
+        if (!(std::fabs(hn.w) > 1e-12 * sn) || !(std::fabs(hn.w) > 1e-300)) return Status::InvalidArgument;
+        if (!(std::fabs(hm.w) > 1e-12 * sm) || !(std::fabs(hm.w) > 1e-300)) return Status::InvalidArgument;
         r.pn[i] = glm::dvec3(hn) / hn.w;
+        r.dir[i] = glm::dvec3(hm) / hm.w - r.pn[i];
+        r.dn[i] = -r.pn[i].z;
+        if (!(r.dn[i] > 0.0) || !(r.dir[i].z < 0.0) || !cs_finite(r.pn[i]) || !cs_finite(r.dir[i]))
+            return Status::InvalidArgument;  // near plane at or behind the eye, or rays not going away
         const double sf = std::fabs(hf.x) + std::fabs(hf.y) + std::fabs(hf.z);
+        double dfar = std::numeric_limits<double>::infinity();
         if (std::fabs(hf.w) > 1e-9 * sf && std::fabs(hf.w) > 1e-300) {
             const glm::dvec3 pf = glm::dvec3(hf) / hf.w;
-            r.dir[i] = pf - r.pn[i];
-            r.far_depth = std::fmin(r.far_depth, -pf.z);
-        } else {
-            r.dir[i] = glm::dvec3(hf);
-            if (r.dir[i].z > 0.0) r.dir[i] = -r.dir[i];
+            const double t = glm::dot(pf - r.pn[i], r.dir[i]) / glm::dot(r.dir[i], r.dir[i]);
+            if (t > 1.0 && std::isfinite(pf.z)) dfar = -pf.z;  // else: beyond infinity (epsilon-tweaked)
         }
-        r.dn[i] = -r.pn[i].z;
-        if (!(r.dir[i].z < 0.0) || !std::isfinite(r.dn[i])) return CascadeStatus::InvalidInput;
         r.near_depth = std::fmax(r.near_depth, r.dn[i]);
+        r.far_depth = std::fmin(r.far_depth, dfar);
     }
-    return CascadeStatus::Ok;
+    if (!(r.far_depth > r.near_depth)) return Status::InvalidArgument;
+    return Status::Ok;
 }
 
-inline glm::dvec3 corner(const Rays& r, int i, double depth) {
+inline glm::dvec3 cs_corner(const CsRays& r, int i, double depth) {
     return r.pn[i] + ((depth - r.dn[i]) / -r.dir[i].z) * r.dir[i];
 }
 
-inline glm::dvec3 perp_axis(const glm::dvec3& d) {
-    const glm::dvec3 a = glm::abs(d);
-    if (a.y <= a.x && a.y <= a.z) return glm::dvec3(0, 1, 0);
-    if (a.z <= a.x) return glm::dvec3(0, 0, 1);
-    return glm::dvec3(1, 0, 0);
+/// Up hint, a function of the light's travel direction f (unit) alone: the shortest-arc rotation
+/// taking (0, -1, 0) to f applied to (0, 0, -1). Continuous except at f = (0, 1, 0).
+inline glm::dvec3 cs_stable_up(const glm::dvec3& f) {
+    const glm::dvec3 a(0.0, -1.0, 0.0), u0(0.0, 0.0, -1.0);
+    const double c1 = 1.0 + glm::dot(a, f);
+    if (!(c1 > 1e-12)) return glm::dvec3(0.0, 0.0, 1.0);  // f = +y: the rotation by pi about x
+    const glm::dvec3 c = glm::cross(a, f);  // R v = v + c x v + c x (c x v) / (1 + a.f)
+    const glm::dvec3 cu = glm::cross(c, u0);
+    return u0 + cu + glm::cross(c, cu) / c1;
 }
 
-}  // namespace csm_detail
+/// Checks the common inputs of the fits: Ok, or the first problem found.
+inline Status cs_check_input(const CascadeInput& in) {
+    if (!cs_finite(in.camera_view) || !cs_finite(in.camera_proj)) return Status::NonFinite;
+    if (!cs_finite(in.light_position) || in.light_position.w != 0.0f) return Status::InvalidLight;
+    if (in.light_position.x == 0.0f && in.light_position.y == 0.0f && in.light_position.z == 0.0f)
+        return Status::InvalidLight;
+    if (!std::isfinite(in.max_distance) || !std::isfinite(in.radius_quantum)) return Status::NonFinite;
+    if (in.max_distance < 0.0f || in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f)) return Status::InvalidArgument;
+    if (in.has_caster_bounds) {
+        if (!cs_finite(in.caster_min) || !cs_finite(in.caster_max)) return Status::NonFinite;
+        if (in.caster_min.x > in.caster_max.x || in.caster_min.y > in.caster_max.y || in.caster_min.z > in.caster_max.z)
+            return Status::InvalidArgument;
+    }
+    return Status::Ok;
+}
+
+}  // namespace detail
 
 /// Practical split scheme (Zhang et al. 2006): C_i = lambda * n (f/n)^(i/m) + (1 - lambda) * (n + (f - n) i/m)
-/// for i = 0..count; writes count + 1 distances; out[0] == near and out[count] == far exactly.
+/// for i = 0..count; distances[0] == near and distances[count] == far exactly, strictly increasing.
 /// lambda = 1: logarithmic (Apelles eq. 2.4), lambda = 0: uniform.
-inline CascadeStatus cascade_split_distances(float near_plane, float far_plane, float lambda, std::uint32_t count,
-                                             float* out) {
-    if (!out || count == 0 || count > 16 || !std::isfinite(near_plane) || !std::isfinite(lambda) ||
-        !(near_plane > 0.0f) || !(lambda >= 0.0f) || !(lambda <= 1.0f))
-        return CascadeStatus::InvalidInput;
-    if (std::isinf(far_plane) && far_plane > 0.0f) return CascadeStatus::InfiniteFar;
-    if (!std::isfinite(far_plane) || !(far_plane > near_plane)) return CascadeStatus::InvalidInput;
+/// Status: NonFinite (NaN/Inf; an infinite far plane must be clamped to a shadow distance first),
+/// InvalidArgument (near <= 0, far <= near, lambda outside [0, 1], count 0 or > 16), Overflow (fewer
+/// floats between near and far than splits).
+inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, float lambda, std::uint32_t count) {
+    CascadeSplits out;
+    if (!std::isfinite(near_plane) || !std::isfinite(far_plane) || !std::isfinite(lambda)) {
+        out.status = Status::NonFinite;
+        return out;
+    }
+    if (count == 0 || count > 16 || !(near_plane > 0.0f) || !(far_plane > near_plane) || !(lambda >= 0.0f) ||
+        !(lambda <= 1.0f)) {
+        out.status = Status::InvalidArgument;
+        return out;
+    }
     const double n = near_plane, f = far_plane, l = lambda;
-    out[0] = near_plane;
+    out.distances[0] = near_plane;
     float prev = near_plane;
     for (std::uint32_t i = 1; i < count; ++i) {
         const double s = double(i) / double(count);
         const double c = l * n * std::pow(f / n, s) + (1.0 - l) * (n + (f - n) * s);
         float v = static_cast<float>(c);
         if (!(v > prev)) v = std::nextafter(prev, far_plane);  // strictly increasing even for tiny ranges
-        out[i] = v;
+        out.distances[i] = v;
         prev = v;
     }
-    if (!(prev < far_plane)) return CascadeStatus::InvalidInput;  // fewer representable floats than splits
-    out[count] = far_plane;
-    return CascadeStatus::Ok;
+    if (!(prev < far_plane)) {  // fewer representable floats than splits
+        out = CascadeSplits{};
+        out.status = Status::Overflow;
+        return out;
+    }
+    out.distances[count] = far_plane;
+    out.count = count;
+    out.status = Status::Ok;
+    return out;
 }
 
-/// Stable fit of one cascade covering view depths [split_near, split_far]: bounding sphere of the
-/// slice (computed in view space, so bitwise invariant to camera rotation and translation), radius
-/// rounded up to radius_quantum, the projected world origin snapped to whole texels (one texel of
-/// border), near plane pulled back to the caster bounds.
-inline CascadeStatus fit_cascade(const CascadeInput& in, float split_near, float split_far, Cascade& out) {
-    using namespace csm_detail;
-    out = Cascade{};
-    if (!fin(in.camera_view) || !fin(in.light_dir) || !std::isfinite(split_near) || !std::isfinite(split_far) ||
-        !(split_far > split_near) || in.shadow_map_size < 4 || !std::isfinite(in.radius_quantum) ||
-        !(in.radius_quantum > 0.0f))
-        return CascadeStatus::InvalidInput;
-    if (in.has_caster_bounds && (!fin(in.caster_min) || !fin(in.caster_max))) return CascadeStatus::InvalidInput;
-    const glm::dvec3 ld(in.light_dir);
-    if (!(glm::length(ld) > 0.0)) return CascadeStatus::InvalidInput;
-    const glm::dvec3 d = glm::normalize(ld);
-    Rays r;
-    const CascadeStatus st = camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
-    if (st != CascadeStatus::Ok) return st;
+/// Stable fit of one cascade covering view depths [split_near, split_far] (clipped to the camera's
+/// near and far planes): bounding sphere of the slice (computed in view space, so bitwise invariant
+/// to camera rotation and translation), radius rounded up to radius_quantum, the projected world
+/// origin snapped to whole texels (one texel of border), near plane pulled back to the caster bounds.
+/// Status: NonFinite, InvalidLight (not a directional light), InvalidArgument (camera near plane at
+/// or behind the eye, singular matrix, split range empty or outside the camera's, a field outside its
+/// [Limit]), Overflow (beyond float, or the float matrix misplaces the slice by > 0.01 NDC).
+inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float split_far) {
+    using namespace detail;
+    Cascade out;
+    auto fail = [&out](Status s) {
+        out = Cascade{};
+        out.status = s;
+        return out;
+    };
+    const Status cs = cs_check_input(in);
+    if (cs != Status::Ok) return fail(cs);
+    if (!std::isfinite(split_near) || !std::isfinite(split_far)) return fail(Status::NonFinite);
+    if (!(split_far > split_near) || !(split_near > 0.0f)) return fail(Status::InvalidArgument);
+    const glm::dvec3 d = -glm::normalize(glm::dvec3(in.light_position));  // travel direction
+    CsRays r;
+    const Status st = cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
+    if (st != Status::Ok) return fail(st);
     const double d0 = std::fmax(double(split_near), r.near_depth);
     const double d1 = std::fmin(double(split_far), r.far_depth);
-    if (!(d1 > d0)) return CascadeStatus::InvalidInput;
+    if (!(d1 > d0)) return fail(Status::InvalidArgument);
     glm::dvec3 cv[8];
     for (int i = 0; i < 4; ++i) {
-        cv[i] = corner(r, i, d0);
-        cv[i + 4] = corner(r, i, d1);
+        cv[i] = cs_corner(r, i, d0);
+        cv[i + 4] = cs_corner(r, i, d1);
     }
     // smallest sphere centered on the segment between the near and far face centers
     const glm::dvec3 nc = (cv[0] + cv[1] + cv[2] + cv[3]) * 0.25, fc = (cv[4] + cv[5] + cv[6] + cv[7]) * 0.25;
@@ -204,14 +323,15 @@ inline CascadeStatus fit_cascade(const CascadeInput& in, float split_near, float
     for (int i = 0; i < 8; ++i) rad = std::fmax(rad, glm::length(cv[i] - cview));
     const double q = in.radius_quantum;
     rad = std::ceil(rad / q) * q;  // constant texel size while the slice shape is constant
-    if (!(rad > 0.0) || !std::isfinite(rad)) return CascadeStatus::InvalidInput;
+    if (!(rad > 0.0) || !std::isfinite(rad)) return fail(Status::Overflow);
     const glm::dmat4 V(in.camera_view);
     const double vdet = glm::determinant(V);
-    if (!std::isfinite(vdet) || std::fabs(vdet) < 1e-300) return CascadeStatus::InvalidInput;
-    const glm::dvec3 cw = glm::dvec3(glm::inverse(V) * glm::dvec4(cview, 1.0));
+    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument);
+    const glm::dmat4 iv = glm::inverse(V);
+    if (!cs_finite(iv)) return fail(Status::InvalidArgument);
+    const glm::dvec3 cw = glm::dvec3(iv * glm::dvec4(cview, 1.0));
     // light view anchored at the world origin: rotation only, fixed per light direction
-    const glm::dvec3 up = perp_axis(d);
-    const glm::dvec3 sx = glm::normalize(glm::cross(d, up));
+    const glm::dvec3 sx = glm::normalize(glm::cross(d, cs_stable_up(d)));
     const glm::dvec3 sy = glm::cross(sx, d);
     glm::dmat4 lv(1.0);
     lv[0][0] = sx.x; lv[1][0] = sx.y; lv[2][0] = sx.z;
@@ -248,69 +368,121 @@ inline CascadeStatus fit_cascade(const CascadeInput& in, float split_near, float
         conv[2][2] = -1.0;
     }
     const glm::dmat4 m = conv * pr * lv;
-    if (!fin(m)) return CascadeStatus::InvalidInput;
+    if (!cs_finite(m)) return fail(Status::Overflow);
     out.view_proj = glm::mat4(m);
-    if (!fin(out.view_proj)) {
-        out = Cascade{};
-        return CascadeStatus::InvalidInput;
-    }
-    if (!(static_cast<float>(texel) > 0.0f) || !std::isfinite(static_cast<float>(rad)) || !fin(glm::vec3(cw))) {
-        out = Cascade{};
-        return CascadeStatus::InvalidInput;  // outside float range
+    if (!cs_finite(out.view_proj) || !(static_cast<float>(texel) > 0.0f) || !std::isfinite(static_cast<float>(rad)) ||
+        !cs_finite(glm::vec3(cw)))
+        return fail(Status::Overflow);  // outside float range
+    // the float matrix must still place the slice inside the cascade
+    const double zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec4 h(out.view_proj * glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(cv[i], 1.0))), 1.0f));
+        const double x = h.x / h.w, y = h.y / h.w, z = h.z / h.w;
+        if (!(std::fabs(x) <= 1.01) || !(std::fabs(y) <= 1.01) || !(z >= zlo - 0.01) || !(z <= 1.01))
+            return fail(Status::Overflow);
     }
     out.split_near = split_near;
     out.split_far = split_far;
     out.sphere = glm::vec4(glm::vec3(cw), static_cast<float>(rad));
     out.texel_world_size = static_cast<float>(texel);
-    return CascadeStatus::Ok;
+    out.status = Status::Ok;
+    return out;
 }
 
 /// Splits the camera range [near, min(far, max_distance)] with the practical scheme and fits every
-/// cascade. out_cascades: count entries; out_splits (optional): count + 1 distances.
-inline CascadeStatus fit_cascades(const CascadeInput& in, float lambda, std::uint32_t count, Cascade* out_cascades,
-                                  float* out_splits) {
-    using namespace csm_detail;
-    if (!out_cascades || count == 0 || count > 16 || !std::isfinite(in.max_distance)) return CascadeStatus::InvalidInput;
-    Rays r;
-    const CascadeStatus st = camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
-    if (st != CascadeStatus::Ok) return st;
+/// cascade. out_cascades holds out_capacity Cascade elements (nullptr only with 0); it needs
+/// cascade_count (`needed`); the result's `splits` has cascade_count + 1 distances.
+/// Status: BufferTooSmall (out_capacity < cascade_count: nothing written), InvalidArgument
+/// (cascade_count 0 or > 16, infinite far plane with max_distance 0, max_distance below the near
+/// plane, ...), and the statuses of cascade_split_distances and cascade_fit_slice (`count` cascades
+/// before the failing one are valid).
+inline CascadeFitResult cascade_fit(const CascadeInput& in, float lambda, std::uint32_t cascade_count,
+                                    Cascade* out_cascades, std::size_t out_capacity) {
+    using namespace detail;
+    CascadeFitResult res;
+    if ((!out_cascades && out_capacity > 0) || cascade_count == 0 || cascade_count > 16) {
+        res.status = Status::InvalidArgument;
+        return res;
+    }
+    res.needed = cascade_count;
+    const Status cs = cs_check_input(in);
+    if (cs != Status::Ok) { res.status = cs; return res; }
+    if (!std::isfinite(lambda)) { res.status = Status::NonFinite; return res; }
+    if (out_capacity < cascade_count) { res.status = Status::BufferTooSmall; return res; }
+    CsRays r;
+    const Status st = cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
+    if (st != Status::Ok) { res.status = st; return res; }
     double f = r.far_depth;
     if (in.max_distance > 0.0f) f = std::fmin(f, double(in.max_distance));
-    else if (std::isinf(f)) return CascadeStatus::InfiniteFar;
-    float splits[17];
-    const CascadeStatus ss = cascade_split_distances(static_cast<float>(r.near_depth), static_cast<float>(f), lambda, count, splits);
-    if (ss != CascadeStatus::Ok) return ss;
-    for (std::uint32_t i = 0; i < count; ++i) {
-        const CascadeStatus cs = fit_cascade(in, splits[i], splits[i + 1], out_cascades[i]);
-        if (cs != CascadeStatus::Ok) return cs;
+    else if (std::isinf(f)) { res.status = Status::InvalidArgument; return res; }  // needs max_distance
+    const float nf = static_cast<float>(r.near_depth), ff = static_cast<float>(f);
+    if (!std::isfinite(nf) || !std::isfinite(ff)) { res.status = Status::Overflow; return res; }
+    const CascadeSplits sp = cascade_split_distances(nf, ff, lambda, cascade_count);
+    if (sp.status != Status::Ok) { res.status = sp.status; return res; }
+    for (std::uint32_t i = 0; i <= cascade_count; ++i) res.splits[i] = sp.distances[i];
+    for (std::uint32_t i = 0; i < cascade_count; ++i) {
+        out_cascades[i] = cascade_fit_slice(in, sp.distances[i], sp.distances[i + 1]);
+        if (out_cascades[i].status != Status::Ok) {
+            res.status = out_cascades[i].status;
+            return res;
+        }
+        res.count = i + 1;
     }
-    if (out_splits)
-        for (std::uint32_t i = 0; i <= count; ++i) out_splits[i] = splits[i];
-    return CascadeStatus::Ok;
+    res.status = Status::Ok;
+    return res;
 }
 
-/// Cascade covering a view depth: the first i with depth <= splits[i + 1] (splits: count + 1 values
-/// from cascade_split_distances). -1 if before splits[0], beyond splits[count], or NaN.
-inline int select_cascade_by_depth(float view_depth, const float* splits, std::uint32_t count) {
-    if (!splits || count == 0 || !(view_depth >= splits[0])) return -1;
+/// Cascade covering a view depth: the first i with view_depth <= splits[i + 1]. splits holds
+/// count + 1 floats (cascade_fit's `splits`, or CascadeSplits::distances), strictly increasing.
+/// index -1 (with Ok): before splits[0] or beyond splits[count]. Status: InvalidArgument (nullptr,
+/// count 0 or > 16, splits not finite and increasing), NonFinite (view_depth NaN/Inf).
+inline CascadeIndex cascade_select_by_depth(float view_depth, const float* splits, std::uint32_t count) {
+    CascadeIndex res;
+    if (!splits || count == 0 || count > 16) { res.status = Status::InvalidArgument; return res; }
+    for (std::uint32_t i = 0; i <= count; ++i)
+        if (!std::isfinite(splits[i]) || (i > 0 && !(splits[i] > splits[i - 1]))) {
+            res.status = Status::InvalidArgument;
+            return res;
+        }
+    if (!std::isfinite(view_depth)) { res.status = Status::NonFinite; return res; }
+    res.status = Status::Ok;
+    if (!(view_depth >= splits[0])) return res;
     for (std::uint32_t i = 0; i < count; ++i)
-        if (view_depth <= splits[i + 1]) return static_cast<int>(i);
-    return -1;
+        if (view_depth <= splits[i + 1]) {
+            res.index = static_cast<int>(i);
+            return res;
+        }
+    return res;
 }
 
 /// First cascade whose bounding sphere contains the world point (tighter at rotation than depth
-/// selection: uses the whole sphere the stable fit covers). -1 if none.
-inline int select_cascade_by_sphere(const glm::vec3& world_pos, const Cascade* cascades, std::uint32_t count) {
-    if (!cascades || !csm_detail::fin(world_pos)) return -1;
+/// selection: uses the whole sphere the stable fit covers). cascades holds count elements, each with
+/// status Ok. index -1 (with Ok): in no sphere. Status: InvalidArgument (nullptr, count 0 or > 16, a
+/// cascade not Ok), NonFinite (NaN/Inf in world_pos).
+inline CascadeIndex cascade_select_by_sphere(const glm::vec3& world_pos, const Cascade* cascades, std::uint32_t count) {
+    CascadeIndex res;
+    if (!cascades || count == 0 || count > 16) { res.status = Status::InvalidArgument; return res; }
+    for (std::uint32_t i = 0; i < count; ++i)
+        if (cascades[i].status != Status::Ok || !detail::cs_finite(cascades[i].sphere)) {
+            res.status = Status::InvalidArgument;
+            return res;
+        }
+    if (!detail::cs_finite(world_pos)) { res.status = Status::NonFinite; return res; }
+    res.status = Status::Ok;
     for (std::uint32_t i = 0; i < count; ++i) {
-        const glm::vec3 d = world_pos - glm::vec3(cascades[i].sphere);
-        if (glm::dot(d, d) <= cascades[i].sphere.w * cascades[i].sphere.w) return static_cast<int>(i);
+        const glm::dvec3 d = glm::dvec3(world_pos) - glm::dvec3(glm::vec3(cascades[i].sphere));
+        const double r = double(cascades[i].sphere.w);
+        if (glm::dot(d, d) <= r * r) {
+            res.index = static_cast<int>(i);
+            return res;
+        }
     }
-    return -1;
+    return res;
 }
 
 /// Weight of the next cascade in the blend band: 0 until the last band_fraction of [split_near,
-/// split_far], rising linearly to 1 at split_far. band_fraction in [0,1]; NaN input gives 0.
+/// split_far], rising linearly to 1 at split_far. Total: in [0, 1]; NaN/Inf input, an empty range
+/// (split_far <= split_near) or band_fraction <= 0 give 0; band_fraction > 1 counts as 1.
 inline float cascade_blend_weight(float view_depth, float split_near, float split_far, float band_fraction) {
     if (!std::isfinite(view_depth) || !std::isfinite(split_near) || !std::isfinite(split_far) ||
         !std::isfinite(band_fraction) || !(split_far > split_near) || !(band_fraction > 0.0f))

@@ -1,16 +1,26 @@
-// shadowkit/infinite_projection.hpp - perspective projections with the far plane at infinity
-// (plain and epsilon-tweaked), finite-far references, GL and zero-to-one clip depth, reversed-Z,
-// window depth of an eye distance and depth-buffer resolution per depth format.
+// shadowkit/infinite_projection.hpp - perspective projections with the far plane at infinity (Everitt-Kilgard P_inf), reversed-Z, window depth and depth resolution
 //
 // Usage:
 //   #include <shadowkit/infinite_projection.hpp>
-//   shadowkit::DepthParams dp;                    // near 0.1, far +inf, GL clip depth, no reversed-Z
-//   dp.near_z = 0.1f;
-//   dp.epsilon = shadowkit::infinite_epsilon_bound(fovy, aspect, dp.clip_depth, dp.reversed_z,
-//                                                  shadowkit::DepthFormat::Fixed24).epsilon;
-//   shadowkit::ProjectionResult pr = shadowkit::perspective(fovy, aspect, dp);
-//   if (pr.status == shadowkit::ProjectionStatus::Ok) glUniformMatrix4fv(loc, 1, GL_FALSE, &pr.matrix[0][0]);
-//   double r = shadowkit::depth_resolution(dp, shadowkit::DepthFormat::Float32, 100.0).value;
+//   namespace sk = shadowkit;
+//   sk::ProjectionDepth depth;                    // far +inf, GL clip depth, no reversed-Z
+//   depth.near_z = 0.1f;
+//   depth.epsilon = sk::projection_infinite_epsilon_bound(fovy, aspect, depth.clip_depth, depth.reversed_z,
+//                                                         sk::DepthFormat::Fixed24).epsilon;
+//   sk::ProjectionResult pr = sk::projection_perspective(fovy, aspect, depth);
+//   if (pr.status == sk::Status::Ok) glUniformMatrix4fv(loc, 1, GL_FALSE, &pr.matrix[0][0]);
+//   sk::ProjectionValue step = sk::projection_depth_resolution(depth, sk::DepthFormat::Float32, 100.0);
+//
+// Conventions: right-handed eye space (the camera looks down -z), GLM column-major matrices
+// (m[column][row]); eye distance d = -z_e > 0; window depth for glDepthRange(0, 1). NDC depth of
+// eye distance d is always A + B / d (projection_depth_mapping); every function derives from (A, B).
+// Clip depth: ClipDepth::NegativeOneToOne (OpenGL) or ZeroToOne (glClipControl / D3D / Vulkan);
+// reversed_z maps the near plane to depth 1 and the far plane (or infinity) to 0 (NDC -1 for GL).
+// Results: a struct whose first member is `status`; `Ok` only with finite outputs in their
+// documented range. No light, no buffers, no allocation.
+// Limits: near_z finite and > 0; far_z > near_z with far / near >= 1.001 (GL) or 1.0005 (ZeroToOne)
+// - closer planes make the float32 depth row |A| > 2048 and the near and far planes land off their
+// NDC values (near 0.1, far 0.1 + 1 ulp: +0.90 and +2.90), so they give Status::Overflow.
 //
 // Based on:
 //   C. Everitt, M. J. Kilgard, "Practical and Robust Stenciled Shadow Volumes for Hardware-Accelerated
@@ -18,11 +28,6 @@
 //   epsilon-tweaked P_inf of the original paper).
 //   J. Blinn, "A Trip Down the Graphics Pipeline: The Homogeneous Perspective Transform", IEEE CG&A 1993.
 //   E. Lengyel, "Advanced Stencil Shadow and Penumbral Wedge Rendering", GDC 2005 (viewport depth formula).
-//   Reversed-Z: depth 1 at the near plane, 0 (or -1 in NDC) at the far plane / at infinity.
-//
-// Conventions: right-handed eye space (the camera looks down -z), GLM column-major matrices
-// (m[column][row]), eye distance d = -z_e > 0, window depth for glDepthRange(0, 1).
-// NDC depth of eye distance d is always A + B / d; every function below derives from (A, B).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -36,97 +41,106 @@
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
-/// Clip-space depth range: OpenGL default [-1, 1] or D3D/Vulkan/glClipControl [0, 1].
+/// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
-
 #ifndef SHADOWKIT_DEPTH_FORMAT_DEFINED
 #define SHADOWKIT_DEPTH_FORMAT_DEFINED
-/// Depth-buffer storage formats (DEPTH_COMPONENT32F, DEPTH24 / DEPTH24_STENCIL8, DEPTH_COMPONENT16).
+/// Depth-buffer storage format.
 enum class DepthFormat { Float32, Fixed24, Fixed16 };
 #endif
-
-enum class ProjectionStatus {
-    Ok,
-    InvalidNear,     ///< near_z not finite or <= 0
-    InvalidFar,      ///< far_z NaN, <= near_z (+inf is allowed: far plane at infinity)
-    InvalidFov,      ///< fovy not in (0, pi) or NaN
-    InvalidAspect,   ///< aspect not finite or <= 0
-    InvalidFrustum,  ///< left >= right, bottom >= top or not finite
-    InvalidEpsilon,  ///< epsilon not in [0, 0.5], or != 0 with a finite far plane
-    InvalidDistance, ///< eye distance / window depth argument outside the valid domain
-    Overflow         ///< a matrix entry or result is not representable as a finite float
-};
-
-/// Depth part of a projection. Zero-initialising is not valid (near 0); the defaults are usable.
-struct DepthParams {
-    float near_z = 0.1f;                                      ///< [Units: eye] [Limit: > 0]
-    float far_z = std::numeric_limits<float>::infinity();    ///< [Limit: > near_z]; +inf = infinite far
+/// Depth part of a projection: near and far planes, clip depth, reversed-Z and the
+/// Everitt-Kilgard epsilon. The defaults are a usable infinite GL projection with near 0.1.
+struct ProjectionDepth {
+    float near_z = 0.1f;                                   ///< eye distance of the near plane, finite, > 0
+    float far_z = std::numeric_limits<float>::infinity();  ///< > near_z (far / near >= 1.001); +inf: far plane at infinity
     ClipDepth clip_depth = ClipDepth::NegativeOneToOne;
-    bool reversed_z = false;                                  ///< near -> window depth 1, far -> 0
+    bool reversed_z = false;                               ///< near -> window depth 1, far (or infinity) -> 0
     /// Everitt-Kilgard tweak, infinite far only: a vertex at infinity (w = 0) lands at NDC depth
     /// 1 - epsilon (reversed: -1 + epsilon, or +epsilon for ZeroToOne) instead of exactly on the far
-    /// clip plane. [Limit: 0 <= epsilon <= 0.5] See infinite_epsilon_bound() for the minimum.
+    /// clip plane. Range [0, 0.5]; 0 with a finite far plane. projection_infinite_epsilon_bound() gives the minimum.
     float epsilon = 0.0f;
 };
 
+/// A projection matrix.
 struct ProjectionResult {
-    ProjectionStatus status = ProjectionStatus::Ok;
-    glm::mat4 matrix = glm::mat4(0.0f);
+    Status status = Status::NotRun;
+    glm::mat4 matrix = glm::mat4(0.0f);  ///< finite when Ok; row 3 is (0, 0, -1, 0)
 };
 
-/// Value with a status (the value is NaN when status != Ok).
-struct DepthValue {
-    ProjectionStatus status = ProjectionStatus::Ok;
-    double value = std::numeric_limits<double>::quiet_NaN();
+/// A scalar result (a depth, a distance). `value` is 0 unless status is Ok.
+struct ProjectionValue {
+    Status status = Status::NotRun;
+    double value = 0.0;
+};
+
+/// An eye distance recovered from a window depth.
+struct ProjectionEyeDistance {
+    Status status = Status::NotRun;
+    bool at_infinity = false;  ///< true (with Ok): the window depth of infinity (infinite far plane); value is 0
+    double value = 0.0;        ///< eye distance, finite and > 0, when Ok and !at_infinity
 };
 
 /// NDC depth as a function of eye distance d: ndc(d) = A + B / d.
-struct DepthMapping {
-    ProjectionStatus status = ProjectionStatus::Ok;
+struct ProjectionDepthMapping {
+    Status status = Status::NotRun;
     double A = 0.0;
     double B = 0.0;
 };
 
-/// Epsilon bounds for the tweaked infinite projection (see the derivation at infinite_epsilon_bound).
-struct EpsilonBound {
-    ProjectionStatus status = ProjectionStatus::Ok;
+/// Epsilon bounds for the tweaked infinite projection (derivation at projection_infinite_epsilon_bound).
+struct ProjectionEpsilonBound {
+    Status status = Status::NotRun;
     float clip = 0.0f;    ///< minimum keeping w = 0 vertices inside the clip volume in float32
     float storage = 0.0f; ///< minimum keeping infinity strictly inside the depth clear value
-    float epsilon = 0.0f; ///< max(clip, storage)
+    float epsilon = 0.0f; ///< max(clip, storage), in [0, 0.5] when Ok
 };
 
 namespace detail {
-inline bool ip_finite(double v) { return std::isfinite(v); }
 inline bool ip_fits_float(double v) {
     return std::isfinite(v) && std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
 }
-} // namespace detail
-
-/// Checks a DepthParams. Ok or the first problem found.
-inline ProjectionStatus validate(const DepthParams& p) {
-    if (!(std::isfinite(p.near_z) && p.near_z > 0.0f)) return ProjectionStatus::InvalidNear;
-    if (std::isnan(p.far_z) || !(p.far_z > p.near_z)) return ProjectionStatus::InvalidFar;
-    if (!(p.epsilon >= 0.0f && p.epsilon <= 0.5f)) return ProjectionStatus::InvalidEpsilon;
-    if (std::isfinite(p.far_z) && p.epsilon != 0.0f) return ProjectionStatus::InvalidEpsilon;
-    return ProjectionStatus::Ok;
-}
-
-/// Coefficients of ndc(d) = A + B / d (computed in double).
-///   finite, GL   : A = (F+N)/(F-N), B = -2FN/(F-N)   (glFrustum row 3; Everitt-Kilgard eq. for P)
-///   finite, ZO   : A = F/(F-N),     B = -FN/(F-N)
-///   infinite, GL : A = 1 - eps,     B = -(2 - eps) N (limit Far -> inf, Everitt-Kilgard P_inf, tweaked)
-///   infinite, ZO : A = 1 - eps,     B = -(1 - eps) N
-///   reversed-Z   : GL: ndc -> -ndc; ZO: ndc -> 1 - ndc (eps then measured from -1 resp. 0)
-inline DepthMapping depth_mapping(const DepthParams& p) {
-    DepthMapping m;
-    m.status = validate(p);
-    if (m.status != ProjectionStatus::Ok) return m;
+// Largest |A| of the depth row that float32 keeps meaningful: rounding A and B (and evaluating
+// A d + B in float) moves NDC by about 2 |A| 2^-24 <= 2.4e-4 at this bound.
+constexpr double kIpMaxDepthRowA = 2048.0;
+// The (A, B) of a validated ProjectionDepth (no checks).
+inline void ip_mapping(const ProjectionDepth& p, double& A, double& B) {
     const double N = static_cast<double>(p.near_z);
     const bool gl = p.clip_depth == ClipDepth::NegativeOneToOne;
-    double A = 0.0, B = 0.0;
     if (std::isinf(p.far_z)) {
         const double e = static_cast<double>(p.epsilon);
         A = 1.0 - e;
@@ -145,30 +159,70 @@ inline DepthMapping depth_mapping(const DepthParams& p) {
             else { A = -N / FmN; B = F * N / FmN; }  // 1 - ndc
         }
     }
-    if (!detail::ip_fits_float(A) || !detail::ip_fits_float(B)) { m.status = ProjectionStatus::Overflow; return m; }
-    m.A = A;
-    m.B = B;
+}
+inline Status ip_check_fov_aspect(float fovy, float aspect) {
+    if (!std::isfinite(fovy) || !std::isfinite(aspect)) return Status::NonFinite;
+    if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.14159265358979323846)) return Status::InvalidArgument;
+    if (!(aspect > 0.0f)) return Status::InvalidArgument;
+    return Status::Ok;
+}
+} // namespace detail
+
+/// Checks a ProjectionDepth: NonFinite for NaN near, far or epsilon (or an infinite near /
+/// epsilon, a far of -inf); InvalidArgument for near <= 0, far <= near, epsilon outside [0, 0.5]
+/// or != 0 with a finite far plane, an unknown clip_depth; Overflow when the depth row cannot be
+/// represented in float32 (|A| > 2048: far / near < 1.001 for GL, < 1.0005 for ZeroToOne; an
+/// entry beyond float range; |B| below FLT_MIN, i.e. near ~1e-38 and less). Ok otherwise.
+inline Status projection_validate(const ProjectionDepth& p) {
+    if (!std::isfinite(p.near_z) || std::isnan(p.far_z) || p.far_z == -std::numeric_limits<float>::infinity() ||
+        !std::isfinite(p.epsilon))
+        return Status::NonFinite;
+    if (!(p.near_z > 0.0f) || !(p.far_z > p.near_z)) return Status::InvalidArgument;
+    if (!(p.epsilon >= 0.0f && p.epsilon <= 0.5f)) return Status::InvalidArgument;
+    if (std::isfinite(p.far_z) && p.epsilon != 0.0f) return Status::InvalidArgument;
+    if (p.clip_depth != ClipDepth::NegativeOneToOne && p.clip_depth != ClipDepth::ZeroToOne) return Status::InvalidArgument;
+    double A = 0.0, B = 0.0;
+    detail::ip_mapping(p, A, B);
+    if (!detail::ip_fits_float(A) || !detail::ip_fits_float(B) || std::fabs(A) > detail::kIpMaxDepthRowA ||
+        !(std::fabs(B) >= static_cast<double>(std::numeric_limits<float>::min())))
+        return Status::Overflow;  // a subnormal B (near ~1e-38) has too few bits: NDC of near far off
+    return Status::Ok;
+}
+
+/// Coefficients of ndc(d) = A + B / d (computed in double); status as projection_validate.
+///   finite, GL   : A = (F+N)/(F-N), B = -2FN/(F-N)   (glFrustum row 3; Everitt-Kilgard eq. for P)
+///   finite, ZO   : A = F/(F-N),     B = -FN/(F-N)
+///   infinite, GL : A = 1 - eps,     B = -(2 - eps) N (limit Far -> inf, Everitt-Kilgard P_inf, tweaked)
+///   infinite, ZO : A = 1 - eps,     B = -(1 - eps) N
+///   reversed-Z   : GL: ndc -> -ndc; ZO: ndc -> 1 - ndc (eps then measured from -1 resp. 0)
+inline ProjectionDepthMapping projection_depth_mapping(const ProjectionDepth& p) {
+    ProjectionDepthMapping m;
+    m.status = projection_validate(p);
+    if (m.status != Status::Ok) return m;
+    detail::ip_mapping(p, m.A, m.B);
     return m;
 }
 
-/// Off-centre frustum (glFrustum-style x/y; left/right/bottom/top on the near plane) with the depth
-/// behaviour of `depth`. Row 3 of the matrix is (0, 0, -A, B) so that z_c / w_c = A + B / d.
-inline ProjectionResult frustum(float left, float right, float bottom, float top, const DepthParams& depth) {
+/// Off-center frustum (glFrustum-style x/y: left/right/bottom/top on the near plane) with the depth
+/// behavior of `depth`. Row 3 of the matrix is (0, 0, -A, B) so that z_c / w_c = A + B / d.
+/// NonFinite for a NaN/Inf side, InvalidArgument for left >= right or bottom >= top, Overflow when an
+/// entry is beyond float range or rounds to 0; otherwise the status of projection_validate(depth).
+inline ProjectionResult projection_frustum(float left, float right, float bottom, float top, const ProjectionDepth& depth) {
     ProjectionResult r;
-    const DepthMapping m = depth_mapping(depth);
-    if (m.status != ProjectionStatus::Ok) { r.status = m.status; return r; }
-    if (!(std::isfinite(left) && std::isfinite(right) && std::isfinite(bottom) && std::isfinite(top)) ||
-        !(left < right) || !(bottom < top)) {
-        r.status = ProjectionStatus::InvalidFrustum;
+    const ProjectionDepthMapping m = projection_depth_mapping(depth);
+    if (m.status != Status::Ok) { r.status = m.status; return r; }
+    if (!(std::isfinite(left) && std::isfinite(right) && std::isfinite(bottom) && std::isfinite(top))) {
+        r.status = Status::NonFinite;
         return r;
     }
+    if (!(left < right) || !(bottom < top)) { r.status = Status::InvalidArgument; return r; }
     const double N = static_cast<double>(depth.near_z);
     const double l = left, rt = right, b = bottom, t = top;
     const double m00 = 2.0 * N / (rt - l), m11 = 2.0 * N / (t - b);
     const double m20 = (rt + l) / (rt - l), m21 = (t + b) / (t - b);
     if (!detail::ip_fits_float(m00) || !detail::ip_fits_float(m11) || !detail::ip_fits_float(m20) ||
-        !detail::ip_fits_float(m21)) {
-        r.status = ProjectionStatus::Overflow;
+        !detail::ip_fits_float(m21) || static_cast<float>(m00) == 0.0f || static_cast<float>(m11) == 0.0f) {
+        r.status = Status::Overflow;
         return r;
     }
     r.matrix[0][0] = static_cast<float>(m00);
@@ -178,94 +232,111 @@ inline ProjectionResult frustum(float left, float right, float bottom, float top
     r.matrix[2][2] = static_cast<float>(-m.A);
     r.matrix[2][3] = -1.0f;
     r.matrix[3][2] = static_cast<float>(m.B);
+    r.status = Status::Ok;
     return r;
 }
 
-/// Symmetric perspective (gluPerspective-style): fovy is the full vertical angle in radians, (0, pi).
-inline ProjectionResult perspective(float fovy, float aspect, const DepthParams& depth) {
+/// Symmetric perspective (gluPerspective-style): fovy is the full vertical angle in radians, in
+/// (0, pi); aspect = width / height, finite and > 0. NonFinite for NaN fovy or NaN/Inf aspect,
+/// InvalidArgument outside those ranges, Overflow when cot(fovy / 2) / aspect is beyond float range
+/// or rounds to 0; otherwise the status of projection_validate(depth).
+inline ProjectionResult projection_perspective(float fovy, float aspect, const ProjectionDepth& depth) {
     ProjectionResult r;
-    const ProjectionStatus s = validate(depth);
-    if (s != ProjectionStatus::Ok) { r.status = s; return r; }
-    if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.14159265358979323846)) {
-        r.status = ProjectionStatus::InvalidFov;
-        return r;
-    }
-    if (!(std::isfinite(aspect) && aspect > 0.0f)) { r.status = ProjectionStatus::InvalidAspect; return r; }
+    const Status s = projection_validate(depth);
+    if (s != Status::Ok) { r.status = s; return r; }
+    r.status = detail::ip_check_fov_aspect(fovy, aspect);
+    if (r.status != Status::Ok) return r;
     const double t = std::tan(0.5 * static_cast<double>(fovy));
     const double m11 = 1.0 / t;
     const double m00 = m11 / static_cast<double>(aspect);
-    if (!detail::ip_fits_float(m00) || !detail::ip_fits_float(m11) || !(m00 > 0.0) || !(m11 > 0.0)) {
-        r.status = ProjectionStatus::Overflow;
+    if (!detail::ip_fits_float(m00) || !detail::ip_fits_float(m11) || !(static_cast<float>(m00) > 0.0f) ||
+        !(static_cast<float>(m11) > 0.0f)) {
+        r.status = Status::Overflow;
         return r;
     }
-    const DepthMapping m = depth_mapping(depth);
-    if (m.status != ProjectionStatus::Ok) { r.status = m.status; return r; }
+    double A = 0.0, B = 0.0;
+    detail::ip_mapping(depth, A, B);
     r.matrix[0][0] = static_cast<float>(m00);
     r.matrix[1][1] = static_cast<float>(m11);
-    r.matrix[2][2] = static_cast<float>(-m.A);
+    r.matrix[2][2] = static_cast<float>(-A);
     r.matrix[2][3] = -1.0f;
-    r.matrix[3][2] = static_cast<float>(m.B);
-    if (r.matrix[0][0] == 0.0f || r.matrix[1][1] == 0.0f) r.status = ProjectionStatus::Overflow; // underflow
+    r.matrix[3][2] = static_cast<float>(B);
     return r;
 }
 
 /// Convenience: infinite far plane (Everitt-Kilgard P_inf), optional epsilon tweak.
-inline ProjectionResult perspective_infinite(float fovy, float aspect, float near_z,
-                                             ClipDepth clip = ClipDepth::NegativeOneToOne,
-                                             bool reversed_z = false, float epsilon = 0.0f) {
-    DepthParams d;
+inline ProjectionResult projection_perspective_infinite(float fovy, float aspect, float near_z,
+                                                        ClipDepth clip = ClipDepth::NegativeOneToOne,
+                                                        bool reversed_z = false, float epsilon = 0.0f) {
+    ProjectionDepth d;
     d.near_z = near_z;
     d.far_z = std::numeric_limits<float>::infinity();
     d.clip_depth = clip;
     d.reversed_z = reversed_z;
     d.epsilon = epsilon;
-    return perspective(fovy, aspect, d);
+    return projection_perspective(fovy, aspect, d);
 }
 
 /// Convenience: finite far plane (equals glm::perspectiveRH_NO / _ZO when not reversed).
-inline ProjectionResult perspective_finite(float fovy, float aspect, float near_z, float far_z,
-                                           ClipDepth clip = ClipDepth::NegativeOneToOne,
-                                           bool reversed_z = false) {
-    DepthParams d;
+inline ProjectionResult projection_perspective_finite(float fovy, float aspect, float near_z, float far_z,
+                                                      ClipDepth clip = ClipDepth::NegativeOneToOne,
+                                                      bool reversed_z = false) {
+    ProjectionDepth d;
     d.near_z = near_z;
     d.far_z = far_z;
     d.clip_depth = clip;
     d.reversed_z = reversed_z;
-    return perspective(fovy, aspect, d);
+    return projection_perspective(fovy, aspect, d);
 }
 
-/// NDC depth of eye distance d > 0 (d = +inf allowed: the depth of a w = 0 vertex).
-inline DepthValue ndc_depth(const DepthParams& p, double eye_distance) {
-    DepthValue v;
-    const DepthMapping m = depth_mapping(p);
-    if (m.status != ProjectionStatus::Ok) { v.status = m.status; return v; }
-    if (!(eye_distance > 0.0)) { v.status = ProjectionStatus::InvalidDistance; return v; }
-    v.value = std::isinf(eye_distance) ? m.A : m.A + m.B / eye_distance;
+/// NDC depth of eye distance d (d > 0; d = +inf: the depth of a w = 0 vertex). Distances inside
+/// [near, far] give [-1, 1] (GL) or [0, 1] (ZeroToOne); closer ones lie below that range (clipped).
+/// NonFinite for NaN d, InvalidArgument for d <= 0, Overflow when the value is beyond float range
+/// (d far below the near plane, e.g. 1e-310 with near 0.1); otherwise the status of projection_validate(p).
+inline ProjectionValue projection_ndc_depth(const ProjectionDepth& p, double eye_distance) {
+    ProjectionValue v;
+    const ProjectionDepthMapping m = projection_depth_mapping(p);
+    if (m.status != Status::Ok) { v.status = m.status; return v; }
+    if (std::isnan(eye_distance)) { v.status = Status::NonFinite; return v; }
+    if (!(eye_distance > 0.0)) { v.status = Status::InvalidArgument; return v; }
+    const double value = std::isinf(eye_distance) ? m.A : m.A + m.B / eye_distance;
+    if (!detail::ip_fits_float(value)) { v.status = Status::Overflow; return v; }
+    v.value = value;
+    v.status = Status::Ok;
     return v;
 }
 
-/// Window depth in [0, 1] for glDepthRange(0, 1): GL: 0.5 ndc + 0.5, ZeroToOne: ndc.
-/// (Lengyel's viewport depth d = (dmax - dmin)/2 * ndc + (dmax + dmin)/2 with dmin = 0, dmax = 1.)
-inline DepthValue window_depth(const DepthParams& p, double eye_distance) {
-    DepthValue v = ndc_depth(p, eye_distance);
-    if (v.status == ProjectionStatus::Ok && p.clip_depth == ClipDepth::NegativeOneToOne)
-        v.value = 0.5 * v.value + 0.5;
+/// Window depth for glDepthRange(0, 1): GL 0.5 ndc + 0.5, ZeroToOne ndc (Lengyel's viewport depth
+/// with dmin = 0, dmax = 1). In [0, 1] for d in [near, far]; statuses as projection_ndc_depth.
+inline ProjectionValue projection_window_depth(const ProjectionDepth& p, double eye_distance) {
+    ProjectionValue v = projection_ndc_depth(p, eye_distance);
+    if (v.status == Status::Ok && p.clip_depth == ClipDepth::NegativeOneToOne) v.value = 0.5 * v.value + 0.5;
     return v;
 }
 
-/// Inverse of window_depth: the eye distance whose window depth is `window` (+inf for the depth of
-/// infinity; InvalidDistance for window outside [0, 1] or outside the mapped range).
-inline DepthValue eye_distance_from_window_depth(const DepthParams& p, double window) {
-    DepthValue v;
-    const DepthMapping m = depth_mapping(p);
-    if (m.status != ProjectionStatus::Ok) { v.status = m.status; return v; }
-    if (!(window >= 0.0 && window <= 1.0)) { v.status = ProjectionStatus::InvalidDistance; return v; }
+/// Inverse of projection_window_depth: the eye distance whose window depth is `window`, in [0, 1].
+/// at_infinity (with Ok) for the window depth of infinity. NonFinite for NaN window,
+/// InvalidArgument for a window outside [0, 1] or outside the mapped range (beyond the depth of
+/// infinity of a tweaked projection), Overflow for a distance beyond float range.
+inline ProjectionEyeDistance projection_eye_distance_from_window_depth(const ProjectionDepth& p, double window) {
+    ProjectionEyeDistance v;
+    const ProjectionDepthMapping m = projection_depth_mapping(p);
+    if (m.status != Status::Ok) { v.status = m.status; return v; }
+    if (std::isnan(window)) { v.status = Status::NonFinite; return v; }
+    if (!(window >= 0.0 && window <= 1.0)) { v.status = Status::InvalidArgument; return v; }
     const double ndc = p.clip_depth == ClipDepth::NegativeOneToOne ? 2.0 * window - 1.0 : window;
     const double den = ndc - m.A;
-    if (den == 0.0) { v.value = std::numeric_limits<double>::infinity(); return v; }
+    if (den == 0.0) {
+        if (!std::isinf(p.far_z)) { v.status = Status::InvalidArgument; return v; }  // not reached: A is outside [0, 1] for finite far
+        v.at_infinity = true;
+        v.status = Status::Ok;
+        return v;
+    }
     const double d = m.B / den;
-    if (!(d > 0.0)) { v.status = ProjectionStatus::InvalidDistance; return v; }
+    if (!(d > 0.0)) { v.status = Status::InvalidArgument; return v; }
+    if (!detail::ip_fits_float(d)) { v.status = Status::Overflow; return v; }
     v.value = d;
+    v.status = Status::Ok;
     return v;
 }
 
@@ -282,36 +353,42 @@ inline double ip_float_gap(double x) {
 } // namespace detail
 
 /// Depth resolution: the eye-space distance between adjacent representable depth values at eye
-/// distance d (InvalidDistance unless near <= d <= far), to first order  delta_d = delta_w / |dw/dd|,  dw/dd = -s B / d^2  (s = 1/2 for GL).
+/// distance d, to first order  delta_d = delta_w / |dw/dd|,  dw/dd = -s B / d^2  (s = 1/2 for GL).
 /// delta_w is the larger of
 ///   - the storage step of `format` at w(d): 1/(2^n - 1) for n-bit fixed, the float32 spacing at w
 ///     for Float32 (tiny near 0, 2^-24 just below 1),
 ///   - the float32 step of the NDC value the pipeline computes before the viewport transform (times
 ///     1/2 for GL): for GL clip depth NDC near -1 or +1 has steps of 2^-24, which is why reversed-Z
 ///     with GL's [-1, 1] gains nothing and reversed-Z needs ZeroToOne (glClipControl) + Float32.
-inline DepthValue depth_resolution(const DepthParams& p, DepthFormat format, double eye_distance) {
-    DepthValue v;
-    const DepthMapping m = depth_mapping(p);
-    if (m.status != ProjectionStatus::Ok) { v.status = m.status; return v; }
-    if (!(eye_distance > 0.0) || !std::isfinite(eye_distance)) { v.status = ProjectionStatus::InvalidDistance; return v; }
+/// Ok: value finite and > 0. NonFinite for NaN/Inf d, InvalidArgument for d outside [near, far]
+/// or an unknown format, Overflow when the step is beyond float range; else projection_validate(p).
+inline ProjectionValue projection_depth_resolution(const ProjectionDepth& p, DepthFormat format, double eye_distance) {
+    ProjectionValue v;
+    const ProjectionDepthMapping m = projection_depth_mapping(p);
+    if (m.status != Status::Ok) { v.status = m.status; return v; }
+    if (!std::isfinite(eye_distance)) { v.status = Status::NonFinite; return v; }
+    if (!(eye_distance > 0.0)) { v.status = Status::InvalidArgument; return v; }
     const bool gl = p.clip_depth == ClipDepth::NegativeOneToOne;
     const double s = gl ? 0.5 : 1.0;
     const double ndc = m.A + m.B / eye_distance;
     double w = gl ? 0.5 * ndc + 0.5 : ndc;
     // Only distances inside the depth range [near, far] have a stored depth (slack for rounding).
-    if (!(w >= -1e-12 && w <= 1.0 + 1e-12)) { v.status = ProjectionStatus::InvalidDistance; return v; }
+    if (!(w >= -1e-12 && w <= 1.0 + 1e-12)) { v.status = Status::InvalidArgument; return v; }
     w = w < 0.0 ? 0.0 : (w > 1.0 ? 1.0 : w);
     double step = 0.0;
     switch (format) {
     case DepthFormat::Float32: step = detail::ip_float_gap(w); break;
     case DepthFormat::Fixed24: step = 1.0 / 16777215.0; break;
     case DepthFormat::Fixed16: step = 1.0 / 65535.0; break;
+    default: v.status = Status::InvalidArgument; return v;
     }
     const double ndc_step = s * detail::ip_float_gap(std::fabs(ndc));
     if (ndc_step > step) step = ndc_step;
-    const double slope = std::fabs(s * m.B) / (eye_distance * eye_distance);
-    if (!(slope > 0.0)) { v.value = std::numeric_limits<double>::infinity(); return v; }
-    v.value = step / slope;
+    const double slope = std::fabs(s * m.B) / eye_distance / eye_distance;
+    const double value = step / slope;
+    if (!(slope > 0.0) || !detail::ip_fits_float(value) || !(value > 0.0)) { v.status = Status::Overflow; return v; }
+    v.value = value;
+    v.status = Status::Ok;
     return v;
 }
 
@@ -340,13 +417,18 @@ inline DepthValue depth_resolution(const DepthParams& p, DepthFormat format, dou
 /// 1.19e-7, 24-bit ZO 5.96e-8, 16-bit GL 3.05e-5. Float32, not reversed: 1 - g must round below 1,
 /// g >= 2^-24 -> eps >= 2^-23 (GL) / 2^-24 (ZO). Float32 reversed: GL needs -1 + eps != -1 in float
 /// (eps >= 2^-24); ZeroToOne only needs eps >= FLT_MIN (normal, not flushed).
-inline EpsilonBound infinite_epsilon_bound(float fovy, float aspect, ClipDepth clip, bool reversed_z,
-                                           DepthFormat format, float ulps_per_op = 1.0f) {
-    EpsilonBound e;
-    if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.14159265358979323846)) { e.status = ProjectionStatus::InvalidFov; return e; }
-    if (!(std::isfinite(aspect) && aspect > 0.0f)) { e.status = ProjectionStatus::InvalidAspect; return e; }
-    if (!(std::isfinite(ulps_per_op) && ulps_per_op >= 0.0f && ulps_per_op <= 1.0e6f)) {
-        e.status = ProjectionStatus::InvalidEpsilon;
+///
+/// fovy in (0, pi), aspect > 0, ulps_per_op in [0, 1e6] (NonFinite for NaN/Inf, InvalidArgument
+/// outside, or for an unknown clip depth or format, or a bound above 0.5).
+inline ProjectionEpsilonBound projection_infinite_epsilon_bound(float fovy, float aspect, ClipDepth clip, bool reversed_z,
+                                                                DepthFormat format, float ulps_per_op = 1.0f) {
+    ProjectionEpsilonBound e;
+    e.status = detail::ip_check_fov_aspect(fovy, aspect);
+    if (e.status != Status::Ok) return e;
+    if (!std::isfinite(ulps_per_op)) { e.status = Status::NonFinite; return e; }
+    if (!(ulps_per_op >= 0.0f && ulps_per_op <= 1.0e6f) ||
+        (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne)) {
+        e.status = Status::InvalidArgument;
         return e;
     }
     const double u = 1.0 / 16777216.0; // 2^-24
@@ -365,9 +447,11 @@ inline EpsilonBound infinite_epsilon_bound(float fovy, float aspect, ClipDepth c
         if (!reversed_z) storage = gap_scale * u;
         else storage = gl ? u : static_cast<double>(std::numeric_limits<float>::min());
         break;
+    default: e.status = Status::InvalidArgument; return e;
     }
     // Round up to float so that the stored epsilon is never below the bound.
     auto up = [](double x) {
+        if (!(x <= 1.0)) return 1.0f;  // beyond any valid epsilon (absurd ulps_per_op, huge kappa)
         float f = static_cast<float>(x);
         if (static_cast<double>(f) < x) f = std::nextafter(f, 1.0f);
         return f;
@@ -375,7 +459,7 @@ inline EpsilonBound infinite_epsilon_bound(float fovy, float aspect, ClipDepth c
     e.clip = up(clip_bound);
     e.storage = up(storage);
     e.epsilon = e.clip > e.storage ? e.clip : e.storage;
-    if (!(e.epsilon <= 0.5f)) e.status = ProjectionStatus::InvalidEpsilon; // absurd ulps_per_op
+    if (!(e.epsilon <= 0.5f)) { e.status = Status::InvalidArgument; e.clip = e.storage = e.epsilon = 0.0f; }
     return e;
 }
 

@@ -5,15 +5,35 @@
 //
 // Usage:
 //   shadowkit::LightFrustumInput in;
-//   in.camera_view = view; in.camera_proj = proj;          // GLM, right-handed, column-major
+//   in.camera_view = view; in.camera_proj = proj;          // GLM, right-handed, column-major (required)
 //   in.camera_depth = shadowkit::ClipDepth::NegativeOneToOne;
-//   in.max_distance = 500.0f;                             // needed when proj has an infinite far plane
-//   in.light = glm::vec4(sun_dir, 0.0f);                  // w = 0: direction the light travels
+//   in.max_distance = 500.0f;                             // required when proj has an infinite far plane
+//   in.light_position = glm::vec4(to_sun, 0.0f);          // w = 0: direction *toward* the light (required)
 //   in.casters = boxes; in.caster_count = n;              // 6 floats per box: min xyz, max xyz
-//   in.stable = true; in.shadow_map_size = 2048;          // texel-snapped, rotation-invariant fit
-//   std::vector<uint32_t> keep(n);
-//   shadowkit::LightFrustumResult r = shadowkit::fit_light_frustum(in, keep.data(), keep.size());
-//   if (r.status == shadowkit::LightFrustumStatus::Ok) { render keep[0 .. r.kept_count) with r.view_proj; }
+//   in.stable = true; in.shadow_map_size = 2048;          // texel-snapped fit (directional lights)
+//   std::vector<std::uint32_t> keep(n);
+//   shadowkit::LightFrustumResult r = shadowkit::light_frustum_fit(in, keep.data(), keep.size());
+//   if (r.status == shadowkit::Status::Ok && r.visible) { render keep[0 .. r.count) with r.view_proj; }
+//
+// Conventions: world units; GLM right-handed, column-major matrices; camera view depth d = -z_view > 0.
+// The camera projection may be any perspective or orthographic projection with its near plane in front
+// of the eye (view depth > 0), in either ClipDepth, reversed-Z or not, with a finite far plane, a far
+// plane at infinity, or the epsilon-tweaked infinite projection of infinite_projection.hpp (NDC depth
+// +1 (reversed: -1 or 0) lies beyond infinity there); an infinite far plane needs max_distance > 0.
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+// Buffers: `kept_indices` holds `capacity` uint32 elements (caster indices); the result's `needed`
+// says how many the whole output needs, `count` how many were written.
+// Map orientation (the roll about the light axis): the tight fits put the camera's view direction,
+// projected onto the light's image plane, along the map's +y (continuous in the light direction except
+// within a fraction of a degree of the light parallel or anti-parallel to the view, where the map
+// rolls about the light axis; exactly parallel: the camera's up vector is +y). The stable fit cannot
+// follow the camera (it must not rotate with it): its roll is a fixed function of the light direction,
+// the shortest-arc rotation of the frame of a light shining straight down (-y: map x = world +x, map
+// y = world -z), continuous for every light direction except one shining straight up (+y travel,
+// light_position (0, -1, 0, 0)), around which it spins.
 //
 // Based on:
 //   Stamminger & Drettakis 2002, "Perspective Shadow Maps" (sec. 3.2: the volume H = convex hull of
@@ -27,7 +47,6 @@
 #pragma once
 
 #include <glm/glm.hpp>
-#include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
 #include <cstddef>
@@ -36,102 +55,144 @@
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
+
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
-/// Depth range of normalized device coordinates: OpenGL [-1,1] or D3D/Vulkan/GL-clip-control [0,1].
+/// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
 
-enum class LightFrustumStatus {
-    Ok,
-    InvalidInput,        ///< NaN/Inf in a matrix, the light or the bounds; singular projection/view
-    InfiniteFar,         ///< projection has an infinite far plane and max_distance <= 0
-    EmptyReceivers,      ///< the clipped camera slice does not meet the scene bounds (nothing to shadow)
-    LightInsideVolume,   ///< point light inside (or too close around) the receiver volume: use a cube map
-    BufferTooSmall       ///< matrices valid; kept_count > capacity, only `capacity` indices written
-};
-
-/// Inputs. Zero/default values mean "not used" where stated. Units: world units unless noted.
+/// Inputs of light_frustum_fit. Fields marked (required) default to a value the fit rejects.
 struct LightFrustumInput {
-    glm::mat4 camera_view{1.0f};                  ///< world -> camera view (right-handed, looks down -z)
-    glm::mat4 camera_proj{1.0f};                  ///< camera projection (perspective or ortho; may be infinite)
+    glm::mat4 camera_view = glm::mat4(0.0f);      ///< world -> camera view, looks down -z (required)
+    glm::mat4 camera_proj = glm::mat4(0.0f);      ///< camera projection, near plane in front of the eye (required)
     ClipDepth camera_depth = ClipDepth::NegativeOneToOne;
     bool camera_reversed_z = false;
-    /// [Units: wu, view depth] [Limit: >= 0] Far clamp. 0: use the projection's far plane (must be finite).
+    /// [Units: wu, view depth] [Limit: >= 0] Far clamp of the shadowed range; 0: the projection's far
+    /// plane (then it must be finite). Smaller than the near plane: nothing visible.
     float max_distance = 0.0f;
-    /// [Units: wu, view depth] Visible receivers' depth range from a reduction; used when max > min > 0.
+    /// [Units: wu, view depth] Visible receivers' depth range from a reduction. Both 0: not used;
+    /// otherwise 0 < receiver_min_depth <= receiver_max_depth.
     float receiver_min_depth = 0.0f;
     float receiver_max_depth = 0.0f;
-    /// Scene bounds (all receivers and casters); used when has_scene_bounds.
+    /// Scene bounds (every receiver and caster); used when has_scene_bounds. [Limit: min <= max]
     bool has_scene_bounds = false;
     glm::vec3 scene_min{0.0f};
     glm::vec3 scene_max{0.0f};
-    /// w == 0: directional, xyz = direction the light travels. w != 0: point/spot light at xyz / w.
-    glm::vec4 light{0.0f, -1.0f, 0.0f, 0.0f};
-    /// Caster boxes, 6 floats each (min x,y,z, max x,y,z); optional.
+    /// The light, see "Lights:" above (required: the default (0, 0, 0, 0) gives Status::InvalidLight).
+    glm::vec4 light_position{0.0f};
+    /// Caster boxes, 6 floats each (min x,y,z, max x,y,z): `casters` holds 6 * caster_count floats;
+    /// nullptr only with caster_count 0. A box with NaN/Inf or min > max is culled and counted as invalid.
     const float* casters = nullptr;
     std::size_t caster_count = 0;
-    /// Caster spheres, 4 floats each (center x,y,z, radius); indices continue after the boxes.
+    /// Caster spheres, 4 floats each (center x,y,z, radius >= 0): `caster_spheres` holds
+    /// 4 * caster_sphere_count floats; nullptr only with a zero count. Indices continue after the boxes.
     const float* caster_spheres = nullptr;
     std::size_t caster_sphere_count = 0;
     /// Depth convention of the matrix built for the light.
     ClipDepth light_depth = ClipDepth::NegativeOneToOne;
     bool light_reversed_z = false;
-    /// Directional lights only: bounding-sphere fit, radius rounded up to radius_quantum, projected
-    /// world origin snapped to whole texels of a shadow_map_size^2 map (one texel of border kept).
+    /// Texel-snapped fit, directional lights only (a point light gives Status::InvalidLight): the map's
+    /// orientation is fixed per light direction and its origin snapped to whole texels of a
+    /// shadow_map_size^2 map (one texel of border kept), so camera rotation leaves the map's texel
+    /// grid in place and camera translation moves it by whole texels. The window is a square of side
+    /// W = min(2 r, E) (+ one texel each side), texel_world_size = W / (shadow_map_size - 2), with r the
+    /// slice's bounding-sphere radius rounded up to radius_quantum (camera-invariant) and, when
+    /// has_scene_bounds, E the larger side of the scene box's light-space rectangle (camera-invariant):
+    /// a small scene gets the texels of its own size. The window is centered on the sphere's center,
+    /// moved the least that makes it cover the bounded receivers.
     bool stable = false;
     std::uint32_t shadow_map_size = 2048;         ///< [Limit: >= 4] texels per side (stable mode)
     float radius_quantum = 1.0f / 16.0f;          ///< [Units: wu] [Limit: > 0] stable radius step
-    /// Point lights: near plane never closer than point_min_near_ratio * far.
+    /// Point lights: near plane never closer than point_min_near_ratio * far. [Limit: (0, 1)]
     float point_min_near_ratio = 1e-4f;
 };
 
+/// Result of light_frustum_fit.
 struct LightFrustumResult {
-    LightFrustumStatus status = LightFrustumStatus::InvalidInput;
+    Status status = Status::NotRun;
+    bool visible = false;                ///< false (with Ok): the receiver volume is empty; skip the shadow pass
     glm::mat4 view{1.0f};                ///< world -> light view
     glm::mat4 proj{1.0f};                ///< light projection (ortho for directional, perspective for point)
-    glm::mat4 view_proj{1.0f};           ///< proj * view
+    glm::mat4 view_proj{1.0f};           ///< proj * view; every receiver point maps into its clip volume
     float near_plane = 0.0f;             ///< light-view distances of the fitted near/far planes
     float far_plane = 0.0f;
-    std::size_t kept_count = 0;          ///< casters that may shadow the receivers (indices written)
-    std::size_t culled_count = 0;        ///< casters proven unable to shadow the receivers
-    std::size_t invalid_count = 0;       ///< casters with NaN/Inf or min > max (culled, counted here)
-    float texel_world_size = 0.0f;       ///< stable mode: world size of one texel
-    glm::vec4 bounding_sphere{0.0f};     ///< stable mode: (center, rounded radius) of the slice
+    std::size_t count = 0;               ///< caster indices written to kept_indices (<= capacity)
+    std::size_t needed = 0;              ///< casters that may shadow the receivers (indices the output needs)
+    std::size_t culled_count = 0;        ///< casters proven unable to shadow the receivers (needed + culled = all)
+    std::size_t invalid_count = 0;       ///< casters with NaN/Inf or min > max / radius < 0 (culled, counted here)
+    float texel_world_size = 0.0f;       ///< stable mode: world size of one texel (W / (shadow_map_size - 2))
+    glm::vec4 bounding_sphere{0.0f};     ///< stable mode: (center, rounded radius) of the camera slice
+};
+
+/// World-space corners of the camera slice, see light_frustum_slice_corners.
+struct LightFrustumCorners {
+    Status status = Status::NotRun;
+    bool visible = false;                ///< false (with Ok): the depth range is empty (corners not written)
+    glm::vec3 corners[8] = {};           ///< corner i: bit0 = +x, bit1 = +y, bit2 = far layer
+    float near_depth = 0.0f;             ///< view depths of the near and far layers
+    float far_depth = 0.0f;
 };
 
 /// Convex volume as at most 64 inward-facing planes (n . x + d >= 0 inside).
 struct LightFrustumPlanes {
+    Status status = Status::NotRun;
+    int count = 0;                       ///< planes in use
     glm::dvec4 planes[64];
-    int count = 0;
 };
 
-namespace lf_detail {
+namespace detail {
 
-inline bool finite(double v) { return std::isfinite(v); }
-inline bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-inline bool finite(const glm::vec4& v) { return finite(glm::vec3(v)) && std::isfinite(v.w); }
-inline bool finite(const glm::mat4& m) {
+inline bool lf_finite(double v) { return std::isfinite(v); }
+inline bool lf_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool lf_finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool lf_finite(const glm::vec4& v) { return lf_finite(glm::vec3(v)) && std::isfinite(v.w); }
+inline bool lf_finite(const glm::mat4& m) {
     for (int c = 0; c < 4; ++c)
-        if (!finite(m[c])) return false;
+        if (!lf_finite(m[c])) return false;
     return true;
 }
-inline bool finite(const glm::dmat4& m) {
+inline bool lf_finite(const glm::dmat4& m) {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(m[c][r])) return false;
     return true;
 }
 
-/// NDC depth of the near and far planes for a convention.
-inline void ndc_near_far(ClipDepth cd, bool reversed, double& zn, double& zf) {
-    const double lo = (cd == ClipDepth::ZeroToOne) ? 0.0 : -1.0;
-    zn = reversed ? 1.0 : lo;
-    zf = reversed ? lo : 1.0;
-}
-
 /// Maps OpenGL clip z to the requested convention (applied on the left of a GL-style projection).
-inline glm::dmat4 depth_convention(ClipDepth cd, bool reversed) {
+inline glm::dmat4 lf_depth_convention(ClipDepth cd, bool reversed) {
     glm::dmat4 m(1.0);
     if (cd == ClipDepth::ZeroToOne) {
         // z' = 0.5 z + 0.5 w (reversed: z' = w - z')
@@ -143,74 +204,105 @@ inline glm::dmat4 depth_convention(ClipDepth cd, bool reversed) {
     return m;
 }
 
-/// Camera slice corners in view space. Corner i: bit0 = +x, bit1 = +y, bit2 = far layer.
-/// Depths are positive distances along the view direction. Returns a LightFrustumStatus.
-inline LightFrustumStatus slice_corners_view(const glm::mat4& proj, ClipDepth cd, bool reversed,
-                                             double max_distance, double rmin, double rmax,
-                                             glm::dvec3 out[8], double& d0_out, double& d1_out) {
-    const glm::dmat4 P(proj);
-    if (!finite(P) || !finite(max_distance) || !finite(rmin) || !finite(rmax)) return LightFrustumStatus::InvalidInput;
-    const double det = glm::determinant(P);
-    if (!std::isfinite(det) || std::fabs(det) < 1e-300) return LightFrustumStatus::InvalidInput;
-    const glm::dmat4 inv = glm::inverse(P);
-    if (!finite(inv)) return LightFrustumStatus::InvalidInput;
-    double zn = 0, zf = 0;
-    ndc_near_far(cd, reversed, zn, zf);
+/// The camera's four corner rays in view space: the point on the near plane, a direction away from
+/// the eye, the near depth and the far depth of each (+inf for a far plane at infinity).
+struct LfRays {
     glm::dvec3 pn[4], dir[4];
-    double dn[4], dfar[4];
-    bool infinite = false;
+    double dn[4] = {0, 0, 0, 0};
+    double near_depth = 0.0, far_depth = 0.0;
+};
+
+/// Un-projects the corner rays of a projection: the ray through NDC depths zn (near) and
+/// zn + (zf - zn) / 64 (finite for every projection, the epsilon-tweaked P_inf with epsilon <= 0.5
+/// included). The far plane is found from NDC depth zf: a point there that lies beyond the second
+/// point on the ray is a finite far plane; w = 0 or a point behind the eye (the epsilon-tweaked P_inf
+/// puts zf beyond infinity) is a far plane at infinity.
+inline Status lf_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, LfRays& r) {
+    const glm::dmat4 P(proj);
+    if (!lf_finite(P)) return Status::NonFinite;
+    const double det = glm::determinant(P);
+    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) return Status::InvalidArgument;  // singular
+    const glm::dmat4 inv = glm::inverse(P);
+    if (!lf_finite(inv)) return Status::InvalidArgument;
+    const double lo = (cd == ClipDepth::ZeroToOne) ? 0.0 : -1.0;
+    const double zn = reversed ? 1.0 : lo, zf = reversed ? lo : 1.0, zm = zn + (zf - zn) / 64.0;
+    r.near_depth = -std::numeric_limits<double>::infinity();
+    r.far_depth = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 4; ++i) {
         const double x = (i & 1) ? 1.0 : -1.0, y = (i & 2) ? 1.0 : -1.0;
         const glm::dvec4 hn = inv * glm::dvec4(x, y, zn, 1.0);
+        const glm::dvec4 hm = inv * glm::dvec4(x, y, zm, 1.0);
         const glm::dvec4 hf = inv * glm::dvec4(x, y, zf, 1.0);
         const double sn = std::fabs(hn.x) + std::fabs(hn.y) + std::fabs(hn.z);
-        if (!(std::fabs(hn.w) > 1e-12 * sn) || std::fabs(hn.w) < 1e-300) return LightFrustumStatus::InvalidInput;
-        pn[i] = glm::dvec3(hn) / hn.w;
+        const double sm = std::fabs(hm.x) + std::fabs(hm.y) + std::fabs(hm.z);
+        if (!(std::fabs(hn.w) > 1e-12 * sn) || !(std::fabs(hn.w) > 1e-300)) return Status::InvalidArgument;
+        if (!(std::fabs(hm.w) > 1e-12 * sm) || !(std::fabs(hm.w) > 1e-300)) return Status::InvalidArgument;
+        r.pn[i] = glm::dvec3(hn) / hn.w;
+        const glm::dvec3 pm = glm::dvec3(hm) / hm.w;
+        r.dir[i] = pm - r.pn[i];
+        r.dn[i] = -r.pn[i].z;
+        // near plane in front of the eye, rays going away from it
+        if (!(r.dn[i] > 0.0) || !(r.dir[i].z < 0.0) || !lf_finite(r.pn[i]) || !lf_finite(r.dir[i]))
+            return Status::InvalidArgument;
         const double sf = std::fabs(hf.x) + std::fabs(hf.y) + std::fabs(hf.z);
+        double dfar = std::numeric_limits<double>::infinity();
         if (std::fabs(hf.w) > 1e-9 * sf && std::fabs(hf.w) > 1e-300) {
             const glm::dvec3 pf = glm::dvec3(hf) / hf.w;
-            dir[i] = pf - pn[i];
-            dfar[i] = -pf.z;
-        } else {
-            dir[i] = glm::dvec3(hf);
-            if (dir[i].z > 0.0) dir[i] = -dir[i];
-            dfar[i] = std::numeric_limits<double>::infinity();
-            infinite = true;
+            const double t = glm::dot(pf - r.pn[i], r.dir[i]) / glm::dot(r.dir[i], r.dir[i]);
+            if (t > 1.0 && std::isfinite(pf.z)) dfar = -pf.z;  // else: beyond infinity (epsilon-tweaked)
         }
-        dn[i] = -pn[i].z;
-        if (!(dir[i].z < 0.0) || !finite(dn[i])) return LightFrustumStatus::InvalidInput;
+        r.near_depth = std::fmax(r.near_depth, r.dn[i]);
+        r.far_depth = std::fmin(r.far_depth, dfar);
     }
-    double nearest = dn[0], farthest = dfar[0];
-    for (int i = 1; i < 4; ++i) {
-        nearest = std::fmax(nearest, dn[i]);
-        farthest = std::fmin(farthest, dfar[i]);
-    }
-    if (max_distance > 0.0) farthest = std::fmin(farthest, max_distance);
-    else if (infinite) return LightFrustumStatus::InfiniteFar;
-    double d0 = nearest, d1 = farthest;
-    if (rmax > rmin && rmin > 0.0) {
-        d0 = std::fmax(d0, rmin);
-        d1 = std::fmin(d1, rmax);
-    }
-    if (!(d1 > d0) || !finite(d1 - d0)) return LightFrustumStatus::EmptyReceivers;
-    for (int i = 0; i < 4; ++i) {
-        const double t0 = (d0 - dn[i]) / -dir[i].z, t1 = (d1 - dn[i]) / -dir[i].z;
-        out[i] = pn[i] + t0 * dir[i];
-        out[i + 4] = pn[i] + t1 * dir[i];
-    }
-    d0_out = d0;
-    d1_out = d1;
-    return LightFrustumStatus::Ok;
+    if (!(r.far_depth > r.near_depth)) return Status::InvalidArgument;
+    return Status::Ok;
 }
 
-inline glm::dvec4 plane_from(const glm::dvec3& n_in, const glm::dvec3& p) {
+inline glm::dvec3 lf_ray_at(const LfRays& r, int i, double depth) {
+    return r.pn[i] + ((depth - r.dn[i]) / -r.dir[i].z) * r.dir[i];
+}
+
+/// Camera slice corners in view space (corner i: bit0 = +x, bit1 = +y, bit2 = far layer), between
+/// depths d0 = max(near, rmin) and d1 = min(far, max_distance, rmax). visible = false: empty range.
+inline Status lf_slice_view(const LightFrustumInput& in, glm::dvec3 out[8], double& d0, double& d1, bool& visible) {
+    visible = false;
+    if (!std::isfinite(in.max_distance) || !std::isfinite(in.receiver_min_depth) ||
+        !std::isfinite(in.receiver_max_depth))
+        return Status::NonFinite;
+    if (in.max_distance < 0.0f) return Status::InvalidArgument;
+    const bool use_range = !(in.receiver_min_depth == 0.0f && in.receiver_max_depth == 0.0f);
+    if (use_range && !(in.receiver_min_depth > 0.0f && in.receiver_min_depth <= in.receiver_max_depth))
+        return Status::InvalidArgument;
+    LfRays r;
+    const Status st = lf_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
+    if (st != Status::Ok) return st;
+    double f = r.far_depth;
+    if (in.max_distance > 0.0f) f = std::fmin(f, double(in.max_distance));
+    else if (std::isinf(f)) return Status::InvalidArgument;  // infinite far plane needs max_distance
+    d0 = r.near_depth;
+    d1 = f;
+    if (use_range) {
+        d0 = std::fmax(d0, double(in.receiver_min_depth));
+        d1 = std::fmin(d1, double(in.receiver_max_depth));
+    }
+    if (!(d1 > d0)) return Status::Ok;  // nothing between the planes: not visible
+    for (int i = 0; i < 4; ++i) {
+        out[i] = lf_ray_at(r, i, d0);
+        out[i + 4] = lf_ray_at(r, i, d1);
+        if (!lf_finite(out[i]) || !lf_finite(out[i + 4])) return Status::Overflow;
+    }
+    visible = true;
+    return Status::Ok;
+}
+
+inline glm::dvec4 lf_plane_from(const glm::dvec3& n_in, const glm::dvec3& p) {
     const double l = glm::length(n_in);
     const glm::dvec3 n = n_in / l;
     return glm::dvec4(n, -glm::dot(n, p));
 }
 
-/// Six inward planes of a hexahedron given by corners in the slice_corners_view order.
-inline void hexahedron_planes(const glm::dvec3 c[8], glm::dvec4 out[6]) {
+/// Six inward planes of a hexahedron given by corners in the lf_slice_view order.
+inline void lf_hexahedron_planes(const glm::dvec3 c[8], glm::dvec4 out[6]) {
     constexpr int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}};
     glm::dvec3 centroid(0.0);
     for (int i = 0; i < 8; ++i) centroid += c[i];
@@ -221,13 +313,13 @@ inline void hexahedron_planes(const glm::dvec3 c[8], glm::dvec4 out[6]) {
         if (glm::dot(n, n) == 0.0) n = glm::cross(b - a, d - a);
         if (glm::dot(n, n) == 0.0) n = glm::dvec3(0.0, 0.0, 1.0);
         const glm::dvec3 p = (a + b + cc + d) * 0.25;
-        glm::dvec4 pl = plane_from(n, p);
+        glm::dvec4 pl = lf_plane_from(n, p);
         if (glm::dot(glm::dvec3(pl), centroid) + pl.w < 0.0) pl = -pl;
         out[f] = pl;
     }
 }
 
-inline void box_planes(const glm::dvec3& mn, const glm::dvec3& mx, glm::dvec4 out[6]) {
+inline void lf_box_planes(const glm::dvec3& mn, const glm::dvec3& mx, glm::dvec4 out[6]) {
     out[0] = glm::dvec4(1, 0, 0, -mn.x);
     out[1] = glm::dvec4(-1, 0, 0, mx.x);
     out[2] = glm::dvec4(0, 1, 0, -mn.y);
@@ -237,7 +329,7 @@ inline void box_planes(const glm::dvec3& mn, const glm::dvec3& mx, glm::dvec4 ou
 }
 
 /// Vertices of the intersection of up to 16 half-spaces, by solving every plane triple.
-inline int intersect_vertices(const glm::dvec4* planes, int np, double scale, glm::dvec3* out, int cap) {
+inline int lf_intersect_vertices(const glm::dvec4* planes, int np, double scale, glm::dvec3* out, int cap) {
     int n = 0;
     const double tol = 1e-9 * scale;
     for (int i = 0; i < np; ++i)
@@ -248,7 +340,7 @@ inline int intersect_vertices(const glm::dvec4* planes, int np, double scale, gl
                 const double det = glm::dot(a, bc);
                 if (std::fabs(det) < 1e-12) continue;
                 const glm::dvec3 p = (-planes[i].w * bc - planes[j].w * glm::cross(c, a) - planes[k].w * glm::cross(a, b)) / det;
-                if (!finite(p.x) || !finite(p.y) || !finite(p.z)) continue;
+                if (!lf_finite(p)) continue;
                 bool inside = true;
                 for (int m = 0; m < np && inside; ++m) inside = glm::dot(glm::dvec3(planes[m]), p) + planes[m].w >= -tol;
                 if (!inside) continue;
@@ -259,16 +351,9 @@ inline int intersect_vertices(const glm::dvec4* planes, int np, double scale, gl
     return n;
 }
 
-inline glm::dvec3 any_perpendicular_up(const glm::dvec3& d) {
-    // the world axis least aligned with d: fixed per light direction (stable under camera motion)
-    const glm::dvec3 ax = glm::abs(d);
-    if (ax.y <= ax.x && ax.y <= ax.z) return glm::dvec3(0, 1, 0);
-    if (ax.z <= ax.x) return glm::dvec3(0, 0, 1);
-    return glm::dvec3(1, 0, 0);
-}
-
-/// Right-handed look-at in double precision: forward f (unit), up hint u (not parallel to f).
-inline glm::dmat4 look_dir(const glm::dvec3& eye, const glm::dvec3& f, const glm::dvec3& up) {
+/// Right-handed look-at in double precision: forward f (unit), up hint u (not parallel to f). The
+/// image +y is the part of `up` perpendicular to f.
+inline glm::dmat4 lf_look_dir(const glm::dvec3& eye, const glm::dvec3& f, const glm::dvec3& up) {
     const glm::dvec3 s = glm::normalize(glm::cross(f, up));
     const glm::dvec3 u = glm::cross(s, f);
     glm::dmat4 m(1.0);
@@ -281,7 +366,29 @@ inline glm::dmat4 look_dir(const glm::dvec3& eye, const glm::dvec3& f, const glm
     return m;
 }
 
-inline glm::dmat4 ortho(double l, double r, double b, double t, double n, double f) {
+/// Up hint of the stable fit, a function of the light's travel direction f (unit) alone: the
+/// shortest-arc rotation taking (0, -1, 0) to f applied to the up vector (0, 0, -1) of a light
+/// shining straight down. Continuous except at f = (0, 1, 0) (a light shining straight up).
+inline glm::dvec3 lf_stable_up(const glm::dvec3& f) {
+    const glm::dvec3 a(0.0, -1.0, 0.0), u0(0.0, 0.0, -1.0);
+    const double c1 = 1.0 + glm::dot(a, f);
+    if (!(c1 > 1e-12)) return glm::dvec3(0.0, 0.0, 1.0);  // f = +y: the rotation by pi about x
+    const glm::dvec3 c = glm::cross(a, f);  // R v = v + c x v + c x (c x v) / (1 + a.f)
+    const glm::dvec3 cu = glm::cross(c, u0);
+    return u0 + cu + glm::cross(c, cu) / c1;
+}
+
+/// Up hint of the tight fits: the camera's view direction `v` projected off the light axis f; near
+/// parallel (|v x f| < 1e-9) the camera's up vector `cam_up`; if that fails too, the stable hint.
+inline glm::dvec3 lf_view_up(const glm::dvec3& f, const glm::dvec3& v, const glm::dvec3& cam_up) {
+    const glm::dvec3 h = v - glm::dot(v, f) * f;
+    if (glm::length(h) > 1e-9) return h;
+    const glm::dvec3 h2 = cam_up - glm::dot(cam_up, f) * f;
+    if (glm::length(h2) > 1e-9) return h2;
+    return lf_stable_up(f);
+}
+
+inline glm::dmat4 lf_ortho(double l, double r, double b, double t, double n, double f) {
     glm::dmat4 m(1.0);
     m[0][0] = 2.0 / (r - l);
     m[1][1] = 2.0 / (t - b);
@@ -292,7 +399,7 @@ inline glm::dmat4 ortho(double l, double r, double b, double t, double n, double
     return m;
 }
 
-inline glm::dmat4 frustum(double l, double r, double b, double t, double n, double f) {
+inline glm::dmat4 lf_frustum(double l, double r, double b, double t, double n, double f) {
     glm::dmat4 m(0.0);
     m[0][0] = 2.0 * n / (r - l);
     m[1][1] = 2.0 * n / (t - b);
@@ -304,54 +411,33 @@ inline glm::dmat4 frustum(double l, double r, double b, double t, double n, doub
     return m;
 }
 
-inline bool valid_box(const float* b) {
+inline bool lf_valid_box(const float* b) {
     for (int i = 0; i < 6; ++i)
         if (!std::isfinite(b[i])) return false;
     return b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5];
 }
-inline bool valid_sphere(const float* s) {
+inline bool lf_valid_sphere(const float* s) {
     for (int i = 0; i < 4; ++i)
         if (!std::isfinite(s[i])) return false;
     return s[3] >= 0.0f;
 }
 
-}  // namespace lf_detail
-
-/// World-space corners of the camera frustum between view depths [max(near, depth_min),
-/// min(far, max_distance, depth_max)]. Corner i: bit0 = +x, bit1 = +y, bit2 = far layer.
-/// depth_min/depth_max are used only when depth_max > depth_min > 0. Handles GL/zero-to-one depth,
-/// reversed-Z and infinite far planes (then max_distance > 0 is required).
-inline LightFrustumStatus camera_slice_corners(const glm::mat4& view, const glm::mat4& proj, ClipDepth depth,
-                                               bool reversed_z, float max_distance, float depth_min,
-                                               float depth_max, glm::vec3 out_corners[8]) {
-    if (!lf_detail::finite(view)) return LightFrustumStatus::InvalidInput;
-    glm::dvec3 c[8];
-    double d0 = 0, d1 = 0;
-    const LightFrustumStatus st = lf_detail::slice_corners_view(proj, depth, reversed_z, max_distance, depth_min,
-                                                                depth_max, c, d0, d1);
-    if (st != LightFrustumStatus::Ok) return st;
-    const glm::dmat4 V(view);
-    if (std::fabs(glm::determinant(V)) < 1e-300) return LightFrustumStatus::InvalidInput;
-    const glm::dmat4 iv = glm::inverse(V);
-    for (int i = 0; i < 8; ++i) {
-        out_corners[i] = glm::vec3(glm::dvec3(iv * glm::dvec4(c[i], 1.0)));
-        if (!lf_detail::finite(out_corners[i])) return LightFrustumStatus::InvalidInput;  // float overflow
-    }
-    return LightFrustumStatus::Ok;
+/// Validates a light position: Ok, or InvalidLight for NaN/Inf, w < 0 and (0, 0, 0, 0).
+inline Status lf_check_light(const glm::vec4& l) {
+    if (!lf_finite(l) || l.w < 0.0f) return Status::InvalidLight;
+    if (l.w == 0.0f && l.x == 0.0f && l.y == 0.0f && l.z == 0.0f) return Status::InvalidLight;
+    return Status::Ok;
 }
 
-/// Plane set of the receiver volume extruded towards the light (convex hull of the volume and the
-/// light position, or the volume swept along -direction for a directional light). receiver_vertices:
-/// the receiver volume's vertices; receiver_planes: its inward planes (n . x + d >= 0 inside), any
-/// superset of its facets. A box or sphere outside one of the output planes cannot shadow the volume.
-inline LightFrustumPlanes extruded_volume_planes(const glm::dvec3* receiver_vertices, int vertex_count,
-                                                 const glm::dvec4* receiver_planes, int plane_count,
-                                                 const glm::dvec4& light) {
+/// Plane set of the receiver volume extruded towards the light; `toward` is the unit direction
+/// toward a directional light, `pos` the position of a point light.
+inline LightFrustumPlanes lf_extruded_planes(const glm::dvec3* receiver_vertices, int vertex_count,
+                                             const glm::dvec4* receiver_planes, int plane_count, bool directional,
+                                             const glm::dvec3& toward, const glm::dvec3& pos) {
     LightFrustumPlanes out;
+    out.status = Status::Ok;
     if (vertex_count <= 0) return out;
-    const bool directional = light.w == 0.0;
-    const glm::dvec3 L = directional ? glm::dvec3(0.0) : glm::dvec3(light) / light.w;
-    const glm::dvec3 toward = directional ? -glm::normalize(glm::dvec3(light)) : glm::dvec3(0.0);
+    const glm::dvec3 L = pos;
     double scale = 1.0;
     for (int i = 0; i < vertex_count; ++i) scale = std::fmax(scale, glm::length(receiver_vertices[i]));
     if (!directional) scale = std::fmax(scale, glm::length(L));
@@ -372,16 +458,16 @@ inline LightFrustumPlanes extruded_volume_planes(const glm::dvec3* receiver_vert
             if (!(nl > 1e-12 * glm::length(e) * glm::length(w)) || nl == 0.0) continue;
             n /= nl;
             const double d = -glm::dot(n, receiver_vertices[i]);
-            int pos = 0, neg = 0;
+            int npos = 0, nneg = 0;
             for (int k = 0; k < vertex_count; ++k) {
                 const double s = glm::dot(n, receiver_vertices[k]) + d;
-                if (s > tol) ++pos;
-                else if (s < -tol) ++neg;
+                if (s > tol) ++npos;
+                else if (s < -tol) ++nneg;
             }
-            if (pos > 0 && neg > 0) continue;
+            if (npos > 0 && nneg > 0) continue;
             glm::dvec4 pl(n, d);
-            if (neg > 0) pl = -pl;
-            if (pos == 0 && neg == 0) continue;  // all vertices coplanar with the light: no side
+            if (nneg > 0) pl = -pl;
+            if (npos == 0 && nneg == 0) continue;  // all vertices coplanar with the light: no side
             bool dup = false;
             for (int k = 0; k < out.count && !dup; ++k)
                 dup = glm::dot(glm::dvec3(out.planes[k]), glm::dvec3(pl)) > 1.0 - 1e-12 &&
@@ -391,9 +477,8 @@ inline LightFrustumPlanes extruded_volume_planes(const glm::dvec3* receiver_vert
     return out;
 }
 
-/// Conservative box test against a plane set: false only if the box is entirely outside one plane.
-inline bool box_may_intersect(const LightFrustumPlanes& p, const glm::vec3& mn, const glm::vec3& mx, double tol = 0.0) {
-    for (int i = 0; i < p.count; ++i) {
+inline bool lf_box_may_intersect(const LightFrustumPlanes& p, const glm::vec3& mn, const glm::vec3& mx, double tol) {
+    for (int i = 0; i < p.count && i < 64; ++i) {
         const glm::dvec4 pl = p.planes[i];
         const glm::dvec3 v(pl.x >= 0 ? mx.x : mn.x, pl.y >= 0 ? mx.y : mn.y, pl.z >= 0 ? mx.z : mn.z);
         if (glm::dot(glm::dvec3(pl), v) + pl.w < -tol) return false;
@@ -401,59 +486,211 @@ inline bool box_may_intersect(const LightFrustumPlanes& p, const glm::vec3& mn, 
     return true;
 }
 
-/// Conservative sphere test against a plane set.
-inline bool sphere_may_intersect(const LightFrustumPlanes& p, const glm::vec3& c, float r, double tol = 0.0) {
-    for (int i = 0; i < p.count; ++i) {
+inline bool lf_sphere_may_intersect(const LightFrustumPlanes& p, const glm::vec3& c, float r, double tol) {
+    for (int i = 0; i < p.count && i < 64; ++i) {
         const glm::dvec4 pl = p.planes[i];
         if (glm::dot(glm::dvec3(pl), glm::dvec3(c)) + pl.w < -double(r) - tol) return false;
     }
     return true;
 }
 
+/// Does the float matrix put every point within `tol` of its clip volume (w > 0)? The check that
+/// float precision (huge coordinates against a small fitted extent) has not broken the fit.
+inline bool lf_maps_inside(const glm::mat4& m, const glm::dvec3* pts, int n, ClipDepth cd, double tol) {
+    const double zlo = cd == ClipDepth::ZeroToOne ? 0.0 : -1.0;
+    for (int i = 0; i < n; ++i) {
+        const glm::vec4 hf = m * glm::vec4(glm::vec3(pts[i]), 1.0f);
+        const glm::dvec4 h(hf);
+        if (!(h.w > 0.0) || !std::isfinite(h.x + h.y + h.z + h.w)) return false;
+        const double x = h.x / h.w, y = h.y / h.w, z = h.z / h.w;
+        if (!(std::fabs(x) <= 1.0 + tol) || !(std::fabs(y) <= 1.0 + tol) || !(z >= zlo - tol) || !(z <= 1.0 + tol))
+            return false;
+    }
+    return true;
+}
+
+}  // namespace detail
+
+/// World-space corners of the camera slice between view depths [max(near, receiver_min_depth),
+/// min(far, max_distance, receiver_max_depth)], from the camera fields of `in` (camera_view,
+/// camera_proj, camera_depth, camera_reversed_z, max_distance, receiver_min/max_depth; nothing else is
+/// read). Corner i: bit0 = +x, bit1 = +y, bit2 = far layer. Status: NonFinite (NaN/Inf),
+/// InvalidArgument (singular matrix, near plane at or behind the eye, infinite far plane with
+/// max_distance 0, negative max_distance, bad receiver range), Overflow (a corner beyond float);
+/// Ok with visible = false when the depth range is empty.
+inline LightFrustumCorners light_frustum_slice_corners(const LightFrustumInput& in) {
+    LightFrustumCorners res;
+    if (!detail::lf_finite(in.camera_view)) { res.status = Status::NonFinite; return res; }
+    glm::dvec3 c[8];
+    double d0 = 0, d1 = 0;
+    bool visible = false;
+    res.status = detail::lf_slice_view(in, c, d0, d1, visible);
+    if (res.status != Status::Ok) return res;
+    if (!visible) return res;
+    const glm::dmat4 V(in.camera_view);
+    const double det = glm::determinant(V);
+    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) { res.status = Status::InvalidArgument; return res; }
+    const glm::dmat4 iv = glm::inverse(V);
+    for (int i = 0; i < 8; ++i) {
+        res.corners[i] = glm::vec3(glm::dvec3(iv * glm::dvec4(c[i], 1.0)));
+        if (!detail::lf_finite(res.corners[i])) {
+            res.status = Status::Overflow;  // float overflow
+            for (glm::vec3& k : res.corners) k = glm::vec3(0.0f);
+            return res;
+        }
+    }
+    res.near_depth = static_cast<float>(d0);
+    res.far_depth = static_cast<float>(d1);
+    if (!std::isfinite(res.near_depth) || !std::isfinite(res.far_depth)) { res.status = Status::Overflow; return res; }
+    res.visible = true;
+    return res;
+}
+
+/// Plane set of the receiver volume extruded towards the light (convex hull of the volume and the
+/// light position, or the volume swept toward a directional light). receiver_vertices: the volume's
+/// vertex_count vertices (nullptr only with 0); receiver_planes: its plane_count inward planes
+/// (n . x + d >= 0 inside), any superset of its facets (nullptr only with 0). Counts [Limit: <= 64].
+/// A box or sphere outside one of the output planes cannot shadow the volume. More than 64 planes are
+/// dropped (conservative: fewer planes cull less). Status: InvalidArgument (null with a count, count
+/// > 64), NonFinite (NaN/Inf in a vertex or plane), InvalidLight.
+inline LightFrustumPlanes light_frustum_extruded_planes(const glm::dvec3* receiver_vertices, std::size_t vertex_count,
+                                                        const glm::dvec4* receiver_planes, std::size_t plane_count,
+                                                        const glm::vec4& light_position) {
+    LightFrustumPlanes out;
+    if ((!receiver_vertices && vertex_count > 0) || (!receiver_planes && plane_count > 0) || vertex_count > 64 ||
+        plane_count > 64) {
+        out.status = Status::InvalidArgument;
+        return out;
+    }
+    out.status = detail::lf_check_light(light_position);
+    if (out.status != Status::Ok) return out;
+    for (std::size_t i = 0; i < vertex_count; ++i)
+        if (!detail::lf_finite(receiver_vertices[i])) { out.status = Status::NonFinite; return out; }
+    for (std::size_t i = 0; i < plane_count; ++i)
+        if (!detail::lf_finite(glm::dvec3(receiver_planes[i])) || !std::isfinite(receiver_planes[i].w)) {
+            out.status = Status::NonFinite;
+            return out;
+        }
+    const bool directional = light_position.w == 0.0f;
+    const glm::dvec3 xyz(light_position);
+    const glm::dvec3 toward = directional ? glm::normalize(xyz) : glm::dvec3(0.0);
+    const glm::dvec3 pos = directional ? glm::dvec3(0.0) : xyz / double(light_position.w);
+    if (!detail::lf_finite(pos)) { out.status = Status::Overflow; return out; }
+    out = detail::lf_extruded_planes(receiver_vertices, int(vertex_count), receiver_planes, int(plane_count),
+                                     directional, toward, pos);
+    for (int k = 0; k < out.count; ++k)
+        if (!detail::lf_finite(glm::dvec3(out.planes[k])) || !std::isfinite(out.planes[k].w)) {
+            out.count = 0;
+            out.status = Status::Overflow;
+            return out;
+        }
+    return out;
+}
+
+/// Conservative box test against a plane set. Total: false only if the box is entirely outside one
+/// plane (by more than tol); NaN never culls; a plane set whose status is not Ok culls nothing.
+inline bool light_frustum_box_may_intersect(const LightFrustumPlanes& p, const glm::vec3& mn, const glm::vec3& mx,
+                                            double tol = 0.0) {
+    if (p.status != Status::Ok) return true;
+    return detail::lf_box_may_intersect(p, mn, mx, tol);
+}
+
+/// Conservative sphere test against a plane set. Total: false only if the sphere is entirely
+/// outside one plane (by more than tol); NaN never culls; a plane set whose status is not Ok culls nothing.
+inline bool light_frustum_sphere_may_intersect(const LightFrustumPlanes& p, const glm::vec3& c, float r,
+                                               double tol = 0.0) {
+    if (p.status != Status::Ok) return true;
+    return detail::lf_sphere_may_intersect(p, c, r, tol);
+}
+
 /// Fits the light's view/projection to the receiver volume (camera slice, clipped to the receiver
-/// depth range and the scene bounds) and the casters that can shadow it; writes the indices of kept
-/// casters (boxes first, then spheres numbered from caster_count) into kept_indices[0..capacity).
-/// kept_count always reports the number needed; status BufferTooSmall if it exceeds capacity.
-inline LightFrustumResult fit_light_frustum(const LightFrustumInput& in, std::uint32_t* kept_indices,
+/// depth range and the scene bounds) and the casters that can shadow it, and culls the casters.
+/// kept_indices holds `capacity` uint32 elements (nullptr only with capacity 0); it needs `needed`
+/// (the kept casters: boxes numbered 0.., spheres numbered from caster_count on). Writes
+/// kept_indices[0 .. count).
+/// Status: Ok (visible = false: the receiver volume is empty, every caster culled, nothing to draw);
+/// BufferTooSmall (the matrices are valid, `count` = capacity indices written, `needed` more are
+/// kept); InvalidArgument (null pointer with a count, camera near plane at or behind the eye, singular
+/// matrix, infinite far plane with max_distance 0, a parameter outside its [Limit]); NonFinite;
+/// InvalidLight (see "Lights:"; also a point light with stable = true); LightInsideVolume (point
+/// light inside the receiver volume, or so close that a receiver lies > 89.4 degrees off the light's
+/// axis: use a cube map); Overflow (a float
+/// matrix cannot place the receivers within 0.01 NDC of its clip volume: coordinates far too large
+/// for the fitted extent).
+inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::uint32_t* kept_indices,
                                             std::size_t capacity) {
-    using namespace lf_detail;
+    using namespace detail;
     LightFrustumResult res;
-    if (!finite(in.camera_view) || !finite(in.camera_proj) || !finite(in.light) || !std::isfinite(in.max_distance) ||
-        !std::isfinite(in.receiver_min_depth) || !std::isfinite(in.receiver_max_depth) ||
-        !std::isfinite(in.radius_quantum) || !std::isfinite(in.point_min_near_ratio))
+    auto fail = [&res](Status s) {
+        res.status = s;
         return res;
-    if (in.has_scene_bounds && (!finite(in.scene_min) || !finite(in.scene_max) || in.scene_min.x > in.scene_max.x ||
-                                in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z))
-        return res;
-    const bool directional = in.light.w == 0.0f;
-    const glm::dvec3 lxyz(in.light);
-    if (directional && !(glm::length(lxyz) > 0.0)) return res;
-    if (in.stable && directional && (in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f))) return res;
-    const glm::dvec4 light = directional ? glm::dvec4(glm::normalize(lxyz), 0.0) : glm::dvec4(lxyz / double(in.light.w), 1.0);
-    if (!directional && !finite(light.x + light.y + light.z)) return res;
+    };
+    // --- validation
+    if ((!in.casters && in.caster_count > 0) || (!in.caster_spheres && in.caster_sphere_count > 0) ||
+        (!kept_indices && capacity > 0))
+        return fail(Status::InvalidArgument);
+    constexpr std::size_t kMaxCasters = 0xFFFFFFFFu;  // indices are uint32
+    if (in.caster_count > kMaxCasters || in.caster_sphere_count > kMaxCasters - in.caster_count)
+        return fail(Status::InvalidArgument);
+    if (!lf_finite(in.camera_view) || !lf_finite(in.camera_proj)) return fail(Status::NonFinite);
+    const Status ls = lf_check_light(in.light_position);
+    if (ls != Status::Ok) return fail(ls);
+    if (in.has_scene_bounds) {
+        if (!lf_finite(in.scene_min) || !lf_finite(in.scene_max)) return fail(Status::NonFinite);
+        if (in.scene_min.x > in.scene_max.x || in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z)
+            return fail(Status::InvalidArgument);
+    }
+    if (!std::isfinite(in.radius_quantum) || !std::isfinite(in.point_min_near_ratio)) return fail(Status::NonFinite);
+    if (in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f) || !(in.point_min_near_ratio > 0.0f) ||
+        !(in.point_min_near_ratio < 1.0f))
+        return fail(Status::InvalidArgument);
+    const bool directional = in.light_position.w == 0.0f;
+    if (in.stable && !directional) return fail(Status::InvalidLight);  // stable fit: directional lights only
+    const glm::dvec3 lxyz(in.light_position);
+    const glm::dvec3 toward = directional ? glm::normalize(lxyz) : glm::dvec3(0.0);
+    const glm::dvec3 Lpos = directional ? glm::dvec3(0.0) : lxyz / double(in.light_position.w);
+    if (!lf_finite(toward) || !lf_finite(Lpos)) return fail(Status::Overflow);
+    const glm::dmat4 V(in.camera_view);
+    const double vdet = glm::determinant(V);
+    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument);
+    const glm::dmat4 iv = glm::inverse(V);
+    if (!lf_finite(iv)) return fail(Status::InvalidArgument);
 
     // --- receiver volume: camera slice (view space -> world), optionally clipped by the scene box
     glm::dvec3 cv[8];
     double d0 = 0, d1 = 0;
-    res.status = slice_corners_view(in.camera_proj, in.camera_depth, in.camera_reversed_z, in.max_distance,
-                                    in.receiver_min_depth, in.receiver_max_depth, cv, d0, d1);
-    if (res.status != LightFrustumStatus::Ok) return res;
-    res.status = LightFrustumStatus::InvalidInput;
-    const glm::dmat4 V(in.camera_view);
-    const double vdet = glm::determinant(V);
-    if (!std::isfinite(vdet) || std::fabs(vdet) < 1e-300) return res;
-    const glm::dmat4 iv = glm::inverse(V);
+    bool visible = false;
+    const Status ss = lf_slice_view(in, cv, d0, d1, visible);
+    if (ss != Status::Ok) return fail(ss);
+    const std::size_t total = in.caster_count + in.caster_sphere_count;
+    auto not_visible = [&]() {
+        res.status = Status::Ok;
+        res.visible = false;
+        res.culled_count = total;
+        for (std::size_t i = 0; i < in.caster_count; ++i)
+            if (!lf_valid_box(in.casters + 6 * i)) ++res.invalid_count;
+        for (std::size_t i = 0; i < in.caster_sphere_count; ++i)
+            if (!lf_valid_sphere(in.caster_spheres + 4 * i)) ++res.invalid_count;
+        return res;
+    };
+    if (!visible) return not_visible();
     glm::dvec3 cw[8];
-    for (int i = 0; i < 8; ++i) cw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
-    for (int i = 0; i < 8; ++i)
-        if (!finite(cw[i].x + cw[i].y + cw[i].z)) return res;
+    for (int i = 0; i < 8; ++i) {
+        cw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
+        if (!lf_finite(cw[i])) return fail(Status::Overflow);
+    }
+    // camera axes in world space (for the tight fits' orientation)
+    glm::dvec3 cam_fwd = glm::dvec3(iv * glm::dvec4(0.0, 0.0, -1.0, 0.0));
+    glm::dvec3 cam_up = glm::dvec3(iv * glm::dvec4(0.0, 1.0, 0.0, 0.0));
+    cam_fwd = glm::length(cam_fwd) > 0.0 ? glm::normalize(cam_fwd) : glm::dvec3(0.0);
+    cam_up = glm::length(cam_up) > 0.0 ? glm::normalize(cam_up) : glm::dvec3(0.0);
     glm::dvec4 planes[12];
-    hexahedron_planes(cw, planes);
+    lf_hexahedron_planes(cw, planes);
     int np = 6;
     double scale = 1.0;
     for (int i = 0; i < 8; ++i) scale = std::fmax(scale, glm::length(cw[i]));
     if (in.has_scene_bounds) {
-        box_planes(glm::dvec3(in.scene_min), glm::dvec3(in.scene_max), planes + 6);
+        lf_box_planes(glm::dvec3(in.scene_min), glm::dvec3(in.scene_max), planes + 6);
         np = 12;
         scale = std::fmax(scale, std::fmax(glm::length(glm::dvec3(in.scene_min)), glm::length(glm::dvec3(in.scene_max))));
     }
@@ -462,40 +699,41 @@ inline LightFrustumResult fit_light_frustum(const LightFrustumInput& in, std::ui
     if (np == 6) {
         for (int i = 0; i < 8; ++i) verts[nv++] = cw[i];
     } else {
-        nv = intersect_vertices(planes, np, scale, verts, 64);
-        if (nv == 0) {
-            res.status = LightFrustumStatus::EmptyReceivers;
-            res.culled_count = in.caster_count + in.caster_sphere_count;
-            return res;
-        }
+        nv = lf_intersect_vertices(planes, np, scale, verts, 64);
+        if (nv == 0) return not_visible();
     }
 
     // --- caster culling against the receiver volume extruded towards the light
-    const LightFrustumPlanes hull = extruded_volume_planes(verts, nv, planes, np, light);
+    const LightFrustumPlanes hull = lf_extruded_planes(verts, nv, planes, np, directional, toward, Lpos);
     const double ctol = 1e-7 * scale;
     std::size_t kept = 0;
-    const std::size_t nb = in.casters ? in.caster_count : 0, ns = in.caster_spheres ? in.caster_sphere_count : 0;
-    for (std::size_t i = 0; i < nb; ++i) {
+    const std::size_t nb = in.caster_count, ns = in.caster_sphere_count;
+    auto box_kept = [&](std::size_t i) {
         const float* b = in.casters + 6 * i;
-        if (!valid_box(b)) { ++res.invalid_count; ++res.culled_count; continue; }
-        if (box_may_intersect(hull, glm::vec3(b[0], b[1], b[2]), glm::vec3(b[3], b[4], b[5]), ctol)) {
-            if (kept < capacity && kept_indices) kept_indices[kept] = static_cast<std::uint32_t>(i);
+        return lf_box_may_intersect(hull, glm::vec3(b[0], b[1], b[2]), glm::vec3(b[3], b[4], b[5]), ctol);
+    };
+    auto sphere_kept = [&](std::size_t i) {
+        const float* s = in.caster_spheres + 4 * i;
+        return lf_sphere_may_intersect(hull, glm::vec3(s[0], s[1], s[2]), s[3], ctol);
+    };
+    for (std::size_t i = 0; i < nb; ++i) {
+        if (!lf_valid_box(in.casters + 6 * i)) { ++res.invalid_count; ++res.culled_count; continue; }
+        if (box_kept(i)) {
+            if (kept < capacity) kept_indices[kept] = static_cast<std::uint32_t>(i);
             ++kept;
         } else {
             ++res.culled_count;
         }
     }
     for (std::size_t i = 0; i < ns; ++i) {
-        const float* s = in.caster_spheres + 4 * i;
-        if (!valid_sphere(s)) { ++res.invalid_count; ++res.culled_count; continue; }
-        if (sphere_may_intersect(hull, glm::vec3(s[0], s[1], s[2]), s[3], ctol)) {
-            if (kept < capacity && kept_indices) kept_indices[kept] = static_cast<std::uint32_t>(nb + i);
+        if (!lf_valid_sphere(in.caster_spheres + 4 * i)) { ++res.invalid_count; ++res.culled_count; continue; }
+        if (sphere_kept(i)) {
+            if (kept < capacity) kept_indices[kept] = static_cast<std::uint32_t>(nb + i);
             ++kept;
         } else {
             ++res.culled_count;
         }
     }
-    res.kept_count = kept;
 
     // depth (along the light's view axis) of the nearest kept caster / the scene bounds
     auto caster_min_depth = [&](const glm::dmat4& lv) {
@@ -509,12 +747,12 @@ inline LightFrustumResult fit_light_frustum(const LightFrustumInput& in, std::ui
         if (nb + ns > 0) {
             for (std::size_t i = 0; i < nb; ++i) {
                 const float* b = in.casters + 6 * i;
-                if (!valid_box(b) || !box_may_intersect(hull, glm::vec3(b[0], b[1], b[2]), glm::vec3(b[3], b[4], b[5]), ctol)) continue;
+                if (!lf_valid_box(b) || !box_kept(i)) continue;
                 box_depth(glm::dvec3(b[0], b[1], b[2]), glm::dvec3(b[3], b[4], b[5]));
             }
             for (std::size_t i = 0; i < ns; ++i) {
                 const float* s = in.caster_spheres + 4 * i;
-                if (!valid_sphere(s) || !sphere_may_intersect(hull, glm::vec3(s[0], s[1], s[2]), s[3], ctol)) continue;
+                if (!lf_valid_sphere(s) || !sphere_kept(i)) continue;
                 const glm::dvec3 c(s[0], s[1], s[2]);
                 if (directional) m = std::fmin(m, -(lv * glm::dvec4(c, 1.0)).z - double(s[3]));
                 else box_depth(c - double(s[3]), c + double(s[3]));
@@ -528,8 +766,7 @@ inline LightFrustumResult fit_light_frustum(const LightFrustumInput& in, std::ui
     glm::dmat4 lview(1.0), lproj(1.0);
     double nearp = 0, farp = 0;
     if (directional) {
-        const glm::dvec3 d(light);
-        const glm::dvec3 up = any_perpendicular_up(d);
+        const glm::dvec3 d = -toward;  // travel direction = the light view's forward axis
         if (in.stable) {
             // sphere of the slice computed in view space: bitwise invariant to camera rotation/translation
             const glm::dvec3 nc = (cv[0] + cv[1] + cv[2] + cv[3]) * 0.25, fc = (cv[4] + cv[5] + cv[6] + cv[7]) * 0.25;
@@ -545,26 +782,59 @@ inline LightFrustumResult fit_light_frustum(const LightFrustumInput& in, std::ui
             for (int i = 0; i < 8; ++i) r = std::fmax(r, glm::length(cv[i] - center_v));
             const double q = in.radius_quantum;
             r = std::ceil(r / q) * q;  // MJP/Valient: rounded radius -> constant texel size
-            if (!(r > 0.0) || !finite(r)) return res;
-            const double S = double(in.shadow_map_size);
-            const double texel = 2.0 * r / (S - 2.0);  // one texel of border on each side
-            const double half = r + texel;
-            lview = look_dir(glm::dvec3(0.0), d, up);  // origin-anchored: the world origin is a texel corner
+            if (!(r > 0.0) || !lf_finite(r)) return fail(Status::Overflow);
+            lview = lf_look_dir(glm::dvec3(0.0), d, lf_stable_up(d));  // origin-anchored, fixed per light
             const glm::dvec3 cl = glm::dvec3(lview * iv * glm::dvec4(center_v, 1.0));
-            const double cx = std::floor(cl.x / texel) * texel, cy = std::floor(cl.y / texel) * texel;
-            farp = -cl.z + r;
-            nearp = std::fmin(-cl.z - r, caster_min_depth(lview));
+            // window side W: the sphere's diameter, or the scene box's light-space extent if smaller
+            double W = 2.0 * r;
+            if (in.has_scene_bounds) {
+                glm::dvec3 bmn(std::numeric_limits<double>::infinity()), bmx(-std::numeric_limits<double>::infinity());
+                for (int c = 0; c < 8; ++c) {
+                    const glm::dvec3 p((c & 1) ? in.scene_max.x : in.scene_min.x, (c & 2) ? in.scene_max.y : in.scene_min.y,
+                                       (c & 4) ? in.scene_max.z : in.scene_min.z);
+                    const glm::dvec3 pl = glm::dvec3(lview * glm::dvec4(p, 1.0));
+                    bmn = glm::min(bmn, pl);
+                    bmx = glm::max(bmx, pl);
+                }
+                W = std::fmin(W, std::fmax(std::fmax(bmx.x - bmn.x, bmx.y - bmn.y), 2.0 * r * 1e-6));
+            }
+            // the receivers' light-space rectangle: the window must cover it (it does: W >= its extent)
+            glm::dvec3 rmn(std::numeric_limits<double>::infinity()), rmx(-std::numeric_limits<double>::infinity());
+            for (int i = 0; i < nv; ++i) {
+                const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(verts[i], 1.0));
+                rmn = glm::min(rmn, p);
+                rmx = glm::max(rmx, p);
+            }
+            // the sphere's center, moved the least that makes the window cover [lo, hi] (continuous
+            // in the light direction and the camera)
+            auto place = [&](double p, double lo, double hi) {
+                const double a = hi - 0.5 * W, b = lo + 0.5 * W;  // centers whose window covers [lo, hi]
+                return a <= b ? glm::clamp(p, a, b) : 0.5 * (a + b);
+            };
+            const double S = double(in.shadow_map_size);
+            const double texel = W / (S - 2.0);  // one texel of border on each side
+            const double half = 0.5 * W + texel;
+            const double cx = std::floor(place(cl.x, rmn.x, rmx.x) / texel) * texel;
+            const double cy = std::floor(place(cl.y, rmn.y, rmx.y) / texel) * texel;
+            if (in.has_scene_bounds) {  // depth: the bounded receivers
+                farp = -rmn.z;
+                nearp = std::fmin(-rmx.z, caster_min_depth(lview));
+            } else {
+                farp = -cl.z + r;
+                nearp = std::fmin(-cl.z - r, caster_min_depth(lview));
+            }
             const double pad = 1e-6 * std::fmax(1.0, std::fabs(farp) + std::fabs(nearp));
-            lproj = ortho(cx - half, cx + half, cy - half, cy + half, nearp - pad, farp + pad);
             nearp -= pad;
             farp += pad;
+            lproj = lf_ortho(cx - half, cx + half, cy - half, cy + half, nearp, farp);
             res.texel_world_size = static_cast<float>(texel);
             res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
+            if (!(res.texel_world_size > 0.0f) || !lf_finite(res.bounding_sphere)) return fail(Status::Overflow);
         } else {
             glm::dvec3 c(0.0);
             for (int i = 0; i < nv; ++i) c += verts[i];
             c /= double(nv);
-            lview = look_dir(c, d, up);
+            lview = lf_look_dir(c, d, lf_view_up(d, cam_fwd, cam_up));
             glm::dvec3 mn(std::numeric_limits<double>::infinity()), mx(-std::numeric_limits<double>::infinity());
             for (int i = 0; i < nv; ++i) {
                 const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(verts[i], 1.0));
@@ -574,53 +844,55 @@ inline LightFrustumResult fit_light_frustum(const LightFrustumInput& in, std::ui
             farp = -mn.z;
             nearp = std::fmin(-mx.z, caster_min_depth(lview));
             const double pad = 1e-6 * std::fmax(scale, 1e-30);
-            lproj = ortho(mn.x - pad, mx.x + pad, mn.y - pad, mx.y + pad, nearp - pad, farp + pad);
             nearp -= pad;
             farp += pad;
+            lproj = lf_ortho(mn.x - pad, mx.x + pad, mn.y - pad, mx.y + pad, nearp, farp);
         }
     } else {
-        const glm::dvec3 L(light);
+        const glm::dvec3 L = Lpos;
         glm::dvec3 c(0.0);
         for (int i = 0; i < nv; ++i) c += verts[i];
         c /= double(nv);
         const glm::dvec3 axis = c - L;
         const double al = glm::length(axis);
-        res.status = LightFrustumStatus::LightInsideVolume;
-        if (!(al > 1e-9 * scale)) return res;
+        if (!(al > 1e-9 * scale)) return fail(Status::LightInsideVolume);
         const glm::dvec3 f = axis / al;
-        lview = look_dir(L, f, any_perpendicular_up(f));
+        lview = lf_look_dir(L, f, lf_view_up(f, cam_fwd, cam_up));
         double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dmin = 1e300, dmax = 0;
         for (int i = 0; i < nv; ++i) {
             const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(verts[i], 1.0));
             const double dep = -p.z;
             const double lat = std::fmax(std::fabs(p.x), std::fabs(p.y));
-            if (!(dep > 1e-9 * scale) || lat > 100.0 * dep) return res;  // > ~89.4 degrees off axis
+            if (!(dep > 1e-9 * scale) || lat > 100.0 * dep) return fail(Status::LightInsideVolume);  // > ~89.4 deg
             xl = std::fmin(xl, p.x / dep); xr = std::fmax(xr, p.x / dep);
             yb = std::fmin(yb, p.y / dep); yt = std::fmax(yt, p.y / dep);
             dmin = std::fmin(dmin, dep); dmax = std::fmax(dmax, dep);
         }
         farp = dmax * (1.0 + 1e-6);
         nearp = std::fmin(dmin, caster_min_depth(lview)) * (1.0 - 1e-6);
-        nearp = std::fmax(nearp, farp * std::fmax(double(in.point_min_near_ratio), 1e-7));
+        nearp = std::fmax(nearp, farp * double(in.point_min_near_ratio));
         if (!(farp > nearp)) farp = nearp * 2.0;
         const double pad = 1e-6 * std::fmax(1.0, xr - xl + yt - yb);
-        lproj = frustum((xl - pad) * nearp, (xr + pad) * nearp, (yb - pad) * nearp, (yt + pad) * nearp, nearp, farp);
+        lproj = lf_frustum((xl - pad) * nearp, (xr + pad) * nearp, (yb - pad) * nearp, (yt + pad) * nearp, nearp, farp);
     }
-    lproj = depth_convention(in.light_depth, in.light_reversed_z) * lproj;
+    lproj = lf_depth_convention(in.light_depth, in.light_reversed_z) * lproj;
     const glm::dmat4 vp = lproj * lview;
-    if (!finite(vp)) { res.status = LightFrustumStatus::InvalidInput; return res; }
+    if (!lf_finite(vp) || !lf_finite(lview) || !lf_finite(lproj)) return fail(Status::Overflow);
     res.view = glm::mat4(lview);
     res.proj = glm::mat4(lproj);
     res.view_proj = glm::mat4(vp);
     res.near_plane = static_cast<float>(nearp);
     res.far_plane = static_cast<float>(farp);
-    if (!finite(res.view_proj) || !finite(res.view) || !finite(res.proj) || !std::isfinite(res.near_plane) ||
-        !std::isfinite(res.far_plane)) {
-        res.status = LightFrustumStatus::InvalidInput;
-        res.view = res.proj = res.view_proj = glm::mat4(1.0f);
-        return res;
+    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_plane) ||
+        !std::isfinite(res.far_plane) || !lf_maps_inside(res.view_proj, verts, nv, in.light_depth, 1e-2)) {
+        LightFrustumResult bad;
+        bad.status = Status::Overflow;
+        return bad;
     }
-    res.status = kept > capacity ? LightFrustumStatus::BufferTooSmall : LightFrustumStatus::Ok;
+    res.visible = true;
+    res.needed = kept;
+    res.count = kept < capacity ? kept : capacity;
+    res.status = kept > capacity ? Status::BufferTooSmall : Status::Ok;
     return res;
 }
 

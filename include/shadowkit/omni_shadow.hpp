@@ -924,14 +924,14 @@ inline double omni_max_sagitta(double l) {
 /// Tessellation error of a paraboloid map (Brabec et al. 2002 assume fine tessellation): a straight
 /// edge of length L whose points are all at distance >= D from the light maps to a curve, but the
 /// rasterizer draws the chord between its end points. Derivation:
-///  1. the edge subtends at most phi = 2 atan(L / 2D) at the light (the centerd case; an edge whose
+///  1. the edge subtends at most phi = 2 atan(L / 2D) at the light (the centered case; an edge whose
 ///     nearest point is an end point subtends less);
 ///  2. the map is the stereographic projection from the opposite pole, which maps the edge's great
 ///     circle (plane normal m) to a circle of radius 1 / |m.z| >= 1 (map units), conformally with
 ///     scale (1 + r^2) / 2, so within radius R the image arc is at most l = phi (1 + R^2) / 2 long;
 ///  3. an arc of length l on a circle of radius >= 1 deviates from its chord by at most
 ///     1 - cos(l / 2) (l <= 4.66; beyond, 0.7246 l / 2), and a map unit is size / 2 texels.
-/// Bound = size / 2 * (1 - cos(l / 2)). It is attained (factor 1) by an edge centerd on its
+/// Bound = size / 2 * (1 - cos(l / 2)). It is attained (factor 1) by an edge centered on its
 /// foot point, perpendicular to the axis, on the rim (R = 1: the equator maps to the unit circle
 /// isometrically). `max_radius` R [Limit: (0, 1e4]]: the part of the map the edge's image stays
 /// within (1 = its hemisphere; a clip margin beyond the rim needs R > 1; R < 1 is valid but not

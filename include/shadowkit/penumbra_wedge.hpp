@@ -60,17 +60,6 @@
 //   * Clip depth: ScissorParams::clip_depth (GL [-1, 1] or zero-to-one) plus reversed_z; depth bounds
 //     are window depths for glDepthRange(0, 1). Infinite projections (P_inf) are accepted.
 //
-// Based on:
-//   U. Assarsson, T. Akenine-Moller, "A Geometry-based Soft Shadow Volume Algorithm using Graphics
-//   Hardware", SIGGRAPH 2003, and T. Akenine-Moller's SIGGRAPH 2004 course notes (wedge construction
-//   steps A-D; visibility = hard count + signed per-edge coverage, "positive half space of Q").
-//   E. Lengyel, "Advanced Stencil Shadow and Penumbral Wedge Rendering", GDC 2005 (inner/outer
-//   half-wedges with three bounding planes tested in viewport space; occluded area = sector area
-//   between the clipped endpoints minus the triangle with the light's center; per-wedge scissor and
-//   depth bounds from the wedge clipped to the light's bounds).
-//
-// MIT License. Copyright (c) shadowkit contributors.
-//
 // Construction (A&AM 2003 steps A-D; everything in double). (A) The endpoint farther from c is moved
 // along its ray from c (toward the light center, not along the edge: moving along the edge would drop
 // part of the penumbra) to the nearer endpoint's distance -> apex edge (a0, a1). (B) outer_bound and
@@ -123,6 +112,17 @@
 // and depth bounds of (hull intersected with box). Empty intersection: visible = false (Ok). A hull
 // with an infinite extent (w = 0 vertices) is first cut off beyond the box (its cap moved out until
 // every box corner lies inside the cap's planes).
+//
+// Based on:
+//   U. Assarsson, T. Akenine-Moller, "A Geometry-based Soft Shadow Volume Algorithm using Graphics
+//   Hardware", SIGGRAPH 2003, and T. Akenine-Moller's SIGGRAPH 2004 course notes (wedge construction
+//   steps A-D; visibility = hard count + signed per-edge coverage, "positive half space of Q").
+//   E. Lengyel, "Advanced Stencil Shadow and Penumbral Wedge Rendering", GDC 2005 (inner/outer
+//   half-wedges with three bounding planes tested in viewport space; occluded area = sector area
+//   between the clipped endpoints minus the triangle with the light's center; per-wedge scissor and
+//   depth bounds from the wedge clipped to the light's bounds).
+//
+// MIT License. Copyright (c) shadowkit contributors.
 #pragma once
 
 #include <glm/mat4x4.hpp>

@@ -1,21 +1,31 @@
-// shadowkit/shadow_bias.hpp - depth bias for shadow maps: constant, slope-scaled (and its
-// glPolygonOffset equivalent), normal offset, receiver-plane depth bias, the depth metric and the
-// precision each metric/format gives at a distance, and second-depth (midpoint) shadow maps.
+// shadowkit/shadow_bias.hpp - shadow-map depth bias (slope-scaled, polygon offset, normal offset, receiver plane, second depth) and depth precision
 //
-// USAGE
+// Usage:
 //   #include <shadowkit/shadow_bias.hpp>
-//   using namespace shadowkit;
-//   float t   = texel_world_size_perspective(dist, fov_y, 2048);       // world size of one texel
-//   float tn  = light_tan_angle(normal, to_light);                     // tan(angle(normal, light))
-//   float b   = slope_scaled_bias(t, tn);                              // world-space depth bias
-//   glm::vec3 q = normal_offset_position(p, normal, to_light, t, 0.75f);  // or: offset the lookup
-//   ReceiverPlaneGradient g = receiver_plane_depth_gradient(dFdx_uvz, dFdy_uvz);
-//   float z_tap = receiver_plane_depth(uvz.z, g.dz_duv, tap_offset_uv);  // per PCF tap
-//   float units = polygon_offset(/*factor*/1.0f, /*units*/2.0f, dzdx, dzdy, DepthFormat::Fixed24, zmax);
-//   double dd = depth_metric_resolution(DepthMetric::PostProjective, DepthFormat::Fixed24, 40.0, 0.1, 100.0);
+//   namespace sk = shadowkit;
+//   sk::BiasValue t = sk::bias_texel_world_size_perspective(dist, fov_y, 2048.0f);  // one texel [world]
+//   sk::BiasTanAngle a = sk::bias_light_tan_angle(normal, to_light);                 // tan(angle(normal, light))
+//   if (t.status == sk::Status::Ok && a.status == sk::Status::Ok && a.faces_light) {
+//       sk::BiasValue b = sk::bias_slope_scaled(t.value, a.value);                  // depth bias [world]
+//       sk::BiasPosition q = sk::bias_normal_offset_position(p, normal, to_light, t.value, 0.75f);  // or offset the lookup
+//   }
+//   sk::BiasReceiverPlane g = sk::bias_receiver_plane_depth_gradient(dFdx_uvz, dFdy_uvz);  // per pixel
+//   sk::BiasDepthValue step = sk::bias_depth_metric_resolution(sk::BiasDepthMetric::PostProjective,
+//                                                              sk::DepthFormat::Fixed24, 40.0, 0.1, 100.0);
 //
-// Units: "world" values are distances in the light's depth metric (eye distance along the light's
-// axis, or distance to the light); "window" values are stored depth in [0,1].
+// Conventions. Units: "world" values are distances in the light's depth metric (eye distance along
+// the light's axis, or distance to the light); "window" values are stored depth in [0, 1]
+// (glDepthRange(0, 1)); uv offsets are in shadow-map uv [0, 1].
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+// This header takes no light itself: `to_light` is the direction from the receiver p toward the
+// light, light_position.xyz / w - p (w > 0) or light_position.xyz (w = 0); its length is free.
+// Normals need not be unit length. Results: a struct whose first member is `status`; `Ok`
+// only with finite outputs in their documented range; outcomes (a surface facing away, an edge-on
+// plane, a singular receiver Jacobian) are fields with Ok. Functions marked "total:" take any
+// input. No buffers, no allocation.
 //
 // Based on:
 //   L. Williams, "Casting curved shadows on curved surfaces", SIGGRAPH 1978.
@@ -23,7 +33,7 @@
 //   OpenGL 4.6 core spec, Sec. 14.6.5 "Depth Offset" (o = m * factor + r * units).
 //   J. Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006 (receiver plane depth bias).
 //   D. Holbert, "Saying Goodbye to Shadow Acne", GDC 2011 poster (normal offset).
-//   M. Gerlach (Apelles thesis, 2010): distance to the light as a linear depth metric.
+//   A. Moschig, "Apelles: A Library for GPU-Based Real-Time Global Illumination", master's thesis, TU Graz (2012): distance to the light as a linear depth metric.
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -38,135 +48,284 @@
 
 namespace shadowkit {
 
-// Shared with other shadowkit headers; the guards let any of them be included together.
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
-/// Clip-space depth range: OpenGL default [-1, 1] or D3D/Vulkan/glClipControl [0, 1].
+/// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
 #ifndef SHADOWKIT_DEPTH_FORMAT_DEFINED
 #define SHADOWKIT_DEPTH_FORMAT_DEFINED
-/// Depth-buffer storage formats (DEPTH_COMPONENT32F, DEPTH24 / DEPTH24_STENCIL8, DEPTH_COMPONENT16).
+/// Depth-buffer storage format.
 enum class DepthFormat { Float32, Fixed24, Fixed16 };
 #endif
-
-// What the shadow map stores as depth.
-enum class DepthMetric {
-    PostProjective,          // window depth of a perspective light, 0 at near, 1 at far (far may be +Inf)
-    PostProjectiveReversed,  // reversed-Z: 1 at near, 0 at far (far may be +Inf)
-    LinearNormalized,        // (d - near) / (far - near): orthographic lights, or linear depth written by the shader
-    LinearDistance           // d itself (e.g. distance to the light in an R32F target); Float32 only
+/// What the shadow map stores as depth.
+enum class BiasDepthMetric {
+    PostProjective,          ///< window depth of a perspective light, 0 at near, 1 at far (far may be +inf)
+    PostProjectiveReversed,  ///< reversed-Z: 1 at near, 0 at far (far may be +inf)
+    LinearNormalized,        ///< (d - near) / (far - near): orthographic lights, or linear depth written by the shader
+    LinearDistance           ///< d itself (e.g. distance to the light in an R32F target); Float32 only
 };
+
+/// A scalar result in world or uv units. `value` is 0 unless status is Ok.
+struct BiasValue {
+    Status status = Status::NotRun;
+    float value = 0.0f;
+};
+
+/// A depth-precision result (steps, slopes, offsets: double keeps 2^-24 steps exact). 0 unless Ok.
+struct BiasDepthValue {
+    Status status = Status::NotRun;
+    double value = 0.0;
+};
+
+/// tan of the angle between a surface normal and the direction to the light.
+struct BiasTanAngle {
+    Status status = Status::NotRun;
+    bool faces_light = false;  ///< false (with Ok): the surface faces away from the light or contains its direction; value 0
+    float value = 0.0f;        ///< tan(theta) >= 0 when faces_light
+};
+
+/// Depth gradient of a plane in a light's image plane.
+struct BiasDepthGradient {
+    Status status = Status::NotRun;
+    bool edge_on = false;   ///< true (with Ok): the plane (nearly) contains the light direction, the gradient is beyond float; dz_duv 0
+    glm::vec2 dz_duv{0.0f}; ///< (dz/du, dz/dv), depth units per world unit on the light's image plane
+};
+
+/// Receiver-plane depth gradient from screen-space derivatives.
+struct BiasReceiverPlane {
+    Status status = Status::NotRun;
+    bool singular = false;  ///< true (with Ok): the uv Jacobian is singular (seen edge-on); dz_duv 0: fall back to slope-scaled bias
+    glm::vec2 dz_duv{0.0f}; ///< (dz/du, dz/dv) in window depth per uv
+};
+
+/// An offset lookup position.
+struct BiasPosition {
+    Status status = Status::NotRun;
+    glm::vec3 position{0.0f};
+};
+
+namespace detail {
+inline bool bias_fits_float(double v) {
+    return std::isfinite(v) && std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
+}
+inline bool bias_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool bias_finite(glm::vec2 v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+inline bool bias_valid_format(DepthFormat f) {
+    return f == DepthFormat::Float32 || f == DepthFormat::Fixed24 || f == DepthFormat::Fixed16;
+}
+inline BiasValue bias_float(double v) {
+    BiasValue r;
+    if (!bias_fits_float(v)) { r.status = Status::Overflow; return r; }
+    r.value = static_cast<float>(v);
+    r.status = Status::Ok;
+    return r;
+}
+inline BiasDepthValue bias_double(double v) {
+    BiasDepthValue r;
+    if (!bias_fits_float(v)) { r.status = Status::Overflow; return r; }
+    r.value = v;
+    r.status = Status::Ok;
+    return r;
+}
+// The metric's domain: n finite > 0, f > n (+inf allowed except LinearNormalized), d finite > 0.
+inline Status bias_check_metric(BiasDepthMetric m, double d, double n, double f) {
+    if (std::isnan(d) || std::isnan(n) || std::isnan(f) || std::isinf(d) || std::isinf(n) ||
+        f == -std::numeric_limits<double>::infinity())
+        return Status::NonFinite;
+    if (!(n > 0.0) || !(f > n) || !(d > 0.0)) return Status::InvalidArgument;
+    switch (m) {
+    case BiasDepthMetric::PostProjective:
+    case BiasDepthMetric::PostProjectiveReversed:
+    case BiasDepthMetric::LinearDistance: return Status::Ok;
+    case BiasDepthMetric::LinearNormalized: return std::isinf(f) ? Status::InvalidArgument : Status::Ok;
+    }
+    return Status::InvalidArgument;
+}
+inline double bias_metric_value(BiasDepthMetric m, double d, double n, double f) {
+    switch (m) {
+    case BiasDepthMetric::PostProjective: return std::isinf(f) ? 1.0 - n / d : f * (d - n) / (d * (f - n));
+    case BiasDepthMetric::PostProjectiveReversed: return std::isinf(f) ? n / d : n * (f - d) / (d * (f - n));
+    case BiasDepthMetric::LinearNormalized: return (d - n) / (f - n);
+    case BiasDepthMetric::LinearDistance: return d;
+    }
+    return 0.0;
+}
+inline double bias_metric_slope(BiasDepthMetric m, double d, double n, double f) {
+    switch (m) {
+    case BiasDepthMetric::PostProjective:
+    case BiasDepthMetric::PostProjectiveReversed:
+        return std::isinf(f) ? n / d / d : f * n / d / d / (f - n);
+    case BiasDepthMetric::LinearNormalized: return 1.0 / (f - n);
+    case BiasDepthMetric::LinearDistance: return 1.0;
+    }
+    return 0.0;
+}
+inline double bias_format_step(DepthFormat f, double v) {
+    if (f == DepthFormat::Fixed24) return 1.0 / 16777215.0;
+    if (f == DepthFormat::Fixed16) return 1.0 / 65535.0;
+    const float x = static_cast<float>(std::fabs(v));
+    return static_cast<double>(std::nextafter(x, std::numeric_limits<float>::infinity())) - static_cast<double>(x);
+}
+} // namespace detail
 
 // ------------------------------------------------------------------------------------------------
 // Depth formats
 // ------------------------------------------------------------------------------------------------
 
-// Number of bits of a fixed-point format (0 for Float32).
-inline int depth_format_bits(DepthFormat f) {
+/// Bits of a fixed-point format. total: 24 (Fixed24), 16 (Fixed16), 0 for Float32 and any other value.
+inline int bias_depth_format_bits(DepthFormat f) {
     return f == DepthFormat::Fixed24 ? 24 : (f == DepthFormat::Fixed16 ? 16 : 0);
 }
 
-// Rounds a value to what the format stores: UNORM n clamps to [0,1] and rounds to k / (2^n - 1);
-// Float32 rounds to float. NaN stays NaN.
-inline double quantize_depth(DepthFormat f, double v) {
-    if (std::isnan(v)) return v;
-    const int bits = depth_format_bits(f);
-    if (bits == 0) return double(static_cast<float>(v));
+/// The value the format stores for v: UNORM n clamps to [0, 1] and rounds to k / (2^n - 1);
+/// Float32 rounds to float. NonFinite for NaN/Inf v, InvalidArgument for an unknown format,
+/// Overflow for |v| beyond float (Float32).
+inline BiasDepthValue bias_quantize_depth(DepthFormat f, double v) {
+    BiasDepthValue r;
+    if (!std::isfinite(v)) { r.status = Status::NonFinite; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    const int bits = bias_depth_format_bits(f);
+    if (bits == 0) return detail::bias_double(static_cast<double>(static_cast<float>(v)));
     const double scale = std::ldexp(1.0, bits) - 1.0;
     const double c = v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
-    return std::round(c * scale) / scale;
+    return detail::bias_double(std::round(c * scale) / scale);
 }
 
-// Spacing between the stored value nearest to v and the next one above it: 1 / (2^n - 1) for UNORM n,
-// the float32 ulp of v for Float32 (v > 0; the smallest subnormal at 0). NaN for NaN.
-inline double depth_format_step(DepthFormat f, double v) {
-    if (std::isnan(v)) return v;
-    const int bits = depth_format_bits(f);
-    if (bits != 0) return 1.0 / (std::ldexp(1.0, bits) - 1.0);
-    const float x = static_cast<float>(std::fabs(v));
-    if (std::isinf(x)) return std::numeric_limits<double>::infinity();
-    return double(std::nextafter(x, std::numeric_limits<float>::infinity())) - double(x);
+/// Spacing between the stored value nearest to v and the next one above it: 1 / (2^n - 1) for
+/// UNORM n, the float32 ulp of |v| for Float32 (the smallest subnormal at 0). Ok: value > 0.
+/// NonFinite for NaN/Inf v, InvalidArgument for an unknown format, Overflow at |v| >= FLT_MAX.
+inline BiasDepthValue bias_depth_format_step(DepthFormat f, double v) {
+    BiasDepthValue r;
+    if (!std::isfinite(v)) { r.status = Status::NonFinite; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    return detail::bias_double(detail::bias_format_step(f, v));
 }
 
 // ------------------------------------------------------------------------------------------------
 // Depth metric and precision
 // ------------------------------------------------------------------------------------------------
 
-// Stored value of the metric for an eye distance d (d along the light's axis for PostProjective*).
-// PostProjective: z_w = f (d - n) / (d (f - n)), = 1 - n/d for f = +Inf (GL [-1,1] and [0,1] clip
-// depth give the same window depth with glDepthRange(0,1); GL's 0.5 ndc + 0.5 loses bits near 1).
-// PostProjectiveReversed: z_w = n (f - d) / (d (f - n)), = n / d for f = +Inf.
-inline double depth_metric_value(DepthMetric m, double d, double n, double f) {
-    switch (m) {
-    case DepthMetric::PostProjective:
-        return std::isinf(f) ? 1.0 - n / d : f * (d - n) / (d * (f - n));
-    case DepthMetric::PostProjectiveReversed:
-        return std::isinf(f) ? n / d : n * (f - d) / (d * (f - n));
-    case DepthMetric::LinearNormalized:
-        return (d - n) / (f - n);
-    case DepthMetric::LinearDistance:
-        return d;
+/// Stored value of the metric at eye distance d (along the light's axis for PostProjective*).
+/// PostProjective: z_w = f (d - n) / (d (f - n)), = 1 - n/d for f = +inf (GL [-1,1] and [0,1] clip
+/// depth give the same window depth with glDepthRange(0,1)). PostProjectiveReversed: z_w =
+/// n (f - d) / (d (f - n)), = n / d for f = +inf. Domain: n finite > 0, f > n (+inf allowed except
+/// LinearNormalized), d finite > 0 (d outside [n, f] gives values outside [0, 1]). NonFinite for
+/// NaN/Inf (other than f = +inf), InvalidArgument outside the domain or for an unknown metric,
+/// Overflow beyond float range.
+inline BiasDepthValue bias_depth_metric_value(BiasDepthMetric m, double d, double n, double f) {
+    BiasDepthValue r;
+    r.status = detail::bias_check_metric(m, d, n, f);
+    if (r.status != Status::Ok) return r;
+    return detail::bias_double(detail::bias_metric_value(m, d, n, f));
+}
+
+/// |d value / d distance| of the metric at distance d: PostProjective(Reversed) f n / (d^2 (f - n))
+/// (n / d^2 for f = +inf); LinearNormalized 1 / (f - n); LinearDistance 1. Domain and statuses as
+/// bias_depth_metric_value; Overflow also when the slope underflows to 0.
+inline BiasDepthValue bias_depth_metric_slope(BiasDepthMetric m, double d, double n, double f) {
+    BiasDepthValue r;
+    r.status = detail::bias_check_metric(m, d, n, f);
+    if (r.status != Status::Ok) return r;
+    const double s = detail::bias_metric_slope(m, d, n, f);
+    if (!(s > 0.0)) { r.status = Status::Overflow; return r; }
+    return detail::bias_double(s);
+}
+
+/// World-space depth resolution at distance d: the distance between adjacent stored values,
+/// step(format, value(d)) / slope(d) (first order). This is the smallest useful constant bias.
+/// - PostProjective, UNORM n: d^2 (f - n) / (f n (2^n - 1)): grows with d^2, so far receivers need
+///   a much larger constant bias than near ones (acne far away, peter-panning near).
+/// - PostProjective, Float32: values crowd near 1, ulp(1) = 6e-8 is no better than 24-bit UNORM.
+/// - PostProjectiveReversed, Float32: z_w ~ n/d and ulp(z_w) ~ z_w 2^-23, so dd ~ d 2^-23: a
+///   relative precision of 2^-24..2^-23 at every distance (even with f = +inf), the best choice.
+/// - LinearNormalized, UNORM n: uniform (f - n) / (2^n - 1).  LinearDistance (float32): ulp(d).
+/// Ok: value finite, > 0. Domain as bias_depth_metric_value plus d in [n, f]; InvalidArgument also
+/// for LinearDistance with a UNORM format or an unknown format; Overflow beyond float range.
+inline BiasDepthValue bias_depth_metric_resolution(BiasDepthMetric m, DepthFormat fmt, double d, double n, double f) {
+    BiasDepthValue r;
+    r.status = detail::bias_check_metric(m, d, n, f);
+    if (r.status != Status::Ok) return r;
+    if (!(d >= n && d <= f) || !detail::bias_valid_format(fmt) ||
+        (m == BiasDepthMetric::LinearDistance && fmt != DepthFormat::Float32)) {
+        r.status = Status::InvalidArgument;
+        return r;
     }
-    return std::numeric_limits<double>::quiet_NaN();
+    const double slope = detail::bias_metric_slope(m, d, n, f);
+    const double v = detail::bias_format_step(fmt, detail::bias_metric_value(m, d, n, f)) / slope;
+    if (!(slope > 0.0) || !(v > 0.0)) { r.status = Status::Overflow; return r; }
+    return detail::bias_double(v);
 }
 
-// |d value / d distance| of the metric at distance d.
-// PostProjective(Reversed): f n / (d^2 (f - n)) (n / d^2 for f = +Inf); LinearNormalized: 1/(f - n);
-// LinearDistance: 1.
-inline double depth_metric_slope(DepthMetric m, double d, double n, double f) {
-    switch (m) {
-    case DepthMetric::PostProjective:
-    case DepthMetric::PostProjectiveReversed:
-        return std::isinf(f) ? n / (d * d) : f * n / (d * d * (f - n));
-    case DepthMetric::LinearNormalized:
-        return 1.0 / (f - n);
-    case DepthMetric::LinearDistance:
-        return 1.0;
+/// World-space size of one shadow-map texel at eye distance d along a perspective light's axis:
+/// 2 d tan(fov/2) / resolution. (Off axis the texel footprint on a plane facing the light grows by
+/// 1/cos^2 of the off-axis angle; use the orthographic version with the local width if needed.)
+/// d finite >= 0, fov the full angle in radians in (0, pi), resolution (texels across the map)
+/// finite > 0. NonFinite for NaN/Inf, InvalidArgument outside those ranges (fov = float(pi) is
+/// above pi), Overflow beyond float range.
+inline BiasValue bias_texel_world_size_perspective(float d, float fov, float resolution) {
+    BiasValue r;
+    if (!std::isfinite(d) || !std::isfinite(fov) || !std::isfinite(resolution)) { r.status = Status::NonFinite; return r; }
+    if (!(d >= 0.0f) || !(fov > 0.0f && static_cast<double>(fov) < 3.14159265358979323846) || !(resolution > 0.0f)) {
+        r.status = Status::InvalidArgument;
+        return r;
     }
-    return std::numeric_limits<double>::quiet_NaN();
+    return detail::bias_float(2.0 * static_cast<double>(d) * std::tan(0.5 * static_cast<double>(fov)) /
+                              static_cast<double>(resolution));
 }
 
-// World-space depth resolution at distance d: the distance between adjacent stored values,
-// step(format, value(d)) / slope(d) (first order). This is the smallest useful constant bias.
-// - PostProjective, UNORM n: d^2 (f - n) / (f n (2^n - 1)): grows with d^2, so far receivers need
-//   a much larger constant bias than near ones (acne far away, peter-panning near).
-// - PostProjective, Float32: values crowd near 1, ulp(1) = 6e-8 is no better than 24-bit UNORM.
-// - PostProjectiveReversed, Float32: z_w ~ n/d and ulp(z_w) ~ z_w 2^-23, so dd ~ d 2^-23: a
-//   relative precision of 2^-24..2^-23 at every distance (even with f = +Inf), the best choice.
-// - LinearNormalized, UNORM n: uniform (f - n) / (2^n - 1).  LinearDistance (float32): ulp(d).
-// Returns NaN when the inputs are invalid (d, n <= 0, f <= n, d outside [n, f], LinearDistance with
-// a UNORM format, NaN anywhere).
-inline double depth_metric_resolution(DepthMetric m, DepthFormat fmt, double d, double n, double f) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    if (!(n > 0.0) || !(f > n) || !(d >= n) || !(d <= f) || std::isinf(d) || std::isinf(n)) return nan;
-    if (std::isinf(f) && (m == DepthMetric::LinearNormalized)) return nan;
-    if (m == DepthMetric::LinearDistance && fmt != DepthFormat::Float32) return nan;
-    const double v = depth_metric_value(m, d, n, f);
-    return depth_format_step(fmt, v) / depth_metric_slope(m, d, n, f);
+/// World-space size of one texel of an orthographic light of width `width` (finite >= 0):
+/// width / resolution (finite > 0). Statuses as bias_texel_world_size_perspective.
+inline BiasValue bias_texel_world_size_ortho(float width, float resolution) {
+    BiasValue r;
+    if (!std::isfinite(width) || !std::isfinite(resolution)) { r.status = Status::NonFinite; return r; }
+    if (!(width >= 0.0f) || !(resolution > 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    return detail::bias_float(static_cast<double>(width) / static_cast<double>(resolution));
 }
-
-// World-space size of one shadow-map texel at eye distance d along a perspective light's axis:
-// 2 d tan(fov/2) / resolution. (Off axis the texel footprint on a plane facing the light grows by
-// 1/cos^2 of the off-axis angle; use the orthographic version with the local width if needed.)
-inline float texel_world_size_perspective(float d, float fov, float resolution) {
-    return 2.0f * d * std::tan(0.5f * fov) / resolution;
-}
-
-// World-space size of one texel of an orthographic light of width `width`: width / resolution.
-inline float texel_world_size_ortho(float width, float resolution) { return width / resolution; }
 
 // ------------------------------------------------------------------------------------------------
 // Constant bias and the comparison
 // ------------------------------------------------------------------------------------------------
 
-// The shadow test with a constant bias: lit when receiver - bias <= stored (reversed-Z:
-// receiver + bias >= stored). Any NaN -> false (shadowed).
-// Fails: a constant bias large enough for grazing surfaces (depth changes by texel * tan(theta)
-// across a texel) pushes shadows away from their casters (peter-panning) and lets thin casters
-// leak light; one small enough to keep contact shadows gives acne on sloped surfaces. It must at
-// least cover depth_metric_resolution() at the receiver's distance.
-inline bool shadow_test_lit(float receiver, float stored, float bias, bool reversed_z) {
+/// The shadow test with a constant bias: lit when receiver - bias <= stored (reversed-Z:
+/// receiver + bias >= stored). total: any NaN gives false (shadowed).
+/// Fails: a constant bias large enough for grazing surfaces (depth changes by texel * tan(theta)
+/// across a texel) pushes shadows away from their casters (peter-panning) and lets thin casters
+/// leak light; one small enough to keep contact shadows gives acne on sloped surfaces. It must at
+/// least cover bias_depth_metric_resolution() at the receiver's distance.
+inline bool bias_shadow_test_lit(float receiver, float stored, float bias, bool reversed_z) {
     return reversed_z ? receiver + bias >= stored : receiver - bias <= stored;
 }
 
@@ -174,178 +333,278 @@ inline bool shadow_test_lit(float receiver, float stored, float bias, bool rever
 // Slope-scaled bias
 // ------------------------------------------------------------------------------------------------
 
-// tan of the angle theta between the surface normal and the direction to the light,
-// sqrt(1 - c^2) / c with c = dot(n, l) of the normalized vectors. +Inf when the surface faces away
-// or contains the light direction (c <= 0); NaN for zero-length or NaN vectors.
-inline float light_tan_angle(glm::vec3 normal, glm::vec3 to_light) {
-    const float ln = glm::length(normal), ll = glm::length(to_light);
-    if (!(ln > 0.0f) || !(ll > 0.0f) || std::isinf(ln) || std::isinf(ll)) return std::numeric_limits<float>::quiet_NaN();
-    const double c = double(glm::dot(normal, to_light)) / (double(ln) * double(ll));
-    if (std::isnan(c)) return std::numeric_limits<float>::quiet_NaN();
-    if (c <= 0.0) return std::numeric_limits<float>::infinity();
-    const double cc = c > 1.0 ? 1.0 : c;
-    return static_cast<float>(std::sqrt(1.0 - cc * cc) / cc);
+/// tan of the angle theta between the surface normal and the direction to the light:
+/// |n x l| / (n . l), computed in double (any finite scale, 1e-45 to 3e38 components).
+/// faces_light = false (with Ok, value 0) when n . l <= 0: the surface faces away or contains the
+/// light direction (N.L = 0 there: no bias helps, shade it dark). NonFinite for NaN/Inf components,
+/// InvalidArgument for a zero vector, Overflow when tan exceeds FLT_MAX (n . l < ~3e-39 |n| |l|).
+inline BiasTanAngle bias_light_tan_angle(glm::vec3 normal, glm::vec3 to_light) {
+    BiasTanAngle r;
+    if (!detail::bias_finite(normal) || !detail::bias_finite(to_light)) { r.status = Status::NonFinite; return r; }
+    const glm::dvec3 n(normal), l(to_light);
+    if (glm::dot(n, n) == 0.0 || glm::dot(l, l) == 0.0) { r.status = Status::InvalidArgument; return r; }
+    // Scale both to a max component of 1 first: squares of 3e38 or 1e-45 stay normal in double.
+    const glm::dvec3 nn = n / std::fmax(std::fabs(n.x), std::fmax(std::fabs(n.y), std::fabs(n.z)));
+    const glm::dvec3 ll = l / std::fmax(std::fabs(l.x), std::fmax(std::fabs(l.y), std::fabs(l.z)));
+    const double c = glm::dot(nn, ll);
+    r.status = Status::Ok;
+    if (!(c > 0.0)) return r;
+    const double t = glm::length(glm::cross(nn, ll)) / c;
+    if (!detail::bias_fits_float(t)) { r.status = Status::Overflow; return r; }
+    r.faces_light = true;
+    r.value = static_cast<float>(t);
+    return r;
 }
 
-// Depth gradient (dz/du, dz/dv) of a plane with normal n seen by an orthographic light with
-// orthonormal basis (right, up, forward = direction light travels; depth grows along forward),
-// in depth units per world unit on the light's image plane: -(n.right)/(n.forward), -(n.up)/(n.forward).
-// Its length is tan(theta). ok == false when the plane contains the light direction (n.forward == 0).
-struct DepthGradient {
-    bool ok = false;
-    glm::vec2 dz_duv{0.0f};
-};
-inline DepthGradient plane_depth_gradient(glm::vec3 normal, glm::vec3 right, glm::vec3 up, glm::vec3 forward) {
-    DepthGradient g;
-    const float nf = glm::dot(normal, forward);
-    if (!(std::fabs(nf) > 0.0f) || !std::isfinite(nf)) return g;
-    g.dz_duv = glm::vec2(-glm::dot(normal, right) / nf, -glm::dot(normal, up) / nf);
-    g.ok = std::isfinite(g.dz_duv.x) && std::isfinite(g.dz_duv.y);
+/// Depth gradient (dz/du, dz/dv) of a plane with normal n seen by an orthographic light with
+/// orthonormal basis (right, up, forward = the direction the light's rays travel; depth grows along
+/// forward), in depth units per world unit on the light's image plane: -(n.right)/(n.forward),
+/// -(n.up)/(n.forward). Its length is tan(theta). edge_on (with Ok) when the plane contains the light
+/// direction (n.forward = 0, or a gradient beyond float). NonFinite for NaN/Inf, InvalidArgument for
+/// a zero normal or forward.
+inline BiasDepthGradient bias_plane_depth_gradient(glm::vec3 normal, glm::vec3 right, glm::vec3 up, glm::vec3 forward) {
+    BiasDepthGradient g;
+    if (!detail::bias_finite(normal) || !detail::bias_finite(right) || !detail::bias_finite(up) ||
+        !detail::bias_finite(forward)) {
+        g.status = Status::NonFinite;
+        return g;
+    }
+    const glm::dvec3 n(normal), f(forward);
+    if (glm::dot(n, n) == 0.0 || glm::dot(f, f) == 0.0) { g.status = Status::InvalidArgument; return g; }
+    g.status = Status::Ok;
+    const double nf = glm::dot(n, f);
+    const double gu = -glm::dot(n, glm::dvec3(right)) / nf, gv = -glm::dot(n, glm::dvec3(up)) / nf;
+    if (nf == 0.0 || !detail::bias_fits_float(gu) || !detail::bias_fits_float(gv)) {
+        g.edge_on = true;
+        return g;
+    }
+    g.dz_duv = glm::vec2(static_cast<float>(gu), static_cast<float>(gv));
     return g;
 }
 
-// Exact largest depth difference between a texel's centre and any point of that texel on a plane
-// with depth gradient g: texel/2 * (|g.x| + |g.y|) (the maximum of a linear function on a square is
-// at a corner). This is what a bias must cover to avoid acne with nearest (1-tap) lookups.
-inline float texel_depth_delta(glm::vec2 dz_duv, float texel_world) {
-    return 0.5f * texel_world * (std::fabs(dz_duv.x) + std::fabs(dz_duv.y));
+/// Exact largest depth difference between a texel's center and any point of that texel on a plane
+/// with depth gradient g: texel/2 * (|g.x| + |g.y|) (the maximum of a linear function on a square is
+/// at a corner). This is what a bias must cover to avoid acne with nearest (1-tap) lookups.
+/// texel_world finite >= 0. NonFinite for NaN/Inf, InvalidArgument for texel_world < 0, Overflow.
+inline BiasValue bias_texel_depth_delta(glm::vec2 dz_duv, float texel_world) {
+    BiasValue r;
+    if (!detail::bias_finite(dz_duv) || !std::isfinite(texel_world)) { r.status = Status::NonFinite; return r; }
+    if (!(texel_world >= 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    return detail::bias_float(0.5 * static_cast<double>(texel_world) *
+                              (std::fabs(static_cast<double>(dz_duv.x)) + std::fabs(static_cast<double>(dz_duv.y))));
 }
 
-// Slope-scaled bias: constant + slope_scale * texel_world * min(tan(theta), max_tan).
-// With slope_scale >= sqrt(2)/2 it covers texel_depth_delta() for every plane orientation
-// (|g.x| + |g.y| <= sqrt(2) |g|, |g| = tan(theta)); a PCF kernel of radius R texels needs
-// slope_scale >= (R + sqrt(2)/2) because taps compare one receiver depth with distant texels.
-// Fails: tan(theta) -> Inf at grazing angles, so it must be clamped (max_tan); at the clamp acne
-// returns on surfaces nearly parallel to the light (usually hidden by N.L shading), and large
-// scales push contact shadows away (peter-panning) and leak light under thin casters.
-inline float slope_scaled_bias(float texel_world, float tan_theta, float slope_scale = 0.70710678f,
-                               float constant = 0.0f, float max_tan = 10.0f) {
-    const float t = tan_theta > max_tan ? max_tan : tan_theta;
-    return constant + slope_scale * texel_world * t;
+/// Slope-scaled bias: constant + slope_scale * texel_world * min(tan(theta), max_tan) [world].
+/// With slope_scale >= sqrt(2)/2 it covers bias_texel_depth_delta() for every plane orientation
+/// (|g.x| + |g.y| <= sqrt(2) |g|, |g| = tan(theta)); a PCF kernel of radius R texels needs
+/// slope_scale >= (R + sqrt(2)/2) because taps compare one receiver depth with distant texels.
+/// Inputs: texel_world, slope_scale, constant finite >= 0; tan_theta >= 0 (+inf allowed: clamped);
+/// max_tan finite > 0. NonFinite for NaN (or Inf other than tan_theta = +inf), InvalidArgument
+/// outside the ranges, Overflow beyond float range.
+/// Fails: tan(theta) -> inf at grazing angles, so it must be clamped (max_tan); at the clamp acne
+/// returns on surfaces nearly parallel to the light (usually hidden by N.L shading), and large
+/// scales push contact shadows away (peter-panning) and leak light under thin casters.
+inline BiasValue bias_slope_scaled(float texel_world, float tan_theta, float slope_scale = 0.70710678f,
+                                   float constant = 0.0f, float max_tan = 10.0f) {
+    BiasValue r;
+    if (!std::isfinite(texel_world) || std::isnan(tan_theta) || tan_theta == -std::numeric_limits<float>::infinity() ||
+        !std::isfinite(slope_scale) || !std::isfinite(constant) || !std::isfinite(max_tan)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (!(texel_world >= 0.0f) || !(tan_theta >= 0.0f) || !(slope_scale >= 0.0f) || !(constant >= 0.0f) ||
+        !(max_tan > 0.0f)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const double t = tan_theta > max_tan ? static_cast<double>(max_tan) : static_cast<double>(tan_theta);
+    return detail::bias_float(static_cast<double>(constant) +
+                              static_cast<double>(slope_scale) * static_cast<double>(texel_world) * t);
 }
 
-// Minimum resolvable difference r of glPolygonOffset / Vulkan depthBiasConstantFactor:
-// UNORM n: 2^-n; Float32: 2^(e - 23) with e the exponent of the largest |z| of the primitive
-// (z = m 2^e, 1 <= m < 2). Returns NaN for NaN, 2^-149 for z == 0 (the spec leaves it open).
-inline double polygon_offset_r(DepthFormat f, float max_window_z) {
-    const int bits = depth_format_bits(f);
-    if (bits != 0) return std::ldexp(1.0, -bits);
-    if (std::isnan(max_window_z)) return std::numeric_limits<double>::quiet_NaN();
+/// Minimum resolvable difference r of glPolygonOffset / Vulkan depthBiasConstantFactor:
+/// UNORM n: 2^-n; Float32: 2^(e - 23) with e the exponent of the largest |z| of the primitive
+/// (z = m 2^e, 1 <= m < 2), 2^-149 for z = 0 (the spec leaves it open). NonFinite for NaN/Inf
+/// max_window_z, InvalidArgument for an unknown format.
+inline BiasDepthValue bias_polygon_offset_r(DepthFormat f, float max_window_z) {
+    BiasDepthValue r;
+    if (!std::isfinite(max_window_z)) { r.status = Status::NonFinite; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    const int bits = bias_depth_format_bits(f);
+    r.status = Status::Ok;
+    if (bits != 0) { r.value = std::ldexp(1.0, -bits); return r; }
     const float z = std::fabs(max_window_z);
-    if (z == 0.0f) return std::ldexp(1.0, -149);
-    if (std::isinf(z)) return std::numeric_limits<double>::infinity();
+    if (z == 0.0f) { r.value = std::ldexp(1.0, -149); return r; }
     int e = 0;
     (void)std::frexp(z, &e);  // z = m' 2^e with 0.5 <= m' < 1
-    return std::ldexp(1.0, (e - 1) - 23);
+    r.value = std::ldexp(1.0, (e - 1) - 23);
+    return r;
 }
 
-// glPolygonOffset(factor, units) as the rasterizer applies it (GL 4.6 eq. 14.8):
-// o = m * factor + r * units, with m = sqrt(dzdx^2 + dzdy^2) (exact_m) or its allowed
-// approximation max(|dzdx|, |dzdy|), dz/dx, dz/dy the window-depth slope per shadow-map pixel.
-// Equivalence with slope_scaled_bias: for an orthographic light (LinearNormalized) a plane has
-// m_exact = texel_world * tan(theta) / (f - n), so factor = slope_scale reproduces it with exact m;
-// a driver using max() needs factor = slope_scale * sqrt(2) to be safe.
-inline double polygon_offset(float factor, float units, float dzdx, float dzdy, DepthFormat f, float max_window_z,
-                             bool exact_m = false) {
-    const double ax = std::fabs(double(dzdx)), ay = std::fabs(double(dzdy));
+/// glPolygonOffset(factor, units) as the rasterizer applies it (GL 4.6 eq. 14.8):
+/// o = m * factor + r * units, with m = sqrt(dzdx^2 + dzdy^2) (exact_m) or its allowed
+/// approximation max(|dzdx|, |dzdy|), dz/dx, dz/dy the window-depth slope per shadow-map pixel.
+/// Equivalence with bias_slope_scaled: for an orthographic light (LinearNormalized) a plane has
+/// m_exact = texel_world * tan(theta) / (f - n), so factor = slope_scale reproduces it with exact m;
+/// a driver using max() needs factor = slope_scale * sqrt(2) to be safe.
+/// NonFinite for NaN/Inf, InvalidArgument for an unknown format, Overflow beyond float range.
+inline BiasDepthValue bias_polygon_offset(float factor, float units, float dzdx, float dzdy, DepthFormat f,
+                                          float max_window_z, bool exact_m = false) {
+    BiasDepthValue r;
+    if (!std::isfinite(factor) || !std::isfinite(units) || !std::isfinite(dzdx) || !std::isfinite(dzdy)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    const BiasDepthValue rr = bias_polygon_offset_r(f, max_window_z);
+    if (rr.status != Status::Ok) { r.status = rr.status; return r; }
+    const double ax = std::fabs(static_cast<double>(dzdx)), ay = std::fabs(static_cast<double>(dzdy));
     const double m = exact_m ? std::sqrt(ax * ax + ay * ay) : (ax > ay ? ax : ay);
-    return m * double(factor) + polygon_offset_r(f, max_window_z) * double(units);
+    return detail::bias_double(m * static_cast<double>(factor) + rr.value * static_cast<double>(units));
 }
 
-// The `units` argument that makes r * units equal a world-space depth bias at distance d for the
-// given metric: world_bias * slope(d) / r. Since the post-projective slope falls with 1/d^2, a
-// fixed `units` is a bias that grows with d^2 in world space.
-inline double polygon_offset_units_for_world_bias(double world_bias, DepthMetric m, DepthFormat fmt, double d,
-                                                  double n, double f) {
-    const double v = depth_metric_value(m, d, n, f);
-    return world_bias * depth_metric_slope(m, d, n, f) / polygon_offset_r(fmt, static_cast<float>(v));
+/// The `units` argument that makes r * units equal a world-space depth bias at distance d for the
+/// metric: world_bias * slope(d) / r. Since the post-projective slope falls with 1/d^2, a fixed
+/// `units` is a bias that grows with d^2 in world space. world_bias finite; the metric's domain as
+/// bias_depth_metric_value; NonFinite / InvalidArgument / Overflow accordingly.
+inline BiasDepthValue bias_polygon_offset_units_for_world_bias(double world_bias, BiasDepthMetric m, DepthFormat fmt,
+                                                               double d, double n, double f) {
+    BiasDepthValue r;
+    if (!std::isfinite(world_bias)) { r.status = Status::NonFinite; return r; }
+    const BiasDepthValue v = bias_depth_metric_value(m, d, n, f);
+    if (v.status != Status::Ok) { r.status = v.status; return r; }
+    const BiasDepthValue rr = bias_polygon_offset_r(fmt, static_cast<float>(v.value));
+    if (rr.status != Status::Ok) { r.status = rr.status; return r; }
+    return detail::bias_double(world_bias * detail::bias_metric_slope(m, d, n, f) / rr.value);
 }
 
 // ------------------------------------------------------------------------------------------------
 // Normal offset
 // ------------------------------------------------------------------------------------------------
 
-// Normal-offset shadows: look the shadow map up at p + n * (scale * texel_world * sin(theta)).
-// The offset point sits delta = scale * t * sin(theta) above the plane, i.e. delta / cos(theta) =
-// scale * t * tan(theta) in depth along the light ray: the same margin as slope_scaled_bias with
-// the same scale, without a depth bias (no acne for scale >= sqrt(2)/2), and it moves the lookup
-// sideways by delta * sin(theta), which is why it stays small where light hits head-on.
-// Fails: the lateral shift moves shadow edges (visible on thin or contact geometry), lookups at
-// silhouettes cross to the other side of thin walls (light leaks), and needs a correct normal.
-// Returns p unchanged when a vector is degenerate or the surface faces away (sin undefined).
-inline glm::vec3 normal_offset_position(glm::vec3 p, glm::vec3 normal, glm::vec3 to_light, float texel_world,
-                                        float scale) {
-    const float ln = glm::length(normal), ll = glm::length(to_light);
-    if (!(ln > 0.0f) || !(ll > 0.0f) || !std::isfinite(ln) || !std::isfinite(ll)) return p;
-    const glm::vec3 n = normal / ln;
-    const float c = glm::dot(n, to_light / ll);
-    if (!std::isfinite(c)) return p;
-    const float cc = c > 1.0f ? 1.0f : (c < -1.0f ? -1.0f : c);
-    const float s = std::sqrt(1.0f - cc * cc);
-    return p + n * (scale * texel_world * s);
+/// Normal-offset shadows: look the shadow map up at p + n * (scale * texel_world * sin(theta)),
+/// n the unit normal, theta the angle between n and to_light. The offset point sits delta =
+/// scale * t * sin(theta) above the plane, i.e. delta / cos(theta) = scale * t * tan(theta) in depth
+/// along the light ray: the same margin as bias_slope_scaled with the same scale, without a depth
+/// bias (no acne for scale >= sqrt(2)/2), and it moves the lookup sideways by delta * sin(theta),
+/// which is why it stays small where light hits head-on. The offset is along the normal on either
+/// side of the light. Exact for orthographic lights; a perspective light stores depth along its axis,
+/// which changes across a texel by up to texel * sin(a) cos(a) even on a surface facing the light
+/// (a: its angle off the light's axis), where sin(theta) = 0 gives no margin: add a constant offset
+/// of half a texel or more (docs/shadow_map.md measures it). Inputs: p, normal, to_light finite; normal, to_light nonzero; texel_world,
+/// scale finite >= 0. NonFinite, InvalidArgument accordingly; Overflow beyond float range.
+/// Fails: the lateral shift moves shadow edges (visible on thin or contact geometry), lookups at
+/// silhouettes cross to the other side of thin walls (light leaks), and it needs a correct normal.
+inline BiasPosition bias_normal_offset_position(glm::vec3 p, glm::vec3 normal, glm::vec3 to_light, float texel_world,
+                                                float scale) {
+    BiasPosition r;
+    if (!detail::bias_finite(p) || !detail::bias_finite(normal) || !detail::bias_finite(to_light) ||
+        !std::isfinite(texel_world) || !std::isfinite(scale)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (!(texel_world >= 0.0f) || !(scale >= 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    const glm::dvec3 n0(normal), l0(to_light);
+    if (glm::dot(n0, n0) == 0.0 || glm::dot(l0, l0) == 0.0) { r.status = Status::InvalidArgument; return r; }
+    const glm::dvec3 nn = n0 / std::fmax(std::fabs(n0.x), std::fmax(std::fabs(n0.y), std::fabs(n0.z)));
+    const glm::dvec3 ll = l0 / std::fmax(std::fabs(l0.x), std::fmax(std::fabs(l0.y), std::fabs(l0.z)));
+    const glm::dvec3 n = nn / glm::length(nn), l = ll / glm::length(ll);
+    const double s = glm::length(glm::cross(n, l));  // sin(theta), in [0, 1]
+    const glm::dvec3 q = glm::dvec3(p) + n * (static_cast<double>(scale) * static_cast<double>(texel_world) * s);
+    if (!detail::bias_fits_float(q.x) || !detail::bias_fits_float(q.y) || !detail::bias_fits_float(q.z)) {
+        r.status = Status::Overflow;
+        return r;
+    }
+    r.position = glm::vec3(q);
+    r.status = Status::Ok;
+    return r;
 }
 
 // ------------------------------------------------------------------------------------------------
 // Receiver plane depth bias
 // ------------------------------------------------------------------------------------------------
 
-// Receiver plane depth bias (Isidoro 2006): from the screen-space derivatives of the shadow
-// coordinate (u, v, z) solve
-//   [du/dx dv/dx] [dz/du]   [dz/dx]
-//   [du/dy dv/dy] [dz/dv] = [dz/dy]
-// so each PCF tap at uv offset o compares with z + dot(dz_duv, o) instead of z. Exact for a planar
-// receiver whenever z is affine in (u, v) on it: post-projective depth of any light, and linear
-// depth of an orthographic light (not distance-to-light of a perspective light: approximate there).
-// Fails: receivers that are not planar across the kernel (curved, creases, silhouettes: the 2x2
-// pixel-quad derivatives straddle two surfaces), and when the uv Jacobian is singular (surface
-// seen edge-on from the camera or the light). ok == false then; fall back to slope-scaled bias.
-struct ReceiverPlaneGradient {
-    bool ok = false;
-    glm::vec2 dz_duv{0.0f};
-};
-inline ReceiverPlaneGradient receiver_plane_depth_gradient(glm::vec3 duvz_dx, glm::vec3 duvz_dy) {
-    ReceiverPlaneGradient g;
+/// Receiver plane depth bias (Isidoro 2006): from the screen-space derivatives of the shadow
+/// coordinate (u, v, z) solve
+///   [du/dx dv/dx] [dz/du]   [dz/dx]
+///   [du/dy dv/dy] [dz/dv] = [dz/dy]
+/// so each PCF tap at uv offset o compares with z + dot(dz_duv, o) instead of z. Exact for a planar
+/// receiver whenever z is affine in (u, v) on it: post-projective depth of any light, and linear
+/// depth of an orthographic light (not distance-to-light of a perspective light: approximate there).
+/// singular (with Ok, dz_duv 0) when |det| <= 1e-7 (|du/dx| + |dv/dx|)(|du/dy| + |dv/dy|): the
+/// surface is seen edge-on from the camera or the light; fall back to slope-scaled bias.
+/// NonFinite for NaN/Inf, Overflow for a gradient beyond float range.
+/// Fails: receivers that are not planar across the kernel (curved, creases, silhouettes: the 2x2
+/// pixel-quad derivatives straddle two surfaces).
+inline BiasReceiverPlane bias_receiver_plane_depth_gradient(glm::vec3 duvz_dx, glm::vec3 duvz_dy) {
+    BiasReceiverPlane g;
+    if (!detail::bias_finite(duvz_dx) || !detail::bias_finite(duvz_dy)) { g.status = Status::NonFinite; return g; }
     const double a = duvz_dx.x, b = duvz_dx.y, c = duvz_dy.x, d = duvz_dy.y;
     const double det = a * d - b * c;
     const double scale = (std::fabs(a) + std::fabs(b)) * (std::fabs(c) + std::fabs(d));
-    if (!std::isfinite(det) || !std::isfinite(scale) || !(std::fabs(det) > 1e-7 * scale)) return g;
+    g.status = Status::Ok;
+    if (!(std::fabs(det) > 1e-7 * scale) || !(scale > 0.0)) {
+        g.singular = true;
+        return g;
+    }
     const double zx = duvz_dx.z, zy = duvz_dy.z;
     const double gu = (d * zx - b * zy) / det, gv = (a * zy - c * zx) / det;
-    if (!std::isfinite(gu) || !std::isfinite(gv)) return g;
+    if (!detail::bias_fits_float(gu) || !detail::bias_fits_float(gv)) { g.status = Status::Overflow; return g; }
     g.dz_duv = glm::vec2(static_cast<float>(gu), static_cast<float>(gv));
-    g.ok = std::isfinite(g.dz_duv.x) && std::isfinite(g.dz_duv.y);
     return g;
 }
 
-// Receiver depth at a tap offset (in uv) from the fragment: z + dz/du * o.x + dz/dv * o.y.
-inline float receiver_plane_depth(float z, glm::vec2 dz_duv, glm::vec2 offset_uv) {
-    return z + dz_duv.x * offset_uv.x + dz_duv.y * offset_uv.y;
+/// Receiver depth at a tap offset (in uv) from the fragment: z + dz/du * o.x + dz/dv * o.y.
+/// NonFinite for NaN/Inf, Overflow beyond float range.
+inline BiasValue bias_receiver_plane_depth(float z, glm::vec2 dz_duv, glm::vec2 offset_uv) {
+    BiasValue r;
+    if (!std::isfinite(z) || !detail::bias_finite(dz_duv) || !detail::bias_finite(offset_uv)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    return detail::bias_float(static_cast<double>(z) + static_cast<double>(dz_duv.x) * static_cast<double>(offset_uv.x) +
+                              static_cast<double>(dz_duv.y) * static_cast<double>(offset_uv.y));
 }
 
-// The bias receiver-plane depth still needs: the stored depth is the depth at the texel centre,
-// the tap position is anywhere in the texel, so up to texel/2 (|dz/du| + |dz/dv|) (texel in uv).
-inline float receiver_plane_texel_bias(glm::vec2 dz_duv, glm::vec2 texel_uv) {
-    return 0.5f * (std::fabs(dz_duv.x) * texel_uv.x + std::fabs(dz_duv.y) * texel_uv.y);
+/// The bias receiver-plane depth still needs: the stored depth is the depth at the texel center,
+/// the tap position is anywhere in the texel, so up to texel/2 (|dz/du| + |dz/dv|) (texel_uv: the
+/// texel size in uv, >= 0). NonFinite for NaN/Inf, InvalidArgument for a negative texel, Overflow.
+inline BiasValue bias_receiver_plane_texel_bias(glm::vec2 dz_duv, glm::vec2 texel_uv) {
+    BiasValue r;
+    if (!detail::bias_finite(dz_duv) || !detail::bias_finite(texel_uv)) { r.status = Status::NonFinite; return r; }
+    if (!(texel_uv.x >= 0.0f) || !(texel_uv.y >= 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    return detail::bias_float(0.5 * (std::fabs(static_cast<double>(dz_duv.x)) * static_cast<double>(texel_uv.x) +
+                                     std::fabs(static_cast<double>(dz_duv.y)) * static_cast<double>(texel_uv.y)));
 }
 
 // ------------------------------------------------------------------------------------------------
 // Second-depth (midpoint) shadow maps
 // ------------------------------------------------------------------------------------------------
 
-// Wang & Molnar 1994 / Woo 1992: store the midpoint of the first and second surfaces seen from the
-// light, z1 + (z2 - z1)/2. Lit front faces then pass with margin (z2 - z1)/2 and the first shadowed
-// surface behind fails with the same margin, without a bias tuned to slope.
-// Guidance and failure cases: needs closed (watertight) casters; with no second surface (open
-// mesh, single-sided quad, z2 = far/Inf) the midpoint is far behind the caster and everything
-// behind it within that range is lit -> light leaks: cap the midpoint at z1 + max_offset. Thin
-// objects (z2 - z1 below the depth resolution) bring acne back; a receiver lying inside a caster's
-// thickness (contact) may be lit (peter-panning of up to (z2 - z1)/2). NaN in -> NaN out.
-inline float second_depth_value(float z1, float z2, float max_offset = std::numeric_limits<float>::infinity()) {
-    if (std::isnan(z1) || std::isnan(z2) || std::isnan(max_offset)) return std::numeric_limits<float>::quiet_NaN();
+/// Wang & Molnar 1994 / Woo 1992: store the midpoint of the first and second surfaces seen from the
+/// light, lo + min((hi - lo) / 2, max_offset) with lo, hi the smaller and larger of z1, z2. Lit front
+/// faces then pass with margin (z2 - z1)/2 and the first shadowed surface behind fails with the same
+/// margin, without a bias tuned to slope. The smaller depth must be finite; the larger may be +inf
+/// (no second surface) when max_offset is finite; max_offset >= 0 (+inf: no cap). NonFinite for NaN
+/// or a -inf / infinite smaller depth, InvalidArgument for max_offset < 0 or an uncapped +inf,
+/// Overflow beyond float range.
+/// Guidance and failure cases: needs closed (watertight) casters; with no second surface (open
+/// mesh, single-sided quad, z2 = far or +inf) the midpoint is far behind the caster and everything
+/// behind it within that range is lit -> light leaks: cap the midpoint at z1 + max_offset. Thin
+/// objects (z2 - z1 below the depth resolution) bring acne back; a receiver lying inside a caster's
+/// thickness (contact) may be lit (peter-panning of up to (z2 - z1)/2).
+inline BiasValue bias_second_depth_value(float z1, float z2, float max_offset = std::numeric_limits<float>::infinity()) {
+    BiasValue r;
     const float lo = z1 < z2 ? z1 : z2, hi = z1 < z2 ? z2 : z1;
-    const double mid = double(lo) + 0.5 * (double(hi) - double(lo));
-    const double cap = double(lo) + double(max_offset);
-    return static_cast<float>(mid < cap ? mid : cap);
+    if (std::isnan(z1) || std::isnan(z2) || std::isnan(max_offset) || !std::isfinite(lo) ||
+        max_offset == -std::numeric_limits<float>::infinity()) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (!(max_offset >= 0.0f) || (std::isinf(hi) && std::isinf(max_offset))) { r.status = Status::InvalidArgument; return r; }
+    const double half = std::isinf(hi) ? std::numeric_limits<double>::infinity()
+                                        : 0.5 * (static_cast<double>(hi) - static_cast<double>(lo));
+    const double cap = static_cast<double>(max_offset);
+    return detail::bias_float(static_cast<double>(lo) + (half < cap ? half : cap));
 }
 
-}  // namespace shadowkit
+} // namespace shadowkit

@@ -1,21 +1,91 @@
-// shadowkit/shadow_volume.hpp - robust stenciled shadow volumes: side quads extruded to infinity
-// (w = 0), light and dark caps for z-fail, open-mesh handling, the z-pass / z-fail decision, and
-// per-object scissor rectangle and depth bounds. Plain arrays in (positions, silhouette edge index
-// pairs, triangles, per-triangle lit flags); no dependency on other shadowkit headers.
+// shadowkit/shadow_volume.hpp - robust stenciled shadow volumes: side quads, caps, z-pass / z-fail, scissor and depth bounds.
+// Side quads extruded to infinity (w = 0), light and dark caps for z-fail, open-mesh handling, the
+// per-occluder z-pass / z-fail decision, and the per-occluder scissor rectangle and depth bounds.
+// Plain arrays in (positions, silhouette edge index pairs, triangles, per-triangle lit flags); no
+// dependency on other shadowkit headers (silhouette.hpp computes the lit flags and edges).
 //
-// Usage (per light, per occluder; silhouette + lit flags e.g. from shadowkit/silhouette.hpp):
+// Usage (per light, per occluder; the complete GL path is docs/shadow_volume.md):
+//   #include <shadowkit/silhouette.hpp>
 //   #include <shadowkit/shadow_volume.hpp>
-//   // vertex buffer once per mesh: 2n vec4, (p, 1) then (p, 0); the vertex shader extrudes w = 0
-//   shadowkit::build_volume_vertices(pos, n, vbo4.data(), vbo4.size());
-//   shadowkit::MethodResult m = shadowkit::choose_stencil_method_box(
-//       shadowkit::near_plane_rect(view, fovy, aspect, near_z), light, bmin, bmax, 1e-4f);
-//   std::size_t ns = shadowkit::build_side_quads(sil.data(), sil_edges, n, ib.data(), ib.size()).count;
+//   // once per mesh: the 2n-vertex volume buffer (p, 1) then (p, 0); the vertex shader extrudes w = 0
+//   std::vector<glm::vec4> vb(2 * n);
+//   shadowkit::volume_build_vertices(pos, n, vb.data(), vb.size());
+//   std::vector<std::uint32_t> ib(shadowkit::volume_indices_capacity(sil.size(), index_count));
+//   // per frame: facing + silhouette (silhouette.hpp), then
+//   shadowkit::VolumeNearRect near = shadowkit::volume_near_plane_rect(view, fovy, aspect, near_z);
+//   shadowkit::VolumeMethod m = shadowkit::volume_choose_stencil_method_box(near, light_position, bmin, bmax, 1e-4f);
+//   std::size_t ns = shadowkit::volume_build_side_quads(sil.data(), r.count, n, ib.data(), ib.size()).count;
 //   std::size_t nc = 0;
-//   if (m.method == shadowkit::StencilMethod::ZFail)
-//       nc = shadowkit::build_caps(tris, tri_count, lit, n, shadowkit::CapMode::LitOnly, true,
-//                                  ib.data() + ns, ib.size() - ns).count;
-//   shadowkit::ScissorResult s = shadowkit::shadow_volume_scissor(light, bmin, bmax, lmin, lmax, sp);
-//   if (!s.visible) skip; else glScissor(s.x, s.y, s.width, s.height), glDepthBoundsEXT(s.depth_min, s.depth_max);
+//   if (m.method == shadowkit::VolumeStencilMethod::ZFail)
+//       nc = shadowkit::volume_build_caps(adj.faces.data(), adj.faces.size(), lit.data(), lit.size(), n,
+//                                         shadowkit::VolumeCapMode::LitOnly, true, ib.data() + ns, ib.size() - ns).count;
+//   shadowkit::ScissorParams sp;                      // every field required
+//   sp.view_proj = proj * view;
+//   sp.viewport[2] = width; sp.viewport[3] = height;
+//   shadowkit::ScissorRect s = shadowkit::volume_scissor(light_position, bmin, bmax, lmin, lmax, sp);
+//   if (s.visible) { glScissor(s.x, s.y, s.width, s.height); glDepthBoundsEXT(s.depth_min, s.depth_max); draw; }
+//   // every status is checked in the docs; before the lighting pass: glDisable(GL_SCISSOR_TEST)
+//
+// Conventions:
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+//   * Units: positions, bounds and light_position in one space (world, or object space with the light
+//     transformed into it); any unit. Matrices are GLM column-major, right-handed; ClipDepth plus
+//     reversed_z say how view_proj maps depth; infinite far planes are accepted.
+//   * Buffers: every capacity counts elements of its pointer's type (vec4 vertices, uint32 indices);
+//     results say `count` (elements written: a valid prefix of whole vertices / quads / triangles)
+//     and `needed` (elements the whole output needs; count == needed when Ok). Nothing allocates.
+//   * Vertex layout. Volume index buffers index a 2n-vertex buffer: i in [0, n) is (p_i, 1), i + n is
+//     (p_i, 0); the vertex shader maps (p, 0) to (p L.w - L.xyz, 0) (glsl/shadow_volume.glsl). For a
+//     directional light all w = 0 vertices become the same point (-L.xyz, 0); side quads then
+//     rasterize as triangles and the dark cap has zero area (pass dark_cap = false to skip it). A
+//     vertex AT a point light would extrude to (0, 0, 0, 0): with silhouette.hpp's exact facing, its
+//     faces are unlit (d == 0) and it is never extruded by side quads or LitOnly caps. Use w = 1 (or
+//     a power of two) for point lights: the shader's float product p w of another w can round onto
+//     L.xyz for a vertex within an ulp of the light.
+//   * Winding. Silhouette edges (a, b) must be oriented as in their light-facing triangle
+//     (counter-clockwise front faces). Side quad = triangles (b, a, a+n), (b, a+n, b+n); light cap =
+//     lit triangles as given; dark cap per VolumeCapMode. The volume's faces then point outwards;
+//     with GL_CCW front faces, the two-sided z-fail recipe is: back faces GL_INCR_WRAP on depth fail,
+//     front faces GL_DECR_WRAP on depth fail.
+//   * Open meshes (VolumeCapMode::LitOnly, the documented method). The volume is the sum of one closed
+//     prism per lit triangle: the triangle, its three side quads, and the triangle extruded to
+//     infinity with reversed winding. Side quads of edges shared by lit triangles cancel, which leaves
+//     exactly the silhouette.hpp edge rule (k = sum over lit faces of +-1, emitted |k| times). Hence
+//     the volume is closed and consistently oriented for any triangle soup, and the z-fail count at a
+//     point X equals the number of lit triangles crossed by the segment from X to the light (the ray
+//     for a directional light). Limits: triangles act as one-sided occluders (an unlit triangle casts
+//     no shadow, so a single-sided open surface seen from its back casts none - make such surfaces
+//     two-sided); a light inside a closed mesh with outward faces sees no lit face and casts nothing
+//     (VolumeCapMode::EverittKilgard shadows everything outside instead); the stencil must hold the
+//     largest count (8 bits, wrapping). VolumeCapMode::EverittKilgard (dark cap = unlit triangles
+//     extruded) is identical for closed, consistently wound meshes with the light strictly outside
+//     and is only closed for such meshes (with a light on the surface its dark cap extrudes the
+//     light's own vertex to (0, 0, 0, 0): use LitOnly).
+//   * Z-pass vs z-fail. Z-pass counts from the near plane, so it is exact iff no point of the
+//     near-plane rectangle is in the occluder's shadow, i.e. iff the occluder's bounds miss the convex
+//     hull of the light and the near rectangle (the near-plane occlusion pyramid; a prism toward the
+//     light for w = 0). The box test is an exact separating-axis test, the sphere test an exact
+//     distance test (both in double); touching counts as intersecting; `margin` inflates the bounds
+//     for rounding.
+//   * Scissor and depth bounds. The occluder's shadow lies in S = {L + t (p - L) : p in box, t >= 1}
+//     (for w = 0: p - t L.xyz). S is contained in the intersection of the half-spaces behind the box
+//     faces that face the light and the planes through the light (direction) and the box's silhouette
+//     edges. That polytope is clipped to the light's bounding box and to the camera near plane, its
+//     vertices are enumerated (plane triples) and projected: the scissor rectangle is their pixel
+//     bounding box (floor / ceil, clamped to the viewport) and [depth_min, depth_max] their
+//     window-depth range (Lengyel: viewport depth of (P row 3 . X) / (P row 4 . X)), rounded outwards
+//     in float. visible = false (with Ok) when the polytope is empty: the shadow cannot reach the
+//     light's bounds in front of the camera. Scissor and depth bounds are per-occluder state: disable
+//     GL_SCISSOR_TEST (and GL_DEPTH_BOUNDS_TEST_EXT) before the lighting pass.
+//   * Statuses: null pointers with non-zero counts, counts out of range, a missing (zero) viewport or
+//     matrix in ScissorParams, a singular view_proj or view, fovy outside (0, pi), aspect or near_z
+//     <= 0, min > max bounds, negative radius or margin, an out-of-range enum: InvalidArgument.
+//     NaN/Inf inputs: NonFinite. A bad light_position: InvalidLight. Indices >= vertex_count:
+//     IndexOutOfRange. Short buffers: BufferTooSmall with `needed`. Finite inputs whose result is not
+//     finite: Overflow. Ok means every output is finite.
 //
 // Based on:
 //   C. Everitt, M. J. Kilgard, "Practical and Robust Stenciled Shadow Volumes for Hardware-Accelerated
@@ -24,45 +94,6 @@
 //   E. Lengyel, "Advanced Stencil Shadow and Penumbral Wedge Rendering", GDC 2005: per-geometry scissor
 //   (bounding pyramid clipped to the light's box, projected) and depth bounds.
 //   P. Bergeron, "A General Version of Crow's Shadow Volumes", IEEE CG&A 1986 (open models).
-//
-// Vertex layout. Volume index buffers index a 2n-vertex buffer: i in [0, n) is (p_i, 1), i + n is
-// (p_i, 0); the vertex shader maps (p, 0) to (p L.w - L.xyz, 0) (glsl/shadow_volume.glsl). For a
-// directional light all w = 0 vertices become the same point (-L.xyz, 0); side quads then rasterise
-// as triangles and the dark cap has zero area (pass dark_cap = false to skip it).
-//
-// Orientation. Silhouette edges (a, b) must be oriented as in their light-facing triangle
-// (counter-clockwise front faces). Side quad = triangles (b, a, a+n), (b, a+n, b+n); light cap = lit
-// triangles as given; dark cap per CapMode. The volume's faces then point outwards; with GL_CCW front
-// faces, the two-sided z-fail recipe is: back faces GL_INCR_WRAP on depth fail, front faces
-// GL_DECR_WRAP on depth fail.
-//
-// Open meshes (CapMode::LitOnly, the documented method). The volume is the sum of one closed prism per
-// lit triangle: the triangle, its three side quads, and the triangle extruded to infinity with
-// reversed winding. Side quads of edges shared by lit triangles cancel, which leaves exactly the
-// silhouette.hpp edge rule (k = sum over lit faces of +-1, emitted |k| times). Hence the volume is
-// closed and consistently oriented for any triangle soup, and the z-fail count at a point X equals the
-// number of lit triangles crossed by the segment from X to the light (the ray for a directional
-// light). Limits: triangles act as one-sided occluders (an unlit triangle casts no shadow, so a
-// single-sided open surface seen from its back casts none - make such surfaces two-sided); a light
-// inside a closed mesh with outward faces sees no lit face and casts nothing (CapMode::EverittKilgard
-// shadows everything outside instead); the stencil must hold the largest count (8 bits, wrapping).
-// CapMode::EverittKilgard (dark cap = unlit triangles extruded) is identical for closed, consistently
-// wound meshes with the light outside and is only closed for such meshes.
-//
-// Z-pass vs z-fail. Z-pass counts from the near plane, so it is exact iff no point of the near-plane
-// rectangle is in the occluder's shadow, i.e. iff the occluder's bounds miss the convex hull of the
-// light and the near rectangle (the near-plane occlusion pyramid; a prism toward the light for w = 0).
-// The box test is an exact separating-axis test, the sphere test an exact distance test (both in
-// double); touching counts as intersecting; `margin` inflates the bounds for rounding.
-//
-// Scissor and depth bounds. The occluder's shadow lies in S = {L + t (p - L) : p in box, t >= 1}
-// (for w = 0: p - t L.xyz). S is contained in the intersection of the half-spaces behind the box faces
-// that face the light and the planes through the light (direction) and the box's silhouette edges.
-// That polytope is clipped to the light's bounding box and to the camera near plane, its vertices
-// are enumerated (plane triples) and projected: the scissor rectangle is their pixel bounding box
-// (floor / ceil, clamped to the viewport) and [depth_min, depth_max] their window-depth range (Lengyel:
-// viewport depth of (P row 3 . X) / (P row 4 . X)), rounded outwards in float. visible = false when
-// the polytope is empty (the shadow cannot reach the light's bounds in front of the camera).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -79,57 +110,96 @@
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
+
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
-/// Clip-space depth range: OpenGL default [-1, 1] or D3D/Vulkan/glClipControl [0, 1].
+/// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
 
-enum class VolumeStatus {
-    Ok,
-    InvalidArgument, ///< null pointer with non-zero count, counts too large, bad viewport
-    IndexOutOfRange, ///< an index >= vertex_count
-    NonFinite,       ///< NaN / Inf in positions, matrices or bounds
-    InvalidLight,    ///< light not finite, w < 0 or (0, 0, 0, 0)
-    InvalidBounds,   ///< min > max, negative radius
-    BufferTooSmall   ///< output truncated; `count` is the size needed
-};
-
-/// Number of elements written / needed (written = min(count, capacity)).
-struct VolumeCount {
-    VolumeStatus status = VolumeStatus::Ok;
-    std::size_t count = 0;
-};
-
-enum class CapMode {
-    LitOnly,       ///< dark cap = lit triangles extruded, reversed: closed for any mesh (open meshes)
-    EverittKilgard ///< dark cap = unlit triangles extruded: closed meshes only (Everitt-Kilgard 3.2.2)
-};
-
-enum class StencilMethod { ZPass, ZFail };
-
-struct MethodResult {
-    VolumeStatus status = VolumeStatus::Ok;
-    StencilMethod method = StencilMethod::ZFail; ///< ZFail whenever unsure
-};
-
-/// World-space corners of the near-plane rectangle (any winding, convex).
-struct NearPlaneRect {
-    glm::vec3 corners[4];
-};
-
+#ifndef SHADOWKIT_SCISSOR_DEFINED
+#define SHADOWKIT_SCISSOR_DEFINED
+/// The camera a scissor rectangle and depth bounds are computed for. Every field is required: the
+/// zero matrix and zero viewport of a default-constructed ScissorParams give Status::InvalidArgument.
 struct ScissorParams {
-    glm::mat4 view_proj = glm::mat4(1.0f); ///< projection * view (world -> clip)
+    glm::mat4 view_proj = glm::mat4(0.0f);  ///< projection * view, world -> clip (required)
     ClipDepth clip_depth = ClipDepth::NegativeOneToOne;
     bool reversed_z = false;
-    int viewport[4] = {0, 0, 1, 1};        ///< x, y, width, height (pixels)
+    int viewport[4] = {0, 0, 0, 0};         ///< x, y, width, height in pixels, as glViewport (required)
+};
+/// Pixel rectangle and window-depth range that hold every pixel a shadow volume or wedge can touch.
+struct ScissorRect {
+    Status status = Status::NotRun;
+    bool visible = false;                     ///< false (with Ok): nothing of it is on screen, skip the occluder
+    int x = 0, y = 0, width = 0, height = 0;  ///< for glScissor
+    float depth_min = 0.0f, depth_max = 1.0f; ///< for glDepthBoundsEXT: window depth, glDepthRange(0, 1)
+};
+#endif
+
+/// Elements written to / needed by a volume buffer (vertices: vec4; indices: uint32).
+struct VolumeBuffer {
+    Status status = Status::NotRun;
+    std::size_t count = 0;  ///< elements written: a valid prefix (whole quads / triangles)
+    std::size_t needed = 0; ///< elements the whole output needs (count == needed when Ok)
 };
 
-struct ScissorResult {
-    VolumeStatus status = VolumeStatus::Ok;
-    bool visible = false;          ///< false: the volume cannot touch a pixel (skip the occluder)
-    int x = 0, y = 0, width = 0, height = 0;
-    float depth_min = 0.0f, depth_max = 1.0f; ///< window depth, glDepthRange(0, 1)
+/// A vertex extruded to infinity (volume_extrude_to_infinity).
+struct VolumeExtrusion {
+    Status status = Status::NotRun;
+    glm::vec4 position = glm::vec4(0.0f); ///< (x, y, z, 0), never (0, 0, 0, 0) when Ok
+};
+
+/// Which triangles form the dark cap (the far end of the volume) for z-fail.
+enum class VolumeCapMode {
+    LitOnly,       ///< dark cap = lit triangles extruded, reversed: closed for any mesh (open meshes)
+    EverittKilgard ///< dark cap = unlit triangles extruded: closed meshes with the light outside only (Everitt-Kilgard 3.2.2)
+};
+
+/// Stencil counting method of one occluder.
+enum class VolumeStencilMethod { ZPass, ZFail };
+
+/// The z-pass / z-fail decision for one occluder.
+struct VolumeMethod {
+    Status status = Status::NotRun;
+    VolumeStencilMethod method = VolumeStencilMethod::ZFail; ///< ZFail whenever unsure (and when not Ok)
+};
+
+/// World-space corners of the camera's near-plane rectangle (any winding, convex).
+struct VolumeNearRect {
+    Status status = Status::NotRun;
+    glm::vec3 corners[4] = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
 };
 
 namespace detail {
@@ -146,19 +216,32 @@ inline bool sv_finite_mat(const glm::mat4& m) {
             if (!std::isfinite(m[c][r])) return false;
     return true;
 }
+// determinant of a 4x4 matrix in double (Laplace expansion by 2x2 minors)
+inline double sv_det4(const glm::mat4& f) {
+    double m[4][4];
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m[r][c] = static_cast<double>(f[c][r]);
+    const double s0 = m[0][0] * m[1][1] - m[1][0] * m[0][1], s1 = m[0][0] * m[1][2] - m[1][0] * m[0][2];
+    const double s2 = m[0][0] * m[1][3] - m[1][0] * m[0][3], s3 = m[0][1] * m[1][2] - m[1][1] * m[0][2];
+    const double s4 = m[0][1] * m[1][3] - m[1][1] * m[0][3], s5 = m[0][2] * m[1][3] - m[1][2] * m[0][3];
+    const double c5 = m[2][2] * m[3][3] - m[3][2] * m[2][3], c4 = m[2][1] * m[3][3] - m[3][1] * m[2][3];
+    const double c3 = m[2][1] * m[3][2] - m[3][1] * m[2][2], c2 = m[2][0] * m[3][3] - m[3][0] * m[2][3];
+    const double c1 = m[2][0] * m[3][2] - m[3][0] * m[2][2], c0 = m[2][0] * m[3][1] - m[3][0] * m[2][1];
+    return s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
+}
 
 struct SvVec {
     double x, y, z;
 };
-inline SvVec sv(const glm::vec3& v) { return SvVec{v.x, v.y, v.z}; }
+inline SvVec sv_of(const glm::vec3& v) { return SvVec{v.x, v.y, v.z}; }
 inline SvVec operator+(SvVec a, SvVec b) { return SvVec{a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline SvVec operator-(SvVec a, SvVec b) { return SvVec{a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline SvVec operator*(SvVec a, double s) { return SvVec{a.x * s, a.y * s, a.z * s}; }
-inline double dot(SvVec a, SvVec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline SvVec cross(SvVec a, SvVec b) { return SvVec{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline double len2(SvVec a) { return dot(a, a); }
-inline double get(const SvVec& v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : v.z); }
-inline void set(SvVec& v, int i, double x) {
+inline double sv_dot(SvVec a, SvVec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline SvVec sv_cross(SvVec a, SvVec b) { return SvVec{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline double sv_len2(SvVec a) { return sv_dot(a, a); }
+inline double sv_get(const SvVec& v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : v.z); }
+inline void sv_set(SvVec& v, int i, double x) {
     if (i == 0) v.x = x;
     else if (i == 1) v.y = x;
     else v.z = x;
@@ -184,30 +267,30 @@ inline void sv_add_tri(SvPoly& p, int a, int b, int c) {
 }
 
 // Builds hull(light, rect) for w > 0, or rect swept toward the light by `reach` for w = 0.
-inline SvPoly sv_near_poly(const NearPlaneRect& r, const glm::vec4& L, double reach) {
+inline SvPoly sv_near_poly(const VolumeNearRect& r, const glm::vec4& L, double reach) {
     SvPoly p;
-    for (int i = 0; i < 4; ++i) p.v[i] = sv(r.corners[i]);
+    for (int i = 0; i < 4; ++i) p.v[i] = sv_of(r.corners[i]);
     p.nv = 4;
     for (int i = 0; i < 4; ++i) p.edge[p.ne++] = p.v[(i + 1) % 4] - p.v[i];
-    p.normal[p.nn++] = cross(p.edge[0], p.edge[1]);
+    p.normal[p.nn++] = sv_cross(p.edge[0], p.edge[1]);
     sv_add_tri(p, 0, 1, 2);
     sv_add_tri(p, 0, 2, 3);
     if (L.w > 0.0f) {
         const SvVec l{static_cast<double>(L.x) / L.w, static_cast<double>(L.y) / L.w, static_cast<double>(L.z) / L.w};
         p.v[p.nv++] = l;
         for (int i = 0; i < 4; ++i) {
-            p.normal[p.nn++] = cross(p.v[(i + 1) % 4] - p.v[i], l - p.v[i]);
+            p.normal[p.nn++] = sv_cross(p.v[(i + 1) % 4] - p.v[i], l - p.v[i]);
             p.edge[p.ne++] = l - p.v[i];
             sv_add_tri(p, i, (i + 1) % 4, 4);
         }
     } else {
         SvVec d{L.x, L.y, L.z};
-        d = d * (1.0 / std::sqrt(len2(d)));
+        d = d * (1.0 / std::sqrt(sv_len2(d)));
         for (int i = 0; i < 4; ++i) p.v[p.nv++] = p.v[i] + d * reach;
         p.edge[p.ne++] = d;
         for (int i = 0; i < 4; ++i) {
             const int j = (i + 1) % 4;
-            p.normal[p.nn++] = cross(p.v[j] - p.v[i], d);
+            p.normal[p.nn++] = sv_cross(p.v[j] - p.v[i], d);
             sv_add_tri(p, i, j, j + 4);
             sv_add_tri(p, i, j + 4, i + 4);
         }
@@ -220,131 +303,183 @@ inline SvPoly sv_near_poly(const NearPlaneRect& r, const glm::vec4& L, double re
 // Closest point on triangle to point (Ericson, Real-Time Collision Detection 5.1.5), squared distance.
 inline double sv_tri_dist2(SvVec p, SvVec a, SvVec b, SvVec c) {
     const SvVec ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return len2(p - a);
+    const double d1 = sv_dot(ab, ap), d2 = sv_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return sv_len2(p - a);
     const SvVec bp = p - b;
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return len2(p - b);
+    const double d3 = sv_dot(ab, bp), d4 = sv_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return sv_len2(p - b);
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) { const double v = d1 / (d1 - d3); return len2(p - (a + ab * v)); }
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) { const double v = d1 / (d1 - d3); return sv_len2(p - (a + ab * v)); }
     const SvVec cp = p - c;
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return len2(p - c);
+    const double d5 = sv_dot(ab, cp), d6 = sv_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return sv_len2(p - c);
     const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) { const double w = d2 / (d2 - d6); return len2(p - (a + ac * w)); }
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) { const double w = d2 / (d2 - d6); return sv_len2(p - (a + ac * w)); }
     const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
         const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return len2(p - (b + (c - b) * w));
+        return sv_len2(p - (b + (c - b) * w));
     }
     const double den = va + vb + vc;
     if (!(den != 0.0)) { // degenerate triangle: edges
-        double m = len2(p - a);
+        double m = sv_len2(p - a);
         const SvVec segs[3][2] = {{a, b}, {b, c}, {c, a}};
         for (const auto& s : segs) {
             const SvVec e = s[1] - s[0];
-            const double l = len2(e);
-            double t = l > 0 ? dot(p - s[0], e) / l : 0.0;
+            const double l = sv_len2(e);
+            double t = l > 0 ? sv_dot(p - s[0], e) / l : 0.0;
             t = t < 0 ? 0 : (t > 1 ? 1 : t);
-            const double q = len2(p - (s[0] + e * t));
+            const double q = sv_len2(p - (s[0] + e * t));
             if (q < m) m = q;
         }
         return m;
     }
     const double v = vb / den, w = vc / den;
-    return len2(p - (a + ab * v + ac * w));
+    return sv_len2(p - (a + ab * v + ac * w));
+}
+
+// common checks of the two stencil-method choices
+inline Status sv_check_method_args(const VolumeNearRect& rect, const glm::vec4& light) {
+    for (const glm::vec3& c : rect.corners)
+        if (!sv_finite3(c)) return Status::NonFinite;
+    if (rect.status != Status::Ok) return Status::InvalidArgument;
+    if (!sv_valid_light(light)) return Status::InvalidLight;
+    return Status::Ok;
 }
 
 } // namespace detail
 
-/// Homogeneous extrusion to infinity away from the light (Everitt-Kilgard 3.2.2):
-/// (p.xyz L.w - L.xyz p.w, 0). For p.w = 1 and a point light this is the direction p - L.
-inline glm::vec4 extrude_to_infinity(const glm::vec4& p, const glm::vec4& L) {
-    return glm::vec4(p.x * L.w - L.x * p.w, p.y * L.w - L.y * p.w, p.z * L.w - L.z * p.w, 0.0f);
-}
-
-/// Fills out[0, n) = (p, 1) and out[n, 2n) = (p, 0). capacity in vec4; count = 2n.
-inline VolumeCount build_volume_vertices(const glm::vec3* positions, std::size_t vertex_count, glm::vec4* out,
-                                         std::size_t capacity) {
-    VolumeCount r;
-    if ((vertex_count > 0 && positions == nullptr) || (capacity > 0 && out == nullptr) ||
-        vertex_count > 0x7FFFFFFFull) {
-        r.status = VolumeStatus::InvalidArgument;
-        return r;
-    }
-    for (std::size_t i = 0; i < vertex_count; ++i)
-        if (!detail::sv_finite3(positions[i])) { r.status = VolumeStatus::NonFinite; return r; }
-    r.count = 2 * vertex_count;
-    for (std::size_t i = 0; i < vertex_count; ++i) {
-        if (i < capacity) out[i] = glm::vec4(positions[i], 1.0f);
-        if (vertex_count + i < capacity) out[vertex_count + i] = glm::vec4(positions[i], 0.0f);
-    }
-    if (r.count > capacity) r.status = VolumeStatus::BufferTooSmall;
+/// Homogeneous extrusion of p to infinity away from light_position (Everitt-Kilgard 3.2.2):
+/// (p.xyz L.w - L.xyz p.w, 0); for p.w = 1 and a point light the direction p - L. The CPU twin of
+/// sk_extrude_shadow_volume. NonFinite (p), InvalidLight, Overflow (a component beyond float), and
+/// InvalidArgument when p is AT the light (the result would be (0, 0, 0, 0): no direction).
+inline VolumeExtrusion volume_extrude_to_infinity(const glm::vec4& p, const glm::vec4& light_position) {
+    VolumeExtrusion r;
+    const glm::vec4& L = light_position;
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w))) { r.status = Status::NonFinite; return r; }
+    if (!detail::sv_valid_light(L)) { r.status = Status::InvalidLight; return r; }
+    r.position = glm::vec4(p.x * L.w - L.x * p.w, p.y * L.w - L.y * p.w, p.z * L.w - L.z * p.w, 0.0f);
+    if (!detail::sv_finite3(glm::vec3(r.position))) { r.status = Status::Overflow; r.position = glm::vec4(0.0f); return r; }
+    r.status = (r.position.x == 0.0f && r.position.y == 0.0f && r.position.z == 0.0f) ? Status::InvalidArgument : Status::Ok;
     return r;
 }
 
-/// Side quads: for each silhouette edge (a, b) = (edges[2e], edges[2e+1]) the triangles
-/// (b, a, a + n) and (b, a + n, b + n), n = vertex_count. 6 indices per edge.
-inline VolumeCount build_side_quads(const std::uint32_t* edges, std::size_t edge_count, std::size_t vertex_count,
-                                    std::uint32_t* out, std::size_t capacity) {
-    VolumeCount r;
-    if ((edge_count > 0 && edges == nullptr) || (capacity > 0 && out == nullptr) || vertex_count > 0x7FFFFFFFull ||
-        edge_count > (std::numeric_limits<std::size_t>::max() / 8)) {
-        r.status = VolumeStatus::InvalidArgument;
+/// The volume vertex buffer: out[i] = (p_i, 1), out[n + i] = (p_i, 0), n = vertex_count <= 2^31 - 1.
+/// `positions` holds vertex_count glm::vec3. `out` holds out_capacity glm::vec4 elements; it needs
+/// 2 * vertex_count (`needed`); a short buffer gets its first out_capacity elements (BufferTooSmall).
+inline VolumeBuffer volume_build_vertices(const glm::vec3* positions, std::size_t vertex_count, glm::vec4* out,
+                                          std::size_t out_capacity) {
+    VolumeBuffer r;
+    if ((vertex_count > 0 && positions == nullptr) || (out_capacity > 0 && out == nullptr) || vertex_count > 0x7FFFFFFFull) {
+        r.status = Status::InvalidArgument;
         return r;
     }
-    for (std::size_t i = 0; i < 2 * edge_count; ++i)
-        if (edges[i] >= vertex_count) { r.status = VolumeStatus::IndexOutOfRange; return r; }
+    for (std::size_t i = 0; i < vertex_count; ++i)
+        if (!detail::sv_finite3(positions[i])) { r.status = Status::NonFinite; return r; }
+    r.needed = 2 * vertex_count;
+    for (std::size_t i = 0; i < vertex_count; ++i) {
+        if (i < out_capacity) out[i] = glm::vec4(positions[i], 1.0f);
+        if (vertex_count + i < out_capacity) out[vertex_count + i] = glm::vec4(positions[i], 0.0f);
+    }
+    r.count = r.needed < out_capacity ? r.needed : out_capacity;
+    r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
+    return r;
+}
+
+/// Side quads: for each silhouette edge (a, b) = (edge_indices[2e], edge_indices[2e + 1]) the triangles
+/// (b, a, a + n) and (b, a + n, b + n), n = vertex_count <= 2^31 - 1. `edge_indices` holds
+/// edge_index_count uint32 elements (even: 2 per edge, as silhouette_extract writes them). `out`
+/// holds out_capacity uint32 elements; it needs 3 * edge_index_count (6 per edge, `needed`); a
+/// short buffer gets the whole quads that fit (BufferTooSmall).
+inline VolumeBuffer volume_build_side_quads(const std::uint32_t* edge_indices, std::size_t edge_index_count,
+                                            std::size_t vertex_count, std::uint32_t* out, std::size_t out_capacity) {
+    VolumeBuffer r;
+    if ((edge_index_count > 0 && edge_indices == nullptr) || (out_capacity > 0 && out == nullptr) || edge_index_count % 2 != 0 ||
+        vertex_count > 0x7FFFFFFFull || edge_index_count > (std::numeric_limits<std::size_t>::max() / 4)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    for (std::size_t i = 0; i < edge_index_count; ++i)
+        if (edge_indices[i] >= vertex_count) { r.status = Status::IndexOutOfRange; return r; }
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
-    r.count = 6 * edge_count;
-    const std::size_t full = capacity / 6 < edge_count ? capacity / 6 : edge_count;
+    const std::size_t edges = edge_index_count / 2;
+    r.needed = 6 * edges;
+    const std::size_t full = out_capacity / 6 < edges ? out_capacity / 6 : edges;
     for (std::size_t e = 0; e < full; ++e) {
-        const std::uint32_t a = edges[2 * e], b = edges[2 * e + 1];
+        const std::uint32_t a = edge_indices[2 * e], b = edge_indices[2 * e + 1];
         std::uint32_t* o = out + 6 * e;
         o[0] = b; o[1] = a; o[2] = a + n;
         o[3] = b; o[4] = a + n; o[5] = b + n;
     }
-    if (r.count > capacity) r.status = VolumeStatus::BufferTooSmall;
+    r.count = 6 * full;
+    r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
     return r;
 }
 
-/// Light cap (lit triangles, as given) and, if dark_cap, the dark cap (CapMode) for z-fail.
-/// triangles: 3 indices per triangle; lit: one flag per triangle (non-zero = light-facing).
-inline VolumeCount build_caps(const std::uint32_t* triangles, std::size_t triangle_count, const std::uint8_t* lit,
-                              std::size_t vertex_count, CapMode mode, bool dark_cap, std::uint32_t* out,
-                              std::size_t capacity) {
-    VolumeCount r;
-    if ((triangle_count > 0 && (triangles == nullptr || lit == nullptr)) || (capacity > 0 && out == nullptr) ||
-        vertex_count > 0x7FFFFFFFull || triangle_count > (std::numeric_limits<std::size_t>::max() / 8)) {
-        r.status = VolumeStatus::InvalidArgument;
+/// Light cap (lit triangles, as given) and, if dark_cap, the dark cap (VolumeCapMode) for z-fail.
+/// `indices` holds index_count uint32 elements (3 per triangle); `lit` holds lit_count uint8 flags,
+/// one per triangle (lit_count == index_count / 3; non-zero = light-facing, e.g. silhouette.hpp's
+/// facing of the adjacency's faces). Any sub-range of triangles works (chunks). `out` holds
+/// out_capacity uint32 elements; it needs 3 per lit triangle plus 3 per dark-cap triangle (at most
+/// 2 * index_count, `needed`); a short buffer gets the whole triangles that fit (BufferTooSmall).
+/// An out-of-range `mode` is InvalidArgument.
+inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t index_count, const std::uint8_t* lit,
+                                      std::size_t lit_count, std::size_t vertex_count, VolumeCapMode mode, bool dark_cap,
+                                      std::uint32_t* out, std::size_t out_capacity) {
+    VolumeBuffer r;
+    if ((index_count > 0 && indices == nullptr) || (lit_count > 0 && lit == nullptr) || (out_capacity > 0 && out == nullptr) ||
+        index_count % 3 != 0 || lit_count != index_count / 3 || vertex_count > 0x7FFFFFFFull ||
+        index_count > (std::numeric_limits<std::size_t>::max() / 4) ||
+        (mode != VolumeCapMode::LitOnly && mode != VolumeCapMode::EverittKilgard)) {
+        r.status = Status::InvalidArgument;
         return r;
     }
-    for (std::size_t i = 0; i < 3 * triangle_count; ++i)
-        if (triangles[i] >= vertex_count) { r.status = VolumeStatus::IndexOutOfRange; return r; }
+    for (std::size_t i = 0; i < index_count; ++i)
+        if (indices[i] >= vertex_count) { r.status = Status::IndexOutOfRange; return r; }
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
     std::size_t k = 0;
     auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        if (k + 3 <= capacity) { out[k] = a; out[k + 1] = b; out[k + 2] = c; }
+        if (k + 3 <= out_capacity) { out[k] = a; out[k + 1] = b; out[k + 2] = c; }
         k += 3;
     };
-    for (std::size_t t = 0; t < triangle_count; ++t) {
-        const std::uint32_t a = triangles[3 * t], b = triangles[3 * t + 1], c = triangles[3 * t + 2];
+    for (std::size_t t = 0; t < lit_count; ++t) {
+        const std::uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
         if (lit[t]) {
             put(a, b, c);
-            if (dark_cap && mode == CapMode::LitOnly) put(a + n, c + n, b + n);
-        } else if (dark_cap && mode == CapMode::EverittKilgard) {
+            if (dark_cap && mode == VolumeCapMode::LitOnly) put(a + n, c + n, b + n);
+        } else if (dark_cap && mode == VolumeCapMode::EverittKilgard) {
             put(a + n, b + n, c + n);
         }
     }
-    r.count = k;
-    if (k > capacity) r.status = VolumeStatus::BufferTooSmall;
+    r.needed = k;
+    r.count = k <= out_capacity ? k : (out_capacity / 3) * 3;
+    r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
     return r;
 }
 
-/// Near-plane rectangle from a view matrix (world -> eye, right-handed, looking down -z) and a
-/// symmetric perspective (fovy full vertical angle, radians). Computed in double.
-inline NearPlaneRect near_plane_rect(const glm::mat4& view, float fovy, float aspect, float near_z) {
-    NearPlaneRect r;
+/// Total: uint32 elements an index buffer needs for the side quads of any silhouette of
+/// `silhouette_index_capacity` elements (silhouette_indices_capacity) plus the caps of `index_count`
+/// mesh indices: 3 * silhouette_index_capacity + 2 * index_count (saturates at SIZE_MAX).
+inline std::size_t volume_indices_capacity(std::size_t silhouette_index_capacity, std::size_t index_count) {
+    const std::size_t m = std::numeric_limits<std::size_t>::max();
+    if (silhouette_index_capacity > m / 6 || index_count > m / 6) return m;
+    return 3 * silhouette_index_capacity + 2 * index_count;
+}
+
+/// Near-plane rectangle from a view matrix (world -> eye, right-handed, looking down -z; invertible)
+/// and a symmetric perspective: fovy (full vertical angle, radians) in (0, pi), aspect > 0, near_z > 0.
+/// Computed in double. Else InvalidArgument (NaN/Inf: NonFinite); Overflow if a corner is not finite.
+inline VolumeNearRect volume_near_plane_rect(const glm::mat4& view, float fovy, float aspect, float near_z) {
+    VolumeNearRect r;
+    if (!detail::sv_finite_mat(view) || !std::isfinite(fovy) || !std::isfinite(aspect) || !std::isfinite(near_z)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.141592653589793) || !(aspect > 0.0f) || !(near_z > 0.0f) ||
+        detail::sv_det4(view) == 0.0) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
     const glm::dmat4 inv = glm::inverse(glm::dmat4(view));
     const double t = static_cast<double>(near_z) * std::tan(0.5 * static_cast<double>(fovy));
     const double s = t * static_cast<double>(aspect);
@@ -352,86 +487,100 @@ inline NearPlaneRect near_plane_rect(const glm::mat4& view, float fovy, float as
     for (int i = 0; i < 4; ++i) {
         const glm::dvec4 w = inv * glm::dvec4(xs[i], ys[i], -static_cast<double>(near_z), 1.0);
         r.corners[i] = glm::vec3(static_cast<float>(w.x / w.w), static_cast<float>(w.y / w.w), static_cast<float>(w.z / w.w));
+        if (!detail::sv_finite3(r.corners[i])) { r.status = Status::Overflow; return r; }
     }
+    r.status = Status::Ok;
     return r;
 }
 
-/// Near-plane rectangle from the inverse of projection * view (any perspective projection).
-inline NearPlaneRect near_plane_rect_from_inverse(const glm::mat4& inverse_view_proj, ClipDepth clip, bool reversed_z) {
-    NearPlaneRect r;
+/// Near-plane rectangle from the inverse of projection * view (any perspective projection, infinite
+/// far included): the clip-space near face (z = -1, or 0, or 1 when reversed_z) un-projected.
+/// NonFinite for NaN/Inf; InvalidArgument for an out-of-range clip_depth or a corner with w <= 0.
+inline VolumeNearRect volume_near_plane_rect_from_inverse(const glm::mat4& inverse_view_proj, ClipDepth clip_depth,
+                                                          bool reversed_z) {
+    VolumeNearRect r;
+    if (!detail::sv_finite_mat(inverse_view_proj)) { r.status = Status::NonFinite; return r; }
+    if (clip_depth != ClipDepth::NegativeOneToOne && clip_depth != ClipDepth::ZeroToOne) { r.status = Status::InvalidArgument; return r; }
     const glm::dmat4 inv(inverse_view_proj);
-    const double zn = reversed_z ? 1.0 : (clip == ClipDepth::NegativeOneToOne ? -1.0 : 0.0);
+    const double zn = reversed_z ? 1.0 : (clip_depth == ClipDepth::NegativeOneToOne ? -1.0 : 0.0);
     const double xs[4] = {-1, 1, 1, -1}, ys[4] = {-1, -1, 1, 1};
     for (int i = 0; i < 4; ++i) {
         const glm::dvec4 w = inv * glm::dvec4(xs[i], ys[i], zn, 1.0);
+        if (!(w.w > 0.0)) { r.status = Status::InvalidArgument; return r; }
         r.corners[i] = glm::vec3(static_cast<float>(w.x / w.w), static_cast<float>(w.y / w.w), static_cast<float>(w.z / w.w));
+        if (!detail::sv_finite3(r.corners[i])) { r.status = Status::Overflow; return r; }
     }
+    r.status = Status::Ok;
     return r;
 }
 
-/// Z-pass is safe iff the box [bmin - margin, bmax + margin] misses hull(light, near rectangle)
-/// (exact separating-axis test in double). Otherwise (or on touching) ZFail.
-inline MethodResult choose_stencil_method_box(const NearPlaneRect& rect, const glm::vec4& light, const glm::vec3& bmin,
-                                              const glm::vec3& bmax, float margin = 0.0f) {
-    MethodResult m;
-    for (const glm::vec3& c : rect.corners)
-        if (!detail::sv_finite3(c)) { m.status = VolumeStatus::NonFinite; return m; }
-    if (!detail::sv_valid_light(light)) { m.status = VolumeStatus::InvalidLight; return m; }
-    if (!detail::sv_finite3(bmin) || !detail::sv_finite3(bmax) || !std::isfinite(margin)) { m.status = VolumeStatus::NonFinite; return m; }
-    if (!(bmin.x <= bmax.x && bmin.y <= bmax.y && bmin.z <= bmax.z) || margin < 0.0f) { m.status = VolumeStatus::InvalidBounds; return m; }
+/// Z-pass is safe iff the box [box_min - margin, box_max + margin] misses hull(light, near rectangle)
+/// (exact separating-axis test in double). Otherwise (or on touching) ZFail. near_rect must be Ok
+/// (from volume_near_plane_rect*), else InvalidArgument; box_min <= box_max, margin >= 0.
+inline VolumeMethod volume_choose_stencil_method_box(const VolumeNearRect& near_rect, const glm::vec4& light_position,
+                                                     const glm::vec3& box_min, const glm::vec3& box_max, float margin = 0.0f) {
+    VolumeMethod m;
+    m.status = detail::sv_check_method_args(near_rect, light_position);
+    if (m.status != Status::Ok) return m;
+    if (!detail::sv_finite3(box_min) || !detail::sv_finite3(box_max) || !std::isfinite(margin)) { m.status = Status::NonFinite; return m; }
+    if (!(box_min.x <= box_max.x && box_min.y <= box_max.y && box_min.z <= box_max.z) || margin < 0.0f) {
+        m.status = Status::InvalidArgument;
+        return m;
+    }
     using namespace detail;
-    const SvVec lo = sv(bmin) - SvVec{margin, margin, margin}, hi = sv(bmax) + SvVec{margin, margin, margin};
+    const SvVec lo = sv_of(box_min) - SvVec{margin, margin, margin}, hi = sv_of(box_max) + SvVec{margin, margin, margin};
     // Reach for w = 0: beyond it no point of the swept rectangle can be within the box.
     double reach = 0.0;
     {
         const SvVec c = (lo + hi) * 0.5;
         double far2 = 0.0;
-        for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, len2(sv(rect.corners[i]) - c));
-        reach = 2.0 * (std::sqrt(far2) + std::sqrt(len2(hi - lo))) + 1.0;
+        for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, sv_len2(sv_of(near_rect.corners[i]) - c));
+        reach = 2.0 * (std::sqrt(far2) + std::sqrt(sv_len2(hi - lo))) + 1.0;
     }
-    const SvPoly p = sv_near_poly(rect, light, reach);
+    const SvPoly p = sv_near_poly(near_rect, light_position, reach);
     SvVec axes[6 + 3 + 24];
     int na = 0;
     for (int i = 0; i < p.nn; ++i) axes[na++] = p.normal[i];
     const SvVec box_axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (const SvVec& a : box_axes) axes[na++] = a;
     for (int i = 0; i < p.ne; ++i)
-        for (const SvVec& a : box_axes) axes[na++] = cross(p.edge[i], a);
+        for (const SvVec& a : box_axes) axes[na++] = sv_cross(p.edge[i], a);
     const SvVec bc = (lo + hi) * 0.5, bh = (hi - lo) * 0.5;
+    m.status = Status::Ok;
     for (int k = 0; k < na; ++k) {
         const SvVec a = axes[k];
-        const double l2 = len2(a);
+        const double l2 = sv_len2(a);
         if (!(l2 > 0.0) || !std::isfinite(l2)) continue;
         double pmin = std::numeric_limits<double>::infinity(), pmax = -pmin;
         for (int i = 0; i < p.nv; ++i) {
-            const double d = dot(a, p.v[i]);
+            const double d = sv_dot(a, p.v[i]);
             pmin = std::fmin(pmin, d);
             pmax = std::fmax(pmax, d);
         }
-        const double c = dot(a, bc);
+        const double c = sv_dot(a, bc);
         const double r = std::fabs(a.x) * bh.x + std::fabs(a.y) * bh.y + std::fabs(a.z) * bh.z;
-        if (c + r < pmin || c - r > pmax) { m.method = StencilMethod::ZPass; return m; }
+        if (c + r < pmin || c - r > pmax) { m.method = VolumeStencilMethod::ZPass; return m; }
     }
-    m.method = StencilMethod::ZFail;
+    m.method = VolumeStencilMethod::ZFail;
     return m;
 }
 
 /// Sphere version: ZPass iff the distance from `center` to hull(light, near rectangle) exceeds
 /// radius + margin (exact distance to the polytope's boundary triangles, inside test by planes).
-inline MethodResult choose_stencil_method_sphere(const NearPlaneRect& rect, const glm::vec4& light,
-                                                 const glm::vec3& center, float radius, float margin = 0.0f) {
-    MethodResult m;
-    for (const glm::vec3& c : rect.corners)
-        if (!detail::sv_finite3(c)) { m.status = VolumeStatus::NonFinite; return m; }
-    if (!detail::sv_valid_light(light)) { m.status = VolumeStatus::InvalidLight; return m; }
-    if (!detail::sv_finite3(center) || !std::isfinite(radius) || !std::isfinite(margin)) { m.status = VolumeStatus::NonFinite; return m; }
-    if (radius < 0.0f || margin < 0.0f) { m.status = VolumeStatus::InvalidBounds; return m; }
+/// near_rect must be Ok, radius >= 0, margin >= 0.
+inline VolumeMethod volume_choose_stencil_method_sphere(const VolumeNearRect& near_rect, const glm::vec4& light_position,
+                                                        const glm::vec3& center, float radius, float margin = 0.0f) {
+    VolumeMethod m;
+    m.status = detail::sv_check_method_args(near_rect, light_position);
+    if (m.status != Status::Ok) return m;
+    if (!detail::sv_finite3(center) || !std::isfinite(radius) || !std::isfinite(margin)) { m.status = Status::NonFinite; return m; }
+    if (radius < 0.0f || margin < 0.0f) { m.status = Status::InvalidArgument; return m; }
     using namespace detail;
-    const SvVec c = sv(center);
+    const SvVec c = sv_of(center);
     const double rr = static_cast<double>(radius) + static_cast<double>(margin);
     double far2 = 0.0;
-    for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, len2(sv(rect.corners[i]) - c));
-    const SvPoly p = sv_near_poly(rect, light, 2.0 * (std::sqrt(far2) + rr) + 1.0);
+    for (int i = 0; i < 4; ++i) far2 = std::fmax(far2, sv_len2(sv_of(near_rect.corners[i]) - c));
+    const SvPoly p = sv_near_poly(near_rect, light_position, 2.0 * (std::sqrt(far2) + rr) + 1.0);
     // Inside test: only for a solid polytope; planes oriented outwards via the centroid.
     SvVec cen{0, 0, 0};
     for (int i = 0; i < p.nv; ++i) cen = cen + p.v[i];
@@ -440,54 +589,55 @@ inline MethodResult choose_stencil_method_sphere(const NearPlaneRect& rect, cons
     int solid_planes = 0;
     for (int t = 0; t < p.nt && inside; ++t) {
         const SvVec a = p.v[p.tri[t][0]];
-        SvVec nrm = cross(p.v[p.tri[t][1]] - a, p.v[p.tri[t][2]] - a);
-        const double l = std::sqrt(len2(nrm));
+        SvVec nrm = sv_cross(p.v[p.tri[t][1]] - a, p.v[p.tri[t][2]] - a);
+        const double l = std::sqrt(sv_len2(nrm));
         if (!(l > 0.0)) continue;
         nrm = nrm * (1.0 / l);
-        const double sc = dot(nrm, cen - a);
+        const double sc = sv_dot(nrm, cen - a);
         if (std::fabs(sc) <= 1e-12 * std::sqrt(far2 + 1.0)) continue; // flat polytope face
         ++solid_planes;
         if (sc > 0) nrm = nrm * -1.0;
-        if (dot(nrm, c - a) > 0.0) inside = false;
+        if (sv_dot(nrm, c - a) > 0.0) inside = false;
     }
-    if (inside && solid_planes >= 4) { m.method = StencilMethod::ZFail; return m; }
+    m.status = Status::Ok;
+    if (inside && solid_planes >= 4) { m.method = VolumeStencilMethod::ZFail; return m; }
     double best = std::numeric_limits<double>::infinity();
     for (int t = 0; t < p.nt; ++t)
         best = std::fmin(best, sv_tri_dist2(c, p.v[p.tri[t][0]], p.v[p.tri[t][1]], p.v[p.tri[t][2]]));
-    m.method = best <= rr * rr ? StencilMethod::ZFail : StencilMethod::ZPass;
+    m.method = best <= rr * rr ? VolumeStencilMethod::ZFail : VolumeStencilMethod::ZPass;
     return m;
 }
 
-/// Per-object scissor rectangle and depth bounds (Lengyel), see the header comment.
-/// obj_min/max: occluder bounds; light_min/max: the light's bounding box (finite; everything that
-/// can receive this light's shadows lies inside).
-inline ScissorResult shadow_volume_scissor(const glm::vec4& light, const glm::vec3& obj_min, const glm::vec3& obj_max,
-                                           const glm::vec3& light_min, const glm::vec3& light_max,
-                                           const ScissorParams& params) {
+/// Per-occluder scissor rectangle and depth bounds (Lengyel), see the header comment.
+/// box_min/max: occluder bounds; light_min/max: the light's bounding box (finite; everything that can
+/// receive this light's shadows lies inside). params: every field required (a zero or singular
+/// view_proj, or a viewport without width / height, is InvalidArgument).
+inline ScissorRect volume_scissor(const glm::vec4& light_position, const glm::vec3& box_min, const glm::vec3& box_max,
+                                  const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params) {
     using namespace detail;
-    ScissorResult res;
-    if (!sv_valid_light(light)) { res.status = VolumeStatus::InvalidLight; return res; }
-    if (!sv_finite3(obj_min) || !sv_finite3(obj_max) || !sv_finite3(light_min) || !sv_finite3(light_max) ||
+    ScissorRect res;
+    const glm::vec4& light = light_position;
+    if (!sv_valid_light(light)) { res.status = Status::InvalidLight; return res; }
+    if (!sv_finite3(box_min) || !sv_finite3(box_max) || !sv_finite3(light_min) || !sv_finite3(light_max) ||
         !sv_finite_mat(params.view_proj)) {
-        res.status = VolumeStatus::NonFinite;
-        return res;
-    }
-    if (!(obj_min.x <= obj_max.x && obj_min.y <= obj_max.y && obj_min.z <= obj_max.z) ||
-        !(light_min.x <= light_max.x && light_min.y <= light_max.y && light_min.z <= light_max.z)) {
-        res.status = VolumeStatus::InvalidBounds;
+        res.status = Status::NonFinite;
         return res;
     }
     const int* vp = params.viewport;
-    if (vp[2] <= 0 || vp[3] <= 0 || vp[0] > std::numeric_limits<int>::max() - vp[2] ||
-        vp[1] > std::numeric_limits<int>::max() - vp[3]) {
-        res.status = VolumeStatus::InvalidArgument;
+    if (!(box_min.x <= box_max.x && box_min.y <= box_max.y && box_min.z <= box_max.z) ||
+        !(light_min.x <= light_max.x && light_min.y <= light_max.y && light_min.z <= light_max.z) || vp[2] <= 0 ||
+        vp[3] <= 0 || vp[0] > std::numeric_limits<int>::max() - vp[2] || vp[1] > std::numeric_limits<int>::max() - vp[3] ||
+        (params.clip_depth != ClipDepth::NegativeOneToOne && params.clip_depth != ClipDepth::ZeroToOne) ||
+        sv_det4(params.view_proj) == 0.0) {
+        res.status = Status::InvalidArgument;
         return res;
     }
+    res.status = Status::Ok;
     // Half-spaces n . X <= d.
     struct Plane { SvVec n; double d; };
     Plane pl[6 + 1 + 3 + 6];
     int np = 0;
-    const SvVec lmin = sv(light_min), lmax = sv(light_max);
+    const SvVec lmin = sv_of(light_min), lmax = sv_of(light_max);
     pl[np++] = {SvVec{1, 0, 0}, lmax.x};
     pl[np++] = {SvVec{-1, 0, 0}, -lmin.x};
     pl[np++] = {SvVec{0, 1, 0}, lmax.y};
@@ -503,7 +653,7 @@ inline ScissorResult shadow_volume_scissor(const glm::vec4& light, const glm::ve
     else g = row(2);
     pl[np++] = {SvVec{-g.x, -g.y, -g.z}, g.w};
     // Shadow region of the occluder box.
-    const SvVec bmin = sv(obj_min), bmax = sv(obj_max), bc = (bmin + bmax) * 0.5;
+    const SvVec bmin = sv_of(box_min), bmax = sv_of(box_max), bc = (bmin + bmax) * 0.5;
     const bool point = light.w > 0.0f;
     const SvVec L = point ? SvVec{static_cast<double>(light.x) / light.w, static_cast<double>(light.y) / light.w,
                                   static_cast<double>(light.z) / light.w}
@@ -520,12 +670,12 @@ inline ScissorResult shadow_volume_scissor(const glm::vec4& light, const glm::ve
         for (int f = 0; f < 6; ++f) {
             const int ax = f / 2;
             const double sgn = (f & 1) ? 1.0 : -1.0;
-            const double off = (f & 1) ? get(bmax, ax) : get(bmin, ax);
-            const double lc = get(L, ax);
+            const double off = (f & 1) ? sv_get(bmax, ax) : sv_get(bmin, ax);
+            const double lc = sv_get(L, ax);
             facing[f] = point ? sgn * (lc - off) > 0.0 : sgn * lc > 0.0;
             if (facing[f] && np < 16) {
                 SvVec n{0, 0, 0};
-                set(n, ax, sgn);
+                sv_set(n, ax, sgn);
                 pl[np++] = {n, sgn * off};
             }
         }
@@ -538,23 +688,23 @@ inline ScissorResult shadow_volume_scissor(const glm::vec4& light, const glm::ve
                 for (int sb = 0; sb < 2; ++sb) {
                     if (facing[2 * a + sa] == facing[2 * b + sb]) continue;
                     SvVec p0 = bmin, p1;
-                    set(p0, a, sa ? get(bmax, a) : get(bmin, a));
-                    set(p0, b, sb ? get(bmax, b) : get(bmin, b));
+                    sv_set(p0, a, sa ? sv_get(bmax, a) : sv_get(bmin, a));
+                    sv_set(p0, b, sb ? sv_get(bmax, b) : sv_get(bmin, b));
                     p1 = p0;
-                    set(p0, c, get(bmin, c));
-                    set(p1, c, get(bmax, c));
+                    sv_set(p0, c, sv_get(bmin, c));
+                    sv_set(p1, c, sv_get(bmax, c));
                     const SvVec e = p1 - p0;
-                    SvVec n = point ? cross(e, L - p0) : cross(e, L);
-                    const double nl = std::sqrt(len2(n));
-                    if (!(nl > 0.0) || len2(e) == 0.0) continue;
+                    SvVec n = point ? sv_cross(e, L - p0) : sv_cross(e, L);
+                    const double nl = std::sqrt(sv_len2(n));
+                    if (!(nl > 0.0) || sv_len2(e) == 0.0) continue;
                     n = n * (1.0 / nl);
-                    double d = dot(n, p0);
-                    if (dot(n, bc) > d) { n = n * -1.0; d = -d; }
+                    double d = sv_dot(n, p0);
+                    if (sv_dot(n, bc) > d) { n = n * -1.0; d = -d; }
                     // keep only if every box corner is inside (guards against rounding)
                     bool ok = true;
                     for (int k = 0; k < 8 && ok; ++k) {
                         const SvVec q{(k & 1) ? bmax.x : bmin.x, (k & 2) ? bmax.y : bmin.y, (k & 4) ? bmax.z : bmin.z};
-                        ok = dot(n, q) <= d + 1e-12 * scale;
+                        ok = sv_dot(n, q) <= d + 1e-12 * scale;
                     }
                     if (ok) sil[ns++] = {n, d};
                 }
@@ -569,13 +719,13 @@ inline ScissorResult shadow_volume_scissor(const glm::vec4& light, const glm::ve
         for (int j = i + 1; j < np; ++j)
             for (int k = j + 1; k < np; ++k) {
                 const SvVec a = pl[i].n, b = pl[j].n, c = pl[k].n;
-                const SvVec bxc = cross(b, c);
-                const double det = dot(a, bxc);
+                const SvVec bxc = sv_cross(b, c);
+                const double det = sv_dot(a, bxc);
                 if (std::fabs(det) < 1e-12) continue;
-                const SvVec X = (bxc * pl[i].d + cross(c, a) * pl[j].d + cross(a, b) * pl[k].d) * (1.0 / det);
+                const SvVec X = (bxc * pl[i].d + sv_cross(c, a) * pl[j].d + sv_cross(a, b) * pl[k].d) * (1.0 / det);
                 if (!(std::isfinite(X.x) && std::isfinite(X.y) && std::isfinite(X.z))) continue;
                 bool in = true;
-                for (int q = 0; q < np && in; ++q) in = dot(pl[q].n, X) <= pl[q].d + tol;
+                for (int q = 0; q < np && in; ++q) in = sv_dot(pl[q].n, X) <= pl[q].d + tol;
                 if (!in) continue;
                 const glm::dvec4 clip = M * glm::dvec4(X.x, X.y, X.z, 1.0);
                 if (!(clip.w > 0.0)) continue; // on/behind the eye plane: only possible within tol

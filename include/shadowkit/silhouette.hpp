@@ -1,50 +1,56 @@
-// shadowkit/silhouette.hpp - edge adjacency of an indexed triangle mesh, face facing for a
-// homogeneous light position and the (possible) silhouette edge list with consistent winding.
-// Plain data in and out, shared by shadow volumes, smoothies and penumbra wedges.
+// shadowkit/silhouette.hpp - edge adjacency of a triangle mesh, exact face facing for a light, silhouette edges.
+// Plain data in and out (edge adjacency, facing bits, silhouette edges oriented as in their lit face),
+// shared by shadow volumes, smoothies and penumbra wedges.
 //
 // Usage:
 //   #include <shadowkit/silhouette.hpp>
 //   // once per mesh (allocates; not for the hot path)
-//   shadowkit::EdgeAdjacency adj = shadowkit::build_edge_adjacency(pos, vertex_count, idx, index_count);
-//   if (adj.status != shadowkit::SilhouetteStatus::Ok) { /* reject mesh */ }
-//   // per light / frame (no allocation: caller-owned buffers)
-//   std::vector<uint8_t> lit(adj.face_count());
-//   shadowkit::compute_facing(adj, pos, vertex_count, light /* vec4: w=1 point, w=0 direction */,
-//                             lit.data(), lit.size());
-//   std::vector<uint32_t> sil(2 * adj.max_silhouette_edges());
-//   shadowkit::SilhouetteResult r = shadowkit::extract_silhouette(adj, lit.data(), lit.size(),
-//                                                                 sil.data(), nullptr, sil.size() / 2);
-//   // sil[2i], sil[2i+1] = edge (a, b) oriented as in its light-facing triangle, r.edge_count edges
+//   shadowkit::SilhouetteAdjacency adj = shadowkit::silhouette_build_adjacency(pos, vertex_count, idx, index_count);
+//   if (adj.status != shadowkit::Status::Ok) { /* reject the mesh */ }
+//   // per light / frame (no allocation: caller-owned buffers, sized once)
+//   std::vector<std::uint8_t> lit(adj.face_count());
+//   std::vector<std::uint32_t> sil(shadowkit::silhouette_indices_capacity(adj));
+//   shadowkit::silhouette_compute_facing(adj, pos, vertex_count, light_position, lit.data(), lit.size());
+//   shadowkit::SilhouetteResult r = shadowkit::silhouette_extract(adj, lit.data(), lit.size(), sil.data(),
+//                                                                 sil.size(), nullptr, 0);
+//   // sil[0, r.count): edges (sil[2i], sil[2i+1]), each oriented as in its lit triangle
 //   // the same on several threads, with any job system's parallel_for(n, fn) (see "parallel
 //   // silhouettes" below; identical output):
 //   std::vector<shadowkit::SilhouetteResult> chunks(16);
-//   r = shadowkit::extract_silhouette_parallel(adj, pos, vertex_count, light, lit.data(), lit.size(),
-//                                              sil.data(), nullptr, sil.size() / 2, chunks.data(),
+//   r = shadowkit::silhouette_extract_parallel(adj, pos, vertex_count, light_position, lit.data(), lit.size(),
+//                                              sil.data(), sil.size(), nullptr, 0, chunks.data(),
 //                                              chunks.size(), parallel_for);
 //
-// Based on:
-//   C. Everitt, M. J. Kilgard, "Practical and Robust Stenciled Shadow Volumes for Hardware-Accelerated
-//   Rendering", NVIDIA 2002, section 3.2.2 (plane . L facing, possible silhouette edges ordered as in
-//   the front-facing triangle).
-//   P. Bergeron, "A General Version of Crow's Shadow Volumes", IEEE CG&A 1986 (open models).
-//   The edge-count rule for open / non-manifold edges generalises the count trick of bgfx's
-//   14-shadowvolumes example (side quads emitted |k| times).
-//
-// Definitions (used consistently by every function):
-//   * Facing. For a kept face (A, B, C) and light L = (x, y, z, w), w >= 0:
-//       d = dot(cross(B - A, C - A), L.xyz - w A)      (= w * (plane . L) for the plane through A)
-//     evaluated in double from the float inputs. The face is LIT (front-facing to the light) iff
-//     d > 0; d == 0 (light in the face's plane, or a zero-area face) counts as not lit. Every edge
-//     reads the one bit of each of its faces, so the rule is consistent across faces: whatever the
-//     rounding does to a face whose plane contains the light, both edges' quads and the caps see the
-//     same bit and the shadow volume stays closed (see the proof below).
+// Conventions:
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+//   * Units: positions and light_position in the same (object) space, any unit. Winding: triangles are
+//     counter-clockwise seen from their front (lit) side.
+//   * Buffers: every capacity counts elements of its pointer's type (uint8 facing bits, uint32
+//     indices: 2 per silhouette edge); results say `count` (elements written, a valid prefix) and
+//     `needed` (elements the whole output needs; count == needed when Ok). The adjacency build
+//     allocates; nothing else does, except silhouette_compute (says so).
+//   * Facing (exact). For a kept face (A, B, C) and light_position L = (l, w):
+//       d = dot(cross(B - A, C - A), l - w A)      (= w * (plane . L) for the plane through A)
+//     with real arithmetic on the float inputs: the sign of d is computed EXACTLY (an orient3d-style
+//     predicate: a double-precision filter with a proven error bound, then an exact integer fallback;
+//     Shewchuk 1997). The face is LIT (front-facing to the light) iff d > 0. d == 0 - the light in
+//     the face's plane (a point light on the face's plane, a directional light parallel to it) or a
+//     zero-area face - is NOT lit. Consequences: a point light exactly on a mesh vertex V makes every
+//     face incident to V (and to any vertex at the same position) exactly d = 0, so unlit; V is then
+//     on no lit face, hence on no silhouette edge and in no LitOnly cap, and shadow_volume.hpp never
+//     extrudes it (its extrusion V w - l would be (0, 0, 0, 0)). The facing bit never depends on the
+//     rounding, compiler or FMA contraction (the filter's bound holds with or without contraction;
+//     -ffast-math reassociation is outside IEEE 754 and voids it).
 //   * Edge rule. For an edge {u, v} with incident faces f_i, let s_i = +1 if f_i traverses u -> v and
 //     -1 if it traverses v -> u. The silhouette multiplicity is  k = sum over LIT faces of s_i.
 //     The edge is emitted |k| times, oriented u -> v if k > 0, v -> u if k < 0 (i.e. as in the lit
 //     triangle). Manifold edge (two faces, opposite winding): k = +-1 iff exactly one face is lit -
 //     the usual possible-silhouette edge. Boundary edge (one face): emitted iff its face is lit
-//     (flag Boundary). Non-manifold edge (> 2 faces, or two faces with the same winding): |k| may
-//     be 0, 1, 2, ... (flag NonManifold).
+//     (flag SilhouetteBoundary). Non-manifold edge (> 2 faces, or two faces with the same winding):
+//     |k| may be 0, 1, 2, ... (flag SilhouetteNonManifold).
 //   * Proof of closure. The volume built from the lit faces (light cap), their extrusions to
 //     infinity reversed (dark cap) and the side quads of this edge rule is the sum, as an oriented
 //     2-chain, of one closed prism per lit face (face, three side quads, extruded face): interior
@@ -52,22 +58,39 @@
 //     consistently oriented for ANY mesh (open, non-manifold, badly wound) and ANY facing bits.
 //     The Everitt-Kilgard dark cap (unlit faces extruded) gives the same chain whenever
 //     sum over ALL faces of s_i = 0 on every edge (closed, consistently wound meshes).
+//   * Welding (SilhouetteAdjacencyOptions::weld_tolerance):
+//     < 0 : no welding, vertices are identified by index only;
+//     = 0 : (default) vertices with bit-identical positions (+0 == -0) are welded - UV / normal seams;
+//     > 0 : greedy weld: in input order, a vertex snaps to the lowest-index representative within
+//           Euclidean distance <= tolerance (squared distance evaluated in double), else it becomes a
+//           representative. Not transitive: a chain of vertices spaced just under the tolerance is not
+//           collapsed into one. Hashed grid with power-of-two cells of 2-4 tolerances, cell
+//           coordinates exact in double for any tolerance and magnitude, so it stays O(n) (at most a
+//           bounded number of candidates per vertex; `weld_checks` counts them). Welded indices are
+//           representatives' input indices, so the input vertex buffer renders unchanged.
+//   * Skipped and counted: degenerate faces (two equal welded indices, or an exactly zero cross
+//     product, decided exactly like the facing) and duplicate faces (the same cyclic vertex sequence
+//     as an earlier face; the same vertices in opposite winding are kept: a two-sided triangle is a
+//     closed zero-volume pair). Skipping a zero-area sliver can open a closed mesh (its edges become
+//     boundary edges); the edge rule keeps the volume closed anyway.
+//   * Statuses: null pointers with non-zero counts, an index count not a multiple of 3, more than
+//     2^31 - 1 faces or 2^32 - 2 vertices, a facing buffer or adjacency that does not match, an
+//     adjacency whose build failed: InvalidArgument. NaN/Inf positions (all vertex_count of them are
+//     checked; per frame, the faces' positions) or tolerance: NonFinite. Indices >= vertex_count:
+//     IndexOutOfRange. A bad light_position: InvalidLight. Short buffers: BufferTooSmall with
+//     `needed`. Empty meshes are Ok (no faces, no edges).
 //
-// Welding (AdjacencyOptions::weld_tolerance):
-//   < 0 : no welding, vertices are identified by index only;
-//   = 0 : (default) vertices with bit-identical positions (+0 == -0) are welded - UV / normal seams;
-//   > 0 : greedy hashed-grid weld: in input order, a vertex snaps to the lowest-index representative
-//         within Euclidean distance <= tolerance found in the 27 grid cells around it (cell size =
-//         tolerance), else it becomes a representative. Not transitive: a chain of vertices spaced
-//         just under the tolerance is not collapsed into one. Welded indices are representatives'
-//         input indices, so the input vertex buffer can be used for rendering unchanged.
-// Skipped and counted: degenerate faces (two equal welded indices, or cross(B - A, C - A) == 0
-// exactly in double) and duplicate faces (same cyclic vertex sequence as an earlier face; the same
-// vertices in opposite winding are kept: a two-sided triangle is a closed zero-volume pair).
-// Skipping a zero-area sliver can open a closed mesh (its edges become boundary edges); the edge rule
-// keeps the volume closed anyway. Rejected with a status: out-of-range indices, NaN/Inf positions
-// (all vertex_count positions are checked), index count not a multiple of 3, null pointers with
-// non-zero counts, more than 2^31 - 1 faces or 2^32 - 2 vertices. Empty meshes are Ok (no edges).
+// Based on:
+//   C. Everitt, M. J. Kilgard, "Practical and Robust Stenciled Shadow Volumes for Hardware-Accelerated
+//   Rendering", NVIDIA 2002, section 3.2.2 (plane . L facing, possible silhouette edges ordered as in
+//   the front-facing triangle).
+//   J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
+//   Predicates", Discrete & Computational Geometry 18(3), 1997 (floating-point filter + exact
+//   fallback for the sign of a determinant; here the fallback is integer arithmetic, immune to FMA
+//   contraction).
+//   P. Bergeron, "A General Version of Crow's Shadow Volumes", IEEE CG&A 1986 (open models).
+//   The edge-count rule for open / non-manifold edges generalizes the count trick of bgfx's
+//   14-shadowvolumes example (side quads emitted |k| times).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -86,77 +109,112 @@
 
 namespace shadowkit {
 
-enum class SilhouetteStatus {
-    Ok,
-    InvalidArgument,        ///< null pointer with a non-zero count, or size mismatch with the adjacency
-    IndexCountNotMultipleOf3,
-    IndexOutOfRange,        ///< an index >= vertex_count
-    NonFinitePosition,      ///< a position with NaN or Inf
-    InvalidTolerance,       ///< weld tolerance NaN or +Inf
-    TooLarge,               ///< more than 2^31 - 1 faces or 2^32 - 2 vertices
-    InvalidLight,           ///< light not finite, w < 0, or (0, 0, 0, 0)
-    InvalidAdjacency,       ///< the adjacency passed in was not built successfully
-    BufferTooSmall          ///< output truncated; the needed count is reported
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
 };
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
 
-/// Marks "no second face" in AdjacencyEdge::f1.
-constexpr std::uint32_t kNoFace = 0xFFFFFFFFu;
+/// Marks "no second face" in SilhouetteEdge::f1.
+constexpr std::uint32_t kSilhouetteNoFace = 0xFFFFFFFFu;
 
-/// Manifold or boundary edge. f0 traverses v0 -> v1; f1 traverses v1 -> v0, or kNoFace (boundary).
-struct AdjacencyEdge {
+/// Manifold or boundary edge. f0 traverses v0 -> v1; f1 traverses v1 -> v0, or kSilhouetteNoFace (boundary).
+struct SilhouetteEdge {
     std::uint32_t v0, v1, f0, f1;
 };
 
-/// Non-manifold edge (v0 < v1): faces in EdgeAdjacency::nonmanifold_faces[first, first + count),
+/// Non-manifold edge (v0 < v1): faces in SilhouetteAdjacency::nonmanifold_faces[first, first + count),
 /// each stored as face | (1u << 31 if the face traverses v1 -> v0).
-struct NonManifoldEdge {
+struct SilhouetteNonManifoldEdge {
     std::uint32_t v0, v1, first, count;
 };
 
-struct AdjacencyOptions {
-    float weld_tolerance = 0.0f; ///< [Units: position units] see the header comment; < 0 disables
+/// Options of silhouette_build_adjacency.
+struct SilhouetteAdjacencyOptions {
+    float weld_tolerance = 0.0f; ///< [position units] < 0: no weld, 0: bit-identical, > 0: greedy (header comment)
 };
 
-struct EdgeAdjacency {
-    SilhouetteStatus status = SilhouetteStatus::Ok;
+/// Edge adjacency of a mesh (silhouette_build_adjacency). `status` first; the rest is valid when Ok.
+struct SilhouetteAdjacency {
+    Status status = Status::NotRun;
     std::uint32_t vertex_count = 0;                ///< input vertex count
     std::vector<std::uint32_t> remap;              ///< input vertex -> representative (input index)
     std::vector<std::uint32_t> faces;              ///< 3 welded indices per kept face, input winding
     std::vector<std::uint32_t> face_source;        ///< kept face -> input triangle index
-    std::vector<AdjacencyEdge> edges;              ///< manifold and boundary edges
-    std::vector<NonManifoldEdge> nonmanifold_edges;
+    std::vector<SilhouetteEdge> edges;             ///< manifold and boundary edges
+    std::vector<SilhouetteNonManifoldEdge> nonmanifold_edges;
     std::vector<std::uint32_t> nonmanifold_faces;
     std::size_t degenerate_triangles = 0;          ///< skipped
     std::size_t duplicate_triangles = 0;           ///< skipped
     std::size_t welded_vertices = 0;               ///< vertices mapped onto another representative
     std::size_t manifold_edges = 0;
     std::size_t boundary_edges = 0;
+    std::size_t weld_checks = 0;                   ///< candidate pairs the weld compared (diagnostic: O(n))
 
+    /// Kept faces: the element count of a facing buffer.
     std::size_t face_count() const { return faces.size() / 3; }
     /// True if every edge has exactly two faces with opposite winding (closed 2-manifold).
     bool closed() const { return boundary_edges == 0 && nonmanifold_edges.empty(); }
-    /// Upper bound of extract_silhouette's edge count for any facing.
+    /// Most silhouette EDGES any facing can give (each is 2 uint32 elements: see silhouette_indices_capacity).
     std::size_t max_silhouette_edges() const {
         std::size_t n = edges.size();
-        for (const NonManifoldEdge& e : nonmanifold_edges) n += e.count;
+        for (const SilhouetteNonManifoldEdge& e : nonmanifold_edges) n += e.count;
         return n;
     }
 };
 
-/// Silhouette edge flags (per emitted edge).
+/// Silhouette edge flags (one uint8 per emitted edge).
 enum SilhouetteFlag : std::uint8_t { SilhouetteBoundary = 1u, SilhouetteNonManifold = 2u };
 
-struct FacingResult {
-    SilhouetteStatus status = SilhouetteStatus::Ok;
-    std::size_t face_count = 0; ///< entries needed in the facing buffer
-    std::size_t lit_faces = 0;
+/// Facing of a mesh's kept faces (silhouette_compute_facing).
+struct SilhouetteFacing {
+    Status status = Status::NotRun;
+    std::size_t count = 0;     ///< uint8 facing elements written (a chunk: this chunk's faces)
+    std::size_t needed = 0;    ///< uint8 elements the facing buffer needs: adj.face_count()
+    std::size_t lit_faces = 0; ///< faces with d > 0 among those written
 };
 
+/// Silhouette edges (silhouette_extract and the chunked functions).
 struct SilhouetteResult {
-    SilhouetteStatus status = SilhouetteStatus::Ok;
-    std::size_t edge_count = 0;   ///< edges needed (each is 2 indices); written = min(edge_count, capacity)
-    std::size_t boundary_edges = 0;
-    std::size_t nonmanifold_edges = 0;
+    Status status = Status::NotRun;
+    std::size_t count = 0;             ///< uint32 elements written to edge_indices (2 per edge, whole edges)
+    std::size_t needed = 0;            ///< uint32 elements the whole silhouette needs (2 per edge)
+    std::size_t boundary_edges = 0;    ///< emitted edges flagged SilhouetteBoundary (whole silhouette)
+    std::size_t nonmanifold_edges = 0; ///< emitted edges flagged SilhouetteNonManifold (whole silhouette)
+};
+
+/// Exact facing of one triangle (silhouette_face_orientation).
+struct SilhouetteOrientation {
+    Status status = Status::NotRun;
+    int sign = 0;     ///< sign of d (header comment): +1, 0 or -1, exact
+    bool lit = false; ///< sign > 0
 };
 
 namespace detail {
@@ -170,39 +228,188 @@ inline std::uint32_t sil_float_key(float f) {
     return u;
 }
 
+// ------------------------------------------------------------------ exact sign of d
+// d = det(A, B, l) + det(B, C, l) + det(C, A, l) - w det(A, B, C)  (expanding cross(B - A, C - A) =
+// A x B + B x C + C x A and (A x B + B x C + C x A) . A = det(A, B, C)): 18 products of three floats
+// and 6 of four. Each float is m 2^e (integer |m| < 2^24, e in [-149, 104]), so each product is an
+// integer < 2^96 times 2^E with E in [-596, 416]: positive and negative products are added exactly
+// into two fixed-point integers (bit 0 = 2^-596, 35 limbs of 32 bits) and compared. Integer
+// arithmetic only: no rounding, no dependence on FMA contraction or the FPU mode.
+constexpr int kSilLimbs = 36;
+
+struct SilFloat {
+    std::uint32_t m; // |mantissa|, 0 for +-0
+    int e;           // value = +-m 2^e
+    bool neg;
+};
+
+inline SilFloat sil_decompose(float f) {
+    std::uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    const std::uint32_t ex = (u >> 23) & 0xFFu, fr = u & 0x7FFFFFu;
+    SilFloat r;
+    r.neg = (u >> 31) != 0;
+    if (ex == 0) {
+        r.m = fr;
+        r.e = -149;
+    } else {
+        r.m = fr | 0x800000u;
+        r.e = static_cast<int>(ex) - 150;
+    }
+    return r;
+}
+
+struct SilExactSum {
+    std::uint32_t pos[kSilLimbs] = {};
+    std::uint32_t neg[kSilLimbs] = {};
+
+    // adds (negative ? -1 : 1) * prod(f[i].m) * 2^(sum f[i].e) for k = 3 or 4 factors
+    void add(const SilFloat* const* f, int k, bool negative) {
+        std::uint32_t v[4] = {f[0]->m, 0u, 0u, 0u};
+        int e = f[0]->e;
+        bool s = negative != f[0]->neg;
+        for (int i = 1; i < k; ++i) {
+            std::uint64_t carry = 0;
+            for (int j = 0; j < 3; ++j) {
+                const std::uint64_t t = static_cast<std::uint64_t>(v[j]) * f[i]->m + carry;
+                v[j] = static_cast<std::uint32_t>(t);
+                carry = t >> 32;
+            }
+            e += f[i]->e;
+            s = s != f[i]->neg;
+        }
+        if ((v[0] | v[1] | v[2]) == 0u) return;
+        const int off = e + 596; // >= 0: every factor's e >= -149
+        const int limb = off / 32, bit = off % 32;
+        std::uint32_t w[4];
+        if (bit == 0) {
+            w[0] = v[0]; w[1] = v[1]; w[2] = v[2]; w[3] = 0u;
+        } else {
+            w[0] = v[0] << bit;
+            w[1] = (v[1] << bit) | (v[0] >> (32 - bit));
+            w[2] = (v[2] << bit) | (v[1] >> (32 - bit));
+            w[3] = v[2] >> (32 - bit);
+        }
+        std::uint32_t* acc = s ? neg : pos;
+        std::uint64_t carry = 0;
+        for (int j = limb; j < kSilLimbs && (j < limb + 4 || carry != 0); ++j) {
+            const std::uint64_t t = static_cast<std::uint64_t>(acc[j]) + (j < limb + 4 ? w[j - limb] : 0u) + carry;
+            acc[j] = static_cast<std::uint32_t>(t);
+            carry = t >> 32;
+        }
+    }
+    int sign() const {
+        for (int j = kSilLimbs - 1; j >= 0; --j) {
+            if (pos[j] != neg[j]) return pos[j] > neg[j] ? 1 : -1;
+        }
+        return 0;
+    }
+};
+
+// adds sign * det(P, Q, R) (times *extra if given): the 6 permutation products
+inline void sil_exact_add_det(SilExactSum& s, const SilFloat* P, const SilFloat* Q, const SilFloat* R,
+                              const SilFloat* extra, bool negate) {
+    static const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+    for (int p = 0; p < 6; ++p) {
+        const SilFloat* f[4] = {&P[perm[p][0]], &Q[perm[p][1]], &R[perm[p][2]], extra};
+        s.add(f, extra ? 4 : 3, negate != (p >= 3));
+    }
+}
+
+/// Exact sign of d (header comment) by integer arithmetic; inputs must be finite. The fallback of
+/// every facing filter (the per-frame one below and any cached-plane filter built on top).
+inline int sil_face_sign_exact(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L) {
+    const SilFloat A[3] = {sil_decompose(a.x), sil_decompose(a.y), sil_decompose(a.z)};
+    const SilFloat B[3] = {sil_decompose(b.x), sil_decompose(b.y), sil_decompose(b.z)};
+    const SilFloat C[3] = {sil_decompose(c.x), sil_decompose(c.y), sil_decompose(c.z)};
+    const SilFloat l[3] = {sil_decompose(L.x), sil_decompose(L.y), sil_decompose(L.z)};
+    const SilFloat w = sil_decompose(L.w);
+    SilExactSum s;
+    sil_exact_add_det(s, A, B, l, nullptr, false);
+    sil_exact_add_det(s, B, C, l, nullptr, false);
+    sil_exact_add_det(s, C, A, l, nullptr, false);
+    if (w.m != 0u) sil_exact_add_det(s, A, B, C, &w, true);
+    return s.sign();
+}
+
+/// Returned by sil_face_sign for NaN/Inf inputs (only ever seen in the fallback branch).
+constexpr int kSilNonFinite = 2;
+
+// Filter bound: d computed below as sum over i of (e1_j e2_k - e1_k e2_j) q_i with e1 = B - A,
+// e2 = C - A, q = l - w A (w A is exact: float * float fits a double). Every term carries at most 8
+// rounding factors (1 + delta), |delta| <= u = 2^-53 (e1, e2, q: one each; products, difference,
+// product, two sums), with or without FMA contraction (a fused operation only drops factors). So
+// |d_computed - d| <= gamma_8 P with P = sum_i (|e1_j e2_k| + |e1_k e2_j|) |q_i| of the exact values
+// (Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., 3.1), and the computed P is
+// >= P (1 - u)^8, so 10 u times the computed P (itself rounded once more) bounds the error:
+// 10 u (1 - u)^9 >= gamma_8 = 8 u / (1 - 8 u). No underflow: every nonzero intermediate is a multiple of
+// 2^-447 (all floats are multiples of 2^-149); no overflow: |d| < 4e155.
+constexpr double kSilFilterBound = 10.0 * 1.1102230246251565e-16; // 10 * 2^-53
+
+/// Exact sign of d (header comment) for finite inputs: a double-precision evaluation whose proven
+/// error bound decides almost every face, the exact integer evaluation for the rest; kSilNonFinite
+/// for NaN/Inf inputs.
+inline int sil_face_sign(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L) {
+    const double ax = a.x, ay = a.y, az = a.z, lw = L.w;
+    const double e1x = static_cast<double>(b.x) - ax, e1y = static_cast<double>(b.y) - ay, e1z = static_cast<double>(b.z) - az;
+    const double e2x = static_cast<double>(c.x) - ax, e2y = static_cast<double>(c.y) - ay, e2z = static_cast<double>(c.z) - az;
+    const double qx = static_cast<double>(L.x) - lw * ax, qy = static_cast<double>(L.y) - lw * ay,
+                 qz = static_cast<double>(L.z) - lw * az;
+    const double p1 = e1y * e2z, p2 = e1z * e2y, p3 = e1z * e2x, p4 = e1x * e2z, p5 = e1x * e2y, p6 = e1y * e2x;
+    const double d = (p1 - p2) * qx + (p3 - p4) * qy + (p5 - p6) * qz;
+    const double perm = (std::fabs(p1) + std::fabs(p2)) * std::fabs(qx) + (std::fabs(p3) + std::fabs(p4)) * std::fabs(qy) +
+                        (std::fabs(p5) + std::fabs(p6)) * std::fabs(qz);
+    const double bound = kSilFilterBound * perm;
+    if (d > bound) return 1;
+    if (d < -bound) return -1;
+    if (perm == 0.0) return 0; // every term exactly 0 (nothing underflows): d == 0
+    // NaN/Inf inputs always land here (perm or bound is NaN/Inf, so both tests above are false)
+    if (!(sil_finite(a) && sil_finite(b) && sil_finite(c) && std::isfinite(L.x) && std::isfinite(L.y) &&
+          std::isfinite(L.z) && std::isfinite(L.w)))
+        return kSilNonFinite;
+    return sil_face_sign_exact(a, b, c, L);
+}
+
+// Zero-area face: cross(B - A, C - A) == 0 exactly (d == 0 for every light): the three axis
+// directions as directional lights give its three components.
+inline bool sil_zero_area(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    return sil_face_sign(a, b, c, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f)) == 0 &&
+           sil_face_sign(a, b, c, glm::vec4(0.0f, 1.0f, 0.0f, 0.0f)) == 0 &&
+           sil_face_sign(a, b, c, glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)) == 0;
+}
+
+// ------------------------------------------------------------------ weld
+// Cell coordinates are doubles holding exact integers: x = p / s with s a power of two is exact, and
+// floor() of it too. For |x| >= 2^52 a neighbor cell x +- 1 is not needed: another float within the
+// tolerance of p on that axis is p itself (p's float spacing is >= 2^28 tolerances there).
 struct SilCell {
-    std::int64_t x, y, z;
+    double x, y, z;
     bool operator==(const SilCell& o) const { return x == o.x && y == o.y && z == o.z; }
 };
 struct SilCellHasher {
     std::size_t operator()(const SilCell& c) const {
-        std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ull;
-        h ^= static_cast<std::uint64_t>(c.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-        h ^= static_cast<std::uint64_t>(c.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+        std::uint64_t bx, by, bz;
+        std::memcpy(&bx, &c.x, sizeof bx);
+        std::memcpy(&by, &c.y, sizeof by);
+        std::memcpy(&bz, &c.z, sizeof bz);
+        std::uint64_t h = bx * 0x9E3779B97F4A7C15ull;
+        h ^= by * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+        h ^= bz * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
         return static_cast<std::size_t>(h ^ (h >> 29));
     }
 };
 
-inline std::int64_t sil_cell_coord(float p, double inv_cell) {
-    double c = std::floor(static_cast<double>(p) * inv_cell);
-    const double lim = 1.0e18;
-    if (c > lim) c = lim;
-    if (c < -lim) c = -lim;
-    return static_cast<std::int64_t>(c);
+inline double sil_cell_coord(float p, double inv_cell) {
+    return std::floor(static_cast<double>(p) * inv_cell) + 0.0; // exact; + 0.0 turns -0 into +0
 }
 
 inline glm::dvec3 sil_d(const glm::vec3& v) { return glm::dvec3(v.x, v.y, v.z); }
 
-// cross(B - A, C - A) in double.
-inline glm::dvec3 sil_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-    const glm::dvec3 A = sil_d(a), e1 = sil_d(b) - A, e2 = sil_d(c) - A;
-    return glm::dvec3(e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x);
-}
-
-inline void sil_weld(const glm::vec3* p, std::uint32_t n, float tol, std::vector<std::uint32_t>& remap) {
+// returns the number of candidate pairs compared
+inline std::size_t sil_weld(const glm::vec3* p, std::uint32_t n, float tol, std::vector<std::uint32_t>& remap) {
     remap.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) remap[i] = i;
-    if (tol < 0.0f || n == 0) return;
+    if (tol < 0.0f || n == 0) return 0;
     if (tol == 0.0f) {
         std::vector<std::uint32_t> order(n);
         for (std::uint32_t i = 0; i < n; ++i) order[i] = i;
@@ -219,56 +426,63 @@ inline void sil_weld(const glm::vec3* p, std::uint32_t n, float tol, std::vector
             if (same) remap[i] = rep; // rep is the lowest index of its group (sorted by index last)
             else rep = i;
         }
-        return;
+        return n - 1;
     }
-    const double inv = 1.0 / static_cast<double>(tol);
+    // cell side s = 2^(k+1) in [2 tol, 4 tol): a pair whose squared distance in double is <= tol^2
+    // is closer than s on every axis (rounding moves it by a relative 2^-52 at most), so it lies in
+    // neighboring cells; representatives in one cell are > tol apart, so a cell holds few of them.
+    int k = 0;
+    (void)std::frexp(static_cast<double>(tol), &k); // tol = f 2^k, f in [0.5, 1)
+    const double inv = std::ldexp(1.0, -(k + 1));
     const double tol2 = static_cast<double>(tol) * static_cast<double>(tol);
+    const double far = 4503599627370496.0; // 2^52
+    std::size_t checks = 0;
     std::unordered_map<SilCell, std::vector<std::uint32_t>, SilCellHasher> grid;
     grid.reserve(n);
     for (std::uint32_t i = 0; i < n; ++i) {
         const SilCell c{sil_cell_coord(p[i].x, inv), sil_cell_coord(p[i].y, inv), sil_cell_coord(p[i].z, inv)};
-        std::uint32_t best = kNoFace;
-        for (int dx = -1; dx <= 1; ++dx)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dz = -1; dz <= 1; ++dz) {
+        const int rx = std::fabs(c.x) < far ? 1 : 0, ry = std::fabs(c.y) < far ? 1 : 0, rz = std::fabs(c.z) < far ? 1 : 0;
+        std::uint32_t best = kSilhouetteNoFace;
+        for (int dx = -rx; dx <= rx; ++dx)
+            for (int dy = -ry; dy <= ry; ++dy)
+                for (int dz = -rz; dz <= rz; ++dz) {
                     const auto it = grid.find(SilCell{c.x + dx, c.y + dy, c.z + dz});
                     if (it == grid.end()) continue;
                     for (std::uint32_t r : it->second) {
+                        ++checks;
                         const glm::dvec3 d = sil_d(p[i]) - sil_d(p[r]);
                         if (r < best && d.x * d.x + d.y * d.y + d.z * d.z <= tol2) best = r;
                     }
                 }
-        if (best != kNoFace) remap[i] = best;
+        if (best != kSilhouetteNoFace) remap[i] = best;
         else grid[c].push_back(i);
     }
+    return checks;
 }
 
 } // namespace detail
 
-/// Builds edge adjacency (allocates; call once per mesh / topology change).
-/// positions: vertex_count glm::vec3; indices: index_count uint32 (triangle list).
-inline EdgeAdjacency build_edge_adjacency(const glm::vec3* positions, std::size_t vertex_count,
-                                          const std::uint32_t* indices, std::size_t index_count,
-                                          const AdjacencyOptions& options = AdjacencyOptions()) {
-    EdgeAdjacency adj;
-    if ((vertex_count > 0 && positions == nullptr) || (index_count > 0 && indices == nullptr)) {
-        adj.status = SilhouetteStatus::InvalidArgument;
+/// Builds the edge adjacency of a triangle list (allocates; once per mesh / topology change).
+/// `positions` holds vertex_count glm::vec3; `indices` holds index_count uint32 (3 per triangle).
+/// Statuses: header comment. Empty input is Ok.
+inline SilhouetteAdjacency silhouette_build_adjacency(const glm::vec3* positions, std::size_t vertex_count,
+                                                      const std::uint32_t* indices, std::size_t index_count,
+                                                      const SilhouetteAdjacencyOptions& options = SilhouetteAdjacencyOptions()) {
+    SilhouetteAdjacency adj;
+    if ((vertex_count > 0 && positions == nullptr) || (index_count > 0 && indices == nullptr) || index_count % 3 != 0 ||
+        vertex_count > 0xFFFFFFFEull || index_count / 3 > 0x7FFFFFFFull) {
+        adj.status = Status::InvalidArgument;
         return adj;
     }
-    if (index_count % 3 != 0) { adj.status = SilhouetteStatus::IndexCountNotMultipleOf3; return adj; }
-    if (vertex_count > 0xFFFFFFFEull || index_count / 3 > 0x7FFFFFFFull) { adj.status = SilhouetteStatus::TooLarge; return adj; }
-    if (std::isnan(options.weld_tolerance) || std::isinf(options.weld_tolerance)) {
-        adj.status = SilhouetteStatus::InvalidTolerance;
-        return adj;
-    }
+    if (!std::isfinite(options.weld_tolerance)) { adj.status = Status::NonFinite; return adj; }
     for (std::size_t i = 0; i < vertex_count; ++i)
-        if (!detail::sil_finite(positions[i])) { adj.status = SilhouetteStatus::NonFinitePosition; return adj; }
+        if (!detail::sil_finite(positions[i])) { adj.status = Status::NonFinite; return adj; }
     for (std::size_t i = 0; i < index_count; ++i)
-        if (indices[i] >= vertex_count) { adj.status = SilhouetteStatus::IndexOutOfRange; return adj; }
+        if (indices[i] >= vertex_count) { adj.status = Status::IndexOutOfRange; return adj; }
 
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
     adj.vertex_count = n;
-    detail::sil_weld(positions, n, options.weld_tolerance, adj.remap);
+    adj.weld_checks = detail::sil_weld(positions, n, options.weld_tolerance, adj.remap);
     for (std::uint32_t i = 0; i < n; ++i) adj.welded_vertices += adj.remap[i] != i;
 
     // Faces: weld, drop degenerate, then duplicates (first occurrence in input order wins).
@@ -279,8 +493,7 @@ inline EdgeAdjacency build_edge_adjacency(const glm::vec3* positions, std::size_
     for (std::size_t t = 0; t < tri_count; ++t) {
         const std::uint32_t a = adj.remap[indices[3 * t]], b = adj.remap[indices[3 * t + 1]], c = adj.remap[indices[3 * t + 2]];
         if (a == b || b == c || a == c) { ++adj.degenerate_triangles; continue; }
-        const glm::dvec3 nrm = detail::sil_normal(positions[a], positions[b], positions[c]);
-        if (nrm.x == 0.0 && nrm.y == 0.0 && nrm.z == 0.0) { ++adj.degenerate_triangles; continue; }
+        if (detail::sil_zero_area(positions[a], positions[b], positions[c])) { ++adj.degenerate_triangles; continue; }
         // canonical rotation: smallest index first (keeps the cyclic order = winding)
         Cand k{a, b, c, static_cast<std::uint32_t>(t)};
         if (b < a && b < c) k = Cand{b, c, a, k.src};
@@ -341,83 +554,96 @@ inline EdgeAdjacency build_edge_adjacency(const glm::vec3* positions, std::size_
         if (cnt == 1) {
             const bool rev = (half[i].face_dir & 0x80000000u) != 0;
             const std::uint32_t f = half[i].face_dir & 0x7FFFFFFFu;
-            adj.edges.push_back(rev ? AdjacencyEdge{hi, lo, f, kNoFace} : AdjacencyEdge{lo, hi, f, kNoFace});
+            adj.edges.push_back(rev ? SilhouetteEdge{hi, lo, f, kSilhouetteNoFace} : SilhouetteEdge{lo, hi, f, kSilhouetteNoFace});
             ++adj.boundary_edges;
         } else if (cnt == 2 && ((half[i].face_dir ^ half[i + 1].face_dir) & 0x80000000u)) {
             // sorted by face_dir: the forward (lo -> hi) face comes first
-            adj.edges.push_back(AdjacencyEdge{lo, hi, half[i].face_dir & 0x7FFFFFFFu, half[i + 1].face_dir & 0x7FFFFFFFu});
+            adj.edges.push_back(SilhouetteEdge{lo, hi, half[i].face_dir & 0x7FFFFFFFu, half[i + 1].face_dir & 0x7FFFFFFFu});
             ++adj.manifold_edges;
         } else {
-            NonManifoldEdge e{lo, hi, static_cast<std::uint32_t>(adj.nonmanifold_faces.size()), static_cast<std::uint32_t>(cnt)};
+            SilhouetteNonManifoldEdge e{lo, hi, static_cast<std::uint32_t>(adj.nonmanifold_faces.size()), static_cast<std::uint32_t>(cnt)};
             for (std::size_t k = i; k < j; ++k) adj.nonmanifold_faces.push_back(half[k].face_dir);
             adj.nonmanifold_edges.push_back(e);
         }
         i = j;
     }
+    adj.status = Status::Ok;
     return adj;
 }
 
-/// Validates a homogeneous light position: finite, w >= 0, not (0, 0, 0, 0).
-inline bool valid_light(const glm::vec4& L) {
+/// Total: true iff light_position is a valid light (finite, w >= 0, not (0, 0, 0, 0)).
+inline bool silhouette_valid_light(const glm::vec4& light_position) {
+    const glm::vec4& L = light_position;
     if (!(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z) && std::isfinite(L.w))) return false;
     if (L.w < 0.0f) return false;
     return !(L.w == 0.0f && L.x == 0.0f && L.y == 0.0f && L.z == 0.0f);
 }
 
-/// Facing of one triangle (the rule of the header comment): > 0 lit, <= 0 not lit. Double precision.
-inline double face_light_distance(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L) {
-    const glm::dvec3 nrm = detail::sil_normal(a, b, c);
-    const double w = L.w;
-    const glm::dvec3 d(static_cast<double>(L.x) - w * a.x, static_cast<double>(L.y) - w * a.y, static_cast<double>(L.z) - w * a.z);
-    return nrm.x * d.x + nrm.y * d.y + nrm.z * d.z;
+/// Total: uint32 elements a silhouette buffer needs for any facing (2 per edge): size edge_indices with it.
+inline std::size_t silhouette_indices_capacity(const SilhouetteAdjacency& adj) { return 2 * adj.max_silhouette_edges(); }
+
+/// Exact facing of one triangle (a, b, c) for light_position: the sign of d (header comment), lit iff
+/// d > 0. NonFinite for NaN/Inf corners, InvalidLight for a bad light.
+inline SilhouetteOrientation silhouette_face_orientation(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
+                                                         const glm::vec4& light_position) {
+    SilhouetteOrientation r;
+    if (!detail::sil_finite(a) || !detail::sil_finite(b) || !detail::sil_finite(c)) { r.status = Status::NonFinite; return r; }
+    if (!silhouette_valid_light(light_position)) { r.status = Status::InvalidLight; return r; }
+    r.sign = detail::sil_face_sign(a, b, c, light_position);
+    r.lit = r.sign > 0;
+    r.status = Status::Ok;
+    return r;
 }
 
 namespace detail {
 
-// facing[i] for kept faces [begin, end); returns the lit count
-inline std::size_t sil_facing_range(const EdgeAdjacency& adj, const glm::vec3* positions, const glm::vec4& light,
-                                    std::uint8_t* facing, std::size_t begin, std::size_t end) {
+// facing[i] for kept faces [begin, end); returns the lit count, sets bad on NaN/Inf positions
+inline std::size_t sil_facing_range(const SilhouetteAdjacency& adj, const glm::vec3* positions, const glm::vec4& light,
+                                    std::uint8_t* facing, std::size_t begin, std::size_t end, bool& bad) {
     const std::uint32_t* f = adj.faces.data();
     std::size_t lit_faces = 0;
+    bool nonfinite = false;
     for (std::size_t i = begin; i < end; ++i) {
-        const double d = face_light_distance(positions[f[3 * i]], positions[f[3 * i + 1]], positions[f[3 * i + 2]], light);
-        const std::uint8_t lit = d > 0.0 ? 1u : 0u;
+        const int s = sil_face_sign(positions[f[3 * i]], positions[f[3 * i + 1]], positions[f[3 * i + 2]], light);
+        const std::uint8_t lit = s == 1 ? 1u : 0u;
+        nonfinite |= s == kSilNonFinite;
         facing[i] = lit;
         lit_faces += lit;
     }
+    bad = nonfinite;
     return lit_faces;
 }
 
-inline SilhouetteStatus sil_check_facing_args(const EdgeAdjacency& adj, const glm::vec3* positions,
-                                              std::size_t vertex_count, const glm::vec4& light, const std::uint8_t* facing,
-                                              std::size_t capacity) {
-    if (adj.status != SilhouetteStatus::Ok) return SilhouetteStatus::InvalidAdjacency;
+inline Status sil_check_facing_args(const SilhouetteAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
+                                    const glm::vec4& light, const std::uint8_t* facing, std::size_t capacity) {
+    if (adj.status != Status::Ok) return Status::InvalidArgument;
     if (vertex_count != adj.vertex_count || (vertex_count > 0 && positions == nullptr) || (capacity > 0 && facing == nullptr))
-        return SilhouetteStatus::InvalidArgument;
-    if (!valid_light(light)) return SilhouetteStatus::InvalidLight;
-    if (capacity < adj.face_count()) return SilhouetteStatus::BufferTooSmall;
-    return SilhouetteStatus::Ok;
+        return Status::InvalidArgument;
+    if (!silhouette_valid_light(light)) return Status::InvalidLight;
+    if (capacity < adj.face_count()) return Status::BufferTooSmall;
+    return Status::Ok;
 }
 
 // Silhouette of the manifold / boundary edges [begin, end) (and the non-manifold edges if
-// `nonmanifold`) into out[0, capacity) edges; adds to r's counts, r.edge_count = edges needed.
-inline void sil_extract_range(const EdgeAdjacency& adj, const std::uint8_t* facing, std::uint32_t* edge_indices,
-                              std::uint8_t* edge_flags, std::size_t capacity, std::size_t begin, std::size_t end,
-                              bool nonmanifold, SilhouetteResult& r) {
+// `nonmanifold`) into out[0, 2 room); adds to r (needed, boundary / non-manifold counts), returns the
+// number of edges found.
+inline std::size_t sil_extract_range(const SilhouetteAdjacency& adj, const std::uint8_t* facing, std::uint32_t* edge_indices,
+                                     std::uint8_t* edge_flags, std::size_t room, std::size_t begin, std::size_t end,
+                                     bool nonmanifold, SilhouetteResult& r) {
     std::size_t n = 0;
     auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint8_t flags) {
-        if (n < capacity) {
+        if (n < room) {
             edge_indices[2 * n] = a;
             edge_indices[2 * n + 1] = b;
             if (edge_flags) edge_flags[n] = flags;
         }
         ++n;
     };
-    const AdjacencyEdge* e = adj.edges.data();
+    const SilhouetteEdge* e = adj.edges.data();
     for (std::size_t i = begin; i < end; ++i) {
-        const AdjacencyEdge& E = e[i];
+        const SilhouetteEdge& E = e[i];
         const bool l0 = facing[E.f0] != 0;
-        if (E.f1 == kNoFace) {
+        if (E.f1 == kSilhouetteNoFace) {
             if (l0) { emit(E.v0, E.v1, SilhouetteBoundary); ++r.boundary_edges; }
             continue;
         }
@@ -428,7 +654,7 @@ inline void sil_extract_range(const EdgeAdjacency& adj, const std::uint8_t* faci
         }
     }
     if (nonmanifold) {
-        for (const NonManifoldEdge& E : adj.nonmanifold_edges) {
+        for (const SilhouetteNonManifoldEdge& E : adj.nonmanifold_edges) {
             long k = 0;
             for (std::uint32_t j = 0; j < E.count; ++j) {
                 const std::uint32_t fd = adj.nonmanifold_faces[E.first + j];
@@ -441,7 +667,8 @@ inline void sil_extract_range(const EdgeAdjacency& adj, const std::uint8_t* faci
             }
         }
     }
-    r.edge_count += n;
+    r.needed += 2 * n;
+    return n;
 }
 
 // First item of chunk c when n items are split into `count` balanced chunks (no overflow).
@@ -449,185 +676,238 @@ inline std::size_t sil_chunk_begin(std::size_t n, std::size_t c, std::size_t cou
     return (n / count) * c + std::min(c, n % count);
 }
 
+// Common checks of the extraction functions' buffers.
+inline Status sil_check_extract_args(const SilhouetteAdjacency& adj, const std::uint8_t* facing, std::size_t facing_count,
+                                     const std::uint32_t* edge_indices, std::size_t edge_indices_capacity,
+                                     const std::uint8_t* edge_flags, std::size_t edge_flags_capacity) {
+    if (adj.status != Status::Ok) return Status::InvalidArgument;
+    const std::size_t fc = adj.face_count();
+    if (facing_count != fc || (fc > 0 && facing == nullptr) || (edge_indices_capacity > 0 && edge_indices == nullptr) ||
+        (edge_flags_capacity > 0 && edge_flags == nullptr))
+        return Status::InvalidArgument;
+    return Status::Ok;
+}
+
 }  // namespace detail
 
-/// Writes facing[f] = 1 if kept face f is lit by `light`, else 0. positions must be the buffer the
-/// adjacency was built from (vertex_count checked). Needs capacity >= adj.face_count().
-inline FacingResult compute_facing(const EdgeAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
-                                   const glm::vec4& light, std::uint8_t* facing, std::size_t capacity) {
-    FacingResult r;
-    r.face_count = adj.face_count();
-    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light, facing, capacity);
-    if (r.status != SilhouetteStatus::Ok) return r;
-    r.lit_faces = detail::sil_facing_range(adj, positions, light, facing, 0, r.face_count);
+/// Writes facing[f] = 1 if kept face f is lit by light_position (exact sign of d > 0), else 0.
+/// `positions` holds vertex_count glm::vec3: the buffer the adjacency was built from, or a deformed
+/// copy with the same count (NaN/Inf in a face's corner: NonFinite). `facing` holds facing_capacity
+/// uint8 elements; it needs adj.face_count() (`needed`).
+inline SilhouetteFacing silhouette_compute_facing(const SilhouetteAdjacency& adj, const glm::vec3* positions,
+                                                  std::size_t vertex_count, const glm::vec4& light_position,
+                                                  std::uint8_t* facing, std::size_t facing_capacity) {
+    SilhouetteFacing r;
+    r.needed = adj.face_count();
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity);
+    if (r.status != Status::Ok) return r;
+    bool bad = false;
+    r.lit_faces = detail::sil_facing_range(adj, positions, light_position, facing, 0, r.needed, bad);
+    r.count = r.needed;
+    if (bad) r.status = Status::NonFinite;
     return r;
 }
 
-/// Single linear pass over the edges. Writes edge_count edges, 2 indices each, to edge_indices
-/// (capacity in edges; edge_flags optional, one SilhouetteFlag mask per edge). Edges are oriented as
-/// in the lit face and repeated |k| times (header comment). If capacity is too small, the first
-/// `capacity` edges are written, status = BufferTooSmall and edge_count is the number needed.
-inline SilhouetteResult extract_silhouette(const EdgeAdjacency& adj, const std::uint8_t* facing, std::size_t facing_count,
-                                           std::uint32_t* edge_indices, std::uint8_t* edge_flags,
-                                           std::size_t capacity) {
+/// Single linear pass over the edges: the silhouette of the facing bits (edge rule, header comment).
+/// `facing` holds facing_count uint8 elements (= adj.face_count()). `edge_indices` holds
+/// edge_indices_capacity uint32 elements; it needs 2 per edge (`needed`; at most
+/// silhouette_indices_capacity(adj)). `edge_flags` (optional, nullptr with 0) holds
+/// edge_flags_capacity uint8 elements, one SilhouetteFlag mask per edge: it needs needed / 2.
+/// Short buffers: the first whole edges that fit both are written (`count`), BufferTooSmall.
+inline SilhouetteResult silhouette_extract(const SilhouetteAdjacency& adj, const std::uint8_t* facing, std::size_t facing_count,
+                                           std::uint32_t* edge_indices, std::size_t edge_indices_capacity,
+                                           std::uint8_t* edge_flags, std::size_t edge_flags_capacity) {
     SilhouetteResult r;
-    if (adj.status != SilhouetteStatus::Ok) { r.status = SilhouetteStatus::InvalidAdjacency; return r; }
-    const std::size_t fc = adj.face_count();
-    if (facing_count != fc || (fc > 0 && facing == nullptr) || (capacity > 0 && edge_indices == nullptr)) {
-        r.status = SilhouetteStatus::InvalidArgument;
-        return r;
-    }
-    detail::sil_extract_range(adj, facing, edge_indices, edge_flags, capacity, 0, adj.edges.size(), true, r);
-    if (r.edge_count > capacity) r.status = SilhouetteStatus::BufferTooSmall;
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
+                                              edge_flags_capacity);
+    if (r.status != Status::Ok) return r;
+    std::size_t room = edge_indices_capacity / 2;
+    if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
+    const std::size_t n = detail::sil_extract_range(adj, facing, edge_indices, edge_flags, room, 0, adj.edges.size(), true, r);
+    r.count = 2 * (n < room ? n : room);
+    if (r.count < r.needed) r.status = Status::BufferTooSmall;
     return r;
 }
 
 // ------------------------------------------------------------------ parallel silhouettes (chunks)
 // The same facing + silhouette split into `chunk_count` chunks that may run concurrently on any job
 // system (shadowkit starts no threads and allocates nothing here):
-//   1. compute_facing_chunk(c) for every chunk c           (faces split evenly; writes facing[])
+//   1. silhouette_compute_facing_chunk(c) for every chunk c   (faces split evenly; writes facing[])
 //   2. barrier (a chunk's edges read the facing of any face)
-//   3. extract_silhouette_chunk(c) for every chunk c       (edges split evenly; the last chunk also
-//      takes the non-manifold edges). Chunk c writes its edges at edge silhouette_chunk_offset(c) of
-//      a buffer with room for adj.max_silhouette_edges() edges (each manifold or boundary edge emits
-//      at most one, so the chunks never overlap)
-//   4. compact_silhouette_chunks: moves the chunks together (serial, O(silhouette))
-// The result (edges, order, flags, counts) is identical to extract_silhouette's for any chunk_count.
-// extract_silhouette_parallel does the four steps with a caller's parallel_for(n, fn), which must
+//   3. silhouette_extract_chunk(c) for every chunk c          (edges split evenly; the last chunk also
+//      takes the non-manifold edges). Chunk c writes its edges from uint32 element
+//      silhouette_chunk_offset(c) of a buffer of silhouette_indices_capacity(adj) elements (each
+//      manifold or boundary edge emits at most one, so the chunks never overlap); its flags from
+//      element silhouette_chunk_offset(c) / 2 of the flags buffer
+//   4. silhouette_compact_chunks: moves the chunks together (serial, O(silhouette))
+// The result (edges, order, flags, counts) is identical to silhouette_extract's for any chunk_count.
+// silhouette_extract_parallel does the four steps with a caller's parallel_for(n, fn), which must
 // call fn(i) once for each i in [0, n) and return when all have finished.
 
-/// Facing of the kept faces of chunk `chunk` of `chunk_count` (same rule and checks as
-/// compute_facing; face_count / lit_faces are this chunk's). chunk_count >= 1, chunk < chunk_count.
-inline FacingResult compute_facing_chunk(const EdgeAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
-                                         const glm::vec4& light, std::uint8_t* facing, std::size_t capacity,
-                                         std::size_t chunk, std::size_t chunk_count) {
-    FacingResult r;
-    if (chunk_count == 0 || chunk >= chunk_count) { r.status = SilhouetteStatus::InvalidArgument; return r; }
-    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light, facing, capacity);
-    if (r.status != SilhouetteStatus::Ok) return r;
+/// Facing of the kept faces of chunk `chunk` of `chunk_count` (same rule, buffers and checks as
+/// silhouette_compute_facing; count / lit_faces are this chunk's). chunk_count >= 1, chunk < chunk_count.
+inline SilhouetteFacing silhouette_compute_facing_chunk(const SilhouetteAdjacency& adj, const glm::vec3* positions,
+                                                        std::size_t vertex_count, const glm::vec4& light_position,
+                                                        std::uint8_t* facing, std::size_t facing_capacity, std::size_t chunk,
+                                                        std::size_t chunk_count) {
+    SilhouetteFacing r;
+    r.needed = adj.face_count();
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity);
+    if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
     const std::size_t b = detail::sil_chunk_begin(fc, chunk, chunk_count), e = detail::sil_chunk_begin(fc, chunk + 1, chunk_count);
-    r.face_count = e - b;
-    r.lit_faces = detail::sil_facing_range(adj, positions, light, facing, b, e);
+    bool bad = false;
+    r.lit_faces = detail::sil_facing_range(adj, positions, light_position, facing, b, e, bad);
+    r.count = e - b;
+    if (bad) r.status = Status::NonFinite;
     return r;
 }
 
-/// Edge offset at which chunk `chunk` of `chunk_count` writes its silhouette edges (0 for invalid
-/// arguments).
-inline std::size_t silhouette_chunk_offset(const EdgeAdjacency& adj, std::size_t chunk, std::size_t chunk_count) {
+/// Total: the uint32 element of edge_indices at which chunk `chunk` of `chunk_count` writes its
+/// silhouette edges (even; its flags start at half of it); 0 for chunk >= chunk_count or chunk_count 0.
+inline std::size_t silhouette_chunk_offset(const SilhouetteAdjacency& adj, std::size_t chunk, std::size_t chunk_count) {
     if (chunk_count == 0 || chunk >= chunk_count) return 0;
-    return detail::sil_chunk_begin(adj.edges.size(), chunk, chunk_count);
+    return 2 * detail::sil_chunk_begin(adj.edges.size(), chunk, chunk_count);
 }
 
-/// Silhouette edges of chunk `chunk` of `chunk_count`, written from edge silhouette_chunk_offset()
-/// on. capacity (in edges) must be >= adj.max_silhouette_edges(), else BufferTooSmall and nothing
-/// is written; facing must be complete (every chunk's compute_facing_chunk has finished).
-inline SilhouetteResult extract_silhouette_chunk(const EdgeAdjacency& adj, const std::uint8_t* facing,
+/// Silhouette edges of chunk `chunk` of `chunk_count`, written from element silhouette_chunk_offset()
+/// on (count / needed: this chunk's elements). edge_indices_capacity must be >=
+/// silhouette_indices_capacity(adj), edge_flags (optional) >= half of it, else BufferTooSmall and
+/// nothing is written; facing must be complete (every chunk's facing has finished).
+inline SilhouetteResult silhouette_extract_chunk(const SilhouetteAdjacency& adj, const std::uint8_t* facing,
                                                  std::size_t facing_count, std::uint32_t* edge_indices,
-                                                 std::uint8_t* edge_flags, std::size_t capacity, std::size_t chunk,
-                                                 std::size_t chunk_count) {
+                                                 std::size_t edge_indices_capacity, std::uint8_t* edge_flags,
+                                                 std::size_t edge_flags_capacity, std::size_t chunk, std::size_t chunk_count) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunk >= chunk_count) { r.status = SilhouetteStatus::InvalidArgument; return r; }
-    if (adj.status != SilhouetteStatus::Ok) { r.status = SilhouetteStatus::InvalidAdjacency; return r; }
-    const std::size_t fc = adj.face_count();
-    if (facing_count != fc || (fc > 0 && facing == nullptr) || (capacity > 0 && edge_indices == nullptr)) {
-        r.status = SilhouetteStatus::InvalidArgument;
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
+                                              edge_flags_capacity);
+    if (r.status != Status::Ok) return r;
+    const std::size_t max_edges = adj.max_silhouette_edges();
+    if (edge_indices_capacity / 2 < max_edges || (edge_flags && edge_flags_capacity < max_edges)) {
+        r.status = Status::BufferTooSmall;
         return r;
     }
-    if (capacity < adj.max_silhouette_edges()) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
     const std::size_t ec = adj.edges.size();
     const std::size_t b = detail::sil_chunk_begin(ec, chunk, chunk_count), e = detail::sil_chunk_begin(ec, chunk + 1, chunk_count);
     // this chunk's room: up to the next chunk's offset, the last chunk up to the capacity
-    const std::size_t room = chunk + 1 == chunk_count ? capacity - b : e - b;
-    detail::sil_extract_range(adj, facing, edge_indices + 2 * b, edge_flags ? edge_flags + b : nullptr, room, b, e,
-                              chunk + 1 == chunk_count, r);
+    const std::size_t room = chunk + 1 == chunk_count ? max_edges - b : e - b;
+    const std::size_t n = detail::sil_extract_range(adj, facing, edge_indices + 2 * b, edge_flags ? edge_flags + b : nullptr,
+                                                    room, b, e, chunk + 1 == chunk_count, r);
+    r.count = 2 * n;
     return r;
 }
 
-/// Moves the chunks' edges (and flags) together so that the buffer holds the silhouette exactly as
-/// extract_silhouette writes it; returns the totals (first failing chunk status, if any).
-inline SilhouetteResult compact_silhouette_chunks(const EdgeAdjacency& adj, const SilhouetteResult* chunks,
+/// Moves the chunks' edges (and flags) together so that the buffers hold the silhouette exactly as
+/// silhouette_extract writes it; returns the totals (the first failing chunk's status, if any).
+/// `chunks` holds chunk_count results of silhouette_extract_chunk; buffers as there.
+inline SilhouetteResult silhouette_compact_chunks(const SilhouetteAdjacency& adj, const SilhouetteResult* chunks,
                                                   std::size_t chunk_count, std::uint32_t* edge_indices,
-                                                  std::uint8_t* edge_flags, std::size_t capacity) {
+                                                  std::size_t edge_indices_capacity, std::uint8_t* edge_flags,
+                                                  std::size_t edge_flags_capacity) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunks == nullptr || (capacity > 0 && edge_indices == nullptr)) {
-        r.status = SilhouetteStatus::InvalidArgument;
+    if (chunk_count == 0 || chunks == nullptr || adj.status != Status::Ok || (edge_indices_capacity > 0 && edge_indices == nullptr) ||
+        (edge_flags_capacity > 0 && edge_flags == nullptr)) {
+        r.status = Status::InvalidArgument;
         return r;
     }
     for (std::size_t c = 0; c < chunk_count; ++c)
-        if (chunks[c].status != SilhouetteStatus::Ok) { r.status = chunks[c].status; return r; }
-    if (capacity < adj.max_silhouette_edges()) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
-    // a chunk cannot have more edges than its room (results that do are not extract_silhouette_chunk's)
+        if (chunks[c].status != Status::Ok) { r.status = chunks[c].status; return r; }
+    const std::size_t cap = 2 * adj.max_silhouette_edges();
+    if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) { r.status = Status::BufferTooSmall; return r; }
+    // a chunk cannot have more edges than its room (results that do are not silhouette_extract_chunk's)
     for (std::size_t c = 0; c < chunk_count; ++c) {
         const std::size_t off = silhouette_chunk_offset(adj, c, chunk_count);
-        const std::size_t room = c + 1 == chunk_count ? capacity - off : silhouette_chunk_offset(adj, c + 1, chunk_count) - off;
-        if (chunks[c].edge_count > room) { r.status = SilhouetteStatus::InvalidArgument; return r; }
+        const std::size_t room = c + 1 == chunk_count ? cap - off : silhouette_chunk_offset(adj, c + 1, chunk_count) - off;
+        if (chunks[c].count > room || chunks[c].count % 2 != 0 || chunks[c].count != chunks[c].needed) {
+            r.status = Status::InvalidArgument;
+            return r;
+        }
     }
     std::size_t n = 0;
     for (std::size_t c = 0; c < chunk_count; ++c) {
-        const std::size_t off = silhouette_chunk_offset(adj, c, chunk_count), k = chunks[c].edge_count;
+        const std::size_t off = silhouette_chunk_offset(adj, c, chunk_count), k = chunks[c].count;
         if (off != n && k > 0) {  // off >= n: moving down, ranges may overlap
-            std::memmove(edge_indices + 2 * n, edge_indices + 2 * off, 2 * k * sizeof(std::uint32_t));
-            if (edge_flags) std::memmove(edge_flags + n, edge_flags + off, k);
+            std::memmove(edge_indices + n, edge_indices + off, k * sizeof(std::uint32_t));
+            if (edge_flags) std::memmove(edge_flags + n / 2, edge_flags + off / 2, k / 2);
         }
         n += k;
         r.boundary_edges += chunks[c].boundary_edges;
         r.nonmanifold_edges += chunks[c].nonmanifold_edges;
     }
-    r.edge_count = n;
+    r.count = r.needed = n;
+    r.status = Status::Ok;
     return r;
 }
 
 /// Facing + silhouette on a caller's job system: parallel_for(chunk_count, fn) (see above), with
-/// caller-provided buffers: facing (adj.face_count()), edge_indices / edge_flags (capacity >=
-/// adj.max_silhouette_edges() edges; flags optional) and chunk_results (chunk_count entries).
-/// Same output as compute_facing + extract_silhouette.
+/// caller-provided buffers: `facing` (facing_capacity uint8, needs adj.face_count()), `edge_indices`
+/// (edge_indices_capacity uint32, needs silhouette_indices_capacity(adj)), `edge_flags` (optional,
+/// edge_flags_capacity uint8, needs half of that) and `chunk_results` (chunk_count results).
+/// Same output as silhouette_compute_facing + silhouette_extract.
 template <class ParallelFor>
-inline SilhouetteResult extract_silhouette_parallel(const EdgeAdjacency& adj, const glm::vec3* positions,
-                                                    std::size_t vertex_count, const glm::vec4& light, std::uint8_t* facing,
-                                                    std::size_t facing_capacity, std::uint32_t* edge_indices,
-                                                    std::uint8_t* edge_flags, std::size_t capacity,
+inline SilhouetteResult silhouette_extract_parallel(const SilhouetteAdjacency& adj, const glm::vec3* positions,
+                                                    std::size_t vertex_count, const glm::vec4& light_position,
+                                                    std::uint8_t* facing, std::size_t facing_capacity,
+                                                    std::uint32_t* edge_indices, std::size_t edge_indices_capacity,
+                                                    std::uint8_t* edge_flags, std::size_t edge_flags_capacity,
                                                     SilhouetteResult* chunk_results, std::size_t chunk_count,
                                                     ParallelFor&& parallel_for) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunk_results == nullptr) { r.status = SilhouetteStatus::InvalidArgument; return r; }
-    // validate once, so that no chunk can fail and the facing pass needs no per-chunk results
-    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light, facing, facing_capacity);
-    if (r.status != SilhouetteStatus::Ok) return r;
-    if (capacity > 0 && edge_indices == nullptr) { r.status = SilhouetteStatus::InvalidArgument; return r; }
-    if (capacity < adj.max_silhouette_edges()) { r.status = SilhouetteStatus::BufferTooSmall; return r; }
+    if (chunk_count == 0 || chunk_results == nullptr) { r.status = Status::InvalidArgument; return r; }
+    // validate once, so that no chunk can fail on its arguments
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity);
+    if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
+    r.status = detail::sil_check_extract_args(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags, edge_flags_capacity);
+    if (r.status != Status::Ok) return r;
+    const std::size_t cap = silhouette_indices_capacity(adj);
+    if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) {
+        r.status = Status::BufferTooSmall;
+        r.needed = cap;
+        return r;
+    }
+    for (std::size_t c = 0; c < chunk_count; ++c) chunk_results[c] = SilhouetteResult{};
     parallel_for(chunk_count, [&](std::size_t c) {
-        detail::sil_facing_range(adj, positions, light, facing, detail::sil_chunk_begin(fc, c, chunk_count),
-                                 detail::sil_chunk_begin(fc, c + 1, chunk_count));
+        bool bad = false;
+        detail::sil_facing_range(adj, positions, light_position, facing, detail::sil_chunk_begin(fc, c, chunk_count),
+                                 detail::sil_chunk_begin(fc, c + 1, chunk_count), bad);
+        if (bad) chunk_results[c].status = Status::NonFinite;
     });
+    for (std::size_t c = 0; c < chunk_count; ++c)
+        if (chunk_results[c].status == Status::NonFinite) { r.status = Status::NonFinite; return r; }
     parallel_for(chunk_count, [&](std::size_t c) {
-        chunk_results[c] = extract_silhouette_chunk(adj, facing, fc, edge_indices, edge_flags, capacity, c, chunk_count);
+        chunk_results[c] = silhouette_extract_chunk(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags,
+                                                    edge_flags_capacity, c, chunk_count);
     });
-    return compact_silhouette_chunks(adj, chunk_results, chunk_count, edge_indices, edge_flags, capacity);
+    return silhouette_compact_chunks(adj, chunk_results, chunk_count, edge_indices, edge_indices_capacity, edge_flags,
+                                     edge_flags_capacity);
 }
 
-/// Convenience (allocates): facing + silhouette into vectors. indices holds 2 per edge.
+/// Facing, silhouette edges (2 uint32 per edge) and their flags, in vectors (silhouette_compute).
 struct Silhouette {
-    SilhouetteStatus status = SilhouetteStatus::Ok;
-    std::vector<std::uint8_t> facing;
-    std::vector<std::uint32_t> indices;
-    std::vector<std::uint8_t> flags;
+    Status status = Status::NotRun;
+    std::vector<std::uint8_t> facing;   ///< adj.face_count() bits
+    std::vector<std::uint32_t> indices; ///< 2 per edge, oriented as in the lit face
+    std::vector<std::uint8_t> flags;    ///< one SilhouetteFlag mask per edge
 };
 
-inline Silhouette extract_silhouette(const EdgeAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
-                                     const glm::vec4& light) {
+/// Convenience (allocates): silhouette_compute_facing + silhouette_extract into vectors.
+inline Silhouette silhouette_compute(const SilhouetteAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
+                                     const glm::vec4& light_position) {
     Silhouette s;
     s.facing.resize(adj.face_count());
-    const FacingResult fr = compute_facing(adj, positions, vertex_count, light, s.facing.data(), s.facing.size());
-    if (fr.status != SilhouetteStatus::Ok) { s.status = fr.status; s.facing.clear(); return s; }
-    const std::size_t cap = adj.max_silhouette_edges();
-    s.indices.resize(2 * cap);
-    s.flags.resize(cap);
-    const SilhouetteResult r = extract_silhouette(adj, s.facing.data(), s.facing.size(), s.indices.data(), s.flags.data(), cap);
+    const SilhouetteFacing fr = silhouette_compute_facing(adj, positions, vertex_count, light_position, s.facing.data(), s.facing.size());
+    if (fr.status != Status::Ok) { s.status = fr.status; s.facing.clear(); return s; }
+    const std::size_t cap = silhouette_indices_capacity(adj);
+    s.indices.resize(cap);
+    s.flags.resize(cap / 2);
+    const SilhouetteResult r = silhouette_extract(adj, s.facing.data(), s.facing.size(), s.indices.data(), s.indices.size(),
+                                                  s.flags.data(), s.flags.size());
     s.status = r.status;
-    s.indices.resize(2 * (r.edge_count < cap ? r.edge_count : cap));
-    s.flags.resize(r.edge_count < cap ? r.edge_count : cap);
+    s.indices.resize(r.count);
+    s.flags.resize(r.count / 2);
     return s;
 }
 

@@ -1,11 +1,13 @@
-// shadowkit/silhouette_map.hpp - shadow silhouette maps: the CPU side of Sen, Cammarano & Hanrahan
-// (2003). Projects silhouette edges into the shadow map's texel space, rasterizes them
-// conservatively into the dual grid, picks one silhouette point per texel (the paper's four cases),
-// keeps the default point (texel centre) elsewhere, and reconstructs the shadow boundary at a
-// lookup: the piecewise-linear boundary through the neighbouring silhouette points splits the texel
-// into four sectors and the depth sample of the lookup's sector decides. Texels crossed by two
-// different silhouette edges (the paper's known failure) are detected and fall back to the plain
-// shadow-map result. GPU side: glsl/silhouette_map.glsl (same rules, same encoding).
+// shadowkit/silhouette_map.hpp - shadow silhouette maps (Sen, Cammarano & Hanrahan 2003), the CPU side.
+//
+// Projects silhouette edges into the shadow map's texel space, rasterizes them conservatively into
+// the dual grid, picks one silhouette point per texel (the paper's four cases), keeps the default
+// point (texel center) elsewhere, and reconstructs the shadow boundary at a lookup: the
+// piecewise-linear boundary through the neighboring silhouette points splits the texel into four
+// sectors and the depth sample of the lookup's sector decides. Texels crossed by two different
+// silhouette edges (the paper's known failure) are detected and fall back to the plain shadow-map
+// result. GPU side: glsl/silhouette_map.glsl (same rules, same encoding). docs/silhouette_map.md
+// has a complete program.
 //
 // Usage:
 //   #include <shadowkit/silhouette_map.hpp>
@@ -13,30 +15,24 @@
 //   // silhouette edges for the light (e.g. silhouette.hpp: 2 indices per edge), light view-projection
 //   std::vector<sk::SilmapEdge> e(edge_count);
 //   sk::SilmapProjectResult pr = sk::silmap_project_edges(light_vp, sk::ClipDepth::NegativeOneToOne,
-//       {2048, 2048}, pos, vertex_count, edges, edge_count, e.data(), e.size());
+//       {2048, 2048}, pos, vertex_count, edges, edge_count, e.data(), e.size());   // pr.count edges
 //   // CPU map (tests, software renderers); the GPU builds the same map with silhouette_map.glsl
-//   std::vector<glm::vec2> pts(2048 * 2048); std::vector<uint8_t> cnt(2048 * 2048);
-//   sk::silmap_build(e.data(), pr.written, {2048, 2048}, depth /*or nullptr*/, 1e-4f,
-//                    pts.data(), cnt.data(), pts.size());
-//   sk::SilmapLookup l = sk::silmap_lookup(pts.data(), cnt.data(), depth, {2048, 2048},
-//                                          texel_pos, receiver_depth, bias);   // l.lit
-//
-// Based on:
-//   P. Sen, M. Cammarano, P. Hanrahan, "Shadow Silhouette Maps", SIGGRAPH 2003 (sections 3-4:
-//   dual grid, silhouette point cases, default point, reconstruction by the depth sample of the
-//   sector, conservative edge rasterization, occluded silhouette fragments).
-//   P. Sen, "Silhouette Maps", SIGGRAPH 2004 course "Real-Time Shadowing Techniques" notes
-//   (point cases 1-4 by the two diagonals; multiple edges in one texel as the known failure).
+//   std::vector<glm::vec2> pts(2048 * 2048); std::vector<uint8_t> wts(2048 * 2048);
+//   sk::silmap_build(e.data(), pr.count, {2048, 2048}, depth /*or nullptr*/, 1e-4f,
+//                    pts.data(), pts.size(), wts.data(), wts.size());
+//   sk::SilmapLookup l = sk::silmap_lookup(pts.data(), wts.data(), depth, {2048, 2048},
+//                                          texel_pos, receiver_depth, bias);   // l.status, l.lit
 //
 // Conventions (used by every function):
 //   * Texel space: q = uv * size, uv = window coordinates of the light's projection in [0,1].
-//     Depth sample (i, j) of a W x H shadow map sits at (i + 0.5, j + 0.5).
+//     Depth sample (i, j) of a W x H shadow map sits at (i + 0.5, j + 0.5). W and H are
+//     1 .. kSilmapMaxSize (32768); anything else is Status::InvalidArgument.
 //   * The silhouette map has W x H texels on the dual grid: texel (i, j) is the cell
 //     [i + 0.5, i + 1.5] x [j + 0.5, j + 1.5], whose corners are depth samples (i, j), (i+1, j),
 //     (i, j+1), (i+1, j+1). Cells with i = W-1 or j = H-1 lack corners: lookups there, and in the
 //     half-texel border strip, give the plain shadow-map result.
 //   * A silhouette point is stored as its offset inside its cell, in [0,1]^2; the default point is
-//     the cell centre (0.5, 0.5). With every point at the default, the reconstruction equals the
+//     the cell center (0.5, 0.5). With every point at the default, the reconstruction equals the
 //     nearest-sample shadow map (each sector is the region nearest its corner).
 //   * Edge weight per texel (the failure detector) = the number of times the silhouette crosses the
 //     texel's border: an edge adds 2 minus the number of its endpoints inside the (closed) cell. One
@@ -44,7 +40,21 @@
 //     (two edges passing near each other, a T-junction) give 3 or more. Weights saturate at 255. A
 //     texel with weight > kSilmapFailureWeight (2) holds two different silhouette curves: the
 //     paper's known failure. (A closed loop entirely inside one texel gives 0 and is missed.)
-//   * Depth: window depth in [0, 1] (any monotonic depth works if the depth map uses the same).
+//   * Depth: window depth (any monotonic depth works if the depth map uses the same); finite.
+//   * Maps are row-major (j * W + i), W * H elements each: the depth map (float), the points
+//     (glm::vec2) and the weights (uint8). Buffer sizes are counted in elements of the pointer's
+//     type. A null pointer with a non-zero count or capacity is Status::InvalidArgument.
+//   * Status: NaN/Inf in any input is Status::NonFinite; `Ok` means every output is finite and in
+//     its documented range. What a successful call found (edges culled, fragments occluded, failure
+//     texels, a lookup that fell back to the plain map) is a field of its result.
+//   * This header takes no light: the light is in the light's view-projection matrix.
+//
+// Based on:
+//   P. Sen, M. Cammarano, P. Hanrahan, "Shadow Silhouette Maps", SIGGRAPH 2003 (sections 3-4:
+//   dual grid, silhouette point cases, default point, reconstruction by the depth sample of the
+//   sector, conservative edge rasterization, occluded silhouette fragments).
+//   P. Sen, "Silhouette Maps", SIGGRAPH 2004 course "Real-Time Shadowing Techniques" notes
+//   (point cases 1-4 by the two diagonals; multiple edges in one texel as the known failure).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -58,19 +68,44 @@
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
+
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
 /// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
-
-enum class SilmapStatus {
-    Ok,
-    InvalidArgument,   ///< null pointer with a non-zero count, zero map size, size > 2^15
-    IndexOutOfRange,   ///< an edge index >= vertex_count (edge skipped, counted)
-    NonFinite,         ///< NaN/Inf input (the offending item is skipped)
-    BufferTooSmall     ///< output truncated; the needed count is reported
-};
 
 /// The paper's silhouette point cases (course notes, "Silhouette Point Algorithm").
 enum class SilmapCase {
@@ -82,44 +117,65 @@ enum class SilmapCase {
 
 /// A silhouette edge in texel space with window depths at its ends.
 struct SilmapEdge {
-    glm::vec2 a{0.f}, b{0.f};
-    float depth_a = 0.f, depth_b = 0.f;
+    glm::vec2 a{0.f}, b{0.f};          ///< ends in texel space
+    float depth_a = 0.f, depth_b = 0.f; ///< window depths at a and b
 };
 
+/// Result of silmap_project_edges.
 struct SilmapProjectResult {
-    SilmapStatus status = SilmapStatus::Ok;
-    std::size_t needed = 0;   ///< edges produced (written = min(needed, capacity))
-    std::size_t written = 0;
-    std::size_t skipped = 0;  ///< behind the light (w <= 0 at both ends), bad index or NaN
+    Status status = Status::NotRun;
+    std::size_t count = 0;   ///< edges written to `out` (a valid prefix; == needed when Ok)
+    std::size_t needed = 0;  ///< edges the whole output needs (edge_count minus `culled`)
+    std::size_t culled = 0;  ///< edges with nothing in front of the light or inside the guard band (not an error)
 };
 
+/// The silhouette point of one edge in one cell (silmap_select_point).
 struct SilmapPoint {
     SilmapCase kase = SilmapCase::NoIntersection;
-    glm::vec2 local{0.5f};    ///< offset in the cell, [0,1]^2 (valid unless NoIntersection)
-    int weight = 0;           ///< edge weight this edge adds to the cell (see the header)
+    glm::vec2 local{0.5f};    ///< offset in the cell, [0,1]^2 (the default (0.5, 0.5) for NoIntersection)
+    int weight = 0;           ///< edge weight this edge adds to the cell, 0 .. 2 (see the header)
 };
 
+/// Result of silmap_rasterize_edge.
+struct SilmapRasterResult {
+    Status status = Status::NotRun;
+    std::size_t count = 0;   ///< cells written to `out` (a valid prefix; == needed when Ok)
+    std::size_t needed = 0;  ///< cells the edge touches (0: it misses the map, with Ok)
+};
+
+/// Result of silmap_build.
 struct SilmapBuildResult {
-    SilmapStatus status = SilmapStatus::Ok;
-    std::size_t needed = 0;            ///< texels needed in the output buffers (W * H)
+    Status status = Status::NotRun;
+    std::size_t count = 0;             ///< texels written to each of points and weights (W * H when Ok, else 0)
+    std::size_t needed = 0;            ///< texels each output buffer needs (W * H)
     std::size_t fragments = 0;         ///< rasterized fragments with a silhouette point (cases 1-3)
     std::size_t points_written = 0;    ///< cases 1-3 (overwrites included)
     std::size_t occluded = 0;          ///< fragments discarded by the depth tests (occluded or casting no shadow)
     std::size_t failure_texels = 0;    ///< texels with weight > kSilmapFailureWeight
-    std::size_t skipped_edges = 0;     ///< NaN edges
 };
 
+/// Result of a lookup (silmap_reconstruct, silmap_lookup).
 struct SilmapLookup {
-    bool lit = true;
+    Status status = Status::NotRun;
+    bool lit = false;               ///< the answer (valid when status is Ok)
     bool silhouette_pixel = false;  ///< the four depth tests disagree (the silhouette map decides)
-    bool fallback = false;          ///< failure texel, border or degenerate sectors: plain result used
+    bool fallback = false;          ///< failure texel, border or degenerate sectors: plain result used (with Ok)
     int corner = 0;                 ///< deciding depth sample: 0 (i,j), 1 (i+1,j), 2 (i,j+1), 3 (i+1,j+1)
+};
+
+/// Result of silmap_plain_lookup.
+struct SilmapPlainLookup {
+    Status status = Status::NotRun;
+    bool lit = false;  ///< the nearest depth sample's test (valid when status is Ok)
 };
 
 /// Texels with an accumulated edge weight above this hold two different silhouette edges.
 constexpr int kSilmapFailureWeight = 2;
 /// Largest supported map side (texel coordinates stay exact in float).
 constexpr std::uint32_t kSilmapMaxSize = 32768u;
+/// Guard band of silmap_project_edges in NDC units: edges are clipped to |x|, |y|, |z| <= this * w,
+/// so every projected coordinate is finite (the map itself is |x|, |y| <= w).
+constexpr double kSilmapGuardBand = 1048576.0;
 
 namespace detail {
 
@@ -172,41 +228,77 @@ inline float silmap_wrap_angle(float a) {
     return a;
 }
 
+inline bool silmap_size_ok(glm::uvec2 size) {
+    return size.x != 0 && size.y != 0 && size.x <= kSilmapMaxSize && size.y <= kSilmapMaxSize;
+}
+
+// Clips the homogeneous segment ca-cb to the guard plane side * c[axis] <= g * c.w (axis 0..2,
+// side +-1); false if nothing is left. Points already inside stay bit-identical; a clipped point
+// gets c[axis] = side * g * w exactly (a + t (b - a) cancels for 1e38-long edges).
+inline bool silmap_clip_guard(glm::dvec4& ca, glm::dvec4& cb, int axis, double side, double g) {
+    const double fa = g * ca.w - side * ca[axis], fb = g * cb.w - side * cb[axis];
+    if (fa >= 0.0 && fb >= 0.0) return true;
+    if (fa < 0.0 && fb < 0.0) return false;
+    const double t = fa / (fa - fb);
+    glm::dvec4 c = ca + t * (cb - ca);
+    c[axis] = side * g * c.w;
+    if (fa < 0.0) ca = c;
+    else cb = c;
+    return true;
+}
+
 }  // namespace detail
 
-/// Projects the silhouette edges (2 indices per edge into positions) with the light's
-/// view-projection into texel space. Edges are clipped against w > 1e-6 * max(|w|) first (an edge
-/// with both ends behind the light is skipped). Caller buffer of `capacity` edges.
+/// Projects silhouette edges with the light's view-projection into texel space (window
+/// coordinates times `size`), with window depths for `clip_depth`.
+/// `positions` holds vertex_count glm::vec3 elements; `edges` holds 2 * edge_count uint32 indices
+/// into positions (2 per edge); `out` holds out_capacity SilmapEdge elements; it needs one per edge
+/// that is not culled (`needed`, at most edge_count).
+/// Each edge is clipped in clip space to w >= 1e-6 * max(|w_a|, |w_b|) (in front of the light) and
+/// to the guard band |x|, |y|, |z| <= kSilmapGuardBand * w; an edge with nothing left is culled
+/// (counted in `culled`, with Ok). Every written coordinate is finite.
+/// Errors: InvalidArgument (size outside 1 .. kSilmapMaxSize, a clip_depth that is not an
+/// enumerator, a null pointer with a non-zero count), NonFinite (a non-finite matrix or referenced
+/// position), IndexOutOfRange (an index >= vertex_count): nothing is written (count 0).
+/// BufferTooSmall: the first out_capacity edges are written (count), `needed` says how many.
 inline SilmapProjectResult silmap_project_edges(const glm::mat4& light_view_proj, ClipDepth clip_depth, glm::uvec2 size,
                                                 const glm::vec3* positions, std::size_t vertex_count,
                                                 const std::uint32_t* edges, std::size_t edge_count, SilmapEdge* out,
-                                                std::size_t capacity) {
+                                                std::size_t out_capacity) {
     SilmapProjectResult r;
-    if ((edge_count && !edges) || (vertex_count && !positions) || (capacity && !out) || size.x == 0 || size.y == 0 ||
-        size.x > kSilmapMaxSize || size.y > kSilmapMaxSize) {
-        r.status = SilmapStatus::InvalidArgument;
+    if ((edge_count && !edges) || (vertex_count && !positions) || (out_capacity && !out) ||
+        !detail::silmap_size_ok(size) ||
+        (clip_depth != ClipDepth::NegativeOneToOne && clip_depth != ClipDepth::ZeroToOne)) {
+        r.status = Status::InvalidArgument;
         return r;
     }
+    for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < 4; ++k)
+            if (!std::isfinite(light_view_proj[c][k])) {
+                r.status = Status::NonFinite;
+                return r;
+            }
+    // validate every referenced vertex before writing anything
+    for (std::size_t e = 0; e < 2 * edge_count; ++e) {
+        if (edges[e] >= vertex_count) {
+            r.status = Status::IndexOutOfRange;
+            return r;
+        }
+        const glm::vec3& p = positions[edges[e]];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            r.status = Status::NonFinite;
+            return r;
+        }
+    }
     const glm::dvec2 sz(size.x, size.y);
+    const glm::dmat4 m(light_view_proj);
+    const double g = kSilmapGuardBand;
     for (std::size_t e = 0; e < edge_count; ++e) {
-        const std::uint32_t ia = edges[2 * e], ib = edges[2 * e + 1];
-        if (ia >= vertex_count || ib >= vertex_count) {
-            ++r.skipped;
-            if (r.status == SilmapStatus::Ok) r.status = SilmapStatus::IndexOutOfRange;
-            continue;
-        }
-        glm::dvec4 ca = glm::dmat4(light_view_proj) * glm::dvec4(glm::dvec3(positions[ia]), 1.0);
-        glm::dvec4 cb = glm::dmat4(light_view_proj) * glm::dvec4(glm::dvec3(positions[ib]), 1.0);
-        bool finite = true;
-        for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(ca[k]) && std::isfinite(cb[k]);
-        if (!finite) {
-            ++r.skipped;
-            if (r.status == SilmapStatus::Ok) r.status = SilmapStatus::NonFinite;
-            continue;
-        }
+        glm::dvec4 ca = m * glm::dvec4(glm::dvec3(positions[edges[2 * e]]), 1.0);
+        glm::dvec4 cb = m * glm::dvec4(glm::dvec3(positions[edges[2 * e + 1]]), 1.0);
         const double wmin = 1e-6 * std::max(std::abs(ca.w), std::abs(cb.w));
         if (ca.w <= wmin && cb.w <= wmin) {
-            ++r.skipped;
+            ++r.culled;
             continue;
         }
         if (ca.w <= wmin || cb.w <= wmin) {  // clip against w = wmin
@@ -217,31 +309,37 @@ inline SilmapProjectResult silmap_project_edges(const glm::mat4& light_view_proj
             ca.w = std::max(ca.w, wmin);
             cb.w = std::max(cb.w, wmin);
         }
+        // guard band: -g w <= x, y, z <= g w (keeps x / w, y / w, z / w finite and bounded)
+        bool keep = true;
+        for (int k = 0; k < 3 && keep; ++k)
+            keep = detail::silmap_clip_guard(ca, cb, k, -1.0, g) && detail::silmap_clip_guard(ca, cb, k, 1.0, g);
+        if (!keep || !(ca.w > 0.0) || !(cb.w > 0.0)) {
+            ++r.culled;
+            continue;
+        }
         auto to_texel = [&](const glm::dvec4& c, glm::vec2& q, float& depth) {
-            const double nz = c.z / c.w;
-            q = glm::vec2(float((c.x / c.w * 0.5 + 0.5) * sz.x), float((c.y / c.w * 0.5 + 0.5) * sz.y));
+            const double nz = glm::clamp(c.z / c.w, -g, g);
+            q = glm::vec2(float((glm::clamp(c.x / c.w, -g, g) * 0.5 + 0.5) * sz.x),
+                          float((glm::clamp(c.y / c.w, -g, g) * 0.5 + 0.5) * sz.y));
             depth = float(clip_depth == ClipDepth::ZeroToOne ? nz : nz * 0.5 + 0.5);
         };
         SilmapEdge se;
         to_texel(ca, se.a, se.depth_a);
         to_texel(cb, se.b, se.depth_b);
-        if (!detail::silmap_finite(se.a) || !detail::silmap_finite(se.b) || !std::isfinite(se.depth_a) ||
-            !std::isfinite(se.depth_b)) {
-            ++r.skipped;
-            continue;
-        }
-        if (r.needed < capacity) out[r.needed] = se;
+        if (r.needed < out_capacity) out[r.needed] = se;
         ++r.needed;
     }
-    r.written = std::min(r.needed, capacity);
-    if (r.needed > capacity) r.status = SilmapStatus::BufferTooSmall;
+    r.count = std::min(r.needed, out_capacity);
+    r.status = r.needed > out_capacity ? Status::BufferTooSmall : Status::Ok;
     return r;
 }
 
-/// The paper's silhouette point for one edge and one cell (cell (i, j) = dual-grid texel, see the
-/// header). Case 1: an endpoint in the cell (closed square; a first, then b); else the edge is
-/// tested against the cell's two diagonals: one hit (case 2) or the midpoint of two (case 3);
-/// no hit is case 4. Weight: 2 minus the endpoints inside (border crossings).
+/// The paper's silhouette point for one edge (ends a, b in texel space) and one cell (cell (i, j) =
+/// dual-grid texel, see the header). Case 1: an endpoint in the cell (closed square; a first, then
+/// b); else the edge is tested against the cell's two diagonals: one hit (case 2) or the midpoint of
+/// two (case 3); no hit is case 4. Weight: 2 minus the endpoints inside (border crossings).
+/// Total: any input, NaN and Inf included, gives `local` in [0,1]^2 and `weight` in 0 .. 2; a
+/// non-finite end gives NoIntersection (weight 0, local (0.5, 0.5)).
 inline SilmapPoint silmap_select_point(glm::vec2 a, glm::vec2 b, glm::ivec2 cell) {
     SilmapPoint r;
     if (!detail::silmap_finite(a) || !detail::silmap_finite(b)) return r;
@@ -267,26 +365,37 @@ inline SilmapPoint silmap_select_point(glm::vec2 a, glm::vec2 b, glm::ivec2 cell
         return r;
     }
     r.local = glm::clamp(r.local, glm::vec2(0.f), glm::vec2(1.f));
+    if (!detail::silmap_finite(r.local)) r.local = glm::vec2(0.5f);  // overflow in the hit of a huge edge
     r.weight = 2;
     return r;
 }
 
-/// Conservative rasterization of an edge into the dual grid: every cell (i, j) in
-/// [0, W-1] x [0, H-1] whose closed square the segment touches (a supercover, widened by
-/// `margin` texels, 1e-4 by default, against rounding). Writes cells to `out` (capacity entries)
-/// and returns how many there are (all of them are counted even when truncated). Long edges are
-/// clipped to the map first, so the work is bounded by the cells the map has along the edge.
-inline std::size_t silmap_rasterize_edge(glm::vec2 a, glm::vec2 b, glm::uvec2 size, glm::ivec2* out,
-                                         std::size_t capacity, float margin = 1e-4f) {
-    if (!detail::silmap_finite(a) || !detail::silmap_finite(b) || size.x == 0 || size.y == 0 ||
-        size.x > kSilmapMaxSize || size.y > kSilmapMaxSize || !(margin >= 0.f) || !(margin < 1.f))
-        return 0;
-    if (capacity && !out) capacity = 0;
+/// Conservative rasterization of an edge (ends a, b in texel space) into the dual grid: every cell
+/// (i, j) in [0, W-1] x [0, H-1] whose closed square the segment touches (a supercover, widened by
+/// `margin` texels, 0 <= margin < 1, 1e-4 by default, against rounding). Long edges are clipped to
+/// the map first, so the work is bounded by the cells the map has along the edge.
+/// `out` holds out_capacity glm::ivec2 elements; it needs one per touched cell (`needed`; 0 when the
+/// edge misses the map, with Ok). Errors: NonFinite (a or b), InvalidArgument (size outside
+/// 1 .. kSilmapMaxSize, margin outside [0, 1) or NaN, out null with out_capacity > 0).
+/// BufferTooSmall: the first out_capacity cells are written (count).
+inline SilmapRasterResult silmap_rasterize_edge(glm::vec2 a, glm::vec2 b, glm::uvec2 size, glm::ivec2* out,
+                                                std::size_t out_capacity, float margin = 1e-4f) {
+    SilmapRasterResult r;
+    if (!detail::silmap_finite(a) || !detail::silmap_finite(b)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (!detail::silmap_size_ok(size) || !(margin >= 0.f) || !(margin < 1.f) || (out_capacity && !out)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
     // cells cover [0.5, W + 0.5] x [0.5, H + 0.5]
     const double m = margin;
     glm::dvec2 p0(a), p1(b);
-    if (!detail::silmap_clip(p0, p1, glm::dvec2(0.5 - m), glm::dvec2(double(size.x) + 0.5 + m, double(size.y) + 0.5 + m)))
-        return 0;
+    if (!detail::silmap_clip(p0, p1, glm::dvec2(0.5 - m), glm::dvec2(double(size.x) + 0.5 + m, double(size.y) + 0.5 + m))) {
+        r.status = Status::Ok;
+        return r;
+    }
     if (p0.x > p1.x) std::swap(p0, p1);
     std::size_t n = 0;
     const int W = int(size.x), H = int(size.y);
@@ -309,34 +418,55 @@ inline std::size_t silmap_rasterize_edge(glm::vec2 a, glm::vec2 b, glm::uvec2 si
         yb = std::min(yb, std::max(p0.y, p1.y));
         const int cy0 = std::max(0, int(std::floor(ya - 0.5 - m))), cy1 = std::min(H - 1, int(std::floor(yb - 0.5 + m)));
         for (int cy = cy0; cy <= cy1; ++cy) {
-            if (n < capacity) out[n] = glm::ivec2(cx, cy);
+            if (n < out_capacity) out[n] = glm::ivec2(cx, cy);
             ++n;
         }
     }
-    return n;
+    r.needed = n;
+    r.count = std::min(n, out_capacity);
+    r.status = n > out_capacity ? Status::BufferTooSmall : Status::Ok;
+    return r;
 }
 
 /// Builds the silhouette map on the CPU: points (offsets, default (0.5, 0.5)) and edge weights per
-/// texel, W * H each, row-major (j * W + i). Edges are processed in order; a later point
-/// overwrites an earlier one (the paper's rule). With `depth` (the W x H window-depth map,
-/// row-major) a fragment whose edge depth at the point is behind all four neighbouring depth
-/// samples by more than `depth_bias` is occluded and discarded (the paper's occlusion test); so is
-/// one with no sample behind the edge by more than `depth_bias`: the edge casts no shadow there (a
-/// contact edge such as a box's bottom edge on the floor), and its point would only bend the
-/// boundary at a depth crease, where the four depth tests disagree for reasons other than a shadow.
+/// texel, row-major (j * W + i). Edges are processed in order; a later point overwrites an earlier
+/// one (the paper's rule). With `depth` (the window-depth map) a fragment whose edge depth at the
+/// point is behind all four neighboring depth samples by more than `depth_bias` is occluded and
+/// discarded (the paper's occlusion test); so is one with no sample behind the edge by more than
+/// `depth_bias`: the edge casts no shadow there (a contact edge such as a box's bottom edge on the
+/// floor), and its point would only bend the boundary at a depth crease, where the four depth tests
+/// disagree for reasons other than a shadow. Does not allocate.
+/// `edges` holds edge_count SilmapEdge elements; `depth` holds W * H floats, or is null (no
+/// occlusion test); `points` holds points_capacity glm::vec2 and `weights` weights_capacity uint8
+/// elements; each needs W * H (`needed`).
+/// Errors: InvalidArgument (size outside 1 .. kSilmapMaxSize, edges null with edge_count > 0, a null
+/// output), NonFinite (an edge or depth_bias not finite), BufferTooSmall (a capacity < W * H):
+/// nothing is written (count 0).
 inline SilmapBuildResult silmap_build(const SilmapEdge* edges, std::size_t edge_count, glm::uvec2 size, const float* depth,
-                                      float depth_bias, glm::vec2* points, std::uint8_t* weights, std::size_t capacity) {
+                                      float depth_bias, glm::vec2* points, std::size_t points_capacity,
+                                      std::uint8_t* weights, std::size_t weights_capacity) {
     SilmapBuildResult r;
-    if ((edge_count && !edges) || size.x == 0 || size.y == 0 || size.x > kSilmapMaxSize || size.y > kSilmapMaxSize) {
-        r.status = SilmapStatus::InvalidArgument;
+    if ((edge_count && !edges) || !detail::silmap_size_ok(size) || !points || !weights) {
+        r.status = Status::InvalidArgument;
         return r;
     }
     r.needed = std::size_t(size.x) * std::size_t(size.y);
-    if (capacity < r.needed || !points || !weights) {
-        r.status = SilmapStatus::BufferTooSmall;
+    if (!std::isfinite(depth_bias)) {
+        r.status = Status::NonFinite;
         return r;
     }
-    if (!std::isfinite(depth_bias)) depth_bias = 0.f;
+    for (std::size_t e = 0; e < edge_count; ++e) {
+        const SilmapEdge& E = edges[e];
+        if (!detail::silmap_finite(E.a) || !detail::silmap_finite(E.b) || !std::isfinite(E.depth_a) ||
+            !std::isfinite(E.depth_b)) {
+            r.status = Status::NonFinite;
+            return r;
+        }
+    }
+    if (points_capacity < r.needed || weights_capacity < r.needed) {
+        r.status = Status::BufferTooSmall;
+        return r;
+    }
     for (std::size_t k = 0; k < r.needed; ++k) {
         points[k] = glm::vec2(0.5f);
         weights[k] = 0;
@@ -345,12 +475,6 @@ inline SilmapBuildResult silmap_build(const SilmapEdge* edges, std::size_t edge_
     glm::ivec2 cells[256];
     for (std::size_t e = 0; e < edge_count; ++e) {
         const SilmapEdge& E = edges[e];
-        if (!detail::silmap_finite(E.a) || !detail::silmap_finite(E.b) || !std::isfinite(E.depth_a) ||
-            !std::isfinite(E.depth_b)) {
-            ++r.skipped_edges;
-            r.status = SilmapStatus::NonFinite;
-            continue;
-        }
         // clip to the map (plus a texel), then rasterize in pieces of at most 64 texels so a fixed
         // cell buffer suffices (no allocation); a cell shared by two pieces is written by the piece
         // that contains its point only
@@ -364,9 +488,9 @@ inline SilmapBuildResult silmap_build(const SilmapEdge* edges, std::size_t edge_
         for (int pc = 0; pc < pieces; ++pc) {
             const float t0 = float(pc) / float(pieces), t1 = float(pc + 1) / float(pieces);
             const glm::vec2 pa = ca + cd * t0, pb = pc + 1 == pieces ? cb : ca + cd * t1;
-            const std::size_t nc = silmap_rasterize_edge(pa, pb, size, cells, 256);
-            if (nc > 256) r.status = SilmapStatus::BufferTooSmall;  // cannot happen for <= 64-texel pieces
-            for (std::size_t c = 0; c < std::min<std::size_t>(nc, 256); ++c) {
+            // <= 64-texel pieces touch far fewer than 256 cells: count == needed
+            const SilmapRasterResult rr = silmap_rasterize_edge(pa, pb, size, cells, 256);
+            for (std::size_t c = 0; c < rr.count; ++c) {
                 const glm::ivec2 cell = cells[c];
                 const SilmapPoint sp = silmap_select_point(E.a, E.b, cell);
                 if (sp.kase == SilmapCase::NoIntersection) continue;
@@ -401,20 +525,34 @@ inline SilmapBuildResult silmap_build(const SilmapEdge* edges, std::size_t edge_
     }
     for (std::size_t k = 0; k < r.needed; ++k)
         if (weights[k] > kSilmapFailureWeight) ++r.failure_texels;
+    r.count = r.needed;
+    r.status = Status::Ok;
     return r;
 }
 
 /// The reconstruction rule for one cell. `local`: lookup position in the cell ([0,1]^2 inside);
-/// `center`: the cell's silhouette point; `right, top, left, bottom`: the neighbour cells'
-/// points, each in its own cell's offsets (this function shifts them by +-1). corner_lit[c]: the
-/// depth test of corner c (0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1)). The segments from the centre point
-/// to the four neighbour points split the cell into four sectors, one per corner; the lookup takes
-/// its sector's depth test (Sen et al. 2003, sec. 3.3). If the four tests agree that is the answer
-/// (non-silhouette pixel). Degenerate sectors (a neighbour point on the centre point, or the four
-/// segments not in counter-clockwise order right, top, left, bottom) use the nearest corner.
+/// `center`: the cell's silhouette point; `right, top, left, bottom`: the neighbor cells'
+/// points, each in its own cell's offsets (this function shifts them by +-1). corner_lit holds 4
+/// bools: the depth test of corner c (0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1)). The segments from the
+/// center point to the four neighbor points split the cell into four sectors, one per corner; the
+/// lookup takes its sector's depth test (Sen et al. 2003, sec. 3.3). If the four tests agree that
+/// is the answer (non-silhouette pixel). Degenerate sectors (a neighbor point on the center point,
+/// or the four segments not in counter-clockwise order right, top, left, bottom) use the nearest
+/// corner (fallback = true, with Ok). Errors: InvalidArgument (corner_lit null), NonFinite (a point
+/// or `local` not finite).
 inline SilmapLookup silmap_reconstruct(glm::vec2 local, glm::vec2 center, glm::vec2 right, glm::vec2 top,
                                        glm::vec2 left, glm::vec2 bottom, const bool corner_lit[4]) {
     SilmapLookup r;
+    if (!corner_lit) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    if (!detail::silmap_finite(local) || !detail::silmap_finite(center) || !detail::silmap_finite(right) ||
+        !detail::silmap_finite(top) || !detail::silmap_finite(left) || !detail::silmap_finite(bottom)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    r.status = Status::Ok;
     const int nearest = (local.x >= 0.5f ? 1 : 0) + (local.y >= 0.5f ? 2 : 0);
     const bool all_lit = corner_lit[0] && corner_lit[1] && corner_lit[2] && corner_lit[3];
     const bool none_lit = !corner_lit[0] && !corner_lit[1] && !corner_lit[2] && !corner_lit[3];
@@ -426,7 +564,7 @@ inline SilmapLookup silmap_reconstruct(glm::vec2 local, glm::vec2 center, glm::v
     r.silhouette_pixel = true;
     const glm::vec2 nb[4] = {right + glm::vec2(1.f, 0.f), top + glm::vec2(0.f, 1.f), left - glm::vec2(1.f, 0.f),
                              bottom - glm::vec2(0.f, 1.f)};
-    bool ok = detail::silmap_finite(local) && detail::silmap_finite(center);
+    bool ok = true;
     float ang[4] = {0.f, 0.f, 0.f, 0.f};
     for (int k = 0; k < 4 && ok; ++k) {
         const glm::vec2 d = nb[k] - center;
@@ -434,14 +572,15 @@ inline SilmapLookup silmap_reconstruct(glm::vec2 local, glm::vec2 center, glm::v
         else ang[k] = std::atan2(d.y, d.x);
     }
     const glm::vec2 ds = local - center;
-    if (ok && ds.x == 0.f && ds.y == 0.f) ok = false;
+    if (ok && (!detail::silmap_finite(ds) || (ds.x == 0.f && ds.y == 0.f))) ok = false;
     if (ok) {
-        const float aT = detail::silmap_wrap_angle(ang[1] - ang[0]), aL = detail::silmap_wrap_angle(ang[2] - ang[0]),
-                    aB = detail::silmap_wrap_angle(ang[3] - ang[0]);
-        if (!(aT > 0.f && aT < aL && aL < aB)) ok = false;
+        const float a_top = detail::silmap_wrap_angle(ang[1] - ang[0]),
+                    a_left = detail::silmap_wrap_angle(ang[2] - ang[0]),
+                    a_bottom = detail::silmap_wrap_angle(ang[3] - ang[0]);
+        if (!(a_top > 0.f && a_top < a_left && a_left < a_bottom)) ok = false;
         if (ok) {
             const float as = detail::silmap_wrap_angle(std::atan2(ds.y, ds.x) - ang[0]);
-            const int c = as < aT ? 3 : (as < aL ? 2 : (as < aB ? 0 : 1));
+            const int c = as < a_top ? 3 : (as < a_left ? 2 : (as < a_bottom ? 0 : 1));
             r.corner = c;
             r.lit = corner_lit[c];
             return r;
@@ -453,20 +592,25 @@ inline SilmapLookup silmap_reconstruct(glm::vec2 local, glm::vec2 center, glm::v
     return r;
 }
 
-/// Full lookup on CPU data: the shadow map (window depth, W x H row-major), the silhouette map
-/// (points and weights from silmap_build) and a receiver at texel position `q` with window depth
-/// `receiver_depth`; a depth sample passes when receiver_depth <= sample + bias. Failure texels
-/// (weight > kSilmapFailureWeight), the border cells and non-finite input give the plain
-/// (nearest-sample) shadow-map result with fallback = true.
+/// Full lookup on CPU data: the shadow map `depth` (window depth), the silhouette map `points` and
+/// `weights` (from silmap_build), W * H elements each, and a receiver at texel position `q` with
+/// window depth `receiver_depth`; a depth sample passes when receiver_depth <= sample + bias.
+/// Failure texels (weight > kSilmapFailureWeight), the border cells and lookups outside the map
+/// give the plain (nearest-sample, clamped to the map) shadow-map result with fallback = true and
+/// Ok. Errors: InvalidArgument (a null map, size outside 1 .. kSilmapMaxSize), NonFinite (q,
+/// receiver_depth or bias not finite).
 inline SilmapLookup silmap_lookup(const glm::vec2* points, const std::uint8_t* weights, const float* depth,
                                   glm::uvec2 size, glm::vec2 q, float receiver_depth, float bias) {
     SilmapLookup r;
-    if (!points || !weights || !depth || size.x == 0 || size.y == 0 || size.x > kSilmapMaxSize ||
-        size.y > kSilmapMaxSize || !detail::silmap_finite(q) || !std::isfinite(receiver_depth)) {
-        r.fallback = true;
+    if (!points || !weights || !depth || !detail::silmap_size_ok(size)) {
+        r.status = Status::InvalidArgument;
         return r;
     }
-    if (!std::isfinite(bias)) bias = 0.f;
+    if (!detail::silmap_finite(q) || !std::isfinite(receiver_depth) || !std::isfinite(bias)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    r.status = Status::Ok;
     const int W = int(size.x), H = int(size.y);
     auto test = [&](int ix, int iy) {
         ix = std::min(std::max(ix, 0), W - 1);
@@ -503,12 +647,25 @@ inline SilmapLookup silmap_lookup(const glm::vec2* points, const std::uint8_t* w
                               points[at(cell.x - 1, cell.y)], points[at(cell.x, cell.y - 1)], lit);
 }
 
-/// Nearest-sample (plain) shadow-map result at texel position q, for comparisons.
-inline bool silmap_plain_lookup(const float* depth, glm::uvec2 size, glm::vec2 q, float receiver_depth, float bias) {
-    if (!depth || size.x == 0 || size.y == 0 || !detail::silmap_finite(q) || !std::isfinite(receiver_depth)) return true;
+/// Nearest-sample (plain) shadow-map result at texel position q, for comparisons: `depth` holds
+/// W * H floats; a lookup outside the map takes the nearest border sample. Errors: InvalidArgument
+/// (depth null, size outside 1 .. kSilmapMaxSize), NonFinite (q, receiver_depth or bias).
+inline SilmapPlainLookup silmap_plain_lookup(const float* depth, glm::uvec2 size, glm::vec2 q, float receiver_depth,
+                                             float bias) {
+    SilmapPlainLookup r;
+    if (!depth || !detail::silmap_size_ok(size)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    if (!detail::silmap_finite(q) || !std::isfinite(receiver_depth) || !std::isfinite(bias)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
     const int ix = std::min(std::max(int(std::floor(std::max(std::min(q.x, 1e9f), -1e9f))), 0), int(size.x) - 1);
     const int iy = std::min(std::max(int(std::floor(std::max(std::min(q.y, 1e9f), -1e9f))), 0), int(size.y) - 1);
-    return receiver_depth <= depth[std::size_t(iy) * size.x + std::size_t(ix)] + (std::isfinite(bias) ? bias : 0.f);
+    r.lit = receiver_depth <= depth[std::size_t(iy) * size.x + std::size_t(ix)] + bias;
+    r.status = Status::Ok;
+    return r;
 }
 
 /// Bytes per texel of the GPU encoding used by glsl/silhouette_map.glsl: a 32-bit depth map plus an

@@ -1,8 +1,10 @@
-// shadowkit/spherical_harmonics.hpp - real spherical harmonics (SH) up to order 5 for low-frequency
-// lighting: basis evaluation by the associated-Legendre recurrence, projection of sampled
-// functions, reconstruction at a direction, rotation of coefficient vectors (Ivanic-Ruedenberg
-// recursion, every band up to 4, reflections included), convolution with zonal kernels such as the
-// clamped cosine, and stratified sphere samples. The PRT side (transfer vectors) is prt.hpp.
+// shadowkit/spherical_harmonics.hpp - real spherical harmonics (SH) up to order 5 for low-frequency lighting.
+//
+// Basis evaluation by the associated-Legendre recurrence, projection of sampled functions,
+// reconstruction at a direction, rotation of coefficient vectors (Ivanic-Ruedenberg recursion,
+// every band up to 4, reflections included), convolution with zonal kernels such as the clamped
+// cosine, and stratified sphere samples. The PRT side (transfer vectors) is prt.hpp; docs/prt.md
+// has complete programs for both.
 //
 // Usage:
 //   #include <shadowkit/spherical_harmonics.hpp>
@@ -13,10 +15,38 @@
 //   std::vector<float> f(dirs.size());  for (...) f[j] = radiance(dirs[j]);
 //   float c[25];
 //   sk::sh_project(order, dirs.data(), f.data(), nullptr, dirs.size(), c, 25);  // weights 4 pi / N
-//   sk::SHRotation rot;  sk::sh_make_rotation(order, glm::mat3(R), rot);      // R: any rotation
+//   sk::SHRotation rot = sk::sh_make_rotation(order, glm::mat3(R));  // R: any rotation; rot.status
 //   sk::sh_rotate(rot, c, 25, c, 25);                         // now c holds f(R^T s): f turned by R
 //   float e[25];  sk::sh_convolve_clamped_cosine(order, c, 25, e, 25);  // irradiance coefficients
 //   float E = sk::sh_reconstruct(order, e, 25, normal).value;  // = integral f(s) max(n.s, 0) ds
+//
+// Conventions (used by every function):
+//   * "order" is the number of bands: order n uses bands l = 0 .. n-1 and n^2 coefficients.
+//     Valid orders are 1 .. 5 (kSHMaxOrder); anything else is Status::InvalidArgument.
+//   * Coefficient i = l (l + 1) + m, m = -l .. l (sh_index). Real, orthonormal over the unit sphere
+//     (integral of y_i y_j over the sphere = delta_ij), WITHOUT the Condon-Shortley phase:
+//     y_{1,-1} = c y, y_{1,0} = c z, y_{1,1} = c x with c = sqrt(3 / (4 pi)); in general
+//     y_{l,m>0} = sqrt2 K_l^m P_l^m(z) cos(m phi), y_{l,m<0} = sqrt2 K_l^|m| P_l^|m|(z) sin(|m| phi),
+//     y_{l,0} = K_l^0 P_l^0(z), K_l^m = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!), theta measured from +z.
+//     (x + i y)^m replaces sin^m(theta) e^{i m phi}, so no atan2 and no division by sin(theta): the
+//     evaluation is exact at the poles.
+//   * Directions need not be unit length (they are normalized in double precision); a zero
+//     direction is Status::InvalidArgument, a NaN or Inf component Status::NonFinite.
+//   * Arrays are pointer + count, in elements of the pointer's type (Real, or glm::vec3 for RGB). A
+//     result's `count` is the number of values written (order^2 when Ok, 0 otherwise) and `needed`
+//     the number the output needs (order^2). A null array is Status::InvalidArgument; an input or
+//     output array shorter than the order needs is Status::BufferTooSmall (nothing written).
+//     Functions are templates over float and double (Real); internally everything is evaluated in
+//     double. Input and output may alias (rotation, convolution work on a copy). No function
+//     allocates.
+//   * Status: NaN/Inf in an input (coefficients, kernel, samples, matrix) is Status::NonFinite; a
+//     finite result too large for Real (float) is Status::Overflow (outputs zeroed), never Inf; `Ok`
+//     means every output is finite.
+//   * Rotation: sh_rotate with the rotation built from R turns the function by R: the output
+//     represents g(s) = f(R^T s), so a lobe around direction d moves to R d. R must be orthogonal
+//     (tolerance 1e-3 on R^T R - I, else Status::InvalidArgument); det R = -1 (a reflection) is
+//     allowed.
+//   * This header takes no light (an environment is an SH coefficient vector).
 //
 // Based on:
 //   P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed Radiance Transfer for Real-Time Rendering in
@@ -30,27 +60,6 @@
 //   SIGGRAPH 2001, eqs. 7-9 (clamped-cosine coefficients A_l).
 //   R. Green, "Spherical Harmonic Lighting: The Gritty Details", GDC 2003 (Legendre recurrence).
 //
-// Conventions (used by every function):
-//   * "order" is the number of bands: order n uses bands l = 0 .. n-1 and n^2 coefficients.
-//     Valid orders are 1 .. 5 (kSHMaxOrder); anything else is SHStatus::InvalidOrder.
-//   * Coefficient i = l (l + 1) + m, m = -l .. l (sh_index). Real, orthonormal over the unit sphere
-//     (integral of y_i y_j over the sphere = delta_ij), WITHOUT the Condon-Shortley phase:
-//     y_{1,-1} = c y, y_{1,0} = c z, y_{1,1} = c x with c = sqrt(3 / (4 pi)); in general
-//     y_{l,m>0} = sqrt2 K_l^m P_l^m(z) cos(m phi), y_{l,m<0} = sqrt2 K_l^|m| P_l^|m|(z) sin(|m| phi),
-//     y_{l,0} = K_l^0 P_l^0(z), K_l^m = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!), theta measured from +z.
-//     (x + i y)^m replaces sin^m(theta) e^{i m phi}, so no atan2 and no division by sin(theta): the
-//     evaluation is exact at the poles.
-//   * Directions need not be unit length (they are normalised in double precision); zero, NaN or
-//     Inf components are SHStatus::InvalidDirection.
-//   * Arrays are pointer + count. A result's `count` is the number of values written, or, with
-//     SHStatus::BufferTooSmall, the number needed. Functions are templates over float and double
-//     (Real); internally everything is evaluated in double. Input and output may alias (rotation,
-//     convolution work on a copy). A finite result too large for float is SHStatus::Overflow
-//     (outputs zeroed), never Inf.
-//   * Rotation: sh_rotate with the rotation built from R turns the function by R: the output
-//     represents g(s) = f(R^T s), so a lobe around direction d moves to R d. R must be orthogonal
-//     (tolerance 1e-3 on R^T R - I); det R = -1 (a reflection) is allowed.
-//
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
 
@@ -62,101 +71,124 @@
 
 namespace shadowkit {
 
-/// Outcome of a spherical-harmonics call.
-enum class SHStatus {
-    Ok,
-    InvalidOrder,      ///< order outside 1 .. kSHMaxOrder
-    InvalidDirection,  ///< zero-length or non-finite direction
-    InvalidRotation,   ///< matrix not orthogonal within 1e-3, or non-finite
-    InvalidSample,     ///< a projection sample with a bad direction, NaN/Inf value or weight
-    NonFiniteInput,    ///< NaN or Inf in input coefficients or kernel
-    NullPointer,       ///< a required array is null
-    BufferTooSmall,    ///< input or output array shorter than the order needs; count = needed
-    Overflow           ///< a finite result does not fit the output type (float); output zeroed
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
 };
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
 
 /// Highest supported order (number of bands) and the coefficient count at that order.
 constexpr int kSHMaxOrder = 5;
 constexpr std::size_t kSHMaxCoefficients = 25;
 
-/// True for orders 1 .. kSHMaxOrder.
+/// True for orders 1 .. kSHMaxOrder. Total.
 constexpr bool sh_order_valid(int order) { return order >= 1 && order <= kSHMaxOrder; }
 
-/// order^2 for a valid order, 0 otherwise.
+/// order^2 for a valid order, 0 otherwise. Total.
 constexpr std::size_t sh_coefficient_count(int order) {
     return sh_order_valid(order) ? static_cast<std::size_t>(order) * static_cast<std::size_t>(order) : 0u;
 }
 
-/// Index of y_{l,m} in a coefficient vector: l (l + 1) + m.
+/// Index of y_{l,m} in a coefficient vector: l (l + 1) + m, for 0 <= l < kSHMaxOrder and
+/// -l <= m <= l (the formula only: no check).
 constexpr int sh_index(int l, int m) { return l * (l + 1) + m; }
 
-/// Status and the number of values written (or needed, with BufferTooSmall).
+/// Status, the number of values written and the number the output needs.
 struct SHResult {
-    SHStatus status = SHStatus::Ok;
-    std::size_t count = 0;
+    Status status = Status::NotRun;
+    std::size_t count = 0;   ///< values written (order^2 when Ok, 0 otherwise)
+    std::size_t needed = 0;  ///< values the output needs (order^2; 0 for an invalid order)
 };
 
 /// Status and a scalar value (0 unless status is Ok).
 template <typename Real>
 struct SHValue {
-    SHStatus status = SHStatus::Ok;
+    Status status = Status::NotRun;
     Real value = Real(0);
 };
 
 /// Per-band rotation matrices of one rotation (block diagonal), built by sh_make_rotation.
 /// Band l is a (2l+1) x (2l+1) row-major block at offset l (2l-1) (2l+1) / 3.
 struct SHRotation {
+    Status status = Status::NotRun;
     int order = 0;
-    double band[165] = {};  // sum over l = 0..4 of (2l+1)^2
+    double band[165] = {};  ///< sum over l = 0..4 of (2l+1)^2
 };
 
-namespace sh_detail {
+namespace detail {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double sh_pi = 3.14159265358979323846;
 
 // Keeps a parameter out of template argument deduction (so nullptr can be passed for weights).
 template <typename T>
-struct identity {
+struct sh_identity {
     using type = T;
 };
 
-inline double factorial(int n) {
+inline double sh_factorial(int n) {
     double f = 1.0;
     for (int i = 2; i <= n; ++i) f *= static_cast<double>(i);
     return f;
 }
 
-// K_l^m = sqrt((2l+1)/(4 pi) (l-|m|)!/(l+|m|)!) (Sloan et al. 2002 / Green 2003 normalisation).
-inline double normalization(int l, int m) {
+// K_l^m = sqrt((2l+1)/(4 pi) (l-|m|)!/(l+|m|)!) (Sloan et al. 2002 / Green 2003 normalization).
+inline double sh_normalization(int l, int m) {
     const int am = m < 0 ? -m : m;
-    return std::sqrt((2.0 * l + 1.0) / (4.0 * kPi) * factorial(l - am) / factorial(l + am));
+    return std::sqrt((2.0 * l + 1.0) / (4.0 * sh_pi) * sh_factorial(l - am) / sh_factorial(l + am));
 }
 
+// Unit direction in double: Ok, NonFinite (NaN/Inf component) or InvalidArgument (zero).
 template <typename Real, glm::qualifier Q>
-inline bool unit_direction(const glm::vec<3, Real, Q>& d, double& x, double& y, double& z) {
+inline Status sh_unit_direction(const glm::vec<3, Real, Q>& d, double& x, double& y, double& z) {
     x = static_cast<double>(d.x);
     y = static_cast<double>(d.y);
     z = static_cast<double>(d.z);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return false;
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return Status::NonFinite;
     // scale by the largest component first: 1e-300 or 1e300 components neither under- nor overflow
     const double big = std::fmax(std::fabs(x), std::fmax(std::fabs(y), std::fabs(z)));
-    if (!(big > 0.0)) return false;
+    if (!(big > 0.0)) return Status::InvalidArgument;
     x /= big;
     y /= big;
     z /= big;
     const double len = std::sqrt(x * x + y * y + z * z);
-    if (!(len > 0.0) || !std::isfinite(len)) return false;
     x /= len;
     y /= len;
     z /= len;
-    return true;
+    return Status::Ok;
 }
 
 // Real SH basis at a unit direction, n = order^2 values. Associated Legendre recurrence on the
 // polynomial part Q_l^m(z) = P_l^m(z) / sin^m(theta) (Green 2003, the three-term rule in l):
 //   Q_m^m = (2m-1)!!,  Q_{m+1}^m = (2m+1) z Q_m^m,  (l-m) Q_l^m = (2l-1) z Q_{l-1}^m - (l+m-1) Q_{l-2}^m,
 // times sin^m(theta) {cos, sin}(m phi) = {Re, Im} (x + i y)^m.
-inline void basis(int order, double x, double y, double z, double* out) {
+inline void sh_basis(int order, double x, double y, double z, double* out) {
     const double sqrt2 = 1.41421356237309504880;
     double cm = 1.0, sm = 0.0, pmm = 1.0;
     for (int m = 0; m < order; ++m) {
@@ -178,7 +210,7 @@ inline void basis(int order, double x, double y, double z, double* out) {
                     static_cast<double>(l - m);
             q2 = q1;
             q1 = q;
-            const double k = normalization(l, m);
+            const double k = sh_normalization(l, m);
             if (m == 0) {
                 out[sh_index(l, 0)] = k * q;
             } else {
@@ -190,7 +222,7 @@ inline void basis(int order, double x, double y, double z, double* out) {
 }
 
 template <typename Real>
-inline bool all_finite(const Real* p, std::size_t n) {
+inline bool sh_all_finite(const Real* p, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i)
         if (!std::isfinite(static_cast<double>(p[i]))) return false;
     return true;
@@ -198,7 +230,7 @@ inline bool all_finite(const Real* p, std::size_t n) {
 
 // Stores n doubles as Real; false (and zeros) if one does not fit (float overflow).
 template <typename Real>
-inline bool store(const double* v, std::size_t n, Real* out) {
+inline bool sh_store(const double* v, std::size_t n, Real* out) {
     for (std::size_t i = 0; i < n; ++i)
         if (!std::isfinite(static_cast<double>(static_cast<Real>(v[i])))) {
             for (std::size_t k = 0; k < n; ++k) out[k] = Real(0);
@@ -209,162 +241,185 @@ inline bool store(const double* v, std::size_t n, Real* out) {
 }
 
 template <typename Real>
-inline bool fits(double v) {
-    return std::isfinite(static_cast<double>(static_cast<Real>(v)));
+inline bool sh_fits(double v) {
+    return std::isfinite(v) && std::isfinite(static_cast<double>(static_cast<Real>(v)));
 }
 
-inline int band_offset(int l) { return l * (2 * l - 1) * (2 * l + 1) / 3; }
+inline int sh_band_offset(int l) { return l * (2 * l - 1) * (2 * l + 1) / 3; }
 
 // Element (m, n) of band l, m, n in -l .. l.
-inline double& at(SHRotation& r, int l, int m, int n) {
-    return r.band[band_offset(l) + (m + l) * (2 * l + 1) + (n + l)];
+inline double& sh_at(SHRotation& r, int l, int m, int n) {
+    return r.band[sh_band_offset(l) + (m + l) * (2 * l + 1) + (n + l)];
 }
-inline double get(const SHRotation& r, int l, int m, int n) {
+inline double sh_get(const SHRotation& r, int l, int m, int n) {
     if (m < -l || m > l || n < -l || n > l) return 0.0;
-    return r.band[band_offset(l) + (m + l) * (2 * l + 1) + (n + l)];
+    return r.band[sh_band_offset(l) + (m + l) * (2 * l + 1) + (n + l)];
 }
 
 // Ivanic & Ruedenberg 1996, table 2 (with the 1998 erratum): the P helper.
-inline double ir_p(const SHRotation& r, int i, int a, int b, int l) {
-    if (b == l) return get(r, 1, i, 1) * get(r, l - 1, a, l - 1) - get(r, 1, i, -1) * get(r, l - 1, a, -l + 1);
-    if (b == -l) return get(r, 1, i, 1) * get(r, l - 1, a, -l + 1) + get(r, 1, i, -1) * get(r, l - 1, a, l - 1);
-    return get(r, 1, i, 0) * get(r, l - 1, a, b);
+inline double sh_ir_p(const SHRotation& r, int i, int a, int b, int l) {
+    if (b == l) return sh_get(r, 1, i, 1) * sh_get(r, l - 1, a, l - 1) - sh_get(r, 1, i, -1) * sh_get(r, l - 1, a, -l + 1);
+    if (b == -l) return sh_get(r, 1, i, 1) * sh_get(r, l - 1, a, -l + 1) + sh_get(r, 1, i, -1) * sh_get(r, l - 1, a, l - 1);
+    return sh_get(r, 1, i, 0) * sh_get(r, l - 1, a, b);
 }
 
 // Ivanic & Ruedenberg 1996, table 2: U, V, W terms of band l from bands 1 and l-1.
-inline double ir_u(const SHRotation& r, int m, int n, int l) { return ir_p(r, 0, m, n, l); }
-inline double ir_v(const SHRotation& r, int m, int n, int l) {
-    if (m == 0) return ir_p(r, 1, 1, n, l) + ir_p(r, -1, -1, n, l);
+inline double sh_ir_u(const SHRotation& r, int m, int n, int l) { return sh_ir_p(r, 0, m, n, l); }
+inline double sh_ir_v(const SHRotation& r, int m, int n, int l) {
+    if (m == 0) return sh_ir_p(r, 1, 1, n, l) + sh_ir_p(r, -1, -1, n, l);
     if (m > 0) {
         const double d = m == 1 ? 1.0 : 0.0;
-        return ir_p(r, 1, m - 1, n, l) * std::sqrt(1.0 + d) - ir_p(r, -1, -m + 1, n, l) * (1.0 - d);
+        return sh_ir_p(r, 1, m - 1, n, l) * std::sqrt(1.0 + d) - sh_ir_p(r, -1, -m + 1, n, l) * (1.0 - d);
     }
     const double d = m == -1 ? 1.0 : 0.0;
-    return ir_p(r, 1, m + 1, n, l) * (1.0 - d) + ir_p(r, -1, -m - 1, n, l) * std::sqrt(1.0 + d);
+    return sh_ir_p(r, 1, m + 1, n, l) * (1.0 - d) + sh_ir_p(r, -1, -m - 1, n, l) * std::sqrt(1.0 + d);
 }
-inline double ir_w(const SHRotation& r, int m, int n, int l) {
-    if (m > 0) return ir_p(r, 1, m + 1, n, l) + ir_p(r, -1, -m - 1, n, l);
-    if (m < 0) return ir_p(r, 1, m - 1, n, l) - ir_p(r, -1, -m + 1, n, l);
+inline double sh_ir_w(const SHRotation& r, int m, int n, int l) {
+    if (m > 0) return sh_ir_p(r, 1, m + 1, n, l) + sh_ir_p(r, -1, -m - 1, n, l);
+    if (m < 0) return sh_ir_p(r, 1, m - 1, n, l) - sh_ir_p(r, -1, -m + 1, n, l);
     return 0.0;
 }
 
-}  // namespace sh_detail
+inline SHResult sh_result(Status s, std::size_t count, std::size_t needed) {
+    SHResult r;
+    r.status = s;
+    r.count = count;
+    r.needed = needed;
+    return r;
+}
 
-/// Real SH basis y_i(dir), i < order^2, into out[0 .. order^2).
+template <typename Real>
+inline SHValue<Real> sh_value(Status s, Real v) {
+    SHValue<Real> r;
+    r.status = s;
+    r.value = v;
+    return r;
+}
+
+}  // namespace detail
+
+/// Real SH basis y_i(dir), i < order^2. `out` holds capacity Real elements; it needs order^2.
+/// A zero (InvalidArgument) or non-finite (NonFinite) direction writes zeros.
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_evaluate(int order, const glm::vec<3, Real, Q>& dir, Real* out, std::size_t capacity) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, 0};
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = sh_coefficient_count(order);
-    if (!out) return {SHStatus::NullPointer, n};
-    if (capacity < n) return {SHStatus::BufferTooSmall, n};
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
     double x, y, z;
-    if (!sh_detail::unit_direction(dir, x, y, z)) {
+    const Status ds = detail::sh_unit_direction(dir, x, y, z);
+    if (ds != Status::Ok) {
         for (std::size_t i = 0; i < n; ++i) out[i] = Real(0);
-        return {SHStatus::InvalidDirection, 0};
+        return detail::sh_result(ds, 0, n);
     }
     double b[kSHMaxCoefficients];
-    sh_detail::basis(order, x, y, z, b);
+    detail::sh_basis(order, x, y, z, b);
     for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<Real>(b[i]);
-    return {SHStatus::Ok, n};
+    return detail::sh_result(Status::Ok, n, n);
 }
 
 /// Reconstruction sum_i c_i y_i(dir) of a coefficient vector (Sloan et al. 2002, section 4).
+/// `coeffs` holds count Real elements (>= order^2).
 template <typename Real, glm::qualifier Q>
 inline SHValue<Real> sh_reconstruct(int order, const Real* coeffs, std::size_t count, const glm::vec<3, Real, Q>& dir) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, Real(0)};
+    if (!sh_order_valid(order)) return detail::sh_value(Status::InvalidArgument, Real(0));
     const std::size_t n = sh_coefficient_count(order);
-    if (!coeffs) return {SHStatus::NullPointer, Real(0)};
-    if (count < n) return {SHStatus::BufferTooSmall, Real(0)};
+    if (!coeffs) return detail::sh_value(Status::InvalidArgument, Real(0));
+    if (count < n) return detail::sh_value(Status::BufferTooSmall, Real(0));
     double x, y, z;
-    if (!sh_detail::unit_direction(dir, x, y, z)) return {SHStatus::InvalidDirection, Real(0)};
-    if (!sh_detail::all_finite(coeffs, n)) return {SHStatus::NonFiniteInput, Real(0)};
+    const Status ds = detail::sh_unit_direction(dir, x, y, z);
+    if (ds != Status::Ok) return detail::sh_value(ds, Real(0));
+    if (!detail::sh_all_finite(coeffs, n)) return detail::sh_value(Status::NonFinite, Real(0));
     double b[kSHMaxCoefficients];
-    sh_detail::basis(order, x, y, z, b);
+    detail::sh_basis(order, x, y, z, b);
     double s = 0.0;
     for (std::size_t i = 0; i < n; ++i) s += static_cast<double>(coeffs[i]) * b[i];
-    if (!sh_detail::fits<Real>(s)) return {SHStatus::Overflow, Real(0)};
-    return {SHStatus::Ok, static_cast<Real>(s)};
+    if (!detail::sh_fits<Real>(s)) return detail::sh_value(Status::Overflow, Real(0));
+    return detail::sh_value(Status::Ok, static_cast<Real>(s));
 }
 
 /// Projection c_i = sum_j w_j f(s_j) y_i(s_j) of sampled values (course notes: f_i = integral f y_i,
-/// evaluated numerically). weights == nullptr means uniform sphere samples, w_j = 4 pi / N. Any
-/// sample with a bad direction or a non-finite value/weight gives InvalidSample and zeros.
+/// evaluated numerically). `dirs`, `values` and `weights` hold sample_count elements each;
+/// weights == nullptr means uniform sphere samples, w_j = 4 pi / N. `out` holds capacity Real
+/// elements; it needs order^2. No samples give zeros (Ok). A sample with a zero direction
+/// (InvalidArgument) or a non-finite direction, value or weight (NonFinite) gives zeros.
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_project(int order, const glm::vec<3, Real, Q>* dirs, const Real* values,
-                           const typename sh_detail::identity<Real>::type* weights, std::size_t sample_count, Real* out, std::size_t capacity) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, 0};
+                           const typename detail::sh_identity<Real>::type* weights, std::size_t sample_count, Real* out,
+                           std::size_t capacity) {
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = sh_coefficient_count(order);
-    if (!out) return {SHStatus::NullPointer, n};
-    if (capacity < n) return {SHStatus::BufferTooSmall, n};
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
     for (std::size_t i = 0; i < n; ++i) out[i] = Real(0);
-    if (sample_count == 0) return {SHStatus::Ok, n};
-    if (!dirs || !values) return {SHStatus::NullPointer, n};
+    if (sample_count == 0) return detail::sh_result(Status::Ok, n, n);
+    if (!dirs || !values) return detail::sh_result(Status::InvalidArgument, 0, n);
     double acc[kSHMaxCoefficients] = {};
-    const double uniform = 4.0 * sh_detail::kPi / static_cast<double>(sample_count);
+    const double uniform = 4.0 * detail::sh_pi / static_cast<double>(sample_count);
     double b[kSHMaxCoefficients];
     for (std::size_t j = 0; j < sample_count; ++j) {
         double x, y, z;
         const double f = static_cast<double>(values[j]);
         const double w = weights ? static_cast<double>(weights[j]) : uniform;
-        if (!sh_detail::unit_direction(dirs[j], x, y, z) || !std::isfinite(f) || !std::isfinite(w))
-            return {SHStatus::InvalidSample, 0};
-        sh_detail::basis(order, x, y, z, b);
+        const Status ds = detail::sh_unit_direction(dirs[j], x, y, z);
+        if (ds == Status::Ok && (!std::isfinite(f) || !std::isfinite(w))) return detail::sh_result(Status::NonFinite, 0, n);
+        if (ds != Status::Ok) return detail::sh_result(ds, 0, n);
+        detail::sh_basis(order, x, y, z, b);
         for (std::size_t i = 0; i < n; ++i) acc[i] += w * f * b[i];
     }
     for (std::size_t i = 0; i < n; ++i)
-        if (!std::isfinite(acc[i])) return {SHStatus::InvalidSample, 0};
-    if (!sh_detail::store(acc, n, out)) return {SHStatus::Overflow, 0};
-    return {SHStatus::Ok, n};
+        if (!std::isfinite(acc[i])) return detail::sh_result(Status::Overflow, 0, n);
+    if (!detail::sh_store(acc, n, out)) return detail::sh_result(Status::Overflow, 0, n);
+    return detail::sh_result(Status::Ok, n, n);
 }
 
-/// RGB projection: out[i] = sum_j w_j rgb_j y_i(s_j); same rules as sh_project.
+/// RGB projection: out[i] = sum_j w_j rgb_j y_i(s_j); same rules as sh_project (`values` and `out`
+/// in glm::vec3 elements).
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_project_rgb(int order, const glm::vec<3, Real, Q>* dirs, const glm::vec<3, Real, Q>* values,
-                               const typename sh_detail::identity<Real>::type* weights, std::size_t sample_count, glm::vec<3, Real, Q>* out,
-                               std::size_t capacity) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, 0};
+                               const typename detail::sh_identity<Real>::type* weights, std::size_t sample_count,
+                               glm::vec<3, Real, Q>* out, std::size_t capacity) {
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = sh_coefficient_count(order);
-    if (!out) return {SHStatus::NullPointer, n};
-    if (capacity < n) return {SHStatus::BufferTooSmall, n};
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
     for (std::size_t i = 0; i < n; ++i) out[i] = glm::vec<3, Real, Q>(Real(0));
-    if (sample_count == 0) return {SHStatus::Ok, n};
-    if (!dirs || !values) return {SHStatus::NullPointer, n};
+    if (sample_count == 0) return detail::sh_result(Status::Ok, n, n);
+    if (!dirs || !values) return detail::sh_result(Status::InvalidArgument, 0, n);
     glm::dvec3 acc[kSHMaxCoefficients] = {};
-    const double uniform = 4.0 * sh_detail::kPi / static_cast<double>(sample_count);
+    const double uniform = 4.0 * detail::sh_pi / static_cast<double>(sample_count);
     double b[kSHMaxCoefficients];
     for (std::size_t j = 0; j < sample_count; ++j) {
         double x, y, z;
         const glm::dvec3 f(static_cast<double>(values[j].x), static_cast<double>(values[j].y),
                            static_cast<double>(values[j].z));
         const double w = weights ? static_cast<double>(weights[j]) : uniform;
-        if (!sh_detail::unit_direction(dirs[j], x, y, z) || !std::isfinite(f.x) || !std::isfinite(f.y) ||
-            !std::isfinite(f.z) || !std::isfinite(w))
-            return {SHStatus::InvalidSample, 0};
-        sh_detail::basis(order, x, y, z, b);
+        const Status ds = detail::sh_unit_direction(dirs[j], x, y, z);
+        if (ds == Status::Ok && (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z) || !std::isfinite(w)))
+            return detail::sh_result(Status::NonFinite, 0, n);
+        if (ds != Status::Ok) return detail::sh_result(ds, 0, n);
+        detail::sh_basis(order, x, y, z, b);
         for (std::size_t i = 0; i < n; ++i) acc[i] += (w * b[i]) * f;
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!std::isfinite(acc[i].x) || !std::isfinite(acc[i].y) || !std::isfinite(acc[i].z))
-            return {SHStatus::InvalidSample, 0};
-        if (!sh_detail::fits<Real>(acc[i].x) || !sh_detail::fits<Real>(acc[i].y) || !sh_detail::fits<Real>(acc[i].z))
-            return {SHStatus::Overflow, 0};
-    }
+    for (std::size_t i = 0; i < n; ++i)
+        if (!detail::sh_fits<Real>(acc[i].x) || !detail::sh_fits<Real>(acc[i].y) || !detail::sh_fits<Real>(acc[i].z))
+            return detail::sh_result(Status::Overflow, 0, n);
     for (std::size_t i = 0; i < n; ++i) out[i] = glm::vec<3, Real, Q>(acc[i]);
-    return {SHStatus::Ok, n};
+    return detail::sh_result(Status::Ok, n, n);
 }
 
 /// strata^2 stratified, jittered directions, uniform over the sphere (equal-area map
 /// z = 1 - 2u, phi = 2 pi v of the strata x strata grid; the course notes' uniform map with one
 /// jittered sample per cell). Deterministic for a seed (own integer hash, no <random>
-/// distribution, so equal on every platform). count = strata^2 written or needed; strata must be
-/// 1 .. 4096.
+/// distribution, so equal on every platform). strata must be 1 .. 4096 (else InvalidArgument).
+/// `out` holds capacity glm::vec3 elements; it needs strata^2.
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_stratified_directions(int strata, std::uint32_t seed, glm::vec<3, Real, Q>* out,
                                          std::size_t capacity) {
-    if (strata < 1 || strata > 4096) return {SHStatus::InvalidSample, 0};
+    if (strata < 1 || strata > 4096) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = static_cast<std::size_t>(strata) * static_cast<std::size_t>(strata);
-    if (!out) return {SHStatus::NullPointer, n};
-    if (capacity < n) return {SHStatus::BufferTooSmall, n};
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
     auto hash = [](std::uint32_t v) {  // lowbias32 (C. Wellons)
         v ^= v >> 16;
         v *= 0x7feb352du;
@@ -384,37 +439,48 @@ inline SHResult sh_stratified_directions(int strata, std::uint32_t seed, glm::ve
             const double u = (static_cast<double>(i) + ju) * inv, v = (static_cast<double>(j) + jv) * inv;
             const double z = 1.0 - 2.0 * u;
             const double r = std::sqrt(std::fmax(0.0, 1.0 - z * z));
-            const double phi = 2.0 * sh_detail::kPi * v;
+            const double phi = 2.0 * detail::sh_pi * v;
             out[k] = glm::vec<3, Real, Q>(static_cast<Real>(r * std::cos(phi)), static_cast<Real>(r * std::sin(phi)),
                                           static_cast<Real>(z));
         }
-    return {SHStatus::Ok, n};
+    return detail::sh_result(Status::Ok, n, n);
 }
 
 /// Builds the per-band rotation matrices of R (column-major GLM, acting on directions) for
 /// sh_rotate. Band 1 is R itself in (y, z, x) order; bands 2+ follow Ivanic & Ruedenberg's
 /// recursion. A reflection (det R < 0) is handled as the rotation -R times the parity (-1)^l.
+/// Errors (the returned rotation's status): InvalidArgument (invalid order, R not orthogonal within
+/// 1e-3), NonFinite (NaN/Inf in R).
 template <typename Real, glm::qualifier Q>
-inline SHStatus sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R, SHRotation& out) {
-    out = SHRotation{};
-    if (!sh_order_valid(order)) return SHStatus::InvalidOrder;
+inline SHRotation sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R) {
+    SHRotation out;
+    if (!sh_order_valid(order)) {
+        out.status = Status::InvalidArgument;
+        return out;
+    }
     glm::dmat3 r(R);
     for (int c = 0; c < 3; ++c)
         for (int k = 0; k < 3; ++k)
-            if (!std::isfinite(r[c][k])) return SHStatus::InvalidRotation;
+            if (!std::isfinite(r[c][k])) {
+                out.status = Status::NonFinite;
+                return out;
+            }
     const glm::dmat3 rtr = glm::transpose(r) * r;
     for (int c = 0; c < 3; ++c)
         for (int k = 0; k < 3; ++k)
-            if (std::fabs(rtr[c][k] - (c == k ? 1.0 : 0.0)) > 1e-3) return SHStatus::InvalidRotation;
+            if (!(std::fabs(rtr[c][k] - (c == k ? 1.0 : 0.0)) <= 1e-3)) {
+                out.status = Status::InvalidArgument;
+                return out;
+            }
     const bool reflect = glm::determinant(r) < 0.0;
     if (reflect) r = -r;
     out.order = order;
-    sh_detail::at(out, 0, 0, 0) = 1.0;
+    detail::sh_at(out, 0, 0, 0) = 1.0;
     if (order >= 2) {
         // band-1 index m = -1, 0, 1 -> coordinate y, z, x; element (m, n) = R(row p(m), column p(n))
         const int p[3] = {1, 2, 0};
         for (int m = -1; m <= 1; ++m)
-            for (int n = -1; n <= 1; ++n) sh_detail::at(out, 1, m, n) = r[p[n + 1]][p[m + 1]];
+            for (int n = -1; n <= 1; ++n) detail::sh_at(out, 1, m, n) = r[p[n + 1]][p[m + 1]];
     }
     for (int l = 2; l < order; ++l)
         for (int m = -l; m <= l; ++m)
@@ -426,122 +492,132 @@ inline SHStatus sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R, SH
                 double u = std::sqrt(static_cast<double>((l + m) * (l - m)) / denom);
                 double v = 0.5 * std::sqrt((1.0 + d) * static_cast<double>((l + am - 1) * (l + am)) / denom) * (1.0 - 2.0 * d);
                 double w = -0.5 * std::sqrt(static_cast<double>((l - am - 1) * (l - am)) / denom) * (1.0 - d);
-                if (u != 0.0) u *= sh_detail::ir_u(out, m, n, l);
-                if (v != 0.0) v *= sh_detail::ir_v(out, m, n, l);
-                if (w != 0.0) w *= sh_detail::ir_w(out, m, n, l);
-                sh_detail::at(out, l, m, n) = u + v + w;
+                if (u != 0.0) u *= detail::sh_ir_u(out, m, n, l);
+                if (v != 0.0) v *= detail::sh_ir_v(out, m, n, l);
+                if (w != 0.0) w *= detail::sh_ir_w(out, m, n, l);
+                detail::sh_at(out, l, m, n) = u + v + w;
             }
     if (reflect)
         for (int l = 1; l < order; l += 2)
             for (int m = -l; m <= l; ++m)
-                for (int n = -l; n <= l; ++n) sh_detail::at(out, l, m, n) = -sh_detail::at(out, l, m, n);
-    return SHStatus::Ok;
+                for (int n = -l; n <= l; ++n) detail::sh_at(out, l, m, n) = -detail::sh_at(out, l, m, n);
+    out.status = Status::Ok;
+    return out;
 }
 
 /// Applies a rotation built by sh_make_rotation: out represents f(R^T s) (see the header
-/// comment). `in` and `out` may be the same array.
+/// comment). `in` holds in_count and `out` capacity Real elements; each needs order^2. `in` and
+/// `out` may be the same array. A rotation whose status is not Ok is InvalidArgument.
 template <typename Real>
 inline SHResult sh_rotate(const SHRotation& rot, const Real* in, std::size_t in_count, Real* out, std::size_t capacity) {
-    if (!sh_order_valid(rot.order)) return {SHStatus::InvalidOrder, 0};
+    if (rot.status != Status::Ok || !sh_order_valid(rot.order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = sh_coefficient_count(rot.order);
-    if (!in || !out) return {SHStatus::NullPointer, n};
-    if (in_count < n || capacity < n) return {SHStatus::BufferTooSmall, n};
-    if (!sh_detail::all_finite(in, n)) return {SHStatus::NonFiniteInput, 0};
+    if (!in || !out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (in_count < n || capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!detail::sh_all_finite(in, n)) return detail::sh_result(Status::NonFinite, 0, n);
     double src[kSHMaxCoefficients];
     for (std::size_t i = 0; i < n; ++i) src[i] = static_cast<double>(in[i]);
     double dst[kSHMaxCoefficients];
     for (int l = 0; l < rot.order; ++l)
         for (int m = -l; m <= l; ++m) {
             double s = 0.0;
-            for (int k = -l; k <= l; ++k) s += sh_detail::get(rot, l, m, k) * src[sh_index(l, k)];
+            for (int k = -l; k <= l; ++k) s += detail::sh_get(rot, l, m, k) * src[sh_index(l, k)];
             dst[sh_index(l, m)] = s;
         }
-    if (!sh_detail::store(dst, n, out)) return {SHStatus::Overflow, 0};
-    return {SHStatus::Ok, n};
+    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n);
+    return detail::sh_result(Status::Ok, n, n);
 }
 
 /// Convenience: builds the rotation of R and applies it (one call per vector; build once with
-/// sh_make_rotation for RGB or many vectors).
+/// sh_make_rotation for RGB or many vectors). Errors of either step.
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_rotate(int order, const glm::mat<3, 3, Real, Q>& R, const Real* in, std::size_t in_count, Real* out,
                           std::size_t capacity) {
-    SHRotation rot;
-    const SHStatus s = sh_make_rotation(order, R, rot);
-    if (s != SHStatus::Ok) return {s, sh_coefficient_count(order)};
+    const SHRotation rot = sh_make_rotation(order, R);
+    if (rot.status != Status::Ok) return detail::sh_result(rot.status, 0, sh_coefficient_count(order));
     return sh_rotate(rot, in, in_count, out, capacity);
 }
 
 /// A_l, the band-l coefficient of the clamped cosine max(cos theta, 0) in Funk-Hecke form
 /// (Ramamoorthi & Hanrahan 2001, eqs. 8-9): A_0 = pi, A_1 = 2 pi / 3, A_l = 0 for odd l > 1,
 /// A_l = 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2) for even l. Then
-/// integral f(s) max(n.s, 0) ds = sum_lm A_l f_lm y_lm(n). Negative l gives 0.
+/// integral f(s) max(n.s, 0) ds = sum_lm A_l f_lm y_lm(n). Total: negative l gives 0; every l
+/// gives a finite value in [-pi / 4, pi] (large even l by lgamma instead of factorials).
 inline double sh_clamped_cosine_band(int l) {
     if (l < 0) return 0.0;
-    if (l == 0) return sh_detail::kPi;
-    if (l == 1) return 2.0 * sh_detail::kPi / 3.0;
+    if (l == 0) return detail::sh_pi;
+    if (l == 1) return 2.0 * detail::sh_pi / 3.0;
     if (l % 2 == 1) return 0.0;
     const double sign = ((l / 2 - 1) % 2 == 0) ? 1.0 : -1.0;
-    const double half = sh_detail::factorial(l / 2);
-    return 2.0 * sh_detail::kPi * sign / (static_cast<double>(l + 2) * static_cast<double>(l - 1)) *
-           sh_detail::factorial(l) / (std::pow(2.0, l) * half * half);
+    const double lead = 2.0 * detail::sh_pi * sign / (static_cast<double>(l + 2) * static_cast<double>(l - 1));
+    if (l <= 64) {
+        const double half = detail::sh_factorial(l / 2);
+        return lead * detail::sh_factorial(l) / (std::pow(2.0, l) * half * half);
+    }
+    // l! / (2^l ((l/2)!)^2) = C(l, l/2) / 2^l, in (0, 1]: its logarithm by lgamma
+    const double dl = static_cast<double>(l), h = static_cast<double>(l / 2);
+    return lead * std::exp(std::lgamma(dl + 1.0) - 2.0 * std::lgamma(h + 1.0) - dl * std::log(2.0));
 }
 
 /// Convolution with a kernel symmetric about +z, given by its SH coefficients zonal[l] (the
 /// coefficient of y_{l,0}, l < order): out_lm = sqrt(4 pi / (2l + 1)) zonal[l] in_lm (Funk-Hecke).
-/// The output represents (f * h)(n) = integral f(s) h(n.s) ds.
+/// The output represents (f * h)(n) = integral f(s) h(n.s) ds. `zonal` holds zonal_count Real
+/// elements (>= order), `in` in_count and `out` capacity (each >= order^2).
 template <typename Real>
 inline SHResult sh_convolve_zonal(int order, const Real* zonal, std::size_t zonal_count, const Real* in,
                                   std::size_t in_count, Real* out, std::size_t capacity) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, 0};
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = sh_coefficient_count(order);
-    if (!zonal || !in || !out) return {SHStatus::NullPointer, n};
-    if (zonal_count < static_cast<std::size_t>(order)) return {SHStatus::BufferTooSmall, static_cast<std::size_t>(order)};
-    if (in_count < n || capacity < n) return {SHStatus::BufferTooSmall, n};
-    if (!sh_detail::all_finite(in, n) || !sh_detail::all_finite(zonal, static_cast<std::size_t>(order)))
-        return {SHStatus::NonFiniteInput, 0};
+    if (!zonal || !in || !out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (zonal_count < static_cast<std::size_t>(order) || in_count < n || capacity < n)
+        return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!detail::sh_all_finite(in, n) || !detail::sh_all_finite(zonal, static_cast<std::size_t>(order)))
+        return detail::sh_result(Status::NonFinite, 0, n);
     double k[kSHMaxOrder];
     for (int l = 0; l < order; ++l)
-        k[l] = std::sqrt(4.0 * sh_detail::kPi / (2.0 * l + 1.0)) * static_cast<double>(zonal[l]);
+        k[l] = std::sqrt(4.0 * detail::sh_pi / (2.0 * l + 1.0)) * static_cast<double>(zonal[l]);
     double dst[kSHMaxCoefficients];
     for (int l = 0; l < order; ++l)
         for (int m = -l; m <= l; ++m) dst[sh_index(l, m)] = k[l] * static_cast<double>(in[sh_index(l, m)]);
-    if (!sh_detail::store(dst, n, out)) return {SHStatus::Overflow, 0};
-    return {SHStatus::Ok, n};
+    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n);
+    return detail::sh_result(Status::Ok, n, n);
 }
 
 /// Convolution with the clamped cosine: out_lm = A_l in_lm (sh_clamped_cosine_band). For a
 /// radiance environment `in`, out reconstructs irradiance E(n) = integral L(s) max(n.s, 0) ds;
-/// diffuse exit radiance is albedo / pi * E.
+/// diffuse exit radiance is albedo / pi * E. `in` holds in_count and `out` capacity Real elements
+/// (each >= order^2).
 template <typename Real>
 inline SHResult sh_convolve_clamped_cosine(int order, const Real* in, std::size_t in_count, Real* out,
                                            std::size_t capacity) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, 0};
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
     const std::size_t n = sh_coefficient_count(order);
-    if (!in || !out) return {SHStatus::NullPointer, n};
-    if (in_count < n || capacity < n) return {SHStatus::BufferTooSmall, n};
-    if (!sh_detail::all_finite(in, n)) return {SHStatus::NonFiniteInput, 0};
+    if (!in || !out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (in_count < n || capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!detail::sh_all_finite(in, n)) return detail::sh_result(Status::NonFinite, 0, n);
     double dst[kSHMaxCoefficients];
     for (int l = 0; l < order; ++l) {
         const double a = sh_clamped_cosine_band(l);
         for (int m = -l; m <= l; ++m) dst[sh_index(l, m)] = a * static_cast<double>(in[sh_index(l, m)]);
     }
-    if (!sh_detail::store(dst, n, out)) return {SHStatus::Overflow, 0};
-    return {SHStatus::Ok, n};
+    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n);
+    return detail::sh_result(Status::Ok, n, n);
 }
 
 /// Integral of the product of two band-limited functions = dot product of their coefficients
-/// (course notes, "Integration"). Non-finite input gives NonFiniteInput and value 0.
+/// (course notes, "Integration"). `a` holds a_count and `b` b_count Real elements (>= order^2).
+/// Non-finite input gives NonFinite and value 0.
 template <typename Real>
 inline SHValue<Real> sh_dot(int order, const Real* a, std::size_t a_count, const Real* b, std::size_t b_count) {
-    if (!sh_order_valid(order)) return {SHStatus::InvalidOrder, Real(0)};
+    if (!sh_order_valid(order)) return detail::sh_value(Status::InvalidArgument, Real(0));
     const std::size_t n = sh_coefficient_count(order);
-    if (!a || !b) return {SHStatus::NullPointer, Real(0)};
-    if (a_count < n || b_count < n) return {SHStatus::BufferTooSmall, Real(0)};
-    if (!sh_detail::all_finite(a, n) || !sh_detail::all_finite(b, n)) return {SHStatus::NonFiniteInput, Real(0)};
+    if (!a || !b) return detail::sh_value(Status::InvalidArgument, Real(0));
+    if (a_count < n || b_count < n) return detail::sh_value(Status::BufferTooSmall, Real(0));
+    if (!detail::sh_all_finite(a, n) || !detail::sh_all_finite(b, n)) return detail::sh_value(Status::NonFinite, Real(0));
     double s = 0.0;
     for (std::size_t i = 0; i < n; ++i) s += static_cast<double>(a[i]) * static_cast<double>(b[i]);
-    if (!sh_detail::fits<Real>(s)) return {SHStatus::Overflow, Real(0)};
-    return {SHStatus::Ok, static_cast<Real>(s)};
+    if (!detail::sh_fits<Real>(s)) return detail::sh_value(Status::Overflow, Real(0));
+    return detail::sh_value(Status::Ok, static_cast<Real>(s));
 }
 
 }  // namespace shadowkit

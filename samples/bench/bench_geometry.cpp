@@ -1,13 +1,13 @@
 // shadowkit-bench: the CPU side of stencil shadow volumes on procedural meshes of 10k..1M triangles.
 //
-//   adjacency   build_edge_adjacency (once per mesh; weld of bit-identical positions, sort of half-edges)
-//   facing      compute_facing (one double-precision plane test per face)
-//   silhouette  extract_silhouette (one pass over the edge list)
-//   volume      build_side_quads + build_caps (z-fail index buffer: side quads, light and dark caps)
+//   adjacency   silhouette_build_adjacency (once per mesh; weld of bit-identical positions, sort of half-edges)
+//   facing      silhouette_compute_facing (exact sign per face: double filter, integer fallback)
+//   silhouette  silhouette_extract (one pass over the edge list)
+//   volume      volume_build_side_quads + volume_build_caps (z-fail index buffer: side quads, light and dark caps)
 //   frame       facing + silhouette + volume: the per-frame work of a moving light
 //   silhouette_parallel / frame_parallel: the same on T threads (third argument) of a persistent
-//               pool, through extract_silhouette_parallel (chunked facing + silhouette, then the
-//               serial compaction) and per-chunk build_caps into each chunk's own range of the
+//               pool, through silhouette_extract_parallel (chunked facing + silhouette, then the
+//               serial compaction) and per-chunk volume_build_caps into each chunk's own range of the
 //               index buffer (drawn as one range per chunk: no compaction of the caps)
 //
 // Meshes: "sphere" (closed UV sphere with shared vertices: few silhouette edges) and "grid" (a noisy
@@ -99,7 +99,7 @@ BenchMesh make_grid(std::size_t triangles) {
 // Everything a stage needs, built once per (mesh kind, size) and shared by the benchmarks.
 struct Fixture {
     BenchMesh mesh;
-    shadowkit::EdgeAdjacency adj;
+    shadowkit::SilhouetteAdjacency adj;
     glm::vec4 light{0.f};
     std::vector<std::uint8_t> facing;
     std::vector<std::uint32_t> sil;
@@ -114,16 +114,16 @@ Fixture& fixture(int kind, std::size_t triangles) {
     slot = std::make_unique<Fixture>();
     Fixture& f = *slot;
     f.mesh = kind == 0 ? make_sphere(triangles) : make_grid(triangles);
-    f.adj = shadowkit::build_edge_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
-                                            f.mesh.indices.size());
+    f.adj = shadowkit::silhouette_build_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
+                                                  f.mesh.indices.size());
     f.light = kind == 0 ? glm::vec4(3.f, 2.f, 1.f, 1.f) : glm::vec4(0.6f, 1.5f, 0.4f, 1.f);
     f.facing.assign(f.adj.face_count(), 0);
-    shadowkit::compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
-                              f.facing.size());
-    f.sil.assign(2 * f.adj.max_silhouette_edges(), 0);
-    f.sil_edges = shadowkit::extract_silhouette(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
-                                                f.sil.size() / 2)
-                      .edge_count;
+    shadowkit::silhouette_compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
+                                         f.facing.size());
+    f.sil.assign(shadowkit::silhouette_indices_capacity(f.adj), 0);
+    f.sil_edges = shadowkit::silhouette_extract(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), f.sil.size(),
+                                                nullptr, 0)
+                      .count / 2;
     f.volume.assign(6 * f.adj.max_silhouette_edges() + 6 * f.adj.face_count(), 0);
     return f;
 }
@@ -163,9 +163,9 @@ void measure(benchmark::State& state, std::size_t bytes, std::size_t edges, F&& 
     state.counters["edges_per_s"] = benchmark::Counter(double(edges) * double(iters), benchmark::Counter::kIsRate);
 }
 
-std::size_t edge_bytes(const shadowkit::EdgeAdjacency& a) {
-    return a.edges.size() * sizeof(shadowkit::AdjacencyEdge) +
-           a.nonmanifold_edges.size() * sizeof(shadowkit::NonManifoldEdge) + a.nonmanifold_faces.size() * 4;
+std::size_t edge_bytes(const shadowkit::SilhouetteAdjacency& a) {
+    return a.edges.size() * sizeof(shadowkit::SilhouetteEdge) +
+           a.nonmanifold_edges.size() * sizeof(shadowkit::SilhouetteNonManifoldEdge) + a.nonmanifold_faces.size() * 4;
 }
 
 void set_label(benchmark::State& state, const Fixture& f) {
@@ -177,8 +177,8 @@ void BM_adjacency(benchmark::State& state) {
     Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
     const std::size_t bytes = f.mesh.positions.size() * sizeof(glm::vec3) + f.mesh.indices.size() * 4;
     measure(state, bytes, f.adj.edges.size(), [&] {
-        auto a = shadowkit::build_edge_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
-                                                 f.mesh.indices.size());
+        auto a = shadowkit::silhouette_build_adjacency(f.mesh.positions.data(), f.mesh.positions.size(), f.mesh.indices.data(),
+                                                       f.mesh.indices.size());
         benchmark::DoNotOptimize(a.edges.data());
     });
     set_label(state, f);
@@ -188,8 +188,8 @@ void BM_facing(benchmark::State& state) {
     Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
     const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3);
     measure(state, bytes, f.adj.edges.size(), [&] {
-        auto r = shadowkit::compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light,
-                                           f.facing.data(), f.facing.size());
+        auto r = shadowkit::silhouette_compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light,
+                                                      f.facing.data(), f.facing.size());
         benchmark::DoNotOptimize(r);
         benchmark::ClobberMemory();
     });
@@ -200,8 +200,8 @@ void BM_silhouette(benchmark::State& state) {
     Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
     const std::size_t bytes = edge_bytes(f.adj) + f.facing.size();
     measure(state, bytes, f.adj.edges.size(), [&] {
-        auto r = shadowkit::extract_silhouette(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
-                                               f.sil.size() / 2);
+        auto r = shadowkit::silhouette_extract(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), f.sil.size(),
+                                               nullptr, 0);
         benchmark::DoNotOptimize(r);
         benchmark::ClobberMemory();
     });
@@ -212,11 +212,11 @@ void BM_volume(benchmark::State& state) {
     Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
     const std::size_t bytes = f.sil_edges * 8 + f.adj.faces.size() * 4 + f.facing.size();
     measure(state, bytes, f.adj.edges.size(), [&] {
-        const auto sq = shadowkit::build_side_quads(f.sil.data(), f.sil_edges, f.mesh.positions.size(), f.volume.data(),
-                                                    f.volume.size());
-        const auto cp = shadowkit::build_caps(f.adj.faces.data(), f.adj.face_count(), f.facing.data(),
-                                              f.mesh.positions.size(), shadowkit::CapMode::LitOnly, true,
-                                              f.volume.data() + sq.count, f.volume.size() - sq.count);
+        const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), 2 * f.sil_edges, f.mesh.positions.size(),
+                                                           f.volume.data(), f.volume.size());
+        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
+                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
+                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
         benchmark::DoNotOptimize(cp);
         benchmark::ClobberMemory();
     });
@@ -227,15 +227,15 @@ void BM_frame(benchmark::State& state) {
     Fixture& f = fixture(static_cast<int>(state.range(0)), static_cast<std::size_t>(state.range(1)));
     const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3) + edge_bytes(f.adj);
     measure(state, bytes, f.adj.edges.size(), [&] {
-        shadowkit::compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
-                                  f.facing.size());
-        const auto sr = shadowkit::extract_silhouette(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
-                                                      f.sil.size() / 2);
-        const auto sq = shadowkit::build_side_quads(f.sil.data(), sr.edge_count, f.mesh.positions.size(), f.volume.data(),
-                                                    f.volume.size());
-        const auto cp = shadowkit::build_caps(f.adj.faces.data(), f.adj.face_count(), f.facing.data(),
-                                              f.mesh.positions.size(), shadowkit::CapMode::LitOnly, true,
-                                              f.volume.data() + sq.count, f.volume.size() - sq.count);
+        shadowkit::silhouette_compute_facing(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light, f.facing.data(),
+                                             f.facing.size());
+        const auto sr = shadowkit::silhouette_extract(f.adj, f.facing.data(), f.facing.size(), f.sil.data(), f.sil.size(),
+                                                      nullptr, 0);
+        const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
+                                                           f.volume.size());
+        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
+                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
+                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
         benchmark::DoNotOptimize(cp);
         benchmark::ClobberMemory();
     });
@@ -315,9 +315,9 @@ void BM_silhouette_parallel(benchmark::State& state) {
     std::vector<shadowkit::SilhouetteResult> per(chunks);
     const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3) + edge_bytes(f.adj);
     measure(state, bytes, f.adj.edges.size(), [&] {
-        auto r = shadowkit::extract_silhouette_parallel(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light,
-                                                        f.facing.data(), f.facing.size(), f.sil.data(), nullptr,
-                                                        f.sil.size() / 2, per.data(), chunks, pl);
+        auto r = shadowkit::silhouette_extract_parallel(f.adj, f.mesh.positions.data(), f.mesh.positions.size(), f.light,
+                                                        f.facing.data(), f.facing.size(), f.sil.data(), f.sil.size(),
+                                                        nullptr, 0, per.data(), chunks, pl);
         benchmark::DoNotOptimize(r);
         benchmark::ClobberMemory();
     });
@@ -334,17 +334,17 @@ void BM_frame_parallel(benchmark::State& state) {
     const std::size_t fc = f.adj.face_count(), side_room = 6 * f.adj.max_silhouette_edges();
     const std::size_t bytes = f.adj.faces.size() * 4 + f.mesh.positions.size() * sizeof(glm::vec3) + edge_bytes(f.adj);
     measure(state, bytes, f.adj.edges.size(), [&] {
-        const auto sr = shadowkit::extract_silhouette_parallel(f.adj, f.mesh.positions.data(), f.mesh.positions.size(),
+        const auto sr = shadowkit::silhouette_extract_parallel(f.adj, f.mesh.positions.data(), f.mesh.positions.size(),
                                                                f.light, f.facing.data(), f.facing.size(), f.sil.data(),
-                                                               nullptr, f.sil.size() / 2, per.data(), chunks, pl);
-        const auto sq = shadowkit::build_side_quads(f.sil.data(), sr.edge_count, f.mesh.positions.size(), f.volume.data(),
-                                                    f.volume.size());
+                                                               f.sil.size(), nullptr, 0, per.data(), chunks, pl);
+        const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
+                                                           f.volume.size());
         pl(chunks, [&](std::size_t c) {  // caps: chunk c's faces into its own 6-per-face range
             const std::size_t b = fc / chunks * c + std::min(c, fc % chunks);
             const std::size_t e = fc / chunks * (c + 1) + std::min(c + 1, fc % chunks);
-            cap_counts[c] = shadowkit::build_caps(f.adj.faces.data() + 3 * b, e - b, f.facing.data() + b,
-                                                  f.mesh.positions.size(), shadowkit::CapMode::LitOnly, true,
-                                                  f.volume.data() + side_room + 6 * b, 6 * (e - b))
+            cap_counts[c] = shadowkit::volume_build_caps(f.adj.faces.data() + 3 * b, 3 * (e - b), f.facing.data() + b, e - b,
+                                                         f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
+                                                         f.volume.data() + side_room + 6 * b, 6 * (e - b))
                                 .count;
         });
         benchmark::DoNotOptimize(sq);

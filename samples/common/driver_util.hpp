@@ -112,7 +112,7 @@ void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, float max_half_angle, glm::vec3& clo,
                    glm::vec3& chi);
 // Edge adjacency of a caster mesh (silhouette.hpp); false with `error` naming the mesh and the status.
-bool build_caster_adjacency(const Mesh& m, shadowkit::EdgeAdjacency& adj, std::string& error);
+bool build_caster_adjacency(const Mesh& m, shadowkit::SilhouetteAdjacency& adj, std::string& error);
 
 // The emitter's fraction above a receiver's tangent plane (the reference counts light samples below
 // it as unseen): GLSL declaring u_emitter* and `float sk_emitter_horizon(vec3 p, vec3 n)` (rect: 16

@@ -7,7 +7,7 @@
 // lit_a v_a + lit_b v_b. k = 1 is the paper's method; k > 1 its fix for thin occluders that hide
 // the middle of the light from points that see both ends. A zero-length light (or a point light)
 // takes the point-light path: one map, V = its depth test.
-// sampled_line (size, samples N): N shadow maps at the centres of N equal pieces of the segment
+// sampled_line (size, samples N): N shadow maps at the centers of N equal pieces of the segment
 // (2x2 hardware PCF each), averaged: the brute-force baseline for equal-time comparisons.
 #include <shadowkit/linear_light.hpp>
 
@@ -30,7 +30,7 @@ struct EndpointView {
     float znear = 0.f, zfar = 0.f;
 };
 
-// A perspective frustum from `pos` looking at the scene's bounding-box centre, covering the box.
+// A perspective frustum from `pos` looking at the scene's bounding-box center, covering the box.
 EndpointView endpoint_view(const Scene& s, glm::vec3 pos) {
     EndpointView e;
     e.pos = pos;
@@ -65,14 +65,14 @@ uniform mat4 u_this_vp;
 uniform float u_threshold;
 noperspective out float v_value;
 void main() {
-    gl_Position = sk_linear_skin_vertex(u_other_depth, u_other_inv_vp, u_other_near_far.x, u_other_near_far.y,
-                                        u_this_vp, u_threshold, gl_VertexID, v_value);
+    gl_Position = sk_linear_light_skin_vertex(u_other_depth, u_other_inv_vp, u_other_near_far.x, u_other_near_far.y,
+                                              u_this_vp, u_threshold, gl_VertexID, v_value);
 }
 )";
 const char* kSkinFS = R"(
 noperspective in float v_value;
 layout(location = 0) out vec4 o_vis;
-void main() { o_vis = sk_linear_skin_output(v_value, gl_FragCoord.z); }
+void main() { o_vis = sk_linear_light_skin_output(v_value, gl_FragCoord.z); }
 )";
 // CPU-built skin (linear_light_build_skin): world position + value per vertex.
 const char* kSkinCpuVS = R"(
@@ -112,23 +112,25 @@ public:
             return RunResult::failure("linear_light driver: needs a linear (or point) light");
         const int size = std::max(16, static_cast<int>(params.get("size", 512)));
         const shadowkit::LinearLightSegment seg = scene_segment(L);
-        if (seg.status != shadowkit::LinearLightStatus::Ok) return RunResult::failure("invalid linear light");
-        const int k = seg.point ? 1 : std::clamp(static_cast<int>(params.get("segments", 1)), 1, kMaxSegments);
+        if (seg.status != shadowkit::Status::Ok) return RunResult::failure("invalid linear light");
+        const int k = seg.is_point ? 1 : std::clamp(static_cast<int>(params.get("segments", 1)), 1, kMaxSegments);
         const float threshold = static_cast<float>(params.get("threshold", 0.05));
         // skin built on the CPU from the read-back depth map (linear_light_build_skin: only the
-        // discontinuity cells are drawn) or, gpu_skin = 1, by sk_linear_skin_vertex for every cell
+        // discontinuity cells are drawn) or, gpu_skin = 1, by sk_linear_light_skin_vertex for every cell
         const bool gpu_skin = params.get("gpu_skin", 0.0) != 0.0;
         std::string why;
         const auto c0 = Clock::now();
         glm::vec3 ends[kMaxSegments + 1];
-        shadowkit::linear_light_subdivide(seg, static_cast<std::uint32_t>(k), ends, kMaxSegments + 1);
-        const int nmaps = seg.point ? 1 : k + 1;
+        if (shadowkit::linear_light_subdivide(seg, static_cast<std::uint32_t>(k), ends, kMaxSegments + 1).status !=
+            shadowkit::Status::Ok)
+            return RunResult::failure("linear_light_subdivide failed");
+        const int nmaps = seg.is_point ? 1 : k + 1;
         std::vector<EndpointView> views;
         for (int i = 0; i < nmaps; ++i) views.push_back(endpoint_view(scene, ends[i]));
         RunResult r;
         r.cpu_ms = ms_since(c0);
 
-        std::vector<skgl::Target> maps(static_cast<std::size_t>(nmaps)), vmaps(seg.point ? 0 : static_cast<std::size_t>(2 * k));
+        std::vector<skgl::Target> maps(static_cast<std::size_t>(nmaps)), vmaps(seg.is_point ? 0 : static_cast<std::size_t>(2 * k));
         for (auto& t : maps) {
             if (!skgl::make_target(t, size, size, {}, GL_DEPTH_COMPONENT32F, why)) return RunResult::failure(why);
             skgl::set_depth_compare(t.depth, false, false);
@@ -188,7 +190,7 @@ float technique_visibility(vec3 p, vec3 n) {
         glUniformMatrix4fv(glGetUniformLocation(vis, "u_vp"), kMaxSegments + 1, GL_FALSE, glm::value_ptr(vps[0]));
         glUniform3fv(glGetUniformLocation(vis, "u_end"), kMaxSegments + 1, glm::value_ptr(es[0]));
         glUniform1i(glGetUniformLocation(vis, "u_segments"), k);
-        glUniform1i(glGetUniformLocation(vis, "u_point"), seg.point ? 1 : 0);
+        glUniform1i(glGetUniformLocation(vis, "u_point"), seg.is_point ? 1 : 0);
         GLuint empty_vao = 0;
         glGenVertexArrays(1, &empty_vao);
         const GLsizei skin_vertices = 6 * (size - 1) * (size - 1);
@@ -230,13 +232,13 @@ float technique_visibility(vec3 p, vec3 n) {
             shadowkit::LinearLightSkinResult sr = shadowkit::linear_light_build_skin(
                 spos.data(), sdist.data(), static_cast<std::uint32_t>(size), static_cast<std::uint32_t>(size), threshold,
                 sk_.data(), sk_.size());
-            if (sr.status == shadowkit::LinearLightStatus::BufferTooSmall) {
+            if (sr.status == shadowkit::Status::BufferTooSmall) {
                 sk_.resize(sr.needed);
                 sr = shadowkit::linear_light_build_skin(spos.data(), sdist.data(), static_cast<std::uint32_t>(size),
                                                         static_cast<std::uint32_t>(size), threshold, sk_.data(), sk_.size());
             }
-            sk_.resize(sr.written);
-            skin_vertex_total += sr.written;
+            sk_.resize(sr.count);
+            skin_vertex_total += sr.count;
             cpu_skin_ms += ms_since(t0);
         };
         // binds the visibility map vt (size x size) and clears it to 1 (all visible)
@@ -279,7 +281,7 @@ float technique_visibility(vec3 p, vec3 n) {
             // (non-casters below everything they receive cannot shadow anything)
             render_depth_layers(ctx.gpu, map_fbos.data(), vps.data(), nmaps, size, depth, true);
             glDisable(GL_DEPTH_TEST);
-            if (!seg.point) {
+            if (!seg.is_point) {
                 if (!gpu_skin) {
                     cpu_skin_ms = 0.0;
                     skin_vertex_total = 0;
@@ -314,7 +316,7 @@ float technique_visibility(vec3 p, vec3 n) {
         r.work = {{"shadow_maps", double(nmaps)},
                   {"visibility_maps", double(vmaps.size())},
                   {"skin_vertices_drawn",
-                   seg.point ? 0.0 : (gpu_skin ? double(skin_vertices) * 2.0 * k : 2.0 * double(skin_vertex_total))},
+                   seg.is_point ? 0.0 : (gpu_skin ? double(skin_vertices) * 2.0 * k : 2.0 * double(skin_vertex_total))},
                   {"triangles_drawn", double(ctx.gpu.caster_triangles) * nmaps}};
         return finish_run(std::move(r), {skin_cpu, depth, skin, vis}, [&] {
             glDeleteVertexArrays(1, &empty_vao);
@@ -332,7 +334,7 @@ class SampledLine final : public Technique {
 public:
     std::string name() const override { return "sampled_line"; }
     std::string description() const override {
-        return "N shadow maps at the centres of N equal pieces of the line light, 2x2 PCF each, averaged (baseline)";
+        return "N shadow maps at the centers of N equal pieces of the line light, 2x2 PCF each, averaged (baseline)";
     }
     bool hard() const override { return false; }
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
@@ -345,13 +347,13 @@ public:
     RunResult run(const RunContext& ctx, const ParamSet& params) override {
         const Scene& scene = ctx.scene;
         const shadowkit::LinearLightSegment seg = scene_segment(scene.light);
-        if (seg.status != shadowkit::LinearLightStatus::Ok) return RunResult::failure("invalid linear light");
+        if (seg.status != shadowkit::Status::Ok) return RunResult::failure("invalid linear light");
         const int size = std::max(16, static_cast<int>(params.get("size", 512)));
         const int n = std::clamp(static_cast<int>(params.get("samples", 4)), 1, kMaxLineSamples);
         std::vector<EndpointView> views;
         for (int i = 0; i < n; ++i) {
             const float t = (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
-            views.push_back(endpoint_view(scene, seg.a + t * (seg.b - seg.a)));
+            views.push_back(endpoint_view(scene, seg.end_a + t * (seg.end_b - seg.end_a)));
         }
         RunResult r;
         const GLuint arr = make_depth_compare_texture(GL_TEXTURE_2D_ARRAY, size, n);

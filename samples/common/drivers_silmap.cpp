@@ -97,15 +97,15 @@ private:
         const glm::mat4 light_vp = lm.proj * lm.view;
         const glm::vec4 light4(scene.light.position, 1.f);
         // adjacency once per run (allocates; not part of the per-frame CPU time)
-        std::vector<shadowkit::EdgeAdjacency> adj;
+        std::vector<shadowkit::SilhouetteAdjacency> adj;
         std::vector<std::size_t> which;
         std::size_t max_edges = 0;
         for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
             const Mesh& m = scene.meshes[i];
             if (!m.caster) continue;
-            adj.push_back(shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(),
-                                                          m.indices.size()));
-            if (adj.back().status != shadowkit::SilhouetteStatus::Ok) return RunResult::failure("adjacency failed for " + m.name);
+            adj.push_back(shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(),
+                                                                m.indices.size()));
+            if (adj.back().status != shadowkit::Status::Ok) return RunResult::failure("adjacency failed for " + m.name);
             which.push_back(i);
             max_edges += adj.back().max_silhouette_edges();
         }
@@ -120,18 +120,19 @@ private:
             for (std::size_t k = 0; k < adj.size(); ++k) {
                 const Mesh& m = scene.meshes[which[k]];
                 facing.resize(adj[k].face_count());
-                if (shadowkit::compute_facing(adj[k], m.positions.data(), m.positions.size(), light4, facing.data(),
-                                              facing.size())
-                        .status != shadowkit::SilhouetteStatus::Ok)
+                if (shadowkit::silhouette_compute_facing(adj[k], m.positions.data(), m.positions.size(), light4, facing.data(),
+                                                         facing.size())
+                        .status != shadowkit::Status::Ok)
                     return false;
                 sil.resize(2 * adj[k].max_silhouette_edges());
-                const auto sr = shadowkit::extract_silhouette(adj[k], facing.data(), facing.size(), sil.data(), nullptr,
-                                                              sil.size() / 2);
+                const auto sr = shadowkit::silhouette_extract(adj[k], facing.data(), facing.size(), sil.data(), sil.size(),
+                                                              nullptr, 0);
                 const auto pr = shadowkit::silmap_project_edges(light_vp, shadowkit::ClipDepth::NegativeOneToOne, usz,
                                                                 m.positions.data(), m.positions.size(), sil.data(),
-                                                                sr.edge_count, edges.data() + edge_count,
+                                                                sr.count / 2, edges.data() + edge_count,
                                                                 edges.size() - edge_count);
-                edge_count += pr.written;
+                if (pr.status != shadowkit::Status::Ok) return false;
+                edge_count += pr.count;
             }
             for (std::size_t e = 0; e < edge_count; ++e) {
                 const auto& E = edges[e];

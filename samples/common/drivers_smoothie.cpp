@@ -16,7 +16,7 @@
 //      gradient of the G-buffer's plane (p, n) and a relative linear-depth bias.
 // The light frustum is fit_light() (the plain shadow map's), smoothie width t in light NDC.
 // The umbra is the hard shadow of the light's center and the smoothie penumbra lies wholly outside
-// it (the area light's is centerd on the hard edge): with the header's width mapping the shadows are
+// it (the area light's is centered on the hard edge): with the header's width mapping the shadows are
 // too big by half a penumbra, which the report shows as a larger error than the hard map's.
 //
 // Params: t (light NDC; 0 = no smoothie geometry: the hard 2x2 test on the linear map) or t = -1:
@@ -61,7 +61,7 @@ glm::vec4 silhouette_light(const Light& L) {
 
 struct CasterData {
     std::size_t mesh = 0;
-    shadowkit::EdgeAdjacency adj;
+    shadowkit::SilhouetteAdjacency adj;
     std::vector<std::uint8_t> facing;
     std::vector<std::uint32_t> sil;       // 2 per silhouette edge (capacity max_silhouette_edges)
     std::vector<shadowkit::SmoothieScratch> scratch;  // smoothie_build's per-edge scratch (capacity max_silhouette_edges)
@@ -243,10 +243,10 @@ bool Smoothie::prepare(const Scene& scene, const glm::mat4& light_view, const gl
     std::vector<float> depths;
     for (CasterData& c : cache_.casters) {
         const Mesh& m = scene.meshes[c.mesh];
-        shadowkit::compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(), c.facing.size());
-        const auto r = shadowkit::extract_silhouette(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), nullptr,
-                                                     c.sil.size() / 2);
-        const std::size_t n = std::min(r.edge_count, c.sil.size() / 2);
+        shadowkit::silhouette_compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(), c.facing.size());
+        const auto r = shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(),
+                                                     nullptr, 0);
+        const std::size_t n = r.count / 2;
         for (std::size_t i = 0; i < 2 * n; ++i) {
             const glm::vec3 p = m.positions[c.sil[i]];
             const glm::vec4 cl = light_vp * glm::vec4(p, 1.f);
@@ -274,15 +274,15 @@ void Smoothie::build_frame(const Scene& scene, const glm::mat4& light_vp, float 
     sp.t = t;
     for (CasterData& c : cache_.casters) {
         const Mesh& m = scene.meshes[c.mesh];
-        const auto fr = shadowkit::compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(),
-                                                  c.facing.size());
-        if (fr.status != shadowkit::SilhouetteStatus::Ok) {
-            st.error = "compute_facing status " + std::to_string(static_cast<int>(fr.status));
+        const auto fr = shadowkit::silhouette_compute_facing(c.adj, m.positions.data(), m.positions.size(), L4, c.facing.data(),
+                                                             c.facing.size());
+        if (fr.status != shadowkit::Status::Ok) {
+            st.error = std::string("silhouette_compute_facing status ") + shadowkit::status_name(fr.status);
             return;
         }
-        const auto sr = shadowkit::extract_silhouette(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), nullptr,
-                                                      c.sil.size() / 2);
-        const std::size_t n = std::min(sr.edge_count, c.sil.size() / 2);
+        const auto sr = shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(),
+                                                      nullptr, 0);
+        const std::size_t n = sr.count / 2;
         st.silhouette_edges += n;
         shadowkit::SmoothieEdges in;
         in.positions = m.positions.data();

@@ -97,8 +97,8 @@ shadowkit::PcssLight pcss_light(const LightSetup& ls, float width_scale) {
     shadowkit::PcssLight L;
     L.type = shadowkit::PcssLightType::Perspective;
     L.size = ls.width * width_scale;
-    L.near = ls.lm.znear;
-    L.far = ls.lm.zfar;
+    L.near_z = ls.lm.znear;
+    L.far_z = ls.lm.zfar;
     L.frustum_width = 2.f * ls.tan_half;
     return L;
 }
@@ -127,7 +127,7 @@ float farthest_axis_hit(const Scene& s, glm::vec3 o, glm::vec3 d) {
 }
 
 // Default PCF filter radius (texels): half the penumbra (pcss_penumbra_width, in uv through
-// perspective_width_to_uv, times the map size) of a blocker at the middle of the casters' depth
+// pcss_width_to_uv, times the map size) of a blocker at the middle of the casters' depth
 // extent along the light axis, on the receiver that the axis meets last (the ground; the casters'
 // far side when it meets nothing). Clamped to [1, 32] texels; 2 texels for lights without area.
 float default_pcf_radius_texels(const Scene& s, int size) {
@@ -145,9 +145,10 @@ float default_pcf_radius_texels(const Scene& s, int size) {
     if (!(zmax >= zmin) || !(zmin > 0.f)) return 2.f;
     const float zb = 0.5f * (zmin + zmax);
     const float zr = std::max(farthest_axis_hit(s, ls.eye, ls.dir), zmax);
-    const float w = shadowkit::pcss_penumbra_width(ls.width, zr, zb);
-    const float uv = shadowkit::perspective_width_to_uv(w, zr, 2.f * ls.tan_half);
-    return std::clamp(0.5f * uv * float(size), 1.f, 32.f);
+    const shadowkit::PcssValue w = shadowkit::pcss_penumbra_width(ls.width, zr, zb);
+    const shadowkit::PcssValue uv = shadowkit::pcss_width_to_uv(w.value, zr, 2.f * ls.tan_half);
+    if (w.status != shadowkit::Status::Ok || uv.status != shadowkit::Status::Ok) return 2.f;
+    return std::clamp(0.5f * uv.value * float(size), 1.f, 32.f);
 }
 
 // ------------------------------------------------------------------------------ GL plumbing
@@ -458,6 +459,7 @@ struct SingleMapConfig {
     std::function<void(const Program&)> setup;
     double taps_per_pixel = 1.0;
     bool horizon = false;  // multiply by sk_emitter_horizon (the emitter's fraction above the tangent plane)
+    std::function<void(LightSetup&)> adjust_light;  // e.g. PCSS's near-plane fit, after setup_light
 };
 
 RunResult run_single_map(const RunContext& ctx, const SingleMapConfig& cfg) {
@@ -471,6 +473,7 @@ RunResult run_single_map(const RunContext& ctx, const SingleMapConfig& cfg) {
     for (int i = 0; i < 5; ++i) {
         const auto t0 = Clock::now();
         ls = setup_light(scene);
+        if (cfg.adjust_light) cfg.adjust_light(ls);
         cpu.push_back(ms_since(t0));
     }
     r.cpu_ms = median_of(cpu);
@@ -592,7 +595,8 @@ float technique_visibility(vec3 p, vec3 n) {
 // taps: blocker-search taps = filter taps (16+16, 32+32, 64+64); rotate: per-pixel rotation by
 // interleaved gradient noise; depth24: GL_DEPTH_COMPONENT24 map instead of 32F; light_scale:
 // multiplies the emitter width (0: a point light, the hard limit); hard: the plain 2x2 lookup
-// with the same map and bias (the reference point for light_scale = 0).
+// with the same map and bias (the reference point for light_scale = 0); fit_near (default 1): the
+// light's near plane moved to the casters' bounds (pcss_fit_near_plane) for the map and the search.
 class PcssTechnique final : public Technique {
 public:
     std::string name() const override { return "pcss"; }
@@ -617,10 +621,30 @@ public:
         const float scale = static_cast<float>(params.get("light_scale", 1.0));
         const bool hard_lookup = params.get("hard", 0) != 0.0;
         if (!perspective_light(ctx.scene.light)) return RunResult::failure("needs a spot or area light");
-        const LightSetup ls = setup_light(ctx.scene);
+        // The blocker search is cut at the light's near plane: put it at the casters (pcss_fit_near_plane).
+        const bool fit_near = params.get("fit_near", 1) != 0.0;
+        glm::vec3 casters_lo(INFINITY), casters_hi(-INFINITY);
+        for (const auto& m : ctx.scene.meshes)
+            if (m.caster) {
+                glm::vec3 lo, hi;
+                mesh_bounds(m, lo, hi);
+                casters_lo = glm::min(casters_lo, lo);
+                casters_hi = glm::max(casters_hi, hi);
+            }
+        const auto adjust = [&](LightSetup& s) {
+            if (!fit_near) return;
+            const shadowkit::PcssFit fit = shadowkit::pcss_fit_near_plane(pcss_light(s, 1.f), s.lm.view, casters_lo, casters_hi);
+            if (fit.status != shadowkit::Status::Ok || !fit.raised) return;
+            s.lm.znear = fit.light.near_z;
+            s.lm.proj = glm::perspective(2.f * std::atan(s.tan_half), 1.f, s.lm.znear, s.lm.zfar);
+        };
+        LightSetup ls = setup_light(ctx.scene);
+        adjust(ls);
         const shadowkit::PcssLight L = pcss_light(ls, scale);
-        const float light_uv = shadowkit::pcss_light_uv_at_near(L);
-        if (!std::isfinite(light_uv)) return RunResult::failure("invalid PCSS light (pcss_light_uv_at_near is NaN)");
+        const shadowkit::PcssValue light_uv_at_near = shadowkit::pcss_light_uv_at_near(L);
+        if (light_uv_at_near.status != shadowkit::Status::Ok)
+            return RunResult::failure(std::string("invalid PCSS light: ") + shadowkit::status_name(light_uv_at_near.status));
+        const float light_uv = light_uv_at_near.value;
         const shadowkit::PcssPolicy policy;  // max_filter_uv 0.05
         SingleMapConfig cfg;
         cfg.snippets = {"shadow_map", "pcf", "pcss"};
@@ -659,6 +683,7 @@ float technique_visibility(vec3 p, vec3 n) {
         };
         cfg.taps_per_pixel = hard_lookup ? 1.0 : 2.0 * taps;
         cfg.horizon = params.get("horizon", 1) != 0.0;
+        cfg.adjust_light = adjust;
         return run_single_map(ctx, cfg);
     }
 };
@@ -699,7 +724,7 @@ public:
         const auto tp0 = Clock::now();
         const auto res = shadowkit::poisson_eliminate(dom, kMaxSampled, /*seed*/ 7, pts, kMaxSampled);
         const double poisson_ms = ms_since(tp0);
-        if (res.status != shadowkit::PoissonStatus::Ok) return RunResult::failure("poisson_eliminate failed");
+        if (res.status != shadowkit::Status::Ok) return RunResult::failure("poisson_eliminate failed");
         LightSetup ls;
         std::vector<glm::vec3> pos(static_cast<std::size_t>(n));
         std::vector<glm::mat4> vps(static_cast<std::size_t>(n));

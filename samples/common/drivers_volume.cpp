@@ -6,7 +6,7 @@
 // Per frame, on the CPU (cpu_ms, median): for every caster mesh, facing of its faces for the
 // homogeneous light (point / spot: (p, 1); directional: (-dir, 0); area lights: their centre as a
 // point light), the silhouette (edge rule of silhouette.hpp: open and non-manifold meshes included),
-// side quads, and for z-fail casters the light and dark caps (CapMode::LitOnly: closed for any
+// side quads, and for z-fail casters the light and dark caps (VolumeCapMode::LitOnly: closed for any
 // triangle soup), the z-pass / z-fail decision (near-plane occlusion pyramid vs the caster's box) and
 // the scissor rectangle and depth bounds (Lengyel). The adjacency is built once per scene (cached
 // across parameter sets; its build time is reported as work "adjacency_ms").
@@ -33,7 +33,7 @@
 // the GL test passes without it).
 //
 // Params: method 0 = z-fail for every caster, 1 = z-pass / z-fail chosen per caster
-//         (choose_stencil_method_box), 2 = z-pass for every caster (wrong when the camera is in a
+//         (volume_choose_stencil_method_box), 2 = z-pass for every caster (wrong when the camera is in a
 //         shadow: the tests show it; swept, as the built-in cameras are lit); scissor {0, 1};
 //         depth_bounds {0, 1};
 //         projection 0 = finite + depth clamp (default), 1 = P_inf against the finite depth
@@ -110,7 +110,7 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     if (!cache_.prepare(scene, 0x5eed5eedull)) return RunResult::failure(cache_.error);
 
     const glm::vec4 light = volumes::volume_light(scene.light);
-    if (!shadowkit::valid_light(light)) return RunResult::failure("invalid light");
+    if (!shadowkit::silhouette_valid_light(light)) return RunResult::failure("invalid light");
     const float aspect = float(gpu.width) / float(gpu.height);
     const glm::mat4 cam_vp = gpu.proj * gpu.view;  // exactly the G-buffer's matrix (same float product)
     glm::mat4 volume_vp = cam_vp;
@@ -118,17 +118,17 @@ RunResult ShadowVolume::run(const RunContext& ctx, const ParamSet& params) {
     if (own_depth) {
         // infinite_projection.hpp: GL depth with the float32 epsilon of infinite_epsilon_bound
         // (projection 2), or reversed-Z zero-to-one depth (projection 3, its bound is 0 or tiny)
-        shadowkit::DepthParams dp;
+        shadowkit::ProjectionDepth dp;
         dp.near_z = scene.camera.znear;
         dp.far_z = std::numeric_limits<float>::infinity();
         dp.clip_depth = reversed ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
         dp.reversed_z = reversed;
-        const shadowkit::EpsilonBound eb = shadowkit::infinite_epsilon_bound(scene.camera.fovy, aspect, dp.clip_depth,
+        const shadowkit::ProjectionEpsilonBound eb = shadowkit::projection_infinite_epsilon_bound(scene.camera.fovy, aspect, dp.clip_depth,
                                                                              reversed, shadowkit::DepthFormat::Float32);
-        if (eb.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("infinite_epsilon_bound failed");
+        if (eb.status != shadowkit::Status::Ok) return RunResult::failure("infinite_epsilon_bound failed");
         dp.epsilon = proj_epsilon = eb.epsilon;
-        const shadowkit::ProjectionResult pr = shadowkit::perspective(scene.camera.fovy, aspect, dp);
-        if (pr.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("shadowkit::perspective failed");
+        const shadowkit::ProjectionResult pr = shadowkit::projection_perspective(scene.camera.fovy, aspect, dp);
+        if (pr.status != shadowkit::Status::Ok) return RunResult::failure("shadowkit::perspective failed");
         volume_vp = pr.matrix * gpu.view;
     } else if (projection == 1) {
         // P_inf with the camera's near plane (Everitt-Kilgard 3.2.1): inconsistent with the finite depth

@@ -17,11 +17,6 @@ namespace sk {
 
 namespace {
 
-glm::vec4 light_vec4(const Light& L) {
-    if (L.type == LightType::Directional) return glm::vec4(glm::normalize(L.direction), 0.f);
-    return glm::vec4(L.position, 1.f);
-}
-
 void caster_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
     lo = glm::vec3(INFINITY);
     hi = glm::vec3(-INFINITY);
@@ -70,10 +65,11 @@ void add_aliasing(RunResult& r, const Scene& scene, const SceneGpu& gpu, const G
         if (!lit_receiver(scene, g, k, p, nn)) continue;
         const int c = which.empty() ? 0 : which[k];
         if (c < 0) continue;
-        const double e = shadowkit::perspective_aliasing_error(light_vps[static_cast<std::size_t>(c)], cam_vp, p, nn,
-                                                               static_cast<std::uint32_t>(size),
-                                                               glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
-        if (!std::isfinite(e)) continue;
+        const shadowkit::WarpAliasingValue ev = shadowkit::warp_aliasing_error(
+            light_vps[static_cast<std::size_t>(c)], cam_vp, p, nn, static_cast<std::uint32_t>(size),
+            glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
+        if (ev.status != shadowkit::Status::Ok) continue;
+        const double e = ev.value;
         sum += e;
         mx = std::max(mx, e);
         if (e > 1.0) ++under;
@@ -100,10 +96,11 @@ DebugImage texel_density_image(const Scene& scene, const SceneGpu& gpu, const GB
     for (std::size_t k = 0; k < g.kind.size(); ++k) {
         glm::vec3 p, nn;
         if (!lit_receiver(scene, g, k, p, nn)) continue;
-        const double e = shadowkit::perspective_aliasing_error(
+        const shadowkit::WarpAliasingValue ev = shadowkit::warp_aliasing_error(
             light_vp, cam_vp, p, nn, static_cast<std::uint32_t>(size),
             glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
-        if (!std::isfinite(e) || e <= 0.0) continue;
+        const double e = ev.value;
+        if (ev.status != shadowkit::Status::Ok || e <= 0.0) continue;
         const double t = std::clamp(std::log2(e) / 2.0, -1.0, 1.0);  // -1: 1/4, 0: 1, +1: 4
         const double r = t > 0 ? t : 0.0, b = t < 0 ? -t : 0.0, gg = 1.0 - std::abs(t);
         d.rgb[3 * k] = static_cast<std::uint8_t>(std::lround(255.0 * r));
@@ -114,6 +111,63 @@ DebugImage texel_density_image(const Scene& scene, const SceneGpu& gpu, const GB
 }
 
 // ------------------------------------------------------------------------- warped / fitted maps
+// TSM with Martin & Tan's depth: the map is rasterized with light_vp (x, y) and its depth written
+// per fragment from depth_vp (the light's own post-perspective depth, undistorted by the trapezoid),
+// with the slope-scaled offset of glPolygonOffset(2, 2) computed in the shader (sk_warp_map_depth);
+// the lookup takes x, y from light_vp and the compare depth from depth_vp.
+RunResult run_separate_depth_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
+                                 const glm::mat4& depth_vp,
+                                 const std::function<void(RunResult&, const skgl::Target&)>& extras) {
+    std::string why;
+    skgl::Target sm;
+    if (!make_shadow_map_target(sm, size, why)) return RunResult::failure(why);
+    VisibilityPass pass;
+    if (!pass.init(ctx.gpu.width, ctx.gpu.height, why)) return RunResult::failure(why);
+    GLuint plain = 0, vis = 0;
+    if (!compile_shadow_programs("perspective_shadow_maps", R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_warp;
+uniform mat4 u_depth_proj;
+float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, p, 0.0, false); }
+)", ctx.scene.light, plain, vis, why))
+        return RunResult::failure(why);
+    glDeleteProgram(plain);
+    const std::string snippet = load_snippet("perspective_shadow_maps", why);
+    std::string log;
+    const GLuint depth = skgl::compile_program(
+        {{GL_VERTEX_SHADER, R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_light_view_proj;
+uniform mat4 u_depth_proj;
+out vec4 v_depth_clip;
+void main() {
+    gl_Position = u_light_view_proj * vec4(a_position, 1.0);
+    v_depth_clip = u_depth_proj * vec4(a_position, 1.0);
+}
+)"},
+         {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + R"(
+in vec4 v_depth_clip;
+void main() { gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, false); }
+)"}},
+        log);
+    if (!depth) {
+        glDeleteProgram(vis);
+        return RunResult::failure(log);
+    }
+    glUseProgram(vis);
+    glUniformMatrix4fv(glGetUniformLocation(vis, "u_warp"), 1, GL_FALSE, glm::value_ptr(light_vp));
+    glUniformMatrix4fv(glGetUniformLocation(vis, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(depth_vp));
+    glUseProgram(depth);
+    glUniformMatrix4fv(glGetUniformLocation(depth, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(depth_vp));
+    measure_visibility(r, ctx, pass, [&] {
+        render_shadow_depth(ctx.gpu, sm.fbo, size, depth, light_vp, nullptr);
+        pass.draw(vis, ctx.gpu, GL_TEXTURE_2D, sm.depth);
+    });
+    r.gpu_bytes = std::int64_t(size) * size * 4;
+    if (extras) extras(r, sm);
+    return finish_run(std::move(r), {depth, vis}, [&] { skgl::destroy_target(sm); });
+}
+
 // method: 0 fitted (light_frustum.hpp: tight fit + caster culling), 1 uniform, 2 PSM, 3 LiSPSM, 4 TSM.
 class WarpedShadowMap final : public Technique {
 public:
@@ -145,6 +199,8 @@ public:
         // the CPU work (matrix fit and culling) timed as a median like the GPU pass
         std::string fit_error;
         bool fallback = false;
+        glm::mat4 depth_vp(1.f);     // TSM: the light's undistorted depth (Martin & Tan), else light_vp
+        bool separate_depth = false;
         auto fit = [&]() -> bool {
             glm::vec3 slo, shi, clo, chi;
             receiver_bounds(scene, slo, shi);
@@ -162,39 +218,46 @@ public:
                 in.has_scene_bounds = true;
                 in.scene_min = slo;
                 in.scene_max = shi;
-                in.light = light_vec4(scene.light);
+                in.light_position = scene.light.type == LightType::Directional  // w = 0: toward the light
+                                        ? glm::vec4(-glm::normalize(scene.light.direction), 0.f)
+                                        : glm::vec4(scene.light.position, 1.f);
                 in.casters = boxes.data();
                 in.caster_count = scene.meshes.size();
                 in.shadow_map_size = static_cast<std::uint32_t>(size);
                 keep.assign(scene.meshes.size(), 0);
-                const auto res = shadowkit::fit_light_frustum(in, keep.data(), keep.size());
-                if (res.status != shadowkit::LightFrustumStatus::Ok) {
-                    fit_error = "fit_light_frustum status " + std::to_string(static_cast<int>(res.status));
+                const auto res = shadowkit::light_frustum_fit(in, keep.data(), keep.size());
+                if (res.status != shadowkit::Status::Ok) {
+                    fit_error = std::string("light_frustum_fit status ") + shadowkit::status_name(res.status);
                     return false;
                 }
-                keep.resize(res.kept_count);
+                keep.resize(res.count);
                 light_vp = res.view_proj;
                 culled_list = true;
             } else {
                 shadowkit::WarpInput in;
                 in.camera_view = ctx.gpu.view;
                 in.camera_proj = ctx.gpu.proj;
-                in.light = light_vec4(scene.light);
+                in.light_position = scene.light.type == LightType::Directional  // w = 0: toward the light
+                                        ? glm::vec4(-glm::normalize(scene.light.direction), 0.f)
+                                        : glm::vec4(scene.light.position, 1.f);
                 in.has_scene_bounds = true;
                 in.scene_min = slo;
                 in.scene_max = shi;
                 in.has_caster_bounds = true;
                 in.caster_min = clo;
                 in.caster_max = chi;
-                const shadowkit::WarpResult w = method == 1   ? shadowkit::uniform_shadow_matrix(in)
-                                                : method == 2 ? shadowkit::psm_shadow_matrix(in)
-                                                : method == 3 ? shadowkit::lispsm_shadow_matrix(in)
-                                                              : shadowkit::tsm_shadow_matrix(in);
-                if (w.status != shadowkit::WarpStatus::Ok) {
-                    fit_error = "warp status " + std::to_string(static_cast<int>(w.status));
+                const shadowkit::WarpMethod wm = method == 1   ? shadowkit::WarpMethod::Uniform
+                                                 : method == 2 ? shadowkit::WarpMethod::Psm
+                                                 : method == 3 ? shadowkit::WarpMethod::Lispsm
+                                                               : shadowkit::WarpMethod::Tsm;
+                const shadowkit::WarpResult w = shadowkit::warp_matrix(in, wm);
+                if (w.status != shadowkit::Status::Ok || !w.visible) {
+                    fit_error = std::string("warp status ") + shadowkit::status_name(w.status) + (w.visible ? "" : ", nothing visible");
                     return false;
                 }
                 light_vp = w.light_view_proj;
+                depth_vp = w.depth_view_proj;
+                separate_depth = w.separate_depth;
                 fallback = w.fallback_uniform;
             }
             return true;
@@ -216,7 +279,7 @@ public:
         static const SingleMapLookup kWarpLookup{"perspective_shadow_maps", R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_warp;
-float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, p, 0.0, false); }
+float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, u_warp, p, 0.0, false); }
 )", "u_warp"};
         auto extras = [&](RunResult& rr, const skgl::Target& sm) {
             if (fallback) rr.quality.push_back({"fallback_uniform", 1.0});
@@ -231,6 +294,7 @@ float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map,
             rr.debug.push_back(
                 grey_debug_image("shadow map (window depth, near = black)", size, size, texels, 1, 0, 1.f));
         };
+        if (separate_depth) return run_separate_depth_map(ctx, std::move(r), size, light_vp, depth_vp, extras);
         return run_single_shadow_map(ctx, std::move(r), size, light_vp, kWarpLookup, culled_list ? &keep : nullptr,
                                      extras);
     }
@@ -259,23 +323,25 @@ public:
         RunResult r;
         shadowkit::Cascade cs[kCount];
         float splits[kCount + 1];
-        shadowkit::CascadeStatus st = shadowkit::CascadeStatus::Ok;
+        shadowkit::Status st = shadowkit::Status::NotRun;
         auto fit = [&]() -> bool {
             shadowkit::CascadeInput in;
             in.camera_view = ctx.gpu.view;
             in.camera_proj = ctx.gpu.proj;
-            in.light_dir = glm::normalize(scene.light.direction);
+            in.light_position = glm::vec4(-glm::normalize(scene.light.direction), 0.f);  // toward the light
             in.shadow_map_size = static_cast<std::uint32_t>(size);
             glm::vec3 clo, chi;
             caster_bounds(scene, clo, chi);
             in.has_caster_bounds = true;
             in.caster_min = clo;
             in.caster_max = chi;
-            st = shadowkit::fit_cascades(in, 0.75f, kCount, cs, splits);
-            return st == shadowkit::CascadeStatus::Ok;
+            const shadowkit::CascadeFitResult res = shadowkit::cascade_fit(in, 0.75f, kCount, cs, kCount);
+            st = res.status;
+            std::copy(res.splits, res.splits + kCount + 1, splits);
+            return st == shadowkit::Status::Ok;
         };
         if (!median_cpu_ms(std::max(ctx.frames, 1), fit, r.cpu_ms))
-            return RunResult::failure("fit_cascades status " + std::to_string(static_cast<int>(st)));
+            return RunResult::failure(std::string("cascade_fit status ") + shadowkit::status_name(st));
 
         const GLuint arr = make_depth_compare_texture(GL_TEXTURE_2D_ARRAY, size, kCount);
         GLuint fbo[kCount];
@@ -318,7 +384,7 @@ float technique_visibility(vec3 p, vec3 n) {
             for (std::size_t k = 0; k < g.kind.size(); ++k) {
                 if (g.kind[k] == 0) continue;
                 const glm::vec4 v = ctx.gpu.view * glm::vec4(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2], 1.f);
-                which[k] = shadowkit::select_cascade_by_depth(-v.z, splits, kCount);
+                which[k] = shadowkit::cascade_select_by_depth(-v.z, splits, kCount).index;
             }
             add_aliasing(r, scene, ctx.gpu, g, std::vector<glm::mat4>(vps, vps + kCount), which, size);
         }

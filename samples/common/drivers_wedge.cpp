@@ -218,7 +218,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     if (!cache_.prepare(scene, 0x3ed9e5ull)) return RunResult::failure(cache_.error);
 
     const glm::vec4 light = volumes::volume_light(scene.light);
-    if (!shadowkit::valid_light(light)) return RunResult::failure("invalid light");
+    if (!shadowkit::silhouette_valid_light(light)) return RunResult::failure("invalid light");
     const bool point = light.w > 0.f;
     shadowkit::PenumbraSphereLight sphere;
     sphere.light_position = glm::vec4(scene.light.position, 1.f);
@@ -231,16 +231,16 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     glm::mat4 draw_vp = cam_vp;                    // volumes, hulls and (projection 1) the own depth pass
     float proj_epsilon = 0.f;
     if (projection == 1) {
-        shadowkit::DepthParams dp;
+        shadowkit::ProjectionDepth dp;
         dp.near_z = scene.camera.znear;
         dp.far_z = std::numeric_limits<float>::infinity();
-        const shadowkit::EpsilonBound eb = shadowkit::infinite_epsilon_bound(
+        const shadowkit::ProjectionEpsilonBound eb = shadowkit::projection_infinite_epsilon_bound(
             scene.camera.fovy, aspect, shadowkit::ClipDepth::NegativeOneToOne, false, shadowkit::DepthFormat::Float32);
-        if (eb.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("infinite_epsilon_bound failed");
+        if (eb.status != shadowkit::Status::Ok) return RunResult::failure("infinite_epsilon_bound failed");
         dp.epsilon = eb.epsilon;
         proj_epsilon = eb.epsilon;
-        const shadowkit::ProjectionResult pr = shadowkit::perspective(scene.camera.fovy, aspect, dp);
-        if (pr.status != shadowkit::ProjectionStatus::Ok) return RunResult::failure("shadowkit::perspective failed");
+        const shadowkit::ProjectionResult pr = shadowkit::projection_perspective(scene.camera.fovy, aspect, dp);
+        if (pr.status != shadowkit::Status::Ok) return RunResult::failure("shadowkit::perspective failed");
         draw_vp = pr.matrix * gpu.view;
     }
     const bool native_bounds = use_bounds && epoxy_has_gl_extension("GL_EXT_depth_bounds_test");

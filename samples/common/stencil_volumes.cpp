@@ -74,7 +74,7 @@ VolumeSetup make_volume_setup(const Scene& scene, const SceneGpu& gpu, const glm
     s.light = light;
     s.point = light.w > 0.f;
     const float aspect = float(gpu.width) / float(gpu.height);
-    s.near_rect = shadowkit::near_plane_rect(gpu.view, scene.camera.fovy, aspect, scene.camera.znear);
+    s.near_rect = shadowkit::volume_near_plane_rect(gpu.view, scene.camera.fovy, aspect, scene.camera.znear);
     light_receiver_bounds(scene, s.rlo, s.rhi);
     s.margin = 1e-4f * std::max(1e-6f, glm::length(scene.bounds_max() - scene.bounds_min()));
     s.sp.view_proj = scissor_vp;
@@ -88,9 +88,9 @@ VolumeSetup make_volume_setup(const Scene& scene, const SceneGpu& gpu, const glm
 }
 
 bool caster_scissor(const CasterData& c, const VolumeSetup& s, CasterDraw& d, std::string& error) {
-    d.sc = shadowkit::shadow_volume_scissor(s.light, c.lo, c.hi, s.rlo, s.rhi, s.sp);
-    if (d.sc.status != shadowkit::VolumeStatus::Ok) {
-        error = "shadow_volume_scissor status " + std::to_string(static_cast<int>(d.sc.status));
+    d.sc = shadowkit::volume_scissor(s.light, c.lo, c.hi, s.rlo, s.rhi, s.sp);
+    if (d.sc.status != shadowkit::Status::Ok) {
+        error = std::string("volume_scissor status ") + shadowkit::status_name(d.sc.status);
         return false;
     }
     d.visible = d.sc.visible;
@@ -98,19 +98,19 @@ bool caster_scissor(const CasterData& c, const VolumeSetup& s, CasterDraw& d, st
 }
 
 bool caster_silhouette(CasterData& c, const Mesh& m, const VolumeSetup& s, CasterDraw& d, std::string& error) {
-    const shadowkit::FacingResult fr =
-        shadowkit::compute_facing(c.adj, m.positions.data(), m.positions.size(), s.light, c.facing.data(), c.facing.size());
-    if (fr.status != shadowkit::SilhouetteStatus::Ok) {
-        error = "compute_facing status " + std::to_string(static_cast<int>(fr.status));
+    const shadowkit::SilhouetteFacing fr = shadowkit::silhouette_compute_facing(c.adj, m.positions.data(), m.positions.size(),
+                                                                                s.light, c.facing.data(), c.facing.size());
+    if (fr.status != shadowkit::Status::Ok) {
+        error = std::string("silhouette_compute_facing status ") + shadowkit::status_name(fr.status);
         return false;
     }
     const shadowkit::SilhouetteResult sr =
-        shadowkit::extract_silhouette(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), nullptr, c.sil.size() / 2);
-    if (sr.status != shadowkit::SilhouetteStatus::Ok) {
-        error = "extract_silhouette status " + std::to_string(static_cast<int>(sr.status));
+        shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(), nullptr, 0);
+    if (sr.status != shadowkit::Status::Ok) {
+        error = std::string("silhouette_extract status ") + shadowkit::status_name(sr.status);
         return false;
     }
-    d.sil_edges = sr.edge_count;
+    d.sil_edges = sr.count / 2;
     return true;
 }
 
@@ -119,28 +119,29 @@ bool caster_volume(CasterData& c, const Mesh& m, const VolumeSetup& s, int metho
     if (method == 0) d.zfail = true;
     else if (method == 2) d.zfail = false;
     else {
-        const shadowkit::MethodResult mr = shadowkit::choose_stencil_method_box(s.near_rect, s.light, c.lo, c.hi, s.margin);
-        if (mr.status != shadowkit::VolumeStatus::Ok) {
-            error = "choose_stencil_method_box status " + std::to_string(static_cast<int>(mr.status));
+        const shadowkit::VolumeMethod mr = shadowkit::volume_choose_stencil_method_box(s.near_rect, s.light, c.lo, c.hi, s.margin);
+        if (mr.status != shadowkit::Status::Ok) {
+            error = std::string("volume_choose_stencil_method_box status ") + shadowkit::status_name(mr.status);
             return false;
         }
-        d.zfail = mr.method == shadowkit::StencilMethod::ZFail;
+        d.zfail = mr.method == shadowkit::VolumeStencilMethod::ZFail;
     }
     std::uint32_t* out = indices + c.index_offset;
-    const shadowkit::VolumeCount sq =
-        shadowkit::build_side_quads(c.sil.data(), d.sil_edges, m.positions.size(), out, c.index_capacity);
-    if (sq.status != shadowkit::VolumeStatus::Ok) {
-        error = "build_side_quads status " + std::to_string(static_cast<int>(sq.status));
+    const shadowkit::VolumeBuffer sq =
+        shadowkit::volume_build_side_quads(c.sil.data(), 2 * d.sil_edges, m.positions.size(), out, c.index_capacity);
+    if (sq.status != shadowkit::Status::Ok) {
+        error = std::string("volume_build_side_quads status ") + shadowkit::status_name(sq.status);
         return false;
     }
     d.side_first = c.index_offset;
     d.side_count = sq.count;
     if (d.zfail) {
-        const shadowkit::VolumeCount cp = shadowkit::build_caps(
-            c.adj.faces.data(), c.adj.face_count(), c.facing.data(), m.positions.size(), shadowkit::CapMode::LitOnly,
-            s.point /* a directional light's dark cap has zero area */, out + sq.count, c.index_capacity - sq.count);
-        if (cp.status != shadowkit::VolumeStatus::Ok) {
-            error = "build_caps status " + std::to_string(static_cast<int>(cp.status));
+        const shadowkit::VolumeBuffer cp = shadowkit::volume_build_caps(
+            c.adj.faces.data(), c.adj.faces.size(), c.facing.data(), c.facing.size(), m.positions.size(),
+            shadowkit::VolumeCapMode::LitOnly, s.point /* a directional light's dark cap has zero area */, out + sq.count,
+            c.index_capacity - sq.count);
+        if (cp.status != shadowkit::Status::Ok) {
+            error = std::string("volume_build_caps status ") + shadowkit::status_name(cp.status);
             return false;
         }
         d.cap_first = c.index_offset + sq.count;
@@ -153,8 +154,8 @@ const char* volume_vs() {
     return R"(
 layout(location = 0) in vec4 a_position;
 uniform mat4 u_view_proj;
-uniform vec4 u_light;
-void main() { gl_Position = u_view_proj * sk_extrude_shadow_volume(a_position, u_light); }
+uniform vec4 u_light_position;
+void main() { gl_Position = u_view_proj * sk_extrude_shadow_volume(a_position, u_light_position); }
 )";
 }
 
@@ -188,7 +189,7 @@ std::size_t VolumeGpu::create_buffers(const Scene& scene, const VolumeCache& cac
     std::vector<glm::vec4> verts(cache.total_vertices);
     for (const CasterData& c : cache.casters) {
         const Mesh& m = scene.meshes[c.mesh];
-        shadowkit::build_volume_vertices(m.positions.data(), m.positions.size(), verts.data() + c.base_vertex,
+        shadowkit::volume_build_vertices(m.positions.data(), m.positions.size(), verts.data() + c.base_vertex,
                                          2 * m.positions.size());
     }
     glGenVertexArrays(1, &vao_);
@@ -210,7 +211,7 @@ std::size_t VolumeGpu::create_buffers(const Scene& scene, const VolumeCache& cac
 void VolumeGpu::set_uniforms(const glm::mat4& view_proj, const glm::vec4& light) {
     glUseProgram(prog_);
     glUniformMatrix4fv(glGetUniformLocation(prog_, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(view_proj));
-    glUniform4fv(glGetUniformLocation(prog_, "u_light"), 1, glm::value_ptr(light));
+    glUniform4fv(glGetUniformLocation(prog_, "u_light_position"), 1, glm::value_ptr(light));
     loc_bounds_ = glGetUniformLocation(prog_, "u_bounds");
 }
 

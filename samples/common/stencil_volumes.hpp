@@ -35,7 +35,7 @@ void light_receiver_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi);
 // Per caster mesh: adjacency (once per scene) and per-frame scratch buffers (allocated once).
 struct CasterData {
     std::size_t mesh = 0;
-    shadowkit::EdgeAdjacency adj;
+    shadowkit::SilhouetteAdjacency adj;
     glm::vec3 lo{0.f}, hi{0.f};
     GLint base_vertex = 0;  // first vertex of this caster's 2n-vertex block in the shared buffer
     std::vector<std::uint8_t> facing;
@@ -54,7 +54,7 @@ struct VolumeCache {
     std::size_t welded = 0, boundary = 0, nonmanifold = 0, degenerate = 0;
 
     // Adjacency of every caster mesh, built once per scene (cache key: scene_hash with the driver's
-    // salt); false with `error` set when build_edge_adjacency fails.
+    // salt); false with `error` set when silhouette_build_adjacency fails.
     bool prepare(const Scene& scene, std::uint64_t salt);
 };
 
@@ -65,25 +65,25 @@ struct CasterDraw {
     std::size_t side_first = 0, side_count = 0;  // indices
     std::size_t cap_first = 0, cap_count = 0;
     std::size_t sil_edges = 0;
-    shadowkit::ScissorResult sc;
+    shadowkit::ScissorRect sc;
 };
 
 // Per-run inputs of the CPU stage.
 struct VolumeSetup {
     glm::vec4 light{0.f};
     bool point = true;  // light.w > 0
-    shadowkit::NearPlaneRect near_rect;
+    shadowkit::VolumeNearRect near_rect;
     glm::vec3 rlo{0.f}, rhi{0.f};  // light_receiver_bounds
-    float margin = 0.f;            // of choose_stencil_method_box
+    float margin = 0.f;            // of volume_choose_stencil_method_box
     shadowkit::ScissorParams sp;   // view_proj = scissor_vp, viewport = the G-buffer's
 };
 VolumeSetup make_volume_setup(const Scene& scene, const SceneGpu& gpu, const glm::vec4& light, const glm::mat4& scissor_vp);
 
-// shadow_volume_scissor of the caster's volume into d.sc, d.visible = d.sc.visible.
+// volume_scissor of the caster's volume into d.sc, d.visible = d.sc.visible.
 bool caster_scissor(const CasterData& c, const VolumeSetup& s, CasterDraw& d, std::string& error);
 // Facing for the light and the silhouette into c.sil; d.sil_edges = the edge count.
 bool caster_silhouette(CasterData& c, const Mesh& m, const VolumeSetup& s, CasterDraw& d, std::string& error);
-// z-fail for method 0, z-pass for method 2, else choose_stencil_method_box (d.zfail); then the side
+// z-fail for method 0, z-pass for method 2, else volume_choose_stencil_method_box (d.zfail); then the side
 // quads and, for z-fail, the LitOnly caps into indices[c.index_offset ...] (d.side_*, d.cap_*).
 bool caster_volume(CasterData& c, const Mesh& m, const VolumeSetup& s, int method, std::uint32_t* indices, CasterDraw& d,
                    std::string& error);

@@ -378,7 +378,7 @@ const SingleMapLookup& plain_shadow_map_lookup() {
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_light_view_proj;
 float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 1.0);
+    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
 }
 )", "u_light_view_proj"};
     return lookup;
@@ -501,10 +501,10 @@ void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, flo
     chi = glm::max(L.position, cap + ext);
 }
 
-bool build_caster_adjacency(const Mesh& m, shadowkit::EdgeAdjacency& adj, std::string& error) {
-    adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-    if (adj.status == shadowkit::SilhouetteStatus::Ok) return true;
-    error = "build_edge_adjacency failed on mesh '" + m.name + "' (status " + std::to_string(static_cast<int>(adj.status)) +
+bool build_caster_adjacency(const Mesh& m, shadowkit::SilhouetteAdjacency& adj, std::string& error) {
+    adj = shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+    if (adj.status == shadowkit::Status::Ok) return true;
+    error = "silhouette_build_adjacency failed on mesh '" + m.name + "' (status " + shadowkit::status_name(adj.status) +
             ")";
     return false;
 }
@@ -607,7 +607,7 @@ uniform vec3 u_cube_light;
 uniform float u_cube_near;
 uniform float u_cube_far;
 float technique_visibility(vec3 p, vec3 n) {
-    return sk_cube_shadow_visibility(u_cube, u_cube_light, p, u_cube_near, u_cube_far);
+    return sk_cube_shadow_visibility(u_cube, vec4(u_cube_light, 1.0), p, u_cube_near, u_cube_far, 0.0);
 }
 )", L, depth, vis, why))
             return RunResult::failure(why);

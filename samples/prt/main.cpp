@@ -162,9 +162,9 @@ struct Renderer {
 std::vector<glm::vec3> rotated_environment(const std::vector<glm::vec3>& env, float yaw_deg, float pitch_deg) {
     const glm::mat3 R = glm::mat3(glm::rotate(glm::mat4(1.f), glm::radians(yaw_deg), glm::vec3(0, 1, 0)) *
                                   glm::rotate(glm::mat4(1.f), glm::radians(pitch_deg), glm::vec3(1, 0, 0)));
-    sk::SHRotation rot;
+    const sk::SHRotation rot = sk::sh_make_rotation(5, R);
     std::vector<glm::vec3> out(25, glm::vec3(0.f));
-    if (sk::sh_make_rotation(5, R, rot) != sk::SHStatus::Ok) return env;
+    if (rot.status != sk::Status::Ok) return env;
     for (int c = 0; c < 3; ++c) {
         float ch[25];
         for (std::size_t i = 0; i < 25; ++i) ch[i] = env[i][c];
@@ -234,8 +234,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s: %s\n", argv[0], why.c_str());
         return 1;
     }
-    sk::PrtSamples samples;
-    if (sk::prt_make_samples(5, o.strata, 1u, samples) != sk::PrtStatus::Ok) return usage(argv[0], 2);
+    const sk::PrtSamples samples = sk::prt_make_samples(5, o.strata, 1u);
+    if (samples.status != sk::Status::Ok) return usage(argv[0], 2);
     std::vector<float> shadowed, unshadowed;
     double secs = 0.0, secs_un = 0.0;
     const auto tr = skprt::compute_transfer(scene, vis, samples, sk::PrtMode::Shadowed, shadowed, secs);
@@ -243,8 +243,7 @@ int main(int argc, char** argv) {
     std::printf("%s: %zu vertices, order 5 transfer from %zu directions: %.2f s (%.1f Mrays)\n", argv[0],
                 scene.positions.size(), samples.count(), secs, static_cast<double>(tr.rays) * 1e-6);
     const skprt::Environment env_fn;
-    sk::PrtSamples env_samples;
-    sk::prt_make_samples(5, 128, 7u, env_samples);
+    const sk::PrtSamples env_samples = sk::prt_make_samples(5, 128, 7u);
     std::vector<glm::vec3> env(25);
     sk::prt_project_environment(env_samples, env_fn, env.data(), env.size());
 

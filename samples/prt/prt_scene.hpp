@@ -244,13 +244,13 @@ inline shadowkit::PrtTransferResult compute_transfer(const PrtScene& s, const Em
         const auto r = shadowkit::prt_compute_transfer(samples, opt, s.positions.data() + b, s.normals.data() + b, e - b,
                                                        &EmbreeVisibility::callback, const_cast<EmbreeVisibility*>(&vis),
                                                        out.data() + b * n, (e - b) * n);
-        if (r.status != shadowkit::PrtStatus::Ok) failed = 1;
+        if (r.status != shadowkit::Status::Ok) failed = 1;
         degenerate += r.degenerate_vertices;
         rays += r.rays;
     }, progress);
     shadowkit::PrtTransferResult res;
-    res.status = failed ? shadowkit::PrtStatus::InvalidOrder : shadowkit::PrtStatus::Ok;
-    res.count = out.size();
+    res.status = failed ? shadowkit::Status::InvalidArgument : shadowkit::Status::Ok;
+    res.count = res.needed = out.size();
     res.degenerate_vertices = degenerate;
     res.rays = rays;
     return res;

@@ -62,8 +62,8 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
 
     // shadowed transfer at order 5 (orders 1..4 are its prefixes); unshadowed for comparison
     const int strata = 32;
-    skp::PrtSamples samples;
-    if (skp::prt_make_samples(out.transfer_order, strata, 1u, samples) != skp::PrtStatus::Ok) {
+    const skp::PrtSamples samples = skp::prt_make_samples(out.transfer_order, strata, 1u);
+    if (samples.status != skp::Status::Ok) {
         why = "prt_make_samples failed";
         return false;
     }
@@ -72,9 +72,9 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
     std::vector<float> transfer, unshadowed;
     double unshadowed_seconds = 0.0;
     const auto tr = skprt::compute_transfer(scene, vis, samples, skp::PrtMode::Shadowed, transfer, out.transfer_seconds);
-    if (tr.status != skp::PrtStatus::Ok ||
+    if (tr.status != skp::Status::Ok ||
         skprt::compute_transfer(scene, vis, samples, skp::PrtMode::Unshadowed, unshadowed, unshadowed_seconds, false)
-                .status != skp::PrtStatus::Ok) {
+                .status != skp::Status::Ok) {
         why = "prt_compute_transfer failed";
         return false;
     }
@@ -83,10 +83,10 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
 
     // the environment in SH from a denser, independent sample set
     const int env_strata = 128;
-    skp::PrtSamples env_samples;
+    const skp::PrtSamples env_samples = skp::prt_make_samples(out.transfer_order, env_strata, 99u);
     std::vector<glm::vec3> env_sh(n);
-    if (skp::prt_make_samples(out.transfer_order, env_strata, 99u, env_samples) != skp::PrtStatus::Ok ||
-        skp::prt_project_environment(env_samples, env, env_sh.data(), env_sh.size()).status != skp::PrtStatus::Ok) {
+    if (env_samples.status != skp::Status::Ok ||
+        skp::prt_project_environment(env_samples, env, env_sh.data(), env_sh.size()).status != skp::Status::Ok) {
         why = "prt_project_environment failed";
         return false;
     }
@@ -125,8 +125,8 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
         row.label = std::to_string(order);
         row.storage = std::to_string(row.coefficients);
         for (std::size_t k = 0; k < verts.size(); ++k) {
-            a[k] = skp::prt_shade_rgb(order, &transfer[verts[k] * n], env_sh.data());
-            b[k] = skp::prt_shade_rgb(order, &unshadowed[verts[k] * n], env_sh.data());
+            a[k] = skp::prt_shade_rgb(order, &transfer[verts[k] * n], env_sh.data()).value;
+            b[k] = skp::prt_shade_rgb(order, &unshadowed[verts[k] * n], env_sh.data()).value;
         }
         compare(a, ref, mean, row);
         PrtOrderRow flat;
@@ -135,7 +135,7 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
         bool ok = true;
         row.shade_ms = median_ms(out.shade_runs, [&] {
             ok = skp::prt_shade_mesh(order, transfer.data(), n, scene.positions.size(), env_sh.data(), shaded.data(),
-                                    shaded.size()).status == skp::PrtStatus::Ok && ok;
+                                    shaded.size()).status == skp::Status::Ok && ok;
         });
         if (!ok) {
             why = "prt_shade_mesh failed";
@@ -148,10 +148,9 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
     skp::PrtCpcaOptions copt;
     copt.clusters = 64;
     copt.components = 4;
-    skp::PrtCpca cp;
     const auto c0 = std::chrono::steady_clock::now();
-    if (skp::prt_cpca_compress(out.transfer_order, transfer.data(), n, scene.positions.size(), copt, cp) !=
-        skp::PrtStatus::Ok) {
+    const skp::PrtCpca cp = skp::prt_cpca_compress(out.transfer_order, transfer.data(), n, scene.positions.size(), copt);
+    if (cp.status != skp::Status::Ok) {
         why = "prt_cpca_compress failed";
         return false;
     }
@@ -172,8 +171,8 @@ bool run_prt(bool quick, PrtReport& out, std::string& why) {
     // per frame: the per-cluster projections of the environment, then a C-term sum per vertex
     row.shade_ms = median_ms(out.shade_runs, [&] {
         ok = skp::prt_cpca_project_environment(cp, env_sh.data(), env_sh.size(), proj.data(), proj.size()).status ==
-                 skp::PrtStatus::Ok && ok;
-        for (std::size_t v = 0; v < shaded.size(); ++v) shaded[v] = skp::prt_cpca_shade(cp, proj.data(), v);
+                 skp::Status::Ok && ok;
+        ok = skp::prt_cpca_shade_mesh(cp, proj.data(), shaded.data(), shaded.size()).status == skp::Status::Ok && ok;
     });
     if (!ok) {
         why = "prt_cpca_project_environment failed";

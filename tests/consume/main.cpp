@@ -6,8 +6,8 @@
 #include <cstdio>
 
 int main() {
-    const shadowkit::ProjectionResult p = shadowkit::perspective_infinite(1.0f, 1.5f, 0.1f);
-    if (p.status != shadowkit::ProjectionStatus::Ok || p.matrix[2][3] != -1.0f || p.matrix[2][2] != -1.0f) {
+    const shadowkit::ProjectionResult p = shadowkit::projection_perspective_infinite(1.0f, 1.5f, 0.1f);
+    if (p.status != shadowkit::Status::Ok || p.matrix[2][3] != -1.0f || p.matrix[2][2] != -1.0f) {
         std::puts("shadowkit consumed, but the infinite projection is wrong");
         return 1;
     }

@@ -1,54 +1,137 @@
-// libFuzzer target for shadowkit/cascades.hpp: split distances, fits, selection and blend weights on
-// inputs decoded from raw bytes; checks monotonic splits, exact ends and finite matrices when Ok.
+// libFuzzer target for shadowkit/cascades.hpp: cascade_split_distances, cascade_fit, cascade_fit_slice,
+// cascade_select_by_depth / _by_sphere and cascade_blend_weight on inputs decoded from raw bytes (NaN/Inf,
+// null outputs with a capacity, near planes at or behind the eye, epsilon-tweaked infinite projections).
+// Traps on Ok with a non-finite output or a broken invariant (monotonic splits, exact ends, count <=
+// capacity, index in range), on Ok for a null pointer with a count, a point light or a near plane <= 0.
 #include <shadowkit/cascades.hpp>
 
 #include "fuzz_input.hpp"
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
 using shadowkit_fuzz::FuzzInput;
+using shadowkit_fuzz::all_finite;
+
+namespace {
+
+// raw matrix, glm perspective (near may be <= 0), or an epsilon-tweaked infinite projection
+// (glm's GL perspective is read as GL, not reversed: with near < 0 and a tiny far it is a valid
+// reversed-Z projection, so near_bad holds only for the convention it was built for)
+glm::mat4 camera_projection(FuzzInput& r, int mode, shadowkit::ClipDepth& cd, bool& rev, bool& near_bad) {
+    near_bad = false;
+    if (mode == 0) return r.mat4();
+    const float fovy = r.f32(), n = r.f32(), f = r.f32();
+    near_bad = std::isfinite(n) && n <= 0.0f;
+    if (mode == 1) {
+        cd = shadowkit::ClipDepth::NegativeOneToOne;
+        rev = false;
+        return glm::perspective(fovy, 1.5f, n, f);
+    }
+    const double eps = std::fabs(std::fmod(double(f), 0.5));
+    const double t = 1.0 / std::tan(0.5 * double(fovy));
+    glm::mat4 m(0.0f);
+    m[0][0] = float(t / 1.5);
+    m[1][1] = float(t);
+    m[2][3] = -1.0f;
+    const bool zo = cd == shadowkit::ClipDepth::ZeroToOne;
+    double A = 1.0 - eps, B = zo ? -(1.0 - eps) * double(n) : -(2.0 - eps) * double(n);
+    if (rev) {
+        if (zo) { A = eps; B = (1.0 - eps) * double(n); }
+        else { A = -A; B = -B; }
+    }
+    m[2][2] = float(-A);
+    m[3][2] = float(B);
+    return m;
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FuzzInput r(data, size);
     const uint8_t flags = r.u8();
+    const uint8_t f2 = r.u8();
     // split distances
     const float n = r.f32(), f = r.f32(), lambda = r.f32();
     const uint32_t count = r.range<uint32_t>(0, 19);
-    float s[21];
-    if (shadowkit::cascade_split_distances(n, f, lambda, count, s) == shadowkit::CascadeStatus::Ok) {
-        if (count == 0 || count > 16) __builtin_trap();
-        if (s[0] != n || s[count] != f) __builtin_trap();
+    const shadowkit::CascadeSplits sp = shadowkit::cascade_split_distances(n, f, lambda, count);
+    if (sp.status == shadowkit::Status::Ok) {
+        if (count == 0 || count > 16 || sp.count != count) __builtin_trap();
+        if (sp.distances[0] != n || sp.distances[count] != f) __builtin_trap();
         for (uint32_t i = 0; i < count; ++i)
-            if (!(s[i] < s[i + 1])) __builtin_trap();
-        const int sel = shadowkit::select_cascade_by_depth(r.f32(), s, count);
-        if (sel < -1 || sel >= int(count)) __builtin_trap();
+            if (!(sp.distances[i] < sp.distances[i + 1])) __builtin_trap();
+        const shadowkit::CascadeIndex sel = shadowkit::cascade_select_by_depth(r.f32(), sp.distances, count);
+        if (sel.status == shadowkit::Status::Ok && (sel.index < -1 || sel.index >= int(count))) __builtin_trap();
+    } else if (sp.count != 0) {
+        __builtin_trap();
+    }
+    // selection on raw splits (not increasing, NaN, null)
+    {
+        float raw_splits[17];
+        for (float& v : raw_splits) v = r.f32();
+        const uint32_t rc = r.range<uint32_t>(0, 17);
+        const shadowkit::CascadeIndex sel = shadowkit::cascade_select_by_depth(r.f32(), (f2 & 1) ? nullptr : raw_splits, rc > 16 ? 16 : rc);
+        if ((f2 & 1) && sel.status == shadowkit::Status::Ok) __builtin_trap();
+        if (sel.status == shadowkit::Status::Ok && (sel.index < -1 || sel.index >= int(rc))) __builtin_trap();
+        if (sel.status != shadowkit::Status::Ok && sel.index != -1) __builtin_trap();
     }
     // fits
     shadowkit::CascadeInput in;
     in.camera_view = (flags & 1) ? r.mat4() : r.look_at_view();
-    in.camera_proj = (flags & 2) ? r.mat4() : r.perspective(1.5f, (flags & 4) != 0);
     in.camera_reversed_z = (flags & 8) != 0;
     in.camera_depth = (flags & 16) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
-    in.max_distance = r.f32();
-    in.light_dir = r.vec3();
+    bool near_bad = false;
+    in.camera_proj = camera_projection(r, ((flags >> 1) & 3) % 3, in.camera_depth, in.camera_reversed_z, near_bad);
+    in.max_distance = (f2 & 2) ? r.interesting_f32() : r.f32();
+    in.light_position = glm::vec4(r.vec3(), (f2 & 4) ? r.f32() : 0.0f);
     in.shadow_map_size = uint32_t(r.u8()) * 32u;
     in.radius_quantum = (flags & 32) ? r.f32() : 1.0f / 16.0f;
     in.has_caster_bounds = (flags & 64) != 0;
     in.caster_min = r.vec3();
-    in.caster_max = r.vec3();
+    in.caster_max = (f2 & 8) ? in.caster_min + glm::abs(r.vec3()) : r.vec3();
     in.light_depth = (flags & 128) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
-    shadowkit::Cascade c[16];
-    float splits[17];
-    const uint32_t cc = r.range<uint32_t>(1, 16);
-    if (shadowkit::fit_cascades(in, r.f32(), cc, c, splits) == shadowkit::CascadeStatus::Ok) {
+    in.light_reversed_z = (f2 & 16) != 0;
+    const glm::vec4 L = in.light_position;
+    const bool light_bad = !all_finite(L) || L.w != 0.0f || (L.x == 0.0f && L.y == 0.0f && L.z == 0.0f);
+    shadowkit::Cascade c[17];
+    const uint32_t cc = r.range<uint32_t>(0, 17);
+    const size_t cap = (f2 & 32) ? r.size(17) : 16;
+    const bool null_out = (f2 & 64) != 0 && cap > 0;
+    const shadowkit::CascadeFitResult fit = shadowkit::cascade_fit(in, r.f32(), cc, null_out ? nullptr : c, cap);
+    if (fit.count > cap || fit.count > cc) __builtin_trap();
+    if (null_out && fit.status != shadowkit::Status::InvalidArgument) __builtin_trap();
+    if (fit.status == shadowkit::Status::Ok) {
+        if (light_bad || near_bad) __builtin_trap();
+        if (fit.count != cc || fit.needed != cc) __builtin_trap();
         for (uint32_t i = 0; i < cc; ++i) {
-            if (!shadowkit_fuzz::all_finite(c[i].view_proj)) __builtin_trap();
-            if (!(splits[i] < splits[i + 1])) __builtin_trap();
-            if (!(c[i].sphere.w > 0.0f) || !(c[i].texel_world_size > 0.0f)) __builtin_trap();
+            if (c[i].status != shadowkit::Status::Ok) __builtin_trap();
+            if (!all_finite(c[i].view_proj) || !all_finite(c[i].sphere)) __builtin_trap();
+            if (!std::isfinite(fit.splits[i]) || !(fit.splits[i] < fit.splits[i + 1])) __builtin_trap();
+            if (!(c[i].sphere.w > 0.0f) || !(c[i].texel_world_size > 0.0f) || !std::isfinite(c[i].texel_world_size))
+                __builtin_trap();
         }
-        const int sel = shadowkit::select_cascade_by_sphere(r.vec3(), c, cc);
-        if (sel < -1 || sel >= int(cc)) __builtin_trap();
+        const shadowkit::CascadeIndex sel = shadowkit::cascade_select_by_sphere(r.vec3(), c, cc);
+        if (sel.status == shadowkit::Status::Ok && (sel.index < -1 || sel.index >= int(cc))) __builtin_trap();
+        const shadowkit::CascadeIndex sd = shadowkit::cascade_select_by_depth(r.f32(), fit.splits, cc);
+        if (sd.status == shadowkit::Status::Ok && (sd.index < -1 || sd.index >= int(cc))) __builtin_trap();
+    }
+    // one slice with raw split depths
+    const shadowkit::Cascade one = shadowkit::cascade_fit_slice(in, r.f32(), r.f32());
+    if (one.status == shadowkit::Status::Ok) {
+        if (light_bad || near_bad) __builtin_trap();
+        if (!all_finite(one.view_proj) || !all_finite(one.sphere) || !(one.texel_world_size > 0.0f) ||
+            !std::isfinite(one.texel_world_size) || !(one.split_far > one.split_near))
+            __builtin_trap();
+    }
+    // selection by sphere on raw cascades
+    {
+        shadowkit::Cascade rc[2];
+        rc[0].status = rc[1].status = (f2 & 128) ? shadowkit::Status::Ok : shadowkit::Status::NotRun;
+        rc[0].sphere = r.vec4();
+        rc[1].sphere = r.vec4();
+        const shadowkit::CascadeIndex s = shadowkit::cascade_select_by_sphere(r.vec3(), rc, r.range<uint32_t>(0, 2));
+        if (s.status == shadowkit::Status::Ok && (s.index < -1 || s.index > 1)) __builtin_trap();
     }
     const float w = shadowkit::cascade_blend_weight(r.f32(), r.f32(), r.f32(), r.f32());
     if (!(w >= 0.0f && w <= 1.0f)) __builtin_trap();

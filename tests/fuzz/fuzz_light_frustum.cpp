@@ -1,7 +1,10 @@
-// libFuzzer target for shadowkit/light_frustum.hpp: matrices, light, bounds, casters from raw bytes
-// (NaN/Inf, huge counts clamped by the data size); checks counts and finite output when Ok. Also
-// extruded_volume_planes (hull contains the receiver vertices and the light, finite planes for finite
-// input) and box/sphere_may_intersect (receivers never culled, NaN never culls, monotone in size/tol).
+// libFuzzer target for shadowkit/light_frustum.hpp: light_frustum_fit and light_frustum_slice_corners
+// on matrices, light, bounds, casters from raw bytes (NaN/Inf, huge counts clamped by the data size,
+// null pointers with counts, cameras with a near plane at or behind the eye, epsilon-tweaked infinite
+// projections); traps on Ok with a non-finite output, count > capacity, a write past capacity, Ok for a
+// null pointer with a count or a near plane <= 0. Also light_frustum_extruded_planes (hull contains the
+// receiver vertices and the light, finite planes for finite input) and the box/sphere predicates
+// (receivers never culled, NaN never culls, monotone in size/tol).
 #include <shadowkit/light_frustum.hpp>
 
 #include "fuzz_input.hpp"
@@ -29,11 +32,11 @@ void check_culling(const shadowkit::LightFrustumPlanes& P, shadowkit_fuzz::FuzzI
         const glm::vec3 grow = glm::abs(r.vec3(raw, 0.125f));
         const float rad = r.value(raw, 0.125f);
         const double tol = (r.u8() & 1) ? double(r.interesting_f32()) : double(std::fabs(r.quantized(0.01f)));
-        const bool b = shadowkit::box_may_intersect(P, mn, mx, tol);
-        const bool s = shadowkit::sphere_may_intersect(P, mn, rad, tol);
-        (void)shadowkit::box_may_intersect(P, mn, mx);  // default tolerance
-        (void)shadowkit::sphere_may_intersect(P, mn, rad);
-        if (P.count == 0 && (!b || !s)) __builtin_trap();
+        const bool b = shadowkit::light_frustum_box_may_intersect(P, mn, mx, tol);
+        const bool s = shadowkit::light_frustum_sphere_may_intersect(P, mn, rad, tol);
+        (void)shadowkit::light_frustum_box_may_intersect(P, mn, mx);  // default tolerance
+        (void)shadowkit::light_frustum_sphere_may_intersect(P, mn, rad);
+        if ((P.count == 0 || P.status != shadowkit::Status::Ok) && (!b || !s)) __builtin_trap();
         // an axis whose extent is undefined (NaN min and max) makes every plane test NaN: never culled
         const bool nan_box = (std::isnan(mn.x) && std::isnan(mx.x)) || (std::isnan(mn.y) && std::isnan(mx.y)) ||
                              (std::isnan(mn.z) && std::isnan(mx.z));
@@ -41,14 +44,14 @@ void check_culling(const shadowkit::LightFrustumPlanes& P, shadowkit_fuzz::FuzzI
         if ((std::isnan(mn.x) || std::isnan(mn.y) || std::isnan(mn.z) || std::isnan(rad)) && !s) __builtin_trap();
         if (!(tol >= 0.0) || !std::isfinite(tol)) continue;
         // a degenerate box and a zero-radius sphere are the same point test
-        if (shadowkit::box_may_intersect(P, mn, mn, tol) != shadowkit::sphere_may_intersect(P, mn, 0.0f, tol)) __builtin_trap();
+        if (shadowkit::light_frustum_box_may_intersect(P, mn, mn, tol) != shadowkit::light_frustum_sphere_may_intersect(P, mn, 0.0f, tol)) __builtin_trap();
         // monotone: larger tolerance / box / radius keeps a "may intersect"
-        if (b && !shadowkit::box_may_intersect(P, mn, mx, 2.0 * tol + 1.0)) __builtin_trap();
-        if (s && !shadowkit::sphere_may_intersect(P, mn, rad, 2.0 * tol + 1.0)) __builtin_trap();
-        if (b && all_finite(grow) && !shadowkit::box_may_intersect(P, mn - grow, mx + grow, tol)) __builtin_trap();
-        if (s && std::isfinite(grow.x) && !shadowkit::sphere_may_intersect(P, mn, rad + grow.x, tol)) __builtin_trap();
+        if (b && !shadowkit::light_frustum_box_may_intersect(P, mn, mx, 2.0 * tol + 1.0)) __builtin_trap();
+        if (s && !shadowkit::light_frustum_sphere_may_intersect(P, mn, rad, 2.0 * tol + 1.0)) __builtin_trap();
+        if (b && all_finite(grow) && !shadowkit::light_frustum_box_may_intersect(P, mn - grow, mx + grow, tol)) __builtin_trap();
+        if (s && std::isfinite(grow.x) && !shadowkit::light_frustum_sphere_may_intersect(P, mn, rad + grow.x, tol)) __builtin_trap();
         // a box containing the point is kept whenever the point is
-        if (shadowkit::box_may_intersect(P, mn, mn, tol) && !shadowkit::box_may_intersect(P, mn, mx, tol)) __builtin_trap();
+        if (shadowkit::light_frustum_box_may_intersect(P, mn, mn, tol) && !shadowkit::light_frustum_box_may_intersect(P, mn, mx, tol)) __builtin_trap();
     }
 }
 
@@ -87,12 +90,23 @@ void extruded_volume_and_culling(shadowkit_fuzz::FuzzInput& r) {
     }
     const glm::vec4 lf(r.vec3(raw, 0.25f), (m & 8) ? 0.0f : ((m & 16) ? r.value(raw, 0.25f) : 1.0f));
     const glm::dvec4 light(lf);
-    const shadowkit::LightFrustumPlanes H =
-        shadowkit::extruded_volume_planes(nv > 0 ? verts : nullptr, nv, np > 0 ? planes : nullptr, np, light);
+    // negative counts: a null pointer with a count (must be InvalidArgument)
+    const bool null_verts = nv < 0, null_planes = np < 0;
+    const std::size_t vcount = null_verts ? std::size_t(-nv) : std::size_t(nv), pcount = null_planes ? std::size_t(-np) : std::size_t(np);
+    const shadowkit::LightFrustumPlanes H = shadowkit::light_frustum_extruded_planes(
+        (nv > 0 && !null_verts) ? verts : nullptr, vcount, (np > 0 && !null_planes) ? planes : nullptr, pcount, lf);
     if (H.count < 0 || H.count > 64) __builtin_trap();
+    if ((null_verts || null_planes) && H.status == shadowkit::Status::Ok) __builtin_trap();
+    if (H.status != shadowkit::Status::Ok && H.count != 0) __builtin_trap();
     if (nv <= 0 && H.count != 0) __builtin_trap();
+    const bool light_ok = std::isfinite(lf.x) && std::isfinite(lf.y) && std::isfinite(lf.z) && std::isfinite(lf.w) &&
+                          lf.w >= 0.0f && !(lf.w == 0.0f && lf.x == 0.0f && lf.y == 0.0f && lf.z == 0.0f);
+    if (!light_ok && H.status == shadowkit::Status::Ok) __builtin_trap();  // InvalidLight
+    if (H.status == shadowkit::Status::Ok)
+        for (int k = 0; k < H.count; ++k)
+            if (!finite4(H.planes[k])) __builtin_trap();
 
-    bool finite_in = finite4(light) && !(light.w == 0.0 && light.x == 0.0 && light.y == 0.0 && light.z == 0.0);
+    bool finite_in = light_ok && H.status == shadowkit::Status::Ok;
     for (int i = 0; i < nv; ++i) finite_in = finite_in && finite4(glm::dvec4(verts[i], 1.0));
     for (int i = 0; i < np; ++i) finite_in = finite_in && finite4(planes[i]);
     if (finite_in && nv > 0) {
@@ -104,7 +118,7 @@ void extruded_volume_and_culling(shadowkit_fuzz::FuzzInput& r) {
             double scale = 1.0;
             for (int i = 0; i < nv; ++i) scale = std::fmax(scale, glm::length(verts[i]));
             if (!directional) scale = std::fmax(scale, glm::length(L));
-            const glm::dvec3 toward = directional ? -glm::normalize(glm::dvec3(light)) : glm::dvec3(0.0);
+            const glm::dvec3 toward = directional ? glm::normalize(glm::dvec3(light)) : glm::dvec3(0.0);
             for (int k = 0; k < H.count; ++k) {
                 const glm::dvec4& P = H.planes[k];
                 for (int i = 0; i < nv; ++i) {
@@ -119,18 +133,50 @@ void extruded_volume_and_culling(shadowkit_fuzz::FuzzInput& r) {
             const double ctol = 1e-6 * scale;
             for (int i = 0; i < nv; ++i) {
                 const glm::vec3 v(verts[i]);
-                if (!shadowkit::box_may_intersect(H, v, v, ctol)) __builtin_trap();
-                if (!shadowkit::sphere_may_intersect(H, v, 0.0f, ctol)) __builtin_trap();
+                if (!shadowkit::light_frustum_box_may_intersect(H, v, v, ctol)) __builtin_trap();
+                if (!shadowkit::light_frustum_sphere_may_intersect(H, v, 0.0f, ctol)) __builtin_trap();
             }
-            if (kind == 0 && !shadowkit::box_may_intersect(H, bmin, bmax, ctol)) __builtin_trap();
+            if (kind == 0 && !shadowkit::light_frustum_box_may_intersect(H, bmin, bmax, ctol)) __builtin_trap();
         }
     }
     check_culling(H, r, raw);
     // an arbitrary plane set (NaN/Inf planes, any count 0..64)
     shadowkit::LightFrustumPlanes A;
+    A.status = shadowkit::Status::Ok;
     A.count = r.range(0, 64);
     for (int k = 0; k < A.count; ++k) A.planes[k] = glm::dvec4(glm::dvec3(r.vec3(raw, 0.25f)), double(r.value(raw, 0.25f)));
     check_culling(A, r, raw);
+}
+
+// A camera projection: raw 16 floats; glm's perspective (near may be <= 0); or an epsilon-tweaked
+// infinite projection (Everitt-Kilgard P_inf, GL or zero-to-one, optionally reversed) from raw values.
+glm::mat4 camera_projection(shadowkit_fuzz::FuzzInput& r, uint8_t mode, shadowkit::ClipDepth& cd, bool& rev,
+                            bool& near_bad) {
+    near_bad = false;
+    if (mode == 0) return r.mat4();
+    const float fovy = r.f32(), aspect = r.f32(), n = r.f32(), f = r.f32();
+    if (mode == 1) {
+        near_bad = std::isfinite(n) && n <= 0.0f;
+        cd = shadowkit::ClipDepth::NegativeOneToOne;
+        rev = false;
+        return glm::perspective(fovy, 1.3f, n, f);  // a fixed aspect: glm asserts on aspect == epsilon
+    }
+    const float eps = std::fabs(std::fmod(f, 0.5f));  // NaN stays NaN
+    const double t = 1.0 / std::tan(0.5 * double(fovy));
+    glm::mat4 m(0.0f);
+    m[0][0] = float(t / double(aspect));
+    m[1][1] = float(t);
+    m[2][3] = -1.0f;
+    const bool zo = cd == shadowkit::ClipDepth::ZeroToOne;
+    double A = 1.0 - double(eps), B = zo ? -(1.0 - double(eps)) * double(n) : -(2.0 - double(eps)) * double(n);
+    if (rev) {
+        if (zo) { A = double(eps); B = (1.0 - double(eps)) * double(n); }
+        else { A = -A; B = -B; }
+    }
+    m[2][2] = float(-A);
+    m[3][2] = float(B);
+    near_bad = std::isfinite(n) && n <= 0.0f;
+    return m;
 }
 
 }  // namespace
@@ -138,23 +184,26 @@ void extruded_volume_and_culling(shadowkit_fuzz::FuzzInput& r) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     shadowkit_fuzz::FuzzInput r(data, size);
     const uint8_t flags = r.u8();
+    const uint8_t f2 = r.u8();
     shadowkit::LightFrustumInput in;
     // raw 16 floats, or a well-formed camera from 6 floats (keeps coverage deep)
     in.camera_view = (flags & 1) ? r.look_at_view() : r.mat4();
-    in.camera_proj = (flags & 2) ? r.mat4() : r.perspective(1.3f, (flags & 64) != 0);
     in.camera_depth = (flags & 4) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
     in.camera_reversed_z = (flags & 8) != 0;
-    in.max_distance = r.f32();
+    bool near_bad = false;
+    in.camera_proj = camera_projection(r, uint8_t(((flags >> 1) & 1) | ((f2 >> 5) & 2)) % 3, in.camera_depth,
+                                       in.camera_reversed_z, near_bad);
+    in.max_distance = (f2 & 16) ? r.interesting_f32() : r.f32();
     in.receiver_min_depth = r.f32();
     in.receiver_max_depth = r.f32();
-    in.light = glm::vec4(r.vec3(), (flags & 16) ? r.f32() : 0.0f);
+    if (flags & 64) in.receiver_min_depth = in.receiver_max_depth = 0.0f;
+    in.light_position = glm::vec4(r.vec3(), (flags & 16) ? r.f32() : 0.0f);
     in.has_scene_bounds = (flags & 32) != 0;
     in.scene_min = r.vec3();
     in.scene_max = in.scene_min + glm::abs(r.vec3());
-    const uint8_t f2 = r.u8();
     in.stable = (f2 & 1) != 0;
     in.shadow_map_size = static_cast<uint32_t>(r.u8()) * 16u;
-    in.radius_quantum = r.f32();
+    in.radius_quantum = (f2 & 128) ? 1.0f / 16.0f : r.f32();
     in.light_depth = (f2 & 2) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
     in.light_reversed_z = (f2 & 4) != 0;
     in.point_min_near_ratio = (f2 & 8) ? r.f32() : 1e-4f;
@@ -162,31 +211,54 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<float> boxes(nb * 6), spheres(ns * 4);
     for (float& v : boxes) v = r.f32();
     for (float& v : spheres) v = r.f32();
-    in.casters = nb ? boxes.data() : nullptr;
+    const uint8_t f3 = r.u8();
+    if (f3 & 8) in.light_position = glm::vec4(r.vec3(false, 4.0f), 1.0f);  // a well-formed point light
+    const bool null_casters = (f3 & 1) && nb > 0, null_spheres = (f3 & 2) && ns > 0;
+    in.casters = (nb && !null_casters) ? boxes.data() : nullptr;
     in.caster_count = nb;
-    in.caster_spheres = ns ? spheres.data() : nullptr;
+    in.caster_spheres = (ns && !null_spheres) ? spheres.data() : nullptr;
     in.caster_sphere_count = ns;
     const size_t cap = r.size(47);
+    const bool null_keep = (f3 & 4) && cap > 0;
     std::vector<uint32_t> keep(cap + 1, 0xFFFFFFFFu);
-    const shadowkit::LightFrustumResult res = shadowkit::fit_light_frustum(in, keep.data(), cap);
+    const shadowkit::LightFrustumResult res = shadowkit::light_frustum_fit(in, null_keep ? nullptr : keep.data(), cap);
+    const shadowkit::Status st = res.status;
     if (keep[cap] != 0xFFFFFFFFu) __builtin_trap();  // wrote past capacity
-    if (res.status == shadowkit::LightFrustumStatus::Ok || res.status == shadowkit::LightFrustumStatus::BufferTooSmall) {
+    if (res.count > cap) __builtin_trap();
+    if ((null_casters || null_spheres || null_keep) && st != shadowkit::Status::InvalidArgument) __builtin_trap();
+    if (near_bad && (st == shadowkit::Status::Ok || st == shadowkit::Status::BufferTooSmall)) __builtin_trap();
+    const glm::vec4 L = in.light_position;
+    const bool light_bad = !all_finite(L) || L.w < 0.0f || (L.w == 0.0f && L.x == 0.0f && L.y == 0.0f && L.z == 0.0f);
+    if (light_bad && (st == shadowkit::Status::Ok || st == shadowkit::Status::BufferTooSmall)) __builtin_trap();
+    if (st == shadowkit::Status::Ok || st == shadowkit::Status::BufferTooSmall) {
         if (!all_finite(res.view_proj) || !all_finite(res.view) || !all_finite(res.proj)) __builtin_trap();
-        if (res.kept_count + res.culled_count != nb + ns) __builtin_trap();
-        if ((res.status == shadowkit::LightFrustumStatus::Ok) != (res.kept_count <= cap)) __builtin_trap();
-        for (size_t i = 0; i < res.kept_count && i < cap; ++i)
+        if (!std::isfinite(res.near_plane) || !std::isfinite(res.far_plane) || !std::isfinite(res.texel_world_size) ||
+            !all_finite(res.bounding_sphere))
+            __builtin_trap();
+        if (res.needed + res.culled_count != nb + ns) __builtin_trap();
+        if (res.invalid_count > res.culled_count) __builtin_trap();
+        if ((st == shadowkit::Status::Ok) != (res.needed <= cap)) __builtin_trap();
+        if (res.count != (res.needed < cap ? res.needed : cap)) __builtin_trap();
+        if (!res.visible && (res.needed != 0 || st != shadowkit::Status::Ok)) __builtin_trap();
+        if (res.visible && in.stable && !(res.texel_world_size > 0.0f)) __builtin_trap();
+        for (size_t i = 0; i < res.count; ++i)
             if (keep[i] >= nb + ns) __builtin_trap();
+    } else if (res.count != 0) {
+        __builtin_trap();
     }
-    glm::vec3 corners[8];
-    if (shadowkit::camera_slice_corners(in.camera_view, in.camera_proj, in.camera_depth, in.camera_reversed_z,
-                                        in.max_distance, in.receiver_min_depth, in.receiver_max_depth, corners) ==
-        shadowkit::LightFrustumStatus::Ok) {
-        for (const glm::vec3& c : corners)
-            if (!all_finite(c)) {
-                // float overflow of a finite double corner is the only way here: allowed only for huge input
-                if (std::fabs(in.max_distance) < 1e30f) __builtin_trap();
-            }
+    const shadowkit::LightFrustumCorners corners = shadowkit::light_frustum_slice_corners(in);
+    if (near_bad && corners.status == shadowkit::Status::Ok) __builtin_trap();
+    if (corners.status == shadowkit::Status::Ok && corners.visible) {
+        for (const glm::vec3& c : corners.corners)
+            if (!all_finite(c)) __builtin_trap();
+        if (!std::isfinite(corners.near_depth) || !std::isfinite(corners.far_depth) ||
+            !(corners.far_depth >= corners.near_depth))
+            __builtin_trap();
     }
+    // the fit and the corners agree on visibility for the camera-only part
+    if (st == shadowkit::Status::Ok && res.visible && !in.has_scene_bounds && corners.status == shadowkit::Status::Ok &&
+        !corners.visible)
+        __builtin_trap();
     extruded_volume_and_culling(r);
     return 0;
 }

@@ -1,9 +1,11 @@
 // libFuzzer target for include/shadowkit/poisson_disk.hpp: every public function with decoded
-// domains, radii, counts, seeds, capacities and GLSL names; invariants trap on violation.
+// domains, radii, counts, seeds, capacities and GLSL names; invariants trap on violation (no
+// result says NotRun; Ok only with finite outputs; count <= capacity).
 #include <shadowkit/poisson_disk.hpp>
 
 #include "fuzz_input.hpp"
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -31,50 +33,56 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const int attempts = r.range(-4, 251);
     const int factor = r.range(0, 79);
 
-    (void)poisson_domain_area(d);
-    (void)poisson_packing_distance(d, count_raw);
+    const PoissonValue area = poisson_domain_area(d);
+    if (area.status == Status::NotRun || (area.status == Status::Ok && !(area.value > 0.0f))) __builtin_trap();
+    const PoissonValue pk = poisson_packing_distance(d, count_raw);
+    if (pk.status == Status::NotRun || (pk.status == Status::Ok && !(std::isfinite(pk.value) && pk.value > 0.0f))) __builtin_trap();
     std::vector<glm::vec2> buf(capacity ? capacity : 1);
     glm::vec2* out = (flags & 1) && capacity == 0 ? nullptr : buf.data();
 
     if (op % 3 == 0) {
         const size_t cap_bound = poisson_bridson_capacity(d, radius);
         if (cap_bound > 1024 && cap_bound <= kPoissonMaxPoints) return 0;  // valid but slow: skip
-        BridsonOptions o;
+        PoissonBridsonOptions o;
         o.attempts = attempts;
         o.fill_gaps = (flags & 2) != 0;
         const PoissonResult res = poisson_bridson(d, radius, seed, out, capacity, o);
-        if (res.count > capacity) __builtin_trap();
-        if (res.status == PoissonStatus::Ok || res.status == PoissonStatus::BufferTooSmall) {
+        if (res.count > capacity || res.status == Status::NotRun) __builtin_trap();
+        if (res.status == Status::Ok || res.status == Status::BufferTooSmall) {
             if (res.needed > cap_bound) __builtin_trap();
-            if (res.status == PoissonStatus::Ok && res.count != res.needed) __builtin_trap();
+            if (res.status == Status::Ok && res.count != res.needed) __builtin_trap();
             check_set(d, out, res.count);
             if (res.count >= 2 && res.count <= 300) {
-                const float md = poisson_min_distance(out, res.count);
-                if (!(double(md) >= double(radius) * (1.0 - 1e-7))) __builtin_trap();
+                const PoissonValue md = poisson_min_distance(out, res.count);
+                if (md.status != Status::Ok || !(double(md.value) >= double(radius) * (1.0 - 1e-7))) __builtin_trap();
             }
+        } else if (res.count != 0) {
+            __builtin_trap();
         }
     } else {
         size_t count = (flags & 4) ? count_raw : count_raw % 300;
         const size_t f2 = size_t(factor) * size_t(factor);  // work grows with count * factor^2
         if (factor >= 2 && factor <= 64 && count <= 300 && count * f2 > 20000)
             count = 20000 / f2;  // keep each run fast
-        EliminationOptions o;
+        PoissonEliminationOptions o;
         o.candidate_factor = factor;
         o.progressive = (flags & 8) != 0;
         o.weight_limiting = (flags & 16) != 0;
         if (count > 300 && count <= kPoissonMaxPoints) return 0;  // valid but slow: skip
         const PoissonResult res = poisson_eliminate(d, count, seed, out, capacity, o);
-        if (res.count > capacity) __builtin_trap();
-        if (res.status == PoissonStatus::Ok) {
-            if (res.count != count) __builtin_trap();
+        if (res.count > capacity || res.status == Status::NotRun) __builtin_trap();
+        if (res.status == Status::Ok) {
+            if (res.count != count || !std::isfinite(res.radius)) __builtin_trap();
             check_set(d, out, res.count);
-            const float md = poisson_min_distance(out, res.count);
-            if (res.count >= 2 && md != res.radius) __builtin_trap();
-            (void)poisson_normalized_radius(d, out, res.count);
+            const PoissonValue md = poisson_min_distance(out, res.count);
+            if (res.count >= 2 && (md.status != Status::Ok || md.value != res.radius)) __builtin_trap();
+            const PoissonValue rho = poisson_normalized_radius(d, out, res.count);
+            if (rho.status == Status::Ok ? !std::isfinite(rho.value) : res.count >= 2) __builtin_trap();
             if (res.count <= 24) {
-                const float cov = poisson_coverage_radius(d, out, res.count);
-                const float grid = poisson_coverage_radius_grid(d, out, res.count, 33);
-                if (res.count > 0 && !(grid <= cov + 1e-5f)) __builtin_trap();
+                const PoissonValue cov = poisson_coverage_radius(d, out, res.count);
+                const PoissonValue grid = poisson_coverage_radius_grid(d, out, res.count, 33);
+                if ((cov.status == Status::Ok) != (res.count > 0) || (grid.status == Status::Ok) != (res.count > 0)) __builtin_trap();
+                if (res.count > 0 && !(grid.value <= cov.value + 1e-5f)) __builtin_trap();
             }
             // GLSL emission with a fuzzed name and capacity.
             char name[9];
@@ -83,11 +91,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (flags & 32) std::memcpy(name, "SK_TAPS", 8);
             const size_t text_cap = r.u16();
             std::vector<char> text(text_cap + 1, 'x');
-            const GlslEmitResult g = poisson_to_glsl(out, res.count, name, text_cap ? text.data() : nullptr, text_cap);
+            const PoissonGlsl mode = static_cast<PoissonGlsl>(r.range(0, 2));  // 2: invalid
+            const PoissonGlslResult g = poisson_to_glsl(out, res.count, name, mode, text_cap ? text.data() : nullptr, text_cap);
             if (text[text_cap] != 'x') __builtin_trap();  // never writes past capacity
-            if (g.status == PoissonStatus::Ok || g.status == PoissonStatus::BufferTooSmall) {
+            if (g.status == Status::NotRun || g.count > text_cap) __builtin_trap();
+            if (g.status == Status::Ok || g.status == Status::BufferTooSmall) {
                 if (text_cap > 0 && std::memchr(text.data(), '\0', text_cap) == nullptr) __builtin_trap();
-                if (g.status == PoissonStatus::Ok && std::strlen(text.data()) + 1 != g.needed) __builtin_trap();
+                if (g.status == Status::Ok && (std::strlen(text.data()) + 1 != g.needed || g.count != g.needed)) __builtin_trap();
+                if (g.status == Status::Ok && std::strstr(text.data(), "__") != nullptr) __builtin_trap();
             }
         }
     }

@@ -1,9 +1,11 @@
 // libFuzzer target for include/shadowkit/prt.hpp: orders, strata, positions and normals (NaN/Inf,
 // zero), options (albedo, offset, mode), a visibility callback driven by the bytes, capacities,
-// environment radiance, and clustered-PCA parameters on the resulting transfer vectors.
-// Also the function-pointer prt_compute_transfer (same result as the callable form) and
-// prt_shade / prt_shade_rgb (0 for invalid order or null arrays, else the dot product: finite for
-// bounded finite input, NaN propagated). Invariants trap on violation.
+// environment radiance (up to 3e38), and clustered-PCA parameters on the resulting transfer
+// vectors. Calls every public function: also the function-pointer prt_compute_transfer (same
+// result as the callable form), prt_shade / prt_shade_rgb / prt_shade_mesh against a double
+// reference, prt_cpca_shade / prt_cpca_shade_mesh. Invariants trap: Status::Ok only with finite
+// outputs, count == needed <= capacity when Ok, NaN input never Ok, Ok exactly when the
+// double-precision radiance fits a float, nothing written past a capacity.
 #include <shadowkit/prt.hpp>
 
 #include "fuzz_input.hpp"
@@ -11,8 +13,10 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+using shadowkit_fuzz::all_finite;
 using shadowkit_fuzz::check;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -21,11 +25,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const uint8_t flags = r.u8();
     const bool raw = flags & 1, unshadowed = flags & 2;
     constexpr float kStep = 1.0f / 32.0f;  // quantized positions, normals and radiance scale
+    const double fmax = double(std::numeric_limits<float>::max());
     const int order = r.range(-6, 6);
     const int strata = r.range(0, 9);
-    PrtSamples samples;
-    const PrtStatus ms = prt_make_samples(order, strata, r.u32(), samples);
-    if (ms == PrtStatus::Ok) check(samples.count() == size_t(strata * strata));
+    const PrtSamples samples = prt_make_samples(order, strata, r.u32());
+    check(samples.status != Status::NotRun);
+    if (samples.status == Status::Ok) check(samples.count() == size_t(strata * strata) && samples.order == order);
+    else check(samples.count() == 0);
     const size_t n = prt_coefficient_count(order);
 
     PrtTransferOptions opt;
@@ -44,60 +50,103 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<float> T(cap + 1, -7.0f);
     const PrtTransferResult tr = prt_compute_transfer(
         samples, opt, pos.data(), nrm.data(), pos.size(),
-        [&](const glm::vec3&, const glm::vec3& d) {
+        [&](const glm::vec3& o, const glm::vec3& d) {
             check(std::fabs(glm::length(d) - 1.0f) < 1e-4f);
+            check(all_finite(o));
             return ((pattern >> (calls++ % 32)) & 1u) != 0u;
         },
         T.data(), cap);
+    check(tr.status != Status::NotRun);
     check(tr.rays == calls);
     check(T[cap] == -7.0f);  // nothing written past the capacity
-    if (tr.status == PrtStatus::Ok) {
-        check(tr.count == pos.size() * n && tr.count <= cap);
+    check(tr.count <= cap);
+    if (tr.status == Status::Ok) {
+        check(tr.count == pos.size() * n && tr.count == tr.needed);
         for (size_t i = 0; i < tr.count; ++i) check(std::isfinite(T[i]));
+        check(std::isfinite(opt.albedo) && std::isfinite(opt.ray_offset) && opt.ray_offset >= 0.0f);
+        for (size_t v = 0; v < pos.size(); ++v) check(all_finite(nrm[v]) && (unshadowed || all_finite(pos[v])));
+    } else {
+        check(tr.count == 0 && tr.rays == 0);
     }
 
-    // environment projection
+    // environment projection (radiance scale up to 3e38: Overflow reachable)
     glm::vec3 env[25];
-    const float scale = r.value(raw, kStep);
-    const PrtResult pe = prt_project_environment(samples, [&](const glm::vec3& d) { return scale * d; }, env, r.size(29));
-    if (pe.status == PrtStatus::Ok) {
-        for (size_t i = 0; i < n; ++i) check(shadowkit_fuzz::all_finite(env[i]));
-        if (tr.status == PrtStatus::Ok && tr.count > 0) {
+    const float scale = (flags & 4) ? r.interesting_f32() : r.value(raw, kStep);
+    const size_t ecap = r.size(29);
+    const PrtResult pe = prt_project_environment(samples, [&](const glm::vec3& d) { return scale * d; }, env, ecap);
+    check(pe.status != Status::NotRun && pe.count <= ecap);
+    if (pe.status == Status::Ok) {
+        check(pe.count == n && std::isfinite(scale));
+        for (size_t i = 0; i < n; ++i) check(all_finite(env[i]));
+        if (tr.status == Status::Ok && tr.count > 0) {
             std::vector<glm::vec3> out(pos.size());
             const PrtResult sm = prt_shade_mesh(order, T.data(), n, pos.size(), env, out.data(), out.size());
-            check(sm.status == PrtStatus::Ok);
+            check(sm.status == Status::Ok || sm.status == Status::Overflow);
+            if (sm.status == Status::Ok) {
+                check(sm.count == pos.size());
+                for (const auto& o : out) check(all_finite(o));
+            }
         }
+    } else {
+        check(pe.count == 0);
     }
 
     // clustered PCA on whatever transfer vectors came out
-    if (tr.status == PrtStatus::Ok && tr.count > 0) {
+    if (tr.status == Status::Ok && tr.count > 0) {
         PrtCpcaOptions co;
         co.clusters = r.size(7);
         co.components = r.range(-29, 29);
-        co.iterations = r.range(0, 4);
+        co.iterations = r.range(-1, 4);
         co.seed = r.u32();
-        PrtCpca cp;
-        const PrtStatus cs = prt_cpca_compress(order, T.data(), n, pos.size(), co, cp);
-        if (cs == PrtStatus::Ok) {
+        const PrtCpca cp = prt_cpca_compress(order, T.data(), n, pos.size(), co);
+        check(cp.status != Status::NotRun);
+        if (cp.status == Status::Ok) {
             check(cp.clusters >= 1 && cp.clusters <= pos.size());
             check(std::isfinite(cp.rms_error));
+            for (float w : cp.weights) check(std::isfinite(w));
             for (size_t v = 0; v < pos.size(); ++v) {
                 check(cp.cluster_of[v] < cp.clusters);
                 float rec[25];
-                check(prt_cpca_reconstruct(cp, v, rec, 25).status == PrtStatus::Ok);
-                for (size_t i = 0; i < n; ++i) check(std::isfinite(rec[i]));
+                const PrtResult rr = prt_cpca_reconstruct(cp, v, rec, 25);
+                check(rr.status == Status::Ok || rr.status == Status::Overflow);
+                if (rr.status == Status::Ok)
+                    for (size_t i = 0; i < n; ++i) check(std::isfinite(rec[i]));
             }
-            if (pe.status == PrtStatus::Ok) {
+            check(prt_cpca_reconstruct(cp, pos.size(), nullptr, 0).status == Status::IndexOutOfRange);
+            if (pe.status == Status::Ok) {
                 std::vector<glm::vec3> proj(cp.clusters * (size_t(cp.components) + 1));
-                check(prt_cpca_project_environment(cp, env, 25, proj.data(), proj.size()).status == PrtStatus::Ok);
-                for (size_t v = 0; v < pos.size(); ++v) (void)prt_cpca_shade(cp, proj.data(), v);
+                const PrtResult pp = prt_cpca_project_environment(cp, env, 25, proj.data(), proj.size());
+                check(pp.status == Status::Ok || pp.status == Status::Overflow);
+                if (pp.status == Status::Ok) {
+                    for (const auto& p : proj) check(all_finite(p));
+                    std::vector<glm::vec3> shaded(pos.size());
+                    const PrtResult sm = prt_cpca_shade_mesh(cp, proj.data(), shaded.data(), shaded.size());
+                    check(sm.status == Status::Ok || sm.status == Status::Overflow);
+                    for (size_t v = 0; v < pos.size(); ++v) {
+                        const PrtRgbValue c = prt_cpca_shade(cp, proj.data(), v);
+                        check(c.status == Status::Ok || c.status == Status::Overflow);
+                        if (c.status == Status::Ok) {
+                            check(all_finite(c.value));
+                            if (sm.status == Status::Ok) check(shaded[v] == c.value);
+                        } else {
+                            check(sm.status == Status::Overflow);
+                        }
+                    }
+                }
             }
         } else {
             check(cp.clusters == 0);
         }
     }
     float y[25];
-    (void)prt_sh_basis(order, r.vec3(raw, kStep), y, r.size(29));
+    const glm::vec3 bdir = r.vec3(raw, kStep);
+    const size_t bcap = r.size(29);
+    const PrtResult pb = prt_sh_basis(order, bdir, y, bcap);
+    check(pb.status != Status::NotRun && pb.count <= bcap);
+    if (pb.status == Status::Ok) {
+        check(all_finite(bdir) && pb.count == n);
+        for (size_t i = 0; i < n; ++i) check(std::isfinite(y[i]));
+    }
 
     // function-pointer form: the same transfer as the callable form for the same visibility answers
     {
@@ -114,19 +163,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                                            null_fn ? nullptr : &vis, T2.data(), cap);
         check(T2[cap] == -7.0f);
         if (null_fn && !unshadowed) {
-            check(tr2.status == PrtStatus::NullPointer && tr2.count == prt_coefficient_count(samples.order) * pos.size());
+            check(tr2.status == Status::InvalidArgument && tr2.count == 0);
             check(tr2.rays == 0);
             for (float t : T2) check(t == -7.0f);
         } else {
             check(tr2.status == tr.status && tr2.count == tr.count && tr2.rays == tr.rays);
             check(tr2.degenerate_vertices == tr.degenerate_vertices);
             if (!null_fn) check(vis.calls == tr2.rays);
-            if (tr.status == PrtStatus::Ok)
-                for (size_t i = 0; i < tr.count; ++i) check(T2[i] == T[i] || (std::isnan(T2[i]) && std::isnan(T[i])));
+            if (tr.status == Status::Ok)
+                for (size_t i = 0; i < tr.count; ++i) check(T2[i] == T[i]);
         }
     }
 
-    // prt_shade / prt_shade_rgb: sum_i T_i L_i; 0 for an invalid order or a null array
+    // prt_shade / prt_shade_rgb / prt_shade_mesh: Ok with the dot product exactly when the
+    // double-precision sum fits a float; NonFinite for NaN/Inf; InvalidArgument for a bad order or
+    // a null array
     {
         const uint8_t sf = r.u8();
         const int sorder = (sf & 1) ? r.i32() : r.range(-2, 7);
@@ -142,39 +193,58 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const float* tp = (sf & 4) ? nullptr : t;
         const float* ep = (sf & 8) ? nullptr : e1;
         const glm::vec3* e3p = (sf & 8) ? nullptr : e3;
-        const float s1 = prt_shade(sorder, tp, ep);
-        const glm::vec3 s3 = prt_shade_rgb(sorder, tp, e3p);
+        const PrtValue s1 = prt_shade(sorder, tp, ep);
+        const PrtRgbValue s3 = prt_shade_rgb(sorder, tp, e3p);
+        glm::vec3 mesh_out[1] = {glm::vec3(-7.0f)};
+        const PrtResult sm = prt_shade_mesh(sorder, tp, 25, 1, e3p, mesh_out, 1);
         if (sn == 0 || !tp || !ep) {
-            check(s1 == 0.0f && s3 == glm::vec3(0.0f));
+            check(s1.status == Status::InvalidArgument && s3.status == Status::InvalidArgument);
+            check(sm.status == Status::InvalidArgument);
+            check(s1.value == 0.0f && s3.value == glm::vec3(0.0f));
         } else {
-            // reference in double per channel (channel 3: the scalar form on the green channel);
-            // float accumulation of <= 25 products
+            bool nonfinite3 = false, overflow3 = false;
             for (int ch = 0; ch < 4; ++ch) {
                 double ref = 0.0, mag = 0.0;
-                bool fin = true, has_nan = false;
+                bool fin = true;
                 for (size_t i = 0; i < sn; ++i) {
                     const float ev = ch == 3 ? e1[i] : e3[i][ch];
-                    fin = fin && std::isfinite(t[i]) && std::isfinite(ev) && std::fabs(t[i]) <= 1e18f && std::fabs(ev) <= 1e18f;
-                    has_nan = has_nan || std::isnan(t[i]) || std::isnan(ev);
+                    fin = fin && std::isfinite(t[i]) && std::isfinite(ev);
                     ref += double(t[i]) * double(ev);
                     mag += std::fabs(double(t[i]) * double(ev));
                 }
-                const float got = ch == 3 ? s1 : s3[ch];
-                if (has_nan) check(std::isnan(got));  // NaN in a coefficient is never hidden
-                if (fin) {
-                    check(std::isfinite(got));
-                    check(std::fabs(double(got) - ref) <= 1e-5 * mag + 1e-37);
+                if (ch < 3)
+                    for (size_t i = 0; i < sn; ++i) fin = fin && all_finite(e3[i]);  // the rgb form checks all channels
+                const Status got = ch == 3 ? s1.status : s3.status;
+                if (!fin) {
+                    check(got == Status::NonFinite);
+                    if (ch < 3) nonfinite3 = true;
+                    continue;
+                }
+                const bool fits = std::fabs(ref) <= fmax;
+                if (ch == 3) {
+                    check(s1.status == (fits ? Status::Ok : Status::Overflow));
+                    if (fits) check(std::isfinite(s1.value) && std::fabs(double(s1.value) - ref) <= 1e-5 * mag + 1e-37);
+                } else if (!fits) {
+                    overflow3 = true;
+                } else if (s3.status == Status::Ok) {
+                    check(std::isfinite(s3.value[ch]) && std::fabs(double(s3.value[ch]) - ref) <= 1e-5 * mag + 1e-37);
                 }
             }
+            const Status expect3 = nonfinite3 ? Status::NonFinite : overflow3 ? Status::Overflow : Status::Ok;
+            check(s3.status == expect3);
+            check(sm.status == expect3);
+            if (sm.status == Status::Ok) check(mesh_out[0] == s3.value);
+            else check(sm.count == 0);
         }
     }
 
-    // per-vertex cluster shading: out-of-range vertex or null projections give 0
+    // per-vertex cluster shading: a compression no call filled, null projections
     {
-        PrtCpca empty;
-        const glm::vec3 z = prt_cpca_shade(empty, env, r.size(3));
-        check(z == glm::vec3(0.0f));
-        check(prt_cpca_shade(empty, nullptr, 0) == glm::vec3(0.0f));
+        const PrtCpca empty;
+        check(prt_cpca_shade(empty, env, r.size(3)).status == Status::InvalidArgument);
+        glm::vec3 o[1];
+        check(prt_cpca_shade_mesh(empty, env, o, 1).status == Status::InvalidArgument);
+        check(prt_cpca_project_environment(empty, env, 25, o, 1).status == Status::InvalidArgument);
     }
     return 0;
 }

@@ -1,5 +1,6 @@
-// libFuzzer target for include/shadowkit/shadow_bias.hpp: every function with decoded vectors,
-// depths, formats and metrics (NaN/Inf included); invariants trap on violation.
+// libFuzzer target for include/shadowkit/shadow_bias.hpp: every public function with decoded
+// vectors, depths, formats and metrics (NaN/Inf and invalid enum values included). Invariants trap
+// on violation: no result says NotRun; Ok only with finite outputs in their documented range.
 #include <shadowkit/shadow_bias.hpp>
 
 #include "fuzz_input.hpp"
@@ -7,63 +8,97 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 using shadowkit_fuzz::all_finite;
 
+namespace {
+using namespace shadowkit;
+bool fits(double v) { return std::isfinite(v) && std::fabs(v) <= double(std::numeric_limits<float>::max()); }
+void check(const BiasValue& r) {
+    if (r.status == Status::NotRun) __builtin_trap();
+    if (r.status == Status::Ok ? !std::isfinite(r.value) : r.value != 0.0f) __builtin_trap();
+}
+void check(const BiasDepthValue& r) {
+    if (r.status == Status::NotRun) __builtin_trap();
+    if (r.status == Status::Ok ? !fits(r.value) : r.value != 0.0) __builtin_trap();
+}
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    using namespace shadowkit;
     shadowkit_fuzz::FuzzInput r(data, size);
-    const DepthFormat fmt = static_cast<DepthFormat>(r.range(0, 2));
-    const DepthMetric metric = static_cast<DepthMetric>(r.range(0, 3));
+    const DepthFormat fmt = static_cast<DepthFormat>(r.range(0, 3));          // 3: invalid
+    const BiasDepthMetric metric = static_cast<BiasDepthMetric>(r.range(0, 4));  // 4: invalid
     const double v = r.f64(), dist = r.f64(), n = r.f64(), f = r.f64();
     const float a = r.f32(), b = r.f32(), c = r.f32(), e = r.f32();
     const glm::vec3 p = r.vec3(), nrm = r.vec3(), l = r.vec3(), dx = r.vec3(), dy = r.vec3();
     const bool rev = r.boolean();
 
-    const double q = quantize_depth(fmt, v);
-    if (!std::isnan(v) && fmt != DepthFormat::Float32 && !(q >= 0.0 && q <= 1.0)) __builtin_trap();
-    const double st = depth_format_step(fmt, v);
-    if (!std::isnan(v) && !(st > 0.0)) __builtin_trap();
-    (void)depth_format_bits(fmt);
-    (void)depth_metric_value(metric, dist, n, f);
-    (void)depth_metric_slope(metric, dist, n, f);
-    const double res = depth_metric_resolution(metric, fmt, dist, n, f);
-    if (!std::isnan(res) && !(res >= 0.0)) __builtin_trap();
-    (void)texel_world_size_perspective(a, b, c);
-    (void)texel_world_size_ortho(a, b);
-    (void)shadow_test_lit(a, b, c, rev);
+    const BiasDepthValue q = bias_quantize_depth(fmt, v);
+    check(q);
+    if (q.status == Status::Ok && fmt != DepthFormat::Float32 && !(q.value >= 0.0 && q.value <= 1.0)) __builtin_trap();
+    const BiasDepthValue st = bias_depth_format_step(fmt, v);
+    check(st);
+    if (st.status == Status::Ok && !(st.value > 0.0)) __builtin_trap();
+    const int bits = bias_depth_format_bits(fmt);
+    if (bits != 0 && bits != 16 && bits != 24) __builtin_trap();
+    check(bias_depth_metric_value(metric, dist, n, f));
+    const BiasDepthValue sl = bias_depth_metric_slope(metric, dist, n, f);
+    check(sl);
+    if (sl.status == Status::Ok && !(sl.value > 0.0)) __builtin_trap();
+    const BiasDepthValue res = bias_depth_metric_resolution(metric, fmt, dist, n, f);
+    check(res);
+    if (res.status == Status::Ok && !(res.value > 0.0)) __builtin_trap();
+    const BiasValue tw = bias_texel_world_size_perspective(a, b, c);
+    check(tw);
+    if (tw.status == Status::Ok && tw.value < 0.0f) __builtin_trap();
+    const BiasValue to = bias_texel_world_size_ortho(a, b);
+    check(to);
+    if (to.status == Status::Ok && to.value < 0.0f) __builtin_trap();
+    (void)bias_shadow_test_lit(a, b, c, rev);
 
-    const float tn = light_tan_angle(nrm, l);
-    if (!std::isnan(tn) && tn < 0.0f) __builtin_trap();
-    const DepthGradient g = plane_depth_gradient(nrm, dx, dy, l);
-    if (g.ok && !(std::isfinite(g.dz_duv.x) && std::isfinite(g.dz_duv.y))) __builtin_trap();
-    const float delta = texel_depth_delta(g.dz_duv, a);
-    if (std::isfinite(a) && a >= 0.0f && g.ok && std::isfinite(delta) && delta < 0.0f) __builtin_trap();
-    const float sb = slope_scaled_bias(a, tn, b, c, e);
-    if (std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && std::isfinite(e) && tn >= 0.0f && a >= 0.0f &&
-        b >= 0.0f && e >= 0.0f && !std::isnan(sb) && sb < c - 1e-30f)
-        __builtin_trap();
-    const double r_ = polygon_offset_r(fmt, a);
-    if (!std::isnan(a) && !(r_ > 0.0)) __builtin_trap();
-    (void)polygon_offset(a, b, c, e, fmt, a, rev);
-    (void)polygon_offset_units_for_world_bias(v, metric, fmt, dist, n, f);
-
-    const glm::vec3 off = normal_offset_position(p, nrm, l, a, b);
-    if (all_finite(p) && std::isfinite(a * b) && std::fabs(a * b) < 1e30f && !all_finite(off)) __builtin_trap();
-    if (!all_finite(nrm) || !all_finite(l)) {
-        if (!(off == p) && !(std::isnan(p.x) || std::isnan(p.y) || std::isnan(p.z))) __builtin_trap();
+    const BiasTanAngle tn = bias_light_tan_angle(nrm, l);
+    if (tn.status == Status::NotRun) __builtin_trap();
+    if (tn.status == Status::Ok) {
+        if (!std::isfinite(tn.value) || tn.value < 0.0f) __builtin_trap();
+        if (!tn.faces_light && tn.value != 0.0f) __builtin_trap();
     }
+    const BiasDepthGradient g = bias_plane_depth_gradient(nrm, dx, dy, l);
+    if (g.status == Status::NotRun) __builtin_trap();
+    if (g.status == Status::Ok && !(std::isfinite(g.dz_duv.x) && std::isfinite(g.dz_duv.y))) __builtin_trap();
+    if (g.edge_on && g.dz_duv != glm::vec2(0.0f)) __builtin_trap();
+    const BiasValue delta = bias_texel_depth_delta(g.dz_duv, a);
+    check(delta);
+    if (delta.status == Status::Ok && delta.value < 0.0f) __builtin_trap();
+    const BiasValue sb = bias_slope_scaled(a, tn.value, b, c, e);
+    check(sb);
+    if (sb.status == Status::Ok && sb.value < c) __builtin_trap();  // never below the constant
+    const BiasValue sb2 = bias_slope_scaled(a, b, c, e);
+    check(sb2);
+    const BiasDepthValue r_ = bias_polygon_offset_r(fmt, a);
+    check(r_);
+    if (r_.status == Status::Ok && !(r_.value > 0.0)) __builtin_trap();
+    check(bias_polygon_offset(a, b, c, e, fmt, a, rev));
+    check(bias_polygon_offset_units_for_world_bias(v, metric, fmt, dist, n, f));
 
-    const ReceiverPlaneGradient rp = receiver_plane_depth_gradient(dx, dy);
-    if (rp.ok && !(std::isfinite(rp.dz_duv.x) && std::isfinite(rp.dz_duv.y))) __builtin_trap();
-    (void)receiver_plane_depth(a, rp.dz_duv, glm::vec2(b, c));
-    const float tb = receiver_plane_texel_bias(rp.dz_duv, glm::vec2(std::fabs(b), std::fabs(c)));
-    if (!std::isnan(tb) && tb < 0.0f) __builtin_trap();
+    const BiasPosition off = bias_normal_offset_position(p, nrm, l, a, b);
+    if (off.status == Status::NotRun) __builtin_trap();
+    if (off.status == Status::Ok && !all_finite(off.position)) __builtin_trap();
 
-    const float sd = second_depth_value(a, b, e);
-    if (!std::isnan(a) && !std::isnan(b) && !std::isnan(e) && std::isfinite(a) && std::isfinite(b) && e >= 0.0f) {
+    const BiasReceiverPlane rp = bias_receiver_plane_depth_gradient(dx, dy);
+    if (rp.status == Status::NotRun) __builtin_trap();
+    if (rp.status == Status::Ok && !(std::isfinite(rp.dz_duv.x) && std::isfinite(rp.dz_duv.y))) __builtin_trap();
+    if (rp.singular && rp.dz_duv != glm::vec2(0.0f)) __builtin_trap();
+    check(bias_receiver_plane_depth(a, rp.dz_duv, glm::vec2(b, c)));
+    const BiasValue tb = bias_receiver_plane_texel_bias(rp.dz_duv, glm::vec2(std::fabs(b), std::fabs(c)));
+    check(tb);
+    if (tb.status == Status::Ok && tb.value < 0.0f) __builtin_trap();
+
+    const BiasValue sd = bias_second_depth_value(a, b, e);
+    check(sd);
+    if (sd.status == Status::Ok) {
         const float lo = a < b ? a : b, hi = a < b ? b : a;
-        if (!(sd >= lo && sd <= hi)) __builtin_trap();
+        if (!(sd.value >= lo && sd.value <= hi)) __builtin_trap();
     }
     return 0;
 }

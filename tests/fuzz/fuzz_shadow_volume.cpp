@@ -1,5 +1,7 @@
 // libFuzzer target for shadowkit/shadow_volume.hpp: arbitrary positions, edges, triangles, lit flags,
-// capacities, lights, bounds, matrices and viewports. Invariants trap on violation.
+// capacities, cap modes, lights, bounds, cameras, matrices and viewports. Invariants trap on
+// violation: Ok only with finite outputs in range, count <= capacity, count == needed when Ok,
+// nothing written past a capacity, never Ok for out-of-range input.
 #include <shadowkit/shadow_volume.hpp>
 
 #include "fuzz_input.hpp"
@@ -13,67 +15,129 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     namespace sk = shadowkit;
     shadowkit_fuzz::FuzzInput in(data, size);
     const std::uint8_t mode = in.u8();
-    const std::size_t nv = in.size(31), ne = in.size(39), nt = in.size(39), cap = in.size(255);
+    const std::size_t nv = in.size(31), ne = in.size(79), nt = in.size(39), cap = in.size(255);
     std::vector<glm::vec3> pos(nv);
     for (auto& v : pos) v = in.vec3();
-    std::vector<std::uint32_t> edges(2 * ne), tris(3 * nt);
+    std::vector<std::uint32_t> edges(ne), tris(3 * nt);
     for (auto& e : edges) e = (mode & 1) ? in.u32() : in.range<std::uint32_t>(0, static_cast<std::uint32_t>(nv));
     for (auto& t : tris) t = (mode & 1) ? in.u32() : in.range<std::uint32_t>(0, static_cast<std::uint32_t>(nv));
     std::vector<std::uint8_t> lit(nt);
     for (auto& l : lit) l = in.u8();
 
     std::vector<glm::vec4> vb(cap + 1, glm::vec4(-7.0f));
-    const sk::VolumeCount rv = sk::build_volume_vertices(nv ? pos.data() : nullptr, nv, vb.data(), cap);
+    const sk::VolumeBuffer rv = sk::volume_build_vertices(nv ? pos.data() : nullptr, nv, vb.data(), cap);
     if (vb[cap] != glm::vec4(-7.0f)) __builtin_trap();
-    if (rv.status == sk::VolumeStatus::Ok && rv.count != 2 * nv) __builtin_trap();
+    if (rv.count > cap || rv.status == sk::Status::NotRun) __builtin_trap();
+    if (rv.status == sk::Status::Ok || rv.status == sk::Status::BufferTooSmall) {
+        if (rv.needed != 2 * nv || (rv.status == sk::Status::Ok) != (rv.count == rv.needed)) __builtin_trap();
+        for (std::size_t k = 0; k < rv.count; ++k)
+            if (!shadowkit_fuzz::all_finite(vb[k]) || (vb[k].w != 0.0f && vb[k].w != 1.0f)) __builtin_trap();
+    }
+    if (nv > 0 && sk::volume_build_vertices(nullptr, nv, vb.data(), cap).status != sk::Status::InvalidArgument) __builtin_trap();
 
     std::vector<std::uint32_t> ib(cap + 1, 0xDEADBEEFu);
-    const sk::VolumeCount rs = sk::build_side_quads(ne ? edges.data() : nullptr, ne, nv, ib.data(), cap);
-    if (ib[cap] != 0xDEADBEEFu) __builtin_trap();
-    if (rs.status == sk::VolumeStatus::Ok || rs.status == sk::VolumeStatus::BufferTooSmall) {
-        if (rs.count != 6 * ne) __builtin_trap();
-        for (std::size_t k = 0; k < (rs.count < cap ? rs.count : (cap / 6) * 6); ++k)
+    const sk::VolumeBuffer rs = sk::volume_build_side_quads(ne ? edges.data() : nullptr, ne, nv, ib.data(), cap);
+    if (ib[cap] != 0xDEADBEEFu || rs.count > cap) __builtin_trap();
+    if (rs.status == sk::Status::Ok || rs.status == sk::Status::BufferTooSmall) {
+        if (ne % 2 != 0 || rs.needed != 3 * ne || rs.count % 6 != 0 || (rs.status == sk::Status::Ok) != (rs.count == rs.needed))
+            __builtin_trap();
+        for (std::size_t k = 0; k < rs.count; ++k)
             if (ib[k] >= 2 * nv) __builtin_trap();
+    } else if (ne % 2 == 0 && rs.status == sk::Status::InvalidArgument && nv <= 0x7FFFFFFF) {
+        __builtin_trap();  // an even count of in-range arguments is never invalid
     }
+    if (ne > 0 && sk::volume_build_side_quads(nullptr, ne, nv, ib.data(), cap).status != sk::Status::InvalidArgument) __builtin_trap();
     std::fill(ib.begin(), ib.end(), 0xDEADBEEFu);
-    const sk::CapMode cm = (mode & 2) ? sk::CapMode::EverittKilgard : sk::CapMode::LitOnly;
-    const sk::VolumeCount rc = sk::build_caps(nt ? tris.data() : nullptr, nt, nt ? lit.data() : nullptr, nv, cm, (mode & 4) != 0, ib.data(), cap);
-    if (ib[cap] != 0xDEADBEEFu) __builtin_trap();
-    if (rc.status == sk::VolumeStatus::Ok || rc.status == sk::VolumeStatus::BufferTooSmall) {
-        if (rc.count % 3 != 0 || rc.count > 6 * nt) __builtin_trap();
-        for (std::size_t k = 0; k < (rc.count < cap ? rc.count : (cap / 3) * 3); ++k)
+    const std::uint8_t cm_byte = in.u8();
+    const sk::VolumeCapMode cm = (cm_byte & 3) == 3 ? static_cast<sk::VolumeCapMode>(2 + (cm_byte >> 2))
+                                                    : ((mode & 2) ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly);
+    const std::size_t lit_count = (cm_byte & 4) ? in.size(nt + 1) : nt;
+    const sk::VolumeBuffer rc = sk::volume_build_caps(nt ? tris.data() : nullptr, 3 * nt, lit_count ? lit.data() : nullptr, lit_count,
+                                                      nv, cm, (mode & 4) != 0, ib.data(), cap);
+    if (ib[cap] != 0xDEADBEEFu || rc.count > cap) __builtin_trap();
+    if (rc.status == sk::Status::Ok || rc.status == sk::Status::BufferTooSmall) {
+        if ((cm_byte & 3) == 3 || lit_count != nt) __builtin_trap();  // out-of-range mode / count: never Ok
+        if (rc.needed % 3 != 0 || rc.needed > 6 * nt || rc.count % 3 != 0 || (rc.status == sk::Status::Ok) != (rc.count == rc.needed))
+            __builtin_trap();
+        for (std::size_t k = 0; k < rc.count; ++k)
             if (ib[k] >= 2 * nv) __builtin_trap();
     }
 
-    const glm::vec4 L(in.vec3(), (mode & 8) ? 0.0f : in.f32());
-    sk::NearPlaneRect rect;
-    for (auto& c : rect.corners) c = in.vec3();
+    glm::vec4 L(in.vec3(), (mode & 8) ? 0.0f : in.f32());
+    if ((mode & 0x30) == 0x30 && nv > 0) L = glm::vec4(pos[0], 1.0f);  // the light on a vertex
+    const bool light_ok = shadowkit_fuzz::all_finite(L) && L.w >= 0.0f && !(L.x == 0.0f && L.y == 0.0f && L.z == 0.0f && L.w == 0.0f);
+    sk::VolumeNearRect rect;
+    if (mode & 32) {
+        rect = sk::volume_near_plane_rect((mode & 64) ? in.mat4() : in.look_at_view(), in.f32(), in.f32(), in.f32());
+        if (rect.status == sk::Status::Ok)
+            for (const glm::vec3& c : rect.corners)
+                if (!shadowkit_fuzz::all_finite(c)) __builtin_trap();
+    } else {  // a hand-made rectangle (any corners, any status): the choices must still check it
+        for (auto& c : rect.corners) c = in.vec3();
+        rect.status = (in.u8() & 1) ? sk::Status::Ok : sk::Status::NotRun;
+    }
+    bool rect_finite = true;
+    for (const glm::vec3& c : rect.corners) rect_finite = rect_finite && shadowkit_fuzz::all_finite(c);
     const glm::vec3 bmin = in.vec3(), bmax = in.vec3();
     const float margin = (mode & 16) ? in.f32() : 0.0f;
-    const sk::MethodResult mb = sk::choose_stencil_method_box(rect, L, bmin, bmax, margin);
-    if (mb.status != sk::VolumeStatus::Ok && mb.method != sk::StencilMethod::ZFail) __builtin_trap();
-    const sk::MethodResult ms = sk::choose_stencil_method_sphere(rect, L, bmin, in.f32(), margin);
-    if (ms.status != sk::VolumeStatus::Ok && ms.method != sk::StencilMethod::ZFail) __builtin_trap();
+    const sk::VolumeMethod mb = sk::volume_choose_stencil_method_box(rect, L, bmin, bmax, margin);
+    if (mb.status != sk::Status::Ok && mb.method != sk::VolumeStencilMethod::ZFail) __builtin_trap();
+    if (mb.status == sk::Status::Ok && (rect.status != sk::Status::Ok || !rect_finite || !light_ok || !(bmin.x <= bmax.x && bmin.y <= bmax.y && bmin.z <= bmax.z) ||
+                                        !(margin >= 0.0f) || !std::isfinite(margin)))
+        __builtin_trap();
+    const float radius = in.f32();
+    const sk::VolumeMethod ms = sk::volume_choose_stencil_method_sphere(rect, L, bmin, radius, margin);
+    if (ms.status != sk::Status::Ok && ms.method != sk::VolumeStencilMethod::ZFail) __builtin_trap();
+    if (ms.status == sk::Status::Ok && (rect.status != sk::Status::Ok || !rect_finite || !light_ok || !(radius >= 0.0f) || !std::isfinite(radius)))
+        __builtin_trap();
 
-    const glm::mat4 view = (mode & 32) ? in.mat4() : glm::mat4(1.0f);
-    (void)sk::near_plane_rect(view, in.f32(), in.f32(), in.f32());
-    (void)sk::near_plane_rect_from_inverse(view, (mode & 64) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne, (mode & 128) != 0);
+    // near plane from a camera: documented ranges only
+    {
+        const glm::mat4 view = (mode & 64) ? in.mat4() : glm::mat4(1.0f);
+        const float fovy = in.f32(), aspect = in.f32(), near_z = in.f32();
+        const sk::VolumeNearRect r = sk::volume_near_plane_rect(view, fovy, aspect, near_z);
+        if (r.status == sk::Status::Ok) {
+            if (!(fovy > 0.0f && fovy < 3.1415927f && aspect > 0.0f && near_z > 0.0f) || !std::isfinite(aspect) || !std::isfinite(near_z))
+                __builtin_trap();
+            for (const glm::vec3& c : r.corners)
+                if (!shadowkit_fuzz::all_finite(c)) __builtin_trap();
+        }
+        const sk::VolumeNearRect ri = sk::volume_near_plane_rect_from_inverse(
+            view, (mode & 64) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne, (mode & 128) != 0);
+        if (ri.status == sk::Status::Ok)
+            for (const glm::vec3& c : ri.corners)
+                if (!shadowkit_fuzz::all_finite(c)) __builtin_trap();
+    }
 
     sk::ScissorParams sp;
-    sp.view_proj = in.mat4();
+    const std::uint8_t ssel = in.u8();
+    if (ssel & 1) sp.view_proj = in.mat4();  // else the default (zero, required): never Ok
     sp.clip_depth = (mode & 64) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne;
     sp.reversed_z = (mode & 128) != 0;
-    for (int& v : sp.viewport) v = in.i32();
+    if (ssel & 2)
+        for (int& v : sp.viewport) v = in.i32();
     const glm::vec3 lmin = in.vec3(), lmax = in.vec3();
-    const sk::ScissorResult s = sk::shadow_volume_scissor(L, bmin, bmax, lmin, lmax, sp);
-    if (s.status == sk::VolumeStatus::Ok && s.visible) {
-        const long long x0 = sp.viewport[0], y0 = sp.viewport[1];
-        if (s.width <= 0 || s.height <= 0) __builtin_trap();
-        if (s.x < x0 || s.y < y0 || static_cast<long long>(s.x) + s.width > x0 + sp.viewport[2] ||
-            static_cast<long long>(s.y) + s.height > y0 + sp.viewport[3]) __builtin_trap();
+    const sk::ScissorRect s = sk::volume_scissor(L, bmin, bmax, lmin, lmax, sp);
+    if (s.status == sk::Status::NotRun) __builtin_trap();
+    if (s.status == sk::Status::Ok) {
+        if (!(ssel & 1) || !(ssel & 2) || !light_ok) __builtin_trap();
         if (!(s.depth_min >= 0.0f && s.depth_max <= 1.0f && s.depth_min <= s.depth_max)) __builtin_trap();
+        if (s.visible) {
+            const long long x0 = sp.viewport[0], y0 = sp.viewport[1];
+            if (s.width <= 0 || s.height <= 0) __builtin_trap();
+            if (s.x < x0 || s.y < y0 || static_cast<long long>(s.x) + s.width > x0 + sp.viewport[2] ||
+                static_cast<long long>(s.y) + s.height > y0 + sp.viewport[3])
+                __builtin_trap();
+        }
+    } else if (s.visible) {
+        __builtin_trap();
     }
-    const glm::vec4 x = sk::extrude_to_infinity(glm::vec4(bmin, 1.0f), L);
-    if (x.w != 0.0f) __builtin_trap();
+    const glm::vec4 p(bmin, (mode & 2) ? 1.0f : in.f32());
+    const sk::VolumeExtrusion x = sk::volume_extrude_to_infinity(p, L);
+    if (x.status == sk::Status::Ok) {
+        if (!shadowkit_fuzz::all_finite(x.position) || x.position.w != 0.0f || !light_ok) __builtin_trap();
+        if (x.position.x == 0.0f && x.position.y == 0.0f && x.position.z == 0.0f) __builtin_trap();
+    }
+    (void)sk::volume_indices_capacity(static_cast<std::size_t>(in.u64()), static_cast<std::size_t>(in.u64()));
     return 0;
 }

@@ -1,12 +1,14 @@
 // libFuzzer target for shadowkit/silhouette.hpp: arbitrary positions (NaN / Inf), indices (out of
-// range), weld tolerances, lights and capacities. Invariants trap on violation.
+// range), weld tolerances, lights and capacities. Invariants trap on violation: Ok only with valid
+// outputs, count <= capacity, count == needed when Ok, nothing written past a capacity, the
+// chunked path identical to the serial one, and the facing filter equal to the exact fallback.
 #include <shadowkit/silhouette.hpp>
 
 #include "fuzz_input.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <algorithm>
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -27,15 +29,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     std::vector<std::uint32_t> idx(ni);
     for (auto& i : idx) i = (mode & 2) ? in.u32() : in.range<std::uint32_t>(0, static_cast<std::uint32_t>(nv));
-    sk::AdjacencyOptions o;
+    sk::SilhouetteAdjacencyOptions o;
     o.weld_tolerance = (mode & 4) ? in.f32() : ((mode & 8) ? -1.0f : 0.0f);
-    const glm::vec4 L(in.vec3(), (mode & 16) ? 0.0f : in.f32());
+    // the light: raw, or exactly on a vertex (w = 1 or a power of two), or directional
+    glm::vec4 L(in.vec3(), (mode & 16) ? 0.0f : in.f32());
+    const std::uint8_t lsel = in.u8();
+    if ((lsel & 3) == 1 && nv > 0) L = glm::vec4(pos[lsel % nv], 1.0f);
+    if ((lsel & 3) == 2 && nv > 0) L = glm::vec4(pos[lsel % nv] * 4.0f, 4.0f);
     const std::size_t cap = in.size(255);
 
-    const sk::EdgeAdjacency adj = sk::build_edge_adjacency(nv ? pos.data() : nullptr, nv, ni ? idx.data() : nullptr, ni, o);
-    if (adj.status != sk::SilhouetteStatus::Ok) {
+    const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(nv ? pos.data() : nullptr, nv, ni ? idx.data() : nullptr, ni, o);
+    // null pointers with non-zero counts are rejected
+    if (nv > 0 && sk::silhouette_build_adjacency(nullptr, nv, idx.data(), ni, o).status != sk::Status::InvalidArgument) __builtin_trap();
+    if (ni > 0 && sk::silhouette_build_adjacency(pos.data(), nv, nullptr, ni, o).status != sk::Status::InvalidArgument) __builtin_trap();
+    if (adj.status == sk::Status::NotRun) __builtin_trap();
+    if (adj.status != sk::Status::Ok) {
         std::vector<std::uint8_t> f(4);
-        if (sk::compute_facing(adj, pos.data(), nv, L, f.data(), f.size()).status != sk::SilhouetteStatus::InvalidAdjacency) __builtin_trap();
+        if (sk::silhouette_compute_facing(adj, pos.data(), nv, L, f.data(), f.size()).status != sk::Status::InvalidArgument) __builtin_trap();
         return 0;
     }
     const std::size_t fc = adj.face_count();
@@ -46,34 +56,56 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::uint32_t v : adj.faces)
         if (v >= nv || adj.remap[v] != v) __builtin_trap();
     std::size_t halfedges = 0;
-    for (const sk::AdjacencyEdge& e : adj.edges) {
-        if (e.f0 >= fc || (e.f1 != sk::kNoFace && e.f1 >= fc) || e.v0 >= nv || e.v1 >= nv || e.v0 == e.v1) __builtin_trap();
-        halfedges += e.f1 == sk::kNoFace ? 1 : 2;
+    for (const sk::SilhouetteEdge& e : adj.edges) {
+        if (e.f0 >= fc || (e.f1 != sk::kSilhouetteNoFace && e.f1 >= fc) || e.v0 >= nv || e.v1 >= nv || e.v0 == e.v1) __builtin_trap();
+        halfedges += e.f1 == sk::kSilhouetteNoFace ? 1 : 2;
     }
-    for (const sk::NonManifoldEdge& e : adj.nonmanifold_edges) halfedges += e.count;
+    for (const sk::SilhouetteNonManifoldEdge& e : adj.nonmanifold_edges) halfedges += e.count;
     if (halfedges != 3 * fc) __builtin_trap();
+    // every kept face has a non-zero exact cross product
+    for (std::size_t f = 0; f < fc; ++f) {
+        const glm::vec3 &A = pos[adj.faces[3 * f]], &B = pos[adj.faces[3 * f + 1]], &C = pos[adj.faces[3 * f + 2]];
+        if (sk::detail::sil_face_sign_exact(A, B, C, glm::vec4(1, 0, 0, 0)) == 0 &&
+            sk::detail::sil_face_sign_exact(A, B, C, glm::vec4(0, 1, 0, 0)) == 0 &&
+            sk::detail::sil_face_sign_exact(A, B, C, glm::vec4(0, 0, 1, 0)) == 0)
+            __builtin_trap();
+    }
 
     std::vector<std::uint8_t> facing(fc + 1, 0xCD);
-    const sk::FacingResult fr = sk::compute_facing(adj, pos.data(), nv, L, facing.data(), fc);
-    if (fr.status != sk::SilhouetteStatus::Ok) {
-        if (fr.status != sk::SilhouetteStatus::InvalidLight) __builtin_trap();
+    const sk::SilhouetteFacing fr = sk::silhouette_compute_facing(adj, pos.data(), nv, L, facing.data(), fc);
+    if (fr.status != sk::Status::Ok) {
+        if (fr.status != sk::Status::InvalidLight || sk::silhouette_valid_light(L)) __builtin_trap();
         return 0;
     }
+    if (!sk::silhouette_valid_light(L) || fr.count != fc || fr.needed != fc || fr.lit_faces > fc) __builtin_trap();
     if (facing[fc] != 0xCD) __builtin_trap();
     for (std::size_t i = 0; i < fc; ++i)
         if (facing[i] > 1) __builtin_trap();
-    std::vector<std::uint32_t> out(2 * cap + 2, 0xDEADBEEFu);
-    std::vector<std::uint8_t> flags(cap + 1, 0xEE);
-    const sk::SilhouetteResult r = sk::extract_silhouette(adj, facing.data(), fc, out.data(), flags.data(), cap);
-    if (r.edge_count > adj.max_silhouette_edges()) __builtin_trap();
-    if ((r.edge_count > cap) != (r.status == sk::SilhouetteStatus::BufferTooSmall)) __builtin_trap();
-    if (out[2 * cap] != 0xDEADBEEFu || out[2 * cap + 1] != 0xDEADBEEFu || flags[cap] != 0xEE) __builtin_trap();
-    const std::size_t written = r.edge_count < cap ? r.edge_count : cap;
-    for (std::size_t k = 0; k < 2 * written; ++k)
+    // the facing bit is the exact sign: the filter never disagrees with the exact fallback; a face
+    // incident to a vertex at the light (w = 1 or 4 above) is never lit
+    for (std::size_t f = 0; f < fc; ++f) {
+        const glm::vec3 &A = pos[adj.faces[3 * f]], &B = pos[adj.faces[3 * f + 1]], &C = pos[adj.faces[3 * f + 2]];
+        const int exact = sk::detail::sil_face_sign_exact(A, B, C, L);
+        if ((facing[f] != 0) != (exact > 0)) __builtin_trap();
+        if ((lsel & 3) != 0 && (lsel & 3) != 3 && L.w > 0.0f) {
+            const glm::vec3 at = glm::vec3(L) / L.w;
+            if ((A == at || B == at || C == at) && facing[f]) __builtin_trap();
+        }
+    }
+    std::vector<std::uint32_t> out(cap + 2, 0xDEADBEEFu);
+    const std::size_t fcap = in.size(cap);
+    std::vector<std::uint8_t> flags(fcap + 1, 0xEE);
+    const sk::SilhouetteResult r = sk::silhouette_extract(adj, facing.data(), fc, out.data(), cap, flags.data(), fcap);
+    if (r.needed > sk::silhouette_indices_capacity(adj) || r.count > cap || r.count % 2 != 0 || r.count / 2 > fcap) __builtin_trap();
+    if ((r.count < r.needed) != (r.status == sk::Status::BufferTooSmall)) __builtin_trap();
+    if (r.status != sk::Status::Ok && r.status != sk::Status::BufferTooSmall) __builtin_trap();
+    if (out[cap] != 0xDEADBEEFu || flags[fcap] != 0xEE) __builtin_trap();
+    for (std::size_t k = 0; k < r.count; ++k)
         if (out[k] >= nv) __builtin_trap();
     // Closed meshes: silhouette loops are balanced.
-    const sk::Silhouette s = sk::extract_silhouette(adj, pos.data(), nv, L);
-    if (s.status != sk::SilhouetteStatus::Ok || s.indices.size() != 2 * r.edge_count) __builtin_trap();
+    const sk::Silhouette s = sk::silhouette_compute(adj, pos.data(), nv, L);
+    if (s.status != sk::Status::Ok || s.indices.size() != r.needed || s.flags.size() != r.needed / 2) __builtin_trap();
+    if (!std::equal(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(r.count), s.indices.begin())) __builtin_trap();
     if (adj.closed()) {
         std::vector<long> bal(nv, 0);
         for (std::size_t k = 0; k < s.indices.size(); k += 2) { ++bal[s.indices[k]]; --bal[s.indices[k + 1]]; }
@@ -82,81 +114,79 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     // Chunked / parallel path (serial loop, chunks in reverse): identical to the serial result.
     const std::size_t chunks = 1 + in.size(40);
-    const std::size_t pcap = adj.max_silhouette_edges() + in.size(3);
+    const std::size_t pcap = sk::silhouette_indices_capacity(adj) + in.size(3);
     std::vector<std::uint8_t> pf(fc + 1, 0xCD);
-    std::vector<std::uint32_t> pidx(2 * pcap + 2, 0xDEADBEEFu);
-    std::vector<std::uint8_t> pflags(pcap + 1, 0xEE);
+    std::vector<std::uint32_t> pidx(pcap + 2, 0xDEADBEEFu);
+    std::vector<std::uint8_t> pflags(pcap / 2 + 1, 0xEE);
     std::vector<sk::SilhouetteResult> per(chunks);
     auto rev_for = [](std::size_t n, const auto& fn) {
         for (std::size_t i = n; i-- > 0;) fn(i);
     };
-    const sk::SilhouetteResult pr = sk::extract_silhouette_parallel(adj, pos.data(), nv, L, pf.data(), fc, pidx.data(),
-                                                                    pflags.data(), pcap, per.data(), chunks, rev_for);
-    if (pr.status != sk::SilhouetteStatus::Ok || pr.edge_count != r.edge_count) __builtin_trap();
-    if (pf[fc] != 0xCD || pidx[2 * pcap] != 0xDEADBEEFu || pflags[pcap] != 0xEE) __builtin_trap();
+    const sk::SilhouetteResult pr = sk::silhouette_extract_parallel(adj, pos.data(), nv, L, pf.data(), fc, pidx.data(), pcap,
+                                                                    pflags.data(), pcap / 2, per.data(), chunks, rev_for);
+    if (pr.status != sk::Status::Ok || pr.count != r.needed || pr.needed != r.needed) __builtin_trap();
+    if (pf[fc] != 0xCD || pidx[pcap] != 0xDEADBEEFu || pflags[pcap / 2] != 0xEE) __builtin_trap();
     if (!std::equal(s.indices.begin(), s.indices.end(), pidx.begin()) || !std::equal(s.flags.begin(), s.flags.end(), pflags.begin()))
         __builtin_trap();
+    if (pr.boundary_edges != r.boundary_edges || pr.nonmanifold_edges != r.nonmanifold_edges) __builtin_trap();
     // arbitrary chunk indices, capacities and (lying) chunk results are rejected, never overrun
     const std::size_t c = in.size(50), cc = in.size(50);
-    (void)sk::compute_facing_chunk(adj, pos.data(), nv, L, pf.data(), in.size(fc + 2), c, cc);
+    const sk::SilhouetteFacing cf = sk::silhouette_compute_facing_chunk(adj, pos.data(), nv, L, pf.data(), in.size(fc + 2), c, cc);
+    if (cf.status == sk::Status::Ok && (cf.count > fc || cf.lit_faces > cf.count)) __builtin_trap();
     const std::size_t ccap = in.size(pcap);
-    const sk::SilhouetteResult cr = sk::extract_silhouette_chunk(adj, pf.data(), fc, pidx.data(), pflags.data(), ccap, c, cc);
-    if (cr.status == sk::SilhouetteStatus::Ok && cr.edge_count > adj.max_silhouette_edges()) __builtin_trap();
-    for (auto& x : per) x.edge_count = in.size(pcap + 4);
-    (void)sk::compact_silhouette_chunks(adj, per.data(), chunks, pidx.data(), pflags.data(), pcap);
-    if (pidx[2 * pcap] != 0xDEADBEEFu || pflags[pcap] != 0xEE) __builtin_trap();
+    const sk::SilhouetteResult cr = sk::silhouette_extract_chunk(adj, pf.data(), fc, pidx.data(), ccap, pflags.data(), ccap / 2, c, cc);
+    if (cr.status == sk::Status::Ok && (cr.count > sk::silhouette_indices_capacity(adj) || cr.count > ccap)) __builtin_trap();
+    for (auto& x : per) x.count = x.needed = in.size(pcap + 4);
+    (void)sk::silhouette_compact_chunks(adj, per.data(), chunks, pidx.data(), pcap, pflags.data(), pcap / 2);
+    if (pidx[pcap] != 0xDEADBEEFu || pflags[pcap / 2] != 0xEE) __builtin_trap();
 
-    // face_light_distance: the facing rule (lit iff d > 0) that compute_facing applied to every kept face.
-    // Reversed winding negates d (exactly without FMA contraction; bound from the terms' magnitudes).
-    const auto negated = [](double d2, double d, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c3, const glm::vec4& Lq) {
-        const glm::dvec3 A(a), e1 = glm::dvec3(b) - A, e2 = glm::dvec3(c3) - A;
-        const double lw = Lq.w;
-        const glm::dvec3 q(double(Lq.x) - lw * A.x, double(Lq.y) - lw * A.y, double(Lq.z) - lw * A.z);
-        const double m = (std::fabs(e1.x) + std::fabs(e1.y) + std::fabs(e1.z)) *
-                         (std::fabs(e2.x) + std::fabs(e2.y) + std::fabs(e2.z)) * (std::fabs(q.x) + std::fabs(q.y) + std::fabs(q.z));
-        return std::fabs(d2 + d) <= 1e-12 * m;
-    };
-    for (std::size_t f = 0; f < fc; ++f) {
-        const glm::vec3 &A = pos[adj.faces[3 * f]], &B = pos[adj.faces[3 * f + 1]], &C = pos[adj.faces[3 * f + 2]];
-        const double d = sk::face_light_distance(A, B, C, L);
-        if (!std::isfinite(d)) __builtin_trap();  // finite positions and a valid light
-        if ((d > 0.0) != (facing[f] != 0)) __builtin_trap();
-        if (!negated(sk::face_light_distance(A, C, B, L), d, A, B, C, L)) __builtin_trap();  // reversed winding
-    }
-    // ... and on arbitrary triangles and lights (NaN/Inf, degenerate, w < 0)
+    // silhouette_face_orientation on arbitrary triangles and lights (NaN/Inf, degenerate, w < 0,
+    // light on a corner): the filter equals the exact fallback; reversed winding negates the sign;
+    // a rotation keeps it; scaling the light by 2 keeps it; a corner at the light gives 0.
     for (int it = 0; it < 4; ++it) {
         const bool raw = (in.u8() & 1) != 0;
         const glm::vec3 A = in.vec3(raw, 0.5f), B = in.vec3(raw, 0.5f);
         const std::uint8_t sel = in.u8();
         const glm::vec3 C = (sel & 1) ? A : ((sel & 2) ? B : in.vec3(raw, 0.5f));
-        const glm::vec4 Lx((sel & 4) ? in.interesting_f32() : in.value(raw, 0.5f), in.value(raw, 0.5f),
-                           in.value(raw, 0.5f), (sel & 8) ? 0.0f : ((sel & 16) ? in.interesting_f32() : in.value(raw, 0.5f)));
-        const bool valid = sk::valid_light(Lx);
+        glm::vec4 Lx((sel & 4) ? in.interesting_f32() : in.value(raw, 0.5f), in.value(raw, 0.5f), in.value(raw, 0.5f),
+                     (sel & 8) ? 0.0f : ((sel & 16) ? in.interesting_f32() : in.value(raw, 0.5f)));
+        if (sel & 32) Lx = glm::vec4((sel & 64) ? A : B, 1.0f);
+        const bool valid = sk::silhouette_valid_light(Lx);
         const bool lfin = std::isfinite(Lx.x) && std::isfinite(Lx.y) && std::isfinite(Lx.z) && std::isfinite(Lx.w);
         if (valid != (lfin && Lx.w >= 0.0f && !(Lx.x == 0.0f && Lx.y == 0.0f && Lx.z == 0.0f && Lx.w == 0.0f)))
             __builtin_trap();
-        const double d = sk::face_light_distance(A, B, C, Lx);
-        const bool fin = shadowkit_fuzz::all_finite(A) && shadowkit_fuzz::all_finite(B) && shadowkit_fuzz::all_finite(C) && lfin;
-        if (fin && !std::isfinite(d)) __builtin_trap();
-        if (fin && (A == B || B == C || C == A) && d != 0.0) __builtin_trap();  // zero-area face: never lit
-        if (fin && !negated(sk::face_light_distance(A, C, B, Lx), d, A, B, C, Lx)) __builtin_trap();
-        // homogeneous light: scaling (x, y, z, w) by 2 doubles d exactly (no rounding in the scaling)
+        const sk::SilhouetteOrientation so = sk::silhouette_face_orientation(A, B, C, Lx);
+        const bool fin = shadowkit_fuzz::all_finite(A) && shadowkit_fuzz::all_finite(B) && shadowkit_fuzz::all_finite(C);
+        if (!fin) {
+            if (so.status != sk::Status::NonFinite) __builtin_trap();
+            continue;
+        }
+        if (!valid) {
+            if (so.status != sk::Status::InvalidLight) __builtin_trap();
+            continue;
+        }
+        if (so.status != sk::Status::Ok || so.lit != (so.sign > 0) || so.sign < -1 || so.sign > 1) __builtin_trap();
+        if (so.sign != sk::detail::sil_face_sign_exact(A, B, C, Lx)) __builtin_trap();
+        if ((A == B || B == C || C == A) && so.sign != 0) __builtin_trap();  // zero-area face: never lit
+        if ((sel & 32) && so.sign != 0) __builtin_trap();                    // light on a corner
+        if (sk::silhouette_face_orientation(A, C, B, Lx).sign != -so.sign) __builtin_trap();
+        if (sk::silhouette_face_orientation(B, C, A, Lx).sign != so.sign) __builtin_trap();
         const glm::vec4 L2 = 2.0f * Lx;
-        if (fin && shadowkit_fuzz::all_finite(L2) && sk::face_light_distance(A, B, C, L2) != 2.0 * d) __builtin_trap();
+        if (shadowkit_fuzz::all_finite(L2) && sk::silhouette_face_orientation(A, B, C, L2).sign != so.sign) __builtin_trap();
     }
-    // silhouette_chunk_offset: balanced split of the edge list, 0 for invalid arguments
+    // silhouette_chunk_offset: balanced split of the edge list (uint32 elements), 0 for invalid arguments
     {
         const std::size_t ne = adj.edges.size();
         const std::size_t cnt = (in.u8() & 1) ? static_cast<std::size_t>(in.u64()) : in.size(70);
         const std::size_t probe = (in.u8() & 1) ? static_cast<std::size_t>(in.u64()) : in.size(72);
         const std::size_t off = sk::silhouette_chunk_offset(adj, probe, cnt);
         if ((cnt == 0 || probe >= cnt) && off != 0) __builtin_trap();
-        if (off > ne) __builtin_trap();
+        if (off > 2 * ne || off % 2 != 0) __builtin_trap();
         if (cnt != 0 && cnt <= 64) {
             std::size_t prev = sk::silhouette_chunk_offset(adj, 0, cnt);
             if (prev != 0) __builtin_trap();
             for (std::size_t c2 = 1; c2 <= cnt; ++c2) {
-                const std::size_t next = c2 < cnt ? sk::silhouette_chunk_offset(adj, c2, cnt) : ne;
+                const std::size_t next = c2 < cnt ? sk::silhouette_chunk_offset(adj, c2, cnt) / 2 : ne;
                 if (next < prev || next - prev < ne / cnt || next - prev > ne / cnt + 1) __builtin_trap();
                 prev = next;
             }

@@ -2,7 +2,9 @@
 // directions, coefficient vectors, rotation matrices (raw floats, or a proper rotation / reflection
 // built from a decoded quaternion), projection samples with values and weights (NaN/Inf, zero
 // directions, huge counts capped by the input), zonal kernels and capacities decoded from bytes.
-// Invariants trap on violation.
+// Calls every public function. Invariants trap: Status::Ok only with finite outputs and count ==
+// needed <= capacity, NaN input never Ok, NotRun never returned, the total functions
+// (sh_clamped_cosine_band, sh_coefficient_count) finite and in range for every int.
 #include <shadowkit/spherical_harmonics.hpp>
 
 #include <glm/gtc/quaternion.hpp>
@@ -40,8 +42,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const glm::vec3 dir = r.vec3(raw, kStep);
     float yf[32];
     SHResult e = sh_evaluate(order, dir, yf, cap);
-    check(e.count <= 32);
-    if (e.status == SHStatus::Ok) {
+    check(e.count <= cap && e.status != Status::NotRun);
+    if (e.status == Status::Ok) {
+        check(shadowkit_fuzz::all_finite(dir));
         check(e.count == need && e.count <= cap);
         double s = 0.0;
         for (size_t i = 0; i < e.count; ++i) {
@@ -51,13 +54,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         // addition theorem: sum_m y_lm^2 = (2l+1)/(4 pi) per band, so the total is order^2 / (4 pi)
         check(std::fabs(s - double(order * order) / (4.0 * 3.14159265358979323846)) < 1e-5);
     }
-    if (e.status == SHStatus::BufferTooSmall) check(e.count == need && cap < need);
+    if (e.status == Status::BufferTooSmall) check(e.needed == need && cap < need && e.count == 0);
+    if (e.status != Status::Ok) check(e.count == 0);
 
     double c[25];
     for (double& v : c) v = static_cast<double>(r.value(raw, kStep));
     const glm::dvec3 ddir(dir);
     SHValue<double> rv = sh_reconstruct(order, c, cap, ddir);
-    if (rv.status == SHStatus::Ok) check(std::isfinite(rv.value));
+    check(rv.status != Status::NotRun);
+    if (rv.status == Status::Ok) check(std::isfinite(rv.value) && finite(c, need) && shadowkit_fuzz::all_finite(dir));
     else check(rv.value == 0.0);
 
     // rotation
@@ -71,13 +76,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (glm::length(q) > 1e-3) R = glm::mat3_cast(glm::normalize(q));
         if (reflect) R = -R;
     }
-    SHRotation rot;
-    const SHStatus rs = sh_make_rotation(order, R, rot);
-    if (!raw_matrix && sh_order_valid(order)) check(rs == SHStatus::Ok);
-    if (rs == SHStatus::Ok) {
+    const SHRotation rot = sh_make_rotation(order, R);
+    const Status rs = rot.status;
+    check(rs != Status::NotRun);
+    if (!raw_matrix && sh_order_valid(order)) check(rs == Status::Ok);
+    if (rs == Status::Ok) {
+        for (int i = 0; i < 165; ++i) check(std::isfinite(rot.band[i]));
         double out[25];
         const SHResult rr = sh_rotate(rot, c, 25, out, cap);
-        if (rr.status == SHStatus::Ok) {
+        check(rr.count <= cap);
+        if (rr.status == Status::Ok) {
+            check(rr.count == need);
             check(finite(out, need));
             // each band's length is preserved (orthogonal blocks; R orthogonal within 1e-3)
             for (int l = 0; l < order; ++l) {
@@ -89,15 +98,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 check(std::fabs(a - b) <= 0.05 * a + 1e-300);
             }
         } else {
-            check(rr.status == SHStatus::BufferTooSmall || rr.status == SHStatus::NonFiniteInput ||
-                  rr.status == SHStatus::Overflow);
+            check(rr.status == Status::BufferTooSmall || rr.status == Status::NonFinite || rr.status == Status::Overflow);
+            check(rr.count == 0);
         }
         // in place
         double inplace[25];
         std::memcpy(inplace, c, sizeof c);
-        sh_rotate(rot, inplace, 25, inplace, 25);
+        const SHResult ip = sh_rotate(rot, inplace, 25, inplace, 25);
+        if (ip.status == Status::Ok) check(finite(inplace, need));
+        // the convenience form agrees with the two-step form
+        double out2[25];
+        const SHResult r2 = sh_rotate(order, R, c, 25, out2, 25);
+        check(r2.status == ip.status);
     } else {
         check(rot.order == 0);
+        double out[25];
+        check(sh_rotate(rot, c, 25, out, 25).status == Status::InvalidArgument);
+        check(sh_rotate(order, R, c, 25, out, 25).status == rs);
     }
 
     // convolution
@@ -105,11 +122,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (double& z : zonal) z = static_cast<double>(r.value(raw, kStep));
     double conv[25];
     const SHResult cz = sh_convolve_zonal(order, zonal, 5, c, 25, conv, cap);
-    if (cz.status == SHStatus::Ok) check(finite(conv, need));
+    check(cz.count <= cap && cz.status != Status::NotRun);
+    if (cz.status == Status::Ok) check(finite(conv, need) && finite(c, need) && finite(zonal, size_t(order)));
     const SHResult cc = sh_convolve_clamped_cosine(order, c, 25, conv, cap);
-    if (cc.status == SHStatus::Ok) check(finite(conv, need));
+    check(cc.count <= cap && cc.status != Status::NotRun);
+    if (cc.status == Status::Ok) check(finite(conv, need) && finite(c, need));
     const SHValue<double> dv = sh_dot(order, c, 25, conv, cap);
-    if (dv.status == SHStatus::Ok) check(std::isfinite(dv.value));
+    if (dv.status == Status::Ok) check(std::isfinite(dv.value) && finite(c, need));
 
     // projection from samples (float values; count capped by the remaining input)
     const size_t samples = r.size(63);
@@ -125,13 +144,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     float proj[25];
     const SHResult pr = sh_project(order, dirs.data(), vals.data(), use_weights ? weights.data() : nullptr, dirs.size(),
                                    proj, cap);
-    check(pr.count <= 25);
-    if (pr.status == SHStatus::Ok)
+    check(pr.count <= cap && pr.status != Status::NotRun);
+    if (pr.status == Status::Ok) {
+        check(pr.count == need);
         for (size_t i = 0; i < need; ++i) check(std::isfinite(proj[i]));
+        for (size_t j = 0; j < dirs.size(); ++j)
+            check(shadowkit_fuzz::all_finite(dirs[j]) && std::isfinite(vals[j]) && (!use_weights || std::isfinite(weights[j])));
+    }
     glm::vec3 projrgb[25];
     const SHResult prgb = sh_project_rgb(order, dirs.data(), rgb.data(), use_weights ? weights.data() : nullptr,
                                          rgb.size(), projrgb, cap);
-    if (prgb.status == SHStatus::Ok)
+    check(prgb.count <= cap && prgb.status != Status::NotRun);
+    if (prgb.status == Status::Ok)
         for (size_t i = 0; i < need; ++i)
             check(std::isfinite(projrgb[i].x) && std::isfinite(projrgb[i].y) && std::isfinite(projrgb[i].z));
 
@@ -139,10 +163,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const int strata = r.range(-11, 11);
     glm::vec3 sd[128];
     const SHResult st = sh_stratified_directions(strata, r.u32(), sd, 128);
-    if (st.status == SHStatus::Ok) {
+    check(st.status != Status::NotRun);
+    if (st.status == Status::Ok) {
         check(st.count == size_t(strata * strata));
         for (size_t i = 0; i < st.count; ++i) check(std::fabs(glm::length(sd[i]) - 1.0f) < 1e-5f);
     }
+    const int band = r.i32();
+    const double a = sh_clamped_cosine_band(band);  // total: finite, in [-pi / 24, pi]
+    check(std::isfinite(a) && a >= -3.14159265358979323846 / 24.0 - 1e-12 && a <= 3.14159265358979323846 + 1e-12);
     (void)sh_clamped_cosine_band(order);
     return 0;
 }

@@ -48,7 +48,7 @@ std::vector<float> closed_form(const sk::Scene& s, const sk::GBuffer& g) {
         if (g.kind[k] == 0) continue;
         const glm::vec3 n(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
         const glm::vec3 p = glm::vec3(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]) + 1e-5f * diag * n;
-        v[k] = shadowkit::linear_light_visible_fraction(p, n, seg.a, seg.b, boxes.data(), boxes.size(), 0.f).fraction;
+        v[k] = shadowkit::linear_light_visible_fraction(p, n, seg.end_a, seg.end_b, boxes.data(), boxes.size(), 0.f).fraction;
     }
     return v;
 }

@@ -135,11 +135,11 @@ struct CpuModel {
         const glm::vec4 L(s.light.position, 1.f);
         for (const sk::Mesh& m : s.meshes) {
             if (!m.caster) continue;
-            const shadowkit::EdgeAdjacency adj =
-                shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-            REQUIRE(adj.status == shadowkit::SilhouetteStatus::Ok);
-            const shadowkit::Silhouette sil = shadowkit::extract_silhouette(adj, m.positions.data(), m.positions.size(), L);
-            REQUIRE(sil.status == shadowkit::SilhouetteStatus::Ok);
+            const shadowkit::SilhouetteAdjacency adj =
+                shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+            REQUIRE(adj.status == shadowkit::Status::Ok);
+            const shadowkit::Silhouette sil = shadowkit::silhouette_compute(adj, m.positions.data(), m.positions.size(), L);
+            REQUIRE(sil.status == shadowkit::Status::Ok);
             for (std::uint32_t i : sil.indices) edges.push_back(m.positions[i]);
             for (std::size_t f = 0; f < adj.face_count(); ++f)
                 if (sil.facing[f])

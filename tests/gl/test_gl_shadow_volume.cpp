@@ -365,11 +365,11 @@ TEST_CASE("the infinite projection does not compare consistently with the G-buff
     REQUIRE(sk::make_builtin_scene("stack", scene));
     // window depth of the same eye distance under P (near N, far F) and P_inf (near N): they differ by
     // N / (F - N) (1 - N / d), thousands of float32 depth steps
-    shadowkit::DepthParams fin, inf;
+    shadowkit::ProjectionDepth fin, inf;
     fin.near_z = inf.near_z = scene.camera.znear;
     fin.far_z = scene.camera.zfar;
     for (double d : {1.0, 5.0, 20.0}) {
-        const double wf = shadowkit::window_depth(fin, d).value, wi = shadowkit::window_depth(inf, d).value;
+        const double wf = shadowkit::projection_window_depth(fin, d).value, wi = shadowkit::projection_window_depth(inf, d).value;
         const double expect = double(fin.near_z) / (double(fin.far_z) - fin.near_z) * (1.0 - fin.near_z / d);
         CHECK(std::abs((wf - wi) - expect) < 1e-9);
         CHECK(wf - wi > 100.0 * std::ldexp(1.0, -24));
@@ -434,12 +434,12 @@ TEST_CASE("near plane 1e-5: reversed-Z infinite projection keeps z-fail right wh
     prepare(scene, p);
     // GL depth at eye distance d with near N and far at infinity: 1 - N/d; a float32 step near 1
     // (2^-24) spans d^2 2^-24 / N eye units (0.15 at d = 5), reversed-Z float N/d keeps d 2^-24
-    shadowkit::DepthParams gl, rev;
+    shadowkit::ProjectionDepth gl, rev;
     gl.near_z = rev.near_z = 1e-5f;
     rev.clip_depth = shadowkit::ClipDepth::ZeroToOne;
     rev.reversed_z = true;
-    const double step_gl = shadowkit::depth_resolution(gl, shadowkit::DepthFormat::Float32, 5.0).value;
-    const double step_rev = shadowkit::depth_resolution(rev, shadowkit::DepthFormat::Float32, 5.0).value;
+    const double step_gl = shadowkit::projection_depth_resolution(gl, shadowkit::DepthFormat::Float32, 5.0).value;
+    const double step_rev = shadowkit::projection_depth_resolution(rev, shadowkit::DepthFormat::Float32, 5.0).value;
     CHECK(step_gl > 0.05);
     CHECK(step_rev < 1e-5);
     const Run rev_zfail = run(scene, p, 0, 1, 1, 3);

@@ -32,13 +32,13 @@ std::vector<shadowkit::SilmapEdge> boundary_edges(const sk::Scene& s, const glm:
     std::vector<shadowkit::SilmapEdge> out;
     for (const auto& m : s.meshes) {
         if (!m.caster) continue;
-        const auto adj = shadowkit::build_edge_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-        const auto sil = shadowkit::extract_silhouette(adj, m.positions.data(), m.positions.size(), glm::vec4(s.light.position, 1.f));
+        const auto adj = shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+        const auto sil = shadowkit::silhouette_compute(adj, m.positions.data(), m.positions.size(), glm::vec4(s.light.position, 1.f));
         std::vector<shadowkit::SilmapEdge> e(sil.indices.size() / 2);
         const auto pr = shadowkit::silmap_project_edges(vp, shadowkit::ClipDepth::NegativeOneToOne, glm::uvec2(size, size),
                                                         m.positions.data(), m.positions.size(), sil.indices.data(),
                                                         sil.indices.size() / 2, e.data(), e.size());
-        out.insert(out.end(), e.begin(), e.begin() + static_cast<std::ptrdiff_t>(pr.written));
+        out.insert(out.end(), e.begin(), e.begin() + static_cast<std::ptrdiff_t>(pr.count));
     }
     return out;
 }

@@ -76,7 +76,7 @@ double cpu_box(const DepthTexture& t, glm::dvec3 uvz, glm::dvec2 g, int r, bool 
 // The 64 Poisson points of the snippet, parsed from its text (the data the GPU uses).
 std::vector<glm::dvec2> parse_poisson(const std::string& src) {
     std::vector<glm::dvec2> pts;
-    std::size_t p = src.find("SK_POISSON_DISK[64] = vec2[64](");
+    std::size_t p = src.find("sk_poisson_disk64[64] = vec2[64](");
     if (p == std::string::npos) return pts;
     p = src.find('(', p + 25);
     while (pts.size() < 64) {
@@ -309,12 +309,13 @@ namespace {
 double lin_depth(double z, double n, double f) { return f * n / (f - std::clamp(z, 0.0, 1.0) * (f - n)); }
 
 // CPU sk_pcss as pcss.glsl's comment defines it: blocker search with nearest-texel depth reads
-// (receiver plane per tap), linear depths, filter width L (z_r - z_b)/z_b * n / z_r clamped,
+// (receiver plane per tap) in a search width clamped to max_w, linear depths, filter width
+// L (z_r - z_b)/z_b * n / z_r clamped,
 // Poisson PCF with the emulated 2x2 compare; a search narrower than a texel is the hard compare.
 double cpu_pcss(const DepthTexture& t, const std::vector<glm::dvec2>& disk, glm::dvec3 uvz, glm::dvec2 g, double L,
                 double n, double f, int taps, double angle, double max_w) {
     const double zr = lin_depth(uvz.z, n, f);
-    const double search = L * std::max(zr - n, 0.0) / zr;
+    const double search = std::min(L * std::max(zr - n, 0.0) / zr, max_w);
     if (!(search * t.w > 1.0)) return cpu_tap(t, uvz, g, glm::dvec2(0));
     const double c = std::cos(angle), s = std::sin(angle);
     double sum = 0, count = 0;

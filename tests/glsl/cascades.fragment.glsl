@@ -1,21 +1,21 @@
 // Driver for glsl/cascades.glsl (fragment stage): declarations and a main() calling every function.
-uniform sampler2DArrayShadow uShadowMaps;
-uniform mat4 uLightVP[4];
-uniform vec4 uSpheres[4];
-uniform vec4 uSplitNear;
-uniform vec4 uSplitFar;
-uniform int uCount;
-in vec3 vWorldPos;
-in float vViewDepth;
-out vec4 fragColor;
+uniform sampler2DArrayShadow u_shadow_maps;
+uniform mat4 u_light_vp[4];
+uniform vec4 u_spheres[4];
+uniform vec4 u_split_near;
+uniform vec4 u_split_far;
+uniform int u_count;
+in vec3 v_world_pos;
+in float v_view_depth;
+out vec4 frag_color;
 
 void main()
 {
-    int a = sk_cascade_by_depth(vViewDepth, uSplitFar, uCount);
-    int b = sk_cascade_by_sphere(vWorldPos, uSpheres, uCount);
-    float w = sk_cascade_blend(vViewDepth, uSplitNear.x, uSplitFar.x, 0.1);
-    vec3 c = sk_cascade_coord(uLightVP[0], vWorldPos, false);
-    float s0 = sk_cascade_sample(uShadowMaps, uLightVP[0], 0, vWorldPos, 0.0005, true);
-    float s = sk_cascade_shadow(uShadowMaps, uLightVP, uSplitNear, uSplitFar, uCount, vWorldPos, vViewDepth, 0.1, 0.0005, false);
-    fragColor = vec4(s * s0, w + c.x, float(a + b), 1.0);
+    int a = sk_cascade_by_depth(v_view_depth, u_split_far, u_count);
+    int b = sk_cascade_by_sphere(v_world_pos, u_spheres, u_count);
+    float w = sk_cascade_blend(v_view_depth, u_split_near.x, u_split_far.x, 0.1);
+    vec3 c = sk_cascade_coord(u_light_vp[0], v_world_pos, false);
+    float s0 = sk_cascade_sample(u_shadow_maps, u_light_vp[0], 0, v_world_pos, 0.0005, true);
+    float s = sk_cascade_shadow(u_shadow_maps, u_light_vp, u_split_near, u_split_far, u_count, v_world_pos, v_view_depth, 0.1, 0.0005, false);
+    frag_color = vec4(s * s0, w + c.x, float(a + b), 1.0);
 }

@@ -15,5 +15,5 @@ void main() {
     float d = sk_pcf_poisson(u_shadow_map, uvz, g, u_radius_uv, u_taps, 6.28318531 * noise);
     float e = sk_pcf_poisson_rotated(u_shadow_map, uvz, g, u_radius_uv, u_taps);
     float f = sk_pcf_tap(u_shadow_map, uvz, g, vec2(0.0));
-    o_color = vec4(a, b, c, d) * e * f + vec4(SK_POISSON_DISK[63], 0.0, 0.0);
+    o_color = vec4(a, b, c, d) * e * f + vec4(SK_POISSON_TAPS[SK_POISSON_TAP_COUNT - 1], 0.0, 0.0);
 }

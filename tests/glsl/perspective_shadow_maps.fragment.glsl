@@ -1,12 +1,15 @@
 // Driver for glsl/perspective_shadow_maps.glsl (fragment stage): calls every function.
-uniform sampler2DShadow uShadowMap;
-uniform mat4 uWarp;
-in vec3 vWorldPos;
-out vec4 fragColor;
+uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_warp;
+uniform mat4 u_depth_proj;
+in vec3 v_world_pos;
+in vec4 v_depth_clip;
+out vec4 frag_color;
 
 void main()
 {
-    vec4 c = sk_warp_coord(uWarp, vWorldPos, true);
-    float lit = sk_warp_shadow(uShadowMap, uWarp, vWorldPos, 0.0005, false);
-    fragColor = vec4(lit, c.xyz);
+    vec4 c = sk_warp_coord(u_warp, u_depth_proj, v_world_pos, true);
+    float lit = sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, v_world_pos, 0.0005, false);
+    gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, false);
+    frag_color = vec4(lit, c.xyz);
 }

@@ -38,21 +38,21 @@ TEST_CASE("prt scene: PRT shading against a Monte Carlo reference, error vs SH o
 
     // transfer at order 5 (lower orders are its prefixes) from 32 x 32 stratified samples
     const int strata = 32;
-    sk::PrtSamples samples;
-    REQUIRE(sk::prt_make_samples(5, strata, 1u, samples) == sk::PrtStatus::Ok);
+    const sk::PrtSamples samples = sk::prt_make_samples(5, strata, 1u);
+    REQUIRE(samples.status == sk::Status::Ok);
     std::vector<float> transfer, unshadowed;
     double seconds = 0.0, seconds_un = 0.0;
     const auto tr = skprt::compute_transfer(scene, vis, samples, sk::PrtMode::Shadowed, transfer, seconds);
-    REQUIRE(tr.status == sk::PrtStatus::Ok);
+    REQUIRE(tr.status == sk::Status::Ok);
     CHECK(tr.degenerate_vertices == 0);
     REQUIRE(skprt::compute_transfer(scene, vis, samples, sk::PrtMode::Unshadowed, unshadowed, seconds_un, false).status ==
-            sk::PrtStatus::Ok);
+            sk::Status::Ok);
 
     // environment in SH from a denser, independent sample set (128^2), order 5
-    sk::PrtSamples env_samples;
-    REQUIRE(sk::prt_make_samples(5, 128, 99u, env_samples) == sk::PrtStatus::Ok);
+    const sk::PrtSamples env_samples = sk::prt_make_samples(5, 128, 99u);
+    REQUIRE(env_samples.status == sk::Status::Ok);
     std::vector<glm::vec3> env_sh(25);
-    REQUIRE(sk::prt_project_environment(env_samples, env, env_sh.data(), env_sh.size()).status == sk::PrtStatus::Ok);
+    REQUIRE(sk::prt_project_environment(env_samples, env, env_sh.data(), env_sh.size()).status == sk::Status::Ok);
 
     // reference at every 4th vertex (all parts of the scene), 48 x 48 cosine-weighted samples
     std::vector<std::size_t> verts;
@@ -72,8 +72,8 @@ TEST_CASE("prt scene: PRT shading against a Monte Carlo reference, error vs SH o
     for (int order = 1; order <= 5; ++order) {
         std::vector<glm::vec3> a(verts.size()), b(verts.size());
         for (std::size_t k = 0; k < verts.size(); ++k) {
-            a[k] = sk::prt_shade_rgb(order, &transfer[verts[k] * 25], env_sh.data());
-            b[k] = sk::prt_shade_rgb(order, &unshadowed[verts[k] * 25], env_sh.data());
+            a[k] = sk::prt_shade_rgb(order, &transfer[verts[k] * 25], env_sh.data()).value;
+            b[k] = sk::prt_shade_rgb(order, &unshadowed[verts[k] * 25], env_sh.data()).value;
         }
         shadowed[std::size_t(order)] = compare(a, ref);
         flat[std::size_t(order)] = compare(b, ref);
@@ -83,13 +83,13 @@ TEST_CASE("prt scene: PRT shading against a Monte Carlo reference, error vs SH o
     sk::PrtCpcaOptions copt;
     copt.clusters = 64;
     copt.components = 4;
-    sk::PrtCpca cp;
     const auto c0 = std::chrono::steady_clock::now();
-    REQUIRE(sk::prt_cpca_compress(5, transfer.data(), 25, scene.positions.size(), copt, cp) == sk::PrtStatus::Ok);
+    const sk::PrtCpca cp = sk::prt_cpca_compress(5, transfer.data(), 25, scene.positions.size(), copt);
+    REQUIRE(cp.status == sk::Status::Ok);
     const double cpca_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
     std::vector<glm::vec3> proj(cp.clusters * 5), cpca_shaded(verts.size());
-    REQUIRE(sk::prt_cpca_project_environment(cp, env_sh.data(), 25, proj.data(), proj.size()).status == sk::PrtStatus::Ok);
-    for (std::size_t k = 0; k < verts.size(); ++k) cpca_shaded[k] = sk::prt_cpca_shade(cp, proj.data(), verts[k]);
+    REQUIRE(sk::prt_cpca_project_environment(cp, env_sh.data(), 25, proj.data(), proj.size()).status == sk::Status::Ok);
+    for (std::size_t k = 0; k < verts.size(); ++k) cpca_shaded[k] = sk::prt_cpca_shade(cp, proj.data(), verts[k]).value;
     const Errors cpca = compare(cpca_shaded, ref);
 
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());

@@ -1,6 +1,7 @@
 // Unit and property tests for shadowkit/cascades.hpp.
 // References: closed-form split schemes, closed-form frustum corners, brute-force selection.
 #include <shadowkit/cascades.hpp>
+#include <shadowkit/infinite_projection.hpp>
 
 #include <doctest/doctest.h>
 
@@ -10,10 +11,14 @@
 #include <initializer_list>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 using namespace shadowkit;
 
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 glm::vec3 rdir(std::mt19937& rng) {
     std::normal_distribution<float> g(0.0f, 1.0f);
@@ -38,16 +43,35 @@ glm::dvec2 origin_texel(const glm::mat4& m, unsigned S) {
     return (glm::dvec2(h) / h.w) * (0.5 * S) + 0.5 * double(S);
 }
 
+// A point of the camera's view volume at view depth dep, (sx, sy) in [-1, 1] across it (symmetric
+// perspective with the given fovy / aspect): closed form.
+glm::dvec3 view_point(const glm::mat4& view, double fovy, double aspect, double dep, double sx, double sy) {
+    const double ty = std::tan(0.5 * fovy), tx = ty * aspect;
+    const glm::dvec3 pv(sx * tx * dep, sy * ty * dep, -dep);
+    return glm::dvec3(glm::inverse(glm::dmat4(view)) * glm::dvec4(pv, 1.0));
+}
+
+CascadeInput base_input() {
+    CascadeInput in;
+    in.camera_view = glm::lookAt(glm::vec3(0, 2, 0), glm::vec3(0, 2, -1), glm::vec3(0, 1, 0));
+    in.camera_proj = glm::perspective(1.0f, 1.5f, 0.1f, 100.0f);
+    in.light_position = glm::vec4(-glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)), 0.0f);
+    return in;
+}
+
 }  // namespace
 
 TEST_CASE("cascades: split distances match the closed form, monotonic, exact ends") {
-    float s[9];
-    REQUIRE(cascade_split_distances(0.5f, 200.0f, 0.0f, 4, s) == CascadeStatus::Ok);
-    for (int i = 0; i <= 4; ++i) CHECK(s[i] == doctest::Approx(0.5 + 199.5 * i / 4.0));
-    REQUIRE(cascade_split_distances(0.5f, 200.0f, 1.0f, 4, s) == CascadeStatus::Ok);
-    for (int i = 0; i <= 4; ++i) CHECK(s[i] == doctest::Approx(0.5 * std::pow(400.0, i / 4.0)));
-    REQUIRE(cascade_split_distances(1.0f, 100.0f, 0.5f, 2, s) == CascadeStatus::Ok);
-    CHECK(s[1] == doctest::Approx(0.5 * 10.0 + 0.5 * 50.5));
+    CascadeSplits s = cascade_split_distances(0.5f, 200.0f, 0.0f, 4);
+    REQUIRE(s.status == Status::Ok);
+    CHECK(s.count == 4);
+    for (int i = 0; i <= 4; ++i) CHECK(s.distances[i] == doctest::Approx(0.5 + 199.5 * i / 4.0));
+    s = cascade_split_distances(0.5f, 200.0f, 1.0f, 4);
+    REQUIRE(s.status == Status::Ok);
+    for (int i = 0; i <= 4; ++i) CHECK(s.distances[i] == doctest::Approx(0.5 * std::pow(400.0, i / 4.0)));
+    s = cascade_split_distances(1.0f, 100.0f, 0.5f, 2);
+    REQUIRE(s.status == Status::Ok);
+    CHECK(s.distances[1] == doctest::Approx(0.5 * 10.0 + 0.5 * 50.5));
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int it = 0; it < 5000; ++it) {
@@ -56,26 +80,30 @@ TEST_CASE("cascades: split distances match the closed form, monotonic, exact end
         const std::uint32_t c = 1 + rng() % 8;
         const float l = u(rng);
         if (!(f > n)) continue;
-        REQUIRE(cascade_split_distances(n, f, l, c, s) == CascadeStatus::Ok);
-        CHECK(s[0] == n);
-        CHECK(s[c] == f);
-        for (std::uint32_t i = 0; i < c; ++i) CHECK(s[i] < s[i + 1]);
+        s = cascade_split_distances(n, f, l, c);
+        REQUIRE(s.status == Status::Ok);
+        CHECK(s.distances[0] == n);
+        CHECK(s.distances[c] == f);
+        for (std::uint32_t i = 0; i < c; ++i) CHECK(s.distances[i] < s.distances[i + 1]);
     }
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-    CHECK(cascade_split_distances(0.0f, 10.0f, 0.5f, 4, s) == CascadeStatus::InvalidInput);
-    CHECK(cascade_split_distances(1.0f, 1.0f, 0.5f, 4, s) == CascadeStatus::InvalidInput);
-    CHECK(cascade_split_distances(1.0f, inf, 0.5f, 4, s) == CascadeStatus::InfiniteFar);
-    CHECK(cascade_split_distances(nan, 10.0f, 0.5f, 4, s) == CascadeStatus::InvalidInput);
-    CHECK(cascade_split_distances(1.0f, 10.0f, 1.5f, 4, s) == CascadeStatus::InvalidInput);
-    CHECK(cascade_split_distances(1.0f, 10.0f, 0.5f, 0, s) == CascadeStatus::InvalidInput);
-    CHECK(cascade_split_distances(1.0f, 10.0f, 0.5f, 17, s) == CascadeStatus::InvalidInput);
-    CHECK(cascade_split_distances(1.0f, 10.0f, 0.5f, 4, nullptr) == CascadeStatus::InvalidInput);
+    CHECK(cascade_split_distances(0.0f, 10.0f, 0.5f, 4).status == Status::InvalidArgument);
+    CHECK(cascade_split_distances(-1.0f, 10.0f, 0.5f, 4).status == Status::InvalidArgument);
+    CHECK(cascade_split_distances(1.0f, 1.0f, 0.5f, 4).status == Status::InvalidArgument);
+    CHECK(cascade_split_distances(1.0f, inf, 0.5f, 4).status == Status::NonFinite);  // was InfiniteFar
+    CHECK(cascade_split_distances(nan, 10.0f, 0.5f, 4).status == Status::NonFinite);
+    CHECK(cascade_split_distances(1.0f, 10.0f, 1.5f, 4).status == Status::InvalidArgument);
+    CHECK(cascade_split_distances(1.0f, 10.0f, 0.5f, 0).status == Status::InvalidArgument);
+    CHECK(cascade_split_distances(1.0f, 10.0f, 0.5f, 17).status == Status::InvalidArgument);
+    // four splits between two adjacent floats cannot be strictly increasing
+    CHECK(cascade_split_distances(1.0f, std::nextafter(1.0f, 2.0f), 0.5f, 4).status == Status::Overflow);
+    CHECK(CascadeSplits{}.status == Status::NotRun);
 }
 
 TEST_CASE("cascades: every point of each slice is inside its cascade (random cameras and lights)") {
     std::mt19937 rng(77);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    int pts = 0;
+    int pts = 0, caster_pts = 0;
     for (int it = 0; it < 1500; ++it) {
         CascadeInput in;
         const glm::vec3 pos = glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 100.0f;
@@ -87,7 +115,8 @@ TEST_CASE("cascades: every point of each slice is inside its cascade (random cam
         in.camera_proj = inf ? glm::infinitePerspective(fovy, aspect, n) : (zo ? glm::perspectiveZO(fovy, aspect, n, f) : glm::perspective(fovy, aspect, n, f));
         in.camera_depth = (zo && !inf) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
         in.max_distance = inf ? f : (rng() % 2 ? f * u(rng) + n * 2.0f : 0.0f);
-        in.light_dir = rdir(rng);
+        const glm::vec3 toward = rdir(rng);
+        in.light_position = glm::vec4(toward, 0.0f);
         in.shadow_map_size = 512u << (rng() % 4);
         in.light_depth = (rng() & 1) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
         in.light_reversed_z = rng() % 3 == 0;
@@ -95,34 +124,84 @@ TEST_CASE("cascades: every point of each slice is inside its cascade (random cam
         in.caster_min = pos - glm::vec3(200);
         in.caster_max = pos + glm::vec3(200);
         Cascade c[4];
-        float s[5];
         const std::uint32_t count = 1 + rng() % 4;
-        REQUIRE(fit_cascades(in, u(rng), count, c, s) == CascadeStatus::Ok);
-        const glm::mat4 iv = glm::inverse(in.camera_view);
-        const double ty = std::tan(0.5 * double(fovy)), tx = ty * aspect;
+        const CascadeFitResult fit = cascade_fit(in, u(rng), count, c, 4);
+        REQUIRE(fit.status == Status::Ok);
+        REQUIRE(fit.count == count);
+        CHECK(fit.needed == count);
+        const float* s = fit.splits;
         for (std::uint32_t i = 0; i < count; ++i) {
+            CHECK(c[i].status == Status::Ok);
+            {  // winding: a triangle counter-clockwise seen from the light stays counter-clockwise
+                const glm::dvec3 e1 = glm::normalize(glm::cross(glm::dvec3(toward), glm::dvec3(rdir(rng))));
+                const glm::dvec3 e2 = glm::cross(glm::dvec3(toward), e1);
+                const glm::dvec3 a = glm::dvec3(glm::vec3(c[i].sphere));
+                const glm::dvec3 b = a + e1, cc = a + e2;
+                auto nd = [&](const glm::dvec3& p) {
+                    const glm::dvec4 h = glm::dmat4(c[i].view_proj) * glm::dvec4(p, 1.0);
+                    return glm::dvec2(h.x, h.y) / h.w;
+                };
+                const glm::dvec2 na = nd(a), nb = nd(b), nc = nd(cc);
+                CHECK((nb.x - na.x) * (nc.y - na.y) - (nb.y - na.y) * (nc.x - na.x) > 0.0);
+            }
             for (int k = 0; k < 30; ++k) {
                 const double dep = s[i] + (s[i + 1] - s[i]) * double(u(rng));
-                const glm::dvec3 pv((2 * double(u(rng)) - 1) * tx * dep, (2 * double(u(rng)) - 1) * ty * dep, -dep);
-                const glm::dvec3 p = glm::dvec3(glm::dmat4(iv) * glm::dvec4(pv, 1.0));
+                const glm::dvec3 p = view_point(in.camera_view, fovy, aspect, dep, 2 * double(u(rng)) - 1, 2 * double(u(rng)) - 1);
                 ++pts;
                 if (!in_clip(c[i].view_proj, p, in.light_depth, 1e-4)) {
                     FAIL_CHECK("slice point outside its cascade, it=" << it << " cascade " << i);
                     break;
                 }
-                // casters towards the light inside the caster bounds are inside too
+                // casters toward the light (light_position's xyz) inside the caster bounds are inside too
                 if (in.has_caster_bounds) {
-                    const glm::dvec3 q = p - glm::dvec3(in.light_dir) * (50.0 * double(u(rng)));
+                    const glm::dvec3 q = p + glm::dvec3(toward) * (50.0 * double(u(rng)));
                     const glm::dvec3 d = glm::abs(q - glm::dvec3(pos));
-                    if (d.x < 200 && d.y < 200 && d.z < 200) CHECK(in_clip(c[i].view_proj, q, in.light_depth, 1e-4));
+                    if (d.x < 200 && d.y < 200 && d.z < 200) {
+                        ++caster_pts;
+                        CHECK(in_clip(c[i].view_proj, q, in.light_depth, 1e-4));
+                    }
                 }
                 // selection by depth agrees with a linear scan
-                const int sel = select_cascade_by_depth(float(dep), s, count);
-                CHECK((sel >= 0 && s[sel] <= float(dep) && float(dep) <= s[sel + 1]));
+                const CascadeIndex sel = cascade_select_by_depth(float(dep), s, count);
+                REQUIRE(sel.status == Status::Ok);
+                CHECK((sel.index >= 0 && s[sel.index] <= float(dep) && float(dep) <= s[sel.index + 1]));
             }
         }
     }
-    MESSAGE("cascade slice points checked: " << pts);
+    MESSAGE("cascade slice points checked: " << pts << ", caster points toward the light: " << caster_pts);
+}
+
+// Issue 13 item 2: the light is light_position (toward the light), no longer the direction the
+// light travels. With the sun overhead the caster bounds above the receivers must be inside the
+// cascade's depth range; the old convention put the near plane on the wrong side.
+TEST_CASE("cascades: light_position points toward the light; point lights are rejected (issue 13 item 2)") {
+    CascadeInput in = base_input();
+    in.camera_view = glm::lookAt(glm::vec3(0, 2, 0), glm::vec3(0, 0, -10), glm::vec3(0, 1, 0));
+    in.light_position = glm::vec4(0, 1, 0, 0);  // sun straight overhead
+    in.has_caster_bounds = true;
+    in.caster_min = glm::vec3(-100, -1, -100);
+    in.caster_max = glm::vec3(100, 80, 100);
+    Cascade c[4];
+    const CascadeFitResult fit = cascade_fit(in, 0.75f, 4, c, 4);
+    REQUIRE(fit.status == Status::Ok);
+    for (int i = 0; i < 4; ++i) {
+        const glm::dvec3 p = view_point(in.camera_view, 1.0, 1.5, 0.5 * (fit.splits[i] + fit.splits[i + 1]), 0.0, 0.0);
+        CHECK(in_clip(c[i].view_proj, p, in.light_depth, 1e-4));
+        CHECK(in_clip(c[i].view_proj, p + glm::dvec3(0, 60, 0), in.light_depth, 1e-4));  // a caster above
+        // the light looks down: the point above is nearer to the light (smaller NDC depth)
+        const glm::dvec4 a = glm::dmat4(c[i].view_proj) * glm::dvec4(p + glm::dvec3(0, 60, 0), 1.0);
+        const glm::dvec4 b = glm::dmat4(c[i].view_proj) * glm::dvec4(p, 1.0);
+        CHECK(a.z / a.w < b.z / b.w);
+    }
+    in.light_position = glm::vec4(0, 10, 0, 1);
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidLight);
+    CHECK(cascade_fit_slice(in, 1.0f, 10.0f).status == Status::InvalidLight);
+    in.light_position = glm::vec4(0, 0, 0, 0);
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidLight);
+    in.light_position = glm::vec4(0, 1, 0, -1);
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidLight);
+    in.light_position = glm::vec4(std::numeric_limits<float>::quiet_NaN(), 1, 0, 0);
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidLight);
 }
 
 TEST_CASE("cascades: stable fits are rotation invariant and move by whole texels (anchor: no swimming)") {
@@ -131,14 +210,14 @@ TEST_CASE("cascades: stable fits are rotation invariant and move by whole texels
     for (int it = 0; it < 200; ++it) {
         CascadeInput in;
         in.camera_proj = glm::perspective(0.6f + u(rng), 0.8f + u(rng), 0.1f + u(rng), 50.0f + 200.0f * u(rng));
-        in.light_dir = rdir(rng);
+        in.light_position = glm::vec4(rdir(rng), 0.0f);
         in.shadow_map_size = 2048;
         const glm::vec3 pos = glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 50.0f;
         in.camera_view = look(pos, rdir(rng));
         Cascade a[4], b[4];
-        REQUIRE(fit_cascades(in, 0.7f, 4, a, nullptr) == CascadeStatus::Ok);
+        REQUIRE(cascade_fit(in, 0.7f, 4, a, 4).status == Status::Ok);
         in.camera_view = look(pos, rdir(rng));  // rotate about the position
-        REQUIRE(fit_cascades(in, 0.7f, 4, b, nullptr) == CascadeStatus::Ok);
+        REQUIRE(cascade_fit(in, 0.7f, 4, b, 4).status == Status::Ok);
         for (int i = 0; i < 4; ++i) {
             CHECK(std::fmod(double(a[i].sphere.w) * 16.0, 1.0) == 0.0);
             CHECK(a[i].sphere.w == b[i].sphere.w);
@@ -153,10 +232,10 @@ TEST_CASE("cascades: stable fits are rotation invariant and move by whole texels
         // sub-texel translation: same texel size, origin stays on a texel corner
         const glm::vec3 f2 = rdir(rng);
         in.camera_view = look(pos, f2);
-        REQUIRE(fit_cascades(in, 0.7f, 4, a, nullptr) == CascadeStatus::Ok);
+        REQUIRE(cascade_fit(in, 0.7f, 4, a, 4).status == Status::Ok);
         const glm::vec3 p2 = pos + rdir(rng) * (0.4f * a[0].texel_world_size);
         in.camera_view = look(p2, f2);
-        REQUIRE(fit_cascades(in, 0.7f, 4, b, nullptr) == CascadeStatus::Ok);
+        REQUIRE(cascade_fit(in, 0.7f, 4, b, 4).status == Status::Ok);
         for (int i = 0; i < 4; ++i) {
             CHECK(a[i].texel_world_size == b[i].texel_world_size);
             const glm::dvec2 dt = origin_texel(b[i].view_proj, 2048) - origin_texel(a[i].view_proj, 2048);
@@ -167,13 +246,11 @@ TEST_CASE("cascades: stable fits are rotation invariant and move by whole texels
 }
 
 TEST_CASE("cascades: selection by sphere and the blend band") {
-    CascadeInput in;
-    in.camera_view = glm::lookAt(glm::vec3(0, 2, 0), glm::vec3(0, 2, -1), glm::vec3(0, 1, 0));
-    in.camera_proj = glm::perspective(1.0f, 1.5f, 0.1f, 100.0f);
-    in.light_dir = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    const CascadeInput in = base_input();
     Cascade c[4];
-    float s[5];
-    REQUIRE(fit_cascades(in, 0.8f, 4, c, s) == CascadeStatus::Ok);
+    const CascadeFitResult fit = cascade_fit(in, 0.8f, 4, c, 4);
+    REQUIRE(fit.status == Status::Ok);
+    const float* s = fit.splits;
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int k = 0; k < 2000; ++k) {
@@ -181,11 +258,15 @@ TEST_CASE("cascades: selection by sphere and the blend band") {
         int expect = -1;
         for (int i = 0; i < 4 && expect < 0; ++i)
             if (glm::length(glm::dvec3(p) - glm::dvec3(glm::vec3(c[i].sphere))) <= double(c[i].sphere.w) * (1 - 1e-6)) expect = i;
-        const int got = select_cascade_by_sphere(p, c, 4);
-        if (expect >= 0) CHECK(got == expect);
-        if (got >= 0) CHECK(in_clip(c[got].view_proj, glm::dvec3(p), in.light_depth, 1e-4));
+        const CascadeIndex got = cascade_select_by_sphere(p, c, 4);
+        REQUIRE(got.status == Status::Ok);
+        if (expect >= 0) CHECK(got.index == expect);
+        if (got.index >= 0) CHECK(in_clip(c[got.index].view_proj, glm::dvec3(p), in.light_depth, 1e-4));
     }
-    CHECK(select_cascade_by_sphere(glm::vec3(std::numeric_limits<float>::quiet_NaN()), c, 4) == -1);
+    CHECK(cascade_select_by_sphere(glm::vec3(std::numeric_limits<float>::quiet_NaN()), c, 4).status == Status::NonFinite);
+    CHECK(cascade_select_by_sphere(glm::vec3(0), nullptr, 4).status == Status::InvalidArgument);
+    Cascade unfitted[2];
+    CHECK(cascade_select_by_sphere(glm::vec3(0), unfitted, 2).status == Status::InvalidArgument);
     // blend: 0 before the band, 1 at the far split, linear and monotonic in between
     CHECK(cascade_blend_weight(5.0f, 0.0f, 10.0f, 0.2f) == 0.0f);
     CHECK(cascade_blend_weight(8.0f, 0.0f, 10.0f, 0.2f) == 0.0f);
@@ -202,61 +283,263 @@ TEST_CASE("cascades: selection by sphere and the blend band") {
     CHECK(cascade_blend_weight(std::numeric_limits<float>::quiet_NaN(), 0.0f, 10.0f, 0.2f) == 0.0f);
     CHECK(cascade_blend_weight(5.0f, 10.0f, 0.0f, 0.2f) == 0.0f);
     // depth selection edges
-    CHECK(select_cascade_by_depth(s[0], s, 4) == 0);
-    CHECK(select_cascade_by_depth(s[4], s, 4) == 3);
-    CHECK(select_cascade_by_depth(s[4] * 1.01f, s, 4) == -1);
-    CHECK(select_cascade_by_depth(0.5f * s[0], s, 4) == -1);
-    CHECK(select_cascade_by_depth(std::numeric_limits<float>::quiet_NaN(), s, 4) == -1);
+    CHECK(cascade_select_by_depth(s[0], s, 4).index == 0);
+    CHECK(cascade_select_by_depth(s[4], s, 4).index == 3);
+    const CascadeIndex beyond = cascade_select_by_depth(s[4] * 1.01f, s, 4);
+    CHECK(beyond.status == Status::Ok);
+    CHECK(beyond.index == -1);
+    CHECK(cascade_select_by_depth(0.5f * s[0], s, 4).index == -1);
+    CHECK(cascade_select_by_depth(std::numeric_limits<float>::quiet_NaN(), s, 4).status == Status::NonFinite);
+    CHECK(cascade_select_by_depth(1.0f, nullptr, 4).status == Status::InvalidArgument);
+    CHECK(cascade_select_by_depth(1.0f, s, 0).status == Status::InvalidArgument);
+    const float bad[3] = {1.0f, 5.0f, 3.0f};  // not increasing
+    CHECK(cascade_select_by_depth(2.0f, bad, 2).status == Status::InvalidArgument);
+}
+
+// Issue 13 item 3 for the cascade fit: any output of infinite_projection.hpp's perspective /
+// perspective_infinite works (epsilon-tweaked: NDC +1 lies beyond infinity), with max_distance.
+TEST_CASE("cascades: every projection of infinite_projection.hpp is accepted (issue 13 item 3)") {
+    const float fovy = 0.9f, aspect = 1.6f, n = 0.3f;
+    int fits = 0;
+    for (int cdi = 0; cdi < 2; ++cdi)
+        for (int rev = 0; rev < 2; ++rev)
+            for (float eps : {0.0f, 4.8e-7f, 1e-4f, 0.5f}) {
+                const ClipDepth cd = cdi ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
+                CascadeInput in = base_input();
+                in.camera_proj = projection_perspective_infinite(fovy, aspect, n, cd, rev != 0, eps).matrix;
+                REQUIRE(in.camera_proj[2][3] == -1.0f);
+                in.camera_depth = cd;
+                in.camera_reversed_z = rev != 0;
+                Cascade c[4];
+                INFO("clip depth " << cdi << " reversed " << rev << " epsilon " << eps);
+                CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);  // needs max_distance
+                in.max_distance = 250.0f;
+                const CascadeFitResult fit = cascade_fit(in, 0.75f, 4, c, 4);
+                REQUIRE(fit.status == Status::Ok);
+                CHECK(fit.splits[0] == doctest::Approx(n));
+                CHECK(fit.splits[4] == 250.0f);
+                for (int i = 0; i < 4; ++i)
+                    for (double sx : {-1.0, 1.0})
+                        for (double sy : {-1.0, 1.0})
+                            for (double dep : {double(fit.splits[i]), double(fit.splits[i + 1])})
+                                CHECK(in_clip(c[i].view_proj, view_point(in.camera_view, fovy, aspect, dep, sx, sy), in.light_depth, 1e-4));
+                ++fits;
+                // a finite far plane from the same header
+                ProjectionDepth dp;
+                dp.near_z = n;
+                dp.far_z = 120.0f;
+                dp.clip_depth = cd;
+                dp.reversed_z = rev != 0;
+                in.camera_proj = projection_perspective(fovy, aspect, dp).matrix;
+                in.max_distance = 0.0f;
+                const CascadeFitResult ff = cascade_fit(in, 0.75f, 4, c, 4);
+                REQUIRE(ff.status == Status::Ok);
+                CHECK(ff.splits[4] == doctest::Approx(120.0f).epsilon(1e-5));
+            }
+    MESSAGE("cascade fits with infinite_projection.hpp matrices: " << fits);
+}
+
+// Issue 19 items 4 and 6: null output with a capacity, too small a buffer, and a camera near plane at
+// or behind the eye are errors, never Ok.
+TEST_CASE("cascades: null pointers, small buffers and bad projections are rejected (issue 19)") {
+    CascadeInput in = base_input();
+    Cascade c[4];
+    CHECK(cascade_fit(in, 0.75f, 4, nullptr, 4).status == Status::InvalidArgument);
+    const CascadeFitResult small = cascade_fit(in, 0.75f, 4, c, 3);
+    CHECK(small.status == Status::BufferTooSmall);
+    CHECK(small.needed == 4);
+    CHECK(small.count == 0);
+    CHECK(cascade_fit(in, 0.75f, 4, nullptr, 0).status == Status::BufferTooSmall);
+    CHECK(cascade_fit(in, 0.75f, 0, c, 4).status == Status::InvalidArgument);
+    CHECK(cascade_fit(in, 0.75f, 17, c, 4).status == Status::InvalidArgument);
+    CHECK(cascade_fit(in, std::numeric_limits<float>::quiet_NaN(), 4, c, 4).status == Status::NonFinite);
+    CHECK(cascade_fit(in, 1.5f, 4, c, 4).status == Status::InvalidArgument);
+    for (float n : {-0.5f, -1e-3f, -20.0f}) {
+        in.camera_proj = glm::perspective(1.0f, 1.5f, n, 100.0f);
+        CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+        CHECK(cascade_fit_slice(in, 1.0f, 10.0f).status == Status::InvalidArgument);
+        in.camera_proj = glm::perspectiveZO(1.0f, 1.5f, n, 100.0f);
+        in.camera_depth = ClipDepth::ZeroToOne;
+        CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+        in.camera_proj = glm::ortho(-5.f, 5.f, -5.f, 5.f, n, 100.f);
+        in.camera_depth = ClipDepth::NegativeOneToOne;
+        CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+    }
+    in.camera_proj = glm::perspective(1.0f, 1.5f, 0.0f, 100.0f);
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+    in = base_input();
+    in.max_distance = -5.0f;
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+    in.max_distance = 0.05f;  // below the near plane 0.1
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+    in = base_input();
+    in.has_caster_bounds = true;
+    in.caster_min = glm::vec3(1);
+    in.caster_max = glm::vec3(0);
+    CHECK(cascade_fit(in, 0.75f, 4, c, 4).status == Status::InvalidArgument);
+    CHECK(cascade_fit(CascadeInput{}, 0.75f, 4, c, 4).status != Status::Ok);  // required fields
+    CHECK(Cascade{}.status == Status::NotRun);
 }
 
 TEST_CASE("cascades: stiff cases") {
-    CascadeInput in;
-    in.camera_view = glm::lookAt(glm::vec3(0, 2, 0), glm::vec3(0, 2, -1), glm::vec3(0, 1, 0));
+    CascadeInput in = base_input();
     Cascade c[4];
-    float s[5];
     SUBCASE("near 1e-5 with an infinite far plane needs max_distance") {
         in.camera_proj = glm::infinitePerspective(1.0f, 1.0f, 1e-5f);
-        CHECK(fit_cascades(in, 0.9f, 4, c, s) == CascadeStatus::InfiniteFar);
+        CHECK(cascade_fit(in, 0.9f, 4, c, 4).status == Status::InvalidArgument);  // was InfiniteFar
         in.max_distance = 10.0f;  // ratio 1e-6
-        REQUIRE(fit_cascades(in, 0.9f, 4, c, s) == CascadeStatus::Ok);
-        CHECK(s[0] == doctest::Approx(1e-5f));
-        CHECK(s[4] == 10.0f);
+        const CascadeFitResult fit = cascade_fit(in, 0.9f, 4, c, 4);
+        REQUIRE(fit.status == Status::Ok);
+        CHECK(fit.splits[0] == doctest::Approx(1e-5f));
+        CHECK(fit.splits[4] == 10.0f);
         CHECK(in_clip(c[0].view_proj, glm::dvec3(0, 2, -2e-5), in.light_depth, 1e-4));
     }
     SUBCASE("light parallel and anti-parallel to the view, straight down on a camera looking down") {
         in.camera_proj = glm::perspective(1.0f, 1.0f, 0.1f, 50.0f);
         for (const glm::vec3 l : {glm::vec3(0, 0, -1), glm::vec3(0, 0, 1)}) {
-            in.light_dir = l;
-            REQUIRE(fit_cascades(in, 0.5f, 3, c, s) == CascadeStatus::Ok);
+            in.light_position = glm::vec4(l, 0.0f);
+            REQUIRE(cascade_fit(in, 0.5f, 3, c, 4).status == Status::Ok);
             CHECK(in_clip(c[2].view_proj, glm::dvec3(0, 2, -40), in.light_depth, 1e-4));
         }
         in.camera_view = glm::lookAt(glm::vec3(0, 10, 0), glm::vec3(0, 0, 0), glm::vec3(0, 0, -1));
-        in.light_dir = glm::vec3(0, -1, 0);
-        REQUIRE(fit_cascades(in, 0.5f, 3, c, s) == CascadeStatus::Ok);
-        CHECK(in_clip(c[0].view_proj, glm::dvec3(0, 9.8, 0), in.light_depth, 1e-4));
+        for (const glm::vec3 l : {glm::vec3(0, 1, 0), glm::vec3(0, -1, 0)}) {  // -1: the frame's singular direction
+            in.light_position = glm::vec4(l, 0.0f);
+            REQUIRE(cascade_fit(in, 0.5f, 3, c, 4).status == Status::Ok);
+            CHECK(in_clip(c[0].view_proj, glm::dvec3(0, 9.8, 0), in.light_depth, 1e-4));
+        }
     }
     SUBCASE("coordinates at 1e6") {
         in.camera_proj = glm::perspective(1.0f, 1.0f, 0.5f, 100.0f);
         const glm::vec3 o(1e6f, 1e6f, 1e6f);
         in.camera_view = glm::lookAt(o, o + glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
-        REQUIRE(fit_cascades(in, 0.5f, 4, c, s) == CascadeStatus::Ok);
+        REQUIRE(cascade_fit(in, 0.5f, 4, c, 4).status == Status::Ok);
         CHECK(in_clip(c[3].view_proj, glm::dvec3(o) + glm::dvec3(90, 0, 0), in.light_depth, 1e-3));
+        // a camera at 3e38: the matrix's translation (3e38 / half-width) is beyond float: Overflow
+        const glm::vec3 far_o(3e38f, 0.0f, 0.0f);
+        in.camera_view = glm::lookAt(glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)) * glm::translate(glm::mat4(1.0f), -far_o);
+        const Cascade one = cascade_fit_slice(in, 1.0f, 2.0f);
+        CHECK(one.status == Status::Overflow);
     }
     SUBCASE("NaN / degenerate input") {
         in.camera_proj = glm::perspective(1.0f, 1.0f, 0.5f, 100.0f);
-        in.light_dir = glm::vec3(0.0f);
-        CHECK(fit_cascades(in, 0.5f, 4, c, s) == CascadeStatus::InvalidInput);
-        in.light_dir = glm::vec3(std::numeric_limits<float>::quiet_NaN(), -1, 0);
-        CHECK(fit_cascades(in, 0.5f, 4, c, s) == CascadeStatus::InvalidInput);
-        in.light_dir = glm::vec3(0, -1, 0);
+        in.light_position = glm::vec4(0.0f);
+        CHECK(cascade_fit(in, 0.5f, 4, c, 4).status == Status::InvalidLight);
+        in.light_position = glm::vec4(0, 1, 0, 0);
         in.camera_proj = glm::mat4(0.0f);
-        CHECK(fit_cascades(in, 0.5f, 4, c, s) == CascadeStatus::InvalidInput);
+        CHECK(cascade_fit(in, 0.5f, 4, c, 4).status == Status::InvalidArgument);
+        in.camera_proj[0][0] = std::numeric_limits<float>::infinity();
+        CHECK(cascade_fit(in, 0.5f, 4, c, 4).status == Status::NonFinite);
         in.camera_proj = glm::perspective(1.0f, 1.0f, 0.5f, 100.0f);
         in.shadow_map_size = 2;
-        CHECK(fit_cascades(in, 0.5f, 4, c, s) == CascadeStatus::InvalidInput);
+        CHECK(cascade_fit(in, 0.5f, 4, c, 4).status == Status::InvalidArgument);
         in.shadow_map_size = 1024;
-        Cascade one;
-        CHECK(fit_cascade(in, 5.0f, 5.0f, one) == CascadeStatus::InvalidInput);  // zero-size slice
-        CHECK(fit_cascade(in, 5.0f, 5.001f, one) == CascadeStatus::Ok);
+        CHECK(cascade_fit_slice(in, 5.0f, 5.0f).status == Status::InvalidArgument);  // zero-size slice
+        CHECK(cascade_fit_slice(in, 5.0f, 5.001f).status == Status::Ok);
+        CHECK(cascade_fit_slice(in, 200.0f, 300.0f).status == Status::InvalidArgument);  // beyond the far plane
     }
+}
+
+// Issue 14 "must hold" for the cascades: the light's travel direction turns through the view direction
+// (and, coarser, the whole circle); a fixed set of slice points moves < 0.01 NDC per 0.002-degree step
+// and the points' NDC extent changes < 5% within 0.01 degree, except within 0.5 degree of the frame's
+// singular direction (a light shining straight up). The old frame (world axis least aligned with the
+// light) rolled the cascades by 90 degrees when two components of the direction were equal.
+TEST_CASE("cascades: continuity while the light turns through the view direction (issue 14)") {
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    long fits = 0, fine = 0, failures = 0;
+    double max_move = 0.0, max_ext = 0.0, max_move_pole = 0.0;
+    auto near_dir = [](const glm::dvec3& a, const glm::dvec3& b, double deg) {
+        return glm::dot(a, b) >= std::cos(deg * kPi / 180.0);
+    };
+    for (int cs = 0; cs < 8; ++cs) {
+        CascadeInput in;
+        const glm::vec3 pos = glm::vec3(u(rng) - 0.5f, u(rng) * 0.2f, u(rng) - 0.5f) * 40.0f;
+        glm::vec3 fwd = rdir(rng);
+        if (cs == 0) fwd = glm::normalize(glm::vec3(0, -0.2f, -1));
+        if (cs == 1) fwd = glm::vec3(0, 1, 0);  // looking straight up: parallel and the pole coincide
+        in.camera_view = look(pos, fwd);
+        const float fovy = 0.6f + u(rng), aspect = 1.0f + u(rng);
+        in.camera_proj = glm::infinitePerspective(fovy, aspect, 0.1f);
+        in.max_distance = 80.0f + 200.0f * u(rng);
+        in.shadow_map_size = 1024;
+        const glm::dvec3 v(fwd);
+        const glm::dvec3 w = glm::normalize(glm::cross(v, glm::dvec3(rdir(rng))));
+        // 48 points in each cascade's slice (closed form), for cascades 0 and 3
+        const CascadeSplits sp = cascade_split_distances(0.1f, in.max_distance, 0.75f, 4);
+        REQUIRE(sp.status == Status::Ok);
+        std::vector<glm::dvec3> pts[4];
+        for (int i = 0; i < 4; ++i)
+            for (int k = 0; k < 48; ++k) {
+                const double dep = sp.distances[i] + (sp.distances[i + 1] - sp.distances[i]) * double(u(rng));
+                pts[i].push_back(view_point(in.camera_view, fovy, aspect, dep, 2 * double(u(rng)) - 1, 2 * double(u(rng)) - 1));
+            }
+        auto sample = [&](double deg, std::vector<glm::dvec2> out[4], glm::dvec2 ext[4]) {
+            const double t = deg * kPi / 180.0;
+            const glm::dvec3 d = glm::normalize(v * std::cos(t) + w * std::sin(t));
+            CascadeInput x = in;
+            x.light_position = glm::vec4(glm::vec3(-d), 0.0f);
+            Cascade c[4];
+            ++fits;
+            REQUIRE(cascade_fit(x, 0.75f, 4, c, 4).status == Status::Ok);
+            for (int i = 0; i < 4; ++i) {
+                out[i].clear();
+                glm::dvec2 lo(1e300), hi(-1e300);
+                for (const glm::dvec3& p : pts[i]) {
+                    const glm::dvec4 h = glm::dmat4(c[i].view_proj) * glm::dvec4(p, 1.0);
+                    out[i].push_back(glm::dvec2(h.x, h.y) / h.w);
+                    lo = glm::min(lo, out[i].back());
+                    hi = glm::max(hi, out[i].back());
+                }
+                ext[i] = hi - lo;
+            }
+            return d;
+        };
+        auto walk = [&](double a, double b, double step, bool check) {
+            std::vector<glm::dvec2> p0[4], p1[4];
+            glm::dvec2 e0[4], e1[4], ew[4];
+            glm::dvec3 d0 = sample(a, p0, e0);
+            for (int i = 0; i < 4; ++i) ew[i] = e0[i];
+            const int n = int(std::lround((b - a) / step));
+            double coarse_max = 0.0;
+            for (int k = 1; k <= n; ++k) {
+                const glm::dvec3 d1 = sample(a + step * k, p1, e1);
+                const bool pole = near_dir(d0, glm::dvec3(0, 1, 0), 0.5) || near_dir(d1, glm::dvec3(0, 1, 0), 0.5);
+                for (int i = 0; i < 4; ++i) {
+                    double mv = 0.0;
+                    for (std::size_t j = 0; j < p0[i].size(); ++j) mv = std::fmax(mv, glm::length(p1[i][j] - p0[i][j]));
+                    const double ec = std::fmax(std::fabs(e1[i].x / e0[i].x - 1), std::fabs(e1[i].y / e0[i].y - 1));
+                    coarse_max = std::fmax(coarse_max, std::fmax(mv / 0.03, ec / 0.03));
+                    if (!check) continue;
+                    if (pole) { max_move_pole = std::fmax(max_move_pole, mv); continue; }
+                    max_move = std::fmax(max_move, mv);
+                    if (mv >= 0.01 && failures++ < 5) FAIL_CHECK("cascade " << i << " moves " << mv << " NDC at " << a + step * k);
+                    if (k % 5 == 0) {  // extent over the last 0.01 degree
+                        const double ew_c = std::fmax(std::fabs(e1[i].x / ew[i].x - 1), std::fabs(e1[i].y / ew[i].y - 1));
+                        max_ext = std::fmax(max_ext, ew_c);
+                        if (ew_c > 0.05 && failures++ < 5) FAIL_CHECK("cascade " << i << " extent changes " << ew_c);
+                        ew[i] = e1[i];
+                    }
+                }
+                for (int i = 0; i < 4; ++i) { p0[i].swap(p1[i]); e0[i] = e1[i]; }
+                d0 = d1;
+            }
+            return coarse_max;
+        };
+        // coarse circle (0.5 degree): re-walk in 0.002-degree steps where a step moves > 0.03 or the
+        // extent changes > 3%; and always across [-1.5, 1.5] degrees around parallel and anti-parallel
+        for (int k = 0; k < 720; ++k)
+            if (walk(0.5 * k, 0.5 * (k + 1), 0.5, false) >= 1.0) {
+                fine += 250;
+                walk(0.5 * k, 0.5 * (k + 1), 0.002, true);
+            }
+        for (double c : {0.0, 180.0}) {
+            walk(c - 1.5, c + 1.5, 0.002, true);
+            fine += 1500;
+        }
+    }
+    MESSAGE("cascades: fits " << fits << ", fine steps " << fine << ", max move " << max_move
+                              << " NDC (within 0.5 deg of a light shining straight up: " << max_move_pole
+                              << "), max extent change in 0.01 deg " << max_ext * 100 << "%");
+    CHECK(failures == 0);
 }

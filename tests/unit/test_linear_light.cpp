@@ -49,28 +49,35 @@ double brute_fraction(glm::vec3 p, glm::vec3 n, glm::vec3 a, glm::vec3 b, const 
 
 }  // namespace
 
-TEST_CASE("segment from centre, direction and length; zero length is a point") {
+TEST_CASE("segment from center, direction and length; zero length is a point") {
     sk::LinearLightSegment s = sk::linear_light_segment({1.f, 2.f, 3.f}, {0.f, 0.f, 4.f}, 2.f);
-    CHECK(s.status == sk::LinearLightStatus::Ok);
-    CHECK(s.a.z == doctest::Approx(2.f));
-    CHECK(s.b.z == doctest::Approx(4.f));
-    CHECK_FALSE(s.point);
+    CHECK(s.status == sk::Status::Ok);
+    CHECK(s.end_a.z == doctest::Approx(2.f));
+    CHECK(s.end_b.z == doctest::Approx(4.f));
+    CHECK_FALSE(s.is_point);
     s = sk::linear_light_segment({1.f, 2.f, 3.f}, {0.f, 0.f, 0.f}, 0.f);
-    CHECK(s.status == sk::LinearLightStatus::Ok);
-    CHECK(s.point);
-    CHECK(s.a == glm::vec3(1.f, 2.f, 3.f));
-    CHECK(s.b == s.a);
-    CHECK(sk::linear_light_segment({0.f, 0.f, 0.f}, {0.f, 0.f, 0.f}, 1.f).status == sk::LinearLightStatus::InvalidArgument);
-    CHECK(sk::linear_light_segment({0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, -1.f).status == sk::LinearLightStatus::InvalidArgument);
-    CHECK(sk::linear_light_segment({NAN, 0.f, 0.f}, {1.f, 0.f, 0.f}, 1.f).status == sk::LinearLightStatus::InvalidArgument);
+    CHECK(s.status == sk::Status::Ok);
+    CHECK(s.is_point);
+    CHECK(s.end_a == glm::vec3(1.f, 2.f, 3.f));
+    CHECK(s.end_b == s.end_a);
+    CHECK(sk::linear_light_segment({0.f, 0.f, 0.f}, {0.f, 0.f, 0.f}, 1.f).status == sk::Status::InvalidArgument);
+    CHECK(sk::linear_light_segment({0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, -1.f).status == sk::Status::InvalidArgument);
+    CHECK(sk::linear_light_segment({NAN, 0.f, 0.f}, {1.f, 0.f, 0.f}, 1.f).status == sk::Status::NonFinite);
     glm::vec3 e[5];
     s = sk::linear_light_segment({0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, 4.f);
-    CHECK(sk::linear_light_subdivide(s, 4, e, 5) == 5);
-    CHECK(e[0] == s.a);
-    CHECK(e[4] == s.b);
+    const sk::LinearLightSubdivideResult d = sk::linear_light_subdivide(s, 4, e, 5);
+    CHECK(d.status == sk::Status::Ok);
+    CHECK(d.count == 5);
+    CHECK(e[0] == s.end_a);
+    CHECK(e[4] == s.end_b);
     CHECK(e[1].x == doctest::Approx(-1.f));
-    CHECK(sk::linear_light_subdivide(s, 0, e, 5) == 0);
-    CHECK(sk::linear_light_subdivide(s, 8, nullptr, 0) == 9);
+    CHECK(sk::linear_light_subdivide(s, 0, e, 5).status == sk::Status::InvalidArgument);
+    const sk::LinearLightSubdivideResult q = sk::linear_light_subdivide(s, 8, nullptr, 0);  // size query
+    CHECK(q.status == sk::Status::BufferTooSmall);
+    CHECK(q.needed == 9);
+    // a null buffer with a capacity (was: a size query returning the count) and a default segment
+    CHECK(sk::linear_light_subdivide(s, 8, nullptr, 9).status == sk::Status::InvalidArgument);
+    CHECK(sk::linear_light_subdivide(sk::LinearLightSegment{}, 2, e, 5).status == sk::Status::InvalidArgument);
 }
 
 TEST_CASE("box interval: exact against brute force (3000 random configurations)") {
@@ -132,7 +139,7 @@ TEST_CASE("visible fraction: several boxes and the tangent plane against brute f
         if (it % 3 == 2) n = glm::vec3(0.f);
         const glm::vec3 a(-1.f + u(rng), 3.f, u(rng)), b(1.f + u(rng), 3.f + u(rng), u(rng));
         const sk::LinearLightFraction f = sk::linear_light_visible_fraction(p, n, a, b, boxes.data(), boxes.size());
-        REQUIRE(f.status == sk::LinearLightStatus::Ok);
+        REQUIRE(f.status == sk::Status::Ok);
         const double bf = brute_fraction(p, n, a, b, boxes, 8000);
         worst = std::max(worst, std::abs(bf - double(f.fraction)));
     }
@@ -148,7 +155,7 @@ TEST_CASE("zero-length light gives the point-light result exactly") {
     for (int it = 0; it < 20000; ++it) {
         const glm::vec3 L(u(rng) * 2.f, 3.f + u(rng), u(rng) * 2.f), p(u(rng) * 3.f, 0.f, u(rng) * 3.f);
         const sk::LinearLightSegment s = sk::linear_light_segment(L, {1.f, 0.f, 0.f}, 0.f);
-        const float f = sk::linear_light_visible_fraction(p, {0.f, 1.f, 0.f}, s.a, s.b, boxes.data(), boxes.size()).fraction;
+        const float f = sk::linear_light_visible_fraction(p, {0.f, 1.f, 0.f}, s.end_a, s.end_b, boxes.data(), boxes.size()).fraction;
         bool hit = false;
         for (const auto& b : boxes) hit = hit || slab(glm::dvec3(p), glm::dvec3(L), glm::dvec3(b.lo), glm::dvec3(b.hi), 1e-4);
         const float point = hit ? 0.f : 1.f;
@@ -181,10 +188,10 @@ TEST_CASE("skin cells: discontinuities become triangles with 0 on the occluder a
         }
     std::vector<sk::LinearLightSkinVertex> skin(sk::linear_light_skin_capacity(W, H));
     sk::LinearLightSkinResult r = sk::linear_light_build_skin(pos.data(), dist.data(), W, H, 0.05f, skin.data(), skin.size());
-    CHECK(r.status == sk::LinearLightStatus::Ok);
+    CHECK(r.status == sk::Status::Ok);
     CHECK(r.cells == H - 1);                 // only the column of cells across i = 2|3
-    CHECK(r.written == 6 * (H - 1));         // both triangles of each discontinuity cell
-    for (std::size_t k = 0; k < r.written; ++k) {
+    CHECK(r.count == 6 * (H - 1));           // both triangles of each discontinuity cell
+    for (std::size_t k = 0; k < r.count; ++k) {
         const bool occ = skin[k].position.x < 2.5f;
         CHECK(skin[k].value == (occ ? 0.f : 1.f));
     }
@@ -193,22 +200,24 @@ TEST_CASE("skin cells: discontinuities become triangles with 0 on the occluder a
     CHECK(r.needed == 0);
     // truncated buffer reports the need
     r = sk::linear_light_build_skin(pos.data(), dist.data(), W, H, 0.05f, skin.data(), 4);
-    CHECK(r.status == sk::LinearLightStatus::BufferTooSmall);
+    CHECK(r.status == sk::Status::BufferTooSmall);
     CHECK(r.needed == 6 * (H - 1));
-    CHECK(r.written == 4);
+    CHECK(r.count == 4);
     // a corner cell: one occluder sample out of four; both triangles (a continuous skin)
-    const float d1[4] = {5.f, 2.f, 5.f, 5.f};
-    int tri[2][3];
-    float val[4];
-    CHECK(sk::linear_light_skin_cell(d1, 0.05f, tri, val) == 2);
-    CHECK(val[1] == 0.f);
-    CHECK(val[0] == 1.f);
-    CHECK(tri[0][1] == 1);
-    CHECK(tri[1][2] == 2);
-    const float d2[4] = {5.f, 5.1f, 5.f, 5.f};  // no discontinuity
-    CHECK(sk::linear_light_skin_cell(d2, 0.05f, tri, val) == 0);
-    const float d3[4] = {5.f, NAN, 5.f, 5.f};
-    CHECK(sk::linear_light_skin_cell(d3, 0.05f, tri, val) == 0);
+    const sk::LinearLightSkinCell c1 = sk::linear_light_skin_cell({5.f, 2.f, 5.f, 5.f}, 0.05f);
+    CHECK(c1.status == sk::Status::Ok);
+    CHECK(c1.triangle_count == 2);
+    CHECK(c1.value[1] == 0.f);
+    CHECK(c1.value[0] == 1.f);
+    CHECK(c1.triangles[0][1] == 1);
+    CHECK(c1.triangles[1][2] == 2);
+    const sk::LinearLightSkinCell c2 = sk::linear_light_skin_cell({5.f, 5.1f, 5.f, 5.f}, 0.05f);  // no discontinuity
+    CHECK(c2.status == sk::Status::Ok);
+    CHECK(c2.triangle_count == 0);
+    // NaN / non-positive distances: an error (was: silently "no discontinuity")
+    CHECK(sk::linear_light_skin_cell({5.f, NAN, 5.f, 5.f}, 0.05f).status == sk::Status::NonFinite);
+    CHECK(sk::linear_light_skin_cell({5.f, 0.f, 5.f, 5.f}, 0.05f).status == sk::Status::InvalidArgument);
+    CHECK(sk::linear_light_skin_cell({5.f, 1.f, 5.f, 5.f}, -0.05f).status == sk::Status::InvalidArgument);
     CHECK_FALSE(sk::linear_light_is_discontinuity(1.f, 1.04f, 0.05f));
     CHECK(sk::linear_light_is_discontinuity(1.f, 1.06f, 0.05f));
     CHECK_FALSE(sk::linear_light_is_discontinuity(0.f, 1.f, 0.05f));
@@ -254,11 +263,11 @@ TEST_CASE("flatland: the warped skin interpolates the penumbra (closed form) and
 TEST_CASE("stiff input: NaN, huge coordinates, degenerate boxes, receiver on the box") {
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     const sk::LinearLightBox box{{-1.f, 0.f, -1.f}, {1.f, 1.f, 1.f}};
-    CHECK(sk::linear_light_box_interval({nan, 0, 0}, {0, 3, 0}, {1, 3, 0}, box).empty());
+    CHECK(sk::linear_light_box_interval({nan, 0, 0}, {0, 3, 0}, {1, 3, 0}, box).status == sk::Status::NonFinite);
     CHECK(sk::linear_light_visible_fraction({0, 0, 0}, {0, 1, 0}, {inf, 3, 0}, {1, 3, 0}, &box, 1).status ==
-          sk::LinearLightStatus::InvalidArgument);
+          sk::Status::NonFinite);
     CHECK(sk::linear_light_visible_fraction({0, 0, 0}, {0, 1, 0}, {0, 3, 0}, {1, 3, 0}, nullptr, 1).status ==
-          sk::LinearLightStatus::InvalidArgument);
+          sk::Status::InvalidArgument);
     // receiver on the box's top face sees the whole light (no self-occlusion)
     CHECK(sk::linear_light_visible_fraction({0.f, 1.f, 0.f}, {0, 1, 0}, {-1, 3, 0}, {1, 3, 0}, &box, 1).fraction == 1.f);
     // receiver under the box sees nothing
@@ -292,12 +301,141 @@ TEST_CASE("skin cell midpoint at the float extremes: one occluder and one receiv
     } cases[] = {{{1e38f, 3e38f, 1e38f, 3e38f}, 0.5f}, {{one_up, two_up, one_up, two_up}, 0.f},
                  {{tiny, 2 * tiny, tiny, 2 * tiny}, 0.f}};
     for (const auto& c : cases) {
-        int tri[2][3];
-        float value[4];
-        REQUIRE(sk::linear_light_skin_cell(c.d, c.threshold, tri, value) == 2);
-        CHECK(value[0] == 0.f);
-        CHECK(value[1] == 1.f);
-        CHECK(value[2] == 0.f);
-        CHECK(value[3] == 1.f);
+        const sk::LinearLightSkinCell cell = sk::linear_light_skin_cell(glm::vec4(c.d[0], c.d[1], c.d[2], c.d[3]), c.threshold);
+        REQUIRE(cell.triangle_count == 2);
+        CHECK(cell.value[0] == 0.f);
+        CHECK(cell.value[1] == 1.f);
+        CHECK(cell.value[2] == 0.f);
+        CHECK(cell.value[3] == 1.f);
     }
+}
+
+TEST_CASE("segment whose endpoint overflows float: Overflow, not Ok with Inf (issue 19 item 5)") {
+    // Regression: the old code returned Ok with end_b.z = +Inf for a center at 3.4e38 and length
+    // 3.4e38 (center + length / 2 = 5.1e38 > FLT_MAX).
+    const sk::LinearLightSegment s = sk::linear_light_segment({0.f, 0.f, 3.4e38f}, {0.f, 0.f, 1.f}, 3.4e38f);
+    CHECK(s.status == sk::Status::Overflow);
+    CHECK(sk::linear_light_segment({-3e38f, 0.f, 0.f}, {-1.f, 0.f, 0.f}, 1e38f).status == sk::Status::Overflow);
+    // the largest that fits: ends at +-1.5e38, length 3e38 < FLT_MAX
+    const sk::LinearLightSegment big = sk::linear_light_segment({0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, 3e38f);
+    CHECK(big.status == sk::Status::Ok);
+    CHECK(big.end_b.x == doctest::Approx(1.5e38f));
+    CHECK(std::isfinite(big.end_b.x - big.end_a.x));
+    // direction Inf is NonFinite (was InvalidArgument), a zero direction with a length InvalidArgument
+    CHECK(sk::linear_light_segment({0.f, 0.f, 0.f}, {INFINITY, 0.f, 0.f}, 1.f).status == sk::Status::NonFinite);
+    CHECK(sk::linear_light_segment({0.f, 0.f, 0.f}, {0.f, 0.f, 0.f}, 1.f).status == sk::Status::InvalidArgument);
+}
+
+TEST_CASE("visible fraction behind 100 slats: exact past 64 intervals (closed form)") {
+    // Regression: the old union kept at most 64 visible pieces and silently dropped the rest, so
+    // a fence of more than 63 slats between the receiver and the light gave too small a fraction
+    // with Ok. Closed form: light from (-1, 3, 0) to (1, 3, 0), receiver at the origin; a ray to
+    // L(t) crosses y = 1.5 at x = t - 0.5, so a flat slat over x in [x0, x1] at y = 1.5 hides
+    // t in [x0 + 0.5, x1 + 0.5]. 100 slats 0.005 wide every 0.01 hide exactly half of the light.
+    std::vector<sk::LinearLightBox> slats;
+    for (int k = 0; k < 100; ++k) {
+        const float x0 = -0.5f + 0.01f * float(k);
+        slats.push_back({{x0, 1.5f, -1.f}, {x0 + 0.005f, 1.5f, 1.f}});
+    }
+    double expect = 1.0;
+    for (const auto& b : slats) expect -= double(b.hi.x) - double(b.lo.x);
+    const sk::LinearLightFraction f =
+        sk::linear_light_visible_fraction({0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {-1.f, 3.f, 0.f}, {1.f, 3.f, 0.f}, slats.data(),
+                                          slats.size(), 0.f);
+    REQUIRE(f.status == sk::Status::Ok);
+    CHECK(f.fraction == doctest::Approx(expect).epsilon(1e-5));
+    CHECK(f.fraction == doctest::Approx(brute_fraction({0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {-1.f, 3.f, 0.f}, {1.f, 3.f, 0.f},
+                                                       slats, 20000))
+                            .epsilon(1e-3));
+    // the same slats in reverse order and shuffled (the sweep does not depend on the order)
+    std::vector<sk::LinearLightBox> shuffled = slats;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(5));
+    CHECK(sk::linear_light_visible_fraction({0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {-1.f, 3.f, 0.f}, {1.f, 3.f, 0.f},
+                                            shuffled.data(), shuffled.size(), 0.f)
+              .fraction == doctest::Approx(expect).epsilon(1e-5));
+    // a box with lo > hi is InvalidArgument (was: an empty box)
+    const sk::LinearLightBox inverted{{1.f, 1.f, 1.f}, {-1.f, 2.f, 2.f}};
+    CHECK(sk::linear_light_visible_fraction({0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {-1.f, 3.f, 0.f}, {1.f, 3.f, 0.f}, &inverted, 1)
+              .status == sk::Status::InvalidArgument);
+    CHECK(sk::linear_light_box_interval({0.f, 0.f, 0.f}, {-1.f, 3.f, 0.f}, {1.f, 3.f, 0.f}, slats[0], 1.f).status ==
+          sk::Status::InvalidArgument);
+}
+
+TEST_CASE("property: finite input in range gives Ok and finite output, NaN gives NonFinite (5,000 configurations)") {
+    std::mt19937 rng(1905);
+    std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
+    const float scales[6] = {1e-6f, 1e-3f, 1.f, 1e3f, 1e6f, 1e30f};
+    int overflow = 0;
+    for (int it = 0; it < 5000; ++it) {
+        const float sc = scales[it % 6];
+        glm::vec3 c(u(rng) * sc, u(rng) * sc, u(rng) * sc), dir(u(rng), u(rng), u(rng));
+        float len = u01(rng) * sc * 2.f;
+        if (it % 11 == 0) {  // near the float limit: some overflow
+            c.x = u(rng) * 3.3e38f;
+            len = u01(rng) * 3e38f;
+        }
+        const sk::LinearLightSegment s = sk::linear_light_segment(c, dir, len);
+        // expected by double arithmetic: Ok iff both ends and their difference fit a float
+        const double dl = glm::length(glm::dvec3(dir));
+        const glm::dvec3 h = glm::dvec3(dir) * (0.5 * double(len) / dl);
+        const double fmax = double(std::numeric_limits<float>::max());
+        const bool fits = glm::all(glm::lessThanEqual(glm::abs(glm::dvec3(c) + h), glm::dvec3(fmax))) &&
+                          glm::all(glm::lessThanEqual(glm::abs(glm::dvec3(c) - h), glm::dvec3(fmax))) &&
+                          glm::all(glm::lessThanEqual(glm::abs(2.0 * h), glm::dvec3(fmax * (1.0 - 1e-6))));
+        if (len > 0.f && dl == 0.0) continue;
+        if (fits) {
+            REQUIRE(s.status == sk::Status::Ok);
+        } else if (s.status != sk::Status::Ok) {
+            REQUIRE(s.status == sk::Status::Overflow);
+            ++overflow;
+            continue;
+        }
+        REQUIRE(sk::detail::ll_finite(s.end_a));
+        REQUIRE(sk::detail::ll_finite(s.end_b));
+        glm::vec3 ends[5];
+        const auto d = sk::linear_light_subdivide(s, 4, ends, 5);
+        REQUIRE(d.status == sk::Status::Ok);
+        for (const auto& e : ends) REQUIRE(sk::detail::ll_finite(e));
+        // boxes and receivers around the light at its scale
+        std::vector<sk::LinearLightBox> boxes(std::size_t(it % 80));
+        for (auto& b : boxes) {
+            const glm::vec3 lo = c + glm::vec3(u(rng), u(rng), u(rng)) * sc;
+            b = {lo, lo + glm::abs(glm::vec3(u(rng), u(rng), u(rng))) * sc * 0.3f};
+        }
+        const glm::vec3 p = c + glm::vec3(u(rng), u(rng), u(rng)) * sc * 3.f, n(u(rng), u(rng), u(rng));
+        const float mf = it % 3 == 0 ? 0.f : 1e-4f;
+        const sk::LinearLightFraction f = sk::linear_light_visible_fraction(p, n, s.end_a, s.end_b, boxes.data(), boxes.size(), mf);
+        REQUIRE(f.status == sk::Status::Ok);
+        REQUIRE((f.fraction >= 0.f && f.fraction <= 1.f));
+        for (const auto& b : boxes) {
+            const sk::LinearLightInterval I = sk::linear_light_box_interval(p, s.end_a, s.end_b, b, mf);
+            REQUIRE(I.status == sk::Status::Ok);
+            REQUIRE((I.empty() || (I.t0 >= 0.f && I.t1 <= 1.f)));
+        }
+        const sk::LinearLightInterval T = sk::linear_light_tangent_interval(p, n, s.end_a, s.end_b);
+        REQUIRE(T.status == sk::Status::Ok);
+        // a 6 x 5 skin map of positive finite distances
+        std::vector<glm::vec3> pos(30);
+        std::vector<float> dist(30);
+        for (std::size_t k = 0; k < 30; ++k) {
+            pos[k] = c + glm::vec3(u(rng), u(rng), u(rng)) * sc;
+            dist[k] = (0.5f + u01(rng)) * sc;
+        }
+        std::vector<sk::LinearLightSkinVertex> skin(sk::linear_light_skin_capacity(6, 5));
+        const auto sr = sk::linear_light_build_skin(pos.data(), dist.data(), 6, 5, 0.05f, skin.data(), skin.size());
+        REQUIRE(sr.status == sk::Status::Ok);
+        REQUIRE(sr.count == sr.needed);
+        // NaN anywhere: NonFinite
+        boxes.push_back({{NAN, 0.f, 0.f}, {1.f, 1.f, 1.f}});
+        REQUIRE(sk::linear_light_visible_fraction(p, n, s.end_a, s.end_b, boxes.data(), boxes.size(), mf).status ==
+                sk::Status::NonFinite);
+        dist[std::size_t(it % 30)] = NAN;
+        REQUIRE(sk::linear_light_build_skin(pos.data(), dist.data(), 6, 5, 0.05f, skin.data(), skin.size()).status ==
+                sk::Status::NonFinite);
+        dist[std::size_t(it % 30)] = -1.f;
+        REQUIRE(sk::linear_light_build_skin(pos.data(), dist.data(), 6, 5, 0.05f, skin.data(), skin.size()).status ==
+                sk::Status::InvalidArgument);
+    }
+    CHECK(overflow > 0);
+    CHECK(sk::linear_light_skin_capacity(0xFFFFFFFFu, 0xFFFFFFFFu) == std::numeric_limits<std::size_t>::max());
 }

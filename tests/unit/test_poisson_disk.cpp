@@ -39,28 +39,35 @@ double brute_min_dist(const std::vector<glm::vec2>& p, std::size_t n) {
     return best;
 }
 
-std::vector<glm::vec2> bridson(PoissonDomain d, float r, std::uint64_t seed, BridsonOptions o = {}) {
+std::vector<glm::vec2> bridson(PoissonDomain d, float r, std::uint64_t seed, PoissonBridsonOptions o = {}) {
     std::vector<glm::vec2> p(poisson_bridson_capacity(d, r));
     const PoissonResult res = poisson_bridson(d, r, seed, p.data(), p.size(), o);
-    REQUIRE(res.status == PoissonStatus::Ok);
+    REQUIRE(res.status == Status::Ok);
     REQUIRE(res.count == res.needed);
     p.resize(res.count);
     return p;
 }
 
-std::vector<glm::vec2> eliminate(PoissonDomain d, std::size_t n, std::uint64_t seed, EliminationOptions o = {}) {
+std::vector<glm::vec2> eliminate(PoissonDomain d, std::size_t n, std::uint64_t seed, PoissonEliminationOptions o = {}) {
     std::vector<glm::vec2> p(n);
     const PoissonResult res = poisson_eliminate(d, n, seed, p.data(), p.size(), o);
-    REQUIRE(res.status == PoissonStatus::Ok);
+    REQUIRE(res.status == Status::Ok);
     REQUIRE(res.count == n);
     return p;
+}
+
+// The value of an Ok result (the test fails if it is not Ok).
+float val(const PoissonValue& r) {
+    INFO("status " << std::string(status_name(r.status)));
+    CHECK(r.status == Status::Ok);
+    return r.value;
 }
 
 }  // namespace
 
 TEST_CASE("splitmix64 stream matches the published reference values") {
     // Reference: splitmix64 seeded with 0 yields 0xE220A8397B1DCDAF, 0x6E789E6AA1B965F4, ...
-    poisson_detail::Rng rng{0};
+    detail::pd_rng rng{0};
     CHECK(rng.next() == 0xE220A8397B1DCDAFull);
     CHECK(rng.next() == 0x6E789E6AA1B965F4ull);
 }
@@ -71,11 +78,13 @@ TEST_CASE("packing distance equals the spacing of a hexagonal lattice of the sam
         for (const PoissonDomain& d : kDomains) {
             const double a = d.shape == PoissonShape::Square ? 4.0 : 3.14159265358979 * (1.0 - double(d.inner_radius) * d.inner_radius);
             const double s = std::sqrt(a / double(n) / (std::sqrt(3.0) / 2.0));
-            CHECK(double(poisson_packing_distance(d, n)) == doctest::Approx(s).epsilon(1e-6));
+            CHECK(double(val(poisson_packing_distance(d, n))) == doctest::Approx(s).epsilon(1e-6));
         }
     }
-    CHECK(std::isinf(poisson_packing_distance(kDisk, 0)));
-    CHECK(std::isnan(poisson_packing_distance(PoissonDomain{PoissonShape::Annulus, 1.5f}, 4)));
+    CHECK(poisson_packing_distance(kDisk, 0).status == Status::InvalidArgument);
+    CHECK(poisson_packing_distance(PoissonDomain{PoissonShape::Annulus, 1.5f}, 4).status == Status::InvalidArgument);
+    CHECK(poisson_packing_distance(PoissonDomain{PoissonShape::Annulus, NAN}, 4).status == Status::NonFinite);
+    CHECK(poisson_domain_area(PoissonDomain{static_cast<PoissonShape>(7), 0.0f}).status == Status::InvalidArgument);
 }
 
 TEST_CASE("Bridson: every pair is at least the radius apart and every point is in the domain") {
@@ -86,7 +95,7 @@ TEST_CASE("Bridson: every pair is at least the radius apart and every point is i
         PoissonDomain d = kDomains[it % 3];
         if (d.shape == PoissonShape::Annulus) d.inner_radius = inner(rng);
         const float r = rad(rng);
-        BridsonOptions o;
+        PoissonBridsonOptions o;
         o.fill_gaps = (it % 2) == 0;
         o.attempts = 1 + it % 40;
         const auto p = bridson(d, r, std::uint64_t(it) * 977u, o);
@@ -104,7 +113,7 @@ TEST_CASE("Bridson: gap filling makes the set maximal up to its lattice (coverag
         for (float r : {0.45f, 0.32f, 0.22f}) {
             for (std::uint64_t seed = 0; seed < 6; ++seed) {
                 const auto p = bridson(d, r, seed);
-                const double cov = poisson_coverage_radius(d, p.data(), p.size());
+                const double cov = val(poisson_coverage_radius(d, p.data(), p.size()));
                 CHECK(cov <= double(r) * (1.0 + std::sqrt(2.0) / 4.0) + 1e-6);
             }
         }
@@ -118,13 +127,13 @@ TEST_CASE("Elimination: exact count, all inside, reported radius is the true min
         PoissonDomain d = kDomains[it % 3];
         if (d.shape == PoissonShape::Annulus) d.inner_radius = std::min(inner(rng), 0.99f);
         const std::size_t n = 1 + std::size_t(it % 97);
-        EliminationOptions o;
+        PoissonEliminationOptions o;
         o.progressive = (it % 2) == 0;
         o.weight_limiting = (it % 4) < 2;
         o.candidate_factor = 2 + it % 9;
         std::vector<glm::vec2> p(n + 5, glm::vec2(77.0f));
         const PoissonResult res = poisson_eliminate(d, n, std::uint64_t(it), p.data(), p.size(), o);
-        REQUIRE(res.status == PoissonStatus::Ok);
+        REQUIRE(res.status == Status::Ok);
         CHECK(res.count == n);
         CHECK(res.needed == n);
         for (std::size_t i = 0; i < n; ++i) CHECK(inside(d, p[i]));
@@ -152,10 +161,10 @@ TEST_CASE("Quality: normalized radius and coverage at N = 16, 32, 64 (20 seeds e
             double rho_e = 0, cov_e = 0, rho_u = 0;
             for (std::uint64_t s = 0; s < 20; ++s) {
                 const auto p = eliminate(d, n, s);
-                const double rho = poisson_normalized_radius(d, p.data(), n);
+                const double rho = val(poisson_normalized_radius(d, p.data(), n));
                 CHECK(rho >= 0.6);  // every single set
                 rho_e += rho;
-                cov_e += poisson_coverage_radius(d, p.data(), n) / poisson_packing_distance(d, n);
+                cov_e += val(poisson_coverage_radius(d, p.data(), n)) / val(poisson_packing_distance(d, n));
                 // Control: uniform random points of the same count are far worse.
                 std::mt19937 g{static_cast<unsigned>(s)};
                 std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -164,7 +173,7 @@ TEST_CASE("Quality: normalized radius and coverage at N = 16, 32, 64 (20 seeds e
                     const glm::vec2 c(u(g), u(g));
                     if (inside(d, c)) q.push_back(c);
                 }
-                rho_u += poisson_normalized_radius(d, q.data(), n);
+                rho_u += val(poisson_normalized_radius(d, q.data(), n));
             }
             rho_e /= 20;
             cov_e /= 20;
@@ -178,7 +187,7 @@ TEST_CASE("Quality: normalized radius and coverage at N = 16, 32, 64 (20 seeds e
             double rho_b = 0;
             for (std::uint64_t s = 0; s < 20; ++s) {
                 const auto p = bridson(d, r, s);
-                rho_b += poisson_normalized_radius(d, p.data(), p.size());
+                rho_b += val(poisson_normalized_radius(d, p.data(), p.size()));
             }
             rho_b /= 20;
             INFO("r=" << r << " shape=" << int(d.shape) << " rho_b=" << rho_b);
@@ -191,13 +200,13 @@ TEST_CASE("Quality: normalized radius and coverage at N = 16, 32, 64 (20 seeds e
 TEST_CASE("Progressive order: every prefix is itself well spread") {
     double worst_prog = 1e9, worst_plain = 1e9;
     for (std::uint64_t s = 0; s < 10; ++s) {
-        EliminationOptions plain;
+        PoissonEliminationOptions plain;
         plain.progressive = false;
         const auto p = eliminate(kDisk, 64, s);
         const auto q = eliminate(kDisk, 64, s, plain);
         for (std::size_t k = 2; k <= 64; ++k) {
-            worst_prog = std::min(worst_prog, double(poisson_normalized_radius(kDisk, p.data(), k)));
-            worst_plain = std::min(worst_plain, double(poisson_normalized_radius(kDisk, q.data(), k)));
+            worst_prog = std::min(worst_prog, double(val(poisson_normalized_radius(kDisk, p.data(), k))));
+            worst_plain = std::min(worst_plain, double(val(poisson_normalized_radius(kDisk, q.data(), k))));
         }
         // Same set, only reordered.
         auto key = [](glm::vec2 a, glm::vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
@@ -212,18 +221,18 @@ TEST_CASE("Progressive order: every prefix is itself well spread") {
 
 TEST_CASE("Coverage radius: closed forms and agreement with a grid estimate") {
     const glm::vec2 origin(0.0f);
-    CHECK(double(poisson_coverage_radius(kDisk, &origin, 1)) == doctest::Approx(1.0));
-    CHECK(double(poisson_coverage_radius(kSquare, &origin, 1)) == doctest::Approx(std::sqrt(2.0)));
+    CHECK(double(val(poisson_coverage_radius(kDisk, &origin, 1))) == doctest::Approx(1.0));
+    CHECK(double(val(poisson_coverage_radius(kSquare, &origin, 1))) == doctest::Approx(std::sqrt(2.0)));
     const glm::vec2 one(0.5f, 0.0f);
-    CHECK(double(poisson_coverage_radius(kDisk, &one, 1)) == doctest::Approx(1.5));
-    CHECK(double(poisson_coverage_radius(PoissonDomain{PoissonShape::Annulus, 0.5f}, &one, 1)) == doctest::Approx(1.5));
+    CHECK(double(val(poisson_coverage_radius(kDisk, &one, 1))) == doctest::Approx(1.5));
+    CHECK(double(val(poisson_coverage_radius(PoissonDomain{PoissonShape::Annulus, 0.5f}, &one, 1))) == doctest::Approx(1.5));
     const glm::vec2 two[2] = {{-0.5f, 0.0f}, {0.5f, 0.0f}};
-    CHECK(double(poisson_coverage_radius(kSquare, two, 2)) == doctest::Approx(std::sqrt(1.25)));
+    CHECK(double(val(poisson_coverage_radius(kSquare, two, 2))) == doctest::Approx(std::sqrt(1.25)));
     // Disk, two points: in the left cell the circle point (cos t, sin t), cos t <= 0, is at squared
     // distance 1.25 + cos t from (-0.5, 0): the maximum is on the bisector, (0, +-1).
-    CHECK(double(poisson_coverage_radius(kDisk, two, 2)) == doctest::Approx(std::sqrt(1.25)));
-    // Regular hexagon of radius 1/2 plus the centre in the unit disk: the largest empty circle is
-    // centred on the unit circle midway between two hexagon vertices.
+    CHECK(double(val(poisson_coverage_radius(kDisk, two, 2))) == doctest::Approx(std::sqrt(1.25)));
+    // Regular hexagon of radius 1/2 plus the center in the unit disk: the largest empty circle is
+    // centered on the unit circle midway between two hexagon vertices.
     std::vector<glm::vec2> hex{glm::vec2(0.0f)};
     for (int k = 0; k < 6; ++k) hex.emplace_back(0.5f * std::cos(float(k) * 1.0471975512f), 0.5f * std::sin(float(k) * 1.0471975512f));
     {
@@ -231,7 +240,7 @@ TEST_CASE("Coverage radius: closed forms and agreement with a grid estimate") {
         const double c[2] = {std::cos(a), std::sin(a)};
         const double v[2] = {0.5, 0.0};
         const double expect = std::hypot(c[0] - v[0], c[1] - v[1]);
-        CHECK(double(poisson_coverage_radius(kDisk, hex.data(), hex.size())) == doctest::Approx(expect).epsilon(1e-5));
+        CHECK(double(val(poisson_coverage_radius(kDisk, hex.data(), hex.size()))) == doctest::Approx(expect).epsilon(1e-5));
     }
     std::mt19937 rng(7);
     for (int it = 0; it < 60; ++it) {
@@ -239,14 +248,17 @@ TEST_CASE("Coverage radius: closed forms and agreement with a grid estimate") {
         const std::size_t n = 1 + std::size_t(it % 24);
         const auto p = eliminate(d, n, std::uint64_t(it) + 100);
         const int res = 257;
-        const double grid = poisson_coverage_radius_grid(d, p.data(), n, res);
-        const double exact = poisson_coverage_radius(d, p.data(), n);
+        const double grid = val(poisson_coverage_radius_grid(d, p.data(), n, res));
+        const double exact = val(poisson_coverage_radius(d, p.data(), n));
         CHECK(grid <= exact + 1e-6);
         CHECK(exact <= grid + 2.0 * std::sqrt(2.0) * 2.0 / (res - 1));
     }
-    CHECK(std::isinf(poisson_coverage_radius(kDisk, nullptr, 0)));
+    CHECK(poisson_coverage_radius(kDisk, nullptr, 0).status == Status::InvalidArgument);
+    CHECK(poisson_coverage_radius_grid(kDisk, nullptr, 0, 16).status == Status::InvalidArgument);
+    CHECK(poisson_coverage_radius(kDisk, nullptr, 3).status == Status::InvalidArgument);
     const glm::vec2 bad(NAN, 0.0f);
-    CHECK(std::isnan(poisson_coverage_radius(kDisk, &bad, 1)));
+    CHECK(poisson_coverage_radius(kDisk, &bad, 1).status == Status::NonFinite);
+    CHECK(poisson_coverage_radius_grid(kDisk, &bad, 1, 16).status == Status::NonFinite);
 }
 
 TEST_CASE("Determinism: same seed, same bits; other seeds, other sets") {
@@ -269,39 +281,39 @@ TEST_CASE("Determinism: same seed, same bits; other seeds, other sets") {
 TEST_CASE("Edge cases: N = 0, N = 1, huge N, small buffers, NaN and degenerate radii") {
     glm::vec2 buf[4];
     PoissonResult r = poisson_eliminate(kDisk, 0, 1, buf, 4);
-    CHECK(r.status == PoissonStatus::Ok);
+    CHECK(r.status == Status::Ok);
     CHECK(r.count == 0);
     r = poisson_eliminate(kDisk, 0, 1, nullptr, 0);
-    CHECK(r.status == PoissonStatus::Ok);
+    CHECK(r.status == Status::Ok);
     r = poisson_eliminate(kDisk, 1, 1, buf, 4);
-    CHECK(r.status == PoissonStatus::Ok);
+    CHECK(r.status == Status::Ok);
     CHECK(r.count == 1);
     CHECK(inside(kDisk, buf[0]));
-    CHECK(std::isinf(r.radius));
+    CHECK(r.radius == 0.0f);  // no pair: 0, never +inf
     r = poisson_eliminate(kDisk, kPoissonMaxPoints + 1, 1, buf, 4);
-    CHECK(r.status == PoissonStatus::TooMany);
+    CHECK(r.status == Status::InvalidArgument);
     r = poisson_eliminate(kDisk, std::size_t(-1), 1, buf, 4);
-    CHECK(r.status == PoissonStatus::TooMany);
+    CHECK(r.status == Status::InvalidArgument);
     r = poisson_eliminate(kDisk, 10, 1, buf, 4);
-    CHECK(r.status == PoissonStatus::BufferTooSmall);
+    CHECK(r.status == Status::BufferTooSmall);
     CHECK(r.needed == 10);
     r = poisson_eliminate(kDisk, 10, 1, nullptr, 0);  // size query
-    CHECK(r.status == PoissonStatus::BufferTooSmall);
+    CHECK(r.status == Status::BufferTooSmall);
     CHECK(r.needed == 10);
-    CHECK(poisson_eliminate(kDisk, 4, 1, nullptr, 4).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_eliminate(PoissonDomain{PoissonShape::Annulus, NAN}, 4, 1, buf, 4).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_eliminate(PoissonDomain{PoissonShape::Annulus, 1.0f}, 4, 1, buf, 4).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_eliminate(PoissonDomain{static_cast<PoissonShape>(9), 0.0f}, 4, 1, buf, 4).status == PoissonStatus::InvalidArgument);
+    CHECK(poisson_eliminate(kDisk, 4, 1, nullptr, 4).status == Status::InvalidArgument);
+    CHECK(poisson_eliminate(PoissonDomain{PoissonShape::Annulus, NAN}, 4, 1, buf, 4).status == Status::NonFinite);
+    CHECK(poisson_eliminate(PoissonDomain{PoissonShape::Annulus, 1.0f}, 4, 1, buf, 4).status == Status::InvalidArgument);
+    CHECK(poisson_eliminate(PoissonDomain{static_cast<PoissonShape>(9), 0.0f}, 4, 1, buf, 4).status == Status::InvalidArgument);
 
     for (float bad : {NAN, INFINITY, -INFINITY, 0.0f, -0.5f, -0.0f}) {
-        CHECK(poisson_bridson(kDisk, bad, 1, buf, 4).status == PoissonStatus::InvalidArgument);
+        CHECK(poisson_bridson(kDisk, bad, 1, buf, 4).status == (std::isfinite(bad) ? Status::InvalidArgument : Status::NonFinite));
         CHECK(poisson_bridson_capacity(kDisk, bad) == 0);
     }
-    CHECK(poisson_bridson(kDisk, 1e-4f, 1, buf, 4).status == PoissonStatus::TooMany);
-    CHECK(poisson_bridson(kDisk, 1e-30f, 1, buf, 4).status == PoissonStatus::TooMany);
+    CHECK(poisson_bridson(kDisk, 1e-4f, 1, buf, 4).status == Status::InvalidArgument);
+    CHECK(poisson_bridson(kDisk, 1e-30f, 1, buf, 4).status == Status::InvalidArgument);
     // Radius > diameter of the domain: exactly one point fits.
     r = poisson_bridson(kDisk, 2.5f, 1, buf, 4);
-    CHECK(r.status == PoissonStatus::Ok);
+    CHECK(r.status == Status::Ok);
     CHECK(r.count == 1);
     r = poisson_bridson(kSquare, 3.0f, 1, buf, 4);
     CHECK(r.count == 1);
@@ -312,16 +324,19 @@ TEST_CASE("Edge cases: N = 0, N = 1, huge N, small buffers, NaN and degenerate r
     const auto full = bridson(kSquare, 0.2f, 9);
     std::vector<glm::vec2> small(10);
     r = poisson_bridson(kSquare, 0.2f, 9, small.data(), small.size());
-    CHECK(r.status == PoissonStatus::BufferTooSmall);
+    CHECK(r.status == Status::BufferTooSmall);
     CHECK(r.count == 10);
     CHECK(r.needed == full.size());
     CHECK(std::equal(small.begin(), small.end(), full.begin()));
     r = poisson_bridson(kSquare, 0.2f, 9, nullptr, 0);
     CHECK(r.needed == full.size());
-    BridsonOptions o;
+    PoissonBridsonOptions o;
     o.attempts = 0;
-    CHECK(poisson_bridson(kDisk, 0.3f, 1, buf, 4, o).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_min_distance(buf, 1) == INFINITY);
+    CHECK(poisson_bridson(kDisk, 0.3f, 1, buf, 4, o).status == Status::InvalidArgument);
+    CHECK(poisson_min_distance(buf, 1).status == Status::InvalidArgument);
+    CHECK(poisson_min_distance(nullptr, 5).status == Status::InvalidArgument);
+    const glm::vec2 far2[2] = {{-3e38f, 0.0f}, {3e38f, 0.0f}};
+    CHECK(poisson_min_distance(far2, 2).status == Status::Overflow);
     CHECK(!poisson_domain_contains(kDisk, glm::vec2(NAN, 0.0f)));
     CHECK(poisson_domain_contains(kDisk, glm::vec2(1.0f, 0.0f)));
     CHECK(!poisson_domain_contains(kAnnulus, glm::vec2(0.1f, 0.0f)));
@@ -329,11 +344,11 @@ TEST_CASE("Edge cases: N = 0, N = 1, huge N, small buffers, NaN and degenerate r
 
 TEST_CASE("GLSL emission round-trips every float and validates its input") {
     const auto p = eliminate(kSquare, 37, 3);
-    const GlslEmitResult q = poisson_to_glsl(p.data(), p.size(), "SK_TAPS", nullptr, 0);
-    CHECK(q.status == PoissonStatus::BufferTooSmall);
+    const PoissonGlslResult q = poisson_to_glsl(p.data(), p.size(), "SK_TAPS", PoissonGlsl::Array, nullptr, 0);
+    CHECK(q.status == Status::BufferTooSmall);
     std::vector<char> text(q.needed);
-    const GlslEmitResult w = poisson_to_glsl(p.data(), p.size(), "SK_TAPS", text.data(), text.size());
-    REQUIRE(w.status == PoissonStatus::Ok);
+    const PoissonGlslResult w = poisson_to_glsl(p.data(), p.size(), "SK_TAPS", PoissonGlsl::Array, text.data(), text.size());
+    REQUIRE(w.status == Status::Ok);
     CHECK(w.needed == q.needed);
     const std::string s(text.data());
     CHECK(s.size() + 1 == w.needed);
@@ -360,20 +375,67 @@ TEST_CASE("GLSL emission round-trips every float and validates its input") {
     // Integral coordinates still print as floats.
     const glm::vec2 ints[2] = {{1.0f, 0.0f}, {-1.0f, -0.0f}};
     char small[128];
-    REQUIRE(poisson_to_glsl(ints, 2, "A", small, sizeof small).status == PoissonStatus::Ok);
+    REQUIRE(poisson_to_glsl(ints, 2, "A", PoissonGlsl::Array, small, sizeof small).status == Status::Ok);
     CHECK(std::string(small) == "const vec2 A[2] = vec2[2](\n    vec2(1.0, 0.0),\n    vec2(-1.0, -0.0));\n");
     // Truncation keeps a NUL terminator.
     char tiny[8];
-    const GlslEmitResult t = poisson_to_glsl(ints, 2, "A", tiny, sizeof tiny);
-    CHECK(t.status == PoissonStatus::BufferTooSmall);
+    const PoissonGlslResult t = poisson_to_glsl(ints, 2, "A", PoissonGlsl::Array, tiny, sizeof tiny);
+    CHECK(t.status == Status::BufferTooSmall);
     CHECK(std::strlen(tiny) == 7);
     // Invalid input.
-    CHECK(poisson_to_glsl(ints, 0, "A", small, sizeof small).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_to_glsl(ints, 2, "1A", small, sizeof small).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_to_glsl(ints, 2, "gl_X", small, sizeof small).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_to_glsl(ints, 2, "a-b", small, sizeof small).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_to_glsl(ints, 2, "", small, sizeof small).status == PoissonStatus::InvalidArgument);
-    CHECK(poisson_to_glsl(ints, 2, nullptr, small, sizeof small).status == PoissonStatus::InvalidArgument);
+    CHECK(poisson_to_glsl(ints, 0, "A", PoissonGlsl::Array, small, sizeof small).status == Status::InvalidArgument);
+    CHECK(poisson_to_glsl(ints, 2, "1A", PoissonGlsl::Array, small, sizeof small).status == Status::InvalidArgument);
+    CHECK(poisson_to_glsl(ints, 2, "gl_X", PoissonGlsl::Array, small, sizeof small).status == Status::InvalidArgument);
+    CHECK(poisson_to_glsl(ints, 2, "a-b", PoissonGlsl::Array, small, sizeof small).status == Status::InvalidArgument);
+    CHECK(poisson_to_glsl(ints, 2, "", PoissonGlsl::Array, small, sizeof small).status == Status::InvalidArgument);
+    CHECK(poisson_to_glsl(ints, 2, nullptr, PoissonGlsl::Array, small, sizeof small).status == Status::InvalidArgument);
     const glm::vec2 nan2[1] = {{NAN, 0.0f}};
-    CHECK(poisson_to_glsl(nan2, 1, "A", small, sizeof small).status == PoissonStatus::InvalidArgument);
+    CHECK(poisson_to_glsl(nan2, 1, "A", PoissonGlsl::Array, small, sizeof small).status == Status::NonFinite);
+    CHECK(poisson_to_glsl(ints, 2, "A", static_cast<PoissonGlsl>(5), small, sizeof small).status == Status::InvalidArgument);
+}
+
+// Issue 19 item 6 (regression: `float`, `if` and `a__b` were accepted and gave uncompilable GLSL;
+// tests/test_glsl_snippets.cpp compiles what is accepted with glslang).
+TEST_CASE("GLSL emission rejects reserved words and reserved identifiers") {
+    const glm::vec2 pts[2] = {{0.5f, 0.0f}, {-0.5f, 0.25f}};
+    char text[512];
+    for (const char* bad : {"float", "if", "a__b", "__a", "b__", "gl_Taps", "sk_poisson_disk64", "sampler2D", "vec2",
+                            "const", "uniform", "in", "out", "return", "true", "struct", "precision", "input", "filter",
+                            "sizeof", "mat4x3", "usamplerCubeArray", "writeonly"}) {
+        INFO(bad);
+        CHECK(poisson_to_glsl(pts, 2, bad, PoissonGlsl::Array, text, sizeof text).status == Status::InvalidArgument);
+    }
+    for (const char* good : {"floaty", "iff", "a_b", "_a", "GL_TAPS", "SK_POISSON_DISK", "Float", "ifx", "sk", "taps_16",
+                             "samplers", "vec5"}) {
+        INFO(good);
+        CHECK(poisson_to_glsl(pts, 2, good, PoissonGlsl::Array, text, sizeof text).status == Status::Ok);
+    }
+    // 256 characters is the longest name.
+    const std::string longest(256, 'a'), too_long(257, 'a');
+    std::vector<char> big(2048);
+    CHECK(poisson_to_glsl(pts, 2, longest.c_str(), PoissonGlsl::Array, big.data(), big.size()).status == Status::Ok);
+    CHECK(poisson_to_glsl(pts, 2, too_long.c_str(), PoissonGlsl::Array, big.data(), big.size()).status == Status::InvalidArgument);
+}
+
+TEST_CASE("GLSL emission for the snippets: the array and the two #defines; count and needed in chars") {
+    const glm::vec2 pts[2] = {{1.0f, 0.0f}, {-1.0f, -0.0f}};
+    char text[256];
+    const PoissonGlslResult r = poisson_to_glsl(pts, 2, "MY_TAPS", PoissonGlsl::ArrayForSnippets, text, sizeof text);
+    REQUIRE(r.status == Status::Ok);
+    CHECK(std::string(text) ==
+          "const vec2 MY_TAPS[2] = vec2[2](\n    vec2(1.0, 0.0),\n    vec2(-1.0, -0.0));\n"
+          "#define SK_POISSON_TAPS MY_TAPS\n#define SK_POISSON_TAP_COUNT 2\n");
+    CHECK(r.count == r.needed);
+    CHECK(r.needed == std::strlen(text) + 1);  // chars, the NUL included
+    // Too small: a NUL-terminated prefix, count = capacity, needed the whole text.
+    char small[10];
+    const PoissonGlslResult t = poisson_to_glsl(pts, 2, "MY_TAPS", PoissonGlsl::ArrayForSnippets, small, sizeof small);
+    CHECK(t.status == Status::BufferTooSmall);
+    CHECK(t.count == sizeof small);
+    CHECK(t.needed == r.needed);
+    CHECK(std::strlen(small) == sizeof small - 1);
+    const PoissonGlslResult q = poisson_to_glsl(pts, 2, "MY_TAPS", PoissonGlsl::ArrayForSnippets, nullptr, 0);
+    CHECK(q.status == Status::BufferTooSmall);
+    CHECK(q.count == 0);
+    CHECK(q.needed == r.needed);
 }

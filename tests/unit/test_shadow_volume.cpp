@@ -6,6 +6,8 @@
 #include <shadowkit/shadow_volume.hpp>
 #include <shadowkit/silhouette.hpp>
 
+#include "exact_facing_reference.hpp"
+
 #include <doctest/doctest.h>
 
 #include <glm/ext/matrix_clip_space.hpp>
@@ -53,33 +55,35 @@ Mesh random_soup(std::mt19937& rng, int nv, int nt, float scale) {
 }
 
 struct Volume {
-    std::vector<glm::vec4> verts;      // 2n, from build_volume_vertices
+    std::vector<glm::vec4> verts;      // 2n, from volume_build_vertices
     std::vector<std::uint32_t> tris;   // sides + caps
     std::vector<std::uint8_t> lit;     // per adjacency face
-    sk::EdgeAdjacency adj;
+    sk::SilhouetteAdjacency adj;
 };
 
-Volume make_volume(const Mesh& m, const glm::vec4& L, sk::CapMode mode, bool caps = true) {
+Volume make_volume(const Mesh& m, const glm::vec4& L, sk::VolumeCapMode mode, bool caps = true) {
     Volume v;
-    v.adj = sk::build_edge_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
-    REQUIRE(v.adj.status == sk::SilhouetteStatus::Ok);
-    const sk::Silhouette s = sk::extract_silhouette(v.adj, m.p.data(), m.p.size(), L);
-    REQUIRE(s.status == sk::SilhouetteStatus::Ok);
+    v.adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+    REQUIRE(v.adj.status == sk::Status::Ok);
+    const sk::Silhouette s = sk::silhouette_compute(v.adj, m.p.data(), m.p.size(), L);
+    REQUIRE(s.status == sk::Status::Ok);
     v.lit = s.facing;
     v.verts.resize(2 * m.p.size());
-    REQUIRE(sk::build_volume_vertices(m.p.data(), m.p.size(), v.verts.data(), v.verts.size()).status == sk::VolumeStatus::Ok);
-    const std::size_t ne = s.indices.size() / 2;
-    std::vector<std::uint32_t> side(6 * ne);
-    const sk::VolumeCount sc = sk::build_side_quads(s.indices.data(), ne, m.p.size(), side.data(), side.size());
-    REQUIRE(sc.status == sk::VolumeStatus::Ok);
+    REQUIRE(sk::volume_build_vertices(m.p.data(), m.p.size(), v.verts.data(), v.verts.size()).status == sk::Status::Ok);
+    std::vector<std::uint32_t> side(3 * s.indices.size());
+    const sk::VolumeBuffer sc = sk::volume_build_side_quads(s.indices.data(), s.indices.size(), m.p.size(), side.data(), side.size());
+    REQUIRE(sc.status == sk::Status::Ok);
     REQUIRE(sc.count == side.size());
+    REQUIRE(sc.needed == side.size());
     v.tris = side;
     if (caps) {
         const std::size_t fc = v.adj.face_count();
-        const sk::VolumeCount need = sk::build_caps(v.adj.faces.data(), fc, v.lit.data(), m.p.size(), mode, true, nullptr, 0);
-        REQUIRE(need.status == (need.count ? sk::VolumeStatus::BufferTooSmall : sk::VolumeStatus::Ok));
-        std::vector<std::uint32_t> cap(need.count);
-        REQUIRE(sk::build_caps(v.adj.faces.data(), fc, v.lit.data(), m.p.size(), mode, true, cap.data(), cap.size()).status == sk::VolumeStatus::Ok);
+        const sk::VolumeBuffer need = sk::volume_build_caps(v.adj.faces.data(), 3 * fc, v.lit.data(), fc, m.p.size(), mode, true, nullptr, 0);
+        REQUIRE(need.status == (need.needed ? sk::Status::BufferTooSmall : sk::Status::Ok));
+        REQUIRE(need.count == 0);
+        REQUIRE(need.needed <= 6 * fc);
+        std::vector<std::uint32_t> cap(need.needed);
+        REQUIRE(sk::volume_build_caps(v.adj.faces.data(), 3 * fc, v.lit.data(), fc, m.p.size(), mode, true, cap.data(), cap.size()).status == sk::Status::Ok);
         v.tris.insert(v.tris.end(), cap.begin(), cap.end());
     }
     return v;
@@ -126,7 +130,13 @@ long zfail_count(const Volume& v, const glm::vec4& L, const glm::dvec3& E, const
         glm::dvec4 H[3];
         for (int k = 0; k < 3; ++k) {
             const glm::vec4 q = v.verts[v.tris[t + static_cast<std::size_t>(k)]];
-            H[k] = q.w == 0.0f ? glm::dvec4(sk::extrude_to_infinity(glm::vec4(glm::vec3(q), 1.0f), L)) : glm::dvec4(q);
+            if (q.w == 0.0f) {
+                const sk::VolumeExtrusion x = sk::volume_extrude_to_infinity(glm::vec4(glm::vec3(q), 1.0f), L);
+                REQUIRE(x.status == sk::Status::Ok);  // never a vertex at the light (issue 19.1)
+                H[k] = glm::dvec4(x.position);
+            } else {
+                H[k] = glm::dvec4(q);
+            }
         }
         if (H[0] == H[1] || H[1] == H[2] || H[0] == H[2]) continue; // zero-area (directional light)
         const double side = -glm::determinant(glm::dmat4(H[0], H[1], H[2], glm::dvec4(E, 1.0)));
@@ -156,13 +166,16 @@ long zfail_count(const Volume& v, const glm::vec4& L, const glm::dvec3& E, const
     return count;
 }
 
-// Brute force: lit triangles crossed by the segment X -> light (ray for w = 0).
+// Brute force: lit triangles crossed by the segment X -> light (ray for w = 0); lit by the
+// independent exact facing reference (and the header's facing must agree).
 long lit_crossings(const Mesh& m, const Volume& v, const glm::vec4& L, const glm::dvec3& X, bool& ambiguous) {
     const bool point = L.w > 0.0f;
     const glm::dvec3 target = point ? glm::dvec3(L) / static_cast<double>(L.w) : glm::dvec3(L);
     long c = 0;
     for (std::size_t f = 0; f < v.adj.face_count(); ++f) {
-        if (!v.lit[f]) continue;
+        const bool lit = exact_ref::facing_sign(m.p[v.adj.faces[3 * f]], m.p[v.adj.faces[3 * f + 1]], m.p[v.adj.faces[3 * f + 2]], L) > 0;
+        CHECK(lit == (v.lit[f] != 0));
+        if (!lit) continue;
         const glm::dvec3 A(m.p[v.adj.faces[3 * f]]), B(m.p[v.adj.faces[3 * f + 1]]), C(m.p[v.adj.faces[3 * f + 2]]);
         const glm::dvec3 d = point ? target - X : target; // X + s d, s in [0, 1] (point) or [0, inf)
         const glm::dvec3 e1 = B - A, e2 = C - A, pv = glm::cross(d, e2);
@@ -190,17 +203,25 @@ glm::vec4 random_light(std::mt19937& rng, float scale) {
 
 TEST_CASE("extrusion closed form and vertex buffer layout") {
     const glm::vec4 p(1, 2, 3, 1);
-    CHECK(sk::extrude_to_infinity(p, glm::vec4(4, 4, 4, 1)) == glm::vec4(-3, -2, -1, 0));
-    CHECK(sk::extrude_to_infinity(p, glm::vec4(8, 8, 8, 2)) == glm::vec4(-6, -4, -2, 0)); // same direction, scaled
-    CHECK(sk::extrude_to_infinity(p, glm::vec4(0, 0, 1, 0)) == glm::vec4(0, 0, -1, 0));   // directional: -L
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(4, 4, 4, 1)).position == glm::vec4(-3, -2, -1, 0));
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(8, 8, 8, 2)).position == glm::vec4(-6, -4, -2, 0)); // same direction, scaled
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(0, 0, 1, 0)).position == glm::vec4(0, 0, -1, 0));   // directional: -L
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(0, 0, 1, 0)).status == sk::Status::Ok);
+    // a vertex at the light has no direction: never Ok with (0, 0, 0, 0)
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(1, 2, 3, 1)).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(2, 4, 6, 2)).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_extrude_to_infinity(p, glm::vec4(0, 0, 0, 0)).status == sk::Status::InvalidLight);
+    CHECK(sk::volume_extrude_to_infinity(glm::vec4(std::nanf(""), 0, 0, 1), glm::vec4(0, 0, 1, 0)).status == sk::Status::NonFinite);
+    CHECK(sk::volume_extrude_to_infinity(glm::vec4(3e38f, 0, 0, 1), glm::vec4(-3e38f, 0, 0, 3e38f)).status == sk::Status::Overflow);
     const std::vector<glm::vec3> pos = {{1, 2, 3}, {4, 5, 6}};
     std::vector<glm::vec4> out(4);
-    CHECK(sk::build_volume_vertices(pos.data(), 2, out.data(), 4).count == 4);
+    CHECK(sk::volume_build_vertices(pos.data(), 2, out.data(), 4).count == 4);
+    CHECK(sk::volume_build_vertices(pos.data(), 2, out.data(), 4).needed == 4);
     CHECK(out[0] == glm::vec4(1, 2, 3, 1));
     CHECK(out[3] == glm::vec4(4, 5, 6, 0));
     std::vector<std::uint32_t> q(6);
     const std::uint32_t e[2] = {0, 1};
-    sk::build_side_quads(e, 1, 2, q.data(), q.size());
+    CHECK(sk::volume_build_side_quads(e, 2, 2, q.data(), q.size()).count == 6);
     CHECK(q == std::vector<std::uint32_t>{1, 0, 2, 1, 2, 3});
 }
 
@@ -210,13 +231,13 @@ TEST_CASE("property: volumes of closed meshes are watertight for point and direc
     for (int it = 0; it < 600; ++it) {
         const Mesh m = torus(3 + static_cast<int>(rng() % 8), 3 + static_cast<int>(rng() % 8), 2.0f, 0.7f, rng, 0.3f);
         const glm::vec4 L = random_light(rng, 6.0f);
-        for (sk::CapMode mode : {sk::CapMode::LitOnly, sk::CapMode::EverittKilgard}) {
+        for (sk::VolumeCapMode mode : {sk::VolumeCapMode::LitOnly, sk::VolumeCapMode::EverittKilgard}) {
             const Volume v = make_volume(m, L, mode);
             CHECK(watertight(v, m.p.size(), L.w == 0.0f));
             ++n;
         }
         // Side quads alone are open whenever there is a silhouette (the check can fail).
-        const Volume s = make_volume(m, L, sk::CapMode::LitOnly, false);
+        const Volume s = make_volume(m, L, sk::VolumeCapMode::LitOnly, false);
         if (!s.tris.empty()) CHECK(!watertight(s, m.p.size(), L.w == 0.0f));
     }
     CHECK(n == 1200);
@@ -228,8 +249,8 @@ TEST_CASE("property: open / non-manifold soups: LitOnly volume is watertight, Ev
     for (int it = 0; it < 1500; ++it) {
         const Mesh m = random_soup(rng, 5 + static_cast<int>(rng() % 10), 1 + static_cast<int>(rng() % 20), 1.0f);
         const glm::vec4 L = random_light(rng, 4.0f);
-        CHECK(watertight(make_volume(m, L, sk::CapMode::LitOnly), m.p.size(), L.w == 0.0f));
-        if (!watertight(make_volume(m, L, sk::CapMode::EverittKilgard), m.p.size(), L.w == 0.0f)) ++ek_open;
+        CHECK(watertight(make_volume(m, L, sk::VolumeCapMode::LitOnly), m.p.size(), L.w == 0.0f));
+        if (!watertight(make_volume(m, L, sk::VolumeCapMode::EverittKilgard), m.p.size(), L.w == 0.0f)) ++ek_open;
     }
     CHECK(ek_open > 100);
 }
@@ -244,9 +265,9 @@ TEST_CASE("property: z-fail stencil count equals brute-force lit-triangle crossi
                               : random_soup(rng, 8, 1 + static_cast<int>(rng() % 12), 1.5f);
         glm::vec4 L = random_light(rng, 5.0f);
         if (it % 7 == 0) L = glm::vec4(0.1f, 0.2f, 0.05f, 1.0f); // light inside the bounding box
-        const std::vector<sk::CapMode> modes = closed ? std::vector<sk::CapMode>{sk::CapMode::LitOnly, sk::CapMode::EverittKilgard}
-                                                      : std::vector<sk::CapMode>{sk::CapMode::LitOnly};
-        for (sk::CapMode mode : modes) {
+        const std::vector<sk::VolumeCapMode> modes = closed ? std::vector<sk::VolumeCapMode>{sk::VolumeCapMode::LitOnly, sk::VolumeCapMode::EverittKilgard}
+                                                      : std::vector<sk::VolumeCapMode>{sk::VolumeCapMode::LitOnly};
+        for (sk::VolumeCapMode mode : modes) {
             const Volume v = make_volume(m, L, mode);
             for (int r = 0; r < 12; ++r) {
                 const glm::dvec3 E(u(rng) * 8.0, u(rng) * 8.0, u(rng) * 8.0);
@@ -260,7 +281,7 @@ TEST_CASE("property: z-fail stencil count equals brute-force lit-triangle crossi
                 if (amb2) ++skip_b;
                 if (amb || amb2) { ++skipped; continue; }
                 // Everitt-Kilgard caps: compared with LitOnly in the next test (light outside).
-                if (mode == sk::CapMode::LitOnly) CHECK(z == b);
+                if (mode == sk::VolumeCapMode::LitOnly) CHECK(z == b);
                 ++checked;
             }
         }
@@ -278,7 +299,7 @@ TEST_CASE("Everitt-Kilgard caps equal LitOnly for closed meshes with the light o
         const Mesh m = torus(5, 5, 1.5f, 0.6f, rng, 0.15f);
         glm::vec4 L = random_light(rng, 6.0f);
         if (L.w != 0.0f && glm::length(glm::vec3(L)) < 2.5f) L = glm::vec4(glm::vec3(L) * 3.0f, 1.0f);
-        const Volume a = make_volume(m, L, sk::CapMode::LitOnly), b = make_volume(m, L, sk::CapMode::EverittKilgard);
+        const Volume a = make_volume(m, L, sk::VolumeCapMode::LitOnly), b = make_volume(m, L, sk::VolumeCapMode::EverittKilgard);
         for (int r = 0; r < 10; ++r) {
             const glm::dvec3 E(u(rng) * 8.0, u(rng) * 8.0, u(rng) * 8.0), X(u(rng) * 3.0, u(rng) * 3.0, u(rng) * 3.0);
             const glm::dvec3 d = X - E;
@@ -303,16 +324,16 @@ TEST_CASE("property: z-pass / z-fail decision vs brute-force segments from the n
         const glm::vec3 at = eye + glm::vec3(u(rng), u(rng), u(rng)) * 3.0f + glm::vec3(0.01f, 0, 0);
         const glm::mat4 view = glm::lookAt(eye, at, glm::vec3(0, 1, 0.1f));
         const float near_z = (it % 10 == 0) ? 1e-5f : 0.05f + u01(rng);
-        const sk::NearPlaneRect rect = sk::near_plane_rect(view, 1.0f + u01(rng), 0.5f + 1.5f * u01(rng), near_z);
+        const sk::VolumeNearRect rect = sk::volume_near_plane_rect(view, 1.0f + u01(rng), 0.5f + 1.5f * u01(rng), near_z);
         glm::vec4 L = random_light(rng, 8.0f);
         if (it % 11 == 0) L = glm::vec4(eye - 2.0f * glm::normalize(at - eye), 1.0f); // behind the camera
         const glm::vec3 c = eye + (at - eye) * (u01(rng) * 2.0f) + glm::vec3(u(rng), u(rng), u(rng)) * 2.0f;
         const glm::vec3 h = glm::vec3(u01(rng), u01(rng), u01(rng)) * 1.0f + 0.01f;
-        const sk::MethodResult m = sk::choose_stencil_method_box(rect, L, c - h, c + h);
-        REQUIRE(m.status == sk::VolumeStatus::Ok);
+        const sk::VolumeMethod m = sk::volume_choose_stencil_method_box(rect, L, c - h, c + h);
+        REQUIRE(m.status == sk::Status::Ok);
         const float radius = glm::length(h) * 0.8f;
-        const sk::MethodResult ms = sk::choose_stencil_method_sphere(rect, L, c, radius);
-        REQUIRE(ms.status == sk::VolumeStatus::Ok);
+        const sk::VolumeMethod ms = sk::volume_choose_stencil_method_sphere(rect, L, c, radius);
+        REQUIRE(ms.status == sk::Status::Ok);
         // Brute force: 24x24 points of the rectangle, segment to the light (ray for w = 0).
         bool hit = false, hit_s = false;
         for (int a = 0; a <= 24; ++a)
@@ -337,11 +358,11 @@ TEST_CASE("property: z-pass / z-fail decision vs brute-force segments from the n
                 ts = std::min(1.0, std::max(0.0, ts));
                 if (glm::length(q + ts * d - glm::dvec3(c)) <= radius) hit_s = true;
             }
-        if (hit) CHECK(m.method == sk::StencilMethod::ZFail);
-        if (hit_s) CHECK(ms.method == sk::StencilMethod::ZFail);
-        if (!hit && m.method == sk::StencilMethod::ZFail) ++over;
-        if (!hit_s && ms.method == sk::StencilMethod::ZFail) ++sphere_over;
-        (m.method == sk::StencilMethod::ZFail ? zfail : zpass)++;
+        if (hit) CHECK(m.method == sk::VolumeStencilMethod::ZFail);
+        if (hit_s) CHECK(ms.method == sk::VolumeStencilMethod::ZFail);
+        if (!hit && m.method == sk::VolumeStencilMethod::ZFail) ++over;
+        if (!hit_s && ms.method == sk::VolumeStencilMethod::ZFail) ++sphere_over;
+        (m.method == sk::VolumeStencilMethod::ZFail ? zfail : zpass)++;
     }
     MESSAGE("decision: " << zfail << " z-fail, " << zpass << " z-pass; z-fail without a sampled hit: box " << over << ", sphere " << sphere_over);
     CHECK(zfail > 300);
@@ -352,40 +373,40 @@ TEST_CASE("property: z-pass / z-fail decision vs brute-force segments from the n
 
 TEST_CASE("z-pass / z-fail stiff cases") {
     const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-    const sk::NearPlaneRect rect = sk::near_plane_rect(view, 1.0f, 1.0f, 0.1f);
+    const sk::VolumeNearRect rect = sk::volume_near_plane_rect(view, 1.0f, 1.0f, 0.1f);
     // Camera inside the shadow: occluder between the eye and the light.
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, 20, 1), glm::vec3(-1, -1, 9), glm::vec3(1, 1, 10)).method == sk::StencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, 20, 1), glm::vec3(-1, -1, 9), glm::vec3(1, 1, 10)).method == sk::VolumeStencilMethod::ZFail);
     // Light behind the occluder as seen from the eye: shadow goes away from the camera.
     // Light above, occluder beyond the origin: segments from the near rectangle to the light stay in z > 0.
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 20, 0, 1), glm::vec3(-1, -1, -6), glm::vec3(1, 1, -4)).method == sk::StencilMethod::ZPass);
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 20, 0, 1), glm::vec3(-1, -1, -6), glm::vec3(1, 25, 0.1f)).method == sk::StencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 20, 0, 1), glm::vec3(-1, -1, -6), glm::vec3(1, 1, -4)).method == sk::VolumeStencilMethod::ZPass);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 20, 0, 1), glm::vec3(-1, -1, -6), glm::vec3(1, 25, 0.1f)).method == sk::VolumeStencilMethod::ZFail);
     // Directional light from behind the camera (+z): the prism toward +z misses a box at the origin.
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, 1, 0), glm::vec3(-1, -1, -1), glm::vec3(1, 1, 1)).method == sk::StencilMethod::ZPass);
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, -1, 0), glm::vec3(-1, -1, -1), glm::vec3(1, 1, 1)).method == sk::StencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, 1, 0), glm::vec3(-1, -1, -1), glm::vec3(1, 1, 1)).method == sk::VolumeStencilMethod::ZPass);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, -1, 0), glm::vec3(-1, -1, -1), glm::vec3(1, 1, 1)).method == sk::VolumeStencilMethod::ZFail);
     // Light exactly in the near plane (flat pyramid), box touching it.
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(3, 0, 4.9f, 1), glm::vec3(1, -0.1f, 4.8f), glm::vec3(1.2f, 0.1f, 5.0f)).method == sk::StencilMethod::ZFail);
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(3, 0, 4.9f, 1), glm::vec3(1, -0.1f, 3.0f), glm::vec3(1.2f, 0.1f, 4.0f)).method == sk::StencilMethod::ZPass);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(3, 0, 4.9f, 1), glm::vec3(1, -0.1f, 4.8f), glm::vec3(1.2f, 0.1f, 5.0f)).method == sk::VolumeStencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(3, 0, 4.9f, 1), glm::vec3(1, -0.1f, 3.0f), glm::vec3(1.2f, 0.1f, 4.0f)).method == sk::VolumeStencilMethod::ZPass);
     // Coordinates at 1e6 and 1e-6.
     const glm::mat4 vbig = glm::lookAt(glm::vec3(1e6f, 0, 5), glm::vec3(1e6f, 0, 0), glm::vec3(0, 1, 0));
-    const sk::NearPlaneRect rb = sk::near_plane_rect(vbig, 1.0f, 1.0f, 0.1f);
-    CHECK(sk::choose_stencil_method_box(rb, glm::vec4(1e6f, 0, 20, 1), glm::vec3(1e6f - 1, -1, 9), glm::vec3(1e6f + 1, 1, 10)).method == sk::StencilMethod::ZFail);
-    CHECK(sk::choose_stencil_method_box(rb, glm::vec4(1e6f, 20, 0, 1), glm::vec3(1e6f - 1, -1, -6), glm::vec3(1e6f + 1, 1, -4)).method == sk::StencilMethod::ZPass);
+    const sk::VolumeNearRect rb = sk::volume_near_plane_rect(vbig, 1.0f, 1.0f, 0.1f);
+    CHECK(sk::volume_choose_stencil_method_box(rb, glm::vec4(1e6f, 0, 20, 1), glm::vec3(1e6f - 1, -1, 9), glm::vec3(1e6f + 1, 1, 10)).method == sk::VolumeStencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_box(rb, glm::vec4(1e6f, 20, 0, 1), glm::vec3(1e6f - 1, -1, -6), glm::vec3(1e6f + 1, 1, -4)).method == sk::VolumeStencilMethod::ZPass);
     const glm::mat4 vs = glm::lookAt(glm::vec3(0, 0, 5e-6f), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-    const sk::NearPlaneRect rs = sk::near_plane_rect(vs, 1.0f, 1.0f, 1e-7f);
-    CHECK(sk::choose_stencil_method_box(rs, glm::vec4(0, 0, 2e-5f, 1), glm::vec3(-1e-6f, -1e-6f, 9e-6f), glm::vec3(1e-6f, 1e-6f, 1e-5f)).method == sk::StencilMethod::ZFail);
-    CHECK(sk::choose_stencil_method_sphere(rs, glm::vec4(0, 0, 2e-5f, 1), glm::vec3(0, 0, 9.5e-6f), 1e-6f).method == sk::StencilMethod::ZFail);
-    CHECK(sk::choose_stencil_method_sphere(rs, glm::vec4(0, 2e-5f, 0, 1), glm::vec3(0, 0, -1e-5f), 1e-6f).method == sk::StencilMethod::ZPass);
-    CHECK(sk::choose_stencil_method_sphere(rs, glm::vec4(0, 2e-5f, 0, 1), glm::vec3(0, 1e-5f, 2.45e-6f), 1e-6f).method == sk::StencilMethod::ZFail);
+    const sk::VolumeNearRect rs = sk::volume_near_plane_rect(vs, 1.0f, 1.0f, 1e-7f);
+    CHECK(sk::volume_choose_stencil_method_box(rs, glm::vec4(0, 0, 2e-5f, 1), glm::vec3(-1e-6f, -1e-6f, 9e-6f), glm::vec3(1e-6f, 1e-6f, 1e-5f)).method == sk::VolumeStencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_sphere(rs, glm::vec4(0, 0, 2e-5f, 1), glm::vec3(0, 0, 9.5e-6f), 1e-6f).method == sk::VolumeStencilMethod::ZFail);
+    CHECK(sk::volume_choose_stencil_method_sphere(rs, glm::vec4(0, 2e-5f, 0, 1), glm::vec3(0, 0, -1e-5f), 1e-6f).method == sk::VolumeStencilMethod::ZPass);
+    CHECK(sk::volume_choose_stencil_method_sphere(rs, glm::vec4(0, 2e-5f, 0, 1), glm::vec3(0, 1e-5f, 2.45e-6f), 1e-6f).method == sk::VolumeStencilMethod::ZFail);
     // Near rectangle from the inverse view-projection equals the one from the camera parameters.
     const glm::mat4 P = glm::perspectiveRH_NO(1.0f, 1.0f, 0.1f, 100.0f);
-    const sk::NearPlaneRect ri = sk::near_plane_rect_from_inverse(glm::inverse(P * view), sk::ClipDepth::NegativeOneToOne, false);
+    const sk::VolumeNearRect ri = sk::volume_near_plane_rect_from_inverse(glm::inverse(P * view), sk::ClipDepth::NegativeOneToOne, false);
     for (int k = 0; k < 4; ++k) CHECK(glm::length(ri.corners[k] - rect.corners[k]) < 1e-5f);
     // Invalid input.
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, 0, 0), glm::vec3(0), glm::vec3(1)).status == sk::VolumeStatus::InvalidLight);
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, 1, -1), glm::vec3(0), glm::vec3(1)).status == sk::VolumeStatus::InvalidLight);
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, 1, 1), glm::vec3(1), glm::vec3(0)).status == sk::VolumeStatus::InvalidBounds);
-    CHECK(sk::choose_stencil_method_box(rect, glm::vec4(0, 0, 1, 1), glm::vec3(std::nanf("")), glm::vec3(0)).status == sk::VolumeStatus::NonFinite);
-    CHECK(sk::choose_stencil_method_sphere(rect, glm::vec4(0, 0, 1, 1), glm::vec3(0), -1.0f).status == sk::VolumeStatus::InvalidBounds);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, 0, 0), glm::vec3(0), glm::vec3(1)).status == sk::Status::InvalidLight);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, 1, -1), glm::vec3(0), glm::vec3(1)).status == sk::Status::InvalidLight);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, 1, 1), glm::vec3(1), glm::vec3(0)).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_choose_stencil_method_box(rect, glm::vec4(0, 0, 1, 1), glm::vec3(std::nanf("")), glm::vec3(0)).status == sk::Status::NonFinite);
+    CHECK(sk::volume_choose_stencil_method_sphere(rect, glm::vec4(0, 0, 1, 1), glm::vec3(0), -1.0f).status == sk::Status::InvalidArgument);
 }
 
 TEST_CASE("property: scissor rectangle and depth bounds contain every sampled point of the clipped volume") {
@@ -411,8 +432,8 @@ TEST_CASE("property: scissor rectangle and depth bounds contain every sampled po
         const glm::vec4 L = it % 5 == 0 ? glm::vec4(u(rng), u(rng), u(rng), 0.0f) : glm::vec4(lc, 1.0f);
         const glm::vec3 lmin = lc - glm::vec3(3.0f + 3.0f * u01(rng)), lmax = lc + glm::vec3(3.0f + 3.0f * u01(rng));
         const glm::vec3 oc = lc + glm::vec3(u(rng), u(rng), u(rng)) * 4.0f, oh = glm::vec3(u01(rng), u01(rng), u01(rng)) * 0.8f + 0.01f;
-        const sk::ScissorResult s = sk::shadow_volume_scissor(L, oc - oh, oc + oh, lmin, lmax, sp);
-        REQUIRE(s.status == sk::VolumeStatus::Ok);
+        const sk::ScissorRect s = sk::volume_scissor(L, oc - oh, oc + oh, lmin, lmax, sp);
+        REQUIRE(s.status == sk::Status::Ok);
         if (s.visible) {
             ++vis;
             fill += static_cast<double>(s.width) * s.height / (640.0 * 480.0);
@@ -461,7 +482,7 @@ TEST_CASE("scissor: hand case, invalid input") {
     sk::ScissorParams sp;
     sp.view_proj = glm::perspectiveRH_NO(1.0f, 1.0f, 0.1f, 100.0f) * glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0), glm::vec3(0, 1, 0));
     sp.viewport[2] = 100; sp.viewport[3] = 100;
-    const sk::ScissorResult s = sk::shadow_volume_scissor(glm::vec4(0, 5, 0, 1), glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f),
+    const sk::ScissorRect s = sk::volume_scissor(glm::vec4(0, 5, 0, 1), glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f),
                                                           glm::vec3(-5, -1, -5), glm::vec3(5, 5, 5), sp);
     REQUIRE(s.visible);
     CHECK(s.width < 10);           // narrow column around x = 50
@@ -469,48 +490,257 @@ TEST_CASE("scissor: hand case, invalid input") {
     CHECK(s.x + s.width >= 50);
     CHECK(s.height < 50);
     // Shadow pointing away from the light box: region empty -> not visible.
-    const sk::ScissorResult e = sk::shadow_volume_scissor(glm::vec4(0, 5, 0, 1), glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f),
+    const sk::ScissorRect e = sk::volume_scissor(glm::vec4(0, 5, 0, 1), glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f),
                                                           glm::vec3(-5, 6, -5), glm::vec3(5, 9, 5), sp);
     CHECK(!e.visible);
     // Light inside the occluder bounds: whole light box.
-    const sk::ScissorResult in = sk::shadow_volume_scissor(glm::vec4(0, 1.1f, 0, 1), glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f),
+    const sk::ScissorRect in = sk::volume_scissor(glm::vec4(0, 1.1f, 0, 1), glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f),
                                                            glm::vec3(-1, -1, -1), glm::vec3(1, 1, 1), sp);
     CHECK(in.visible);
     CHECK(in.width > 10);
     // Invalid.
-    CHECK(sk::shadow_volume_scissor(glm::vec4(0), glm::vec3(0), glm::vec3(1), glm::vec3(0), glm::vec3(1), sp).status == sk::VolumeStatus::InvalidLight);
-    CHECK(sk::shadow_volume_scissor(glm::vec4(0, 1, 0, 1), glm::vec3(1), glm::vec3(0), glm::vec3(0), glm::vec3(1), sp).status == sk::VolumeStatus::InvalidBounds);
+    CHECK(sk::volume_scissor(glm::vec4(0), glm::vec3(0), glm::vec3(1), glm::vec3(0), glm::vec3(1), sp).status == sk::Status::InvalidLight);
+    CHECK(sk::volume_scissor(glm::vec4(0, 1, 0, 1), glm::vec3(1), glm::vec3(0), glm::vec3(0), glm::vec3(1), sp).status == sk::Status::InvalidArgument);
     sk::ScissorParams bad = sp;
     bad.viewport[2] = 0;
-    CHECK(sk::shadow_volume_scissor(glm::vec4(0, 1, 0, 1), glm::vec3(0), glm::vec3(1), glm::vec3(0), glm::vec3(1), bad).status == sk::VolumeStatus::InvalidArgument);
+    CHECK(sk::volume_scissor(glm::vec4(0, 1, 0, 1), glm::vec3(0), glm::vec3(1), glm::vec3(0), glm::vec3(1), bad).status == sk::Status::InvalidArgument);
     bad = sp;
     bad.view_proj[1][1] = std::numeric_limits<float>::infinity();
-    CHECK(sk::shadow_volume_scissor(glm::vec4(0, 1, 0, 1), glm::vec3(0), glm::vec3(1), glm::vec3(0), glm::vec3(1), bad).status == sk::VolumeStatus::NonFinite);
+    CHECK(sk::volume_scissor(glm::vec4(0, 1, 0, 1), glm::vec3(0), glm::vec3(1), glm::vec3(0), glm::vec3(1), bad).status == sk::Status::NonFinite);
 }
 
 TEST_CASE("buffers: statuses, too-small capacity reports the needed count and writes nothing past it") {
     const std::uint32_t edges[4] = {0, 1, 1, 2};
     std::vector<std::uint32_t> out(8, 0xFFFFFFFFu);
-    const sk::VolumeCount r = sk::build_side_quads(edges, 2, 3, out.data(), 8);
-    CHECK(r.status == sk::VolumeStatus::BufferTooSmall);
-    CHECK(r.count == 12);
+    const sk::VolumeBuffer r = sk::volume_build_side_quads(edges, 4, 3, out.data(), 8);
+    CHECK(r.status == sk::Status::BufferTooSmall);
+    CHECK(r.needed == 12);
+    CHECK(r.count == 6);
     CHECK(out[6] == 0xFFFFFFFFu); // only whole quads are written
-    CHECK(sk::build_side_quads(edges, 2, 2, out.data(), 8).status == sk::VolumeStatus::IndexOutOfRange);
-    CHECK(sk::build_side_quads(nullptr, 2, 3, out.data(), 8).status == sk::VolumeStatus::InvalidArgument);
-    CHECK(sk::build_side_quads(nullptr, 0, 0, nullptr, 0).status == sk::VolumeStatus::Ok);
+    CHECK(sk::volume_build_side_quads(edges, 4, 2, out.data(), 8).status == sk::Status::IndexOutOfRange);
+    CHECK(sk::volume_build_side_quads(edges, 3, 3, out.data(), 8).status == sk::Status::InvalidArgument);  // odd element count
+    CHECK(sk::volume_build_side_quads(nullptr, 2, 3, out.data(), 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_side_quads(edges, 4, 3, nullptr, 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_side_quads(nullptr, 0, 0, nullptr, 0).status == sk::Status::Ok);
     const std::uint32_t tris[6] = {0, 1, 2, 0, 2, 3};
     const std::uint8_t lit[2] = {1, 0};
-    CHECK(sk::build_caps(tris, 2, lit, 4, sk::CapMode::LitOnly, true, nullptr, 0).count == 6);
-    CHECK(sk::build_caps(tris, 2, lit, 4, sk::CapMode::EverittKilgard, true, nullptr, 0).count == 6);
-    CHECK(sk::build_caps(tris, 2, lit, 4, sk::CapMode::EverittKilgard, false, nullptr, 0).count == 3);
-    CHECK(sk::build_caps(tris, 2, lit, 3, sk::CapMode::LitOnly, true, out.data(), 8).status == sk::VolumeStatus::IndexOutOfRange);
-    CHECK(sk::build_caps(tris, 2, nullptr, 4, sk::CapMode::LitOnly, true, out.data(), 8).status == sk::VolumeStatus::InvalidArgument);
+    CHECK(sk::volume_build_caps(tris, 6, lit, 2, 4, sk::VolumeCapMode::LitOnly, true, nullptr, 0).needed == 6);
+    CHECK(sk::volume_build_caps(tris, 6, lit, 2, 4, sk::VolumeCapMode::EverittKilgard, true, nullptr, 0).needed == 6);
+    CHECK(sk::volume_build_caps(tris, 6, lit, 2, 4, sk::VolumeCapMode::EverittKilgard, false, nullptr, 0).needed == 3);
+    CHECK(sk::volume_build_caps(tris, 6, lit, 2, 3, sk::VolumeCapMode::LitOnly, true, out.data(), 8).status == sk::Status::IndexOutOfRange);
+    CHECK(sk::volume_build_caps(tris, 6, nullptr, 2, 4, sk::VolumeCapMode::LitOnly, true, out.data(), 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_caps(nullptr, 6, lit, 2, 4, sk::VolumeCapMode::LitOnly, true, out.data(), 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_caps(tris, 6, lit, 2, 4, sk::VolumeCapMode::LitOnly, true, nullptr, 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_caps(tris, 6, lit, 1, 4, sk::VolumeCapMode::LitOnly, true, out.data(), 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_caps(tris, 5, lit, 1, 4, sk::VolumeCapMode::LitOnly, true, out.data(), 8).status == sk::Status::InvalidArgument);
+    // regression (issue 19.6): an out-of-range cap mode returned Ok and silently dropped the dark cap
+    CHECK(sk::volume_build_caps(tris, 6, lit, 2, 4, static_cast<sk::VolumeCapMode>(7), true, out.data(), 8).status ==
+          sk::Status::InvalidArgument);
     std::vector<std::uint32_t> c(6);
-    sk::build_caps(tris, 2, lit, 4, sk::CapMode::LitOnly, true, c.data(), c.size());
+    const sk::VolumeBuffer cr = sk::volume_build_caps(tris, 6, lit, 2, 4, sk::VolumeCapMode::LitOnly, true, c.data(), c.size());
+    CHECK(cr.status == sk::Status::Ok);
+    CHECK(cr.count == 6);
     CHECK(c == std::vector<std::uint32_t>{0, 1, 2, 4, 6, 5});
+    std::vector<std::uint32_t> c5(5, 0xFFFFFFFFu);  // room for one whole triangle
+    const sk::VolumeBuffer c5r = sk::volume_build_caps(tris, 6, lit, 2, 4, sk::VolumeCapMode::LitOnly, true, c5.data(), c5.size());
+    CHECK(c5r.status == sk::Status::BufferTooSmall);
+    CHECK(c5r.count == 3);
+    CHECK(c5[3] == 0xFFFFFFFFu);
     const glm::vec3 bad[1] = {glm::vec3(std::numeric_limits<float>::quiet_NaN())};
     glm::vec4 o[2];
-    CHECK(sk::build_volume_vertices(bad, 1, o, 2).status == sk::VolumeStatus::NonFinite);
+    CHECK(sk::volume_build_vertices(bad, 1, o, 2).status == sk::Status::NonFinite);
     const glm::vec3 ok[1] = {glm::vec3(1)};
-    CHECK(sk::build_volume_vertices(ok, 1, o, 1).status == sk::VolumeStatus::BufferTooSmall);
+    const sk::VolumeBuffer vr = sk::volume_build_vertices(ok, 1, o, 1);
+    CHECK(vr.status == sk::Status::BufferTooSmall);
+    CHECK(vr.count == 1);
+    CHECK(vr.needed == 2);
+    CHECK(sk::volume_build_vertices(nullptr, 1, o, 2).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_build_vertices(ok, 1, nullptr, 2).status == sk::Status::InvalidArgument);
+    // default-constructed results say NotRun
+    CHECK(sk::VolumeBuffer{}.status == sk::Status::NotRun);
+    CHECK(sk::VolumeMethod{}.status == sk::Status::NotRun);
+    CHECK(sk::VolumeNearRect{}.status == sk::Status::NotRun);
+    CHECK(sk::ScissorRect{}.status == sk::Status::NotRun);
+    CHECK(sk::VolumeExtrusion{}.status == sk::Status::NotRun);
+    CHECK(sk::volume_indices_capacity(10, 30) == 90);
+    CHECK(sk::volume_indices_capacity(std::numeric_limits<std::size_t>::max(), 1) == std::numeric_limits<std::size_t>::max());
+}
+
+TEST_CASE("property (issue 19.1): light on every vertex of open, non-manifold, duplicate-face and closed meshes: closed volumes, exact counts, no (0,0,0,0) extrusion") {
+    // Catches: with the facing in rounded double, faces incident to the light's vertex came out lit
+    // for 16% of random triangles; their side quads / dark cap then extruded that vertex to
+    // (p L.w - L.xyz, 0) = (0, 0, 0, 0) (zfail_count REQUIREs every used extrusion to be Ok).
+    std::mt19937 rng(1919);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int lights = 0, rays = 0, skipped = 0;
+    for (int it = 0; it < 120; ++it) {
+        Mesh m;
+        const int kind = it % 4;
+        if (kind == 0) {
+            m = torus(4 + static_cast<int>(rng() % 4), 4 + static_cast<int>(rng() % 4), 1.5f, 0.6f, rng, 0.2f);
+        } else {
+            m = random_soup(rng, 6 + static_cast<int>(rng() % 5), 3 + static_cast<int>(rng() % 12), 1.5f);
+            if (kind == 2) m.i.insert(m.i.end(), m.i.begin(), m.i.begin() + 6);          // duplicate faces
+            if (kind == 3) m.i.insert(m.i.end(), {m.i[0], m.i[2], m.i[1], m.i[0], m.i[1], m.i[2]});  // two-sided + duplicate
+        }
+        const float scale = it % 3 == 0 ? 1e-6f : (it % 3 == 1 ? 1.0f : 1e6f);
+        for (auto& p : m.p) p *= scale;
+        for (std::size_t vi = 0; vi < m.p.size(); ++vi) {
+            const glm::vec4 L(m.p[vi], 1.0f);
+            const Volume v = make_volume(m, L, sk::VolumeCapMode::LitOnly);
+            ++lights;
+            CHECK(watertight(v, m.p.size(), false));
+            // no index of the volume refers to the extrusion of a vertex at the light
+            for (std::uint32_t x : v.tris)
+                if (x >= m.p.size()) CHECK(m.p[x - m.p.size()] != m.p[vi]);
+            for (int r = 0; r < 6; ++r) {
+                const glm::dvec3 E = glm::dvec3(u(rng), u(rng), u(rng)) * (6.0 * scale);
+                const glm::dvec3 X = glm::dvec3(u(rng), u(rng), u(rng)) * (2.0 * scale);
+                const glm::dvec3 dir = X - E;
+                const double len = glm::length(dir);
+                bool amb = false, amb2 = false;
+                const long z = zfail_count(v, L, E, dir / len, len, amb);
+                const long b = lit_crossings(m, v, L, X, amb2);
+                if (amb || amb2) { ++skipped; continue; }
+                CHECK(z == b);
+                ++rays;
+            }
+        }
+    }
+    MESSAGE("light on a vertex: " << lights << " lights, " << rays << " rays with exact counts, " << skipped << " grazing skipped");
+    CHECK(rays > 3000);
+    CHECK(skipped < rays / 10);
+}
+
+TEST_CASE("regression (issue 13.1): a missing viewport or matrix is InvalidArgument, never a 1x1 rectangle with Ok") {
+    // Catches: ScissorParams::viewport defaulted to {0, 0, 1, 1} and view_proj to the identity; the
+    // README passed only the matrix and got a 1x1 scissor, visible, status Ok (2.9% of pixels right).
+    const glm::vec4 L(0, 5, 0, 1);
+    const glm::vec3 bmin(-0.1f, 1, -0.1f), bmax(0.1f, 1.2f, 0.1f), lmin(-5, -1, -5), lmax(5, 5, 5);
+    const glm::mat4 vp = glm::perspectiveRH_NO(1.0f, 1.0f, 0.1f, 100.0f) * glm::lookAt(glm::vec3(0, 0, 10), glm::vec3(0), glm::vec3(0, 1, 0));
+    sk::ScissorParams def;
+    CHECK(sk::volume_scissor(L, bmin, bmax, lmin, lmax, def).status == sk::Status::InvalidArgument);
+    sk::ScissorParams only_matrix;
+    only_matrix.view_proj = vp;
+    const sk::ScissorRect r = sk::volume_scissor(L, bmin, bmax, lmin, lmax, only_matrix);
+    CHECK(r.status == sk::Status::InvalidArgument);
+    CHECK(!r.visible);
+    sk::ScissorParams only_viewport;
+    only_viewport.viewport[2] = 640;
+    only_viewport.viewport[3] = 480;
+    CHECK(sk::volume_scissor(L, bmin, bmax, lmin, lmax, only_viewport).status == sk::Status::InvalidArgument);
+    sk::ScissorParams both = only_viewport;
+    both.view_proj = vp;
+    const sk::ScissorRect ok = sk::volume_scissor(L, bmin, bmax, lmin, lmax, both);
+    CHECK(ok.status == sk::Status::Ok);
+    CHECK(ok.visible);
+    CHECK(ok.width > 1);
+    CHECK(ok.height > 1);
+}
+
+TEST_CASE("regression (issue 19.6): degenerate cameras are rejected, never Ok + z-pass or Ok + not visible") {
+    // Catches: near_plane_rect had no status; fovy 0 or 2 pi, aspect 0 or -1, near 0 or -1 still gave
+    // Ok + z-pass; shadow_volume_scissor with an all-zero matrix returned Ok, not visible (the
+    // occluder's shadow silently skipped).
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+    const glm::vec4 L(0, 20, 0, 1);
+    const glm::vec3 lo(-1, -1, -6), hi(1, 1, -4);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), pi = 3.14159265f;
+    struct Cam { float fovy, aspect, near_z; sk::Status expect; };
+    const Cam cams[] = {{0.0f, 1.0f, 0.1f, sk::Status::InvalidArgument}, {2.0f * pi, 1.0f, 0.1f, sk::Status::InvalidArgument},
+                        {pi, 1.0f, 0.1f, sk::Status::InvalidArgument},     {-1.0f, 1.0f, 0.1f, sk::Status::InvalidArgument},
+                        {1.0f, 0.0f, 0.1f, sk::Status::InvalidArgument},   {1.0f, -1.0f, 0.1f, sk::Status::InvalidArgument},
+                        {1.0f, 1.0f, 0.0f, sk::Status::InvalidArgument},   {1.0f, 1.0f, -1.0f, sk::Status::InvalidArgument},
+                        {nan, 1.0f, 0.1f, sk::Status::NonFinite},          {1.0f, nan, 0.1f, sk::Status::NonFinite},
+                        {1.0f, 1.0f, nan, sk::Status::NonFinite}};
+    for (const Cam& c : cams) {
+        const sk::VolumeNearRect r = sk::volume_near_plane_rect(view, c.fovy, c.aspect, c.near_z);
+        CHECK(r.status == c.expect);
+        const sk::VolumeMethod mb = sk::volume_choose_stencil_method_box(r, L, lo, hi);
+        CHECK(mb.status != sk::Status::Ok);
+        CHECK(mb.method == sk::VolumeStencilMethod::ZFail);
+        CHECK(sk::volume_choose_stencil_method_sphere(r, L, glm::vec3(0, 0, -5), 1.0f).status != sk::Status::Ok);
+    }
+    CHECK(sk::volume_near_plane_rect(glm::mat4(0.0f), 1.0f, 1.0f, 0.1f).status == sk::Status::InvalidArgument);  // singular view
+    CHECK(sk::volume_near_plane_rect(view, 1.0f, 1.0f, 0.1f).status == sk::Status::Ok);
+    CHECK(sk::volume_choose_stencil_method_box(sk::VolumeNearRect{}, L, lo, hi).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_near_plane_rect_from_inverse(glm::mat4(0.0f), sk::ClipDepth::NegativeOneToOne, false).status == sk::Status::InvalidArgument);
+    CHECK(sk::volume_near_plane_rect_from_inverse(glm::mat4(1.0f), static_cast<sk::ClipDepth>(5), false).status == sk::Status::InvalidArgument);
+    // scissor: all-zero, singular (rank 3) and non-finite matrices
+    sk::ScissorParams sp;
+    sp.viewport[2] = 100;
+    sp.viewport[3] = 100;
+    CHECK(sk::volume_scissor(L, glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f), glm::vec3(-5), glm::vec3(5), sp).status ==
+          sk::Status::InvalidArgument);
+    sp.view_proj = glm::perspectiveRH_NO(1.0f, 1.0f, 0.1f, 100.0f) * view;
+    sp.view_proj[2] = glm::vec4(0.0f);  // a zero column: singular
+    CHECK(sk::volume_scissor(L, glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f), glm::vec3(-5), glm::vec3(5), sp).status ==
+          sk::Status::InvalidArgument);
+    sp.view_proj = glm::perspectiveRH_NO(1.0f, 1.0f, 0.1f, 100.0f) * view;
+    sp.clip_depth = static_cast<sk::ClipDepth>(3);
+    CHECK(sk::volume_scissor(L, glm::vec3(-0.1f, 1, -0.1f), glm::vec3(0.1f, 1.2f, 0.1f), glm::vec3(-5), glm::vec3(5), sp).status ==
+          sk::Status::InvalidArgument);
+}
+
+TEST_CASE("property (issue 19): inputs in the documented ranges give Ok with finite outputs; each broken field gives non-Ok") {
+    std::mt19937 rng(4519);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    int ok = 0, rejected = 0;
+    for (int it = 0; it < 3000; ++it) {
+        const float sc = it % 3 == 0 ? 1e-4f : (it % 3 == 1 ? 1.0f : 1e4f);
+        const glm::vec3 eye = glm::vec3(u(rng), u(rng), u(rng)) * (5.0f * sc);
+        const glm::mat4 view = glm::lookAt(eye, eye + glm::vec3(u(rng), u(rng), u(rng) + 2.0f), glm::vec3(0, 1, 0.1f));
+        float fovy = 0.01f + 3.1f * u01(rng), aspect = 0.1f + 4.0f * u01(rng), near_z = sc * (1e-3f + u01(rng));
+        glm::vec4 L = it % 4 == 0 ? glm::vec4(u(rng), u(rng), u(rng), 0.0f) : glm::vec4(glm::vec3(u(rng), u(rng), u(rng)) * (8.0f * sc), 1.0f);
+        glm::vec3 c = glm::vec3(u(rng), u(rng), u(rng)) * (4.0f * sc), h = glm::vec3(u01(rng), u01(rng), u01(rng)) * sc;
+        const int broken = it % 8;  // 0..2 valid; 3..7 break one field
+        if (broken == 3) fovy = (rng() % 2) ? 0.0f : 3.2f;
+        if (broken == 4) aspect = (rng() % 2) ? 0.0f : -aspect;
+        if (broken == 5) near_z = (rng() % 2) ? -near_z : nan;
+        if (broken == 6) L = (rng() % 2) ? glm::vec4(0.0f) : glm::vec4(1, 2, 3, -1);
+        if (broken == 7) h = -h - glm::vec3(sc);
+        const sk::VolumeNearRect r = sk::volume_near_plane_rect(view, fovy, aspect, near_z);
+        const sk::VolumeMethod m = sk::volume_choose_stencil_method_box(r, L, c - h, c + h, 1e-4f * sc);
+        sk::ScissorParams sp;
+        sp.view_proj = glm::perspectiveRH_NO(broken == 3 ? 1.0f : fovy, broken == 4 ? 1.0f : aspect, 0.1f * sc, 1e3f * sc) * view;
+        sp.viewport[2] = 320;
+        sp.viewport[3] = 240;
+        const sk::ScissorRect s = sk::volume_scissor(L, c - h, c + h, c - glm::vec3(10.0f * sc), c + glm::vec3(10.0f * sc), sp);
+        if (broken < 3) {
+            REQUIRE(r.status == sk::Status::Ok);
+            for (const glm::vec3& k : r.corners) CHECK(std::isfinite(k.x + k.y + k.z));
+            CHECK(m.status == sk::Status::Ok);
+            CHECK(s.status == sk::Status::Ok);
+            CHECK(std::isfinite(s.depth_min));
+            CHECK(std::isfinite(s.depth_max));
+            ++ok;
+        } else {
+            if (broken <= 5) CHECK(r.status != sk::Status::Ok);
+            CHECK(m.status != sk::Status::Ok);
+            if (broken >= 6) CHECK(s.status != sk::Status::Ok);
+            ++rejected;
+        }
+    }
+    CHECK(ok > 1000);
+    CHECK(rejected > 1000);
+    // buffers: random counts / pointers
+    for (int it = 0; it < 2000; ++it) {
+        const std::size_t n = rng() % 6;
+        std::vector<glm::vec3> p(n);
+        for (auto& q : p) q = glm::vec3(u(rng), u(rng), u(rng)) * 1e30f;
+        if (it % 5 == 0 && n) p[rng() % n].y = (rng() % 2) ? nan : inf;
+        std::vector<glm::vec4> vb(2 * n + 1);
+        const std::size_t cap = rng() % (2 * n + 2);
+        const sk::VolumeBuffer r = sk::volume_build_vertices(p.data(), n, vb.data(), cap);
+        bool finite = true;
+        for (auto& q : p) finite = finite && std::isfinite(q.x + q.y + q.z);
+        if (!finite) CHECK(r.status == sk::Status::NonFinite);
+        else CHECK(r.status == (cap >= 2 * n ? sk::Status::Ok : sk::Status::BufferTooSmall));
+        if (r.status == sk::Status::Ok || r.status == sk::Status::BufferTooSmall) {
+            CHECK(r.count <= cap);
+            CHECK(r.needed == 2 * n);
+            for (std::size_t k = 0; k < r.count; ++k) CHECK(std::isfinite(vb[k].x + vb[k].y + vb[k].z + vb[k].w));
+        }
+    }
 }

@@ -64,8 +64,8 @@ Map build(const Shape& s, int W, int H, const std::vector<sk::SilmapEdge>& edges
                 s.inside(glm::vec2(float(i) + 0.5f, float(j) + 0.5f)) ? 0.2f : 1.0f;
     m.pts.resize(m.depth.size());
     m.wts.resize(m.depth.size());
-    m.br = sk::silmap_build(edges.data(), edges.size(), glm::uvec2(W, H), nullptr, 0.f, m.pts.data(), m.wts.data(),
-                            m.pts.size());
+    m.br = sk::silmap_build(edges.data(), edges.size(), glm::uvec2(W, H), nullptr, 0.f, m.pts.data(), m.pts.size(),
+                            m.wts.data(), m.wts.size());
     return m;
 }
 
@@ -95,7 +95,7 @@ ErrorStats measure(const Shape& s, const Map& m, bool silmap, int lo, int hi, in
                     e.fallbacks += l.fallback ? 1 : 0;
                     fb = l.fallback;
                 } else {
-                    lit = sk::silmap_plain_lookup(m.depth.data(), glm::uvec2(m.W, m.H), q, 0.5f, 0.f);
+                    lit = sk::silmap_plain_lookup(m.depth.data(), glm::uvec2(m.W, m.H), q, 0.5f, 0.f).lit;
                 }
                 ++e.samples;
                 if (lit != truth_lit) {
@@ -173,8 +173,10 @@ TEST_CASE("conservative rasterization covers every crossed cell (brute force, 30
         if (it % 10 == 0) b.y = a.y;  // axis-aligned
         if (it % 10 == 1) b.x = a.x;
         if (it % 10 == 2) { a = glm::round(a) + 0.5f; b = glm::round(b) + 0.5f; }  // through cell corners
-        const std::size_t n = sk::silmap_rasterize_edge(a, b, {32, 32}, cells.data(), cells.size());
-        REQUIRE(n <= cells.size());
+        const sk::SilmapRasterResult rr = sk::silmap_rasterize_edge(a, b, {32, 32}, cells.data(), cells.size());
+        REQUIRE(rr.status == sk::Status::Ok);
+        const std::size_t n = rr.count;
+        REQUIRE(n == rr.needed);
         std::set<std::pair<int, int>> got;
         for (std::size_t k = 0; k < n; ++k) {
             got.insert({cells[k].x, cells[k].y});
@@ -208,14 +210,14 @@ TEST_CASE("all-default silhouette map reproduces the nearest-sample shadow map e
     for (auto& d : depth) d = u(rng);
     std::vector<glm::vec2> pts(depth.size());
     std::vector<std::uint8_t> wts(depth.size());
-    const auto br = sk::silmap_build(nullptr, 0, {W, H}, depth.data(), 0.f, pts.data(), wts.data(), pts.size());
-    REQUIRE(br.status == sk::SilmapStatus::Ok);
+    const auto br = sk::silmap_build(nullptr, 0, {W, H}, depth.data(), 0.f, pts.data(), pts.size(), wts.data(), wts.size());
+    REQUIRE(br.status == sk::Status::Ok);
     int mismatches = 0;
     for (int it = 0; it < 10000; ++it) {
         const glm::vec2 q(u(rng) * float(W), u(rng) * float(H));
         const float z = u(rng);
         const bool a = sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, H}, q, z, 0.f).lit;
-        const bool b = sk::silmap_plain_lookup(depth.data(), {W, H}, q, z, 0.f);
+        const bool b = sk::silmap_plain_lookup(depth.data(), {W, H}, q, z, 0.f).lit;
         mismatches += a != b;
     }
     CHECK(mismatches == 0);
@@ -358,7 +360,7 @@ TEST_CASE("failure: two silhouette edges in one texel are detected and fall back
         const sk::SilmapLookup l = sk::silmap_lookup(m.pts.data(), m.wts.data(), m.depth.data(), {W, W}, q, 0.5f, 0.f);
         CHECK(l.fallback);
         ++checked;
-        agree += l.lit == sk::silmap_plain_lookup(m.depth.data(), {W, W}, q, 0.5f, 0.f);
+        agree += l.lit == sk::silmap_plain_lookup(m.depth.data(), {W, W}, q, 0.5f, 0.f).lit;
     }
     CHECK(checked > 100);
     CHECK(agree == checked);
@@ -368,14 +370,14 @@ TEST_CASE("failure: two silhouette edges in one texel are detected and fall back
     t[1].a = {10.2f, 10.f}; t[1].b = {10.2f, 25.f};
     std::vector<glm::vec2> pts(W * W);
     std::vector<std::uint8_t> wts(W * W);
-    const auto br = sk::silmap_build(t.data(), 2, {W, W}, nullptr, 0.f, pts.data(), wts.data(), pts.size());
+    const auto br = sk::silmap_build(t.data(), 2, {W, W}, nullptr, 0.f, pts.data(), pts.size(), wts.data(), wts.size());
     CHECK(br.failure_texels >= 1);
     CHECK(wts[std::size_t(9 * W + 9)] == 3);  // crossing (2) + the other edge ending inside (1)
     // two edges meeting at a polygon vertex are not a failure
     std::vector<sk::SilmapEdge> v(2);
     v[0].a = {2.f, 2.f}; v[0].b = {10.2f, 10.3f};
     v[1].a = {10.2f, 10.3f}; v[1].b = {20.f, 4.f};
-    const auto bv = sk::silmap_build(v.data(), 2, {W, W}, nullptr, 0.f, pts.data(), wts.data(), pts.size());
+    const auto bv = sk::silmap_build(v.data(), 2, {W, W}, nullptr, 0.f, pts.data(), pts.size(), wts.data(), wts.size());
     CHECK(bv.failure_texels == 0);
     CHECK(wts[std::size_t(9 * W + 9)] == 2);
     CHECK(pts[std::size_t(9 * W + 9)].x == doctest::Approx(0.7f));
@@ -392,16 +394,16 @@ TEST_CASE("depth tests: occluded silhouette fragments and contact edges are disc
     sk::SilmapEdge e;
     e.a = {1.f, 6.3f}; e.b = {15.f, 6.3f};   // the blocker's outline, between rows 5 and 6
     e.depth_a = e.depth_b = 0.95f;             // behind everything: occluded
-    auto br = sk::silmap_build(&e, 1, {W, W}, depth.data(), 1e-3f, pts.data(), wts.data(), pts.size());
+    auto br = sk::silmap_build(&e, 1, {W, W}, depth.data(), 1e-3f, pts.data(), pts.size(), wts.data(), wts.size());
     CHECK(br.points_written == 0);
     CHECK(br.occluded > 10);
     e.depth_a = e.depth_b = 0.3f;              // on the blocker, the receiver behind: kept
-    br = sk::silmap_build(&e, 1, {W, W}, depth.data(), 1e-3f, pts.data(), wts.data(), pts.size());
+    br = sk::silmap_build(&e, 1, {W, W}, depth.data(), 1e-3f, pts.data(), pts.size(), wts.data(), wts.size());
     CHECK(br.occluded == 0);
     CHECK(br.points_written > 10);
     std::fill(depth.begin(), depth.end(), 0.9f);  // contact edge: nothing behind it casts no shadow
     e.depth_a = e.depth_b = 0.9f;
-    br = sk::silmap_build(&e, 1, {W, W}, depth.data(), 1e-3f, pts.data(), wts.data(), pts.size());
+    br = sk::silmap_build(&e, 1, {W, W}, depth.data(), 1e-3f, pts.data(), pts.size(), wts.data(), wts.size());
     CHECK(br.points_written == 0);
 }
 
@@ -410,9 +412,13 @@ TEST_CASE("projection into texel space: matrix, near clipping, bad indices") {
     const glm::vec3 pos[4] = {{-1.f, -1.f, -5.f}, {1.f, 1.f, -5.f}, {0.f, 0.f, -10.f}, {0.f, 0.f, -2.5f}};
     const std::uint32_t idx[6] = {0, 1, 2, 3, 0, 7};
     sk::SilmapEdge out[3];
+    // an index >= vertex_count: IndexOutOfRange, nothing written
     auto r = sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, {100, 50}, pos, 4, idx, 3, out, 3);
-    CHECK(r.status == sk::SilmapStatus::IndexOutOfRange);
-    CHECK(r.written == 2);
+    CHECK(r.status == sk::Status::IndexOutOfRange);
+    CHECK(r.count == 0);
+    r = sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, {100, 50}, pos, 4, idx, 2, out, 3);
+    CHECK(r.status == sk::Status::Ok);
+    CHECK(r.count == 2);
     CHECK(out[0].a.x == doctest::Approx(0.f));
     CHECK(out[0].b.x == doctest::Approx(100.f));
     CHECK(out[0].b.y == doctest::Approx(50.f));
@@ -426,15 +432,15 @@ TEST_CASE("projection into texel space: matrix, near clipping, bad indices") {
     const glm::vec3 pq[4] = {{0.f, 0.f, -5.f}, {0.f, 0.f, 5.f}, {1.f, 0.f, 3.f}, {-1.f, 0.f, 4.f}};
     const std::uint32_t ei[4] = {0, 1, 2, 3};
     r = sk::silmap_project_edges(pp, sk::ClipDepth::NegativeOneToOne, {64, 64}, pq, 4, ei, 2, out, 3);
-    CHECK(r.status == sk::SilmapStatus::Ok);
-    CHECK(r.written == 1);
-    CHECK(r.skipped == 1);
+    CHECK(r.status == sk::Status::Ok);
+    CHECK(r.count == 1);
+    CHECK(r.culled == 1);
     CHECK(std::isfinite(out[0].b.x));
     // buffer too small reports the count
     r = sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, {100, 50}, pos, 4, idx, 2, out, 1);
-    CHECK(r.status == sk::SilmapStatus::BufferTooSmall);
+    CHECK(r.status == sk::Status::BufferTooSmall);
     CHECK(r.needed == 2);
-    CHECK(r.written == 1);
+    CHECK(r.count == 1);
 }
 
 TEST_CASE("stiff input: NaN, huge and tiny coordinates, zero-length edges, grid-aligned edges, 1x1 maps") {
@@ -450,9 +456,14 @@ TEST_CASE("stiff input: NaN, huge and tiny coordinates, zero-length edges, grid-
     e[3].a = {5.5f, 2.f}; e[3].b = {5.5f, 60.f};                   // along a cell boundary (grid line)
     e[4].a = {1.5f, 1.5f}; e[4].b = {40.5f, 40.5f};                // through cell corners
     e[5].a = {-inf, 0.f}; e[5].b = {inf, 0.f};
-    const auto br = sk::silmap_build(e.data(), e.size(), {W, W}, depth.data(), 0.f, pts.data(), wts.data(), pts.size());
-    CHECK(br.status == sk::SilmapStatus::NonFinite);
-    CHECK(br.skipped_edges == 2);
+    // a NaN or infinite edge rejects the whole build (NonFinite, nothing written); it once skipped
+    // the edge and still said NonFinite after writing the map
+    auto br = sk::silmap_build(e.data(), e.size(), {W, W}, depth.data(), 0.f, pts.data(), pts.size(), wts.data(), wts.size());
+    CHECK(br.status == sk::Status::NonFinite);
+    CHECK(br.count == 0);
+    br = sk::silmap_build(e.data() + 1, 4, {W, W}, depth.data(), 0.f, pts.data(), pts.size(), wts.data(), wts.size());
+    CHECK(br.status == sk::Status::Ok);
+    CHECK(br.count == pts.size());
     for (std::size_t k = 0; k < pts.size(); ++k) {
         REQUIRE(std::isfinite(pts[k].x));
         REQUIRE(pts[k].x >= 0.f);
@@ -464,21 +475,31 @@ TEST_CASE("stiff input: NaN, huge and tiny coordinates, zero-length edges, grid-
     int row_points = 0;
     for (int i = 0; i < W; ++i) row_points += wts[std::size_t(19 * W + i)] > 0;
     CHECK(row_points >= W - 1);
-    // lookups with NaN / huge positions do not crash and report a fallback
-    CHECK(sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {nan, 3.f}, 0.5f, 0.f).fallback);
-    CHECK(sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {1e30f, -1e30f}, 0.5f, 0.f).fallback);
-    CHECK(sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {3.f, 3.f}, nan, 0.f).fallback);
+    // lookups: NaN is NonFinite (it was a silent "lit" fallback), huge positions are border lookups
+    CHECK(sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {nan, 3.f}, 0.5f, 0.f).status ==
+          sk::Status::NonFinite);
+    const sk::SilmapLookup far = sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {1e30f, -1e30f}, 0.5f, 0.f);
+    CHECK(far.status == sk::Status::Ok);
+    CHECK(far.fallback);
+    CHECK(sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {3.f, 3.f}, nan, 0.f).status ==
+          sk::Status::NonFinite);
+    CHECK(sk::silmap_lookup(pts.data(), wts.data(), depth.data(), {W, W}, {3.f, 3.f}, 0.5f, inf).status ==
+          sk::Status::NonFinite);
+    CHECK(sk::silmap_lookup(nullptr, wts.data(), depth.data(), {W, W}, {3.f, 3.f}, 0.5f, 0.f).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silmap_plain_lookup(nullptr, {W, W}, {3.f, 3.f}, 0.5f, 0.f).status == sk::Status::InvalidArgument);
+    CHECK(sk::silmap_plain_lookup(depth.data(), {W, W}, {3.f, nan}, 0.5f, 0.f).status == sk::Status::NonFinite);
     // 1x1 map: no interior cell, plain result
     float d1 = 0.2f;
     glm::vec2 p1;
     std::uint8_t w1;
-    CHECK(sk::silmap_build(e.data() + 2, 1, {1, 1}, &d1, 0.f, &p1, &w1, 1).status == sk::SilmapStatus::Ok);
+    CHECK(sk::silmap_build(e.data() + 2, 1, {1, 1}, &d1, 0.f, &p1, 1, &w1, 1).status == sk::Status::Ok);
     CHECK_FALSE(sk::silmap_lookup(&p1, &w1, &d1, {1, 1}, {0.5f, 0.5f}, 0.5f, 0.f).lit);
     // bad arguments
-    CHECK(sk::silmap_build(e.data(), 1, {0, 4}, nullptr, 0.f, pts.data(), wts.data(), pts.size()).status ==
-          sk::SilmapStatus::InvalidArgument);
-    CHECK(sk::silmap_build(e.data(), 1, {W, W}, nullptr, 0.f, pts.data(), wts.data(), 10).status ==
-          sk::SilmapStatus::BufferTooSmall);
+    CHECK(sk::silmap_build(e.data(), 1, {0, 4}, nullptr, 0.f, pts.data(), pts.size(), wts.data(), wts.size()).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silmap_build(e.data() + 1, 1, {W, W}, nullptr, 0.f, pts.data(), 10, wts.data(), 10).status ==
+          sk::Status::BufferTooSmall);
     // tiny features: a 1e-6 texel edge still yields its vertex, near-parallel to a diagonal
     sk::SilmapPoint p = sk::silmap_select_point({3.9f, 4.9f}, {3.9f + 1e-6f, 4.9f + 1e-6f}, {3, 4});
     CHECK(p.kase == sk::SilmapCase::VertexInside);
@@ -497,14 +518,15 @@ TEST_CASE("rasterization of edges 1e12 to 1e30 texels long: only in-map cells (f
     // map, on the boundary between cell rows 1 and 2 (cells span [j + 0.5, j + 1.5]): both rows,
     // every column, 16 cells.
     std::vector<glm::ivec2> cells(64);
-    const std::size_t n = sk::silmap_rasterize_edge({-1e12f, 2.3f}, {1e12f, 2.7f}, {8, 8}, cells.data(), cells.size());
+    const std::size_t n = sk::silmap_rasterize_edge({-1e12f, 2.3f}, {1e12f, 2.7f}, {8, 8}, cells.data(), cells.size()).count;
     REQUIRE(n == 16);
     for (std::size_t k = 0; k < n; ++k) {
         CHECK(cells[k].x == int(k / 2));
         CHECK(cells[k].y == 1 + int(k % 2));
     }
     // near-vertical at x = 4.2: column 3, every row
-    const std::size_t m = sk::silmap_rasterize_edge({4.2f, -1e12f}, {4.2f + 1e-7f, 1e12f}, {8, 8}, cells.data(), cells.size());
+    const std::size_t m =
+        sk::silmap_rasterize_edge({4.2f, -1e12f}, {4.2f + 1e-7f, 1e12f}, {8, 8}, cells.data(), cells.size()).count;
     REQUIRE(m == 8);
     for (std::size_t k = 0; k < m; ++k) CHECK(cells[k] == glm::ivec2(3, int(k)));
     // 1e30: double precision cannot place the crossing (t = 0.5 +- 2^-53 for the whole map), but
@@ -513,7 +535,9 @@ TEST_CASE("rasterization of edges 1e12 to 1e30 texels long: only in-map cells (f
         for (const auto& ab : {std::pair<glm::vec2, glm::vec2>{{-len, 2.3f}, {len, 2.7f}},
                                std::pair<glm::vec2, glm::vec2>{{4.2f, -len}, {4.2f, len}},
                                std::pair<glm::vec2, glm::vec2>{{-len, -len}, {len, len * 0.999f}}}) {
-            const std::size_t c = sk::silmap_rasterize_edge(ab.first, ab.second, {8, 8}, cells.data(), cells.size());
+            const sk::SilmapRasterResult rc = sk::silmap_rasterize_edge(ab.first, ab.second, {8, 8}, cells.data(), cells.size());
+            CHECK(rc.status == sk::Status::Ok);
+            const std::size_t c = rc.count;
             CHECK(c <= 16);
             for (std::size_t k = 0; k < std::min<std::size_t>(c, 64); ++k) {
                 CHECK(cells[k].x >= 0);
@@ -523,4 +547,158 @@ TEST_CASE("rasterization of edges 1e12 to 1e30 texels long: only in-map cells (f
             }
         }
     }
+}
+
+TEST_CASE("projection: an edge whose texel coordinates overflow float is clipped to the guard band, not dropped") {
+    // Regression (issue 19): the old code turned x / w * size into float, got Inf for an edge
+    // spanning +-1e38 in the light's x, skipped the edge and still returned Ok with 0 edges: the
+    // silhouette crossing the whole map was lost. Now the edge is clipped to |x| <= 2^20 w: finite,
+    // and it still crosses the whole map at the same y.
+    const glm::mat4 vp = glm::ortho(-1.f, 1.f, -1.f, 1.f, 0.f, 10.f);
+    const glm::vec3 pos[2] = {{-1e38f, 0.25f, -5.f}, {1e38f, 0.25f, -5.f}};
+    const std::uint32_t idx[2] = {0, 1};
+    sk::SilmapEdge out[1];
+    const auto r = sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, {64, 64}, pos, 2, idx, 1, out, 1);
+    REQUIRE(r.status == sk::Status::Ok);
+    REQUIRE(r.count == 1);
+    CHECK(std::isfinite(out[0].a.x));
+    CHECK(std::isfinite(out[0].b.x));
+    CHECK(out[0].a.x < 0.f);
+    CHECK(out[0].b.x > 64.f);
+    CHECK(out[0].a.y == doctest::Approx(40.f));  // (0.25 * 0.5 + 0.5) * 64
+    CHECK(out[0].b.y == doctest::Approx(40.f));
+    std::vector<glm::ivec2> cells(256);
+    const auto rr = sk::silmap_rasterize_edge(out[0].a, out[0].b, {64, 64}, cells.data(), cells.size());
+    CHECK(rr.status == sk::Status::Ok);
+    CHECK(rr.count >= 63);  // every column of the row
+    // a NaN matrix is NonFinite with nothing written (the old code skipped edge by edge)
+    glm::mat4 bad = vp;
+    bad[3][1] = std::numeric_limits<float>::quiet_NaN();
+    CHECK(sk::silmap_project_edges(bad, sk::ClipDepth::NegativeOneToOne, {64, 64}, pos, 2, idx, 1, out, 1).status ==
+          sk::Status::NonFinite);
+    // a clip_depth that is no enumerator, a null buffer with a capacity
+    CHECK(sk::silmap_project_edges(vp, static_cast<sk::ClipDepth>(7), {64, 64}, pos, 2, idx, 1, out, 1).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, {64, 64}, pos, 2, idx, 1, nullptr, 1).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, {64, 64}, nullptr, 2, idx, 1, out, 1).status ==
+          sk::Status::InvalidArgument);
+}
+
+TEST_CASE("rasterization: NaN and null buffers are errors, not an empty edge") {
+    // Regression (issue 19, items 4 and 6): the old function returned 0 cells for a NaN end (the
+    // same answer as an edge that misses the map) and treated out == nullptr with a capacity as
+    // capacity 0.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    glm::ivec2 cells[8];
+    CHECK(sk::silmap_rasterize_edge({nan, 1.f}, {3.f, 3.f}, {8, 8}, cells, 8).status == sk::Status::NonFinite);
+    CHECK(sk::silmap_rasterize_edge({1.f, 1.f}, {3.f, 3.f}, {8, 8}, nullptr, 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::silmap_rasterize_edge({1.f, 1.f}, {3.f, 3.f}, {0, 8}, cells, 8).status == sk::Status::InvalidArgument);
+    CHECK(sk::silmap_rasterize_edge({1.f, 1.f}, {3.f, 3.f}, {8, 8}, cells, 8, 1.f).status == sk::Status::InvalidArgument);
+    CHECK(sk::silmap_rasterize_edge({1.f, 1.f}, {3.f, 3.f}, {8, 8}, cells, 8, nan).status == sk::Status::InvalidArgument);
+    const auto miss = sk::silmap_rasterize_edge({-50.f, -50.f}, {-40.f, -30.f}, {8, 8}, cells, 8);
+    CHECK(miss.status == sk::Status::Ok);
+    CHECK(miss.needed == 0);
+    // a size query (capacity 0) says how many: BufferTooSmall with needed, the diagonal (1,1)-(3,3)
+    // touches cells (0,0) .. (2,2) around it: brute force over the 8 x 8 grid below
+    const auto q = sk::silmap_rasterize_edge({1.f, 1.f}, {3.f, 3.f}, {8, 8}, nullptr, 0);
+    CHECK(q.status == sk::Status::BufferTooSmall);
+    CHECK(q.count == 0);
+    std::size_t expect = 0;
+    for (int j = 0; j < 8; ++j)
+        for (int i = 0; i < 8; ++i) {
+            glm::dvec2 p0(1.0, 1.0), p1(3.0, 3.0);
+            if (sk::detail::silmap_clip(p0, p1, glm::dvec2(i + 0.5 - 1e-4, j + 0.5 - 1e-4), glm::dvec2(i + 1.5 + 1e-4, j + 1.5 + 1e-4)))
+                ++expect;
+        }
+    CHECK(q.needed == expect);
+    const bool lit[4] = {true, true, false, false};
+    CHECK(sk::silmap_reconstruct({0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f},
+                                 nullptr).status == sk::Status::InvalidArgument);
+    CHECK(sk::silmap_reconstruct({nan, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, {0.5f, 0.5f}, lit)
+              .status == sk::Status::NonFinite);
+}
+
+TEST_CASE("property: finite input in the documented ranges gives Ok and finite output; NaN gives NonFinite (4,000 configurations)") {
+    std::mt19937 rng(20260);
+    std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
+    auto scale = [&](int k) { const float s[6] = {1e-6f, 1e-3f, 1.f, 1e3f, 1e6f, 1e30f}; return s[k % 6]; };
+    std::size_t ok_calls = 0, culled = 0;
+    for (int it = 0; it < 4000; ++it) {
+        const float sc = scale(it);
+        // light: perspective (near 1e-5 .. 1, far up to infinity) or ortho, looking from a random eye
+        const glm::vec3 eye(u(rng) * sc, u(rng) * sc, u(rng) * sc);
+        glm::vec3 dir(u(rng), u(rng), u(rng));
+        if (glm::length(dir) < 0.1f) dir = glm::vec3(0.f, 0.f, -1.f);
+        dir = glm::normalize(dir);
+        const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f);
+        const float near_z = (it % 3 == 0 ? 1e-5f : 0.1f) * sc;
+        glm::mat4 proj = (it % 4 == 0) ? glm::ortho(-sc, sc, -sc, sc, 0.f, 10.f * sc)
+                         : (it % 4 == 1) ? glm::infinitePerspective(1.2f, 1.f, near_z)
+                                         : glm::perspective(0.3f + 2.5f * u01(rng), 0.5f + u01(rng), near_z, near_z * 1e4f);
+        const glm::mat4 vp = proj * glm::lookAt(eye, eye + dir * sc, up);
+        const int nv = 2 + int(u01(rng) * 10.f);
+        std::vector<glm::vec3> pos(static_cast<std::size_t>(nv));
+        for (auto& p : pos) p = eye + glm::vec3(u(rng), u(rng), u(rng)) * sc * (it % 5 == 0 ? 1e6f : 2.f);
+        if (it % 7 == 0) pos[0] = eye;  // a vertex at the light
+        std::vector<std::uint32_t> idx(2 * std::size_t(nv));
+        for (auto& i : idx) i = std::uint32_t(u01(rng) * float(nv)) % std::uint32_t(nv);
+        const glm::uvec2 size(1u + std::uint32_t(u01(rng) * 100.f), 1u + std::uint32_t(u01(rng) * 100.f));
+        std::vector<sk::SilmapEdge> edges(static_cast<std::size_t>(nv));
+        const auto pr = sk::silmap_project_edges(vp, it % 2 ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne,
+                                                 size, pos.data(), pos.size(), idx.data(), std::size_t(nv), edges.data(),
+                                                 edges.size());
+        bool finite_matrix = true;  // glm's float perspective overflows (2 f n) for near 1e29
+        for (int c = 0; c < 4; ++c) finite_matrix = finite_matrix && std::isfinite(glm::dot(vp[c], vp[c]));
+        if (!finite_matrix) continue;
+        REQUIRE(pr.status == sk::Status::Ok);
+        REQUIRE(pr.count == pr.needed);
+        REQUIRE(pr.count + pr.culled == std::size_t(nv));
+        culled += pr.culled;
+        for (std::size_t e = 0; e < pr.count; ++e) {
+            REQUIRE(sk::detail::silmap_finite(edges[e].a));
+            REQUIRE(sk::detail::silmap_finite(edges[e].b));
+            REQUIRE(std::isfinite(edges[e].depth_a));
+            REQUIRE(std::isfinite(edges[e].depth_b));
+        }
+        // the same edges built into a map and looked up
+        std::vector<glm::vec2> pts(std::size_t(size.x) * size.y);
+        std::vector<std::uint8_t> wts(pts.size());
+        std::vector<float> depth(pts.size());
+        for (auto& d : depth) d = u01(rng);
+        const auto br = sk::silmap_build(edges.data(), pr.count, size, it % 2 ? depth.data() : nullptr, 1e-4f, pts.data(),
+                                         pts.size(), wts.data(), wts.size());
+        REQUIRE(br.status == sk::Status::Ok);
+        bool in_cell = true;
+        for (const auto& p : pts) in_cell = in_cell && p.x >= 0.f && p.x <= 1.f && p.y >= 0.f && p.y <= 1.f;
+        REQUIRE(in_cell);
+        for (int k = 0; k < 4; ++k) {
+            const glm::vec2 q(u(rng) * float(size.x) * 2.f, u(rng) * float(size.y) * 2.f);
+            const auto l = sk::silmap_lookup(pts.data(), wts.data(), depth.data(), size, q, u01(rng), 1e-4f);
+            REQUIRE(l.status == sk::Status::Ok);
+            REQUIRE(sk::silmap_plain_lookup(depth.data(), size, q, u01(rng), 0.f).status == sk::Status::Ok);
+        }
+        // rasterizing any finite segment (1e-6 .. 1e30 texels) is Ok, in the map, <= 2 (W + H) + 4 cells
+        std::vector<glm::ivec2> cells(4 * (size.x + size.y) + 16);
+        const glm::vec2 a(u(rng) * sc, u(rng) * sc), b = a + glm::vec2(u(rng), u(rng)) * sc;
+        const auto rr = sk::silmap_rasterize_edge(a, b, size, cells.data(), cells.size(), 1e-4f);
+        REQUIRE(rr.status == sk::Status::Ok);
+        REQUIRE(rr.count <= 2 * (size.x + size.y) + 4);
+        for (std::size_t c = 0; c < rr.count; ++c)
+            REQUIRE((cells[c].x >= 0 && cells[c].y >= 0 && cells[c].x < int(size.x) && cells[c].y < int(size.y)));
+        ++ok_calls;
+        // one NaN anywhere: NonFinite
+        pos[idx[0]].y = std::numeric_limits<float>::quiet_NaN();
+        REQUIRE(sk::silmap_project_edges(vp, sk::ClipDepth::NegativeOneToOne, size, pos.data(), pos.size(), idx.data(),
+                                         std::size_t(nv), edges.data(), edges.size())
+                    .status == sk::Status::NonFinite);
+        if (pr.count) {
+            edges[0].depth_b = std::numeric_limits<float>::infinity();
+            REQUIRE(sk::silmap_build(edges.data(), pr.count, size, nullptr, 0.f, pts.data(), pts.size(), wts.data(),
+                                     wts.size())
+                        .status == sk::Status::NonFinite);
+        }
+    }
+    CHECK(ok_calls > 3000);
+    CHECK(culled > 0);
 }
