@@ -13,18 +13,30 @@
 // gl_Position = sk_dp_clip_position(...) and gl_ClipDistance[0] = sk_dp_clip_distance(...)
 // (enable GL_CLIP_DISTANCE0); tessellate casters (omni_paraboloid_max_edge_length).
 // Inputs: world-space point (and for the bias its normal); uniforms the user declares and passes:
-// light position, range, bias terms, the paraboloid frame matrix (omni_paraboloid_frame().view).
-// Seams: cube taps are directions, so a tap past a face edge reads the neighbour face; paraboloid
+// the light as `vec4 light_position` (the C++ header's convention: a point light, w > 0, at
+// xyz / w; omnidirectional maps take no directional light), range, bias terms, the paraboloid frame
+// matrix (omni_paraboloid_frame().view).
+// GL state: depth pass GL_DEPTH_TEST with GL_LESS writing gl_FragDepth, culling off (or back faces,
+// the maps store the nearest surface either way); lookups need GL_TEXTURE_COMPARE_MODE =
+// GL_COMPARE_REF_TO_TEXTURE with GL_LEQUAL for the Shadow samplers, GL_NONE for the manual compare.
+// Seams: cube taps are directions, so a tap past a face edge reads the neighbor face; paraboloid
 // taps past the rim (r > 1) continue into the other map at xy / r^2.
 //
 // Usage (fragment stage):
-//   vec3 L = u_light - p; float d = length(L);
+//   vec3 L = u_light_position.xyz / u_light_position.w - p; float d = length(L);
 //   float b = sk_omni_bias(d, dot(n, L / d), sk_omni_cube_texel_angle(u_size), 1.4143, 1.4835, u_storage);
-//   float v = sk_omni_cube_shadow(u_cube, u_light, p, u_range, b);            // 1 lit, 0 shadowed
+//   float v = sk_omni_cube_shadow(u_cube, u_light_position, p, u_range, b);   // 1 lit, 0 shadowed
+//
+// MIT License. Copyright (c) shadowkit contributors.
+
+// Position of a point light given as vec4 light_position (w > 0).
+vec3 sk_omni_light_point(vec4 light_position) {
+    return light_position.xyz / light_position.w;
+}
 
 // Stored value of the depth pass (write to gl_FragDepth).
-float sk_omni_linear_depth(vec3 world_pos, vec3 light_pos, float range) {
-    return clamp(length(world_pos - light_pos) / range, 0.0, 1.0);
+float sk_omni_linear_depth(vec3 world_pos, vec4 light_position, float range) {
+    return clamp(length(world_pos - sk_omni_light_point(light_position)) / range, 0.0, 1.0);
 }
 
 // Receiver bias in world units (omni_distance_bias): a plane at distance d, angle theta to the light,
@@ -44,15 +56,15 @@ float sk_omni_bias(float d, float cos_theta, float texel_angle, float filter_rad
 float sk_omni_cube_texel_angle(float size) { return 2.0 / size; }
 
 // Hardware compare: samplerCubeShadow on the distance cube (GL_LINEAR: 2x2 PCF across seams).
-float sk_omni_cube_shadow(samplerCubeShadow shadow_map, vec3 light_pos, vec3 world_pos, float range, float bias) {
-    vec3 d = world_pos - light_pos;
+float sk_omni_cube_shadow(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias) {
+    vec3 d = world_pos - sk_omni_light_point(light_position);
     return texture(shadow_map, vec4(d, (length(d) - bias) / range));
 }
 
 // Manual compare: samplerCube on the same texture with compare mode NONE (GL_NEAREST), or an R32F
 // colour cube holding distance / range.
-float sk_omni_cube_shadow_manual(samplerCube distance_map, vec3 light_pos, vec3 world_pos, float range, float bias) {
-    vec3 d = world_pos - light_pos;
+float sk_omni_cube_shadow_manual(samplerCube distance_map, vec4 light_position, vec3 world_pos, float range, float bias) {
+    vec3 d = world_pos - sk_omni_light_point(light_position);
     float stored = texture(distance_map, d).r;
     return (length(d) - bias) / range <= stored ? 1.0 : 0.0;
 }
@@ -77,11 +89,11 @@ void sk_omni_cube_tangents(vec3 d, out vec3 t_s, out vec3 t_t, out float major) 
 }
 
 // (2 radius + 1)^2 hardware-compare taps one texel apart in the face plane; each tap is a
-// direction, so taps beyond a face edge land on the neighbour face (seams handled by the cube
+// direction, so taps beyond a face edge land on the neighbor face (seams handled by the cube
 // lookup). Bias with filter_radius = (radius + 1) * 1.4143.
-float sk_omni_cube_pcf(samplerCubeShadow shadow_map, vec3 light_pos, vec3 world_pos, float range, float bias,
+float sk_omni_cube_pcf(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias,
                        float size, int radius) {
-    vec3 d = world_pos - light_pos;
+    vec3 d = world_pos - sk_omni_light_point(light_position);
     float ref = (length(d) - bias) / range;
     vec3 ts, tt;
     float major;
@@ -134,7 +146,7 @@ vec3 sk_dp_direction(vec2 xy, float layer) {
 }
 
 // Largest angle one texel of a size^2 paraboloid map subtends at map radius r (4 / size at the
-// centre, 2 / size at the rim; omni_paraboloid_texel_angle).
+// center, 2 / size at the rim; omni_paraboloid_texel_angle).
 float sk_dp_texel_angle(float size, float r) {
     float texel = 2.0 / size;
     float rr = max(abs(r) - 2.0 * texel, 0.0);
@@ -148,7 +160,7 @@ vec4 sk_dp_coord(mat4 dp_view, vec3 world_pos) {
     return vec4(m.xy * 0.5 + 0.5, m.z, length(m.xy));
 }
 
-// Hardware compare (GL_LINEAR: 2x2 PCF). `light_pos` is the frame's origin.
+// Hardware compare (GL_LINEAR: 2x2 PCF). The light is the frame's origin (dp_view).
 float sk_dp_shadow(sampler2DArrayShadow shadow_map, mat4 dp_view, vec3 world_pos, float range, float bias) {
     vec3 q = (dp_view * vec4(world_pos, 1.0)).xyz;
     float dist = length(q);

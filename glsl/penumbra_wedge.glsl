@@ -6,12 +6,15 @@
 // stages: vertex, fragment
 //
 // Inputs (per wedge, from the CPU: shadowkit::penumbra_wedge): the silhouette edge e0, e1 (world, as
-// seen from the light centre, oriented as in its light-facing triangle), the light centre and radius,
+// seen from the light's center, oriented as in its light-facing triangle), the sphere light as in
+// the C++ header: `vec4 light_position` (a point light, w > 0, center xyz / w; w = 0 is not
+// supported) and `float light_radius`,
 // the wedge planes (vec4 (n, d), inside when dot(n, x) + d >= 0), either in world space or moved to
 // viewport space with penumbra_transform_plane(plane, viewport * view_proj) - or in the vertex stage
 // with sk_wedge_transform_plane(transpose(inverse(world_to_viewport)), plane), passed on as flat
 // outputs (Lengyel's texcoords 0-2).
-// Fragment stage: rasterise the front faces of the wedge hull (penumbra_wedge_hull, 8 triangles);
+// Fragment stage: rasterize the front faces of the wedge hull (penumbra_wedge_hull, 8 triangles;
+// back faces with GL_GEQUAL where the camera is inside the hull or the hull crosses the near plane);
 // for the pixel, rebuild the receiver point from the depth buffer copy (viewport point
 // (gl_FragCoord.xy, depth, 1) for the plane test, world point for the coverage), reject it with
 // sk_wedge_inside4 / sk_wedge_inside3, and output sk_wedge_edge_coverage.
@@ -21,13 +24,21 @@
 // inner half-wedges subtract (coverage < 0): the sign is part of the coverage, so one pass over whole
 // wedges needs no separate subtractive buffer. Finally sk_wedge_visibility(buffer, 0.0) (or
 // (stencil, sum) if kept separately) gives the light visibility multiplying the light's contribution.
+// GL state of the wedge pass: the scene's depth in the depth buffer (a depth pre-pass), GL_DEPTH_TEST
+// with GL_LEQUAL (front faces) and glDepthMask(GL_FALSE); GL_CULL_FACE with glCullFace(GL_BACK) and
+// glFrontFace(GL_CCW) (the hull's winding); GL_DEPTH_CLAMP for a finite projection whose far plane
+// cuts the hull; the per-wedge glScissor rectangle inside glEnable(GL_SCISSOR_TEST) (disable it
+// before the combine pass); additive blending as above. The receiver depth the fragment reads must
+// be a texture (a copy of the depth buffer or a G-buffer), not the attachment being tested.
 // Precision: float; ~1e-5 absolute for scenes of unit scale (the CPU version runs in double).
 //
 // Usage:
 //   vec4 vp = vec4(gl_FragCoord.xy, texelFetch(u_depth, ivec2(gl_FragCoord.xy), 0).r, 1.0);
 //   if (!sk_wedge_inside3(vp, v_plane0, v_plane1, v_plane2)) discard;
 //   vec3 p = sk_wedge_world_from_depth(u_inv_view_proj, ndc_xy, vp.z, false);
-//   o_coverage = sk_wedge_edge_coverage(u_e0, u_e1, u_light_centre, u_light_radius, p);
+//   o_coverage = sk_wedge_edge_coverage(u_e0, u_e1, u_light_position, u_light_radius, p);
+//
+// MIT License. Copyright (c) shadowkit contributors.
 
 // Plane moved by a point transform M: pass transpose(inverse(M)).
 vec4 sk_wedge_transform_plane(mat4 inverse_transpose, vec4 plane) {
@@ -52,12 +63,15 @@ vec3 sk_wedge_world_from_depth(mat4 inv_view_proj, vec2 ndc_xy, float window_dep
     return w.xyz / w.w;
 }
 
-// Signed fraction of the light disk (radius r through c, facing p) covered behind the edge as seen
-// from p: > 0 outside the hard shadow plane (adds occlusion), < 0 inside; |result| <= 0.5.
-// Projective clip of the edge to the disk, then sector minus triangle (Lengyel; A&AM coverage).
-float sk_wedge_edge_coverage(vec3 e0, vec3 e1, vec3 c, float r, vec3 p) {
+// Signed fraction of the light disk (radius light_radius through the center c = light_position.xyz /
+// light_position.w, facing p) covered behind the edge as seen from p: > 0 outside the hard shadow
+// plane (adds occlusion), < 0 inside; |result| <= 0.5. Projective clip of the edge to the disk, then
+// sector minus triangle (Lengyel; A&AM coverage).
+float sk_wedge_edge_coverage(vec3 e0, vec3 e1, vec4 light_position, float light_radius, vec3 p) {
     const float BIG = 1.0e30;
-    if (!(r > 0.0)) return 0.0;
+    float r = light_radius;
+    if (!(r > 0.0) || !(light_position.w > 0.0)) return 0.0;
+    vec3 c = light_position.xyz / light_position.w;
     vec3 d = c - p;
     float D = length(d);
     if (!(D > 0.0)) return 0.0;
@@ -75,7 +89,7 @@ float sk_wedge_edge_coverage(vec3 e0, vec3 e1, vec3 c, float r, vec3 p) {
         if (w0 > D) { q0 = qc; w0 = D; } else { q1 = qc; w1 = D; }
     }
     if (w0 <= 0.0 && w1 <= 0.0) return 0.0;
-    // 2. projected line: signed distance hs from the disk centre in light radii
+    // 2. projected line: signed distance hs from the disk center in light radii
     vec3 m = np - dot(np, z) * z;
     float ml = length(m);
     if (!(ml > 0.0)) return 0.0;

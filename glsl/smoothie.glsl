@@ -4,7 +4,7 @@
 // versions: 330, 450
 // stages: vertex, fragment
 //
-// Geometry: the triangle list from shadowkit/smoothie.hpp build_smoothies (SmoothieVertex, 48 bytes:
+// Geometry: the triangle list from shadowkit/smoothie.hpp smoothie_build (SmoothieVertex, 48 bytes:
 // vec3 position, float alpha, vec3 silhouette_vertex, float inv_t, vec2 outward, float corner, pad).
 // Units: light NDC ([-1,1]); t is in NDC units. Depths are LINEAR: d = -(light_view * p).z, the
 // distance from the light along its axis, in every buffer and for the receiver.
@@ -29,6 +29,12 @@
 //     dr_duv = sk_smoothie_depth_gradient(dFdx(uv), dFdy(uv), dFdx(r), dFdy(r)) (receiver-plane
 //     depth bias, fragment stage only) or vec2(0.0) for a constant bias only.
 // t = 0: draw nothing in pass 2; the buffer stays (1e30, 1) and pass 3 is the hard shadow test.
+// Biases (linear depth; smoothie.hpp "Bias" says why): pass 2 discard with bias = 2e-3 * b, pass 3
+// with bias = 1e-3 * r and the receiver-plane gradient dr_duv.
+// The light is the center of projection of light_view_proj (no light_position here): build the
+// silhouette for that same light.
+//
+// MIT License. Copyright (c) shadowkit contributors.
 
 // Linear depth of a world point: distance from the light along its viewing axis.
 float sk_smoothie_linear_depth(mat4 light_view, vec3 world_pos) {

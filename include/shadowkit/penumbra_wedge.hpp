@@ -1,51 +1,67 @@
 // shadowkit/penumbra_wedge.hpp - soft shadow volumes: penumbra wedges of silhouette edges for a
 // spherical area light (front/back + two side planes, Lengyel's inner and outer half-wedges), the
 // analytic per-point light coverage of one silhouette edge, the visibility of a silhouette loop, the
-// wedge hull for rasterisation and its per-wedge scissor rectangle and depth bounds.
+// wedge hull for rasterization and its per-wedge scissor rectangle and depth bounds (clipped to a
+// box: the light's range or the receivers' bounds).
 //
-// Usage (per light, per silhouette edge (e0, e1) seen from the light centre):
+// Usage (per light, per silhouette edge (e0, e1) seen from the light's center; docs/penumbra_wedge.md
+// has a complete GL program):
 //   #include <shadowkit/penumbra_wedge.hpp>
-//   shadowkit::PenumbraSphereLight L{centre, radius};
+//   shadowkit::PenumbraSphereLight L;
+//   L.light_position = glm::vec4(center, 1.0f); L.radius = radius;          // a sphere light
 //   shadowkit::PenumbraWedge w = shadowkit::penumbra_wedge(e0, e1, L);
-//   if (w.status != shadowkit::PenumbraWedgeStatus::Ok) continue;          // documented skips
+//   if (w.status != shadowkit::Status::Ok) ...                               // bad input: see below
+//   if (w.skip != shadowkit::PenumbraWedgeSkip::None) continue;              // nothing to draw for it
 //   shadowkit::PenumbraWedgeHull hull = shadowkit::penumbra_wedge_hull(w, extent); // 6 verts, 8 tris
-//   shadowkit::PenumbraScissor s = shadowkit::penumbra_wedge_scissor(hull, sp);  // sp: view_proj ...
+//   shadowkit::ScissorParams sp;                      // required: view_proj and viewport
+//   sp.view_proj = proj * view; sp.viewport[2] = width; sp.viewport[3] = height;
+//   shadowkit::ScissorRect s = shadowkit::penumbra_wedge_scissor_in_box(hull, box_min, box_max, sp);
 //   if (!s.visible) continue;   // else glScissor(s.x, s.y, s.width, s.height) + glDepthBoundsEXT
 //   // fragment stage (glsl/penumbra_wedge.glsl): receiver point p inside the (half-)wedge planes ->
-//   //   buffer += penumbra_edge_coverage(e0, e1, L, p)   (additive float blending, signed)
+//   //   buffer += coverage of (e0, e1) at p   (additive float blending, signed)
 //   // after all wedges: visibility = 1 - clamp(hard_count + buffer, 0, 1)
 //   // CPU reference for one point: penumbra_visibility(endpoints, edge_count, L, p, hard_count)
 //   // planes to viewport space for the slides' fragment test:
-//   //   glm::mat4 M = penumbra_viewport_transform(vp_xywh, ClipDepth::NegativeOneToOne) * view_proj;
-//   //   glm::vec4 pv = penumbra_transform_plane(w.outer_bound, M);   // dot(pv, (x_win, y_win, z_win, 1))
-//
-// Based on:
-//   U. Assarsson, T. Akenine-Moller, "A Geometry-based Soft Shadow Volume Algorithm using Graphics
-//   Hardware", SIGGRAPH 2003, and T. Akenine-Moller's SIGGRAPH 2004 course notes (wedge construction
-//   steps A-D; visibility = hard count + signed per-edge coverage, "positive half space of Q").
-//   E. Lengyel, "Advanced Stencil Shadow and Penumbral Wedge Rendering", GDC 2005 (inner/outer
-//   half-wedges with three bounding planes tested in viewport space; occluded area = sector area
-//   between the clipped endpoints minus the triangle with the light centre; per-wedge scissor and
-//   depth bounds).
+//   //   glm::mat4 M = penumbra_viewport_transform(sp.viewport, ClipDepth::NegativeOneToOne).matrix * view_proj;
+//   //   glm::vec4 pv = penumbra_transform_plane(w.outer_bound, M).plane;  // dot(pv, (x_win, y_win, z_win, 1))
 //
 // Conventions.
-//   * Light: a sphere (centre c, radius r >= 0). For coverage and visibility it is modelled, as in
-//     A&AM, by the disk of radius r through c perpendicular to (c - p) for the receiver point p,
-//     uniformly bright; the wedges bound the penumbra of the whole ball, so they are conservative for
-//     the disk too. A rectangular light: use penumbra_rect_bounding_sphere (conservative wedges; the
-//     coverage is then that of the circumscribed disk).
-//   * Silhouette edge (e0, e1): a possible-silhouette edge seen from the light centre, oriented as in
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+//   * The wedges need a sphere light: PenumbraSphereLight = a point light `light_position` (w > 0,
+//     center c = xyz / w, evaluated in double) and a `radius` r >= 0 (world units). A directional
+//     disk light (the sun: w = 0 with an angular radius) would be the same struct with w = 0 and
+//     `radius` read as the angular radius in radians; it is not supported: w = 0 gives
+//     Status::InvalidLight. For coverage and visibility the sphere is modelled, as in A&AM, by the
+//     disk of radius r through c perpendicular to (c - p) for the receiver point p, uniformly
+//     bright; the wedges bound the penumbra of the whole ball, so they are conservative for the disk
+//     too. A rectangular light: use penumbra_rect_bounding_sphere (conservative wedges; the coverage
+//     is then that of the circumscribed disk).
+//   * Silhouette edge (e0, e1): a possible-silhouette edge seen from the light's center, oriented as in
 //     its light-facing triangle with counter-clockwise (outward) winding - the order
-//     shadowkit/silhouette.hpp emits. Then the hard shadow plane through c, e0, e1 with normal
-//     cross(e0 - c, e1 - c) points OUT of the hard shadow volume.
-//   * Planes are glm::vec4 (n, d), n unit (double-normalised, stored as float); a point x is INSIDE a
+//     shadowkit/silhouette.hpp emits for light_position. Then the hard shadow plane through c, e0, e1
+//     with normal cross(e0 - c, e1 - c) points OUT of the hard shadow volume.
+//   * Planes are glm::vec4 (n, d), n unit (double-normalized, stored as float); a point x is INSIDE a
 //     plane when dot(n, x) + d >= 0 (Lengyel: negative against any plane = outside). A point is in the
 //     wedge when it is inside outer_bound, inner_bound, side[0] and side[1]. hard_plane >= 0 is the
 //     OUTER half-wedge (outside the hard shadow: coverage adds occlusion), < 0 the INNER half-wedge
 //     (inside the hard shadow: coverage removes occlusion).
+//   * Results: every function that validates input returns a struct whose first member is `status`;
+//     `Ok` only with finite outputs. A wedge edge to skip is `skip` != None with Status::Ok (not an
+//     error); a hull with nothing to draw is `drawable` = false, a scissor with nothing on screen
+//     `visible` = false, both with Status::Ok. Errors: NonFinite (NaN/Inf input), InvalidLight (see
+//     above), InvalidArgument (radius or padding < 0, extent <= 0, a zero viewport or matrix, a null
+//     pointer with a count, a result that no successful call made), Overflow (finite input whose
+//     planes or hull are beyond float).
+//   * Buffers: pointer + count in elements of the pointer's type, stated next to each pointer.
+//     Nothing here allocates.
+//   * Clip depth: ScissorParams::clip_depth (GL [-1, 1] or zero-to-one) plus reversed_z; depth bounds
+//     are window depths for glDepthRange(0, 1). Infinite projections (P_inf) are accepted.
 //
 // Construction (A&AM 2003 steps A-D; everything in double). (A) The endpoint farther from c is moved
-// along its ray from c (toward the light centre, not along the edge: moving along the edge would drop
+// along its ray from c (toward the light center, not along the edge: moving along the edge would drop
 // part of the penumbra) to the nearer endpoint's distance -> apex edge (a0, a1). (B) outer_bound and
 // inner_bound are the two planes through the line a0a1 tangent to the ball, ball outside. (C) side[i]
 // is the plane through a_i containing the hard plane's normal, tangent to the ball, ball outside and
@@ -60,16 +76,19 @@
 // own line passes through the ball (edge pointing at the light), P(E) is exactly the shadow cone of
 // the nearer endpoint and the wedge is the square pyramid around that cone (shape Cone, apex[0] ==
 // apex[1]). If rounding defeats all three (never seen in the tests), shape HalfSpace: all four planes
-// are the ball's tangent plane facing the edge (conservative, no hull). Skips (status): e0 == e1 (DegenerateEdge), c, e0, e1 collinear (RadialEdge: coverage 0,
-// zero-area hard quad), the segment comes within r + 1e-7 max|coordinate| of c, i.e. touches the ball
-// to float input precision (EdgeTouchesLight), NaN/Inf/r < 0
-// (InvalidInput). Radius 0: outer_bound = -inner_bound = the hard plane (the hard shadow quad's plane),
-// coverage 0, visibility 1 - hard count.
+// are the ball's tangent plane facing the edge (conservative, no hull: penumbra_wedge_hull says
+// drawable = false). Skips (Status::Ok with `skip`, nothing to draw): e0 == e1 (DegenerateEdge);
+// c, e0, e1 collinear (RadialEdge: coverage 0, zero-area hard quad); the segment comes within
+// r + 1e-7 max|coordinate| of c, i.e. touches the ball to float input precision (EdgeTouchesLight:
+// an occluder inside the emitter, which the method does not model). Errors: NaN/Inf (NonFinite),
+// r < 0 or padding < 0 (InvalidArgument), a light that is not a point light (InvalidLight), planes
+// beyond float (Overflow). Radius 0: outer_bound = -inner_bound = the hard plane (the hard shadow
+// quad's plane), coverage 0, visibility 1 - hard count.
 //
 // Coverage (penumbra_edge_coverage). Frame: z = (c - p)/D, D = |c - p|; the disk at depth D.
 //   1. Clip the edge to depth w <= D (only occluders between p and the emitter count).
 //   2. The plane through p and the edge, n_p = cross(e0 - p, e1 - p), meets the disk plane in a line at
-//      signed distance h_s = -dot(n_p, c - p) / (r |n_p - (n_p.z) z|) from the disk centre (in light
+//      signed distance h_s = -dot(n_p, c - p) / (r |n_p - (n_p.z) z|) from the disk center (in light
 //      radii); h_s = dot(cross(e0 - c, e1 - c), p - c) / (...) > 0 exactly when p is outside the hard
 //      plane. Position along the line: lambda = dot(q - p, t) D / (dot(q - p, z) r), t the line's unit
 //      direction; an endpoint with depth <= 0 sends its end of the projected segment to +-infinity
@@ -78,17 +97,36 @@
 //      angular sector = sector - triangle (Lengyel):  A = (theta - h (b - a)) / (2 pi) of the disk,
 //      theta = atan2(h (b - a), h^2 + a b) (the angle subtended by the clipped segment).
 //   4. coverage = sign(h_s) * A, sign(0) = +1 (A&AM: p in the positive half space of the hard quad adds
-//      occlusion); |coverage| <= 1/2.
+//      occlusion); |coverage| <= 1/2. p at c or on the edge's line: coverage 0 (Ok).
 //   This is exact for the disk model: coverage = sign * fraction of disk points x for which the edge
 //   meets the triangle (p, c, x). Summed over a closed silhouette loop plus the hard count it equals the
 //   occluded fraction exactly whenever the silhouette seen from p equals the one from c (planar
 //   polygons, distant lights); otherwise it carries A&AM's single-silhouette error. Double precision
 //   inside: ~1e-12 absolute; the float GLSL version ~1e-5.
 //
+// Scissor and depth bounds (Lengyel). penumbra_wedge_scissor projects the whole hull (after clipping
+// it to the near plane); with a large extent it reaches far below the receivers and culls nothing.
+// penumbra_wedge_scissor_in_box first clips the hull to a box - the light's range or the receivers'
+// bounds: only points in it can receive light - (Sutherland-Hodgman on each hull triangle against
+// the six box planes, plus the box corners inside the hull) and projects what is left: the rectangle
+// and depth bounds of (hull intersected with box). Empty intersection: visible = false (Ok). A hull
+// with an infinite extent (w = 0 vertices) is first cut off beyond the box (its cap moved out until
+// every box corner lies inside the cap's planes).
+//
+// Based on:
+//   U. Assarsson, T. Akenine-Moller, "A Geometry-based Soft Shadow Volume Algorithm using Graphics
+//   Hardware", SIGGRAPH 2003, and T. Akenine-Moller's SIGGRAPH 2004 course notes (wedge construction
+//   steps A-D; visibility = hard count + signed per-edge coverage, "positive half space of Q").
+//   E. Lengyel, "Advanced Stencil Shadow and Penumbral Wedge Rendering", GDC 2005 (inner/outer
+//   half-wedges with three bounding planes tested in viewport space; occluded area = sector area
+//   between the clipped endpoints minus the triangle with the light's center; per-wedge scissor and
+//   depth bounds from the wedge clipped to the light's bounds).
+//
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
 
 #include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -102,26 +140,80 @@
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
 /// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
+#ifndef SHADOWKIT_SCISSOR_DEFINED
+#define SHADOWKIT_SCISSOR_DEFINED
+/// The camera a scissor rectangle and depth bounds are computed for. Every field is required: the
+/// zero matrix and zero viewport of a default-constructed ScissorParams give Status::InvalidArgument.
+struct ScissorParams {
+    glm::mat4 view_proj = glm::mat4(0.0f);  ///< projection * view, world -> clip (required)
+    ClipDepth clip_depth = ClipDepth::NegativeOneToOne;
+    bool reversed_z = false;
+    int viewport[4] = {0, 0, 0, 0};         ///< x, y, width, height in pixels, as glViewport (required)
+};
+/// Pixel rectangle and window-depth range that hold every pixel a shadow volume or wedge can touch.
+struct ScissorRect {
+    Status status = Status::NotRun;
+    bool visible = false;                     ///< false (with Ok): nothing of it is on screen, skip the occluder
+    int x = 0, y = 0, width = 0, height = 0;  ///< for glScissor
+    float depth_min = 0.0f, depth_max = 1.0f; ///< for glDepthBoundsEXT: window depth, glDepthRange(0, 1)
+};
+#endif
 
-/// Spherical area light. [Units: world] [Limit: radius >= 0, finite]
+/// Spherical area light: a ball of `radius` around the point light `light_position` (see
+/// "Lights" and the sphere-light note in the header comment).
 struct PenumbraSphereLight {
-    glm::vec3 centre = glm::vec3(0.0f);
-    float radius = 0.0f;
+    /// The light's center as a homogeneous position, w > 0 (center = xyz / w) (required: the default
+    /// (0, 0, 0, 0) is rejected with InvalidLight; so is w = 0, a directional disk light).
+    glm::vec4 light_position = glm::vec4(0.0f);
+    float radius = 0.0f;  ///< [Units: world] [Limit: >= 0, finite] 0 = the hard shadow exactly
 };
 
-enum class PenumbraWedgeStatus {
-    Ok,
-    InvalidInput,     ///< NaN/Inf coordinate, radius < 0 or not finite, or results beyond float range
-    DegenerateEdge,   ///< e0 == e1: skip (no coverage, no hard quad)
-    RadialEdge,       ///< c, e0, e1 collinear: skip (coverage 0 everywhere, zero-area hard quad)
-    EdgeTouchesLight  ///< the segment comes within r + 1e-7 max|coordinate| of c (occluder in the emitter): skip
+/// Why penumbra_wedge skipped an edge (with Status::Ok: nothing to draw for it, not an error).
+enum class PenumbraWedgeSkip : std::uint8_t {
+    None,            ///< a wedge: draw it
+    DegenerateEdge,  ///< e0 == e1: no coverage, no hard quad
+    RadialEdge,      ///< c, e0, e1 collinear: coverage 0 everywhere, zero-area hard quad
+    EdgeTouchesLight ///< the segment comes within r + 1e-7 max|coordinate| of c (occluder in the emitter)
 };
 
+/// How penumbra_wedge built the wedge (header comment: construction and degenerate cases).
 enum class PenumbraWedgeShape {
     Equidistant,       ///< A&AM 2003: apex edge with both ends at the nearer endpoint's distance
     OriginalEndpoints, ///< the moved apex line passed through the ball: planes through e0, e1
@@ -129,9 +221,11 @@ enum class PenumbraWedgeShape {
     HalfSpace          ///< numerical last resort: all four planes = one tangent plane of the ball (no hull)
 };
 
-/// One penumbra wedge. Planes: inside = dot(n, x) + d >= 0, n unit.
+/// One penumbra wedge. Planes: inside = dot(n, x) + d >= 0, n unit. Meaningful when status is Ok and
+/// skip is None.
 struct PenumbraWedge {
-    PenumbraWedgeStatus status = PenumbraWedgeStatus::InvalidInput;
+    Status status = Status::NotRun;
+    PenumbraWedgeSkip skip = PenumbraWedgeSkip::None; ///< != None (with Ok): skip the edge, planes are zero
     PenumbraWedgeShape shape = PenumbraWedgeShape::Equidistant;
     glm::vec4 outer_bound = glm::vec4(0.0f); ///< tangent plane bounding the outer half-wedge
     glm::vec4 inner_bound = glm::vec4(0.0f); ///< tangent plane bounding the inner half-wedge
@@ -148,29 +242,43 @@ struct PenumbraHalfWedge {
     glm::vec4 planes[3] = {glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f)};
 };
 
-/// Closed convex wedge hull for rasterisation: vertices 0, 1 = apex[0], apex[1]; 2, 3 = far outer ends
+/// Closed convex wedge hull for rasterization: vertices 0, 1 = apex[0], apex[1]; 2, 3 = far outer ends
 /// of the rays from apex 0, 1; 4, 5 = far inner ends; w = 0 (directions) for an infinite extent.
 /// 8 triangles (outer face 2, inner face 2, side faces 1 + 1, cap 2) wound counter-clockwise seen
 /// from outside (so GL_CCW front faces are the faces turned to the viewer). Shape Cone: apex 0 == 1 and
-/// two triangles are degenerate (zero area, they rasterise nothing).
+/// two triangles are degenerate (zero area, they rasterize nothing).
 struct PenumbraWedgeHull {
-    bool valid = false;
+    Status status = Status::NotRun;
+    /// false (with Ok): nothing to draw - the wedge was skipped (`skip` != None) or has shape HalfSpace
+    /// (no finite hull; its penumbra is then lost unless drawn full-screen). vertices/indices are zero.
+    bool drawable = false;
     glm::vec4 vertices[6] = {glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f),
                              glm::vec4(0.0f), glm::vec4(0.0f), glm::vec4(0.0f)};
-    std::uint8_t indices[24] = {};
+    std::uint8_t indices[24] = {}; ///< 8 triangles, 3 indices each, into vertices
 };
 
-struct PenumbraScissorParams {
-    glm::mat4 view_proj = glm::mat4(1.0f); ///< projection * view (world -> clip)
-    ClipDepth clip_depth = ClipDepth::NegativeOneToOne;
-    bool reversed_z = false;               ///< near maps to NDC z = +1
-    int viewport[4] = {0, 0, 1, 1};        ///< x, y, width, height [pixels]
+/// A scalar result of penumbra_wedge.hpp (coverage, visibility).
+struct PenumbraValue {
+    Status status = Status::NotRun;
+    double value = 0.0;  ///< the quantity the function's comment names (double: the CPU reference)
 };
 
-struct PenumbraScissor {
-    bool visible = false;                  ///< false: no pixel can be touched; skip the wedge
-    int x = 0, y = 0, width = 0, height = 0;
-    float depth_min = 0.0f, depth_max = 1.0f; ///< window depth (glDepthRange(0, 1)) for depth bounds
+/// A plane result (penumbra_transform_plane).
+struct PenumbraPlane {
+    Status status = Status::NotRun;
+    glm::vec4 plane = glm::vec4(0.0f);
+};
+
+/// A matrix result (penumbra_viewport_transform).
+struct PenumbraMatrix {
+    Status status = Status::NotRun;
+    glm::mat4 matrix = glm::mat4(1.0f);
+};
+
+/// Result of penumbra_rect_bounding_sphere.
+struct PenumbraBoundingSphere {
+    Status status = Status::NotRun;
+    PenumbraSphereLight light;  ///< the circumscribed sphere light
 };
 
 namespace detail {
@@ -323,7 +431,7 @@ inline bool pw_build_cone(const glm::dvec3& a, const glm::dvec3& edge_dir, const
     return true;
 }
 
-// Coordinates near FLT_MAX can overflow the float plane offsets: report them as invalid input.
+// Coordinates near FLT_MAX can overflow the float plane offsets: report them as Overflow.
 inline PenumbraWedge pw_check_finite(const PenumbraWedge& W) {
     const glm::vec4 pl[5] = {W.outer_bound, W.inner_bound, W.side[0], W.side[1], W.hard_plane};
     bool ok = true;
@@ -333,238 +441,41 @@ inline PenumbraWedge pw_check_finite(const PenumbraWedge& W) {
     ok = ok && pw_finite(W.axis);
     if (ok) return W;
     PenumbraWedge bad;
-    bad.status = PenumbraWedgeStatus::InvalidInput;
+    bad.status = Status::Overflow;
     return bad;
 }
 
-} // namespace detail
-
-/// Circumscribed sphere of a rectangular light (centre, two half-axis vectors): wedges built for it
-/// are conservative for the rectangle. Coverage with it is that of the circumscribed disk.
-inline PenumbraSphereLight penumbra_rect_bounding_sphere(glm::vec3 centre, glm::vec3 half_u, glm::vec3 half_v) {
-    const glm::dvec3 u = detail::pw_d(half_u), v = detail::pw_d(half_v);
-    const double r = std::max(detail::pw_len(u + v), detail::pw_len(u - v));
-    PenumbraSphereLight L;
-    L.centre = centre;
-    // round up so that the float radius still encloses the corners
-    L.radius = std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
-    return L;
+// The sphere light's center (double) and radius: InvalidLight unless a point light (w > 0, finite,
+// not all zero), NonFinite for a NaN/Inf radius, InvalidArgument for r < 0, Overflow for a center
+// xyz / w beyond float.
+inline Status pw_light(const PenumbraSphereLight& L, glm::dvec3& c, double& r) {
+    const glm::vec4& q = L.light_position;
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) || !std::isfinite(q.w) || !(q.w > 0.0f))
+        return Status::InvalidLight;
+    if (!std::isfinite(L.radius)) return Status::NonFinite;
+    if (!(L.radius >= 0.0f)) return Status::InvalidArgument;
+    const double w = q.w;
+    c = glm::dvec3(q.x / w, q.y / w, q.z / w);
+    const double fmax = static_cast<double>(std::numeric_limits<float>::max());
+    if (!(std::fabs(c.x) <= fmax && std::fabs(c.y) <= fmax && std::fabs(c.z) <= fmax)) return Status::Overflow;
+    r = L.radius;
+    return Status::Ok;
 }
 
-/// Penumbra wedge of the silhouette edge (e0, e1) for a spherical light (A&AM 2003, steps A-C).
-/// `padding` [world, >= 0] moves every bounding plane outward (absorbs float rounding of far geometry).
-inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSphereLight& light,
-                                    float padding = 0.0f) {
-    using namespace detail;
-    PenumbraWedge W;
-    if (!pw_finite(e0) || !pw_finite(e1) || !pw_finite(light.centre) || !std::isfinite(light.radius) ||
-        !(light.radius >= 0.0f) || !std::isfinite(padding) || !(padding >= 0.0f)) {
-        W.status = PenumbraWedgeStatus::InvalidInput;
-        return W;
-    }
-    const glm::dvec3 E0 = pw_d(e0), E1 = pw_d(e1), c = pw_d(light.centre);
-    const double r = light.radius;
-    const glm::dvec3 ed = E1 - E0;
-    const double el2 = pw_dot(ed, ed);
-    if (!(el2 > 0.0)) {
-        W.status = PenumbraWedgeStatus::DegenerateEdge;
-        return W;
-    }
-    {
-        // closest point parametrised from the nearer endpoint (no cancellation for huge far endpoints)
-        const bool zero_near = pw_len(E0 - c) <= pw_len(E1 - c);
-        const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
-        const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / el2));
-        const glm::dvec3 closest = En + t * dn;
-        // within float input precision of the ball counts as touching (1e-7 of the coordinates' size)
-        const double slack = 1e-7 * std::max({pw_len(c), pw_len(E0), pw_len(E1), static_cast<double>(light.radius)});
-        if (pw_len(c - closest) <= r + slack || pw_len(E0 - c) <= r + slack || pw_len(E1 - c) <= r + slack) {
-            W.status = PenumbraWedgeStatus::EdgeTouchesLight;
-            return W;
-        }
-    }
-    // = cross(e0 - c, e1 - c), but e1 - c cancels against e0 - c for an edge far shorter than its
-    // distance to the light (the plane then missed the edge; found by fuzz_penumbra_wedge)
-    const glm::dvec3 nh = pw_cross(E0 - c, ed);
-    const double nl = pw_len(nh);
-    if (!(nl > 0.0) || !std::isfinite(nl)) {
-        W.status = PenumbraWedgeStatus::RadialEdge;
-        return W;
-    }
-    const glm::dvec3 nhat = nh / nl;
-    const double R0 = pw_len(E0 - c), R1 = pw_len(E1 - c);
-    const double scale = std::max(R0, R1);
-    // Step A: move the farther endpoint toward the light centre to the nearer one's distance.
-    glm::dvec3 a0 = E0, a1 = E1;
-    if (R0 > R1) a0 = c + (E0 - c) * (R1 / R0);
-    else if (R1 > R0) a1 = c + (E1 - c) * (R0 / R1);
-    PwBuild b{};
-    // distance from c to the edge's own line (decides between the two fallbacks)
-    const glm::dvec3 ce = c - E0;
-    const double hE = pw_len(ce - (pw_dot(ce, ed) / el2) * ed);
-    if (pw_build_edge(a0, a1, c, r, nhat, scale, b)) {
-        W.shape = PenumbraWedgeShape::Equidistant;
-    } else if (hE >= r && pw_build_edge(E0, E1, c, r, nhat, scale, b)) {
-        W.shape = PenumbraWedgeShape::OriginalEndpoints;
-    } else if (hE < r && pw_build_cone(R0 <= R1 ? E0 : E1, ed, c, r, nhat, b)) {
-        W.shape = PenumbraWedgeShape::Cone;
-    } else {
-        // Numerical last resort (not met in the tests): the half-space beyond the ball's tangent plane
-        // at the direction of the edge's closest point; it contains P(E) for any edge outside the ball.
-        const bool zero_near = R0 <= R1;
-        const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
-        const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / el2));
-        glm::dvec3 u = En + t * dn - c;
-        u /= pw_len(u);
-        const glm::dvec3 through = c + r * u;
-        W.shape = PenumbraWedgeShape::HalfSpace;
-        W.outer_bound = W.inner_bound = W.side[0] = W.side[1] = pw_plane_f(u, through);
-        W.outer_bound.w += padding;  // padding moves every bounding plane outward, here too
-        W.inner_bound.w += padding;
-        W.side[0].w += padding;
-        W.side[1].w += padding;
-        W.hard_plane = pw_plane_f(nhat, c);
-        W.apex[0] = W.apex[1] = glm::vec3(through);
-        W.ray_outer[0] = W.ray_outer[1] = W.ray_inner[0] = W.ray_inner[1] = glm::vec3(u);
-        W.axis = glm::vec3(u);
-        W.status = PenumbraWedgeStatus::Ok;
-        return pw_check_finite(W);
-    }
-    const float pad = padding;
-    W.outer_bound = pw_plane_f(b.n_outer, b.a[0]);
-    W.inner_bound = pw_plane_f(b.n_inner, b.a[0]);
-    W.side[0] = pw_plane_f(b.n_side[0], b.a[0]);
-    W.side[1] = pw_plane_f(b.n_side[1], b.a[1]);
-    W.outer_bound.w += pad;
-    W.inner_bound.w += pad;
-    W.side[0].w += pad;
-    W.side[1].w += pad;
-    W.hard_plane = pw_plane_f(nhat, c);
-    for (int i = 0; i < 2; ++i) {
-        W.apex[i] = glm::vec3(b.a[i]);
-        W.ray_outer[i] = glm::vec3(b.r_outer[i]);
-        W.ray_inner[i] = glm::vec3(b.r_inner[i]);
-    }
-    W.axis = glm::vec3(b.axis);
-    W.status = PenumbraWedgeStatus::Ok;
-    return pw_check_finite(W);
-}
-
-/// Signed distance-like value of a point against a plane (inside >= 0), evaluated in double.
-inline double penumbra_plane_eval(const glm::vec4& plane, const glm::vec3& p) {
+// Signed distance-like value of a point against a plane (inside >= 0), evaluated in double.
+inline double pw_plane_eval(const glm::vec4& plane, const glm::vec3& p) {
     return static_cast<double>(plane.x) * p.x + static_cast<double>(plane.y) * p.y +
            static_cast<double>(plane.z) * p.z + static_cast<double>(plane.w);
 }
 
-/// True when p is inside all four bounding planes (each >= -tolerance). False for a skipped wedge.
-inline bool point_in_wedge(const glm::vec3& p, const PenumbraWedge& w, float tolerance = 0.0f) {
-    if (w.status != PenumbraWedgeStatus::Ok) return false;
-    const double t = -static_cast<double>(tolerance);
-    return penumbra_plane_eval(w.outer_bound, p) >= t && penumbra_plane_eval(w.inner_bound, p) >= t &&
-           penumbra_plane_eval(w.side[0], p) >= t && penumbra_plane_eval(w.side[1], p) >= t;
-}
-
-/// Lengyel's outer half-wedge (outside the hard shadow): outer_bound, side[0], side[1].
-inline PenumbraHalfWedge penumbra_outer_half_wedge(const PenumbraWedge& w) {
-    PenumbraHalfWedge h;
-    h.planes[0] = w.outer_bound;
-    h.planes[1] = w.side[0];
-    h.planes[2] = w.side[1];
-    return h;
-}
-
-/// Lengyel's inner half-wedge (inside the hard shadow): inner_bound, side[0], side[1].
-inline PenumbraHalfWedge penumbra_inner_half_wedge(const PenumbraWedge& w) {
-    PenumbraHalfWedge h;
-    h.planes[0] = w.inner_bound;
-    h.planes[1] = w.side[0];
-    h.planes[2] = w.side[1];
-    return h;
-}
-
-/// Point in a half-wedge: its three planes and the hard plane (>= 0 for the outer, <= 0 for the inner).
-inline bool point_in_half_wedge(const glm::vec3& p, const PenumbraWedge& w, bool outer, float tolerance = 0.0f) {
-    if (!point_in_wedge(p, w, tolerance)) return false;
-    const double h = penumbra_plane_eval(w.hard_plane, p);
-    return outer ? h >= -static_cast<double>(tolerance) : h <= static_cast<double>(tolerance);
-}
-
-/// Plane transformed by a point transform M (x' = M x): inverse(M)^T * plane, so that
-/// dot(plane', M x) = dot(plane, x). For a projective M (e.g. world -> viewport), dividing the point by
-/// its w > 0 keeps the sign. Returns vec4(0) when M is singular or not finite.
-inline glm::vec4 penumbra_transform_plane(const glm::vec4& plane, const glm::mat4& M) {
-    glm::dmat4 m(M);
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j)
-            if (!std::isfinite(m[i][j])) return glm::vec4(0.0f);
-    // Cofactor expansion in double; inverse^T = cofactor matrix / det.
-    double a[4][4];
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) a[i][j] = m[j][i]; // a[row][col]
-    double cof[4][4];
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) {
-            double s[3][3];
-            int si = 0;
-            for (int r = 0; r < 4; ++r) {
-                if (r == i) continue;
-                int sj = 0;
-                for (int k = 0; k < 4; ++k) {
-                    if (k == j) continue;
-                    s[si][sj++] = a[r][k];
-                }
-                ++si;
-            }
-            const double minor = s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1]) -
-                                 s[0][1] * (s[1][0] * s[2][2] - s[1][2] * s[2][0]) +
-                                 s[0][2] * (s[1][0] * s[2][1] - s[1][1] * s[2][0]);
-            cof[i][j] = ((i + j) % 2 == 0 ? 1.0 : -1.0) * minor;
-        }
-    double det = 0.0;
-    for (int j = 0; j < 4; ++j) det += a[0][j] * cof[0][j];
-    if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return glm::vec4(0.0f);
-    // inverse(A)^T = cof / det (row-major indices); apply to the plane column vector.
-    const double pl[4] = {plane.x, plane.y, plane.z, plane.w};
-    double out[4];
-    for (int i = 0; i < 4; ++i) {
-        double s = 0.0;
-        for (int j = 0; j < 4; ++j) s += cof[i][j] * pl[j];
-        out[i] = s / det;
-    }
-    return glm::vec4(static_cast<float>(out[0]), static_cast<float>(out[1]), static_cast<float>(out[2]),
-                     static_cast<float>(out[3]));
-}
-
-/// NDC -> window transform (x, y in pixels, z in [0, 1]) for a viewport (x, y, width, height).
-/// Multiply by view_proj to get the world -> viewport transform for penumbra_transform_plane.
-inline glm::mat4 penumbra_viewport_transform(const glm::vec4& viewport, ClipDepth clip) {
-    glm::mat4 V(1.0f);
-    V[0][0] = 0.5f * viewport.z;
-    V[1][1] = 0.5f * viewport.w;
-    V[3][0] = viewport.x + 0.5f * viewport.z;
-    V[3][1] = viewport.y + 0.5f * viewport.w;
-    if (clip == ClipDepth::NegativeOneToOne) {
-        V[2][2] = 0.5f;
-        V[3][2] = 0.5f;
-    }
-    return V;
-}
-
-/// Signed light coverage of one silhouette edge at receiver point p (see the header comment:
-/// projective clip to the disk, sector minus triangle, A&AM / Lengyel). Returns 0 for r == 0, for
-/// non-finite input, for p on the edge's line or at the light centre. |result| <= 1/2.
-inline double penumbra_edge_coverage_d(glm::vec3 e0f, glm::vec3 e1f, const PenumbraSphereLight& light, glm::vec3 pf) {
-    using namespace detail;
-    if (!pw_finite(e0f) || !pw_finite(e1f) || !pw_finite(pf) || !pw_finite(light.centre) ||
-        !std::isfinite(light.radius) || !(light.radius > 0.0f))
-        return 0.0;
-    const double r = light.radius;
-    const glm::dvec3 p = pw_d(pf), c = pw_d(light.centre);
+// Signed coverage of the edge (e0, e1) at p for the disk (c, r), r > 0, all finite (header comment:
+// projective clip to the disk, sector minus triangle, A&AM / Lengyel).
+inline double pw_coverage(const glm::dvec3& e0, const glm::dvec3& e1, const glm::dvec3& c, double r, const glm::dvec3& p) {
     const glm::dvec3 d = c - p;
     const double D = pw_len(d);
-    if (!(D > 0.0)) return 0.0;
+    if (!(D > 0.0) || !std::isfinite(D)) return 0.0;
     const glm::dvec3 z = d / D;
-    glm::dvec3 q0 = pw_d(e0f) - p, q1 = pw_d(e1f) - p;
+    glm::dvec3 q0 = e0 - p, q1 = e1 - p;
     const glm::dvec3 np = pw_cross(q0, q1); // plane through p and the edge
     double w0 = pw_dot(q0, z), w1 = pw_dot(q1, z);
     // 1. only the part between p's depth plane... and the emitter (depth <= D) occludes
@@ -608,40 +519,443 @@ inline double penumbra_edge_coverage_d(glm::vec3 e0f, glm::vec3 e1f, const Penum
     const double dl = bb - a;
     const double theta = std::atan2(h * dl, h * h + a * bb);
     const double area = std::max(0.0, (theta - h * dl) / (2.0 * 3.14159265358979323846));
+    if (!std::isfinite(area)) return 0.0;
     // 4. sign: positive half space of the hard plane adds occlusion
-    return hs >= 0.0 ? area : -area;
+    return hs >= 0.0 ? std::min(area, 0.5) : -std::min(area, 0.5);
 }
 
-/// Float version of penumbra_edge_coverage_d.
-inline float penumbra_edge_coverage(glm::vec3 e0, glm::vec3 e1, const PenumbraSphereLight& light, glm::vec3 p) {
-    return static_cast<float>(penumbra_edge_coverage_d(e0, e1, light, p));
+// The cap quad (2, 3, 5, 4) of a hull need not be planar: the split along the diagonal that keeps the
+// hull convex (the fourth vertex below the first triangle's plane, seen from outside).
+inline void pw_cap_split(const glm::dvec3 v[6], const glm::dvec3& centroid, int cap[6]) {
+    const int first[6] = {2, 3, 5, 2, 5, 4};
+    std::copy(first, first + 6, cap);
+    glm::dvec3 n = pw_cross(v[3] - v[2], v[5] - v[2]);
+    if (pw_dot(n, v[2] - centroid) < 0.0) n = -n;
+    if (pw_dot(n, v[4] - v[2]) > 0.0) { // 4 above (2, 3, 5): use the other diagonal
+        const int alt[6] = {2, 3, 4, 3, 5, 4};
+        std::copy(alt, alt + 6, cap);
+    }
+}
+
+// Most points pw_clip_hull_box can produce: 8 triangles clipped by 6 planes (<= 9 vertices each)
+// plus the 8 box corners.
+constexpr std::size_t pw_clip_max = 8 * 9 + 8;
+
+// Vertices of (finite convex hull v[6], triangles idx[24]) intersected with the box [lo, hi]:
+// every hull triangle clipped against the six box planes (Sutherland-Hodgman: hull vertices in the
+// box, hull edges x box faces, box edges x hull faces) plus the box corners inside the hull (face
+// planes oriented away from the centroid; degenerate triangles ignored). Their convex hull is the
+// intersection. Returns the count written to out (<= pw_clip_max).
+inline std::size_t pw_clip_hull_box(const glm::dvec3 v[6], const std::uint8_t idx[24], const glm::dvec3& lo,
+                                    const glm::dvec3& hi, glm::vec4* out) {
+    std::size_t n = 0;
+    glm::dvec3 centroid(0.0);
+    for (int i = 0; i < 6; ++i) centroid += v[i] / 6.0;
+    glm::dvec3 fn[8];
+    double fd[8];
+    for (int t = 0; t < 8; ++t) {
+        const glm::dvec3 a = v[idx[3 * t]], b = v[idx[3 * t + 1]], c = v[idx[3 * t + 2]];
+        fn[t] = pw_cross(b - a, c - a);
+        if (pw_dot(fn[t], a - centroid) < 0.0) fn[t] = -fn[t];  // outward (the hull is convex)
+        fd[t] = -pw_dot(fn[t], a);
+        glm::dvec3 poly[10], tmp[10];
+        int pn = 3;
+        poly[0] = a;
+        poly[1] = b;
+        poly[2] = c;
+        for (int k = 0; k < 6 && pn > 0; ++k) {
+            const int ax = k / 2;
+            const bool upper = (k % 2) == 1;
+            const double lim = upper ? hi[ax] : lo[ax];
+            int tn = 0;
+            for (int i = 0; i < pn; ++i) {
+                const glm::dvec3& P = poly[i];
+                const glm::dvec3& Q = poly[(i + 1) % pn];
+                const bool ip = upper ? P[ax] <= lim : P[ax] >= lim;
+                const bool iq = upper ? Q[ax] <= lim : Q[ax] >= lim;
+                if (ip && tn < 10) tmp[tn++] = P;
+                if (ip != iq && tn < 10) {
+                    const double s = (lim - P[ax]) / (Q[ax] - P[ax]);
+                    glm::dvec3 X = P + s * (Q - P);
+                    X[ax] = lim;
+                    tmp[tn++] = X;
+                }
+            }
+            pn = tn;
+            for (int i = 0; i < pn; ++i) poly[i] = tmp[i];
+        }
+        for (int i = 0; i < pn && n < pw_clip_max; ++i) out[n++] = glm::vec4(glm::vec3(poly[i]), 1.0f);
+    }
+    for (int i = 0; i < 8 && n < pw_clip_max; ++i) {
+        const glm::dvec3 q((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+        bool in = true;
+        for (int t = 0; t < 8 && in; ++t) {
+            const double l = pw_len(fn[t]);
+            if (l > 0.0) in = pw_dot(fn[t], q) + fd[t] <= 1e-6 * l * (1.0 + pw_len(q) + pw_len(centroid));
+        }
+        if (in) out[n++] = glm::vec4(glm::vec3(q), 1.0f);
+    }
+    return n;
+}
+
+} // namespace detail
+
+/// Circumscribed sphere of a rectangular light (center light_position, a point light w > 0, and two
+/// half-axis vectors): wedges built for it are conservative for the rectangle. Coverage with it is that
+/// of the circumscribed disk. Statuses: InvalidLight (not a point light), NonFinite (NaN/Inf half
+/// axes), Overflow (a radius beyond float).
+inline PenumbraBoundingSphere penumbra_rect_bounding_sphere(const glm::vec4& light_position, glm::vec3 half_u,
+                                                           glm::vec3 half_v) {
+    PenumbraBoundingSphere R;
+    PenumbraSphereLight probe;
+    probe.light_position = light_position;
+    glm::dvec3 c;
+    double r0 = 0.0;
+    R.status = detail::pw_light(probe, c, r0);
+    if (R.status != Status::Ok) return R;
+    if (!detail::pw_finite(half_u) || !detail::pw_finite(half_v)) {
+        R.status = Status::NonFinite;
+        return R;
+    }
+    const glm::dvec3 u = detail::pw_d(half_u), v = detail::pw_d(half_v);
+    const double r = std::max(detail::pw_len(u + v), detail::pw_len(u - v));
+    R.light.light_position = light_position;
+    // round up so that the float radius still encloses the corners
+    R.light.radius = std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
+    if (!std::isfinite(R.light.radius)) {
+        R.light.radius = 0.0f;
+        R.status = Status::Overflow;
+        return R;
+    }
+    R.status = Status::Ok;
+    return R;
+}
+
+/// Penumbra wedge of the silhouette edge (e0, e1) for a sphere light (A&AM 2003, steps A-C).
+/// `padding` [world, >= 0] moves every bounding plane outward (absorbs float rounding of far geometry).
+/// Skipped edges (Ok, `skip` != None) and errors: see the header comment.
+inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSphereLight& light,
+                                    float padding = 0.0f) {
+    using namespace detail;
+    PenumbraWedge W;
+    glm::dvec3 c;
+    double r = 0.0;
+    W.status = pw_light(light, c, r);
+    if (W.status != Status::Ok) return W;
+    W.status = Status::NotRun;
+    if (!pw_finite(e0) || !pw_finite(e1) || !std::isfinite(padding)) {
+        W.status = Status::NonFinite;
+        return W;
+    }
+    if (!(padding >= 0.0f)) {
+        W.status = Status::InvalidArgument;
+        return W;
+    }
+    const glm::dvec3 E0 = pw_d(e0), E1 = pw_d(e1);
+    const glm::dvec3 ed = E1 - E0;
+    const double el2 = pw_dot(ed, ed);
+    if (!(el2 > 0.0)) {
+        W.status = Status::Ok;
+        W.skip = PenumbraWedgeSkip::DegenerateEdge;
+        return W;
+    }
+    {
+        // closest point parametrised from the nearer endpoint (no cancellation for huge far endpoints)
+        const bool zero_near = pw_len(E0 - c) <= pw_len(E1 - c);
+        const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
+        const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / el2));
+        const glm::dvec3 closest = En + t * dn;
+        // within float input precision of the ball counts as touching (1e-7 of the coordinates' size)
+        const double slack = 1e-7 * std::max({pw_len(c), pw_len(E0), pw_len(E1), r});
+        if (pw_len(c - closest) <= r + slack || pw_len(E0 - c) <= r + slack || pw_len(E1 - c) <= r + slack) {
+            W.status = Status::Ok;
+            W.skip = PenumbraWedgeSkip::EdgeTouchesLight;
+            return W;
+        }
+    }
+    // = cross(e0 - c, e1 - c), but e1 - c cancels against e0 - c for an edge far shorter than its
+    // distance to the light (the plane then missed the edge; found by fuzz_penumbra_wedge)
+    const glm::dvec3 nh = pw_cross(E0 - c, ed);
+    const double nl = pw_len(nh);
+    if (!std::isfinite(nl)) {
+        W.status = Status::Overflow;
+        return W;
+    }
+    if (!(nl > 0.0)) {
+        W.status = Status::Ok;
+        W.skip = PenumbraWedgeSkip::RadialEdge;
+        return W;
+    }
+    const glm::dvec3 nhat = nh / nl;
+    const double R0 = pw_len(E0 - c), R1 = pw_len(E1 - c);
+    const double scale = std::max(R0, R1);
+    // Step A: move the farther endpoint toward the light center to the nearer one's distance.
+    glm::dvec3 a0 = E0, a1 = E1;
+    if (R0 > R1) a0 = c + (E0 - c) * (R1 / R0);
+    else if (R1 > R0) a1 = c + (E1 - c) * (R0 / R1);
+    PwBuild b{};
+    // distance from c to the edge's own line (decides between the two fallbacks)
+    const glm::dvec3 ce = c - E0;
+    const double hE = pw_len(ce - (pw_dot(ce, ed) / el2) * ed);
+    if (pw_build_edge(a0, a1, c, r, nhat, scale, b)) {
+        W.shape = PenumbraWedgeShape::Equidistant;
+    } else if (hE >= r && pw_build_edge(E0, E1, c, r, nhat, scale, b)) {
+        W.shape = PenumbraWedgeShape::OriginalEndpoints;
+    } else if (hE < r && pw_build_cone(R0 <= R1 ? E0 : E1, ed, c, r, nhat, b)) {
+        W.shape = PenumbraWedgeShape::Cone;
+    } else {
+        // Numerical last resort (not met in the tests): the half-space beyond the ball's tangent plane
+        // at the direction of the edge's closest point; it contains P(E) for any edge outside the ball.
+        const bool zero_near = R0 <= R1;
+        const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
+        const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / el2));
+        glm::dvec3 u = En + t * dn - c;
+        u /= pw_len(u);
+        const glm::dvec3 through = c + r * u;
+        W.shape = PenumbraWedgeShape::HalfSpace;
+        W.outer_bound = W.inner_bound = W.side[0] = W.side[1] = pw_plane_f(u, through);
+        W.outer_bound.w += padding;  // padding moves every bounding plane outward, here too
+        W.inner_bound.w += padding;
+        W.side[0].w += padding;
+        W.side[1].w += padding;
+        W.hard_plane = pw_plane_f(nhat, c);
+        W.apex[0] = W.apex[1] = glm::vec3(through);
+        W.ray_outer[0] = W.ray_outer[1] = W.ray_inner[0] = W.ray_inner[1] = glm::vec3(u);
+        W.axis = glm::vec3(u);
+        W.status = Status::Ok;
+        return pw_check_finite(W);
+    }
+    const float pad = padding;
+    W.outer_bound = pw_plane_f(b.n_outer, b.a[0]);
+    W.inner_bound = pw_plane_f(b.n_inner, b.a[0]);
+    W.side[0] = pw_plane_f(b.n_side[0], b.a[0]);
+    W.side[1] = pw_plane_f(b.n_side[1], b.a[1]);
+    W.outer_bound.w += pad;
+    W.inner_bound.w += pad;
+    W.side[0].w += pad;
+    W.side[1].w += pad;
+    W.hard_plane = pw_plane_f(nhat, c);
+    for (int i = 0; i < 2; ++i) {
+        W.apex[i] = glm::vec3(b.a[i]);
+        W.ray_outer[i] = glm::vec3(b.r_outer[i]);
+        W.ray_inner[i] = glm::vec3(b.r_inner[i]);
+    }
+    W.axis = glm::vec3(b.axis);
+    W.status = Status::Ok;
+    return pw_check_finite(W);
+}
+
+/// True when p is inside all four bounding planes (each >= -tolerance). Total: false for a wedge that
+/// is not Ok or is skipped, and for NaN input.
+inline bool penumbra_point_in_wedge(const glm::vec3& p, const PenumbraWedge& w, float tolerance = 0.0f) {
+    if (w.status != Status::Ok || w.skip != PenumbraWedgeSkip::None) return false;
+    const double t = -static_cast<double>(tolerance);
+    return detail::pw_plane_eval(w.outer_bound, p) >= t && detail::pw_plane_eval(w.inner_bound, p) >= t &&
+           detail::pw_plane_eval(w.side[0], p) >= t && detail::pw_plane_eval(w.side[1], p) >= t;
+}
+
+/// Lengyel's outer half-wedge (outside the hard shadow): outer_bound, side[0], side[1]. Total: copies
+/// the planes (zero planes for a skipped or failed wedge).
+inline PenumbraHalfWedge penumbra_outer_half_wedge(const PenumbraWedge& w) {
+    PenumbraHalfWedge h;
+    h.planes[0] = w.outer_bound;
+    h.planes[1] = w.side[0];
+    h.planes[2] = w.side[1];
+    return h;
+}
+
+/// Lengyel's inner half-wedge (inside the hard shadow): inner_bound, side[0], side[1]. Total, as above.
+inline PenumbraHalfWedge penumbra_inner_half_wedge(const PenumbraWedge& w) {
+    PenumbraHalfWedge h;
+    h.planes[0] = w.inner_bound;
+    h.planes[1] = w.side[0];
+    h.planes[2] = w.side[1];
+    return h;
+}
+
+/// Point in a half-wedge: its three planes and the hard plane (>= 0 for the outer, <= 0 for the
+/// inner), each within `tolerance`. Total, as penumbra_point_in_wedge.
+inline bool penumbra_point_in_half_wedge(const glm::vec3& p, const PenumbraWedge& w, bool outer, float tolerance = 0.0f) {
+    if (!penumbra_point_in_wedge(p, w, tolerance)) return false;
+    const double h = detail::pw_plane_eval(w.hard_plane, p);
+    return outer ? h >= -static_cast<double>(tolerance) : h <= static_cast<double>(tolerance);
+}
+
+/// Plane transformed by a point transform M (x' = M x): inverse(M)^T * plane, so that
+/// dot(plane', M x) = dot(plane, x). For a projective M (e.g. world -> viewport), dividing the point by
+/// its w > 0 keeps the sign. Statuses: NonFinite (NaN/Inf in plane or M), InvalidArgument (M
+/// singular), Overflow (a result beyond float).
+inline PenumbraPlane penumbra_transform_plane(const glm::vec4& plane, const glm::mat4& M) {
+    PenumbraPlane R;
+    glm::dmat4 m(M);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            if (!std::isfinite(m[i][j])) {
+                R.status = Status::NonFinite;
+                return R;
+            }
+    if (!std::isfinite(plane.x) || !std::isfinite(plane.y) || !std::isfinite(plane.z) || !std::isfinite(plane.w)) {
+        R.status = Status::NonFinite;
+        return R;
+    }
+    // Cofactor expansion in double; inverse^T = cofactor matrix / det.
+    double a[4][4];
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) a[i][j] = m[j][i]; // a[row][col]
+    double cof[4][4];
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            double sm[3][3];
+            int si = 0;
+            for (int r = 0; r < 4; ++r) {
+                if (r == i) continue;
+                int sj = 0;
+                for (int k = 0; k < 4; ++k) {
+                    if (k == j) continue;
+                    sm[si][sj++] = a[r][k];
+                }
+                ++si;
+            }
+            const double minor = sm[0][0] * (sm[1][1] * sm[2][2] - sm[1][2] * sm[2][1]) -
+                                 sm[0][1] * (sm[1][0] * sm[2][2] - sm[1][2] * sm[2][0]) +
+                                 sm[0][2] * (sm[1][0] * sm[2][1] - sm[1][1] * sm[2][0]);
+            cof[i][j] = ((i + j) % 2 == 0 ? 1.0 : -1.0) * minor;
+        }
+    double det = 0.0;
+    for (int j = 0; j < 4; ++j) det += a[0][j] * cof[0][j];
+    if (!std::isfinite(det)) {
+        R.status = Status::Overflow;
+        return R;
+    }
+    if (!(std::fabs(det) > 0.0)) {
+        R.status = Status::InvalidArgument;
+        return R;
+    }
+    // inverse(A)^T = cof / det (row-major indices); apply to the plane column vector.
+    const double pl[4] = {plane.x, plane.y, plane.z, plane.w};
+    double out[4];
+    for (int i = 0; i < 4; ++i) {
+        double sum = 0.0;
+        for (int j = 0; j < 4; ++j) sum += cof[i][j] * pl[j];
+        out[i] = sum / det;
+    }
+    R.plane = glm::vec4(static_cast<float>(out[0]), static_cast<float>(out[1]), static_cast<float>(out[2]),
+                        static_cast<float>(out[3]));
+    if (!std::isfinite(R.plane.x) || !std::isfinite(R.plane.y) || !std::isfinite(R.plane.z) || !std::isfinite(R.plane.w)) {
+        R.plane = glm::vec4(0.0f);
+        R.status = Status::Overflow;
+        return R;
+    }
+    R.status = Status::Ok;
+    return R;
+}
+
+/// NDC -> window transform (x, y in pixels, z in [0, 1] for glDepthRange(0, 1)) for a viewport
+/// (x, y, width, height) as glViewport takes it (ScissorParams::viewport). Multiply by view_proj to
+/// get the world -> viewport transform for penumbra_transform_plane. `viewport` holds 4 int
+/// elements; width or height <= 0, a null pointer, or |values| > 2^30 -> InvalidArgument.
+inline PenumbraMatrix penumbra_viewport_transform(const int viewport[4], ClipDepth clip_depth) {
+    PenumbraMatrix R;
+    const int lim = 1 << 30;
+    if (viewport == nullptr || viewport[2] <= 0 || viewport[3] <= 0 || viewport[2] > lim || viewport[3] > lim ||
+        viewport[0] > lim || viewport[0] < -lim || viewport[1] > lim || viewport[1] < -lim) {
+        R.status = Status::InvalidArgument;
+        return R;
+    }
+    glm::mat4 V(1.0f);
+    V[0][0] = 0.5f * static_cast<float>(viewport[2]);
+    V[1][1] = 0.5f * static_cast<float>(viewport[3]);
+    V[3][0] = static_cast<float>(viewport[0]) + 0.5f * static_cast<float>(viewport[2]);
+    V[3][1] = static_cast<float>(viewport[1]) + 0.5f * static_cast<float>(viewport[3]);
+    if (clip_depth == ClipDepth::NegativeOneToOne) {
+        V[2][2] = 0.5f;
+        V[3][2] = 0.5f;
+    }
+    R.matrix = V;
+    R.status = Status::Ok;
+    return R;
+}
+
+/// Signed light coverage of one silhouette edge at receiver point p (see the header comment:
+/// projective clip to the disk, sector minus triangle, A&AM / Lengyel), value in [-1/2, 1/2], double
+/// precision. Radius 0, p at the light's center or on the edge's line: 0 (Ok). Statuses: the light's
+/// (InvalidLight, NonFinite, InvalidArgument, Overflow), NonFinite for NaN/Inf e0, e1 or p.
+inline PenumbraValue penumbra_edge_coverage(glm::vec3 e0, glm::vec3 e1, const PenumbraSphereLight& light, glm::vec3 p) {
+    using namespace detail;
+    PenumbraValue R;
+    glm::dvec3 c;
+    double r = 0.0;
+    R.status = pw_light(light, c, r);
+    if (R.status != Status::Ok) return R;
+    if (!pw_finite(e0) || !pw_finite(e1) || !pw_finite(p)) {
+        R.status = Status::NonFinite;
+        return R;
+    }
+    R.value = r > 0.0 ? pw_coverage(pw_d(e0), pw_d(e1), c, r, pw_d(p)) : 0.0;
+    return R;
 }
 
 /// Visibility of the light from p for one occluder: V = 1 - clamp(hard_count + sum of the edges'
-/// coverages, 0, 1) (A&AM). endpoints[2i], endpoints[2i+1] = silhouette edge i (as seen from the
-/// light centre, oriented as in its light-facing triangle); hard_count = the stencil count at p (number
-/// of hard shadow volumes containing p). Returns 1 for null endpoints with edge_count > 0.
-inline float penumbra_visibility(const glm::vec3* endpoints, std::size_t edge_count, const PenumbraSphereLight& light,
-                                 glm::vec3 p, int hard_count) {
-    if (!endpoints && edge_count > 0) return 1.0f;
-    double s = static_cast<double>(hard_count);
-    for (std::size_t i = 0; i < edge_count; ++i)
-        s += penumbra_edge_coverage_d(endpoints[2 * i], endpoints[2 * i + 1], light, p);
-    const double v = 1.0 - std::min(1.0, std::max(0.0, s));
-    return static_cast<float>(v);
+/// coverages, 0, 1) (A&AM), value in [0, 1]. `endpoints` holds 2 * edge_count glm::vec3 elements:
+/// endpoints[2i], endpoints[2i+1] = silhouette edge i (as seen from the light's center, oriented as
+/// in its light-facing triangle); hard_count = the stencil count at p (number of hard shadow volumes
+/// containing p). Statuses: InvalidArgument (null endpoints with edge_count > 0), NonFinite (NaN/Inf
+/// in an endpoint or p), and the light's.
+inline PenumbraValue penumbra_visibility(const glm::vec3* endpoints, std::size_t edge_count,
+                                         const PenumbraSphereLight& light, glm::vec3 p, int hard_count) {
+    using namespace detail;
+    PenumbraValue R;
+    glm::dvec3 c;
+    double r = 0.0;
+    R.status = pw_light(light, c, r);
+    if (R.status != Status::Ok) return R;
+    if (!endpoints && edge_count > 0) {
+        R.status = Status::InvalidArgument;
+        return R;
+    }
+    if (!pw_finite(p)) {
+        R.status = Status::NonFinite;
+        return R;
+    }
+    for (std::size_t i = 0; i < 2 * edge_count; ++i)
+        if (!pw_finite(endpoints[i])) {
+            R.status = Status::NonFinite;
+            return R;
+        }
+    double sum = static_cast<double>(hard_count);
+    if (r > 0.0)
+        for (std::size_t i = 0; i < edge_count; ++i)
+            sum += pw_coverage(pw_d(endpoints[2 * i]), pw_d(endpoints[2 * i + 1]), c, r, pw_d(p));
+    R.value = 1.0 - std::min(1.0, std::max(0.0, sum));
+    R.status = Status::Ok;
+    return R;
 }
 
 /// Wedge hull (A&AM step D, the limited extension): far vertices at distance `extent` [world, > 0]
 /// along the four edge rays; extent = +Inf gives w = 0 far vertices (directions) for an infinite
 /// projection. The hull is convex and lies inside the wedge; it covers the wedge up to distance
-/// extent * min(cos) from the apex. Invalid (valid = false) for a skipped wedge, shape HalfSpace or a
-/// bad extent.
+/// extent * min(cos) from the apex. Ok with drawable = false for a skipped wedge and shape HalfSpace.
+/// Statuses: InvalidArgument (a wedge that is not Ok, extent <= 0), NonFinite (extent NaN), Overflow
+/// (far vertices beyond float).
 inline PenumbraWedgeHull penumbra_wedge_hull(const PenumbraWedge& w, float extent) {
     using namespace detail;
     PenumbraWedgeHull H;
-    if (w.status != PenumbraWedgeStatus::Ok || w.shape == PenumbraWedgeShape::HalfSpace || std::isnan(extent) ||
-        !(extent > 0.0f))
+    if (w.status != Status::Ok) {
+        H.status = Status::InvalidArgument;
         return H;
+    }
+    if (std::isnan(extent)) {
+        H.status = Status::NonFinite;
+        return H;
+    }
+    if (!(extent > 0.0f)) {
+        H.status = Status::InvalidArgument;
+        return H;
+    }
+    if (w.skip != PenumbraWedgeSkip::None || w.shape == PenumbraWedgeShape::HalfSpace) {
+        H.status = Status::Ok;
+        return H;
+    }
     const bool infinite = std::isinf(extent);
     const glm::dvec3 a[2] = {pw_d(w.apex[0]), pw_d(w.apex[1])};
     // orientation is decided on a finite stand-in when the extent is infinite
@@ -655,19 +969,10 @@ inline PenumbraWedgeHull penumbra_wedge_hull(const PenumbraWedge& w, float exten
         v[2 + i] = a[i] + ext * ro[i];
         v[4 + i] = a[i] + ext * ri[i];
     }
-    // The cap quad (2, 3, 5, 4) need not be planar: split it along the diagonal that keeps it convex
-    // (the fourth vertex below the first triangle's plane, seen from outside).
     glm::dvec3 centroid(0.0);
     for (const glm::dvec3& x : v) centroid += x / 6.0;
-    int cap[6] = {2, 3, 5, 2, 5, 4};
-    {
-        glm::dvec3 n = pw_cross(v[3] - v[2], v[5] - v[2]);
-        if (pw_dot(n, v[2] - centroid) < 0.0) n = -n;
-        if (pw_dot(n, v[4] - v[2]) > 0.0) { // 4 above (2, 3, 5): use the other diagonal
-            const int alt[6] = {2, 3, 4, 3, 5, 4};
-            std::copy(alt, alt + 6, cap);
-        }
-    }
+    int cap[6];
+    pw_cap_split(v, centroid, cap);
     // faces with their outward normals (inside normals negated); the cap faces away from the centroid
     const glm::dvec3 out_outer = -glm::dvec3(w.outer_bound), out_inner = -glm::dvec3(w.inner_bound);
     const glm::dvec3 out_s0 = -glm::dvec3(w.side[0]), out_s1 = -glm::dvec3(w.side[1]);
@@ -690,26 +995,57 @@ inline PenumbraWedgeHull penumbra_wedge_hull(const PenumbraWedge& w, float exten
         } else {
             H.vertices[i] = glm::vec4(glm::vec3(v[i]), 1.0f);
         }
-        if (!std::isfinite(H.vertices[i].x) || !std::isfinite(H.vertices[i].y) || !std::isfinite(H.vertices[i].z))
-            return PenumbraWedgeHull{};
+        if (!std::isfinite(H.vertices[i].x) || !std::isfinite(H.vertices[i].y) || !std::isfinite(H.vertices[i].z)) {
+            PenumbraWedgeHull bad;
+            bad.status = Status::Overflow;
+            return bad;
+        }
     }
-    H.valid = true;
+    H.drawable = true;
+    H.status = Status::Ok;
     return H;
 }
 
 /// Scissor rectangle and depth bounds of the convex hull of homogeneous points (w >= 0; w = 0 are
-/// points at infinity) after clipping to the near plane (O(count^2) work): every pixel/depth the hull can produce lies
-/// inside (Lengyel: 40-45% faster wedge passes with per-geometry scissor + depth bounds).
-inline PenumbraScissor penumbra_points_scissor(const glm::vec4* points, std::size_t count, const PenumbraScissorParams& sp) {
-    PenumbraScissor S;
+/// points at infinity) after clipping to the near plane (O(count^2) work): every pixel/depth the hull
+/// can produce lies inside (Lengyel: 40-45% faster wedge passes with per-geometry scissor + depth
+/// bounds). `points` holds `count` glm::vec4 elements. count 0, or everything behind the near plane:
+/// visible = false (Ok). Statuses: InvalidArgument (a zero or negative viewport size, |viewport| >
+/// 2^30, a zero or singular view_proj, null points with count > 0, a point with w < 0), NonFinite
+/// (NaN/Inf in view_proj or a point).
+inline ScissorRect penumbra_points_scissor(const glm::vec4* points, std::size_t count, const ScissorParams& sp) {
+    ScissorRect S;
     const int lim = 1 << 30;
-    if (!points || count == 0 || sp.viewport[2] <= 0 || sp.viewport[3] <= 0 || sp.viewport[2] > lim ||
-        sp.viewport[3] > lim || std::abs(sp.viewport[0]) > lim || std::abs(sp.viewport[1]) > lim)
+    if (sp.viewport[2] <= 0 || sp.viewport[3] <= 0 || sp.viewport[2] > lim || sp.viewport[3] > lim ||
+        std::abs(sp.viewport[0]) > lim || std::abs(sp.viewport[1]) > lim || (!points && count > 0)) {
+        S.status = Status::InvalidArgument;
         return S;
+    }
     const glm::dmat4 VP(sp.view_proj);
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j)
-            if (!std::isfinite(VP[i][j])) return S;
+            if (!std::isfinite(VP[i][j])) {
+                S.status = Status::NonFinite;
+                return S;
+            }
+    const double det = glm::determinant(VP);
+    if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) {  // the zero matrix of a default ScissorParams
+        S.status = Status::InvalidArgument;
+        return S;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::vec4& P = points[i];
+        if (!std::isfinite(P.x) || !std::isfinite(P.y) || !std::isfinite(P.z) || !std::isfinite(P.w)) {
+            S.status = Status::NonFinite;
+            return S;
+        }
+        if (P.w < 0.0f) {
+            S.status = Status::InvalidArgument;
+            return S;
+        }
+    }
+    S.status = Status::Ok;
+    if (count == 0) return S;
     auto near_dist = [&](const glm::dvec4& c) {
         if (sp.reversed_z) return c.w - c.z;
         return sp.clip_depth == ClipDepth::NegativeOneToOne ? c.z + c.w : c.z;
@@ -727,11 +1063,6 @@ inline PenumbraScissor penumbra_points_scissor(const glm::vec4* points, std::siz
         const double wz = sp.clip_depth == ClipDepth::NegativeOneToOne ? 0.5 * z + 0.5 : z;
         zmin = std::min(zmin, wz); zmax = std::max(zmax, wz);
     };
-    for (std::size_t i = 0; i < count; ++i) {
-        const glm::dvec4 P(points[i]);
-        if (!std::isfinite(P.x) || !std::isfinite(P.y) || !std::isfinite(P.z) || !std::isfinite(P.w) || P.w < 0.0)
-            return S;
-    }
     // clipped hull vertices = points in front + near-plane crossings of every pair (O(count^2))
     for (std::size_t i = 0; i < count; ++i) {
         const glm::dvec4 ci = VP * glm::dvec4(points[i]);
@@ -770,10 +1101,91 @@ inline PenumbraScissor penumbra_points_scissor(const glm::vec4* points, std::siz
     return S;
 }
 
-/// Scissor rectangle and depth bounds of a wedge hull.
-inline PenumbraScissor penumbra_wedge_scissor(const PenumbraWedgeHull& hull, const PenumbraScissorParams& sp) {
-    if (!hull.valid) return PenumbraScissor{};
+/// Scissor rectangle and depth bounds of a whole wedge hull (penumbra_points_scissor of its six
+/// vertices). A hull with nothing to draw (drawable = false): visible = false (Ok); a hull that is not
+/// Ok: InvalidArgument. With a large extent this culls little: prefer penumbra_wedge_scissor_in_box.
+inline ScissorRect penumbra_wedge_scissor(const PenumbraWedgeHull& hull, const ScissorParams& sp) {
+    if (hull.status != Status::Ok) {
+        ScissorRect S;
+        S.status = Status::InvalidArgument;
+        return S;
+    }
+    if (!hull.drawable) {
+        ScissorRect S = penumbra_points_scissor(nullptr, 0, sp);  // validates sp, visible = false
+        return S;
+    }
     return penumbra_points_scissor(hull.vertices, 6, sp);
+}
+
+/// Scissor rectangle and depth bounds of (wedge hull intersected with the box [box_min, box_max]),
+/// Lengyel's clip to the light's bounds: pass the light's range box or the receivers' bounding box
+/// (only points in it can receive light). See "Scissor and depth bounds" in the header comment. The
+/// hull outside the box: visible = false (Ok). Statuses: as penumbra_wedge_scissor, plus NonFinite
+/// (NaN/Inf box) and InvalidArgument (box_min > box_max in a coordinate).
+inline ScissorRect penumbra_wedge_scissor_in_box(const PenumbraWedgeHull& hull, const glm::vec3& box_min,
+                                                 const glm::vec3& box_max, const ScissorParams& sp) {
+    using namespace detail;
+    ScissorRect S = penumbra_points_scissor(nullptr, 0, sp);  // validates sp
+    if (S.status != Status::Ok) return S;
+    if (hull.status != Status::Ok) {
+        S.status = Status::InvalidArgument;
+        return S;
+    }
+    if (!pw_finite(box_min) || !pw_finite(box_max)) {
+        S.status = Status::NonFinite;
+        return S;
+    }
+    if (box_min.x > box_max.x || box_min.y > box_max.y || box_min.z > box_max.z) {
+        S.status = Status::InvalidArgument;
+        return S;
+    }
+    if (!hull.drawable) return S;
+    const glm::dvec3 lo = pw_d(box_min), hi = pw_d(box_max);
+    glm::dvec3 v[6];
+    std::uint8_t idx[24];
+    std::copy(hull.indices, hull.indices + 24, idx);
+    bool infinite = false;
+    for (int i = 0; i < 6; ++i) {
+        v[i] = glm::dvec3(hull.vertices[i]);
+        if (hull.vertices[i].w == 0.0f) infinite = true;
+        else if (hull.vertices[i].w != 1.0f) v[i] /= static_cast<double>(hull.vertices[i].w);
+    }
+    if (infinite) {
+        // w = 0 far vertices (directions from apex 0 / 1): cut the hull off beyond the box. The cap's
+        // planes must leave every box corner inside; double the extent until they do.
+        glm::dvec3 corner[8];
+        double ext = 1.0;
+        for (int i = 0; i < 8; ++i) {
+            corner[i] = glm::dvec3((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+            ext = std::max({ext, pw_len(corner[i] - v[0]), pw_len(corner[i] - v[1])});
+        }
+        const glm::dvec3 dir[4] = {glm::dvec3(hull.vertices[2]), glm::dvec3(hull.vertices[3]), glm::dvec3(hull.vertices[4]),
+                                   glm::dvec3(hull.vertices[5])};
+        bool covered = false;
+        for (int it = 0; it < 64 && !covered && std::isfinite(ext); ++it, ext *= 2.0) {
+            for (int i = 2; i < 6; ++i) {
+                const glm::dvec3 base = hull.vertices[i].w == 0.0f ? v[(i - 2) % 2] : glm::dvec3(0.0);
+                v[i] = hull.vertices[i].w == 0.0f ? base + ext * dir[i - 2] : glm::dvec3(hull.vertices[i]) / double(hull.vertices[i].w);
+            }
+            glm::dvec3 centroid(0.0);
+            for (const glm::dvec3& x : v) centroid += x / 6.0;
+            int cap[6];
+            pw_cap_split(v, centroid, cap);
+            for (int k = 0; k < 6; ++k) idx[18 + k] = static_cast<std::uint8_t>(cap[k]);
+            covered = true;
+            for (int t = 0; t < 2 && covered; ++t) {
+                const glm::dvec3 a = v[cap[3 * t]], b = v[cap[3 * t + 1]], c = v[cap[3 * t + 2]];
+                glm::dvec3 n = pw_cross(b - a, c - a);
+                if (pw_dot(n, a - centroid) < 0.0) n = -n;
+                for (const glm::dvec3& q : corner)
+                    if (pw_dot(n, q - a) > 0.0) covered = false;
+            }
+        }
+        if (!covered) return penumbra_wedge_scissor(hull, sp);  // conservative: the whole hull
+    }
+    glm::vec4 pts[pw_clip_max];
+    const std::size_t n = pw_clip_hull_box(v, idx, lo, hi, pts);
+    return penumbra_points_scissor(pts, n, sp);
 }
 
 } // namespace shadowkit

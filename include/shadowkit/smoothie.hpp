@@ -3,27 +3,43 @@
 // side of the alpha remap (eq. 1), the sinusoidal falloff, the per-tap visibility rule and the
 // mapping between the smoothie width t and an area light's size. GPU side: glsl/smoothie.glsl.
 //
-// Usage:
+// Usage (once per mesh: the scratch and vertex buffers; per frame: the silhouette, then the build):
 //   #include <shadowkit/smoothie.hpp>
 //   namespace sk = shadowkit;
 //   sk::SmoothieEdges in;                         // silhouette edges, e.g. from silhouette.hpp
 //   in.positions = pos; in.position_count = n;    // world space
-//   in.edges = sil; in.edge_count = k;            // 2 indices per edge, oriented as in face_normals[2i]
-//   in.face_normals = fn;                         // 2 per edge (second = (0,0,0) for a boundary edge)
+//   in.edges = sil; in.edge_count = k;            // 2 indices per edge, oriented as in the lit face
+//   // no normals needed: edges oriented as silhouette.hpp emits them (the lit face's winding) decide
+//   // the outward side; face_normals / outward hints are optional (see "Outward side")
 //   sk::SmoothieParams p;  p.t = 0.05f;           // width in light NDC units (see below)
-//   std::vector<sk::SmoothieVertex> vb(sk::smoothie_vertex_capacity(k));
-//   sk::SmoothieResult r = sk::build_smoothies(in, light_view_proj, p, vb.data(), vb.size());
-//   // r.vertices_written vertices = triangle list; upload and draw with glsl/smoothie.glsl.
+//   std::vector<sk::SmoothieScratch> scratch(sk::smoothie_scratch_capacity(max_k));   // once
+//   std::vector<sk::SmoothieVertex> vb(sk::smoothie_vertex_capacity(max_k));          // once
+//   sk::SmoothieResult r = sk::smoothie_build(in, light_view_proj, p, scratch.data(), scratch.size(),
+//                                             vb.data(), vb.size());
+//   // r.count vertices = triangle list; upload and draw with glsl/smoothie.glsl.
 //
-// Based on:
-//   E. Chan, F. Durand, "Rendering Fake Soft Shadows with Smoothies", EGSR 2003: section 3 step 3
-//   (edges, corners, valence > 2 special case), section 3.1 (eq. 1 remap, corner alpha |v - p|/t,
-//   minimum blending, sinusoidal falloff), section 4 (passes).
-//   E. Chan, "Rendering Fake Soft Shadows with Smoothies", SIGGRAPH 2004 course #26 "Real-Time Shadowing
-//   Techniques" notes (concave silhouette corners omitted; linear depth in the shadow map).
-//   E. Haines, "Soft Planar Shadows Using Plateaus", JGT 6(1) 2001 (sinusoidal falloff).
+// Conventions.
+// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
+// GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
+// directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
+// along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
+//   smoothie.hpp takes no light value: the light is the center of projection of light_view_proj
+//   (a perspective matrix: a spot or point light at its eye; an orthographic one: a directional light
+//   whose rays run along the view axis). Compute the silhouette for that same light, i.e. pass
+//   silhouette.hpp the `light_position` (eye, 1) or (direction toward the light, 0) the matrix was
+//   built from; the outward side of an edge (see below) relies on it.
+//   * Results: functions that validate input return a struct whose first member is `status`; Ok only
+//     with finite outputs. Skipped edges are counted in the result (Ok), never errors. Errors:
+//     InvalidArgument (a null pointer with a count, t < 0, a singular light matrix, a result no call
+//     filled), NonFinite (t or the light matrix NaN/Inf), BufferTooSmall (scratch or vertex buffer too
+//     small: `scratch_needed` / `needed` say how many elements), Overflow (a width beyond float).
+//   * Buffers: pointer + capacity in elements of the pointer's type (SmoothieScratch, SmoothieVertex);
+//     `count` = vertices written, `needed` = vertices the whole output needs. smoothie_build never
+//     allocates: the caller passes per-edge scratch (smoothie_scratch_capacity(edge_count) elements,
+//     reused every frame) and the vertex buffer (smoothie_vertex_capacity(edge_count) always
+//     suffices; or query with out = nullptr, capacity 0).
 //
-// Units and conventions (used by every function):
+// Units and construction (used by every function):
 //   * t is measured in light NDC units: the light's image spans [-1, 1], i.e. 2 units wide. (A
 //     width in shadow-map uv [0, 1] is t / 2.) The paper's useful range 0.02 .. 0.2 applies.
 //   * Light NDC = clip.xy / clip.w of light_view_proj * (p, 1); column-major, right-handed (GLM).
@@ -41,9 +57,16 @@
 //     edge); else the sum of the two unit face normals (a closed mesh's faces at a silhouette edge
 //     both project to the interior side, their normals' sum points away from it); else (boundary
 //     edge, or an ambiguous sum) the winding of face 0: the interior of face 0 is on the side of
-//     cross(n0, P1 - P0), so edges must run v0 -> v1 as in face 0, counter-clockwise about n0 (as
-//     silhouette.hpp emits them, oriented as in the lit face). The side is the sign of the
-//     light-NDC image of that direction (exact Jacobian of the projection at the edge midpoint).
+//     cross(n0, P1 - P0); else - and always when neither face_normals nor outward is given - the
+//     edge's own orientation: edges run v0 -> v1 as in their lit face, counter-clockwise about its
+//     normal (as silhouette.hpp emits them), so the lit face's interior lies to the left of v0 -> v1
+//     seen from the light. In light NDC the lit face keeps that orientation up to one sign per matrix:
+//     for the rows R = (0, 1, 3) of light_view_proj and its center of projection E (E_j = (-1)^j times
+//     the 3x3 minor of R without column j), orient2d of three projected points (w > 0) has the sign of
+//     det(E, a, b, c) = dot(cross(b - a, c - a), E.xyz - E.w a), i.e. of E.w (a finite light) or of
+//     E.xyz toward the light (an orthographic matrix: the side of decreasing depth). The sides from
+//     hints and normals are the sign of the light-NDC image of that direction (exact Jacobian of the
+//     projection at the edge midpoint).
 //   * Corners. Around a silhouette vertex v the kept edges are sorted by the angle of their light-NDC
 //     direction u_i away from v; the sector between angularly consecutive edges j, j+1 is exterior
 //     when n_j turns counter-clockwise from u_j into it and n_j+1 clockwise from u_j+1 into it. An
@@ -60,39 +83,58 @@
 //     the sectors are inconsistent (normals contradicting each other) or if params.paper_fans is set;
 //     it covers the gaps in the cases tested but also draws corner geometry over the blockers'
 //     interior (overdraw only: receivers behind the blocker's interior are in its umbra anyway).
-//   * Vertex with one kept edge (open chain, or its neighbour was skipped because it is seen end-on):
+//   * Vertex with one kept edge (open chain, or its neighbor was skipped because it is seen end-on):
 //     a quarter cap, the sector from n to the edge's continuation; it closes the gap left by an
-//     end-on neighbour edge whose two ends project to the same point.
+//     end-on neighbor edge whose two ends project to the same point.
 //   * Edges are clipped against the light's near plane (ClipDepth, reversed_z); a clipped end gets
 //     no corner. Corners use vertex indices: weld positions first (silhouette.hpp does).
-//   * t == 0 produces NO geometry (status Ok, vertex_count 0, no edge examined or counted): the
+//   * t == 0 produces NO geometry (status Ok, needed 0, no edge examined or counted): the
 //     smoothie buffer stays at its clear value and the final pass is exactly the hard shadow test.
 //     For t > 0 every edge is counted once: edge_quads + skipped_* (except skipped_corners) = edge_count.
 //   * Output: a non-indexed triangle list of SmoothieVertex, counter-clockwise in light NDC
 //     (draw with face culling off anyway: mirrored viewports flip it). Edge quads first (6 vertices
 //     each), then corners, caps and fans.
 //
-// Skipped and counted (never NaN in the output): out-of-range indices, NaN/Inf positions, zero
-// length edges (same index or equal positions), edges entirely in front of the near plane or behind
-// the light (w <= 0), edges seen end-on (projecting to a point), edges without a usable outward
+// Skipped and counted (never NaN in the output, status Ok): out-of-range indices, NaN/Inf positions,
+// zero length edges (same index or equal positions), edges entirely in front of the near plane or
+// behind the light (w <= 0), edges seen end-on (projecting to a point), edges without a usable outward
 // direction, outer vertices that cannot be un-projected (non-finite). Rejected with a status: null
-// pointers with non-zero counts, neither normals nor hints, t NaN/Inf/negative, a non-finite or
-// singular light matrix.
+// pointers with non-zero counts (InvalidArgument), t NaN/Inf (NonFinite) or negative
+// (InvalidArgument), a NaN/Inf (NonFinite) or singular (InvalidArgument) light matrix, too little
+// scratch or vertex room (BufferTooSmall).
+//
+// Bias (glsl/smoothie.glsl, pass 2 and 3; measured in the report's driver, linear depth r): the umbra
+// test r > z + bias with bias = 1e-3 r and the receiver-plane depth gradient (dr_duv), and the
+// smoothie-pass discard b > z + 2e-3 b. Why: both buffers store linear depth in float (relative
+// error ~1e-7), so what is left is the receiver's own depth across the 2x2 footprint; the gradient
+// removes the planar part and 1e-3 r covers curvature and interpolation. Without the gradient
+// (dr_duv = 0) the bias must cover the slope over one texel: tan(theta) * (texel size at r), theta
+// the angle between the receiver normal and the light direction. The discard bias is larger because
+// smoothie fragments lie exactly on the blocker's silhouette, where the map's own depth is that
+// blocker's (2e-3 b keeps them in front of it).
 //
 // t and an area light (the mapping the report uses). For a perspective light with projection scale
 // s = P[0][0] = 1 / tan(fov_x / 2), a blocker edge at linear depth b and a receiver plane facing the
 // light at depth r > b, the remapped alpha goes 0 -> 1 over an NDC distance t (r - b) / r, i.e. a
 // world width on the receiver of
 //     W_smoothie = t (r - b) / s.
-// A light of width w (diameter) centred on the point light gives a geometric penumbra
+// A light of width w (diameter) centered on the point light gives a geometric penumbra
 //     W_area = w (r - b) / b.
 // They agree for every receiver depth iff t = s w / b: t is the light's width as it would appear in
 // light NDC if it were placed at the blocker's depth (smoothie_width_for_area_light). The smoothie
 // penumbra lies entirely outside the hard shadow (the umbra does not shrink), the area light's is
-// centred on it: compare widths, and expect the smoothie edge shifted outwards by W / 2.
+// centered on it: compare widths, and expect the smoothie edge shifted outwards by W / 2.
 // Orthographic (directional) light, s = P[0][0] = 2 / frustum width, depths measured from the
 // light's view origin: W_smoothie = t (r - b) / (r s), an angular diameter theta gives
 // W = theta (r - b); they agree at one receiver depth r_ref only: t = theta s r_ref.
+//
+// Based on:
+//   E. Chan, F. Durand, "Rendering Fake Soft Shadows with Smoothies", EGSR 2003: section 3 step 3
+//   (edges, corners, valence > 2 special case), section 3.1 (eq. 1 remap, corner alpha |v - p|/t,
+//   minimum blending, sinusoidal falloff), section 4 (passes).
+//   E. Chan, "Rendering Fake Soft Shadows with Smoothies", SIGGRAPH 2004 course #26 "Real-Time Shadowing
+//   Techniques" notes (concave silhouette corners omitted; linear depth in the shadow map).
+//   E. Haines, "Soft Planar Shadows Using Plateaus", JGT 6(1) 2001 (sinusoidal falloff).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -109,39 +151,69 @@
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
+#include <limits>
 #include <utility>
-#include <vector>
 
 namespace shadowkit {
 
+#ifndef SHADOWKIT_STATUS_DEFINED
+#define SHADOWKIT_STATUS_DEFINED
+/// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
+/// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
+/// visible, an edge to skip) is a field of its result, never a status.
+enum class Status : std::uint8_t {
+    NotRun,            ///< a default-constructed result: no call has filled it
+    Ok,                ///< success: every output is finite and means what its comment says
+    InvalidArgument,   ///< a value outside its documented range (null pointer with a count, size 0, near >= far, ...)
+    NonFinite,         ///< NaN or Inf in an input
+    IndexOutOfRange,   ///< a mesh index >= the vertex count
+    InvalidLight,      ///< light position NaN/Inf, w < 0, or (0, 0, 0, 0)
+    BufferTooSmall,    ///< an output buffer is too small; the result's `needed` says how many elements
+    Overflow,          ///< finite input whose result is not representable (beyond float, depth steps collapse)
+    LightInsideVolume  ///< a point light inside the receivers' bounds: no single frustum holds them (use a cube map)
+};
+/// The enumerator's name, for logs and test messages.
+inline const char* status_name(Status s) {
+    switch (s) {
+    case Status::NotRun: return "NotRun";
+    case Status::Ok: return "Ok";
+    case Status::InvalidArgument: return "InvalidArgument";
+    case Status::NonFinite: return "NonFinite";
+    case Status::IndexOutOfRange: return "IndexOutOfRange";
+    case Status::InvalidLight: return "InvalidLight";
+    case Status::BufferTooSmall: return "BufferTooSmall";
+    case Status::Overflow: return "Overflow";
+    case Status::LightInsideVolume: return "LightInsideVolume";
+    }
+    return "?";
+}
+#endif
 #ifndef SHADOWKIT_CLIP_DEPTH_DEFINED
 #define SHADOWKIT_CLIP_DEPTH_DEFINED
 /// Clip-space depth range of the projection: OpenGL [-1,1] or D3D/Vulkan/glClipControl [0,1].
 enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 #endif
 
-enum class SmoothieStatus {
-    Ok,
-    InvalidArgument,  ///< null pointer with a non-zero count, no normals and no hints, t NaN/Inf/< 0
-    InvalidMatrix,    ///< light_view_proj not finite or singular
-    BufferTooSmall    ///< output truncated to whole triangles; vertex_count is the needed count
-};
-
 /// Silhouette edges as plain arrays. Pointers are borrowed for the call.
 struct SmoothieEdges {
-    const glm::vec3* positions = nullptr;     ///< world-space vertex positions
+    /// `positions` holds position_count glm::vec3 elements: world-space vertex positions (null only
+    /// with position_count 0).
+    const glm::vec3* positions = nullptr;
     std::size_t position_count = 0;
-    const std::uint32_t* edges = nullptr;     ///< 2 indices per edge (v0, v1)
-    std::size_t edge_count = 0;               ///< number of edges (the array holds 2 * edge_count)
-    /// Optional, 2 per edge: [2i] normal of the face that runs v0 -> v1 counter-clockwise (the lit
-    /// face from silhouette.hpp), [2i+1] the other face's normal or (0,0,0) for a boundary edge.
-    /// Any length; zero/NaN normals are ignored.
+    /// `edges` holds 2 * edge_count uint32 elements: (v0, v1) per edge, oriented as in its lit face
+    /// (silhouette.hpp's order; header comment "Outward side"); null only with edge_count 0.
+    const std::uint32_t* edges = nullptr;
+    std::size_t edge_count = 0;               ///< number of edges (not indices)
+    /// Optional (null: the edges' winding decides): holds 2 * edge_count glm::vec3 elements: [2i]
+    /// normal of the face that runs v0 -> v1 counter-clockwise (the lit face from silhouette.hpp),
+    /// [2i+1] the other face's normal or (0,0,0) for a boundary edge. Zero/NaN normals are ignored.
     const glm::vec3* face_normals = nullptr;
-    /// Optional, 1 per edge: a world direction pointing away from the occluder at the edge. Used
-    /// before the normals when finite and non-zero.
+    /// Optional (null: unused): holds edge_count glm::vec3 elements: a world direction pointing away
+    /// from the occluder at the edge. Used before the normals when finite and non-zero.
     const glm::vec3* outward = nullptr;
 };
 
+/// Parameters of smoothie_build.
 struct SmoothieParams {
     float t = 0.0f;  ///< smoothie width [Units: light NDC, image = 2 wide] [Limit: finite, >= 0]; 0 = no geometry
     ClipDepth clip_depth = ClipDepth::NegativeOneToOne;  ///< of light_view_proj (for near-plane clipping)
@@ -150,6 +222,19 @@ struct SmoothieParams {
     /// gaps, see the header comment), falling back to the averaged fan only for inconsistent
     /// normals; true = always the paper's averaged-normal fan (12 vertices per edge at the vertex).
     bool paper_fans = false;
+};
+
+/// Per-edge working memory of smoothie_build, owned by the caller and reused every frame (no
+/// allocation in the build): smoothie_scratch_capacity(edge_count) elements. Contents are the
+/// builder's (no meaning between calls).
+struct SmoothieScratch {
+    glm::dvec3 world[2];         ///< the kept edge's ends (after near-plane clipping)
+    glm::dvec4 clip[2];          ///< their clip coordinates
+    glm::dvec2 ndc[2];           ///< their light NDC
+    glm::dvec2 normal;           ///< unit outward normal in light NDC
+    double angle[2];             ///< angle of the edge's direction away from each end
+    std::uint32_t vertex[2];     ///< input vertex index of each end
+    std::uint32_t sorted_end[2]; ///< sort area: 2 end ids per kept edge (edge * 2 + end)
 };
 
 /// One vertex of the smoothie triangle list (48 bytes, no padding surprises: 12 floats).
@@ -164,10 +249,13 @@ struct SmoothieVertex {
 };
 static_assert(sizeof(SmoothieVertex) == 12 * sizeof(float), "SmoothieVertex must be 12 tightly packed floats");
 
+/// Result of smoothie_build. The counters are complete whenever status is Ok or the vertex buffer
+/// was too small.
 struct SmoothieResult {
-    SmoothieStatus status = SmoothieStatus::Ok;
-    std::size_t vertex_count = 0;      ///< vertices needed (3 per triangle)
-    std::size_t vertices_written = 0;  ///< min(vertex_count, capacity) rounded down to whole triangles
+    Status status = Status::NotRun;
+    std::size_t count = 0;             ///< vertices written: min(needed, capacity) rounded down to whole triangles
+    std::size_t needed = 0;            ///< vertices the whole output needs (3 per triangle)
+    std::size_t scratch_needed = 0;    ///< SmoothieScratch elements the call needs (edge_count; 0 for t = 0)
     std::size_t edge_quads = 0;        ///< edges that produced a quad (6 vertices each, written first)
     std::size_t corners = 0;           ///< gaps filled at convex turns (12 vertices each), any valence
     std::size_t concave_turns = 0;     ///< exterior sectors <= 180 degrees (edge quads overlap: no corner)
@@ -183,11 +271,21 @@ struct SmoothieResult {
     std::size_t skipped_corners = 0;   ///< corners / caps / fans dropped: a vertex could not be un-projected
 };
 
-/// Upper bound on build_smoothies' vertex_count for edge_count edges (6 per edge + 12 per endpoint).
+/// Upper bound on smoothie_build's `needed` for edge_count edges (6 per edge + 12 per endpoint), in
+/// SmoothieVertex elements. Total: SIZE_MAX when 30 * edge_count does not fit.
 inline std::size_t smoothie_vertex_capacity(std::size_t edge_count) {
     const std::size_t lim = static_cast<std::size_t>(-1) / 30u;
     return edge_count > lim ? static_cast<std::size_t>(-1) : 30u * edge_count;
 }
+
+/// SmoothieScratch elements smoothie_build needs for edge_count edges (one per edge). Total.
+inline std::size_t smoothie_scratch_capacity(std::size_t edge_count) { return edge_count; }
+
+/// A scalar result of smoothie.hpp (widths).
+struct SmoothieValue {
+    Status status = Status::NotRun;
+    float value = 0.0f;  ///< the quantity the function's comment names
+};
 
 // ------------------------------------------------------------------------------------------------
 // Alpha remap, falloff, visibility rule, t <-> light size
@@ -196,7 +294,8 @@ inline std::size_t smoothie_vertex_capacity(std::size_t edge_count) {
 /// Chan & Durand 2003 eq. 1: alpha' = clamp(alpha / (1 - b/r), 0, 1), b = linear depth of the
 /// smoothie, r = linear depth of the receiver (both from the light). b/r >= 1 (the receiver is in
 /// front of the smoothie) -> 1. Evaluated as alpha r / (r - b) in double. alpha is clamped to
-/// [0,1] first; NaN inputs, r <= 0 or b < 0 -> 1 (no smoothie effect).
+/// [0,1] first; NaN inputs, r <= 0 or b < 0 -> 1 (no smoothie effect). Total: every input gives a
+/// value in [0, 1].
 inline float smoothie_remap_alpha(float alpha, float b, float r) {
     if (std::isnan(alpha) || std::isnan(b) || std::isnan(r) || !(r > 0.0f) || b < 0.0f) return 1.0f;
     const double a = alpha < 0.0f ? 0.0 : (alpha > 1.0f ? 1.0 : static_cast<double>(alpha));
@@ -210,6 +309,7 @@ inline float smoothie_remap_alpha(float alpha, float b, float r) {
 
 /// Sinusoidal falloff (Haines 2001, used by Chan & Durand 2003 section 3.1): s(a) = sin^2(pi a / 2)
 /// for a in [0,1] (clamped; NaN -> 1). s(0) = 0, s(1) = 1, s(1 - a) = 1 - s(a), s' = 0 at both ends.
+/// Total: [0, 1] for every input.
 inline float smoothie_falloff(float a) {
     if (std::isnan(a) || a >= 1.0f) return 1.0f;
     if (a <= 0.0f) return 0.0f;
@@ -220,7 +320,8 @@ inline float smoothie_falloff(float a) {
 /// One tap of the final pass (the GLSL sk_smoothie_visibility does this at 4 texels and filters):
 /// receiver linear depth r, shadow-map linear depth z, smoothie buffer (depth b, raw alpha).
 /// r > z + bias -> 0 (umbra); else r > b -> falloff(remap(alpha, b, r)); else 1.
-/// With the cleared smoothie buffer (b = +huge, alpha = 1) this is exactly the hard test.
+/// With the cleared smoothie buffer (b = +huge, alpha = 1) this is exactly the hard test. Total: [0, 1]
+/// for every input (NaN comparisons are false: 1).
 inline float smoothie_visibility_tap(float r, float z, float b, float alpha, float bias) {
     if (r > z + bias) return 0.0f;
     if (r > b) return smoothie_falloff(smoothie_remap_alpha(alpha, b, r));
@@ -229,32 +330,73 @@ inline float smoothie_visibility_tap(float r, float z, float b, float alpha, flo
 
 /// t (light NDC) that makes the smoothie penumbra as wide as the geometric penumbra of a light of
 /// width light_width (world) for a blocker at linear depth b: t = s w / b, s = P[0][0] of the
-/// light's projection (1/tan(fov_x/2)). Invalid input (non-finite, b <= 0, w < 0, s <= 0) -> 0.
-inline float smoothie_width_for_area_light(float light_width, float b, float proj_scale) {
-    if (!std::isfinite(light_width) || !std::isfinite(b) || !std::isfinite(proj_scale) || light_width < 0.0f ||
-        !(b > 0.0f) || !(proj_scale > 0.0f))
-        return 0.0f;
+/// light's projection (1/tan(fov_x/2)). Statuses: NonFinite (NaN/Inf input), InvalidArgument (b <= 0,
+/// w < 0, s <= 0), Overflow (t beyond float).
+inline SmoothieValue smoothie_width_for_area_light(float light_width, float b, float proj_scale) {
+    SmoothieValue v;
+    if (!std::isfinite(light_width) || !std::isfinite(b) || !std::isfinite(proj_scale)) {
+        v.status = Status::NonFinite;
+        return v;
+    }
+    if (light_width < 0.0f || !(b > 0.0f) || !(proj_scale > 0.0f)) {
+        v.status = Status::InvalidArgument;
+        return v;
+    }
     const double t = static_cast<double>(proj_scale) * static_cast<double>(light_width) / static_cast<double>(b);
-    return t > 3.0e38 ? 3.0e38f : static_cast<float>(t);
+    if (!(t <= static_cast<double>(std::numeric_limits<float>::max()))) {
+        v.status = Status::Overflow;
+        return v;
+    }
+    v.value = static_cast<float>(t);
+    v.status = Status::Ok;
+    return v;
 }
 
-/// Inverse of smoothie_width_for_area_light: w = t b / s. Invalid input -> 0.
-inline float smoothie_area_light_width(float t, float b, float proj_scale) {
-    if (!std::isfinite(t) || !std::isfinite(b) || !std::isfinite(proj_scale) || t < 0.0f || !(b > 0.0f) ||
-        !(proj_scale > 0.0f))
-        return 0.0f;
+/// Inverse of smoothie_width_for_area_light: w = t b / s. Statuses as there (t < 0: InvalidArgument).
+inline SmoothieValue smoothie_area_light_width(float t, float b, float proj_scale) {
+    SmoothieValue v;
+    if (!std::isfinite(t) || !std::isfinite(b) || !std::isfinite(proj_scale)) {
+        v.status = Status::NonFinite;
+        return v;
+    }
+    if (t < 0.0f || !(b > 0.0f) || !(proj_scale > 0.0f)) {
+        v.status = Status::InvalidArgument;
+        return v;
+    }
     const double w = static_cast<double>(t) * static_cast<double>(b) / static_cast<double>(proj_scale);
-    return w > 3.0e38 ? 3.0e38f : static_cast<float>(w);
+    if (!(w <= static_cast<double>(std::numeric_limits<float>::max()))) {
+        v.status = Status::Overflow;
+        return v;
+    }
+    v.value = static_cast<float>(w);
+    v.status = Status::Ok;
+    return v;
 }
 
 /// World width over which the remapped alpha goes 0 -> 1 on a receiver plane facing a perspective
-/// light at linear depth r, cast by a smoothie at depth b: t (r - b) / s (0 when r <= b or invalid).
-inline float smoothie_penumbra_width(float t, float b, float r, float proj_scale) {
-    if (!std::isfinite(t) || !std::isfinite(b) || !std::isfinite(r) || !std::isfinite(proj_scale) || t < 0.0f ||
-        !(proj_scale > 0.0f) || !(r > b))
-        return 0.0f;
-    const double w = static_cast<double>(t) * (static_cast<double>(r) - static_cast<double>(b)) / static_cast<double>(proj_scale);
-    return w > 3.0e38 ? 3.0e38f : static_cast<float>(w);
+/// light at linear depth r, cast by a smoothie at depth b: t (r - b) / s; 0 when r <= b (the receiver
+/// is in front of the smoothie: no penumbra). Statuses: NonFinite (NaN/Inf input), InvalidArgument
+/// (t < 0, s <= 0), Overflow (a width beyond float).
+inline SmoothieValue smoothie_penumbra_width(float t, float b, float r, float proj_scale) {
+    SmoothieValue v;
+    if (!std::isfinite(t) || !std::isfinite(b) || !std::isfinite(r) || !std::isfinite(proj_scale)) {
+        v.status = Status::NonFinite;
+        return v;
+    }
+    if (t < 0.0f || !(proj_scale > 0.0f)) {
+        v.status = Status::InvalidArgument;
+        return v;
+    }
+    const double w = r > b ? static_cast<double>(t) * (static_cast<double>(r) - static_cast<double>(b)) /
+                                 static_cast<double>(proj_scale)
+                           : 0.0;
+    if (!(w <= static_cast<double>(std::numeric_limits<float>::max()))) {
+        v.status = Status::Overflow;
+        return v;
+    }
+    v.value = static_cast<float>(w);
+    v.status = Status::Ok;
+    return v;
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -262,19 +404,6 @@ inline float smoothie_penumbra_width(float t, float b, float r, float proj_scale
 // ------------------------------------------------------------------------------------------------
 
 namespace detail {
-
-struct SmoothieEdgeInfo {
-    glm::dvec3 P[2];   // world (after near clipping)
-    glm::dvec4 C[2];   // clip
-    glm::dvec2 A[2];   // light NDC
-    glm::dvec2 n;      // unit outward normal in light NDC
-};
-
-struct SmoothieEnd {
-    std::uint32_t vertex;
-    std::uint32_t edge;  // index into the kept-edge list
-    std::uint32_t end;   // 0 or 1
-};
 
 struct SmoothieV {
     glm::dvec3 world;
@@ -394,19 +523,83 @@ inline glm::dvec2 smoothie_mid(const glm::dvec2& a, const glm::dvec2& b) {
     return glm::dvec2(-a.y, a.x);
 }
 
+// Heapsort of n elements through less(i, j) and swap(i, j) (no allocation; the scratch's sort area is
+// strided, so std::sort's contiguous iterators do not fit).
+template <class Less, class Swap>
+void smoothie_heapsort(std::size_t n, Less&& less, Swap&& swap) {
+    auto sift = [&](std::size_t root, std::size_t end) {
+        for (;;) {
+            std::size_t child = 2 * root + 1;
+            if (child >= end) return;
+            if (child + 1 < end && less(child, child + 1)) ++child;
+            if (!less(root, child)) return;
+            swap(root, child);
+            root = child;
+        }
+    };
+    if (n < 2) return;
+    for (std::size_t i = n / 2; i-- > 0;) sift(i, n);
+    for (std::size_t end = n - 1; end > 0; --end) {
+        swap(0, end);
+        sift(0, end);
+    }
+}
+
+// Sign with which a face lit by the center of projection of M (counter-clockwise about its normal)
+// appears in light NDC: +1 counter-clockwise, -1 clockwise, 0 undecided (header comment "Outward
+// side"). E = the homogeneous center (null vector of rows 0, 1, 3): E_j = (-1)^j minor_j.
+inline int smoothie_winding_sign(const glm::dmat4& M, ClipDepth cd, bool reversed) {
+    double R[3][4];
+    const int rows[3] = {0, 1, 3};
+    for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < 4; ++c) R[i][c] = M[c][rows[i]];
+    double E[4];
+    for (int j = 0; j < 4; ++j) {
+        int cols[3], k = 0;
+        for (int c = 0; c < 4; ++c)
+            if (c != j) cols[k++] = c;
+        const double m = R[0][cols[0]] * (R[1][cols[1]] * R[2][cols[2]] - R[1][cols[2]] * R[2][cols[1]]) -
+                         R[0][cols[1]] * (R[1][cols[0]] * R[2][cols[2]] - R[1][cols[2]] * R[2][cols[0]]) +
+                         R[0][cols[2]] * (R[1][cols[0]] * R[2][cols[1]] - R[1][cols[1]] * R[2][cols[0]]);
+        E[j] = (j % 2 == 0 ? 1.0 : -1.0) * m;
+    }
+    const double exyz = std::sqrt(E[0] * E[0] + E[1] * E[1] + E[2] * E[2]);
+    if (!std::isfinite(exyz) || !std::isfinite(E[3])) return 0;
+    if (std::fabs(E[3]) > 1e-12 * exyz) return E[3] > 0.0 ? 1 : -1;  // a finite center: E = k (p, 1), k = E.w
+    // orthographic: E = k (d, 0) with d toward the light, where depth decreases (increases if reversed)
+    (void)cd;
+    const double dz = E[0] * M[0][2] + E[1] * M[1][2] + E[2] * M[2][2];  // dot(E.xyz, gradient of clip z)
+    const double toward = reversed ? dz : -dz;
+    if (!(std::fabs(toward) > 1e-12 * exyz * std::sqrt(M[0][2] * M[0][2] + M[1][2] * M[1][2] + M[2][2] * M[2][2])))
+        return 0;
+    return toward > 0.0 ? 1 : -1;
+}
+
 }  // namespace detail
 
 /// Builds the smoothie triangle list (see the header comment for the construction and units).
-/// out may be null (capacity 0) to query vertex_count; smoothie_vertex_capacity(edge_count) always
-/// suffices. Allocates O(edge_count) scratch memory.
-inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& light_view_proj,
-                                      const SmoothieParams& params, SmoothieVertex* out, std::size_t capacity) {
+/// `scratch` holds scratch_capacity SmoothieScratch elements; it needs
+/// smoothie_scratch_capacity(edge_count) = edge_count (`scratch_needed`), reused every frame.
+/// `out` holds capacity SmoothieVertex elements; it needs `needed` (at most
+/// smoothie_vertex_capacity(edge_count)); out = nullptr with capacity 0 is a size query (status
+/// BufferTooSmall when anything would be drawn, with `needed` set). Too little scratch:
+/// BufferTooSmall with scratch_needed set and nothing else computed. Never allocates.
+inline SmoothieResult smoothie_build(const SmoothieEdges& in, const glm::mat4& light_view_proj,
+                                     const SmoothieParams& params, SmoothieScratch* scratch,
+                                     std::size_t scratch_capacity, SmoothieVertex* out, std::size_t capacity) {
     using namespace detail;
     SmoothieResult res;
     if ((in.positions == nullptr && in.position_count != 0) || (in.edges == nullptr && in.edge_count != 0) ||
-        (out == nullptr && capacity != 0) || !std::isfinite(params.t) || params.t < 0.0f ||
-        (in.edge_count != 0 && in.face_normals == nullptr && in.outward == nullptr)) {
-        res.status = SmoothieStatus::InvalidArgument;
+        (out == nullptr && capacity != 0) || (scratch == nullptr && scratch_capacity != 0)) {
+        res.status = Status::InvalidArgument;
+        return res;
+    }
+    if (!std::isfinite(params.t)) {
+        res.status = Status::NonFinite;
+        return res;
+    }
+    if (params.t < 0.0f) {
+        res.status = Status::InvalidArgument;
         return res;
     }
     glm::dmat4 M;
@@ -414,7 +607,7 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
         for (int r = 0; r < 4; ++r) {
             const float v = light_view_proj[c][r];
             if (!std::isfinite(v)) {
-                res.status = SmoothieStatus::InvalidMatrix;
+                res.status = Status::NonFinite;
                 return res;
             }
             M[c][r] = static_cast<double>(v);
@@ -427,10 +620,19 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(B.inv[c][r])) inv_ok = false;
     if (!inv_ok) {
-        res.status = SmoothieStatus::InvalidMatrix;
+        res.status = Status::InvalidArgument;
         return res;
     }
-    if (params.t == 0.0f || in.edge_count == 0) return res;  // t = 0: no geometry (hard shadows), nothing counted
+    if (params.t == 0.0f || in.edge_count == 0) {  // t = 0: no geometry (hard shadows), nothing counted
+        res.status = Status::Ok;
+        return res;
+    }
+    res.scratch_needed = smoothie_scratch_capacity(in.edge_count);
+    if (scratch_capacity < res.scratch_needed) {
+        res.status = Status::BufferTooSmall;
+        return res;
+    }
+    const int winding = smoothie_winding_sign(M, params.clip_depth, params.reversed_z);
 
     B.t = static_cast<double>(params.t);
     B.inv_t = 1.0f / params.t;
@@ -438,10 +640,9 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
     B.out = out;
     B.capacity = capacity;
 
-    std::vector<SmoothieEdgeInfo> kept;
-    std::vector<SmoothieEnd> ends;
-    kept.reserve(in.edge_count);
-    ends.reserve(2 * in.edge_count);
+    // kept edges in scratch[0, kept); their ends (id = 2 * edge + end) in the strided sort area
+    std::size_t kept = 0, n_ends = 0;
+    auto end_at = [&](std::size_t j) -> std::uint32_t& { return scratch[j / 2].sorted_end[j % 2]; };
 
     for (std::size_t e = 0; e < in.edge_count; ++e) {
         const std::uint32_t i0 = in.edges[2 * e], i1 = in.edges[2 * e + 1];
@@ -454,51 +655,51 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
             ++res.skipped_invalid;
             continue;
         }
-        SmoothieEdgeInfo E;
-        E.P[0] = smoothie_d(f0);
-        E.P[1] = smoothie_d(f1);
-        E.C[0] = smoothie_mul(M, E.P[0]);
-        E.C[1] = smoothie_mul(M, E.P[1]);
+        SmoothieScratch& E = scratch[kept];
+        E.world[0] = smoothie_d(f0);
+        E.world[1] = smoothie_d(f1);
+        E.clip[0] = smoothie_mul(M, E.world[0]);
+        E.clip[1] = smoothie_mul(M, E.world[1]);
         bool whole[2] = {true, true};
         {  // near-plane clipping
-            const double d0 = smoothie_near_dist(E.C[0], params.clip_depth, params.reversed_z);
-            const double d1 = smoothie_near_dist(E.C[1], params.clip_depth, params.reversed_z);
+            const double d0 = smoothie_near_dist(E.clip[0], params.clip_depth, params.reversed_z);
+            const double d1 = smoothie_near_dist(E.clip[1], params.clip_depth, params.reversed_z);
             if (!(d0 >= 0.0) && !(d1 >= 0.0)) {
                 ++res.skipped_behind;
                 continue;
             }
             if (!(d0 >= 0.0) || !(d1 >= 0.0)) {
                 const int k = d0 >= 0.0 ? 1 : 0;  // the end to move
-                const double s = d0 / (d0 - d1);  // in (0, 1)
-                E.P[k] = E.P[0] + s * (E.P[1] - E.P[0]);
-                E.C[k] = E.C[0] + s * (E.C[1] - E.C[0]);
+                const double sp = d0 / (d0 - d1);  // in (0, 1)
+                E.world[k] = E.world[0] + sp * (E.world[1] - E.world[0]);
+                E.clip[k] = E.clip[0] + sp * (E.clip[1] - E.clip[0]);
                 whole[k] = false;
                 ++res.clipped_edges;
             }
         }
-        if (!(E.C[0].w > 0.0) || !(E.C[1].w > 0.0) || !smoothie_finite3d(E.P[0]) || !smoothie_finite3d(E.P[1])) {
+        if (!(E.clip[0].w > 0.0) || !(E.clip[1].w > 0.0) || !smoothie_finite3d(E.world[0]) || !smoothie_finite3d(E.world[1])) {
             ++res.skipped_behind;
             continue;
         }
-        E.A[0] = glm::dvec2(E.C[0]) / E.C[0].w;
-        E.A[1] = glm::dvec2(E.C[1]) / E.C[1].w;
-        const glm::dvec2 ed = E.A[1] - E.A[0];
+        E.ndc[0] = glm::dvec2(E.clip[0]) / E.clip[0].w;
+        E.ndc[1] = glm::dvec2(E.clip[1]) / E.clip[1].w;
+        const glm::dvec2 ed = E.ndc[1] - E.ndc[0];
         const double L = smoothie_len(ed);
-        const double scale = std::max({1.0, std::fabs(E.A[0].x), std::fabs(E.A[0].y), std::fabs(E.A[1].x), std::fabs(E.A[1].y)});
+        const double scale = std::max({1.0, std::fabs(E.ndc[0].x), std::fabs(E.ndc[0].y), std::fabs(E.ndc[1].x), std::fabs(E.ndc[1].y)});
         if (!std::isfinite(L) || !(L > 1e-12 * scale)) {
             ++res.skipped_end_on;
             continue;
         }
-        const glm::dvec2 perp(-ed.y / L, ed.x / L);
+        const glm::dvec2 perp(-ed.y / L, ed.x / L);  // left of v0 -> v1 in light NDC
         // Outward side: sign of the light-NDC image of a world direction h at the edge midpoint.
-        const glm::dvec4 Cm = 0.5 * (E.C[0] + E.C[1]);
+        const glm::dvec4 Cm = 0.5 * (E.clip[0] + E.clip[1]);
         auto side = [&](const glm::dvec3& h) -> double {
             const glm::dvec4 dc = M[0] * h.x + M[1] * h.y + M[2] * h.z;  // M (h, 0)
             const glm::dvec2 j(dc.x * Cm.w - Cm.x * dc.w, dc.y * Cm.w - Cm.y * dc.w);
             const double jl = smoothie_len(j);
             if (!std::isfinite(jl) || !(jl > 0.0)) return 0.0;
-            const double s = (perp.x * j.x + perp.y * j.y) / jl;
-            return std::fabs(s) > 1e-9 ? s : 0.0;
+            const double sd = (perp.x * j.x + perp.y * j.y) / jl;
+            return std::fabs(sd) > 1e-9 ? sd : 0.0;
         };
         auto unit3 = [](const glm::vec3& v, glm::dvec3& u) -> bool {
             if (!smoothie_finite3(v)) return false;
@@ -508,65 +709,83 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
             u = d / l;
             return true;
         };
-        double s = 0.0;
+        double sgn = 0.0;
         glm::dvec3 h, n0, n1;
-        if (in.outward != nullptr && unit3(in.outward[e], h)) s = side(h);
-        if (s == 0.0 && in.face_normals != nullptr) {
+        if (in.outward != nullptr && unit3(in.outward[e], h)) sgn = side(h);
+        if (sgn == 0.0 && in.face_normals != nullptr) {
             const bool has0 = unit3(in.face_normals[2 * e], n0);
             const bool has1 = unit3(in.face_normals[2 * e + 1], n1);
-            if (has0 && has1) s = side(n0 + n1);
-            if (s == 0.0 && has0) {
+            if (has0 && has1) sgn = side(n0 + n1);
+            if (sgn == 0.0 && has0) {
                 const glm::dvec3 ev = smoothie_d(f1) - smoothie_d(f0);
-                s = -side(glm::cross(n0, ev));  // interior of face 0 lies along cross(n0, v1 - v0)
+                sgn = -side(glm::cross(n0, ev));  // interior of face 0 lies along cross(n0, v1 - v0)
             }
         }
-        if (s == 0.0) {
+        // the edge's own orientation: the lit face's interior is left of v0 -> v1 when lit faces
+        // appear counter-clockwise in light NDC (winding > 0), so outward is right (-perp)
+        if (sgn == 0.0) sgn = -static_cast<double>(winding);
+        if (sgn == 0.0) {
             ++res.skipped_no_outward;
             continue;
         }
-        E.n = s > 0.0 ? perp : -perp;
+        E.normal = sgn > 0.0 ? perp : -perp;
         glm::dvec3 O[2];
-        if (!B.unproject(E.P[0], E.C[0], B.t * E.n, O[0]) || !B.unproject(E.P[1], E.C[1], B.t * E.n, O[1])) {
+        if (!B.unproject(E.world[0], E.clip[0], B.t * E.normal, O[0]) || !B.unproject(E.world[1], E.clip[1], B.t * E.normal, O[1])) {
             ++res.skipped_unprojectable;
             continue;
         }
         SmoothieV vi[2], vo[2];
         for (int k = 0; k < 2; ++k) {
-            vi[k] = SmoothieV{E.P[k], E.A[k], 0.0, E.P[k], E.n, 0.0f};
-            vo[k] = SmoothieV{O[k], E.A[k] + B.t * E.n, 1.0, E.P[k], E.n, 0.0f};
+            vi[k] = SmoothieV{E.world[k], E.ndc[k], 0.0, E.world[k], E.normal, 0.0f};
+            vo[k] = SmoothieV{O[k], E.ndc[k] + B.t * E.normal, 1.0, E.world[k], E.normal, 0.0f};
         }
         B.tri(vi[0], vi[1], vo[1]);
         B.tri(vi[0], vo[1], vo[0]);
         ++res.edge_quads;
-        const std::uint32_t idx = static_cast<std::uint32_t>(kept.size());
-        kept.push_back(E);
-        if (whole[0]) ends.push_back(SmoothieEnd{i0, idx, 0u});
-        if (whole[1]) ends.push_back(SmoothieEnd{i1, idx, 1u});
+        E.vertex[0] = i0;
+        E.vertex[1] = i1;
+        const std::uint32_t idx = static_cast<std::uint32_t>(kept);
+        ++kept;
+        for (std::uint32_t k = 0; k < 2; ++k)
+            if (whole[k]) {
+                end_at(n_ends) = 2u * idx + k;
+                ++n_ends;
+            }
     }
 
-    std::sort(ends.begin(), ends.end(), [](const SmoothieEnd& a, const SmoothieEnd& b) {
-        return a.vertex != b.vertex ? a.vertex < b.vertex : (a.edge != b.edge ? a.edge < b.edge : a.end < b.end);
-    });
+    auto vertex_of = [&](std::uint32_t id) { return scratch[id / 2].vertex[id % 2]; };
+    // ends grouped by vertex, then by (edge, end)
+    smoothie_heapsort(
+        n_ends,
+        [&](std::size_t a, std::size_t b) {
+            const std::uint32_t ia = end_at(a), ib = end_at(b);
+            const std::uint32_t va = vertex_of(ia), vb = vertex_of(ib);
+            return va != vb ? va < vb : ia < ib;
+        },
+        [&](std::size_t a, std::size_t b) { std::swap(end_at(a), end_at(b)); });
 
     SmoothieV q[4], q2[4];
-    std::vector<std::pair<double, std::uint32_t>> order;  // (angle of u_i, end slot)
-    for (std::size_t g = 0; g < ends.size();) {
+    auto edge_of = [&](std::uint32_t id) -> const SmoothieScratch& { return scratch[id / 2]; };
+    auto away = [&](std::uint32_t id) {  // unit NDC direction from v along the edge of end id
+        const SmoothieScratch& E = edge_of(id);
+        return smoothie_unit(E.ndc[1 - id % 2] - E.ndc[id % 2]);
+    };
+    auto normal = [&](std::uint32_t id) { return edge_of(id).normal; };
+    auto angle = [&](std::uint32_t id) { return scratch[id / 2].angle[id % 2]; };
+    for (std::size_t g = 0; g < n_ends;) {
         std::size_t h = g;
-        while (h < ends.size() && ends[h].vertex == ends[g].vertex) ++h;
+        const std::uint32_t vg = vertex_of(end_at(g));
+        while (h < n_ends && vertex_of(end_at(h)) == vg) ++h;
         const std::size_t k = h - g;
-        const SmoothieEdgeInfo& E0 = kept[ends[g].edge];
-        const unsigned j0 = ends[g].end;
-        const glm::dvec3 P = E0.P[j0];
-        const glm::dvec4 C = E0.C[j0];
-        const glm::dvec2 V = E0.A[j0];
-        auto away = [&](std::size_t i) {  // unit NDC direction from v along the edge of end slot i
-            const SmoothieEdgeInfo& E = kept[ends[i].edge];
-            return smoothie_unit(E.A[1 - ends[i].end] - E.A[ends[i].end]);
-        };
-        auto normal = [&](std::size_t i) { return kept[ends[i].edge].n; };
+        const std::uint32_t id0 = end_at(g);
+        const SmoothieScratch& E0 = edge_of(id0);
+        const unsigned j0 = id0 % 2;
+        const glm::dvec3 P = E0.world[j0];
+        const glm::dvec4 C = E0.clip[j0];
+        const glm::dvec2 V = E0.ndc[j0];
         if (k > 2) ++res.multi_vertices;
         if (k == 1) {
-            if (B.wedge(P, C, V, E0.n, smoothie_unit(-away(g)), q)) {
+            if (B.wedge(P, C, V, E0.normal, smoothie_unit(-away(id0)), q)) {
                 B.emit_wedge(q);
                 ++res.caps;
             } else {
@@ -580,15 +799,24 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
         // n_j+1 turns clockwise from u_j+1 into it, interior if neither, inconsistent otherwise.
         // An exterior sector wider than 180 degrees leaves a gap of (angle - 180) between the two
         // quads' outer edges: fill it from n_j through the sector's middle direction to n_j+1.
-        order.clear();
         for (std::size_t i = g; i < h; ++i) {
-            const glm::dvec2 u = away(i);
-            order.emplace_back(std::atan2(u.y, u.x), static_cast<std::uint32_t>(i));
+            const std::uint32_t id = end_at(i);
+            const glm::dvec2 u = away(id);
+            scratch[id / 2].angle[id % 2] = std::atan2(u.y, u.x);
         }
-        std::sort(order.begin(), order.end());
+        // this group's ids sorted by (angle, id): order[j] = end_at(g + j)
+        smoothie_heapsort(
+            k,
+            [&](std::size_t a, std::size_t b) {
+                const std::uint32_t ia = end_at(g + a), ib = end_at(g + b);
+                const double aa = angle(ia), ab = angle(ib);
+                return aa != ab ? aa < ab : ia < ib;
+            },
+            [&](std::size_t a, std::size_t b) { std::swap(end_at(g + a), end_at(g + b)); });
+        auto order = [&](std::size_t j) { return end_at(g + j); };
         bool consistent = !params.paper_fans || k == 2;
         for (std::size_t j = 0; j < k && consistent; ++j) {
-            const std::size_t i0s = order[j].second, i1s = order[(j + 1) % k].second;
+            const std::uint32_t i0s = order(j), i1s = order((j + 1) % k);
             const bool a = smoothie_cross(away(i0s), normal(i0s)) > 0.0;
             const bool c = smoothie_cross(away(i1s), normal(i1s)) < 0.0;
             if (a != c) consistent = false;
@@ -598,10 +826,10 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
             std::size_t fills = 0, turns = 0;
             for (int pass = 0; pass < 2 && ok; ++pass) {  // pass 0: check, pass 1: emit
                 for (std::size_t j = 0; j < k; ++j) {
-                    const std::size_t i0s = order[j].second, i1s = order[(j + 1) % k].second;
+                    const std::uint32_t i0s = order(j), i1s = order((j + 1) % k);
                     const glm::dvec2 u0 = away(i0s);
                     if (!(smoothie_cross(u0, normal(i0s)) > 0.0)) continue;  // interior sector
-                    double theta = order[(j + 1) % k].first - order[j].first;
+                    double theta = angle(i1s) - angle(i0s);
                     if (j + 1 == k) theta += 6.283185307179586;
                     if (!(theta > 3.141592653589793 + 1e-12)) {
                         if (pass == 0) ++turns;
@@ -609,8 +837,8 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
                     }
                     const double hth = 0.5 * theta;
                     const glm::dvec2 mid(u0.x * std::cos(hth) - u0.y * std::sin(hth), u0.x * std::sin(hth) + u0.y * std::cos(hth));
-                    const glm::dvec2 b = smoothie_unit(mid);
-                    if (!B.wedge(P, C, V, normal(i0s), b, q) || !B.wedge(P, C, V, b, normal(i1s), q2)) {
+                    const glm::dvec2 bm = smoothie_unit(mid);
+                    if (!B.wedge(P, C, V, normal(i0s), bm, q) || !B.wedge(P, C, V, bm, normal(i1s), q2)) {
                         ok = false;
                         break;
                     }
@@ -630,19 +858,22 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
             }
         } else {
             // Paper's special case: the unit average n_a of the outward normals, and a fan from each
-            // v + t n_i to v + t n_a (split at the middle direction).
+            // v + t n_i to v + t n_a (split at the middle direction), in (edge, end) order.
+            smoothie_heapsort(
+                k, [&](std::size_t a, std::size_t b) { return end_at(g + a) < end_at(g + b); },
+                [&](std::size_t a, std::size_t b) { std::swap(end_at(g + a), end_at(g + b)); });
             glm::dvec2 sum(0.0);
-            for (std::size_t i = g; i < h; ++i) sum += normal(i);
-            const glm::dvec2 na = smoothie_len(sum) > 1e-9 * static_cast<double>(k) ? smoothie_unit(sum) : E0.n;
+            for (std::size_t i = g; i < h; ++i) sum += normal(end_at(i));
+            const glm::dvec2 na = smoothie_len(sum) > 1e-9 * static_cast<double>(k) ? smoothie_unit(sum) : E0.normal;
             bool ok = true;
             for (std::size_t i = g; i < h && ok; ++i) {
-                const glm::dvec2 mid = smoothie_mid(normal(i), na);
-                ok = B.wedge(P, C, V, normal(i), mid, q) && B.wedge(P, C, V, mid, na, q2);
+                const glm::dvec2 mid = smoothie_mid(normal(end_at(i)), na);
+                ok = B.wedge(P, C, V, normal(end_at(i)), mid, q) && B.wedge(P, C, V, mid, na, q2);
             }
             if (ok) {
                 for (std::size_t i = g; i < h; ++i) {
-                    const glm::dvec2 mid = smoothie_mid(normal(i), na);
-                    B.wedge(P, C, V, normal(i), mid, q);
+                    const glm::dvec2 mid = smoothie_mid(normal(end_at(i)), na);
+                    B.wedge(P, C, V, normal(end_at(i)), mid, q);
                     B.wedge(P, C, V, mid, na, q2);
                     B.emit_wedge(q);
                     B.emit_wedge(q2);
@@ -655,9 +886,9 @@ inline SmoothieResult build_smoothies(const SmoothieEdges& in, const glm::mat4& 
         g = h;
     }
 
-    res.vertex_count = B.count;
-    res.vertices_written = B.written;
-    if (B.full) res.status = SmoothieStatus::BufferTooSmall;
+    res.needed = B.count;
+    res.count = B.written;
+    res.status = B.full ? Status::BufferTooSmall : Status::Ok;
     return res;
 }
 

@@ -36,7 +36,7 @@ std::string distance_fs(const std::string& snippet) {
 in vec3 v_world;
 uniform vec3 u_light;
 uniform float u_range;
-void main() { gl_FragDepth = sk_omni_linear_depth(v_world, u_light, u_range); }
+void main() { gl_FragDepth = sk_omni_linear_depth(v_world, vec4(u_light, 1.0), u_range); }
 )";
 }
 
@@ -87,7 +87,7 @@ public:
         RunResult r;
         const float range = omni_range(scene);
         shadowkit::OmniCubeInput ci;
-        ci.light = scene.light.position;
+        ci.light_position = glm::vec4(scene.light.position, 1.f);
         ci.far_z = range;
         ci.near_z = range * 1e-3f;
         // caster boxes (mesh indices), culled per face each frame (CPU time = median)
@@ -107,19 +107,19 @@ public:
         const char* failed = "";
         auto cull = [&]() -> bool {
             cm = shadowkit::omni_cube_matrices(ci);
-            if (cm.status != shadowkit::OmniStatus::Ok) {
+            if (cm.status != shadowkit::Status::Ok) {
                 failed = "omni_cube_matrices failed";
                 return false;
             }
             if (culling) {
                 shadowkit::OmniCullInput in;
-                in.light = ci.light;
+                in.light_position = ci.light_position;
                 in.near_z = ci.near_z;
                 in.far_z = ci.far_z;
                 in.boxes = boxes.data();
                 in.box_count = mesh_of.size();
                 cr = shadowkit::omni_cull_face_lists(in, lists.data(), lists.size(), off);
-                if (cr.status != shadowkit::OmniStatus::Ok) {
+                if (cr.status != shadowkit::Status::Ok) {
                     failed = "omni_cull_face_lists failed";
                     return false;
                 }
@@ -160,9 +160,9 @@ float technique_visibility(vec3 p, vec3 n) {
     float d = length(L);
     float radius = u_lookup == 1 ? 0.7072 : (u_lookup == 2 ? 2.8285 : 1.4143);
     float b = sk_omni_bias(d, dot(n, L / d), sk_omni_cube_texel_angle(u_size), radius, 1.4835, u_storage);
-    if (u_lookup == 1) return sk_omni_cube_shadow_manual(u_cube_distance, u_light, p, u_range, b);
-    if (u_lookup == 2) return sk_omni_cube_pcf(u_cube, u_light, p, u_range, b, u_size, 1);
-    return sk_omni_cube_shadow(u_cube, u_light, p, u_range, b);
+    if (u_lookup == 1) return sk_omni_cube_shadow_manual(u_cube_distance, vec4(u_light, 1.0), p, u_range, b);
+    if (u_lookup == 2) return sk_omni_cube_pcf(u_cube, vec4(u_light, 1.0), p, u_range, b, u_size, 1);
+    return sk_omni_cube_shadow(u_cube, vec4(u_light, 1.0), p, u_range, b);
 }
 )", log);
         if (!vis) {
@@ -321,10 +321,10 @@ public:
         // frame: axis up, so the seam runs around the horizon
         shadowkit::OmniParaboloidFrame fr;
         median_cpu_ms(std::max(ctx.frames, 1), [&] {
-            fr = shadowkit::omni_paraboloid_frame(light, {0.f, 1.f, 0.f}, {0.f, 0.f, 1.f});
+            fr = shadowkit::omni_paraboloid_frame(glm::vec4(light, 1.f), {0.f, 1.f, 0.f}, {0.f, 0.f, 1.f});
             return true;
         }, r.cpu_ms);
-        if (fr.status != shadowkit::OmniStatus::Ok) return RunResult::failure("omni_paraboloid_frame failed");
+        if (fr.status != shadowkit::Status::Ok) return RunResult::failure("omni_paraboloid_frame failed");
 
         // tessellate the casters (once per light position: reported as tess_ms, not per frame)
         const auto t_tess = Clock::now();
@@ -342,7 +342,7 @@ public:
                     const float longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
                     const auto ml = shadowkit::omni_paraboloid_max_edge_length(D, static_cast<std::uint32_t>(size),
                                                                                static_cast<float>(tess), max_r);
-                    if (ml.status != shadowkit::OmniStatus::Ok) continue;
+                    if (ml.status != shadowkit::Status::Ok) continue;
                     if (ml.length > 0.f && std::isfinite(ml.length))
                         n = std::max(n, static_cast<int>(std::ceil(longest / ml.length)));
                     else if (!(ml.length > 0.f))
@@ -453,7 +453,7 @@ float technique_visibility(vec3 p, vec3 n) {
                 const float D = point_triangle_distance(light, a, b, c);
                 const float longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)}) / float(max_n);
                 const auto e = shadowkit::omni_paraboloid_edge_error(longest, D, static_cast<std::uint32_t>(size), max_r);
-                if (e.status == shadowkit::OmniStatus::Ok) worst = std::max(worst, double(e.texels));
+                if (e.status == shadowkit::Status::Ok) worst = std::max(worst, double(e.texels));
             }
         }
         r.quality.push_back({"edge_error_bound_texels", worst});

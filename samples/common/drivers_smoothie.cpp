@@ -1,6 +1,7 @@
 // Technique driver: smoothies (Chan & Durand 2003, "Rendering Fake Soft Shadows with Smoothies").
 // Composes silhouette.hpp (edge adjacency once per scene, facing + silhouette per caster mesh per
-// frame from the light's centre), smoothie.hpp (edge quads, corners, valence > 2 vertices) and
+// frame from the light's center), smoothie.hpp (edge quads, corners, valence > 2 vertices; per-edge
+// scratch from the cache, no allocation per frame) and
 // glsl/smoothie.glsl (three passes) the way a user would:
 //   1. linear-depth shadow map (R32F colour + a depth buffer, GL_LESS, cleared to 1e30);
 //   2. smoothie buffer (RG32F = (depth b, alpha), one pass with glBlendEquation(GL_MIN), smoothie
@@ -14,15 +15,15 @@
 //      visibility_fragment_shader's technique_visibility(p, n), with the receiver-plane depth
 //      gradient of the G-buffer's plane (p, n) and a relative linear-depth bias.
 // The light frustum is fit_light() (the plain shadow map's), smoothie width t in light NDC.
-// The umbra is the hard shadow of the light's centre and the smoothie penumbra lies wholly outside
-// it (the area light's is centred on the hard edge): with the header's width mapping the shadows are
+// The umbra is the hard shadow of the light's center and the smoothie penumbra lies wholly outside
+// it (the area light's is centered on the hard edge): with the header's width mapping the shadows are
 // too big by half a penumbra, which the report shows as a larger error than the hard map's.
 //
 // Params: t (light NDC; 0 = no smoothie geometry: the hard 2x2 test on the linear map) or t = -1:
 // "t from the light": t = s w / b (smoothie.hpp smoothie_width_for_area_light) with s = P[0][0] of
 // the light projection, w the emitter width (rect edge, disk / sphere diameter; 0 for spot and
 // directional lights, which gives t = 0) and b = the median linear depth (distance from the light
-// along its axis) of the silhouette-edge endpoints seen from the light's centre: the typical depth
+// along its axis) of the silhouette-edge endpoints seen from the light's center: the typical depth
 // of the edges that cast the penumbrae. size: shadow-map = smoothie-buffer resolution. remap: 1
 // (default) eq. 1 in the smoothie pass, 0 in the final pass. Point lights are refused (one frustum).
 #include <shadowkit/silhouette.hpp>
@@ -35,7 +36,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
 
 #include "driver_util.hpp"
 
@@ -53,22 +53,18 @@ float emitter_width(const Light& L) {
     return L.type == LightType::Rect ? L.size : 2.f * L.size;
 }
 
-// The light's centre for the silhouette: a point (w = 1), or a direction towards the light (w = 0).
+// The light's center for the silhouette: a point (w = 1), or a direction towards the light (w = 0).
 glm::vec4 silhouette_light(const Light& L) {
     if (L.type == LightType::Directional) return glm::vec4(-glm::normalize(L.direction), 0.f);
     return glm::vec4(L.position, 1.f);
 }
 
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | std::uint64_t(b); }
-
 struct CasterData {
     std::size_t mesh = 0;
     shadowkit::SilhouetteAdjacency adj;
-    std::vector<glm::vec3> face_normal;                         // per kept face, unit (0 if degenerate)
-    std::unordered_map<std::uint64_t, std::uint32_t> directed;  // (a, b) -> a kept face traversing a -> b
     std::vector<std::uint8_t> facing;
     std::vector<std::uint32_t> sil;       // 2 per silhouette edge (capacity max_silhouette_edges)
-    std::vector<glm::vec3> sil_normals;   // 2 per silhouette edge: lit face, other face (0 = boundary)
+    std::vector<shadowkit::SmoothieScratch> scratch;  // smoothie_build's per-edge scratch (capacity max_silhouette_edges)
 };
 
 struct SceneCache {
@@ -235,21 +231,10 @@ bool Smoothie::prepare(const Scene& scene, const glm::mat4& light_view, const gl
         c.mesh = i;
         if (!build_caster_adjacency(m, c.adj, cache_.error)) return false;
         const std::size_t fc = c.adj.face_count();
-        c.face_normal.resize(fc);
-        c.directed.reserve(3 * fc);
-        for (std::size_t f = 0; f < fc; ++f) {
-            const std::uint32_t* v = &c.adj.faces[3 * f];
-            const glm::vec3 a = m.positions[v[0]], b = m.positions[v[1]], d = m.positions[v[2]];
-            const glm::vec3 n = glm::cross(b - a, d - a);
-            const float len = glm::length(n);
-            c.face_normal[f] = len > 0.f && std::isfinite(len) ? n / len : glm::vec3(0.f);
-            for (int k = 0; k < 3; ++k)
-                c.directed.emplace(edge_key(v[k], v[(k + 1) % 3]), static_cast<std::uint32_t>(f));
-        }
         c.facing.assign(fc, 0);
         const std::size_t max_sil = c.adj.max_silhouette_edges();
         c.sil.assign(2 * max_sil, 0);
-        c.sil_normals.assign(2 * max_sil, glm::vec3(0.f));
+        c.scratch.resize(shadowkit::smoothie_scratch_capacity(max_sil));
         cache_.vertex_capacity += shadowkit::smoothie_vertex_capacity(max_sil);
         cache_.casters.push_back(std::move(c));
     }
@@ -278,8 +263,9 @@ bool Smoothie::prepare(const Scene& scene, const glm::mat4& light_view, const gl
     return true;
 }
 
-// The per-frame CPU work: facing + silhouette per caster mesh, the two face normals of every
-// silhouette edge, smoothie geometry appended to vb (sized to the worst case by prepare()).
+// The per-frame CPU work: facing + silhouette per caster mesh, smoothie geometry appended to vb
+// (sized to the worst case by prepare()); the outward side of each edge comes from its orientation
+// (silhouette.hpp emits it as in the lit face), so no face normals are looked up.
 void Smoothie::build_frame(const Scene& scene, const glm::mat4& light_vp, float t,
                            std::vector<shadowkit::SmoothieVertex>& vb, FrameStats& st) {
     st = FrameStats{};
@@ -298,26 +284,20 @@ void Smoothie::build_frame(const Scene& scene, const glm::mat4& light_vp, float 
                                                       nullptr, 0);
         const std::size_t n = sr.count / 2;
         st.silhouette_edges += n;
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::uint32_t a = c.sil[2 * i], b = c.sil[2 * i + 1];
-            const auto f0 = c.directed.find(edge_key(a, b));  // the lit face (a -> b)
-            const auto f1 = c.directed.find(edge_key(b, a));
-            c.sil_normals[2 * i] = f0 != c.directed.end() ? c.face_normal[f0->second] : glm::vec3(0.f);
-            c.sil_normals[2 * i + 1] = f1 != c.directed.end() ? c.face_normal[f1->second] : glm::vec3(0.f);
-        }
         shadowkit::SmoothieEdges in;
         in.positions = m.positions.data();
         in.position_count = m.positions.size();
         in.edges = c.sil.data();
         in.edge_count = n;
-        in.face_normals = c.sil_normals.data();
-        const auto r = shadowkit::build_smoothies(in, light_vp, sp, vb.data() + st.vertices, vb.size() - st.vertices);
-        if (r.status == shadowkit::SmoothieStatus::BufferTooSmall) st.truncated = true;
-        else if (r.status != shadowkit::SmoothieStatus::Ok) {
-            st.error = "build_smoothies status " + std::to_string(static_cast<int>(r.status));
+        // no face normals: the silhouette's edges run as in their lit face, which decides the side
+        const auto r = shadowkit::smoothie_build(in, light_vp, sp, c.scratch.data(), c.scratch.size(), vb.data() + st.vertices,
+                                                 vb.size() - st.vertices);
+        if (r.status == shadowkit::Status::BufferTooSmall) st.truncated = true;
+        else if (r.status != shadowkit::Status::Ok) {
+            st.error = std::string("smoothie_build status ") + shadowkit::status_name(r.status);
             return;
         }
-        st.vertices += r.vertices_written;
+        st.vertices += r.count;
         st.corners += r.corners;
         st.caps += r.caps;
         st.fans += r.fans;
@@ -351,7 +331,9 @@ RunResult Smoothie::run(const RunContext& ctx, const ParamSet& params) {
             if (!cache_.has_median) return RunResult::failure("t from the light: no silhouette inside the light frustum");
             b_used = cache_.median_depth;
             if (lm.perspective) {
-                t = shadowkit::smoothie_width_for_area_light(w, b_used, lm.proj[0][0]);
+                const shadowkit::SmoothieValue tv = shadowkit::smoothie_width_for_area_light(w, b_used, lm.proj[0][0]);
+                if (tv.status != shadowkit::Status::Ok) return RunResult::failure("smoothie_width_for_area_light failed");
+                t = tv.value;
             } else {
                 // orthographic: agree at the median receiver depth only (smoothie.hpp): t = theta s r_ref
                 t = 0.f;

@@ -2,7 +2,7 @@
 // 2003; Lengyel GDC 2005) composed from silhouette.hpp, shadow_volume.hpp, penumbra_wedge.hpp,
 // infinite_projection.hpp and glsl/shadow_volume.glsl + glsl/penumbra_wedge.glsl, the way a user would.
 //
-// Light. The wedges need a spherical light (centre c, radius r). Sphere lights: r = size. Disk lights:
+// Light. The wedges need a spherical light (center c, radius r). Sphere lights: r = size. Disk lights:
 // r = size (the disk's radius; the header models every light as the disk through c facing the receiver,
 // so a tilted view of the real disk is not modelled). Rect lights (square, edge = size): rect_radius = 1
 // (default) r = size / sqrt(pi), the disk of the square's area (same total occlusion in the middle of a
@@ -13,15 +13,15 @@
 // the reference uses the scene's own light).
 //
 // Per frame, on the CPU (cpu_ms, median): exactly the shadow_volume driver's stage for the hard volume
-// from the light centre (facing, silhouette, side quads, LitOnly caps for z-fail casters, per-caster
+// from the light center (facing, silhouette, side quads, LitOnly caps for z-fail casters, per-caster
 // z-pass / z-fail choice, shadow_volume_scissor), then one wedge per silhouette edge (penumbra_wedge;
 // skipped statuses are counted in work "wedges_skipped"), its hull (penumbra_wedge_hull, extent chosen so
 // that the hull contains every wedge point inside the receiver bounds: extent = max distance from the
 // apex edge to a receiver-box corner / min over the four rays of dot(ray, axis)), and, with scissor or
-// depth bounds on, its scissor rectangle and depth bounds: penumbra_points_scissor of the hull clipped to
-// the receiver box (Lengyel clips to the light's bounds; the unclipped hull, penumbra_wedge_scissor,
-// reaches below the floor and gave depth bounds that culled nothing); a wedge whose clipped hull is
-// empty is culled. Face choice per wedge: the hull's front faces (Lengyel: the depth test
+// depth bounds on, its scissor rectangle and depth bounds: penumbra_wedge_scissor_in_box, the hull
+// clipped to the receiver box (Lengyel clips to the light's bounds; the unclipped hull,
+// penumbra_wedge_scissor, reaches below the floor and gave depth bounds that culled nothing); a wedge
+// whose clipped hull is empty is culled. Face choice per wedge: the hull's front faces (Lengyel: the depth test
 // LEQUAL against the scene depth then rejects hull parts hidden behind the receivers) when every hull
 // vertex lies beyond the near plane; otherwise (the camera is inside the wedge, or the hull crosses the
 // near plane) its back faces with depth test GEQUAL: for a receiver point p inside the convex hull the
@@ -98,7 +98,7 @@ float wedge_light_radius(const Light& L, int rect_radius, float scale) {
             const glm::vec3 d = glm::normalize(L.direction);
             const glm::vec3 a = std::abs(d.y) < 0.9f ? glm::vec3(0.f, 1.f, 0.f) : glm::vec3(1.f, 0.f, 0.f);
             const glm::vec3 t = glm::normalize(glm::cross(a, d)), b = glm::cross(d, t);
-            r = shadowkit::penumbra_rect_bounding_sphere(L.position, 0.5f * L.size * t, 0.5f * L.size * b).radius;
+            r = shadowkit::penumbra_rect_bounding_sphere(glm::vec4(L.position, 1.f), 0.5f * L.size * t, 0.5f * L.size * b).light.radius;
         } else {
             r = L.size / std::sqrt(3.14159265358979f);
         }
@@ -106,63 +106,6 @@ float wedge_light_radius(const Light& L, int rect_radius, float scale) {
     return std::max(0.f, r * scale);
 }
 
-
-// Vertices of (wedge hull) intersected with the receiver box [lo, hi] (Lengyel: the wedge's bounds
-// clipped to the region that can receive the light): hull faces clipped against the box planes
-// (Sutherland-Hodgman; gives hull vertices in the box, hull edges x box faces and box edges x hull
-// faces) plus the box corners inside the hull. Returns the count written to out (at most 8 * 9 + 8).
-std::size_t clip_hull_to_box(const shadowkit::PenumbraWedgeHull& h, const glm::vec3& lo, const glm::vec3& hi,
-                             glm::vec4* out, std::size_t cap) {
-    std::size_t n = 0;
-    glm::dvec3 v[6];
-    for (int i = 0; i < 6; ++i) v[i] = glm::dvec3(h.vertices[i]);
-    glm::dvec3 centroid(0.0);
-    for (const auto& x : v) centroid += x / 6.0;
-    glm::dvec3 fn[8];
-    double fd[8];
-    for (int t = 0; t < 8; ++t) {
-        const glm::dvec3 a = v[h.indices[3 * t]], b = v[h.indices[3 * t + 1]], c = v[h.indices[3 * t + 2]];
-        fn[t] = glm::cross(b - a, c - a);  // outward (hull winding)
-        fd[t] = -glm::dot(fn[t], a);
-        glm::dvec3 poly[16], tmp[16];
-        int pn = 3;
-        poly[0] = a;
-        poly[1] = b;
-        poly[2] = c;
-        for (int k = 0; k < 6 && pn > 0; ++k) {
-            const int axis = k / 2;
-            const bool upper = (k % 2) == 1;
-            const double lim = upper ? double(hi[axis]) : double(lo[axis]);
-            auto inside = [&](const glm::dvec3& q) { return upper ? q[axis] <= lim : q[axis] >= lim; };
-            int tn = 0;
-            for (int i = 0; i < pn && tn < 15; ++i) {
-                const glm::dvec3& P = poly[i];
-                const glm::dvec3& Q = poly[(i + 1) % pn];
-                const bool ip = inside(P), iq = inside(Q);
-                if (ip) tmp[tn++] = P;
-                if (ip != iq && tn < 16) {
-                    const double s = (lim - P[axis]) / (Q[axis] - P[axis]);
-                    glm::dvec3 X = P + s * (Q - P);
-                    X[axis] = lim;
-                    tmp[tn++] = X;
-                }
-            }
-            pn = tn;
-            for (int i = 0; i < pn; ++i) poly[i] = tmp[i];
-        }
-        for (int i = 0; i < pn && n < cap; ++i) out[n++] = glm::vec4(glm::vec3(poly[i]), 1.f);
-    }
-    for (int i = 0; i < 8 && n < cap; ++i) {
-        const glm::dvec3 q((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
-        bool in = true;
-        for (int t = 0; t < 8 && in; ++t) {
-            const double l = glm::length(fn[t]);
-            if (l > 0.0) in = glm::dot(fn[t], q) + fd[t] <= 1e-6 * l * (1.0 + glm::length(q));
-        }
-        if (in) out[n++] = glm::vec4(glm::vec3(q), 1.f);
-    }
-    return n;
-}
 
 // One wedge as the fragment shader reads it (std430: 7 vec4).
 struct WedgeGpu {
@@ -172,7 +115,7 @@ struct WedgeGpu {
 struct WedgeDraw {
     bool back = false;     // draw the hull's back faces
     bool visible = true;   // scissor rectangle not empty (always true without culling)
-    shadowkit::PenumbraScissor sc;
+    shadowkit::ScissorRect sc;
 };
 
 struct FrameStats {
@@ -195,7 +138,7 @@ struct SkWedge { vec4 outer_bound; vec4 inner_bound; vec4 side0; vec4 side1; vec
 layout(std430, binding = 0) readonly buffer SkWedges { SkWedge u_wedges[]; };
 layout(binding = 0) uniform sampler2D u_gbuf_position;
 layout(binding = 2) uniform sampler2D u_scene_depth;
-uniform vec4 u_sphere_light;  // centre, radius
+uniform vec4 u_sphere_light;  // center, radius
 uniform int u_emulate_bounds;
 uniform int u_count_reached;  // instrumented pass: stop after the depth-bounds test
 flat in uint v_wedge;
@@ -209,7 +152,7 @@ void main() {
     if (pk.w < 0.5) discard;  // background
     vec4 p = vec4(pk.xyz, 1.0);
     if (!sk_wedge_inside4(p, w.outer_bound, w.inner_bound, w.side0, w.side1)) discard;
-    o_coverage = sk_wedge_edge_coverage(w.e0.xyz, w.e1.xyz, u_sphere_light.xyz, u_sphere_light.w, pk.xyz);
+    o_coverage = sk_wedge_edge_coverage(w.e0.xyz, w.e1.xyz, vec4(u_sphere_light.xyz, 1.0), u_sphere_light.w, pk.xyz);
 }
 )";
 // The combine multiplies by sk_emitter_horizon (driver_util): the fraction of the emitter above the
@@ -230,7 +173,7 @@ public:
     std::vector<std::pair<std::string, double>> live_params() const override { return {{"light_scale", 1.0}}; }
     std::string name() const override { return "penumbra_wedges"; }
     std::string description() const override {
-        return "soft shadow volumes: hard stencil volume from the light centre + one penumbra wedge per silhouette "
+        return "soft shadow volumes: hard stencil volume from the light center + one penumbra wedge per silhouette "
                "edge (penumbra_wedge.hpp, glsl/penumbra_wedge.glsl), signed analytic coverage added into R32F; "
                "per-wedge scissor and depth bounds; projection 1 = epsilon-tweaked P_inf";
     }
@@ -278,7 +221,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     if (!shadowkit::silhouette_valid_light(light)) return RunResult::failure("invalid light");
     const bool point = light.w > 0.f;
     shadowkit::PenumbraSphereLight sphere;
-    sphere.centre = scene.light.position;
+    sphere.light_position = glm::vec4(scene.light.position, 1.f);
     sphere.radius = point ? wedge_light_radius(scene.light, rect_radius, light_scale) : 0.f;
     const bool soft = sphere.radius > 0.f;
 
@@ -308,7 +251,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
 
     const volumes::VolumeSetup setup = volumes::make_volume_setup(scene, gpu, light, bounds_vp);
     const glm::vec3 rlo = setup.rlo, rhi = setup.rhi;
-    shadowkit::PenumbraScissorParams wsp;
+    shadowkit::ScissorParams wsp;
     wsp.view_proj = bounds_vp;
     wsp.viewport[2] = W;
     wsp.viewport[3] = H;
@@ -348,7 +291,7 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
             for (std::size_t e = 0; soft && e < d.sil_edges; ++e) {
                 const glm::vec3 e0 = m.positions[c.sil[2 * e]], e1 = m.positions[c.sil[2 * e + 1]];
                 const shadowkit::PenumbraWedge w = shadowkit::penumbra_wedge(e0, e1, sphere);
-                if (w.status != shadowkit::PenumbraWedgeStatus::Ok) {
+                if (w.status != shadowkit::Status::Ok || w.skip != shadowkit::PenumbraWedgeSkip::None) {
                     ++stats.skipped;
                     continue;
                 }
@@ -360,18 +303,16 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
                     cmin = std::min({cmin, glm::dot(w.ray_outer[i], w.axis), glm::dot(w.ray_inner[i], w.axis)});
                 const float extent = dmax / std::max(cmin, 0.05f) * 1.01f;
                 const shadowkit::PenumbraWedgeHull h = shadowkit::penumbra_wedge_hull(w, extent);
-                if (!h.valid) {
+                if (!h.drawable) {
                     ++stats.skipped;
                     continue;
                 }
                 WedgeDraw& wd = wdraws[nw];
                 wd = WedgeDraw{};
                 if (culling) {
-                    // the hull clipped to the receiver box (no clipped vertex: nothing to receive)
-                    glm::vec4 clipped[8 * 16 + 8];
-                    const std::size_t nc = clip_hull_to_box(h, rlo, rhi, clipped, sizeof clipped / sizeof clipped[0]);
-                    wd.sc = nc ? shadowkit::penumbra_points_scissor(clipped, nc, wsp) : shadowkit::PenumbraScissor{};
-                    wd.visible = wd.sc.visible;
+                    // the hull clipped to the receiver box (empty: nothing to receive)
+                    wd.sc = shadowkit::penumbra_wedge_scissor_in_box(h, rlo, rhi, wsp);
+                    wd.visible = wd.sc.status == shadowkit::Status::Ok && wd.sc.visible;
                 }
                 float min_depth = std::numeric_limits<float>::infinity();
                 for (const glm::vec4& hv : h.vertices) min_depth = std::min(min_depth, -(V * hv).z);
@@ -500,8 +441,8 @@ RunResult PenumbraWedges::run(const RunContext& ctx, const ParamSet& params) {
     vol.set_uniforms(draw_vp, light);
     glUseProgram(wedge_prog);
     glUniformMatrix4fv(glGetUniformLocation(wedge_prog, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(draw_vp));
-    glUniform4f(glGetUniformLocation(wedge_prog, "u_sphere_light"), sphere.centre.x, sphere.centre.y, sphere.centre.z,
-                sphere.radius);
+    glUniform4f(glGetUniformLocation(wedge_prog, "u_sphere_light"), sphere.light_position.x, sphere.light_position.y,
+                sphere.light_position.z, sphere.radius);
     const GLint loc_emulate = glGetUniformLocation(wedge_prog, "u_emulate_bounds");
     const GLint loc_count = glGetUniformLocation(wedge_prog, "u_count_reached");
     glUniform1i(loc_count, 0);

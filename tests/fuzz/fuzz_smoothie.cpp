@@ -1,7 +1,9 @@
 // libFuzzer target for include/shadowkit/smoothie.hpp: silhouette edges (positions, indices, face
 // normals, outward hints), light matrices (raw floats or a perspective/ortho light built from the
 // bytes), t, clip conventions and capacities decoded from bytes (NaN/Inf, out-of-range indices and
-// shared vertices included); the scalar helpers get raw floats. Invariants trap on violation.
+// shared vertices included); the scalar helpers get raw floats. Invariants trap on violation:
+// Status::Ok only with finite outputs (issue 19), count <= capacity, nothing written past a capacity,
+// the scratch and vertex sizes reported exactly.
 #include <shadowkit/smoothie.hpp>
 
 #include <glm/ext/matrix_clip_space.hpp>
@@ -42,10 +44,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         check_unit(smoothie_remap_alpha(a, b, rr));
         check_unit(smoothie_falloff(a));
         check_unit(smoothie_visibility_tap(rr, z, b, a, bias));
-        const float w = smoothie_width_for_area_light(a, b, rr), t2 = smoothie_area_light_width(a, b, rr),
-                    pw = smoothie_penumbra_width(a, b, rr, z);
-        if (!(std::isfinite(w) && w >= 0.0f && std::isfinite(t2) && t2 >= 0.0f && std::isfinite(pw) && pw >= 0.0f))
-            __builtin_trap();
+        const SmoothieValue w = smoothie_width_for_area_light(a, b, rr), t2 = smoothie_area_light_width(a, b, rr),
+                            pw = smoothie_penumbra_width(a, b, rr, z);
+        for (const SmoothieValue* v : {&w, &t2, &pw}) {
+            if (v->status == Status::NotRun) __builtin_trap();
+            if (v->status == Status::Ok && !(std::isfinite(v->value) && v->value >= 0.0f)) __builtin_trap();
+        }
         if (std::isfinite(a) && a >= 0.0f && a <= 1.0f && std::isfinite(b) && std::isfinite(rr) && b >= 0.0f && b < rr &&
             rr > 0.0f && smoothie_remap_alpha(a, b, rr) < a * (1.0f - 1e-6f))
             __builtin_trap();  // eq. 1 never darkens: alpha / (1 - b/r) >= alpha
@@ -80,7 +84,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (auto& n : normals) n = r.vec3(raw_pos, 0.01f);
     for (auto& h : hints) h = r.vec3(raw_pos, 0.01f);
     const size_t cap = r.size(4095);
-
+    const bool short_scratch = (flags2 & 8) != 0, null_scratch = (flags2 & 16) != 0;
+    const size_t scap = short_scratch && ne > 0 ? r.size(ne - 1) : ne;
     SmoothieEdges in;
     in.positions = pos.empty() ? nullptr : pos.data();
     in.position_count = np;
@@ -91,22 +96,30 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     std::vector<SmoothieVertex> out(cap + 1);
     std::memset(static_cast<void*>(out.data()), 0, out.size() * sizeof(SmoothieVertex));
-    const SmoothieResult q = build_smoothies(in, M, prm, nullptr, 0);
-    const SmoothieResult res = build_smoothies(in, M, prm, cap ? out.data() : nullptr, cap);
-    if (res.status != q.status && !(q.status == SmoothieStatus::BufferTooSmall || res.status == SmoothieStatus::BufferTooSmall))
+    std::vector<SmoothieScratch> scratch(scap + 1);
+    SmoothieScratch* sp = null_scratch ? nullptr : scratch.data();
+    const SmoothieResult q = smoothie_build(in, M, prm, sp, scap, nullptr, 0);
+    const SmoothieResult res = smoothie_build(in, M, prm, sp, scap, cap ? out.data() : nullptr, cap);
+    if (res.status == Status::NotRun) __builtin_trap();
+    if (null_scratch && scap > 0 && res.status != Status::InvalidArgument) __builtin_trap();  // null with a capacity
+    const bool scratch_short = res.scratch_needed > scap;
+    if (res.scratch_needed > smoothie_scratch_capacity(ne)) __builtin_trap();  // the size query covers it
+    if (scratch_short && res.status != Status::BufferTooSmall) __builtin_trap();
+    if (res.status != q.status && !(q.status == Status::BufferTooSmall || res.status == Status::BufferTooSmall))
         __builtin_trap();
-    if (res.status == SmoothieStatus::Ok || res.status == SmoothieStatus::BufferTooSmall) {
-        if (res.vertex_count != q.vertex_count) __builtin_trap();            // deterministic, capacity-independent
-        if (res.vertices_written > cap || res.vertices_written % 3 != 0) __builtin_trap();
-        if (res.vertex_count > smoothie_vertex_capacity(ne)) __builtin_trap();
-        if (res.vertex_count % 3 != 0) __builtin_trap();
-        if (res.status == SmoothieStatus::Ok && res.vertices_written != res.vertex_count) __builtin_trap();
-        if (res.status == SmoothieStatus::BufferTooSmall && res.vertices_written != cap / 3 * 3) __builtin_trap();
-        if (prm.t == 0.0f && res.vertex_count != 0) __builtin_trap();        // t = 0: hard shadows, no geometry
+    if ((res.status == Status::Ok || res.status == Status::BufferTooSmall) && !scratch_short) {
+        if (res.needed != q.needed) __builtin_trap();            // deterministic, capacity-independent
+        if (res.scratch_needed != (prm.t > 0.0f && ne > 0 ? ne : 0)) __builtin_trap();
+        if (res.count > cap || res.count % 3 != 0) __builtin_trap();
+        if (res.needed > smoothie_vertex_capacity(ne)) __builtin_trap();
+        if (res.needed % 3 != 0) __builtin_trap();
+        if (res.status == Status::Ok && res.count != res.needed) __builtin_trap();
+        if (res.status == Status::BufferTooSmall && res.count != cap / 3 * 3) __builtin_trap();
+        if (prm.t == 0.0f && res.needed != 0) __builtin_trap();        // t = 0: hard shadows, no geometry
         if (prm.t > 0.0f && res.edge_quads + res.skipped_invalid + res.skipped_behind + res.skipped_end_on + res.skipped_no_outward +
                 res.skipped_unprojectable != ne)
             __builtin_trap();  // every edge is accounted for
-        for (size_t k = 0; k < res.vertices_written; ++k) {
+        for (size_t k = 0; k < res.count; ++k) {
             const SmoothieVertex& v = out[k];
             if (!finite_vertex(v)) __builtin_trap();
             check_unit(v.alpha);

@@ -130,7 +130,7 @@ struct CpuModel {
     std::vector<glm::vec3> lit;    // triangles (3 per lit face)
     shadowkit::PenumbraSphereLight light;
     void build(const sk::Scene& s, float radius) {
-        light.centre = s.light.position;
+        light.light_position = glm::vec4(s.light.position, 1.f);
         light.radius = radius;
         const glm::vec4 L(s.light.position, 1.f);
         for (const sk::Mesh& m : s.meshes) {
@@ -147,7 +147,7 @@ struct CpuModel {
         }
     }
     int hard_count(glm::vec3 p) const {
-        const glm::dvec3 o(p), d = glm::dvec3(light.centre) - o;
+        const glm::dvec3 o(p), d = glm::dvec3(glm::vec3(light.light_position)) - o;
         int n = 0;
         for (std::size_t t = 0; t + 2 < lit.size(); t += 3) {
             const glm::dvec3 a(lit[t]), b(lit[t + 1]), c(lit[t + 2]);
@@ -166,7 +166,7 @@ struct CpuModel {
         return n;
     }
     float visibility(glm::vec3 p, int count) const {
-        return shadowkit::penumbra_visibility(edges.data(), edges.size() / 2, light, p, count);
+        return static_cast<float>(shadowkit::penumbra_visibility(edges.data(), edges.size() / 2, light, p, count).value);
     }
 };
 
@@ -366,13 +366,13 @@ TEST_CASE("(f) camera inside a wedge: back faces are drawn for it, front faces a
     bool placed = false;
     for (std::size_t e = 0; e + 1 < cpu.edges.size() && !placed; e += 2) {
         const shadowkit::PenumbraWedge w = shadowkit::penumbra_wedge(cpu.edges[e], cpu.edges[e + 1], cpu.light);
-        if (w.status != shadowkit::PenumbraWedgeStatus::Ok) continue;
+        if (w.status != shadowkit::Status::Ok || w.skip != shadowkit::PenumbraWedgeSkip::None) continue;
         const glm::vec3 a = 0.5f * (w.apex[0] + w.apex[1]);
         if (a.x > -0.2f || a.y < 0.9f) continue;  // a top edge of the box (x < -0.3)
         const glm::vec3 dir = glm::normalize(w.ray_outer[0] + w.ray_outer[1] + w.ray_inner[0] + w.ray_inner[1]);
         if (dir.y > -0.1f) continue;
         const glm::vec3 eye = a + dir * ((a.y - 0.35f) / -dir.y);
-        if (!shadowkit::point_in_wedge(eye, w)) continue;
+        if (!shadowkit::penumbra_point_in_wedge(eye, w)) continue;
         s.camera.eye = eye;
         s.camera.target = eye + glm::vec3(dir.x, 0.f, dir.z) * 2.f - glm::vec3(0.f, 0.6f, 0.f);
         placed = true;

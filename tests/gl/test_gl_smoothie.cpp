@@ -195,8 +195,9 @@ struct CardScene {
         shadowkit::SmoothieParams p;
         p.t = t;
         std::vector<shadowkit::SmoothieVertex> v(shadowkit::smoothie_vertex_capacity(4));
-        res = shadowkit::build_smoothies(in, vp, p, v.data(), v.size());
-        v.resize(res.vertices_written);
+        std::vector<shadowkit::SmoothieScratch> scratch(shadowkit::smoothie_scratch_capacity(4));
+        res = shadowkit::smoothie_build(in, vp, p, scratch.data(), scratch.size(), v.data(), v.size());
+        v.resize(res.count);
         return v;
     }
 };
@@ -394,8 +395,8 @@ TEST_CASE("(b) t = 0 builds no geometry and is bit-identical to an independent h
     skgl::Target sm, sb;
     shadowkit::SmoothieResult res;
     render_buffers(cs, P, N, 0.f, false, sm, sb, res);
-    CHECK(res.status == shadowkit::SmoothieStatus::Ok);
-    CHECK(res.vertex_count == 0);
+    CHECK(res.status == shadowkit::Status::Ok);
+    CHECK(res.needed == 0);
     // an oblique camera looking at the card and its shadow on the floor
     const int w = 320, h = 240;
     const glm::mat4 cam = glm::perspective(0.9f, float(w) / float(h), 0.1f, 50.f) *

@@ -70,6 +70,9 @@ double rel_err(const glm::mat4& a, const glm::mat4& b) {
     return num / std::max(den, 1e-30);
 }
 
+// A point light at p (w = 1), as the header takes it.
+glm::vec4 pt(glm::vec3 p) { return glm::vec4(p, 1.f); }
+
 glm::vec3 random_unit(std::mt19937& rng) {
     std::normal_distribution<float> n(0.f, 1.f);
     for (;;) {
@@ -200,7 +203,7 @@ TEST_CASE("face matrices equal glm::lookAt / glm::perspective closed forms for e
     const float fov = glm::radians(90.f);
     for (int it = 0; it < 2000; ++it) {
         OmniCubeInput in;
-        in.light = {u(rng), u(rng), u(rng)};
+        in.light_position = pt({u(rng), u(rng), u(rng)});
         in.near_z = std::pow(10.f, lg(rng) - 1.f);
         in.far_z = in.near_z * std::pow(10.f, 1.f + std::fabs(lg(rng)));
         in.clip_depth = (it & 1) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
@@ -208,7 +211,7 @@ TEST_CASE("face matrices equal glm::lookAt / glm::perspective closed forms for e
         const bool inf = (it % 7) == 3;
         if (inf) in.far_z = kInf;
         const OmniCubeMatrices m = omni_cube_matrices(in);
-        REQUIRE(m.status == OmniStatus::Ok);
+        REQUIRE(m.status == Status::Ok);
         glm::mat4 P;
         const float n = in.near_z, f = in.far_z;
         if (in.clip_depth == ClipDepth::NegativeOneToOne && !in.reversed_z)
@@ -239,7 +242,7 @@ TEST_CASE("face matrices equal glm::lookAt / glm::perspective closed forms for e
         for (int face = 0; face < 6; ++face) {
             glm::vec3 fw, up;
             spec_face_camera(face, fw, up);
-            const glm::mat4 V = glm::lookAt(in.light, in.light + fw, up);
+            const glm::mat4 V = glm::lookAt(glm::vec3(in.light_position), glm::vec3(in.light_position) + fw, up);
             CHECK(rel_err(m.view[face], V) < 1e-6);
         }
     }
@@ -248,20 +251,20 @@ TEST_CASE("face matrices equal glm::lookAt / glm::perspective closed forms for e
 TEST_CASE("face view-projections reproduce the GL cube lookup coordinates (s, t) of the spec table") {
     std::mt19937 rng(12);
     OmniCubeInput in;
-    in.light = {0.3f, -1.2f, 2.f};
+    in.light_position = pt({0.3f, -1.2f, 2.f});
     in.near_z = 0.01f;
     in.far_z = 100.f;
     const OmniCubeMatrices m = omni_cube_matrices(in);
-    REQUIRE(m.status == OmniStatus::Ok);
+    REQUIRE(m.status == Status::Ok);
     double worst = 0;
     for (int it = 0; it < 200000; ++it) {
         const glm::vec3 d = random_unit(rng) * 5.f;
         const OmniFaceHit h = omni_cube_face(d);
-        REQUIRE(h.status == OmniStatus::Ok);
+        REQUIRE(h.status == Status::Ok);
         const int face = int(h.face);
         const glm::dvec2 st = spec_st(face, glm::dvec3(d));
         worst = std::max(worst, std::max(std::fabs(st.x - h.st.x), std::fabs(st.y - h.st.y)));
-        const glm::vec4 c = m.view_proj[face] * glm::vec4(in.light + d, 1.f);
+        const glm::vec4 c = m.view_proj[face] * glm::vec4(glm::vec3(in.light_position) + d, 1.f);
         worst = std::max(worst, std::fabs((c.x / c.w) * 0.5 + 0.5 - st.x));
         worst = std::max(worst, std::fabs((c.y / c.w) * 0.5 + 0.5 - st.y));
         CHECK(c.w > 0.f);
@@ -278,10 +281,10 @@ TEST_CASE("every direction maps to exactly one face: millions of random and adve
     auto check = [&](glm::vec3 d) {
         const OmniFaceHit h = omni_cube_face(d);
         if (!(glm::length(glm::dvec3(d)) > 0)) {
-            CHECK(h.status == OmniStatus::InvalidDirection);
+            CHECK(h.status == Status::InvalidArgument);
             return;
         }
-        REQUIRE(h.status == OmniStatus::Ok);
+        REQUIRE(h.status == Status::Ok);
         int count = 0, which = -1;
         for (int f = 0; f < 6; ++f)
             if (owns(f, d)) {
@@ -297,7 +300,7 @@ TEST_CASE("every direction maps to exactly one face: millions of random and adve
         const float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
         if ((ax == ay && ax >= az) || (ay == az && ay >= ax) || (ax == az && ax >= ay)) ++ties;
         const OmniDirection back = omni_cube_direction(h.face, h.st);
-        REQUIRE(back.status == OmniStatus::Ok);
+        REQUIRE(back.status == Status::Ok);
         const glm::dvec3 dn = glm::normalize(glm::dvec3(d));
         const double e = glm::length(glm::dvec3(back.direction) - dn);
         worst_round_trip = std::max(worst_round_trip, e);
@@ -326,10 +329,10 @@ TEST_CASE("every direction maps to exactly one face: millions of random and adve
     CHECK(checked > 2000000);
     CHECK(ties > 100000);
     CHECK(worst_round_trip < 1e-6);
-    CHECK(omni_cube_face({kNaN, 1.f, 0.f}).status == OmniStatus::InvalidDirection);
-    CHECK(omni_cube_face({kInf, 1.f, 0.f}).status == OmniStatus::InvalidDirection);
-    CHECK(omni_cube_direction(static_cast<OmniCubeFace>(9), {0.5f, 0.5f}).status == OmniStatus::InvalidArgument);
-    CHECK(omni_cube_direction(OmniCubeFace::PositiveY, {kNaN, 0.5f}).status == OmniStatus::InvalidArgument);
+    CHECK(omni_cube_face({kNaN, 1.f, 0.f}).status == Status::NonFinite);
+    CHECK(omni_cube_face({kInf, 1.f, 0.f}).status == Status::NonFinite);
+    CHECK(omni_cube_direction(static_cast<OmniCubeFace>(9), {0.5f, 0.5f}).status == Status::InvalidArgument);
+    CHECK(omni_cube_direction(OmniCubeFace::PositiveY, {kNaN, 0.5f}).status == Status::NonFinite);
 }
 
 TEST_CASE("texel angles bound the angle between directions of texels a given distance apart") {
@@ -348,7 +351,7 @@ TEST_CASE("texel angles bound the angle between directions of texels a given dis
     std::mt19937 rng(14);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (std::uint32_t size : {16u, 256u, 1024u}) {
-        const double ang = omni_cube_texel_angle(size);
+        const double ang = omni_cube_texel_angle(size).value;
         double worst = 0;
         for (int it = 0; it < 20000; ++it) {
             const int face = int(u(rng) * 5.999);
@@ -367,13 +370,18 @@ TEST_CASE("texel angles bound the angle between directions of texels a given dis
             const glm::dvec2 a(r * std::cos(phi), r * std::sin(phi));
             const double k = 2.0 * u(rng) + 0.05, psi = 6.283185307 * u(rng);
             const glm::dvec2 b = a + 2.0 * k / size * glm::dvec2(std::cos(psi), std::sin(psi));
-            worst_dp = std::max(worst_dp, angle(dp_dir(a), dp_dir(b)) / (k * omni_paraboloid_texel_angle(size, float(r))));
+            worst_dp = std::max(worst_dp, angle(dp_dir(a), dp_dir(b)) / (k * omni_paraboloid_texel_angle(size, float(r)).value));
         }
         MESSAGE("paraboloid size " << size << ": max angle / bound = " << worst_dp);
         CHECK(worst_dp <= 1.0 + 1e-6);
         CHECK(worst_dp > 0.9);
     }
-    CHECK(omni_cube_texel_angle(0) == 0.f);
+    // issue 19: size 0 returned an angle of 0 (a bias of 0, acne) with no status
+    CHECK(omni_cube_texel_angle(0).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_texel_angle(0, 0.5f).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_texel_angle(64, kNaN).status == Status::NonFinite);
+    CHECK(omni_paraboloid_texel_angle(64, 3e38f).status == Status::Ok);
+    CHECK(std::isfinite(omni_paraboloid_texel_angle(64, 3e38f).value));
 }
 
 // =============================================================================== dual paraboloid
@@ -384,11 +392,11 @@ TEST_CASE("paraboloid projection round trip error < 1e-6 over the sphere, and th
     std::size_t n = 0;
     auto check_dir = [&](glm::vec3 d) {
         const OmniParaboloidPoint p = omni_paraboloid_project(d);
-        REQUIRE(p.status == OmniStatus::Ok);
+        REQUIRE(p.status == Status::Ok);
         CHECK(glm::length(p.xy) <= 1.f + 1e-6f);
         CHECK((p.hemisphere == OmniHemisphere::Front) == (d.z >= 0.f));
         const OmniDirection b = omni_paraboloid_unproject(p.hemisphere, p.xy);
-        REQUIRE(b.status == OmniStatus::Ok);
+        REQUIRE(b.status == Status::Ok);
         worst = std::max(worst, glm::length(glm::dvec3(b.direction) - glm::normalize(glm::dvec3(d))));
         ++n;
     };
@@ -436,32 +444,40 @@ TEST_CASE("paraboloid projection round trip error < 1e-6 over the sphere, and th
     CHECK(worst_xy < 1e-6);
     CHECK(worst_seam < 1e-6);
     // stiff: zero, NaN, Inf; huge xy
-    CHECK(omni_paraboloid_project({0, 0, 0}).status == OmniStatus::InvalidDirection);
-    CHECK(omni_paraboloid_project({kNaN, 0, 1}).status == OmniStatus::InvalidDirection);
-    CHECK(omni_paraboloid_project({kInf, 0, 1}).status == OmniStatus::InvalidDirection);
-    CHECK(omni_paraboloid_project({1e-38f, 0, 0}).status == OmniStatus::Ok);
-    CHECK(omni_paraboloid_project({3e38f, 3e38f, 3e38f}).status == OmniStatus::Ok);
+    CHECK(omni_paraboloid_project({0, 0, 0}).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_project({kNaN, 0, 1}).status == Status::NonFinite);
+    CHECK(omni_paraboloid_project({kInf, 0, 1}).status == Status::NonFinite);
+    CHECK(omni_paraboloid_project({1e-38f, 0, 0}).status == Status::Ok);
+    CHECK(omni_paraboloid_project({3e38f, 3e38f, 3e38f}).status == Status::Ok);
     const OmniDirection far_xy = omni_paraboloid_unproject(OmniHemisphere::Front, {3e38f, 3e38f});
-    CHECK(far_xy.status == OmniStatus::Ok);
+    CHECK(far_xy.status == Status::Ok);
     CHECK(far_xy.direction.z < -0.999f);
-    CHECK(omni_paraboloid_unproject(OmniHemisphere::Front, {kNaN, 0}).status == OmniStatus::InvalidArgument);
-    CHECK(omni_paraboloid_unproject(static_cast<OmniHemisphere>(7), {0, 0}).status == OmniStatus::InvalidArgument);
+    CHECK(omni_paraboloid_unproject(OmniHemisphere::Front, {kNaN, 0}).status == Status::NonFinite);
+    CHECK(omni_paraboloid_unproject(static_cast<OmniHemisphere>(7), {0, 0}).status == Status::InvalidArgument);
 }
 
 TEST_CASE("paraboloid frame: right-handed, light at the origin, axis to +z; bad input statuses") {
     const glm::vec3 light(1.f, 2.f, 3.f), axis(0.f, 2.f, 0.f), up(0.f, 0.f, 1.f);
-    const OmniParaboloidFrame fr = omni_paraboloid_frame(light, axis, up);
-    REQUIRE(fr.status == OmniStatus::Ok);
+    const OmniParaboloidFrame fr = omni_paraboloid_frame(pt(light), axis, up);
+    REQUIRE(fr.status == Status::Ok);
     const glm::vec4 o = fr.view * glm::vec4(light, 1.f);
     CHECK(glm::length(glm::vec3(o)) < 1e-6f);
     const glm::vec4 a = fr.view * glm::vec4(light + glm::vec3(0, 1, 0), 1.f);
     CHECK(std::fabs(a.z - 1.f) < 1e-6f);
     CHECK(glm::determinant(glm::mat3(fr.view)) > 0.999f);
-    CHECK(omni_paraboloid_frame(light, {0, 1, 0}, {0, 3, 0}).status == OmniStatus::InvalidDirection);
-    CHECK(omni_paraboloid_frame(light, {0, 0, 0}, up).status == OmniStatus::InvalidDirection);
-    CHECK(omni_paraboloid_frame({kNaN, 0, 0}, axis, up).status == OmniStatus::InvalidLight);
-    CHECK(omni_paraboloid_frame(light, {kInf, 0, 0}, up).status == OmniStatus::InvalidDirection);
-    CHECK(omni_paraboloid_frame({1e6f, 1e6f, 1e6f}, axis, up).status == OmniStatus::Ok);
+    CHECK(omni_paraboloid_frame(pt(light), {0, 1, 0}, {0, 3, 0}).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_frame(pt(light), {0, 0, 0}, up).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_frame(pt({kNaN, 0, 0}), axis, up).status == Status::InvalidLight);
+    CHECK(omni_paraboloid_frame(pt(light), {kInf, 0, 0}, up).status == Status::NonFinite);
+    // a directional light has no position for the paraboloids
+    CHECK(omni_paraboloid_frame(glm::vec4(0, 1, 0, 0), axis, up).status == Status::InvalidLight);
+    CHECK(omni_paraboloid_frame(glm::vec4(0.f), axis, up).status == Status::InvalidLight);
+    CHECK(omni_paraboloid_frame(glm::vec4(1, 2, 3, -1), axis, up).status == Status::InvalidLight);
+    // w != 1: the light is at xyz / w
+    const OmniParaboloidFrame fw = omni_paraboloid_frame(glm::vec4(2.f * light, 2.f), axis, up);
+    REQUIRE(fw.status == Status::Ok);
+    CHECK(glm::length(glm::vec3(fw.view * glm::vec4(light, 1.f))) < 1e-5f);
+    CHECK(omni_paraboloid_frame(pt({1e6f, 1e6f, 1e6f}), axis, up).status == Status::Ok);
 }
 
 namespace {
@@ -506,7 +522,7 @@ TEST_CASE("tessellation bound >= brute-force deviation of edge images, attained 
         const double L = glm::length(b - a), D = segment_distance_to_origin(a, b);
         if (!(D > 1e-3)) continue;
         const OmniEdgeErrorResult e = omni_paraboloid_edge_error(float(L), float(D), size);
-        REQUIRE(e.status == OmniStatus::Ok);
+        REQUIRE(e.status == Status::Ok);
         const double brute = brute_edge_deviation(a, b, 2000) * to_texels;
         if (brute > double(e.texels) * (1.0 + 1e-5) + 1e-6) ++violations;
         if (e.texels > 1e-3f) {
@@ -533,23 +549,30 @@ TEST_CASE("tessellation bound >= brute-force deviation of edge images, attained 
     // the inverse gives the longest edge for a tolerance
     for (float tol : {0.25f, 1.f, 4.f, 50.f}) {
         const OmniEdgeLengthResult l = omni_paraboloid_max_edge_length(2.f, size, tol);
-        REQUIRE(l.status == OmniStatus::Ok);
+        REQUIRE(l.status == Status::Ok);
         const OmniEdgeErrorResult e = omni_paraboloid_edge_error(l.length, 2.f, size);
         CHECK(std::fabs(e.texels - tol) < 1e-3f * tol);
         const glm::dvec3 a(2.0, -0.5 * l.length, 0.0), b(2.0, 0.5 * l.length, 0.0);
         CHECK(brute_edge_deviation(a, b, 20000) * to_texels <= double(tol) * 1.0001);
     }
-    CHECK(omni_paraboloid_max_edge_length(1.f, 64, 1e6f).length == kInf);
+    // issue 19: "any edge passes" was Ok with length +inf; now a field, with a finite length
+    const OmniEdgeLengthResult any = omni_paraboloid_max_edge_length(1.f, 64, 1e6f);
+    CHECK(any.status == Status::Ok);
+    CHECK(any.unlimited);
+    CHECK(any.length == std::numeric_limits<float>::max());
+    CHECK_FALSE(omni_paraboloid_max_edge_length(1.f, 64, 1.f).unlimited);
+    // finite input whose length is beyond float
+    CHECK(omni_paraboloid_max_edge_length(3e38f, 64, 10.f).status == Status::Overflow);
     // stiff and bad input
-    CHECK(omni_paraboloid_edge_error(1.f, 0.f, size).status == OmniStatus::Ok);  // edge through the light
+    CHECK(omni_paraboloid_edge_error(1.f, 0.f, size).status == Status::Ok);  // edge through the light
     CHECK(omni_paraboloid_edge_error(0.f, 0.f, size).texels == 0.f);
     CHECK(omni_paraboloid_edge_error(1.f, kInf, size).texels == 0.f);
     CHECK(omni_paraboloid_edge_error(1e-6f, 1e6f, size).texels < 1e-9f);
-    CHECK(omni_paraboloid_edge_error(kNaN, 1.f, size).status == OmniStatus::InvalidArgument);
-    CHECK(omni_paraboloid_edge_error(1.f, -1.f, size).status == OmniStatus::InvalidArgument);
-    CHECK(omni_paraboloid_edge_error(1.f, 1.f, 0).status == OmniStatus::InvalidSize);
-    CHECK(omni_paraboloid_max_edge_length(1.f, 0, 1.f).status == OmniStatus::InvalidSize);
-    CHECK(omni_paraboloid_max_edge_length(kNaN, 64, 1.f).status == OmniStatus::InvalidArgument);
+    CHECK(omni_paraboloid_edge_error(kNaN, 1.f, size).status == Status::NonFinite);
+    CHECK(omni_paraboloid_edge_error(1.f, -1.f, size).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_edge_error(1.f, 1.f, 0).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_max_edge_length(1.f, 0, 1.f).status == Status::InvalidArgument);
+    CHECK(omni_paraboloid_max_edge_length(kNaN, 64, 1.f).status == Status::NonFinite);
     // R > 1 (clip margin): still an upper bound for edges whose image stays within R
     int margin_violations = 0, margin_checked = 0;
     for (int it = 0; it < 3000; ++it) {
@@ -590,12 +613,12 @@ TEST_CASE("bias keeps a planar receiver lit over its filter footprint (brute-for
         in.distance = float(0.01 + 20.0 * u(rng));
         const double theta = 1.45 * u(rng);  // below max_angle (85 deg)
         in.cos_theta = float(std::cos(theta));
-        in.texel_angle = omni_cube_texel_angle(64u << (it % 5));
+        in.texel_angle = omni_cube_texel_angle(64u << (it % 5)).value;
         in.filter_radius = (it & 1) ? 1.41422f : 4.24265f;
         in.range = in.distance * float(1.0 + 3.0 * u(rng));
         in.format = it % 3 == 0 ? DepthFormat::Fixed24 : (it % 3 == 1 ? DepthFormat::Float32 : DepthFormat::Fixed16);
         const OmniBiasResult b = omni_distance_bias(in);
-        REQUIRE(b.status == OmniStatus::Ok);
+        REQUIRE(b.status == Status::Ok);
         CHECK(std::fabs(b.stored_bias - b.bias / in.range) <= 1e-6f * b.stored_bias + 1e-12f);
         // plane at perpendicular distance h = d cos(theta) (theta recomputed from the float input);
         // rays at angle psi from the lookup ray, in the plane of incidence (the extreme) and random
@@ -615,7 +638,7 @@ TEST_CASE("bias keeps a planar receiver lit over its filter footprint (brute-for
             if (c2 > 0) max_drop = std::max(max_drop, d - dp2);
             // what a lookup compares: quantized stored value vs (d - bias) / range
             const OmniDepthResult st = omni_linear_depth(float(dp), in.range, in.format);
-            REQUIRE(st.status == OmniStatus::Ok);
+            REQUIRE(st.status == Status::Ok);
             const double ref = (double(in.distance) - double(b.bias)) / double(in.range);
             if (!(ref <= double(st.value) + 1e-12)) {
                 ++stored_violations;
@@ -628,7 +651,7 @@ TEST_CASE("bias keeps a planar receiver lit over its filter footprint (brute-for
         g.format = DepthFormat::Fixed24;
         g.range = 1e-30f;  // storage term ~0 (range / 2^24)
         const OmniBiasResult bg = omni_distance_bias(g);
-        if (bg.status == OmniStatus::Ok && max_drop > 1e-6 * d)
+        if (bg.status == Status::Ok && max_drop > 1e-6 * d)
             worst_tightness = std::max(worst_tightness, double(bg.bias) / max_drop);
     }
     MESSAGE("bias / brute-force drop (geometric part): max " << worst_tightness);
@@ -637,24 +660,30 @@ TEST_CASE("bias keeps a planar receiver lit over its filter footprint (brute-for
     CHECK(worst_tightness < 1.001);
     // stiff and bad input
     OmniBiasInput in;
+    CHECK(omni_distance_bias(in).status == Status::InvalidArgument);  // range and texel_angle are required
+    in.range = 1.f;
+    CHECK(omni_distance_bias(in).status == Status::InvalidArgument);
     in.texel_angle = 0.01f;
     in.cos_theta = -0.5f;  // facing away: clamped to max_angle, still finite
-    CHECK(omni_distance_bias(in).status == OmniStatus::Ok);
+    CHECK(omni_distance_bias(in).status == Status::Ok);
     in.cos_theta = kNaN;
-    CHECK(omni_distance_bias(in).status == OmniStatus::InvalidArgument);
+    CHECK(omni_distance_bias(in).status == Status::NonFinite);
     in.cos_theta = 1.f;
     in.range = 0.f;
-    CHECK(omni_distance_bias(in).status == OmniStatus::InvalidRange);
+    CHECK(omni_distance_bias(in).status == Status::InvalidArgument);
     in.range = 1.f;
     in.max_angle = 2.f;
-    CHECK(omni_distance_bias(in).status == OmniStatus::InvalidArgument);
+    CHECK(omni_distance_bias(in).status == Status::InvalidArgument);
     in.max_angle = 1.f;
     in.distance = 1e6f;
     in.range = 2e6f;
-    CHECK(omni_distance_bias(in).status == OmniStatus::Ok);
+    CHECK(omni_distance_bias(in).status == Status::Ok);
     CHECK(omni_linear_depth(2.f, 1.f, DepthFormat::Float32).value == 1.f);
-    CHECK(omni_linear_depth(-1.f, 1.f, DepthFormat::Float32).status == OmniStatus::InvalidArgument);
-    CHECK(omni_linear_depth(1.f, kInf, DepthFormat::Float32).status == OmniStatus::InvalidRange);
+    CHECK(omni_linear_depth(-1.f, 1.f, DepthFormat::Float32).status == Status::InvalidArgument);
+    CHECK(omni_linear_depth(1.f, kInf, DepthFormat::Float32).status == Status::NonFinite);
+    CHECK(omni_linear_depth(kInf, 1.f, DepthFormat::Float32).value == 1.f);  // beyond the range: clamped
+    CHECK(omni_linear_depth(1.f, 2.f, static_cast<DepthFormat>(7)).status == Status::InvalidArgument);
+    CHECK(OmniDepthResult{}.status == Status::NotRun);
 }
 
 // ==================================================================================== culling
@@ -680,7 +709,7 @@ TEST_CASE("per-face culling never culls a caster that meets a face frustum (exac
         if (it % 7 == 0) h = glm::dvec3(0.0);
         if (it % 11 == 0) h.y = 0.0;
         const glm::vec3 lo(c - h), hi(c + h);
-        const std::uint8_t mask = omni_cube_box_mask(light, nearz, farz, lo, hi);
+        const std::uint8_t mask = omni_cube_box_mask(pt(light), nearz, farz, lo, hi);
         const Poly box = box_poly(glm::dvec3(lo) - L, glm::dvec3(hi) - L);
         for (int f = 0; f < 6; ++f) {
             const Poly fr = frustum_poly(f, nearz, far_b);
@@ -695,7 +724,7 @@ TEST_CASE("per-face culling never culls a caster that meets a face frustum (exac
         }
         // sphere around the same centre
         const float r = (it % 9 == 0) ? 0.f : float(0.3 * scale * u(rng));
-        const std::uint8_t smask = omni_cube_sphere_mask(light, nearz, farz, glm::vec3(c), r);
+        const std::uint8_t smask = omni_cube_sphere_mask(pt(light), nearz, farz, glm::vec3(c), r);
         for (int f = 0; f < 6; ++f) {
             const Poly fr = frustum_poly(f, nearz, far_b);
             const double dist = point_poly_dist(fr, glm::dvec3(glm::vec3(c)) - L);
@@ -725,14 +754,14 @@ TEST_CASE("culling outputs: masks, per-face lists, saved draws on a room, buffer
         -1.75f, 0.f, 1.25f, -1.25f, 3.f, 1.75f,    // pillar: -X, -Y, +Z
     };
     OmniCullInput in;
-    in.light = light;
+    in.light_position = pt(light);
     in.near_z = 0.01f;
     in.far_z = 10.f;
     in.boxes = boxes.data();
     in.box_count = 4;
     std::uint8_t masks[4] = {};
     const OmniCullResult r = omni_cull_casters(in, masks, 4);
-    REQUIRE(r.status == OmniStatus::Ok);
+    REQUIRE(r.status == Status::Ok);
     CHECK(masks[0] == omni_all_faces_mask);
     CHECK(masks[1] == (1u << 3));
     CHECK(masks[2] == ((1u << 1) | (1u << 3)));
@@ -744,24 +773,24 @@ TEST_CASE("culling outputs: masks, per-face lists, saved draws on a room, buffer
     std::vector<std::uint32_t> lists(r.draws);
     std::size_t off[7] = {};
     const OmniCullResult lr = omni_cull_face_lists(in, lists.data(), lists.size(), off);
-    REQUIRE(lr.status == OmniStatus::Ok);
+    REQUIRE(lr.status == Status::Ok);
     CHECK(off[6] == 12);
     for (int f = 0; f < 6; ++f)
         for (std::size_t k = off[f]; k < off[f + 1]; ++k) CHECK(((masks[lists[k]] >> f) & 1) == 1);
     // buffers too small
     const OmniCullResult small = omni_cull_face_lists(in, lists.data(), 5, off);
-    CHECK(small.status == OmniStatus::BufferTooSmall);
+    CHECK(small.status == Status::BufferTooSmall);
     CHECK(small.needed == 12);
     std::uint8_t two[2];
     const OmniCullResult small2 = omni_cull_casters(in, two, 2);
-    CHECK(small2.status == OmniStatus::BufferTooSmall);
+    CHECK(small2.status == Status::BufferTooSmall);
     CHECK(small2.needed == 4);
     CHECK(two[1] == masks[1]);
     // spheres continue the indices; NaN and min > max casters are never culled, and counted
     const std::vector<float> bad = {kNaN, 0, 0, 1, 1, 1, 2, 2, 2, 1, 1, 1, 0, 0, 0, 0, 0, 0};
     const std::vector<float> spheres = {-1.f, 0.5f, -0.6f, 0.5f, 0, 0, 0, -1.f, 5, 5, 5, kInf};
     OmniCullInput b;
-    b.light = light;
+    b.light_position = pt(light);
     b.near_z = 0.01f;
     b.far_z = kInf;
     b.boxes = bad.data();
@@ -770,7 +799,7 @@ TEST_CASE("culling outputs: masks, per-face lists, saved draws on a room, buffer
     b.sphere_count = 3;
     std::uint8_t bm[6];
     const OmniCullResult br = omni_cull_casters(b, bm, 6);
-    REQUIRE(br.status == OmniStatus::Ok);
+    REQUIRE(br.status == Status::Ok);
     CHECK(br.invalid_count == 4);
     CHECK(bm[0] == omni_all_faces_mask);
     CHECK(bm[1] == omni_all_faces_mask);
@@ -779,73 +808,161 @@ TEST_CASE("culling outputs: masks, per-face lists, saved draws on a room, buffer
     CHECK(bm[5] == omni_all_faces_mask);
     // bad light / range / pointers
     OmniCullInput e = in;
-    e.light.x = kNaN;
-    CHECK(omni_cull_casters(e, masks, 4).status == OmniStatus::InvalidLight);
+    e.light_position.x = kNaN;
+    CHECK(omni_cull_casters(e, masks, 4).status == Status::InvalidLight);
     e = in;
     e.near_z = 0.f;
-    CHECK(omni_cull_casters(e, masks, 4).status == OmniStatus::InvalidRange);
+    CHECK(omni_cull_casters(e, masks, 4).status == Status::InvalidArgument);
     e = in;
     e.far_z = e.near_z;
-    CHECK(omni_cull_casters(e, masks, 4).status == OmniStatus::InvalidRange);
+    CHECK(omni_cull_casters(e, masks, 4).status == Status::InvalidArgument);
     e = in;
     e.boxes = nullptr;
-    CHECK(omni_cull_casters(e, masks, 4).status == OmniStatus::InvalidArgument);
+    CHECK(omni_cull_casters(e, masks, 4).status == Status::InvalidArgument);
     e = in;
     e.box_count = std::numeric_limits<std::size_t>::max();
-    CHECK(omni_cull_casters(e, masks, 4).status == OmniStatus::InvalidArgument);
+    CHECK(omni_cull_casters(e, masks, 4).status == Status::InvalidArgument);
     OmniCullInput empty;
-    CHECK(omni_cull_face_lists(empty, nullptr, 0, off).status == OmniStatus::Ok);
+    CHECK(omni_cull_face_lists(empty, nullptr, 0, off).status == Status::InvalidLight);  // the light is required
+    empty.light_position = pt(light);
+    CHECK(omni_cull_face_lists(empty, nullptr, 0, off).status == Status::Ok);
     CHECK(off[6] == 0);
+    // issue 19: null output buffers with a capacity are InvalidArgument (they were treated as capacity 0)
+    CHECK(omni_cull_casters(in, nullptr, 4).status == Status::InvalidArgument);
+    CHECK(omni_cull_face_lists(in, nullptr, 12, off).status == Status::InvalidArgument);
+    CHECK(omni_cull_face_lists(in, lists.data(), lists.size(), nullptr).status == Status::InvalidArgument);
+    const OmniCullResult query = omni_cull_casters(in, nullptr, 0);  // size query
+    CHECK(query.status == Status::BufferTooSmall);
+    CHECK(query.needed == 4);
+    CHECK(query.count == 0);
+    CHECK(lr.count == 12);
+    // directional light: no cube
+    e = in;
+    e.light_position = glm::vec4(0.f, 1.f, 0.f, 0.f);
+    CHECK(omni_cull_casters(e, masks, 4).status == Status::InvalidLight);
+    CHECK(omni_cube_box_mask(glm::vec4(0.f, 1.f, 0.f, 0.f), 0.01f, 10.f, {1, 1, 1}, {2, 2, 2}) == omni_all_faces_mask);
 }
 
 TEST_CASE("stiff cases: light at 1e6, near 1e-5, far at infinity, zero-size casters, NaN") {
     OmniCubeInput in;
-    in.light = {1e6f, -1e6f, 1e6f};
+    in.light_position = pt({1e6f, -1e6f, 1e6f});
     in.near_z = 1e-5f;
     in.far_z = 1e4f;
     OmniCubeMatrices m = omni_cube_matrices(in);
-    REQUIRE(m.status == OmniStatus::Ok);
+    REQUIRE(m.status == Status::Ok);
     // a point 10 units off the light along +X: centre of face 0, ndc depth of distance 10
-    const glm::dvec4 c = glm::dmat4(m.view_proj[0]) * glm::dvec4(glm::dvec3(in.light) + glm::dvec3(10, 0, 0), 1.0);
+    const glm::dvec4 c = glm::dmat4(m.view_proj[0]) * glm::dvec4(glm::dvec3(glm::vec3(in.light_position)) + glm::dvec3(10, 0, 0), 1.0);
     CHECK(std::fabs(c.w - 10.0) < 1e-6 * 1e6);  // float translation of 1e6: a few ulps
     CHECK(std::fabs(c.x / c.w) < 0.02);
     in.far_z = kInf;
     in.clip_depth = ClipDepth::ZeroToOne;
     in.reversed_z = true;
     m = omni_cube_matrices(in);
-    REQUIRE(m.status == OmniStatus::Ok);
+    REQUIRE(m.status == Status::Ok);
     CHECK(m.proj[2][2] == 0.f);
     CHECK(m.proj[3][2] == 1e-5f);
     in.far_z = in.near_z;
-    CHECK(omni_cube_matrices(in).status == OmniStatus::InvalidRange);
+    CHECK(omni_cube_matrices(in).status == Status::InvalidArgument);
     in.far_z = kNaN;
-    CHECK(omni_cube_matrices(in).status == OmniStatus::InvalidRange);
+    CHECK(omni_cube_matrices(in).status == Status::NonFinite);
     in.far_z = 1.f;
     in.near_z = -1.f;
-    CHECK(omni_cube_matrices(in).status == OmniStatus::InvalidRange);
+    CHECK(omni_cube_matrices(in).status == Status::InvalidArgument);
     in.near_z = 1e-5f;
-    in.light.y = kNaN;
-    CHECK(omni_cube_matrices(in).status == OmniStatus::InvalidLight);
-    in.light = {3e38f, 3e38f, 3e38f};
-    CHECK(omni_cube_matrices(in).status == OmniStatus::Ok);
+    in.light_position.y = kNaN;
+    CHECK(omni_cube_matrices(in).status == Status::InvalidLight);
+    in.light_position = pt({3e38f, 3e38f, 3e38f});
+    CHECK(omni_cube_matrices(in).status == Status::Ok);
+    in.light_position = glm::vec4(1.f, 2.f, 3.f, 0.f);  // directional: no cube
+    CHECK(omni_cube_matrices(in).status == Status::InvalidLight);
+    in.light_position = glm::vec4(3e38f, 0.f, 0.f, 1e-3f);  // xyz / w beyond float
+    CHECK(omni_cube_matrices(in).status == Status::Overflow);
+    CHECK(omni_cube_matrices(OmniCubeInput{}).status == Status::InvalidLight);  // the light is required
     // culling with the light at 1e6 and near 1e-5: a zero-size caster 1 unit off along each axis
     const glm::vec3 L(1e6f, 1e6f, -1e6f);
     const glm::vec3 offs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (int f = 0; f < 6; ++f) {
         const glm::vec3 p = L + offs[f] * 0.5f;  // exactly representable at 1e6 (ulp 0.0625)
-        CHECK(omni_cube_box_mask(L, 1e-5f, kInf, p, p) == (1u << f));
-        CHECK(omni_cube_sphere_mask(L, 1e-5f, kInf, p, 0.f) == (1u << f));
+        CHECK(omni_cube_box_mask(pt(L), 1e-5f, kInf, p, p) == (1u << f));
+        CHECK(omni_cube_sphere_mask(pt(L), 1e-5f, kInf, p, 0.f) == (1u << f));
         // inside the near plane: culled from every face
-        CHECK(omni_cube_box_mask(L, 1.f, kInf, p, p) == 0);
+        CHECK(omni_cube_box_mask(pt(L), 1.f, kInf, p, p) == 0);
     }
     // a point exactly on a cube edge belongs to both faces' closed frusta
     const glm::vec3 e = L + glm::vec3(0.5f, 0.5f, 0.f);
-    CHECK(omni_cube_box_mask(L, 1e-5f, kInf, e, e) == ((1u << 0) | (1u << 2)));
+    CHECK(omni_cube_box_mask(pt(L), 1e-5f, kInf, e, e) == ((1u << 0) | (1u << 2)));
     // the light inside a caster: every face
-    CHECK(omni_cube_box_mask(L, 1e-5f, 10.f, L - 1.f, L + 1.f) == omni_all_faces_mask);
-    CHECK(omni_cube_sphere_mask(L, 1e-5f, 10.f, L, 1.f) == omni_all_faces_mask);
-    CHECK(omni_cube_sphere_mask(L, 1e-5f, 10.f, L, kNaN) == omni_all_faces_mask);
-    CHECK(omni_cube_sphere_mask(L, 1e-5f, 10.f, L, -1.f) == omni_all_faces_mask);
+    CHECK(omni_cube_box_mask(pt(L), 1e-5f, 10.f, L - 1.f, L + 1.f) == omni_all_faces_mask);
+    CHECK(omni_cube_sphere_mask(pt(L), 1e-5f, 10.f, L, 1.f) == omni_all_faces_mask);
+    CHECK(omni_cube_sphere_mask(pt(L), 1e-5f, 10.f, L, kNaN) == omni_all_faces_mask);
+    CHECK(omni_cube_sphere_mask(pt(L), 1e-5f, 10.f, L, -1.f) == omni_all_faces_mask);
     // beyond the far plane: nothing
-    CHECK(omni_cube_sphere_mask(L, 1e-5f, 10.f, L + glm::vec3(20.f, 0.f, 0.f), 1.f) == 0);
+    CHECK(omni_cube_sphere_mask(pt(L), 1e-5f, 10.f, L + glm::vec3(20.f, 0.f, 0.f), 1.f) == 0);
+}
+
+TEST_CASE("issue 19: near and far within a few ulps are rejected, every Ok matrix maps near and far right") {
+    // Regression: near 1, far 1 + 1 ulp returned Ok with the near plane at NDC -2 (GL convention).
+    const ClipDepth cds[2] = {ClipDepth::NegativeOneToOne, ClipDepth::ZeroToOne};
+    for (ClipDepth cd : cds)
+        for (bool rev : {false, true}) {
+            OmniCubeInput in;
+            in.light_position = pt({0.f, 0.f, 0.f});
+            in.clip_depth = cd;
+            in.reversed_z = rev;
+            // GL [-1, 1]: (f + n) / (f - n) and 2 f n / (f - n) round apart, near lands at -2 (issue 19).
+            // Zero-to-one: A = -f / (f - n) and B = -f n / (f - n) are equal for n = 1 and the float
+            // matrix maps near and far exactly (checked below), so it may stay Ok.
+            for (float n : {1.f, 1e-5f}) {
+                in.near_z = n;
+                in.far_z = std::nextafter(n, 2.f);
+                const OmniCubeMatrices m = omni_cube_matrices(in);
+                if (cd == ClipDepth::NegativeOneToOne) CHECK(m.status == Status::Overflow);
+                else CHECK((m.status == Status::Overflow || m.status == Status::Ok));
+                if (m.status == Status::Ok) {
+                    const glm::dvec4 cn = glm::dmat4(m.proj) * glm::dvec4(0.0, 0.0, -double(n), 1.0);
+                    CHECK(std::fabs(cn.z / cn.w - (rev ? 1.0 : 0.0)) <= 1e-4);
+                }
+            }
+            in.near_z = 1.f;
+            in.far_z = 1.01f;  // well above the documented limit (far / near > ~1.0012)
+            CHECK(omni_cube_matrices(in).status == Status::Ok);
+            in.far_z = 1.002f;
+            CHECK(omni_cube_matrices(in).status == Status::Ok);
+        }
+    // Property: for near / far ratios from 1 + 1e-7 to 1e6, every Ok matrix maps the near and far
+    // planes to their NDC depths within 1e-4 (evaluated in double from the float entries, as a
+    // closed form of each convention), and every ratio above 1.002 is Ok.
+    std::mt19937 rng(19);
+    std::uniform_real_distribution<double> lg(-7.0, 6.0), ln(-5.0, 3.0);
+    int ok = 0, rejected = 0;
+    for (int it = 0; it < 20000; ++it) {
+        OmniCubeInput in;
+        in.light_position = pt({1.f, 2.f, 3.f});
+        in.clip_depth = cds[it & 1];
+        in.reversed_z = (it & 2) != 0;
+        in.near_z = float(std::pow(10.0, ln(rng)));
+        in.far_z = float(double(in.near_z) * (1.0 + std::pow(10.0, lg(rng))));
+        if (!(in.far_z > in.near_z)) continue;
+        const OmniCubeMatrices m = omni_cube_matrices(in);
+        const double ratio = double(in.far_z) / double(in.near_z);
+        if (m.status != Status::Ok) {
+            CHECK(m.status == Status::Overflow);
+            CHECK(ratio < 1.002);
+            ++rejected;
+            continue;
+        }
+        ++ok;
+        const bool zo = in.clip_depth == ClipDepth::ZeroToOne;
+        const double zn = zo ? (in.reversed_z ? 1 : 0) : (in.reversed_z ? 1 : -1);
+        const double zf = zo ? (in.reversed_z ? 0 : 1) : (in.reversed_z ? -1 : 1);
+        auto ndc = [&](double d) {
+            const glm::dvec4 c = glm::dmat4(m.proj) * glm::dvec4(0.0, 0.0, -d, 1.0);
+            return c.z / c.w;
+        };
+        CHECK(std::fabs(ndc(in.near_z) - zn) <= 1e-4);
+        CHECK(std::fabs(ndc(in.far_z) - zf) <= 1e-4);
+    }
+    MESSAGE("near/far property: " << ok << " Ok, " << rejected << " rejected as Overflow");
+    CHECK(ok > 10000);
+    CHECK(rejected > 100);
 }

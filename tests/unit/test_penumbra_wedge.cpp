@@ -12,6 +12,8 @@
 
 #include <doctest/doctest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -34,6 +36,28 @@ dvec3 cross3(const dvec3& a, const dvec3& b) { return dvec3(a.y * b.z - a.z * b.
 double len3(const dvec3& a) { return std::sqrt(dot3(a, a)); }
 dvec3 D(const glm::vec3& v) { return dvec3(v.x, v.y, v.z); }
 glm::vec3 F(const dvec3& v) { return glm::vec3(static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)); }
+// A sphere light at center c (w = 1) of radius r, and its center back.
+sk::PenumbraSphereLight SL(const glm::vec3& c, float r) {
+    sk::PenumbraSphereLight L;
+    L.light_position = glm::vec4(c, 1.0f);
+    L.radius = r;
+    return L;
+}
+glm::vec3 ctr(const sk::PenumbraSphereLight& L) { return glm::vec3(L.light_position) / L.light_position.w; }
+// A wedge to draw: Ok and not skipped.
+bool drawn(const sk::PenumbraWedge& w) { return w.status == sk::Status::Ok && w.skip == sk::PenumbraWedgeSkip::None; }
+double plane_eval(const glm::vec4& pl, const glm::vec3& p) { return sk::detail::pw_plane_eval(pl, p); }
+// Coverage and visibility values of calls that must succeed (the status is checked).
+double cov(glm::vec3 e0, glm::vec3 e1, const sk::PenumbraSphereLight& L, glm::vec3 p) {
+    const sk::PenumbraValue v = sk::penumbra_edge_coverage(e0, e1, L, p);
+    CHECK(v.status == sk::Status::Ok);
+    return v.value;
+}
+double vis(const glm::vec3* ends, std::size_t n, const sk::PenumbraSphereLight& L, glm::vec3 p, int hard) {
+    const sk::PenumbraValue v = sk::penumbra_visibility(ends, n, L, p, hard);
+    CHECK(v.status == sk::Status::Ok);
+    return v.value;
+}
 
 struct Rng {
     std::mt19937 g;
@@ -382,7 +406,7 @@ TEST_CASE("coverage: per-angle quadrature reference, random configurations, erro
         e0 = D(fe0); e1 = D(fe1);
         const dvec3 cq = D(fc), pq = D(fp);
         const float fr = static_cast<float>(r);
-        const double got = sk::penumbra_edge_coverage_d(fe0, fe1, sk::PenumbraSphereLight{fc, fr}, fp);
+        const double got = cov(fe0, fe1, SL(fc, fr), fp);
         const double ref = coverage_quadrature(e0, e1, cq, static_cast<double>(fr), pq, 8192);
         const double err = std::fabs(got - ref);
         CHECK(std::isfinite(got));
@@ -411,7 +435,7 @@ TEST_CASE("coverage: stratified area Monte Carlo of the edge-meets-triangle(p, c
         const dvec3 t = rng.dir() * rng.u(0.1, 3.0);
         const glm::vec3 fe0 = F(m - 0.5 * t), fe1 = F(m + t), fc = F(c), fp = F(p);
         const float fr = static_cast<float>(r);
-        const double got = sk::penumbra_edge_coverage_d(fe0, fe1, sk::PenumbraSphereLight{fc, fr}, fp);
+        const double got = cov(fe0, fe1, SL(fc, fr), fp);
         const double ref = coverage_montecarlo(D(fe0), D(fe1), D(fc), static_cast<double>(fr), D(fp), 256, rng);
         CHECK(std::fabs(got - ref) < 1e-3);
         max_err = std::max(max_err, std::fabs(got - ref));
@@ -433,11 +457,12 @@ TEST_CASE("wedge contains the swept penumbra of its edge, and every point with n
             dvec3 c, e0, e1;
             double r;
             random_edge(rng, kinds[k], c, r, e0, e1);
-            const sk::PenumbraSphereLight L{F(c), static_cast<float>(r)};
+            const sk::PenumbraSphereLight L = SL(F(c), static_cast<float>(r));
             const sk::PenumbraWedge w = sk::penumbra_wedge(F(e0), F(e1), L);
-            if (w.status != sk::PenumbraWedgeStatus::Ok) {
+            if (!drawn(w)) {
                 ++skipped;
-                CHECK(w.status == sk::PenumbraWedgeStatus::RadialEdge);
+                CHECK(w.status == sk::Status::Ok);
+                CHECK(w.skip == sk::PenumbraWedgeSkip::RadialEdge);
                 continue;
             }
             REQUIRE(wedge_finite(w));
@@ -458,7 +483,7 @@ TEST_CASE("wedge contains the swept penumbra of its edge, and every point with n
             // coverage != 0  =>  inside the wedge, and its sign says which half-wedge
             for (int j = 0; j < 20; ++j) {
                 const dvec3 x = swept_point(rng, e0, e1, c, r * 1.3, 6.0) + rng.box(0.2);
-                const double cv = sk::penumbra_edge_coverage_d(F(e0), F(e1), L, F(x));
+                const double cv = cov(F(e0), F(e1), L, F(x));
                 if (std::fabs(cv) < 1e-9) continue;
                 ++cov_pts;
                 const dvec3 xq = D(F(x));
@@ -499,16 +524,16 @@ void run_occluders(int kind, int configs, int pts_per, int samples, unsigned see
         double rad = 0.0;
         for (auto& v : P.v) rad = std::max(rad, len3(v - oc));
         if (len3(c - oc) < rad + r + 0.05) continue;
-        const sk::PenumbraSphereLight L{F(c), static_cast<float>(r)};
-        const dvec3 cq = D(L.centre);
+        const sk::PenumbraSphereLight L = SL(F(c), static_cast<float>(r));
+        const dvec3 cq = D(ctr(L));
         const double rq = static_cast<double>(L.radius);
         for (auto& v : P.v) v = D(F(v));
         const std::vector<glm::vec3> sil = silhouette(P, cq);
         std::vector<sk::PenumbraWedge> wedges;
         for (size_t i = 0; i + 1 < sil.size(); i += 2) {
             const sk::PenumbraWedge w = sk::penumbra_wedge(sil[i], sil[i + 1], L);
-            REQUIRE((w.status == sk::PenumbraWedgeStatus::Ok || w.status == sk::PenumbraWedgeStatus::RadialEdge));
-            if (w.status == sk::PenumbraWedgeStatus::Ok) wedges.push_back(w);
+            REQUIRE((drawn(w) || w.skip == sk::PenumbraWedgeSkip::RadialEdge));
+            if (drawn(w)) wedges.push_back(w);
         }
         for (int j = 0; j < pts_per; ++j) {
             // receivers behind the occluder, spread across umbra, penumbra and lit region
@@ -526,7 +551,7 @@ void run_occluders(int kind, int configs, int pts_per, int samples, unsigned see
             int blocked = 0;
             const double vref = visibility_ref(P, cq, rq, p, samples, rng, &blocked);
             const int hard = occluded(P, p, cq) ? 1 : 0;
-            const double vest = sk::penumbra_visibility(sil.data(), sil.size() / 2, L, F(p), hard);
+            const double vest = vis(sil.data(), sil.size() / 2, L, F(p), hard);
             ++st.points;
             const double err = std::fabs(vest - vref);
             st.errs.push_back(err);
@@ -534,7 +559,7 @@ void run_occluders(int kind, int configs, int pts_per, int samples, unsigned see
             st.sum_err += err;
             bool in_any = false;
             for (auto& w : wedges)
-                if (sk::point_in_wedge(F(p), w, 1e-5f)) { in_any = true; break; }
+                if (sk::penumbra_point_in_wedge(F(p), w, 1e-5f)) { in_any = true; break; }
             const bool mixed = blocked > 0 && blocked < samples * samples;
             if (mixed) {
                 ++st.penumbra;
@@ -549,7 +574,7 @@ void run_occluders(int kind, int configs, int pts_per, int samples, unsigned see
                             const glm::vec3 a = F(P.v[static_cast<size_t>(t[static_cast<size_t>(k)])]);
                             const glm::vec3 b = F(P.v[static_cast<size_t>(t[static_cast<size_t>((k + 1) % 3)])]);
                             const sk::PenumbraWedge we = sk::penumbra_wedge(a, b, L);
-                            if (sk::point_in_wedge(F(p), we, 1e-5f)) explained = true;
+                            if (sk::penumbra_point_in_wedge(F(p), we, 1e-5f)) explained = true;
                         }
                     if (!explained) ++st.unexplained;
                 }
@@ -608,9 +633,9 @@ TEST_CASE("stiff: light radius 0 reduces to the hard shadow volume exactly") {
         dvec3 c, e0, e1;
         double r;
         random_edge(rng, EdgeKind::Generic, c, r, e0, e1);
-        const sk::PenumbraSphereLight L{F(c), 0.0f};
+        const sk::PenumbraSphereLight L = SL(F(c), 0.0f);
         const sk::PenumbraWedge w = sk::penumbra_wedge(F(e0), F(e1), L);
-        REQUIRE(w.status == sk::PenumbraWedgeStatus::Ok);
+        REQUIRE(drawn(w));
         REQUIRE(wedge_finite(w));
         // front and back planes are the hard plane, with opposite orientations
         const dvec3 nh = D(glm::vec3(w.hard_plane));
@@ -623,11 +648,11 @@ TEST_CASE("stiff: light radius 0 reduces to the hard shadow volume exactly") {
         for (int j = 0; j < 10; ++j) {
             const dvec3 p = rng.box(6.0);
             const double hp = dot3(nh, p) + static_cast<double>(w.hard_plane.w);
-            if (std::fabs(hp) > 1e-3) CHECK_FALSE(sk::point_in_wedge(F(p), w));
-            CHECK(sk::penumbra_edge_coverage(F(e0), F(e1), L, F(p)) == 0.0f);
+            if (std::fabs(hp) > 1e-3) CHECK_FALSE(sk::penumbra_point_in_wedge(F(p), w));
+            CHECK(cov(F(e0), F(e1), L, F(p)) == 0.0f);
             const glm::vec3 ends[2] = {F(e0), F(e1)};
-            CHECK(sk::penumbra_visibility(ends, 1, L, F(p), 1) == 0.0f);
-            CHECK(sk::penumbra_visibility(ends, 1, L, F(p), 0) == 1.0f);
+            CHECK(vis(ends, 1, L, F(p), 1) == 0.0f);
+            CHECK(vis(ends, 1, L, F(p), 0) == 1.0f);
         }
         // the hard shadow quad (edge points pushed away from c) lies in the degenerate wedge
         for (int j = 0; j < 5; ++j) {
@@ -647,9 +672,9 @@ TEST_CASE("stiff: receiver exactly on a wedge plane; hard-plane jump is compensa
         dvec3 c, e0, e1;
         double r;
         random_edge(rng, EdgeKind::Generic, c, r, e0, e1);
-        const sk::PenumbraSphereLight L{F(c), static_cast<float>(r)};
+        const sk::PenumbraSphereLight L = SL(F(c), static_cast<float>(r));
         const sk::PenumbraWedge w = sk::penumbra_wedge(F(e0), F(e1), L);
-        if (w.status != sk::PenumbraWedgeStatus::Ok || w.shape != sk::PenumbraWedgeShape::Equidistant) continue;
+        if (!drawn(w) || w.shape != sk::PenumbraWedgeShape::Equidistant) continue;
         // points on the outer / inner bound planes between the side planes: the projected edge line is
         // tangent to the disk there, so the coverage is 0 (continuous with the outside)
         for (int j = 0; j < 4; ++j) {
@@ -657,12 +682,12 @@ TEST_CASE("stiff: receiver exactly on a wedge plane; hard-plane jump is compensa
             const int i = j & 1;
             const dvec3 ray0 = D(i ? w.ray_inner[0] : w.ray_outer[0]), ray1 = D(i ? w.ray_inner[1] : w.ray_outer[1]);
             const dvec3 x = (1.0 - a) * (D(w.apex[0]) + s * ray0) + a * (D(w.apex[1]) + s * ray1);
-            const float cv = sk::penumbra_edge_coverage(F(e0), F(e1), L, F(x));
+            const double cv = cov(F(e0), F(e1), L, F(x));
             CHECK(std::isfinite(cv));
             // the apex edge lies in the plane through x: its projected line is tangent to the disk
-            CHECK(std::fabs(sk::penumbra_edge_coverage(w.apex[0], w.apex[1], L, F(x))) < 1e-4f);
+            CHECK(std::fabs(cov(w.apex[0], w.apex[1], L, F(x))) < 1e-4f);
             CHECK(std::fabs(cv) <= 0.5f);
-            CHECK(sk::point_in_wedge(F(x), w, 1e-4f * static_cast<float>(std::max(1.0, len3(x)))));
+            CHECK(sk::penumbra_point_in_wedge(F(x), w, 1e-4f * static_cast<float>(std::max(1.0, len3(x)))));
             ++checked;
         }
         // across the hard plane: coverage jumps by ~1 and hard count by 1, visibility is continuous
@@ -670,13 +695,13 @@ TEST_CASE("stiff: receiver exactly on a wedge plane; hard-plane jump is compensa
         const dvec3 on = q + rng.u(0.5, 3.0) * (q - c);
         const dvec3 nh = D(glm::vec3(w.hard_plane));
         const dvec3 po = on + 1e-4 * nh, pi = on - 1e-4 * nh;
-        const double co = sk::penumbra_edge_coverage_d(F(e0), F(e1), L, F(po));
-        const double ci = sk::penumbra_edge_coverage_d(F(e0), F(e1), L, F(pi));
+        const double co = cov(F(e0), F(e1), L, F(po));
+        const double ci = cov(F(e0), F(e1), L, F(pi));
         CHECK(co >= 0.0);
         CHECK(ci <= 0.0);
         CHECK(std::fabs((0.0 + co) - (1.0 + ci)) < 0.02); // 0 + outside vs 1 + inside
         // exactly on the plane (as far as floats allow): finite, within [-1/2, 1/2]
-        const double con = sk::penumbra_edge_coverage_d(F(e0), F(e1), L, F(on));
+        const double con = cov(F(e0), F(e1), L, F(on));
         CHECK(std::isfinite(con));
         CHECK(std::fabs(con) <= 0.5);
     }
@@ -684,49 +709,94 @@ TEST_CASE("stiff: receiver exactly on a wedge plane; hard-plane jump is compensa
 }
 
 TEST_CASE("stiff: degenerate input gives documented statuses, never NaN") {
-    const sk::PenumbraSphereLight L{glm::vec3(0.0f), 1.0f};
+    const sk::PenumbraSphereLight L = SL(glm::vec3(0.0f), 1.0f);
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-    CHECK(sk::penumbra_wedge(glm::vec3(5, 0, 0), glm::vec3(5, 0, 0), L).status == sk::PenumbraWedgeStatus::DegenerateEdge);
-    CHECK(sk::penumbra_wedge(glm::vec3(2, 0, 0), glm::vec3(5, 0, 0), L).status == sk::PenumbraWedgeStatus::RadialEdge);
-    CHECK(sk::penumbra_wedge(glm::vec3(0.5f, 0, 0), glm::vec3(5, 1, 0), L).status == sk::PenumbraWedgeStatus::EdgeTouchesLight);
-    CHECK(sk::penumbra_wedge(glm::vec3(-5, 0.5f, 0), glm::vec3(5, 0.5f, 0), L).status == sk::PenumbraWedgeStatus::EdgeTouchesLight);
-    CHECK(sk::penumbra_wedge(glm::vec3(nan, 0, 0), glm::vec3(5, 1, 0), L).status == sk::PenumbraWedgeStatus::InvalidInput);
-    CHECK(sk::penumbra_wedge(glm::vec3(inf, 0, 0), glm::vec3(5, 1, 0), L).status == sk::PenumbraWedgeStatus::InvalidInput);
-    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), sk::PenumbraSphereLight{glm::vec3(0.0f), -1.0f}).status ==
-          sk::PenumbraWedgeStatus::InvalidInput);
-    CHECK(sk::penumbra_edge_coverage(glm::vec3(nan), glm::vec3(1), L, glm::vec3(5)) == 0.0f);
-    CHECK(sk::penumbra_edge_coverage(glm::vec3(3, 0, 0), glm::vec3(3, 1, 0), L, glm::vec3(0.0f)) == 0.0f); // p at c
+    // Issue 13: edges to skip are not errors: Ok with a skip reason (they were error statuses).
+    auto skip_of = [&](glm::vec3 a, glm::vec3 b) {
+        const sk::PenumbraWedge w = sk::penumbra_wedge(a, b, L);
+        CHECK(w.status == sk::Status::Ok);
+        return w.skip;
+    };
+    CHECK(skip_of(glm::vec3(5, 0, 0), glm::vec3(5, 0, 0)) == sk::PenumbraWedgeSkip::DegenerateEdge);
+    CHECK(skip_of(glm::vec3(2, 0, 0), glm::vec3(5, 0, 0)) == sk::PenumbraWedgeSkip::RadialEdge);
+    CHECK(skip_of(glm::vec3(0.5f, 0, 0), glm::vec3(5, 1, 0)) == sk::PenumbraWedgeSkip::EdgeTouchesLight);
+    CHECK(skip_of(glm::vec3(-5, 0.5f, 0), glm::vec3(5, 0.5f, 0)) == sk::PenumbraWedgeSkip::EdgeTouchesLight);
+    CHECK(skip_of(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0)) == sk::PenumbraWedgeSkip::None);
+    CHECK(sk::penumbra_wedge(glm::vec3(nan, 0, 0), glm::vec3(5, 1, 0), L).status == sk::Status::NonFinite);
+    CHECK(sk::penumbra_wedge(glm::vec3(inf, 0, 0), glm::vec3(5, 1, 0), L).status == sk::Status::NonFinite);
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), SL(glm::vec3(0.0f), -1.0f)).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), SL(glm::vec3(0.0f), nan)).status ==
+          sk::Status::NonFinite);
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), L, -1.0f).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), L, nan).status == sk::Status::NonFinite);
+    // lights: the default light, w = 0 (a directional disk light, not supported), w < 0, NaN
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), sk::PenumbraSphereLight{}).status == sk::Status::InvalidLight);
+    sk::PenumbraSphereLight bad = L;
+    bad.light_position = glm::vec4(0, 1, 0, 0);
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), bad).status == sk::Status::InvalidLight);
+    CHECK(sk::penumbra_edge_coverage(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), bad, glm::vec3(9)).status == sk::Status::InvalidLight);
+    bad.light_position = glm::vec4(0, 0, 0, -1);
+    CHECK(sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), bad).status == sk::Status::InvalidLight);
+    bad.light_position = glm::vec4(nan, 0, 0, 1);
+    CHECK(sk::penumbra_visibility(nullptr, 0, bad, glm::vec3(9), 0).status == sk::Status::InvalidLight);
+    // w != 1: the same light
+    sk::PenumbraSphereLight w2 = L;
+    w2.light_position = glm::vec4(0, 0, 0, 2);
+    CHECK(sk::penumbra_edge_coverage(glm::vec3(3, -1, 0.2f), glm::vec3(3, 1, 0.2f), w2, glm::vec3(7, 0, 0.5f)).value ==
+          cov(glm::vec3(3, -1, 0.2f), glm::vec3(3, 1, 0.2f), L, glm::vec3(7, 0, 0.5f)));
+    // coverage: NaN input is an error (it returned 0 before), p at c or on the edge's line is 0 (Ok)
+    CHECK(sk::penumbra_edge_coverage(glm::vec3(nan), glm::vec3(1), L, glm::vec3(5)).status == sk::Status::NonFinite);
+    CHECK(cov(glm::vec3(3, 0, 0), glm::vec3(3, 1, 0), L, glm::vec3(0.0f)) == 0.0); // p at c
     // receiver on the edge's line: 0, not NaN
-    CHECK(sk::penumbra_edge_coverage(glm::vec3(3, -1, 0), glm::vec3(3, 1, 0), L, glm::vec3(3, 5, 0)) == 0.0f);
+    CHECK(cov(glm::vec3(3, -1, 0), glm::vec3(3, 1, 0), L, glm::vec3(3, 5, 0)) == 0.0);
     // receiver exactly at an endpoint
-    CHECK(std::isfinite(sk::penumbra_edge_coverage(glm::vec3(3, -1, 0), glm::vec3(3, 1, 0), L, glm::vec3(3, 1, 0))));
+    CHECK(std::isfinite(cov(glm::vec3(3, -1, 0), glm::vec3(3, 1, 0), L, glm::vec3(3, 1, 0))));
     const sk::PenumbraWedge skip = sk::penumbra_wedge(glm::vec3(5, 0, 0), glm::vec3(5, 0, 0), L);
-    CHECK_FALSE(sk::point_in_wedge(glm::vec3(6, 0, 0), skip));
-    CHECK_FALSE(sk::penumbra_wedge_hull(skip, 10.0f).valid);
+    CHECK_FALSE(sk::penumbra_point_in_wedge(glm::vec3(6, 0, 0), skip));
+    const sk::PenumbraWedgeHull sh = sk::penumbra_wedge_hull(skip, 10.0f);
+    CHECK(sh.status == sk::Status::Ok);
+    CHECK_FALSE(sh.drawable);
+    CHECK(sk::penumbra_wedge_hull(sk::PenumbraWedge{}, 10.0f).status == sk::Status::InvalidArgument);  // never built
+    const sk::PenumbraWedge good = sk::penumbra_wedge(glm::vec3(3, 0, 0), glm::vec3(5, 1, 0), L);
+    CHECK(sk::penumbra_wedge_hull(good, 0.0f).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_wedge_hull(good, nan).status == sk::Status::NonFinite);
+    const sk::PenumbraWedgeHull huge = sk::penumbra_wedge_hull(good, std::numeric_limits<float>::max());
+    CHECK((huge.status == sk::Status::Overflow || huge.status == sk::Status::Ok));  // never Ok with Inf vertices
+    if (huge.status == sk::Status::Ok)
+        for (const glm::vec4& v : huge.vertices) CHECK((std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)));
     glm::vec3 ends[2] = {glm::vec3(3, -1, 0), glm::vec3(3, 1, 0)};
-    CHECK(sk::penumbra_visibility(nullptr, 3, L, glm::vec3(5), 0) == 1.0f);
-    CHECK(sk::penumbra_visibility(ends, 1, L, glm::vec3(5, 0, 0), 7) == 0.0f);
-    CHECK(sk::penumbra_visibility(ends, 1, L, glm::vec3(5, 0, 0), -7) == 1.0f);
+    // issue 19: a null pointer with a count returned visibility 1 (fully lit) with no status
+    CHECK(sk::penumbra_visibility(nullptr, 3, L, glm::vec3(5), 0).status == sk::Status::InvalidArgument);
+    CHECK(vis(nullptr, 0, L, glm::vec3(5), 0) == 1.0);
+    CHECK(vis(ends, 1, L, glm::vec3(5, 0, 0), 7) == 0.0);
+    CHECK(vis(ends, 1, L, glm::vec3(5, 0, 0), -7) == 1.0);
+    glm::vec3 nan_ends[2] = {glm::vec3(3, -1, 0), glm::vec3(nan)};
+    CHECK(sk::penumbra_visibility(nan_ends, 1, L, glm::vec3(5), 0).status == sk::Status::NonFinite);
+    // results no call filled
+    CHECK(sk::PenumbraWedge{}.status == sk::Status::NotRun);
+    CHECK(sk::PenumbraValue{}.status == sk::Status::NotRun);
+    CHECK(sk::ScissorRect{}.status == sk::Status::NotRun);
 }
 
 TEST_CASE("stiff: fallback shapes - cone for an edge line through the light, original endpoints when grazing") {
-    const sk::PenumbraSphereLight L{glm::vec3(0.0f), 1.0f};
+    const sk::PenumbraSphereLight L = SL(glm::vec3(0.0f), 1.0f);
     // nearly radial edge: the moved apex edge is tiny and perpendicular to the radius -> still Equidistant
     const sk::PenumbraWedge nr = sk::penumbra_wedge(glm::vec3(2.0f, 0.001f, 0.0f), glm::vec3(6.0f, 0.0f, 0.0f), L);
-    REQUIRE(nr.status == sk::PenumbraWedgeStatus::Ok);
+    REQUIRE(nr.status == sk::Status::Ok);
     CHECK(nr.shape == sk::PenumbraWedgeShape::Equidistant);
     // edge line through the ball, subtending a large angle near the light: the moved line crosses the
     // ball too -> Cone around the near endpoint (1.01, 0, 0)
     const glm::vec3 n0(1.01f, 0.0f, 0.0f), n1 = n0 + 5.0f * glm::vec3(1.01f, -0.9f, 0.0f);
     const sk::PenumbraWedge w = sk::penumbra_wedge(n1, n0, L);
-    REQUIRE(w.status == sk::PenumbraWedgeStatus::Ok);
+    REQUIRE(drawn(w));
     CHECK(w.shape == sk::PenumbraWedgeShape::Cone);
     CHECK(w.apex[0] == n0);
     CHECK(w.apex[1] == n0);
     REQUIRE(wedge_finite(w));
     // a grazing edge whose moved apex line would cross the ball falls back to the original endpoints
     const sk::PenumbraWedge g = sk::penumbra_wedge(glm::vec3(1.1f, 0.0f, 0.0f), glm::vec3(0.0f, 100.0f, 0.0f), L);
-    REQUIRE(g.status == sk::PenumbraWedgeStatus::Ok);
+    REQUIRE(g.status == sk::Status::Ok);
     CHECK(g.shape == sk::PenumbraWedgeShape::OriginalEndpoints);
     // both keep the swept penumbra inside
     Rng rng(3);
@@ -743,12 +813,13 @@ TEST_CASE("hull: inside every plane, outward winding; scissor and depth bounds c
         dvec3 c, e0, e1;
         double r;
         random_edge(rng, it % 3 == 0 ? EdgeKind::NearlyRadial : EdgeKind::Generic, c, r, e0, e1);
-        const sk::PenumbraSphereLight L{F(c), static_cast<float>(r)};
+        const sk::PenumbraSphereLight L = SL(F(c), static_cast<float>(r));
         const sk::PenumbraWedge w = sk::penumbra_wedge(F(e0), F(e1), L);
-        if (w.status != sk::PenumbraWedgeStatus::Ok) continue;
+        if (!drawn(w)) continue;
         const float extent = static_cast<float>(rng.u(1.0, 10.0));
         const sk::PenumbraWedgeHull h = sk::penumbra_wedge_hull(w, extent);
-        REQUIRE(h.valid);
+        REQUIRE(h.status == sk::Status::Ok);
+        REQUIRE(h.drawable);
         const double scale = std::max({len3(e0), len3(e1), len3(c), 1.0, static_cast<double>(extent)});
         dvec3 centroid(0.0);
         for (auto& v : h.vertices) {
@@ -789,12 +860,12 @@ TEST_CASE("hull: inside every plane, outward winding; scissor and depth bounds c
             if (zo) { R[2][2] = -1.0; R[3][2] = 1.0; } else { R[2][2] = -1.0; }
             proj = R * proj;
         }
-        sk::PenumbraScissorParams sp;
+        sk::ScissorParams sp;
         sp.view_proj = glm::mat4(proj * view);
         sp.clip_depth = zo ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne;
         sp.reversed_z = rev;
         sp.viewport[0] = 0; sp.viewport[1] = 0; sp.viewport[2] = 640; sp.viewport[3] = 480;
-        const sk::PenumbraScissor s = sk::penumbra_wedge_scissor(h, sp);
+        const sk::ScissorRect s = sk::penumbra_wedge_scissor(h, sp);
         for (int j = 0; j < 60; ++j) {
             // random point of the hull: convex combination of the vertices
             double wsum = 0.0, wts[6];
@@ -821,7 +892,7 @@ TEST_CASE("hull: inside every plane, outward winding; scissor and depth bounds c
         }
         // infinite extent: w = 0 far vertices, same directions as the rays
         const sk::PenumbraWedgeHull hi = sk::penumbra_wedge_hull(w, std::numeric_limits<float>::infinity());
-        REQUIRE(hi.valid);
+        REQUIRE(hi.drawable);
         CHECK(hi.vertices[2].w == 0.0f);
         CHECK(glm::vec3(hi.vertices[2]) == w.ray_outer[0]);
         ++tested;
@@ -830,10 +901,10 @@ TEST_CASE("hull: inside every plane, outward winding; scissor and depth bounds c
     CHECK(front_pts > 5000);
     // entirely behind the camera: not visible
     {
-        const sk::PenumbraSphereLight L{glm::vec3(0, 10, 0), 0.5f};
+        const sk::PenumbraSphereLight L = SL(glm::vec3(0, 10, 0), 0.5f);
         const sk::PenumbraWedge w = sk::penumbra_wedge(glm::vec3(-1, 5, 0), glm::vec3(1, 5, 0.2f), L);
         const sk::PenumbraWedgeHull h = sk::penumbra_wedge_hull(w, 3.0f);
-        sk::PenumbraScissorParams sp;
+        sk::ScissorParams sp;
         glm::mat4 view(1.0f);
         view[3][2] = 100.0f; // camera at z = 100 looking down -z... everything at z ~ 0 is then at view z = 100 > 0: behind
         glm::mat4 proj(0.0f);
@@ -848,6 +919,135 @@ TEST_CASE("hull: inside every plane, outward winding; scissor and depth bounds c
     }
 }
 
+TEST_CASE("scissor clipped to a box: contains every point of (hull and box), culls hulls outside it, statuses") {
+    // Issue 13: the wedge driver had to clip the hull to the receivers' box itself because the header's
+    // scissor culled nothing. Reference: random points of the hull (convex combinations of its
+    // vertices; for an infinite hull, points along the rays) kept when inside the box, projected
+    // independently here; every one must lie in the clipped rectangle and depth bounds.
+    Rng rng(4242);
+    int tested = 0, pts = 0, culled = 0, tighter = 0;
+    for (int it = 0; it < 1500; ++it) {
+        dvec3 c, e0, e1;
+        double r;
+        random_edge(rng, EdgeKind::Generic, c, r, e0, e1);
+        const sk::PenumbraSphereLight L = SL(F(c), static_cast<float>(r));
+        const sk::PenumbraWedge w = sk::penumbra_wedge(F(e0), F(e1), L);
+        if (!drawn(w) || w.shape == sk::PenumbraWedgeShape::HalfSpace) continue;
+        const bool infinite = it % 4 == 3;
+        const double scale = std::max({len3(e0), len3(e1), len3(c), 1.0});
+        const float extent = infinite ? std::numeric_limits<float>::infinity() : static_cast<float>(rng.u(1.0, 10.0) * scale);
+        const sk::PenumbraWedgeHull h = sk::penumbra_wedge_hull(w, extent);
+        REQUIRE(h.drawable);
+        // a random box around some point near the wedge (sometimes far away: culled)
+        const dvec3 mid = D(w.apex[0]) + rng.u(0.0, 3.0) * scale * D(w.axis) + rng.box(1.5 * scale);
+        const dvec3 half(rng.u(0.05, 1.5) * scale, rng.u(0.05, 1.5) * scale, rng.u(0.05, 1.5) * scale);
+        const glm::vec3 lo = F(mid - half), hi = F(mid + half);
+        // camera
+        const dvec3 target = mid;
+        const dvec3 eye = target + rng.dir() * rng.u(2.0, 6.0) * scale;
+        const dvec3 f = (target - eye) / len3(target - eye);
+        dvec3 up = std::fabs(f.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+        dvec3 sx = cross3(f, up);
+        sx /= len3(sx);
+        const dvec3 u = cross3(sx, f);
+        const glm::dmat4 view(sx.x, u.x, -f.x, 0, sx.y, u.y, -f.y, 0, sx.z, u.z, -f.z, 0, -dot3(sx, eye), -dot3(u, eye), dot3(f, eye), 1);
+        const double nearz = 0.05 * scale, farz = 100.0 * scale, ft = 1.0 / std::tan(0.6);
+        glm::dmat4 proj(0.0);
+        proj[0][0] = ft; proj[1][1] = ft; proj[2][3] = -1.0;
+        proj[2][2] = -(farz + nearz) / (farz - nearz); proj[3][2] = -2.0 * farz * nearz / (farz - nearz);
+        sk::ScissorParams sp;
+        sp.view_proj = glm::mat4(proj * view);
+        sp.viewport[2] = 320;
+        sp.viewport[3] = 240;
+        const sk::ScissorRect sb = sk::penumbra_wedge_scissor_in_box(h, lo, hi, sp);
+        REQUIRE(sb.status == sk::Status::Ok);
+        const sk::ScissorRect sw = sk::penumbra_wedge_scissor(h, sp);
+        REQUIRE(sw.status == sk::Status::Ok);
+        ++tested;
+        if (!sb.visible) ++culled;
+        if (sb.visible && sw.visible && (long(sb.width) * sb.height < long(sw.width) * sw.height || sb.depth_max - sb.depth_min < sw.depth_max - sw.depth_min))
+            ++tighter;
+        for (int j = 0; j < 200; ++j) {
+            dvec3 x;
+            if (infinite) {  // apex-edge point + non-negative combination of the four rays
+                const double t = rng.u(0.0, 1.0);
+                x = (1.0 - t) * D(w.apex[0]) + t * D(w.apex[1]);
+                const double kmax = 4.0 * scale;
+                x += rng.u(0.0, kmax) * D(t < 0.5 ? w.ray_outer[0] : w.ray_outer[1]) * rng.u(0.0, 1.0);
+                x += rng.u(0.0, kmax) * D(t < 0.5 ? w.ray_inner[0] : w.ray_inner[1]) * rng.u(0.0, 1.0);
+                if (plane_margin(w, x) < 0.0) continue;  // only points of the wedge
+            } else {
+                double wsum = 0.0, wts[6];
+                for (double& q : wts) { q = std::pow(-std::log(rng.u(1e-12, 1.0)), 3.0); wsum += q; }
+                x = dvec3(0.0);
+                for (int k = 0; k < 6; ++k) x += wts[k] / wsum * D(glm::vec3(h.vertices[k]));
+            }
+            if (x.x < lo.x || x.y < lo.y || x.z < lo.z || x.x > hi.x || x.y > hi.y || x.z > hi.z) continue;
+            const glm::dvec4 cl = glm::dmat4(sp.view_proj) * glm::dvec4(x, 1.0);
+            if (!(cl.w > nearz)) continue;
+            const double nx = cl.x / cl.w, ny = cl.y / cl.w, wz = 0.5 * cl.z / cl.w + 0.5;
+            if (std::fabs(nx) > 1.0 || std::fabs(ny) > 1.0 || wz < 0.0 || wz > 1.0) continue;
+            ++pts;
+            REQUIRE(sb.visible);
+            const double px = (0.5 * nx + 0.5) * 320.0, py = (0.5 * ny + 0.5) * 240.0;
+            CHECK(px >= sb.x - 1e-3);
+            CHECK(px <= sb.x + sb.width + 1e-3);
+            CHECK(py >= sb.y - 1e-3);
+            CHECK(py <= sb.y + sb.height + 1e-3);
+            CHECK(wz >= static_cast<double>(sb.depth_min) - 1e-6);
+            CHECK(wz <= static_cast<double>(sb.depth_max) + 1e-6);
+        }
+    }
+    MESSAGE("box-clipped scissor: " << tested << " hulls, " << pts << " points of (hull and box) inside, " << culled
+                                    << " hulls culled, " << tighter << " rectangles tighter than the unclipped one");
+    CHECK(tested > 1000);
+    CHECK(pts > 10000);
+    CHECK(culled > 50);
+    CHECK(tighter > 200);
+
+    // the documented cases
+    const sk::PenumbraSphereLight L = SL(glm::vec3(0, 10, 0), 0.5f);
+    const sk::PenumbraWedge w = sk::penumbra_wedge(glm::vec3(-1, 5, 0), glm::vec3(1, 5, 0.2f), L);
+    const sk::PenumbraWedgeHull h = sk::penumbra_wedge_hull(w, 8.0f);
+    sk::ScissorParams sp;
+    sp.view_proj = glm::perspective(1.0f, 1.0f, 0.1f, 100.0f) * glm::lookAt(glm::vec3(0, 8, 12), glm::vec3(0), glm::vec3(0, 1, 0));
+    sp.viewport[2] = 100;
+    sp.viewport[3] = 100;
+    // the floor under the edge receives its penumbra: visible
+    const sk::ScissorRect on = sk::penumbra_wedge_scissor_in_box(h, glm::vec3(-5, -0.1f, -5), glm::vec3(5, 0, 5), sp);
+    CHECK(on.status == sk::Status::Ok);
+    CHECK(on.visible);
+    // a box beside the light that the wedge (below the edge) never reaches: Ok, not visible
+    const sk::ScissorRect off = sk::penumbra_wedge_scissor_in_box(h, glm::vec3(20, 20, 20), glm::vec3(21, 21, 21), sp);
+    CHECK(off.status == sk::Status::Ok);
+    CHECK_FALSE(off.visible);
+    CHECK(sk::penumbra_wedge_scissor(h, sp).visible);  // the unclipped hull is on screen
+    // the infinite hull: same answer for both boxes
+    const sk::PenumbraWedgeHull hinf = sk::penumbra_wedge_hull(w, std::numeric_limits<float>::infinity());
+    CHECK(sk::penumbra_wedge_scissor_in_box(hinf, glm::vec3(-5, -0.1f, -5), glm::vec3(5, 0, 5), sp).visible);
+    CHECK_FALSE(sk::penumbra_wedge_scissor_in_box(hinf, glm::vec3(20, 20, 20), glm::vec3(21, 21, 21), sp).visible);
+    // a zero viewport (the default ScissorParams) and a zero matrix: InvalidArgument, never Ok
+    sk::ScissorParams zero_vp = sp;
+    zero_vp.viewport[2] = zero_vp.viewport[3] = 0;
+    CHECK(sk::penumbra_wedge_scissor_in_box(h, glm::vec3(-5), glm::vec3(5), zero_vp).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_wedge_scissor(h, zero_vp).status == sk::Status::InvalidArgument);
+    sk::ScissorParams zero_m = sp;
+    zero_m.view_proj = glm::mat4(0.0f);
+    CHECK(sk::penumbra_wedge_scissor_in_box(h, glm::vec3(-5), glm::vec3(5), zero_m).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_points_scissor(h.vertices, 6, sk::ScissorParams{}).status == sk::Status::InvalidArgument);
+    // box and point errors
+    CHECK(sk::penumbra_wedge_scissor_in_box(h, glm::vec3(1), glm::vec3(-1), sp).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_wedge_scissor_in_box(h, glm::vec3(std::nanf("")), glm::vec3(1), sp).status == sk::Status::NonFinite);
+    CHECK(sk::penumbra_points_scissor(nullptr, 3, sp).status == sk::Status::InvalidArgument);
+    const glm::vec4 neg_w[1] = {glm::vec4(0, 0, 0, -1)};
+    CHECK(sk::penumbra_points_scissor(neg_w, 1, sp).status == sk::Status::InvalidArgument);
+    const sk::ScissorRect none = sk::penumbra_points_scissor(nullptr, 0, sp);
+    CHECK(none.status == sk::Status::Ok);
+    CHECK_FALSE(none.visible);
+    CHECK(sk::penumbra_wedge_scissor_in_box(sk::PenumbraWedgeHull{}, glm::vec3(-1), glm::vec3(1), sp).status ==
+          sk::Status::InvalidArgument);
+}
+
 TEST_CASE("plane transform: inverse transpose keeps plane values (affine) and signs (projective, w > 0)") {
     Rng rng(2024);
     for (int it = 0; it < 500; ++it) {
@@ -858,8 +1058,9 @@ TEST_CASE("plane transform: inverse transpose keeps plane values (affine) and si
         if (projective)
             for (int j = 0; j < 4; ++j) M[j][3] = rng.u(-0.5, 0.5) + (j == 3 ? 2.0 : 0.0);
         const glm::vec4 pl(F(rng.dir()), static_cast<float>(rng.u(-3.0, 3.0)));
-        const glm::vec4 tp = sk::penumbra_transform_plane(pl, glm::mat4(M));
-        if (tp == glm::vec4(0.0f)) continue;
+        const sk::PenumbraPlane tr = sk::penumbra_transform_plane(pl, glm::mat4(M));
+        if (tr.status != sk::Status::Ok) continue;
+        const glm::vec4 tp = tr.plane;
         for (int j = 0; j < 10; ++j) {
             const glm::dvec4 X(rng.box(3.0), 1.0);
             const glm::dvec4 Y = M * X;
@@ -874,26 +1075,43 @@ TEST_CASE("plane transform: inverse transpose keeps plane values (affine) and si
             }
         }
     }
-    CHECK(sk::penumbra_transform_plane(glm::vec4(1, 0, 0, 0), glm::mat4(0.0f)) == glm::vec4(0.0f));
+    // issue 19: a singular matrix returned the zero plane with no status
+    CHECK(sk::penumbra_transform_plane(glm::vec4(1, 0, 0, 0), glm::mat4(0.0f)).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_transform_plane(glm::vec4(std::nanf(""), 0, 0, 0), glm::mat4(1.0f)).status == sk::Status::NonFinite);
     // viewport transform maps NDC corners to pixels and depth to [0, 1]
-    const glm::mat4 V = sk::penumbra_viewport_transform(glm::vec4(10, 20, 640, 480), sk::ClipDepth::NegativeOneToOne);
+    const int vp[4] = {10, 20, 640, 480};
+    const sk::PenumbraMatrix VM = sk::penumbra_viewport_transform(vp, sk::ClipDepth::NegativeOneToOne);
+    REQUIRE(VM.status == sk::Status::Ok);
+    const glm::mat4 V = VM.matrix;
     const glm::vec4 a = V * glm::vec4(-1, -1, -1, 1), b = V * glm::vec4(1, 1, 1, 1);
     CHECK(a == glm::vec4(10, 20, 0, 1));
     CHECK(b == glm::vec4(650, 500, 1, 1));
-    const glm::mat4 V2 = sk::penumbra_viewport_transform(glm::vec4(0, 0, 2, 2), sk::ClipDepth::ZeroToOne);
+    const int vp2[4] = {0, 0, 2, 2};
+    const glm::mat4 V2 = sk::penumbra_viewport_transform(vp2, sk::ClipDepth::ZeroToOne).matrix;
     CHECK((V2 * glm::vec4(0, 0, 0.25f, 1)).z == 0.25f);
+    const int zero[4] = {0, 0, 0, 0};
+    CHECK(sk::penumbra_viewport_transform(zero, sk::ClipDepth::ZeroToOne).status == sk::Status::InvalidArgument);
+    CHECK(sk::penumbra_viewport_transform(nullptr, sk::ClipDepth::ZeroToOne).status == sk::Status::InvalidArgument);
 }
 
 TEST_CASE("rectangular light: circumscribed sphere contains the rectangle; wedges stay conservative") {
     Rng rng(606);
     for (int it = 0; it < 300; ++it) {
         const dvec3 cc = rng.box(2.0), hu = rng.box(1.0), hv = rng.box(1.0);
-        const sk::PenumbraSphereLight L = sk::penumbra_rect_bounding_sphere(F(cc), F(hu), F(hv));
+        const sk::PenumbraBoundingSphere B = sk::penumbra_rect_bounding_sphere(glm::vec4(F(cc), 1.0f), F(hu), F(hv));
+        REQUIRE(B.status == sk::Status::Ok);
+        const sk::PenumbraSphereLight& L = B.light;
         for (int k = 0; k < 4; ++k) {
             const dvec3 corner = D(F(cc)) + ((k & 1) ? 1.0 : -1.0) * D(F(hu)) + ((k & 2) ? 1.0 : -1.0) * D(F(hv));
-            CHECK(len3(corner - D(L.centre)) <= static_cast<double>(L.radius));
+            CHECK(len3(corner - D(ctr(L))) <= static_cast<double>(L.radius));
         }
     }
+    CHECK(sk::penumbra_rect_bounding_sphere(glm::vec4(0, 1, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 0, 1)).status ==
+          sk::Status::InvalidLight);
+    CHECK(sk::penumbra_rect_bounding_sphere(glm::vec4(0, 1, 0, 1), glm::vec3(std::nanf(""), 0, 0), glm::vec3(0, 0, 1)).status ==
+          sk::Status::NonFinite);
+    CHECK(sk::penumbra_rect_bounding_sphere(glm::vec4(0, 1, 0, 1), glm::vec3(3e38f, 0, 0), glm::vec3(0, 0, 3e38f)).status ==
+          sk::Status::Overflow);
 }
 
 TEST_CASE("depth bounds: fragments a wedge pass shades on a floor scene, with and without bounds") {
@@ -903,7 +1121,7 @@ TEST_CASE("depth bounds: fragments a wedge pass shades on a floor scene, with an
     Rng rng(1);
     Poly box = make_box(rng, dvec3(0, 1.0, 0), 0.7);
     const dvec3 c(1.5, 6.0, 0.5);
-    const sk::PenumbraSphereLight L{F(c), 0.8f};
+    const sk::PenumbraSphereLight L = SL(F(c), 0.8f);
     for (auto& v : box.v) v = D(F(v));
     const std::vector<glm::vec3> sil = silhouette(box, c);
     const dvec3 eye(0.0, 9.0, 9.0), target(0.0, 0.0, 0.0);
@@ -918,19 +1136,25 @@ TEST_CASE("depth bounds: fragments a wedge pass shades on a floor scene, with an
     proj[2][2] = -(farz + nearz) / (farz - nearz); proj[3][2] = -2.0 * farz * nearz / (farz - nearz);
     const glm::dmat4 VP = proj * view;
     const int W = 160, H = 160;
-    sk::PenumbraScissorParams sp;
+    sk::ScissorParams sp;
     sp.view_proj = glm::mat4(VP);
     sp.viewport[2] = W;
     sp.viewport[3] = H;
-    long frag = 0, frag_db = 0, useful = 0, scissor_area = 0;
+    long frag = 0, frag_db = 0, useful = 0, scissor_area = 0, frag_box = 0, box_area = 0, culled = 0;
+    // the receivers' bounds: the floor (|x|, |z| <= 8 at y = 0) and the box on it
+    const glm::vec3 rlo(-8.0f, 0.0f, -8.0f), rhi(8.0f, 2.0f, 8.0f);
     for (size_t e = 0; e + 1 < sil.size(); e += 2) {
         const sk::PenumbraWedge w = sk::penumbra_wedge(sil[e], sil[e + 1], L);
-        if (w.status != sk::PenumbraWedgeStatus::Ok) continue;
+        if (!drawn(w)) continue;
         const float extent = 8.0f;
         const sk::PenumbraWedgeHull h = sk::penumbra_wedge_hull(w, extent);
-        const sk::PenumbraScissor sc = sk::penumbra_wedge_scissor(h, sp);
+        const sk::ScissorRect sc = sk::penumbra_wedge_scissor(h, sp);
         if (!sc.visible) continue;
         scissor_area += static_cast<long>(sc.width) * sc.height;
+        const sk::ScissorRect sb = sk::penumbra_wedge_scissor_in_box(h, rlo, rhi, sp);
+        REQUIRE(sb.status == sk::Status::Ok);
+        if (sb.visible) box_area += static_cast<long>(sb.width) * sb.height;
+        else ++culled;
         // hull as planes (outward triangle normals) for a Cyrus-Beck pixel-ray test
         std::vector<std::pair<dvec3, double>> hp; // inside: dot(n, x) <= d
         for (int t = 0; t < 8; ++t) {
@@ -964,15 +1188,27 @@ TEST_CASE("depth bounds: fragments a wedge pass shades on a floor scene, with an
                 CHECK(px >= sc.x);
                 CHECK(px < sc.x + sc.width);
                 if (wz >= sc.depth_min && wz <= sc.depth_max) ++frag_db;
-                if (sk::point_in_wedge(F(fp), w)) {
+                const bool in_box_rect = sb.visible && px >= sb.x && px < sb.x + sb.width && py >= sb.y &&
+                                         py < sb.y + sb.height && wz >= sb.depth_min && wz <= sb.depth_max;
+                if (in_box_rect) ++frag_box;
+                if (sk::penumbra_point_in_wedge(F(fp), w)) {
                     ++useful;
                     CHECK((wz >= sc.depth_min && wz <= sc.depth_max)); // the bounds never reject useful work
+                    // the floor point inside the hull (and in the receivers' box): the clipped
+                    // rectangle and bounds keep it too
+                    bool in_hull = true;
+                    for (const auto& pl : hp) in_hull = in_hull && dot3(pl.first, fp) <= pl.second + 1e-9 * 10.0;
+                    if (in_hull) CHECK(in_box_rect);
                 }
             }
     }
     MESSAGE("floor scene " << W << "x" << H << ", " << sil.size() / 2 << " wedges: hull fragments " << frag
                            << ", after depth bounds " << frag_db << " (" << 100.0 * (1.0 - double(frag_db) / double(std::max(1L, frag)))
-                           << "% rejected), useful (receiver in wedge) " << useful << ", scissor area " << scissor_area);
+                           << "% rejected), useful (receiver in wedge) " << useful << ", scissor area " << scissor_area
+                           << "; clipped to the receivers' box: area " << box_area << ", fragments in rect and bounds "
+                           << frag_box << ", wedges culled " << culled);
+    CHECK(box_area < scissor_area);
+    CHECK(frag_box < frag_db);
     CHECK(frag > 0);
     CHECK(useful > 0);
     CHECK(frag_db <= frag);
@@ -983,12 +1219,12 @@ TEST_CASE("hard plane of a very short edge far from the light passes through the
     // Found by fuzz_penumbra_wedge: cross(e0 - c, e1 - c) cancels when |e1 - e0| << |e0 - c|; the
     // plane then missed e0 by up to 5.7 units. The plane through c, e0, e1 must contain all three
     // (to rounding of their size), whenever the wedge is built.
-    const sk::PenumbraSphereLight light{{8.f, 92.f, -84.f}, 0.5f};
+    const sk::PenumbraSphereLight light = SL({8.f, 92.f, -84.f}, 0.5f);
     for (float len : {1e-3f, 1e-6f, 1e-9f, 1e-12f}) {
         const glm::vec3 e0(1.8e-3f, 0.f, 0.f), e1 = e0 + glm::vec3(0.f, 0.f, len);
         const sk::PenumbraWedge w = sk::penumbra_wedge(e0, e1, light);
-        if (w.status != sk::PenumbraWedgeStatus::Ok) continue;
+        if (!drawn(w)) continue;
         const double scale = 125.0;  // |c|
-        for (const glm::vec3& q : {e0, e1, light.centre}) CHECK(std::abs(sk::penumbra_plane_eval(w.hard_plane, q)) <= 1e-6 * scale);
+        for (const glm::vec3& q : {e0, e1, ctr(light)}) CHECK(std::abs(plane_eval(w.hard_plane, q)) <= 1e-6 * scale);
     }
 }

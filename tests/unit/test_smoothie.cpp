@@ -15,7 +15,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <limits>
 #include <map>
 #include <random>
@@ -23,6 +25,21 @@
 #include <vector>
 
 namespace sk = shadowkit;
+
+// Every heap allocation of this test program is counted: smoothie_build must make none (issue 13:
+// build_smoothies allocated three vectors per call). GCC cannot see that the replaced operator
+// delete pairs with the replaced operator new (both malloc/free).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+static std::size_t g_allocations = 0;
+void* operator new(std::size_t n) {
+    ++g_allocations;
+    if (void* p = std::malloc(n != 0 ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -274,10 +291,14 @@ Built build(const sk::SmoothieEdges& in, const Light& L, float t, bool paper_fan
     prm.paper_fans = paper_fans;
     Built b;
     b.v.resize(sk::smoothie_vertex_capacity(in.edge_count));
-    b.r = sk::build_smoothies(in, L.vp_f, prm, b.v.data(), b.v.size());
-    REQUIRE(b.r.status == sk::SmoothieStatus::Ok);
-    REQUIRE(b.r.vertices_written == b.r.vertex_count);
-    b.v.resize(b.r.vertices_written);
+    std::vector<sk::SmoothieScratch> scratch(sk::smoothie_scratch_capacity(in.edge_count));
+    const std::size_t before = g_allocations;
+    b.r = sk::smoothie_build(in, L.vp_f, prm, scratch.data(), scratch.size(), b.v.data(), b.v.size());
+    CHECK(g_allocations == before);  // no allocation in the per-frame build
+    REQUIRE(b.r.status == sk::Status::Ok);
+    REQUIRE(b.r.count == b.r.needed);
+    REQUIRE(b.r.scratch_needed == (t > 0.0f ? in.edge_count : 0));
+    b.v.resize(b.r.count);
     return b;
 }
 
@@ -326,6 +347,7 @@ sk::SmoothieEdges edges_for(const Mesh& m, const Silhouette& s, int mode) {
     in.edge_count = s.edges.size() / 2;
     if (mode == 0 || mode == 1) in.face_normals = s.normals.data();
     if (mode == 2) in.outward = s.hints.data();
+    // mode 3: neither - the edges' orientation (as in the lit face) decides the outward side
     return in;
 }
 
@@ -339,7 +361,7 @@ TEST_CASE("smoothie edge quads: width t in light NDC, rectangle, outward side, s
     for (int it = 0; it < 2500; ++it) {
         Scene sc = random_scene(rng, it % 3 == 0 ? 2 : 1);
         Silhouette sil = brute_silhouette(sc.mesh, sc.light);
-        const int mode = it % 3;
+        const int mode = it % 4;
         Silhouette sil1 = sil;
         if (mode == 1)  // boundary-style input: only the lit face's normal, winding rule
             for (std::size_t e = 0; e < sil1.normals.size(); e += 2) sil1.normals[e + 1] = glm::vec3(0.0f);
@@ -414,7 +436,7 @@ TEST_CASE("smoothie corners connect neighbouring edge quads (bit-identical share
         CHECK(b.r.caps == 0);
         CHECK(b.r.fans == 0);
         CHECK(b.r.multi_vertices == 0);
-        CHECK(b.r.vertex_count == 6 * ne + 12 * b.r.corners);
+        CHECK(b.r.needed == 6 * ne + 12 * b.r.corners);
         // every edge-quad outer vertex reappears bit for bit in a corner at the same silhouette vertex
         std::vector<std::pair<glm::vec3, glm::vec3>> corner_outer;
         for (std::size_t k = 6 * ne; k < b.v.size(); ++k) corner_outer.emplace_back(b.v[k].position, b.v[k].silhouette_vertex);
@@ -449,7 +471,7 @@ TEST_CASE("smoothie footprints form a closed band of width t around convex silho
     for (int it = 0; it < 250; ++it) {
         Scene sc = random_scene(rng, it % 2 ? 2 : 1);
         Silhouette sil = brute_silhouette(sc.mesh, sc.light);
-        Built b = build(edges_for(sc.mesh, sil, it % 3), sc.light, sc.t);
+        Built b = build(edges_for(sc.mesh, sil, it % 4), sc.light, sc.t);
         std::vector<glm::dvec2> pts;
         for (const auto& p : sc.mesh.p) pts.push_back(ndc_of(sc.light, p));
         const std::vector<std::vector<glm::dvec2>> polys = {convex_hull(pts)};
@@ -541,7 +563,7 @@ TEST_CASE("smoothie vertices with more than two silhouette edges: gap-free secto
             CHECK(b.r.multi_vertices == 1);
             CHECK(b.r.fans == 0);
             CHECK(bp.r.fans == 1);
-            CHECK(bp.r.vertex_count >= 6 * in.edge_count + 24 * ncards);  // fan: 12 vertices per edge at v
+            CHECK(bp.r.needed >= 6 * in.edge_count + 24 * ncards);  // fan: 12 vertices per edge at v
         }
         std::vector<std::vector<glm::dvec2>> polys;
         for (std::size_t c = 0; c < ncards; ++c) {
@@ -613,8 +635,8 @@ TEST_CASE("smoothie vertices with more than two silhouette edges: gap-free secto
         CHECK(b.r.concave_turns == 1);     // the 164-degree exterior sector at v
         CHECK(b.r.multi_vertices == 1);
         CHECK(bp.r.fans == 1);
-        CHECK(b.r.vertex_count == 6 * 6 + 12 * 5);
-        CHECK(bp.r.vertex_count == 6 * 6 + 12 * 4 + 12 * 4);
+        CHECK(b.r.needed == 6 * 6 + 12 * 5);
+        CHECK(bp.r.needed == 6 * 6 + 12 * 4 + 12 * 4);
         const std::vector<Tri> tris = to_tris(L, b.v.data(), b.v.size()), ptris = to_tris(L, bp.v.data(), bp.v.size());
         const glm::dvec2 v0 = ndc_of(L, pos[0]);
         std::size_t sector_holes = 0, fan_holes = 0;
@@ -714,18 +736,31 @@ TEST_CASE("smoothie penumbra width scales with (r - b)/b on two receivers (paper
         max_ratio_err = std::max(max_ratio_err, std::fabs(ratio / expected_ratio - 1.0));
         CHECK(ratio == doctest::Approx(expected_ratio).epsilon(5e-4));
         // area light of width w: t = s w / b gives W = w (r - b) / b
-        const float w = sk::smoothie_area_light_width(t, fb, static_cast<float>(s));
-        CHECK(sk::smoothie_width_for_area_light(w, fb, static_cast<float>(s)) == doctest::Approx(t).epsilon(1e-6));
+        const float w = sk::smoothie_area_light_width(t, fb, static_cast<float>(s)).value;
+        CHECK(sk::smoothie_width_for_area_light(w, fb, static_cast<float>(s)).value == doctest::Approx(t).epsilon(1e-6));
         for (int k = 0; k < 2; ++k) {
             const double area = static_cast<double>(w) * (rs[k] - bb) / bb;
             max_area_err = std::max(max_area_err, std::fabs(W[k] / area - 1.0));
             CHECK(W[k] == doctest::Approx(area).epsilon(5e-4));
-            CHECK(static_cast<double>(sk::smoothie_penumbra_width(t, fb, static_cast<float>(rs[k]), static_cast<float>(s))) ==
+            CHECK(static_cast<double>(sk::smoothie_penumbra_width(t, fb, static_cast<float>(rs[k]), static_cast<float>(s)).value) ==
                   doctest::Approx(area).epsilon(1e-5));
         }
     }
     std::printf("[smoothie] Fig. 9 penumbra: max rel. error of W1/W2 vs (r1-b)/(r2-b) = %.3g, of W vs area light = %.3g\n",
                 max_ratio_err, max_area_err);
+    // statuses (issue 19: invalid input returned a width of 0 with no status, huge input 3e38)
+    const float nanf = std::numeric_limits<float>::quiet_NaN();
+    CHECK(sk::smoothie_width_for_area_light(nanf, 1.0f, 1.0f).status == sk::Status::NonFinite);
+    CHECK(sk::smoothie_width_for_area_light(1.0f, 0.0f, 1.0f).status == sk::Status::InvalidArgument);
+    CHECK(sk::smoothie_width_for_area_light(-1.0f, 1.0f, 1.0f).status == sk::Status::InvalidArgument);
+    CHECK(sk::smoothie_width_for_area_light(3e38f, 1e-3f, 1.0f).status == sk::Status::Overflow);
+    CHECK(sk::smoothie_area_light_width(1.0f, 1.0f, 0.0f).status == sk::Status::InvalidArgument);
+    CHECK(sk::smoothie_area_light_width(3e38f, 3e38f, 1.0f).status == sk::Status::Overflow);
+    const sk::SmoothieValue none = sk::smoothie_penumbra_width(0.1f, 5.0f, 4.0f, 1.0f);  // receiver in front: 0
+    CHECK(none.status == sk::Status::Ok);
+    CHECK(none.value == 0.0f);
+    CHECK(sk::smoothie_penumbra_width(0.1f, 5.0f, std::numeric_limits<float>::infinity(), 1.0f).status == sk::Status::NonFinite);
+    CHECK(sk::SmoothieValue{}.status == sk::Status::NotRun);
 }
 
 TEST_CASE("smoothie alpha remap (eq. 1): closed form, b/r >= 1, monotonicity, NaN") {
@@ -806,10 +841,11 @@ TEST_CASE("smoothie t = 0 gives no geometry and the final tap is exactly the har
     std::vector<sk::SmoothieVertex> copy = buf;
     sk::SmoothieParams p;
     p.t = 0.0f;
-    const sk::SmoothieResult r = sk::build_smoothies(in, sc.light.vp_f, p, buf.data(), buf.size());
-    CHECK(r.status == sk::SmoothieStatus::Ok);
-    CHECK(r.vertex_count == 0);
-    CHECK(r.vertices_written == 0);
+    const sk::SmoothieResult r = sk::smoothie_build(in, sc.light.vp_f, p, nullptr, 0, buf.data(), buf.size());
+    CHECK(r.status == sk::Status::Ok);
+    CHECK(r.needed == 0);
+    CHECK(r.count == 0);
+    CHECK(r.scratch_needed == 0);
     CHECK(std::memcmp(buf.data(), copy.data(), buf.size() * sizeof(sk::SmoothieVertex)) == 0);
     // cleared smoothie buffer (b = 1e30, alpha = 1): visibility is the hard test, bit for bit
     std::uniform_real_distribution<float> u(0.0f, 50.0f);
@@ -833,7 +869,8 @@ TEST_CASE("smoothie degenerate input: statuses, skips and no NaN") {
                                   {1, 0, 2},  {0.5f, 0.5f, 1.0f}, {0.5f, 0.5f, -4.0f},   // 7-8: crosses near
                                   {0, 0, -0.05f}, {0.01f, 0, -0.08f}};  // 9-10: w > 0 but before the near plane
     std::vector<sk::SmoothieVertex> out(1000);
-    auto run = [&](std::vector<std::uint32_t> e, std::vector<glm::vec3> n, float t, sk::SmoothieStatus expect) {
+    std::vector<sk::SmoothieScratch> scratch(64);
+    auto run = [&](std::vector<std::uint32_t> e, std::vector<glm::vec3> n, float t, sk::Status expect) {
         sk::SmoothieEdges in;
         in.positions = pos.data();
         in.position_count = pos.size();
@@ -842,45 +879,52 @@ TEST_CASE("smoothie degenerate input: statuses, skips and no NaN") {
         in.face_normals = n.empty() ? nullptr : n.data();
         sk::SmoothieParams p;
         p.t = t;
-        const sk::SmoothieResult r = sk::build_smoothies(in, L.vp_f, p, out.data(), out.size());
+        const sk::SmoothieResult r = sk::smoothie_build(in, L.vp_f, p, scratch.data(), scratch.size(), out.data(), out.size());
         CHECK(r.status == expect);
-        for (std::size_t k = 0; k < r.vertices_written; ++k) CHECK(finite_vertex(out[k]));
+        for (std::size_t k = 0; k < r.count; ++k) CHECK(finite_vertex(out[k]));
         return r;
     };
     const glm::vec3 up(0, 0, 1), z0(0.0f);
     sk::SmoothieResult r;
-    r = run({0, 1}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);
+    r = run({0, 1}, {up, z0}, 0.1f, sk::Status::Ok);
     CHECK(r.edge_quads == 1);
     CHECK(r.caps == 2);
-    r = run({0, 11}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);  // index out of range
+    r = run({0, 11}, {up, z0}, 0.1f, sk::Status::Ok);  // index out of range
     CHECK(r.skipped_invalid == 1);
-    r = run({0, 0}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);  // same index
+    r = run({0, 0}, {up, z0}, 0.1f, sk::Status::Ok);  // same index
     CHECK(r.skipped_invalid == 1);
-    r = run({1, 2}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);  // zero length
+    r = run({1, 2}, {up, z0}, 0.1f, sk::Status::Ok);  // zero length
     CHECK(r.skipped_invalid == 1);
-    r = run({0, 4}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);  // NaN position
+    r = run({0, 4}, {up, z0}, 0.1f, sk::Status::Ok);  // NaN position
     CHECK(r.skipped_invalid == 1);
-    r = run({0, 3}, {glm::vec3(1, 0, 0), z0}, 0.1f, sk::SmoothieStatus::Ok);  // along the light ray
+    r = run({0, 3}, {glm::vec3(1, 0, 0), z0}, 0.1f, sk::Status::Ok);  // along the light ray
     CHECK(r.skipped_end_on == 1);
-    CHECK(r.vertex_count == 0);
-    r = run({5, 6}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);  // behind the light
+    CHECK(r.needed == 0);
+    r = run({5, 6}, {up, z0}, 0.1f, sk::Status::Ok);  // behind the light
     CHECK(r.skipped_behind == 1);
-    CHECK(r.vertex_count == 0);
-    r = run({9, 10}, {up, z0}, 0.1f, sk::SmoothieStatus::Ok);  // between the light and the near plane
+    CHECK(r.needed == 0);
+    r = run({9, 10}, {up, z0}, 0.1f, sk::Status::Ok);  // between the light and the near plane
     CHECK(r.skipped_behind == 1);
-    CHECK(r.vertex_count == 0);
-    r = run({0, 1}, {glm::vec3(nan), z0}, 0.1f, sk::SmoothieStatus::Ok);  // no usable normal
-    CHECK(r.skipped_no_outward == 1);
-    r = run({0, 1}, {z0, z0}, 0.1f, sk::SmoothieStatus::Ok);
-    CHECK(r.skipped_no_outward == 1);
-    r = run({0, 1}, {glm::vec3(0.6f, 0, 0.8f), glm::vec3(-0.6f, 0, -0.8f)}, 0.1f, sk::SmoothieStatus::Ok);  // sum 0 -> winding
+    CHECK(r.needed == 0);
+    // no usable normal: the edge's orientation decides (it was skipped before); the same side as
+    // with the lit face's normal (+z: the light looks down -z at it, so it faces the light)
+    r = run({0, 1}, {glm::vec3(nan), z0}, 0.1f, sk::Status::Ok);
+    CHECK(r.skipped_no_outward == 0);
+    CHECK(r.edge_quads == 1);
+    const glm::vec3 outer_nan = out[2].position;
+    r = run({0, 1}, {z0, z0}, 0.1f, sk::Status::Ok);
+    CHECK(r.edge_quads == 1);
+    CHECK(out[2].position == outer_nan);
+    r = run({0, 1}, {up, z0}, 0.1f, sk::Status::Ok);  // the lit face's normal gives the same side
+    CHECK(out[2].position == outer_nan);
+    r = run({0, 1}, {glm::vec3(0.6f, 0, 0.8f), glm::vec3(-0.6f, 0, -0.8f)}, 0.1f, sk::Status::Ok);  // sum 0 -> winding
     CHECK(r.edge_quads == 1);
     // an edge crossing the near plane is clipped: output in front of the near plane, width still t
-    r = run({7, 8}, {glm::vec3(0, 1, 0), z0}, 0.1f, sk::SmoothieStatus::Ok);
+    r = run({7, 8}, {glm::vec3(0, 1, 0), z0}, 0.1f, sk::Status::Ok);
     CHECK(r.clipped_edges == 1);
     CHECK(r.edge_quads == 1);
     CHECK(r.caps == 1);  // the clipped end gets no corner
-    for (std::size_t k = 0; k < r.vertices_written; ++k) {
+    for (std::size_t k = 0; k < r.count; ++k) {
         const glm::dvec4 c = clip_of(L, out[k].position);
         CHECK(c.w > 0.0);
         CHECK(c.z + c.w >= -1e-5 * c.w);
@@ -902,24 +946,44 @@ TEST_CASE("smoothie degenerate input: statuses, skips and no NaN") {
         (void)a;
     }
     // statuses
-    run({0, 1}, {up, z0}, nan, sk::SmoothieStatus::InvalidArgument);
-    run({0, 1}, {up, z0}, -0.1f, sk::SmoothieStatus::InvalidArgument);
-    run({0, 1}, {up, z0}, inf, sk::SmoothieStatus::InvalidArgument);
-    run({0, 1}, {}, 0.1f, sk::SmoothieStatus::InvalidArgument);  // neither normals nor hints
+    run({0, 1}, {up, z0}, nan, sk::Status::NonFinite);
+    run({0, 1}, {up, z0}, -0.1f, sk::Status::InvalidArgument);
+    run({0, 1}, {up, z0}, inf, sk::Status::NonFinite);
+    // issue 13 item 7: neither normals nor hints was InvalidArgument; silhouette.hpp emits no normals,
+    // and the edge's orientation is enough: the same side as the normal +z of its lit face
+    r = run({0, 1}, {}, 0.1f, sk::Status::Ok);
+    CHECK(r.edge_quads == 1);
+    CHECK(out[2].position == outer_nan);
     {
         sk::SmoothieEdges in;
         in.edge_count = 3;  // null edges with a count
-        CHECK(sk::build_smoothies(in, L.vp_f, sk::SmoothieParams{}, nullptr, 0).status == sk::SmoothieStatus::InvalidArgument);
+        CHECK(sk::smoothie_build(in, L.vp_f, sk::SmoothieParams{}, nullptr, 0, nullptr, 0).status == sk::Status::InvalidArgument);
         sk::SmoothieEdges empty;
-        CHECK(sk::build_smoothies(empty, L.vp_f, sk::SmoothieParams{}, nullptr, 0).status == sk::SmoothieStatus::Ok);
+        CHECK(sk::smoothie_build(empty, L.vp_f, sk::SmoothieParams{}, nullptr, 0, nullptr, 0).status == sk::Status::Ok);
+        CHECK(sk::smoothie_build(empty, L.vp_f, sk::SmoothieParams{}, nullptr, 5, nullptr, 0).status == sk::Status::InvalidArgument);
+        CHECK(sk::smoothie_build(empty, L.vp_f, sk::SmoothieParams{}, nullptr, 0, nullptr, 5).status == sk::Status::InvalidArgument);
         glm::mat4 bad = L.vp_f;
         bad[1][2] = nan;
-        CHECK(sk::build_smoothies(empty, bad, sk::SmoothieParams{}, nullptr, 0).status == sk::SmoothieStatus::InvalidMatrix);
-        CHECK(sk::build_smoothies(empty, glm::mat4(0.0f), sk::SmoothieParams{}, nullptr, 0).status ==
-              sk::SmoothieStatus::InvalidMatrix);
+        CHECK(sk::smoothie_build(empty, bad, sk::SmoothieParams{}, nullptr, 0, nullptr, 0).status == sk::Status::NonFinite);
+        CHECK(sk::smoothie_build(empty, glm::mat4(0.0f), sk::SmoothieParams{}, nullptr, 0, nullptr, 0).status ==
+              sk::Status::InvalidArgument);
+        // too little scratch: BufferTooSmall with scratch_needed, nothing written
+        std::vector<std::uint32_t> e = {0, 1, 1, 7};
+        sk::SmoothieEdges two;
+        two.positions = pos.data();
+        two.position_count = pos.size();
+        two.edges = e.data();
+        two.edge_count = 2;
+        sk::SmoothieParams p;
+        p.t = 0.1f;
+        const sk::SmoothieResult small = sk::smoothie_build(two, L.vp_f, p, scratch.data(), 1, out.data(), out.size());
+        CHECK(small.status == sk::Status::BufferTooSmall);
+        CHECK(small.scratch_needed == 2);
+        CHECK(small.count == 0);
+        CHECK(sk::SmoothieResult{}.status == sk::Status::NotRun);
     }
     // t huge: outer vertices far away but finite, or the edge is dropped
-    r = run({0, 1}, {up, z0}, 1e30f, sk::SmoothieStatus::Ok);
+    r = run({0, 1}, {up, z0}, 1e30f, sk::Status::Ok);
     CHECK(r.edge_quads + r.skipped_unprojectable == 1);
 }
 
@@ -933,18 +997,20 @@ TEST_CASE("smoothie buffer too small: whole-triangle prefix of the full output, 
         p.t = sc.t;
         p.clip_depth = sc.light.cd;
         p.reversed_z = sc.light.rev;
-        const sk::SmoothieResult q = sk::build_smoothies(in, sc.light.vp_f, p, nullptr, 0);
-        CHECK(q.vertex_count <= sk::smoothie_vertex_capacity(in.edge_count));
-        std::vector<sk::SmoothieVertex> full(q.vertex_count), part(q.vertex_count);
-        const sk::SmoothieResult f = sk::build_smoothies(in, sc.light.vp_f, p, full.data(), full.size());
-        CHECK(f.status == sk::SmoothieStatus::Ok);
-        CHECK(f.vertex_count == q.vertex_count);
-        const std::size_t cap = static_cast<std::size_t>(rng() % (q.vertex_count + 1));
-        const sk::SmoothieResult r = sk::build_smoothies(in, sc.light.vp_f, p, part.data(), cap);
-        CHECK(r.vertex_count == q.vertex_count);
-        CHECK(r.status == (cap < q.vertex_count ? sk::SmoothieStatus::BufferTooSmall : sk::SmoothieStatus::Ok));
-        CHECK(r.vertices_written == cap / 3 * 3);
-        CHECK(std::memcmp(part.data(), full.data(), r.vertices_written * sizeof(sk::SmoothieVertex)) == 0);
+        std::vector<sk::SmoothieScratch> scratch(sk::smoothie_scratch_capacity(in.edge_count));
+        const sk::SmoothieResult q = sk::smoothie_build(in, sc.light.vp_f, p, scratch.data(), scratch.size(), nullptr, 0);
+        CHECK(q.status == (q.needed > 0 ? sk::Status::BufferTooSmall : sk::Status::Ok));  // a size query
+        CHECK(q.needed <= sk::smoothie_vertex_capacity(in.edge_count));
+        std::vector<sk::SmoothieVertex> full(q.needed), part(q.needed);
+        const sk::SmoothieResult f = sk::smoothie_build(in, sc.light.vp_f, p, scratch.data(), scratch.size(), full.data(), full.size());
+        CHECK(f.status == sk::Status::Ok);
+        CHECK(f.needed == q.needed);
+        const std::size_t cap = static_cast<std::size_t>(rng() % (q.needed + 1));
+        const sk::SmoothieResult r = sk::smoothie_build(in, sc.light.vp_f, p, scratch.data(), scratch.size(), part.data(), cap);
+        CHECK(r.needed == q.needed);
+        CHECK(r.status == (cap < q.needed ? sk::Status::BufferTooSmall : sk::Status::Ok));
+        CHECK(r.count == cap / 3 * 3);
+        CHECK(std::memcmp(part.data(), full.data(), r.count * sizeof(sk::SmoothieVertex)) == 0);
     }
 }
 
@@ -955,7 +1021,7 @@ TEST_CASE("smoothie stiff scales and random garbage: widths at 1e-6 and 1e6, nev
         for (int it = 0; it < 100; ++it) {
             Scene sc = random_scene(rng, 1, scale);
             Silhouette sil = brute_silhouette(sc.mesh, sc.light);
-            Built b = build(edges_for(sc.mesh, sil, it % 3), sc.light, sc.t);
+            Built b = build(edges_for(sc.mesh, sil, it % 4), sc.light, sc.t);
             CHECK(b.r.edge_quads == sil.edges.size() / 2);
             for (std::size_t q = 0; q < b.r.edge_quads; ++q) {
                 const sk::SmoothieVertex* v = &b.v[6 * q];
@@ -1011,13 +1077,49 @@ TEST_CASE("smoothie stiff scales and random garbage: widths at 1e-6 and 1e6, nev
         p.reversed_z = rng() % 2;
         p.paper_fans = rng() % 2;
         const std::size_t cap = rng() % out.size();
-        const sk::SmoothieResult r = sk::build_smoothies(in, M, p, out.data(), cap);
-        REQUIRE(r.vertices_written <= cap);
-        REQUIRE(r.vertices_written % 3 == 0);
-        REQUIRE(r.vertex_count <= sk::smoothie_vertex_capacity(in.edge_count));
-        for (std::size_t k = 0; k < r.vertices_written; ++k) REQUIRE(finite_vertex(out[k]));
-        if (r.status != sk::SmoothieStatus::InvalidArgument && r.status != sk::SmoothieStatus::InvalidMatrix && p.t > 0.0f)
+        std::vector<sk::SmoothieScratch> scratch(in.edge_count);
+        const sk::SmoothieResult r = sk::smoothie_build(in, M, p, scratch.data(), scratch.size(), out.data(), cap);
+        REQUIRE(r.count <= cap);
+        REQUIRE(r.count % 3 == 0);
+        REQUIRE(r.needed <= sk::smoothie_vertex_capacity(in.edge_count));
+        for (std::size_t k = 0; k < r.count; ++k) REQUIRE(finite_vertex(out[k]));
+        if ((r.status == sk::Status::Ok || r.status == sk::Status::BufferTooSmall) && p.t > 0.0f)
             REQUIRE(r.edge_quads + r.skipped_invalid + r.skipped_behind + r.skipped_end_on + r.skipped_no_outward +
                         r.skipped_unprojectable == in.edge_count);
     }
+}
+
+TEST_CASE("issue 13 item 7: edges oriented as in the lit face need no normals - same output as with the normals") {
+    // silhouette.hpp outputs edges (oriented as in the lit face), no face normals; the old code
+    // rejected edges without normals or hints (InvalidArgument). The winding rule must give exactly
+    // the output of the normal-sum rule, for perspective and orthographic lights, GL and zero-to-one
+    // depth, reversed z and mirrored (x-flipped) light matrices.
+    {  // the allocation counter the builds are checked with counts (a vector allocates)
+        const std::size_t a0 = g_allocations;
+        std::vector<int> probe(16);
+        CHECK(g_allocations > a0);
+    }
+    std::mt19937 rng(0x13077u);
+    std::size_t configs = 0, edges = 0;
+    for (int it = 0; it < 1200; ++it) {
+        Scene sc = random_scene(rng, it % 3 == 0 ? 2 : 1);
+        if (it % 5 == 4) {  // mirrored viewport: x negated (the lit faces appear clockwise)
+            glm::dmat4 F(1.0);
+            F[0][0] = -1.0;
+            sc.light.vp_f = glm::mat4(F * glm::dmat4(sc.light.vp_f));
+            sc.light.vp = glm::dmat4(sc.light.vp_f);
+        }
+        Silhouette sil = brute_silhouette(sc.mesh, sc.light);
+        Built bn = build(edges_for(sc.mesh, sil, 0), sc.light, sc.t);
+        Built bw = build(edges_for(sc.mesh, sil, 3), sc.light, sc.t);
+        REQUIRE(bn.r.edge_quads == sil.edges.size() / 2);
+        CHECK(bw.r.edge_quads == bn.r.edge_quads);
+        CHECK(bw.r.corners == bn.r.corners);
+        REQUIRE(bw.v.size() == bn.v.size());
+        CHECK(std::memcmp(bw.v.data(), bn.v.data(), bw.v.size() * sizeof(sk::SmoothieVertex)) == 0);
+        ++configs;
+        edges += sil.edges.size() / 2;
+    }
+    MESSAGE("winding rule = normal rule on " << configs << " configurations, " << edges << " silhouette edges");
+    CHECK(edges > 10000);
 }
