@@ -64,7 +64,8 @@ public:
         if (!params.values.empty()) return RunResult::failure(spec_.name + " takes named settings (name=value words)");
         for (const auto& [k, v] : params.named)
             if (!bindings.set(k, v, why)) return RunResult::failure(why);
-        const app::View view = app::make_view(ctx.scene, ctx.gpu);
+        const app::View view =
+            ctx.fit_camera ? app::make_view(ctx.scene, ctx.gpu, *ctx.fit_camera) : app::make_view(ctx.scene, ctx.gpu);
         T t;
         RunResult r;
         const auto t0 = std::chrono::steady_clock::now();

@@ -86,6 +86,10 @@ struct RunContext {
     int warmup = 3;
     const GBuffer* gbuffer = nullptr;  // CPU copy of the G-buffer, for CPU-side metrics
     bool debug_images = false;         // the old viewer and the GL tests ask for RunResult::debug (never the report)
+    // The camera techniques fit to (shadow-map fitting, warping, cascades) when it is not the G-buffer's
+    // (issue 18's temporal rows: V is still evaluated at the G-buffer's points). Ported techniques get
+    // it as app::View::camera; the old drivers ignore it.
+    const Camera* fit_camera = nullptr;
 };
 
 // Grey image of a float buffer (w x h, `stride` floats per pixel, channel `c`), mapped from the

@@ -146,9 +146,9 @@ void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
     pass_.draw(vis_prog_, *v.gpu, cube_ ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, map_);
 }
 
-void ShadowMap::release() {
+void ShadowMap::release() {  // (no GL call without objects: the App may have no context)
     if (map_) glDeleteTextures(1, &map_);
-    glDeleteFramebuffers(6, fbo_);
+    if (fbo_[0]) glDeleteFramebuffers(6, fbo_);
     if (depth_prog_) glDeleteProgram(depth_prog_);
     if (vis_prog_) glDeleteProgram(vis_prog_);
     map_ = depth_prog_ = vis_prog_ = 0;
