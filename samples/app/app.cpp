@@ -170,7 +170,7 @@ private:
 struct App::Impl {
     std::string title, program;
     // options
-    std::string scene_name = "contact", mesh, out, view_name;
+    std::string scene_name = "contact", mesh, out;
     bool headless = false;
     int frames = 0;  // 0: not given (headless: 1; window: until closed)
     int width = 800, height = 600;
@@ -194,7 +194,7 @@ struct App::Impl {
     std::string last_view_label;
 #if SHADOWKIT_APP_GLFW
     GLFWwindow* win = nullptr;
-    bool imgui = false;
+    bool imgui = false, imgui_frame = false;  // the panel's frame began (NewFrame) and is not rendered yet
     int key_state[GLFW_KEY_LAST + 1] = {};
     float yaw = 0.f, pitch = 0.f;
     bool dragging = false;
@@ -242,7 +242,7 @@ struct App::Impl {
         }
         scene = base = std::move(s);
         scene_name = name;
-        upload_scene(scene, gl->gpu);
+        if (gl) upload_scene(scene, gl->gpu);  // (start() loads before the context exists, uploads after)
         return true;
     }
 };
@@ -256,6 +256,7 @@ App::~App() {
     if (I.win) {
 #if SHADOWKIT_APP_IMGUI
         if (I.imgui) {
+            if (I.imgui_frame) ImGui::EndFrame();  // the sample stopped between next_frame() and present()
             ImGui_ImplOpenGL3_Shutdown();
             ImGui_ImplGlfw_Shutdown();
             ImGui::DestroyContext();
@@ -359,6 +360,7 @@ bool App::start(int argc, char** argv) {
     if (I.headless && I.frames == 0) I.frames = 1;
 
     std::string why;
+    if (!I.load_scene(I.scene_name, why)) return bad(why);  // a mesh file that cannot be read: bad input
     if (I.headless) {
         I.egl = skgl::create_context(why);
         if (!I.egl) {
@@ -401,9 +403,9 @@ bool App::start(int argc, char** argv) {
     }
     if (skgl::timer_queries_in_use()) glGenQueries(1, &I.timer_query);
     I.gl = std::make_unique<Impl::Gl>();
-    if (!I.load_scene(I.scene_name, why) || !I.gl->composite.init(why) || !I.gl->show.init(why)) {
-        std::fprintf(stderr, "%s: %s\n", I.program.c_str(), why.c_str());
-        exit_code_ = why.rfind("unknown scene", 0) == 0 ? 2 : 1;
+    upload_scene(I.scene, I.gl->gpu);
+    if (!I.gl->composite.init(why) || !I.gl->show.init(why)) {
+        fail(why);
         return false;
     }
     return true;
@@ -448,13 +450,22 @@ bool App::next_frame() {
 #if SHADOWKIT_APP_GLFW
     if (I.frames > 0 && I.frame >= I.frames) return false;
     glfwPollEvents();
-    if (glfwWindowShouldClose(I.win)) return false;
+    if (glfwWindowShouldClose(I.win) || glfwGetKey(I.win, GLFW_KEY_ESCAPE) == GLFW_PRESS) return false;
     bool want_mouse = false, want_keys = false;
+    auto stop = [&](const std::string& msg) {  // a failure after the panel's frame began
+#if SHADOWKIT_APP_IMGUI
+        if (I.imgui) ImGui::EndFrame();
+        I.imgui_frame = false;
+#endif
+        fail(msg);
+        return false;
+    };
 #if SHADOWKIT_APP_IMGUI
     if (I.imgui) {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
+        I.imgui_frame = true;
         want_mouse = ImGui::GetIO().WantCaptureMouse;
         want_keys = ImGui::GetIO().WantCaptureKeyboard;
     }
@@ -466,7 +477,6 @@ bool App::next_frame() {
         return edge && !want_keys;
     };
     auto down = [&](int key) { return !want_keys && glfwGetKey(I.win, key) == GLFW_PRESS; };
-    if (pressed(GLFW_KEY_ESCAPE)) return false;
     if (pressed(GLFW_KEY_V)) I.shown = (I.shown + 1) % (I.debug.size() + 1);
     // N / P (or the panel's scene list): another built-in scene
     const auto names = sk::builtin_scene_names();
@@ -477,10 +487,7 @@ bool App::next_frame() {
         else if (k >= names.size()) k = 0;
         else k = (k + (next ? 1 : names.size() - 1)) % names.size();
         I.pending_scene = -1;
-        if (!I.load_scene(names[k], why)) {
-            fail(why);
-            return false;
-        }
+        if (!I.load_scene(names[k], why)) return stop(why);
         I.yaw = I.pitch = 0.f;
         gbuffer = scene_changed_ = true;
     }
@@ -531,10 +538,7 @@ bool App::next_frame() {
         const float yaw = std::atan2(off.x, off.z) + I.yaw, pitch = std::clamp(std::asin(off.y / r) + I.pitch, -1.4f, 1.4f);
         c.eye = c.target + r * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
         I.scene.camera = c;
-        if (!render_gbuffer(I.scene, c, w, h, I.gl->gpu, why)) {
-            fail(why);
-            return false;
-        }
+        if (!render_gbuffer(I.scene, c, w, h, I.gl->gpu, why)) return stop(why);
     }
     view_ = make_view(I.scene, I.gl->gpu);
     return true;
@@ -679,6 +683,7 @@ void App::present(GLuint visibility) {
         }
         ImGui::End();
         ImGui::Render();
+        I.imgui_frame = false;
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     }
 #endif

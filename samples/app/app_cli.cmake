@@ -25,6 +25,7 @@ expect_fail("--param wants name=value" --param novalue)
 expect_fail("--frames wants a count" --frames 0)
 expect_fail("--size wants WxH" --size 12)
 expect_fail("unknown view 'nosuch'; valid: shaded, " --view nosuch)
+expect_fail("mesh file not found" --mesh ${WORK}/missing.obj --headless ${WORK}/missing.png)
 
 # the sample's own settings: a misspelled name or a value that is not one of them
 execute_process(COMMAND ${SAMPLE} --help RESULT_VARIABLE rc OUTPUT_VARIABLE help ERROR_VARIABLE err)
