@@ -3,7 +3,10 @@
 #   GL harness (GL tests, samples, report)              epoxy + EGL, stb, and for now Embree + assimp
 #                                                       (the GL tests compare against the report's
 #                                                       Embree reference)
-#   samples                                             + GLFW (window), Dear ImGui when installed
+#   samples                                             + GLFW (window)
+#   samples' panel                                      + Dear ImGui (libimgui-dev: pkg-config imgui, the
+#                                                         GLFW and OpenGL 3 backends in libimgui.a); without
+#                                                         it the sample windows have no panel
 #   report, bench                                       + Embree, assimp; Google Benchmark
 # A part whose dependencies are missing is skipped with a reason, unless SHADOWKIT_REQUIRE_ALL is ON
 # (the presets set it: the README's commands install everything and must build everything).
@@ -87,4 +90,22 @@ if(SHADOWKIT_BUILD_SAMPLES)
     set(SHADOWKIT_HAVE_SAMPLES ON)
   endif()
   _sk_part("samples (GLFW, epoxy)" ON "${SHADOWKIT_HAVE_SAMPLES}" "${_why}")
+endif()
+
+# the samples' panel (Dear ImGui): optional, the windows work without it
+set(SHADOWKIT_HAVE_IMGUI OFF)
+if(SHADOWKIT_HAVE_SAMPLES)
+  pkg_check_modules(IMGUI QUIET IMPORTED_TARGET GLOBAL imgui)
+  set(_why "")
+  if(NOT IMGUI_FOUND)
+    set(_why "Dear ImGui not found (Debian: libimgui-dev): the sample windows have no panel")
+  else()
+    find_file(SHADOWKIT_IMGUI_GLFW_BACKEND backends/imgui_impl_glfw.h PATHS ${IMGUI_INCLUDE_DIRS} NO_DEFAULT_PATH)
+    if(NOT SHADOWKIT_IMGUI_GLFW_BACKEND)
+      set(_why "Dear ImGui has no GLFW backend header (backends/imgui_impl_glfw.h): the sample windows have no panel")
+    else()
+      set(SHADOWKIT_HAVE_IMGUI ON)
+    endif()
+  endif()
+  _sk_part("samples' panel (Dear ImGui)" ON "${SHADOWKIT_HAVE_IMGUI}" "${_why}")
 endif()

@@ -5,7 +5,7 @@
 #   headers:  libglm-dev                       (the only dependency of the public headers)
 #   tests:    doctest-dev glslang-dev glslang-tools
 #   GL:       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri (Mesa llvmpipe, EGL surfaceless)
-#   samples:  libglfw3-dev libstb-dev xvfb xauth
+#   samples:  libglfw3-dev libstb-dev libimgui-dev xvfb xauth   (window, PNG, the Dear ImGui panel)
 #   report:   libembree-dev libtbb-dev libassimp-dev   (ray-traced reference, mesh files)
 #   bench:    libbenchmark-dev                     (Google Benchmark, samples/bench)
 #   fuzzing:  clang libclang-rt-14-dev              (only with --fuzz)
@@ -13,7 +13,7 @@ set -euo pipefail
 pkgs=(cmake ninja-build g++ pkg-config git
       libglm-dev doctest-dev glslang-dev glslang-tools
       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
-      libglfw3-dev libstb-dev xvfb xauth
+      libglfw3-dev libstb-dev libimgui-dev xvfb xauth
       libembree-dev libtbb-dev libassimp-dev libbenchmark-dev)
 if [[ "${1:-}" == "--fuzz" ]]; then pkgs+=(clang libclang-rt-14-dev); fi
 missing=()

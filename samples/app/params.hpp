@@ -25,6 +25,7 @@ public:
         double min = 0.0, max = 0.0;            // Number: inclusive range
         bool integer = false;                   // Number: whole numbers only
         std::function<std::string()> get;       // the current value as text
+        std::function<double()> get_number;     // Number: the current value
         std::function<void(std::size_t)> set_choice;
         std::function<void(double)> set_number;
     };
@@ -47,6 +48,7 @@ public:
     /// An on/off switch (`name=on` or `name=off`).
     void toggle(const std::string& name, bool* field) {
         choice<bool>(name, field, {{"off", false}, {"on", true}});
+        entries_.back().kind = Entry::Kind::Toggle;  // a checkbox in the panel; "off" / "on" on the command line
     }
     /// A number in [min, max] (integer: whole numbers only).
     template <class T>
@@ -62,6 +64,7 @@ public:
             std::snprintf(b, sizeof b, "%g", static_cast<double>(*field));
             return std::string(b);
         };
+        e.get_number = [field] { return static_cast<double>(*field); };
         e.set_number = [field](double v) { *field = static_cast<T>(v); };
         entries_.push_back(std::move(e));
     }

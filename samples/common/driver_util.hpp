@@ -1,4 +1,6 @@
-// Internal helpers shared by the technique drivers (samples/common/drivers_*.cpp).
+// Internal helpers shared by the technique drivers of samples/common/drivers_*.cpp: the old interface
+// (Technique::run), kept until each family is ported to samples/<technique>/ (docs/samples.md says
+// how); then its driver file and the helpers only it used go.
 #pragma once
 
 #include <shadowkit/silhouette.hpp>
@@ -10,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_harness.hpp"
+#include "gl.hpp"
 #include "techniques.hpp"
 
 namespace sk {
@@ -23,31 +25,9 @@ double median_of(std::vector<double> v);
 // Runs work() `runs` times and sets ms to the median of its CPU times; false at the first failing run.
 bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms);
 
-// Perspective depth range of the box lo..hi seen through view (zfar 1.01 x the farthest corner, znear the
-// larger of 0.9 x the nearest and 2e-3 zfar) and the largest tangent max(|x|, |y|) / -z of its corners.
-void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,
-                   float& tan_max);
-
-// Light uniforms read by visibility_fragment_shader()'s common light rules.
-void set_light_uniforms(GLuint prog, const Light& L);
-
 // Position-only depth pass (u_light_view_proj).
 const char* depth_only_vs();
 const char* depth_only_fs();
-
-// Full-screen pass over the G-buffer writing V into an R32F target (units 0/1 = G-buffer).
-struct VisibilityPass {
-    skgl::Target target;
-    GLuint vao = 0;
-    VisibilityPass() = default;
-    VisibilityPass(const VisibilityPass&) = delete;
-    VisibilityPass& operator=(const VisibilityPass&) = delete;
-    ~VisibilityPass();
-    bool init(int w, int h, std::string& why);
-    void draw(GLuint prog, const SceneGpu& gpu);
-    // draw() with `map` (a texture of map_target) bound at unit 2, where the lookups read their shadow map.
-    void draw(GLuint prog, const SceneGpu& gpu, GLenum map_target, GLuint map);
-};
 
 // Times `frame` (median over ctx.frames after ctx.warmup) and reads V back from pass into r.
 void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPass& pass,
@@ -56,10 +36,9 @@ void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPas
 // r, or the GL error as a failure.
 RunResult finish_run(RunResult r, std::initializer_list<GLuint> programs, const std::function<void()>& release = {});
 
-// The depth-only program (depth_only_vs / depth_only_fs) and a visibility program (full-screen vertex
-// shader + visibility_fragment_shader(snippets, body)); 0 on failure, the message appended to log.
+// The depth-only program (depth_only_vs / depth_only_fs); 0 on failure, the message appended to log.
+// (compile_visibility_program, VisibilityPass, set_light_uniforms: samples/app/gbuffer.hpp.)
 GLuint compile_depth_only_program(std::string& log);
-GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log);
 // Loads glsl/<snippet>.glsl (none for "") and compiles the depth-only program and the visibility program
 // (snippet + body), then binds vis with L's light uniforms; false with the message in why.
 bool compile_shadow_programs(const std::string& snippet, const std::string& body, const Light& L, GLuint& depth,
@@ -122,16 +101,5 @@ const char* emitter_horizon_glsl();
 void set_emitter_uniforms(GLuint prog, const Light& L, bool enabled);
 // Duff et al. 2017 orthonormal basis: the reference's basis of an emitter plane with normal n.
 void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b);
-
-// Registration of the drivers that live in their own files (common/drivers_<family>.cpp).
-void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_warp.cpp
-void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_soft.cpp
-void add_volume_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_volume.cpp
-void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out);  // drivers_smoothie.cpp
-void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out);     // drivers_wedge.cpp
-void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out);      // drivers_omni.cpp
-void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_silmap.cpp
-void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out);    // drivers_linear.cpp
-void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out); // drivers_prefilter.cpp
 
 }  // namespace sk

@@ -1,4 +1,4 @@
-// Internal: stencil shadow volumes shared by drivers_volume.cpp and drivers_wedge.cpp (see the header).
+// Internal: stencil shadow volumes of drivers_wedge.cpp (see the header).
 #include "stencil_volumes.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -345,24 +345,6 @@ void clear_stencil() {
     glStencilMask(0xFF);
     glClearStencil(0);
     glClear(GL_STENCIL_BUFFER_BIT);
-}
-
-void count_fragments(bool has_stats, const std::function<void()>& draw, double& fragments, double& invocations) {
-    GLuint q[2] = {0, 0};
-    glGenQueries(has_stats ? 2 : 1, q);
-    glBeginQuery(GL_SAMPLES_PASSED, q[0]);
-    if (has_stats) glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, q[1]);
-    draw();
-    glEndQuery(GL_SAMPLES_PASSED);
-    if (has_stats) glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
-    GLuint64 v = 0;
-    glGetQueryObjectui64v(q[0], GL_QUERY_RESULT, &v);
-    fragments = double(v);
-    if (has_stats) {
-        glGetQueryObjectui64v(q[1], GL_QUERY_RESULT, &v);
-        invocations = double(v);
-    }
-    glDeleteQueries(has_stats ? 2 : 1, q);
 }
 
 }  // namespace sk::volumes

@@ -1,6 +1,7 @@
-// Internal: the stencil shadow-volume machinery shared by the shadow_volume driver (drivers_volume.cpp)
-// and the hard part of the penumbra_wedges driver (drivers_wedge.cpp), composed from silhouette.hpp,
-// shadow_volume.hpp and glsl/shadow_volume.glsl.
+// Internal: the stencil shadow-volume machinery of the hard part of the penumbra_wedges driver
+// (drivers_wedge.cpp, old interface), composed from silhouette.hpp, shadow_volume.hpp and
+// glsl/shadow_volume.glsl. The shadow_volume technique itself is ported: samples/shadow_volumes/ (the
+// class the sample shows and the report wraps); this file goes when the wedges are ported.
 //
 // CPU: the per-scene adjacency cache (VolumeCache), and per caster and frame the scissor rectangle and
 // depth bounds, facing + silhouette, the z-pass / z-fail choice and the side quads + LitOnly caps.
@@ -18,7 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "gl_harness.hpp"
+#include "gl.hpp"
+#include "report_technique.hpp"
 #include "techniques.hpp"
 
 namespace sk::volumes {
@@ -145,8 +147,7 @@ void draw_scene_depth(const SceneGpu& gpu, GLuint fbo, int w, int h, GLuint dept
 // Stencil = 0 in the bound framebuffer (stencil mask 0xFF).
 void clear_stencil();
 
-// Runs draw() inside a GL_SAMPLES_PASSED query (and GL_FRAGMENT_SHADER_INVOCATIONS_ARB when
-// has_stats); fragments = the samples, invocations = the shader runs (left unchanged without stats).
-void count_fragments(bool has_stats, const std::function<void()>& draw, double& fragments, double& invocations);
+// count_fragments: the report's instrument (samples/report/report_technique.hpp).
+using sk::count_fragments;
 
 }  // namespace sk::volumes

@@ -12,7 +12,7 @@
 #include <memory>
 #include <vector>
 
-#include "gl_harness.hpp"
+#include "gl.hpp"
 #include "scene.hpp"
 #include "techniques.hpp"
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_harness.hpp"
+#include "gl.hpp"
 #include "prt_scene.hpp"
 
 namespace sk = shadowkit;

@@ -31,7 +31,7 @@
 
 #include <glm/glm.hpp>
 
-#include "gl_harness.hpp"
+#include "gl.hpp"
 #include "metrics.hpp"
 #include "prt_section.hpp"
 #include "reference.hpp"
@@ -407,6 +407,7 @@ int main(int argc, char** argv) {
                 skr::Row& r = p.row;
                 r.technique = t->name();
                 r.params = ps.values;
+                r.named_params = ps.named;
                 r.params_label = ps.label();
                 r.scene = scene.name;
                 r.width = o.width;

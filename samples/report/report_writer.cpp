@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -107,6 +108,15 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
         first = false;
         for (std::size_t i = 0; i < r.params.size(); ++i)
             f << (i ? ", " : "") << "\"" << json_escape(r.params[i].first) << "\": " << num(r.params[i].second);
+        // named settings (ported techniques): a number stays a number, a word is a string
+        for (std::size_t i = 0; i < r.named_params.size(); ++i) {
+            const std::string& v = r.named_params[i].second;
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            const bool number = !v.empty() && end && *end == '\0' && std::isfinite(x);
+            f << (i || !r.params.empty() ? ", " : "") << "\"" << json_escape(r.named_params[i].first)
+              << "\": " << (number ? num(x) : "\"" + json_escape(v) + "\"");
+        }
         f << "}, \"scene\": \"" << json_escape(r.scene) << "\", \"width\": " << r.width << ", \"height\": " << r.height;
         if (r.failed) {
             f << ", \"failed\": \"" << json_escape(r.error) << "\"";

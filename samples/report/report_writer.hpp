@@ -12,7 +12,8 @@ namespace skr {
 
 struct Row {
     std::string technique, params_label, scene;
-    std::vector<std::pair<std::string, double>> params;
+    std::vector<std::pair<std::string, double>> params;              // old drivers: numbers
+    std::vector<std::pair<std::string, std::string>> named_params;   // ported techniques: settings by name
     int width = 0, height = 0;
     bool failed = false;
     std::string error;

@@ -1,5 +1,5 @@
 // Shared by the GL tests: the context created by gl_main.cpp before any test runs.
 #pragma once
-#include "gl_harness.hpp"
+#include "gl.hpp"
 
 skgl::Context& gl_test_context();

@@ -185,7 +185,7 @@ TEST_CASE("(a) light radius 0: the hard stencil shadow volume, pixel for pixel")
         Prepared p;
         prepare(s, p, false);
         const Run w = run("penumbra_wedges", s, p, P({{"light_scale", 0.0}}));
-        const Run v = run("shadow_volume", s, p, P({{"method", 1.0}, {"scissor", 1.0}, {"depth_bounds", 1.0}}));
+        const Run v = run("shadow_volume", s, p, sk::ParamSet::parse_named("method=auto scissor=on depth_bounds=on"));
         MESSAGE("contact, light_scale 0: wedges " << w.work("wedges") << ", pixels different from shadow_volume "
                                                   << count_different(w.res.visibility, v.res.visibility));
         CHECK(w.work("wedges") == 0);
@@ -265,7 +265,7 @@ TEST_CASE("(c) contact: penumbra error far below the hard shadow map's, within t
     Prepared p;
     prepare(s, p);
     const Run w = run("penumbra_wedges", s, p, P({}));
-    const Run sm = run("shadow_map", s, p, P({{"size", 2048.0}}));
+    const Run sm = run("shadow_map", s, p, sk::ParamSet::parse_named("size=2048"));
     // The wedges compute the shadow of a disk light (here the disk of the square's area). The floor of
     // their error is the difference between the square and that disk: the reference of the same scene
     // with the disk light, compared with the square's.

@@ -551,7 +551,7 @@ TEST_CASE("report drivers on the analytic square scene: every method in [0, 1] a
     double hard_rmse = -1.0;
     for (auto& t : techniques)
         if (t->name() == "shadow_map") {
-            const sk::RunResult r = t->run(sk::RunContext{scene, gpu, 2, 1, &g}, sk::ParamSet{{{"size", 1024.0}}});
+            const sk::RunResult r = t->run(sk::RunContext{scene, gpu, 2, 1, &g}, sk::ParamSet::parse_named("size=1024"));
             REQUIRE(r.ok);
             hard_rmse = sk::compute_metrics(g, ref, r.visibility, false).rmse;
         }

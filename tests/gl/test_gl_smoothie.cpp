@@ -530,7 +530,7 @@ TEST_CASE("(d) contact vs the Embree area-light reference: umbra never shrinks; 
     REQUIRE(hard != nullptr);
     REQUIRE(smoothie != nullptr);
     sk::RunContext ctx{scene, gpu, 1, 0};
-    const auto r_hard = hard->run(ctx, sk::ParamSet{{{"size", 1024.0}}});
+    const auto r_hard = hard->run(ctx, sk::ParamSet::parse_named("size=1024"));
     const auto r_t0 = smoothie->run(ctx, sk::ParamSet{{{"t", 0.0}, {"size", 1024.0}}});
     const auto r_map = smoothie->run(ctx, sk::ParamSet{{{"t", -1.0}, {"size", 1024.0}}});
     REQUIRE(r_hard.ok);

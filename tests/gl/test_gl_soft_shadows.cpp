@@ -548,7 +548,7 @@ TEST_CASE("PCSS on the square scene: far below the hard shadow map, within the b
     (void)gl_test_context();
     SquareFixture& f = square_fixture();
     REQUIRE(f.ok);
-    const sk::RunResult hard = run(f, "shadow_map", sk::ParamSet{{{"size", 2048.0}}});
+    const sk::RunResult hard = run(f, "shadow_map", sk::ParamSet::parse_named("size=2048"));
     REQUIRE_MESSAGE(hard.ok, hard.error);
     const sk::Metrics mh = metrics(f, hard);
     for (int rot = 0; rot <= 1; ++rot) {

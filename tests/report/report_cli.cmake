@@ -78,6 +78,29 @@ if(variant_rows LESS 3)
   message(FATAL_ERROR "expected rows on contact@light=2, stack@light=1 and stack@light=2, got ${variant_rows}")
 endif()
 
+# ported techniques name their settings: words in report.md and report.json, numbers stay numbers
+execute_process(
+  COMMAND ${REPORT} --quick --scenes stack --techniques shadow_volume,shadow_map --size 64x48 --frames 1 --out ${WORK}/named
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "named-settings report run failed (${rc}):\n${out}${err}")
+endif()
+file(READ ${WORK}/named/report.md md)
+foreach(text "| method=auto scissor=off depth_bounds=off |" "| method=auto scissor=on depth_bounds=on |"
+             "| shadow_map | size=512 |")
+  string(FIND "${md}" "${text}" pos)
+  if(pos EQUAL -1)
+    message(FATAL_ERROR "report.md lacks '${text}'")
+  endif()
+endforeach()
+file(READ ${WORK}/named/report.json json)
+string(JSON t0 TYPE "${json}" rows 0 params method)
+string(JSON v0 GET "${json}" rows 0 params scissor)
+string(JSON t2 TYPE "${json}" rows 2 params size)
+if(NOT t0 STREQUAL "STRING" OR NOT v0 STREQUAL "off" OR NOT t2 STREQUAL "NUMBER")
+  message(FATAL_ERROR "report.json params: method is ${t0}, scissor '${v0}', size ${t2}")
+endif()
+
 # a tetrahedron as OBJ and as ASCII PLY
 file(WRITE ${WORK}/tet.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 file(WRITE ${WORK}/tet.ply "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")

@@ -1,5 +1,5 @@
-// Internal GL harness shared by tests/, samples/ and the report tool. NOT a public header:
-// it uses EGL + libepoxy and is never vendored. Public headers live in include/shadowkit/.
+// samples/app/gl.hpp - the app shell's GL helpers (was samples/common/gl_harness.hpp). Part of the
+// shell every sample, the report and the GL tests share; not a public header (EGL + libepoxy).
 //
 // - headless OpenGL 4.5 core context on the EGL surfaceless platform (Mesa llvmpipe on a
 //   machine without a GPU, the real driver elsewhere);
@@ -7,6 +7,8 @@
 //   readback to float arrays, PNG writing (stb_image_write);
 // - timing with glFinish + steady_clock (median over frames after warm-up), GL timer queries
 //   only where the renderer is not llvmpipe (timer queries are meaningless there).
+// A technique's code uses compile_program, make_target / destroy_target, GpuMesh / draw_mesh; the
+// rest is the shell's and the report's.
 #pragma once
 
 #include <epoxy/gl.h>
@@ -91,6 +93,9 @@ double median_frame_ms(const std::function<void()>& frame, int warmup, int frame
 
 // True when median_frame_ms uses GL timer queries (a real GPU driver).
 bool timer_queries_in_use();
+// For a context made elsewhere (a GLFW window): reads GL_RENDERER of the current context and decides,
+// as create_context does, whether timing uses timer queries (not on llvmpipe / softpipe). Returns it.
+std::string note_current_context();
 
 // Indexed triangle mesh on the GPU: attribute 0 = position (vec3), 1 = normal (vec3).
 struct GpuMesh {

@@ -1,4 +1,4 @@
-#include "gl_harness.hpp"
+#include "gl.hpp"
 
 #include <epoxy/egl.h>
 
@@ -266,6 +266,13 @@ bool write_png(const std::string& path, int width, int height, int channels, con
 }
 
 bool timer_queries_in_use() { return g_use_timer_queries; }
+
+std::string note_current_context() {
+    const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const std::string renderer = r ? r : "";
+    g_use_timer_queries = renderer.find("llvmpipe") == std::string::npos && renderer.find("softpipe") == std::string::npos;
+    return renderer;
+}
 
 double median_frame_ms(const std::function<void()>& frame, int warmup, int frames, std::vector<double>* samples) {
     for (int i = 0; i < warmup; ++i) {

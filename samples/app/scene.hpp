@@ -1,5 +1,6 @@
-// Internal scene description shared by the samples, the report tool and the GL tests.
-// Plain data only: world-space triangle meshes, a camera and one light.
+// samples/app/scene.hpp - the app shell's scenes (was samples/common/scene.hpp): plain data, shared by
+// the samples, the report and the GL tests. World-space triangle meshes, a camera and one light; the
+// built-in scenes, mesh files through assimp, and the plain light frustum around a scene.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -75,6 +76,20 @@ bool make_builtin_scene(const std::string& name, Scene& out);
 // Loads OBJ or PLY through assimp (when built with it); drops the mesh on a floor, scaled to a
 // 2-unit footprint, with a default area light and a camera framing it.
 bool load_mesh_scene(const std::string& path, Scene& out, std::string& why);
+
+// Light frustum used by the shadow maps for spot, area (from their center) and sphere lights: a
+// perspective looking along the light direction (or at the scene for sphere, point and line lights)
+// whose near/far hug the scene bounds. Directional: an orthographic fit to the scene bounds.
+struct LightMatrices {
+    glm::mat4 view{1.f}, proj{1.f};
+    float znear = 0.f, zfar = 0.f;
+    bool perspective = true;
+};
+LightMatrices fit_light(const Scene& scene);
+// Perspective depth range of the box lo..hi seen through view (zfar 1.01 x the farthest corner, znear the
+// larger of 0.9 x the nearest and 2e-3 zfar) and the largest tangent max(|x|, |y|) / -z of its corners.
+void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,
+                   float& tan_max);
 
 // Stable 64-bit hash of the scene geometry, camera and light (reference-cache key).
 std::uint64_t scene_hash(const Scene& s, int width, int height, std::uint64_t salt);

@@ -291,6 +291,58 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
     return true;
 }
 
+void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,
+                   float& tan_max) {
+    float zmin = INFINITY, zmax = 0.f;
+    tan_max = 0.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+        const glm::vec3 v = glm::vec3(view * glm::vec4(c, 1.f));
+        zmax = std::max(zmax, -v.z);
+        zmin = std::min(zmin, -v.z);
+        if (-v.z > 1e-6f) tan_max = std::max(tan_max, std::max(std::abs(v.x), std::abs(v.y)) / -v.z);
+    }
+    zfar = zmax * 1.01f;
+    znear = std::max(zmin * 0.9f, zfar * 2e-3f);
+}
+
+LightMatrices fit_light(const Scene& s) {
+    LightMatrices m;
+    const glm::vec3 lo = s.bounds_min(), hi = s.bounds_max();
+    const glm::vec3 center = 0.5f * (lo + hi);
+    const float radius = 0.5f * glm::length(hi - lo);
+    const Light& L = s.light;
+    glm::vec3 dir = glm::normalize(L.direction);
+    // lights without a facing direction (sphere, point; a line light's direction is its axis)
+    // look at the scene's centre
+    if (L.type == LightType::Sphere || L.type == LightType::Point || L.type == LightType::Linear)
+        dir = glm::normalize(center - L.position);
+    const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, 1.f, 0.f);
+    if (L.type == LightType::Directional) {
+        m.perspective = false;
+        m.view = glm::lookAt(center - dir * radius * 2.f, center, up);
+        // orthographic fit to the scene's bounding box corners in light space
+        glm::vec3 a(INFINITY), b(-INFINITY);
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+            const glm::vec3 v = glm::vec3(m.view * glm::vec4(c, 1.f));
+            a = glm::min(a, v);
+            b = glm::max(b, v);
+        }
+        m.znear = -b.z - 1e-3f * radius;
+        m.zfar = -a.z + 1e-3f * radius;
+        m.proj = glm::ortho(a.x, b.x, a.y, b.y, m.znear, m.zfar);
+        return m;
+    }
+    m.view = glm::lookAt(L.position, L.position + dir, up);
+    float tan_max = 0.f;
+    fit_box_depth(m.view, lo, hi, m.znear, m.zfar, tan_max);
+    float half = L.spot_half_angle;
+    if (L.type == LightType::Sphere || L.type == LightType::Linear) half = std::min(std::atan(tan_max), 1.4f);
+    m.proj = glm::perspective(2.f * half, 1.f, m.znear, m.zfar);
+    return m;
+}
+
 static void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < n; ++i) {

@@ -1,0 +1,99 @@
+// samples/report/report_technique.hpp - the report's wrapper of a sample's technique class.
+//
+// A ported technique lives once, in samples/<technique>/ (class T with Settings S, `bind_settings(Params&, S&)`,
+// init / update / render / visibility). The report measures that same class from outside:
+//   ReportTechnique<T, S> is a Technique of the registry; run() sets the sweep entry's named settings
+//   through the same app::Params bindings the sample's --param uses, calls T::init once (timed: work
+//   "init_ms"), times T::update on the CPU (median over the frames) and T::render on the GPU
+//   (skgl::median_frame_ms: glFinish + steady clock on llvmpipe, timer queries on a GPU), reads back
+//   T::visibility(), then lets the family's `measure` read the work counters from what T exposes
+//   (sizes, per-caster results, passes it can run one at a time) - never from counters inside T.
+// One file per family in samples/report/techniques/ defines its add_<family>_techniques() with the
+// name, description, sweeps and `measure`.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app.hpp"
+#include "gbuffer.hpp"
+#include "params.hpp"
+#include "techniques.hpp"
+
+namespace sk {
+
+/// R32F texture (w x h) -> floats, bottom-up rows.
+std::vector<float> read_r32f(GLuint texture, int w, int h);
+/// Runs draw() inside a GL_SAMPLES_PASSED query (and GL_FRAGMENT_SHADER_INVOCATIONS_ARB when
+/// has_stats); fragments = the samples, invocations = the shader runs (left unchanged without stats).
+void count_fragments(bool has_stats, const std::function<void()>& draw, double& fragments, double& invocations);
+
+/// How the report shows a wrapped technique.
+template <class T, class S>
+struct ReportSpec {
+    std::string name, description;
+    bool hard = true;                           ///< 0/1 visibility: misclassified pixels are scored
+    std::vector<std::string> sweep, quick;      ///< named settings per row, e.g. "method=zfail scissor=off"
+    /// After the timed frames and the read-back: work counters, gpu_bytes, debug images (ctx.debug_images).
+    std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
+    /// The class's failure after update() ("" when fine), for classes that report one.
+    std::function<std::string(const T&)> error;
+};
+
+template <class T, class S>
+class ReportTechnique final : public Technique {
+public:
+    explicit ReportTechnique(ReportSpec<T, S> spec) : spec_(std::move(spec)) {}
+    std::string name() const override { return spec_.name; }
+    std::string description() const override { return spec_.description; }
+    bool hard() const override { return spec_.hard; }
+    std::vector<ParamSet> sweep(const Scene&, bool quick) const override {
+        std::vector<ParamSet> out;
+        for (const auto& text : quick ? spec_.quick : spec_.sweep) out.push_back(ParamSet::parse_named(text));
+        return out;
+    }
+    RunResult run(const RunContext& ctx, const ParamSet& params) override {
+        S s;
+        app::Params bindings;
+        bind_settings(bindings, s);  // the technique header's names: the same as the sample's --param
+        std::string why;
+        if (!params.values.empty()) return RunResult::failure(spec_.name + " takes named settings (name=value words)");
+        for (const auto& [k, v] : params.named)
+            if (!bindings.set(k, v, why)) return RunResult::failure(why);
+        const app::View view =
+            ctx.fit_camera ? app::make_view(ctx.scene, ctx.gpu, *ctx.fit_camera) : app::make_view(ctx.scene, ctx.gpu);
+        T t;
+        RunResult r;
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool ok = t.init(view, why);
+        const double init_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (!ok) return RunResult::failure(why);
+        std::vector<double> cpu;
+        for (int i = 0; i < std::max(ctx.frames, 1); ++i) {
+            const auto c0 = std::chrono::steady_clock::now();
+            t.update(view, s);
+            cpu.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count());
+            if (spec_.error && !spec_.error(t).empty()) return RunResult::failure(spec_.error(t));
+        }
+        std::nth_element(cpu.begin(), cpu.begin() + static_cast<std::ptrdiff_t>(cpu.size() / 2), cpu.end());
+        r.cpu_ms = cpu[cpu.size() / 2];
+        r.gpu_ms = skgl::median_frame_ms([&] { t.render(view, s); }, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = read_r32f(t.visibility(), view.width, view.height);
+        if (spec_.measure && !spec_.measure(t, s, view, ctx, r)) return r;
+        r.work.emplace_back("init_ms", init_ms);
+        const std::string err = skgl::gl_error_string();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (!err.empty()) return RunResult::failure(spec_.name + ": " + err);
+        return r;
+    }
+
+private:
+    ReportSpec<T, S> spec_;
+};
+
+}  // namespace sk

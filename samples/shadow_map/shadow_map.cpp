@@ -1,0 +1,157 @@
+// samples/shadow_map/shadow_map.cpp - the plain shadow map, top to bottom:
+//   init    the programs: a depth-only pass, and V = the map's compare at each G-buffer point
+//           (glsl/shadow_map.glsl); the V target
+//   update  CPU, every frame: the light's frustum around the scene (sk::fit_light: a perspective from
+//           spot, area and sphere lights, an orthographic box for a directional light), or for a point
+//           light the six 90-degree faces of a cube map
+//   render  GPU, every frame: 1 the casters' depth from the light, with a slope-scaled polygon offset
+//           against acne; 2 V at the G-buffer's points, one hardware compare (2x2 PCF with GL_LINEAR)
+#include "shadow_map.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+
+namespace {
+
+const char* kDepthVS = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_light_view_proj;
+void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
+)";
+const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
+
+// V's lookups (after glsl/shadow_map.glsl): the map is bound at unit 2.
+const char* kLookup2D = R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_light_view_proj;
+float technique_visibility(vec3 p, vec3 n) {
+    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
+}
+)";
+const char* kLookupCube = R"(
+layout(binding = 2) uniform samplerCubeShadow u_cube;
+uniform vec3 u_cube_light;
+uniform float u_cube_near;
+uniform float u_cube_far;
+float technique_visibility(vec3 p, vec3 n) {
+    return sk_cube_shadow_visibility(u_cube, vec4(u_cube_light, 1.0), p, u_cube_near, u_cube_far, 0.0);
+}
+)";
+
+}  // namespace
+
+bool ShadowMap::init(const app::View& v, std::string& why) {
+    release();
+    cube_ = v.light().type == sk::LightType::Point;
+    const std::string snippet = app::load_snippet("shadow_map", why);
+    if (snippet.empty()) return false;
+    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    vis_prog_ = app::compile_visibility_program(snippet, cube_ ? kLookupCube : kLookup2D, why);
+    if (!depth_prog_ || !vis_prog_) return false;
+    return pass_.init(v.width, v.height, why);
+}
+
+void ShadowMap::update(const app::View& v, const ShadowMapSettings&) {
+    const sk::Scene& scene = *v.scene;
+    if (!cube_) {
+        const sk::LightMatrices lm = sk::fit_light(scene);
+        light_vp_[0] = lm.proj * lm.view;
+        return;
+    }
+    // a point light: six 90-degree faces whose far plane passes the farthest corner of the scene
+    const glm::vec3 lo = scene.bounds_min(), hi = scene.bounds_max(), L = v.light().position;
+    far_ = 0.f;
+    for (int i = 0; i < 8; ++i)
+        far_ = std::max(far_, glm::length(glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z) - L));
+    far_ *= 1.01f;
+    near_ = far_ * 2e-3f;
+    const glm::mat4 proj = glm::perspective(glm::radians(90.f), 1.f, near_, far_);
+    // the cube-map faces' orientation (GL 4.5 spec 8.13: major axis -> s, t)
+    const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    for (int f = 0; f < 6; ++f) light_vp_[f] = proj * glm::lookAt(L, L + dirs[f], ups[f]);
+}
+
+// A size x size depth texture that compares (sampler2DShadow / samplerCubeShadow): GL_LEQUAL against
+// the receiver's depth, GL_LINEAR for the hardware 2x2 filter; a 2D map's border is the far depth
+// (outside the map: lit). One framebuffer per face, depth only.
+void ShadowMap::make_map(int size) {
+    if (map_) glDeleteTextures(1, &map_);
+    glDeleteFramebuffers(6, fbo_);
+    std::fill(fbo_, fbo_ + 6, 0u);
+    const GLenum target = cube_ ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
+    glGenTextures(1, &map_);
+    glBindTexture(target, map_);
+    glTexStorage2D(target, 1, GL_DEPTH_COMPONENT32F, size, size);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    if (!cube_) {
+        const float far_border[4] = {1.f, 1.f, 1.f, 1.f};
+        glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+        glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+        glTexParameterfv(target, GL_TEXTURE_BORDER_COLOR, far_border);
+    }
+    const int faces = cube_ ? 6 : 1;
+    glGenFramebuffers(faces, fbo_);
+    for (int f = 0; f < faces; ++f) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[f]);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                               cube_ ? static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f) : GL_TEXTURE_2D, map_, 0);
+        glDrawBuffer(GL_NONE);
+        glReadBuffer(GL_NONE);
+    }
+    size_ = size;
+}
+
+void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
+    if (s.size != size_) make_map(s.size);
+
+    // 1. The casters' depth from the light (each cube face in turn): depth test GL_LESS, cleared to
+    //    the far plane, a slope-scaled polygon offset pushing the stored depth away from the light.
+    glUseProgram(depth_prog_);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glClearDepth(1.0);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(s.offset_factor, s.offset_units);
+    for (int f = 0; f < (cube_ ? 6 : 1); ++f) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[f]);
+        glViewport(0, 0, size_, size_);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glUniformMatrix4fv(glGetUniformLocation(depth_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_[f]));
+        for (std::size_t i = 0; i < v.gpu->meshes.size(); ++i)
+            if (v.gpu->caster[i]) skgl::draw_mesh(v.gpu->meshes[i]);
+    }
+    glDisable(GL_POLYGON_OFFSET_FILL);
+
+    // 2. V at the G-buffer's points: the snippet's compare, one texel (GL_NEAREST) or the 2x2 filter.
+    const GLenum filter = s.hardware_pcf ? GL_LINEAR : GL_NEAREST;
+    glTextureParameteri(map_, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+    glTextureParameteri(map_, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+    glUseProgram(vis_prog_);
+    app::set_light_uniforms(vis_prog_, v.light());
+    if (cube_) {
+        glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);  // the 2x2 filter reads across face edges
+        glUniform3fv(glGetUniformLocation(vis_prog_, "u_cube_light"), 1, glm::value_ptr(v.light().position));
+        glUniform1f(glGetUniformLocation(vis_prog_, "u_cube_near"), near_);
+        glUniform1f(glGetUniformLocation(vis_prog_, "u_cube_far"), far_);
+    } else {
+        glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_[0]));
+    }
+    pass_.draw(vis_prog_, *v.gpu, cube_ ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, map_);
+}
+
+void ShadowMap::release() {  // (no GL call without objects: the App may have no context)
+    if (map_) glDeleteTextures(1, &map_);
+    if (fbo_[0]) glDeleteFramebuffers(6, fbo_);
+    if (depth_prog_) glDeleteProgram(depth_prog_);
+    if (vis_prog_) glDeleteProgram(vis_prog_);
+    map_ = depth_prog_ = vis_prog_ = 0;
+    std::fill(fbo_, fbo_ + 6, 0u);
+    size_ = 0;
+}

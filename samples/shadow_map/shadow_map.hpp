@@ -1,0 +1,70 @@
+// samples/shadow_map/shadow_map.hpp - the plain shadow map (Williams 1978) with the hardware 2x2
+// percentage-closer filter: the kit's baseline, what the sample shows and the report measures.
+//
+// A sample folder is what a user copies (the same shape in every samples/<technique>/):
+//   shadow_map.hpp  the settings (what the panel edits, named once in bind_settings()) and the class
+//   shadow_map.cpp  the technique, top to bottom in the order it runs: init (once per scene),
+//                   update (CPU, every frame), render (the GPU passes, each with its GL state)
+//   main.cpp        the calls: the app shell (samples/app) does the window, the camera G-buffer,
+//                   the panel, the timing and the picture
+// It uses only glsl/shadow_map.glsl and the app shell's scene (sk::fit_light: the light's frustum
+// around the scene), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
+// this same class (samples/report/techniques/shadow_map.cpp).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+#include "app.hpp"
+#include "gbuffer.hpp"
+#include "gl.hpp"
+#include "params.hpp"
+
+struct ShadowMapSettings {
+    int size = 2048;            ///< texels per side (of each of the six cube faces for a point light)
+    bool hardware_pcf = true;   ///< GL_LINEAR on the depth-compare texture: 2x2 PCF; off: GL_NEAREST, one texel
+    float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass: slope-scaled bias against acne
+    float offset_units = 2.f;
+};
+
+/// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
+inline void bind_settings(app::Params& p, ShadowMapSettings& s) {
+    p.choice("size", &s.size, {{"256", 256}, {"512", 512}, {"1024", 1024}, {"2048", 2048}, {"4096", 4096}});
+    p.toggle("hardware_pcf", &s.hardware_pcf);
+    p.number("offset_factor", &s.offset_factor, 0.0, 8.0);
+    p.number("offset_units", &s.offset_units, 0.0, 64.0);
+}
+
+class ShadowMap {
+public:
+    ShadowMap() = default;
+    ShadowMap(const ShadowMap&) = delete;
+    ShadowMap& operator=(const ShadowMap&) = delete;
+    ~ShadowMap() { release(); }
+
+    /// The programs and the V target; a point light gets a cube map, every other light one 2D map.
+    bool init(const app::View& v, std::string& why);
+    /// CPU, every frame: the light's view-projection (the six faces' for a cube map).
+    void update(const app::View& v, const ShadowMapSettings& s);
+    /// GPU, every frame: the depth pass into the map, then V at the G-buffer's points.
+    void render(const app::View& v, const ShadowMapSettings& s);
+    /// R32F V at the G-buffer's pixels.
+    GLuint visibility() const { return pass_.texture(); }
+
+    /// Debug view: the 2D map's depths (none for a cube map).
+    app::DebugImage debug_depth() const { return {cube_ ? 0u : map_, app::DebugImage::Show::Depth}; }
+    bool cube() const { return cube_; }
+    int size() const { return size_; }  ///< texels per side of the map (per face) as rendered last
+
+private:
+    void make_map(int size);
+    void release();
+    bool cube_ = false;
+    int size_ = 0;
+    glm::mat4 light_vp_[6];        // one 2D map: [0]; a cube map: the six faces
+    float near_ = 0.f, far_ = 0.f;  // the cube faces' depth range
+    GLuint map_ = 0, fbo_[6] = {0, 0, 0, 0, 0, 0};
+    GLuint depth_prog_ = 0, vis_prog_ = 0;
+    app::VisibilityPass pass_;
+};
