@@ -549,7 +549,7 @@ inline double sh_clamped_cosine_band(int l) {
     if (l == 1) return 2.0 * detail::sh_pi / 3.0;
     if (l % 2 == 1) return 0.0;
     const double sign = ((l / 2 - 1) % 2 == 0) ? 1.0 : -1.0;
-    const double lead = 2.0 * detail::sh_pi * sign / (static_cast<double>(l + 2) * static_cast<double>(l - 1));
+    const double lead = 2.0 * detail::sh_pi * sign / ((static_cast<double>(l) + 2.0) * (static_cast<double>(l) - 1.0));
     if (l <= 64) {
         const double half = detail::sh_factorial(l / 2);
         return lead * detail::sh_factorial(l) / (std::pow(2.0, l) * half * half);
