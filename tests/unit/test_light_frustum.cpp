@@ -1131,3 +1131,59 @@ TEST_CASE("light_frustum: continuity of every fit while the light turns through 
         CHECK(s.fine_steps > 10000);
     }
 }
+
+// Issue 13 (composition): a point light just above a wide bounded scene was rejected with
+// LightInsideVolume although a frustum pointing straight down holds every receiver (and
+// perspective_shadow_maps.hpp's uniform fit accepts the same light): the fit aimed its axis at the
+// mean of the receiver volume's vertices, which the far corners of the camera slice pull away from
+// the light's foot, so near receivers came out beyond 89.4 degrees. The axis now starts at the
+// receivers' box center and is refined to the middle of their angular extents (as the warps do).
+// Expected: Ok whenever a straight-down frustum with per-axis tangents <= 20 exists (closed form:
+// the light is e above the box top, every box point within 20 e horizontally), and every receiver
+// point inside the slice maps into the fitted clip volume.
+TEST_CASE("light_frustum: a point light just above a wide scene gets one frustum (issue 13 composition)") {
+    std::mt19937 rng(1313);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int runs = 0, fitted = 0, points = 0;
+    for (int it = 0; it < 600; ++it) {
+        const float a = 2.0f + 8.0f * u(rng), b = 2.0f + 8.0f * u(rng), h = 0.5f + 3.0f * u(rng);
+        const glm::vec3 lo(-a, 0.0f, -b), hi(a, h, b);
+        const glm::vec3 L(a * (u(rng) - 0.5f), 0.0f, b * (u(rng) - 0.5f));
+        // the least height above the top for which straight down has per-axis tangents <= 20
+        const float reach = std::max(std::max(a + std::fabs(L.x), b + std::fabs(L.z)), 1e-3f);
+        const float e = reach / 20.0f * (1.0f + 3.0f * u(rng));
+        const glm::vec3 light(L.x, h + e, L.z);
+        LightFrustumInput in;
+        const glm::vec3 eye(a * (u(rng) - 0.5f), h + 2.0f + 4.0f * u(rng), b + 2.0f + 6.0f * u(rng));
+        in.camera_view = glm::lookAt(eye, glm::vec3(0.0f, 0.5f * h, 0.0f), glm::vec3(0, 1, 0));
+        in.camera_proj = glm::infinitePerspective(glm::radians(40.0f + 40.0f * u(rng)), 1.0f + u(rng), 0.1f);
+        in.max_distance = 100.0f;
+        in.has_scene_bounds = true;
+        in.scene_min = lo;
+        in.scene_max = hi;
+        in.light_position = glm::vec4(light, 1.0f);
+        ++runs;
+        const LightFrustumResult r = light_frustum_fit(in, nullptr, 0);
+        if (r.status != Status::Ok) {
+            FAIL_CHECK("it=" << it << ": " << std::string(status_name(r.status)) << " for a light " << e << " above a " << 2 * a << " x "
+                             << 2 * b << " scene");
+            continue;
+        }
+        if (!r.visible) continue;
+        ++fitted;
+        const glm::mat4 vp = in.camera_proj * in.camera_view;
+        for (int k = 0; k < 400; ++k) {
+            const glm::vec3 p = lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng));
+            const glm::vec4 c = vp * glm::vec4(p, 1.0f);
+            const float d = -(in.camera_view * glm::vec4(p, 1.0f)).z;
+            if (!(c.w > 0.0f) || std::fabs(c.x) > c.w || std::fabs(c.y) > c.w || d < 0.1f || d > in.max_distance) continue;
+            ++points;
+            if (!in_clip(r.view_proj, glm::dvec3(p), in.light_depth)) {
+                FAIL_CHECK("it=" << it << ": receiver outside the light's clip volume");
+                break;
+            }
+        }
+    }
+    MESSAGE("wide scenes: " << runs << " runs, " << fitted << " fitted, " << points << " receiver points checked");
+    CHECK(fitted > 500);
+}
