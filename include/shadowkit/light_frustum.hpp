@@ -144,10 +144,13 @@ struct LightFrustumInput {
 struct LightFrustumResult {
     Status status = Status::NotRun;
     bool visible = false;                ///< false (with Ok): the receiver volume is empty; skip the shadow pass
-    glm::mat4 view{1.0f};                ///< world -> light view
+    /// world -> light view. Its eye is in front of every receiver and kept caster (near_plane > 0):
+    /// -(view * p).z is a positive distance along the light (directional: the eye sits 1% of the
+    /// depth range before the near plane), as smoothie.glsl and other linear-depth lookups need.
+    glm::mat4 view{1.0f};
     glm::mat4 proj{1.0f};                ///< light projection (ortho for directional, perspective for point)
     glm::mat4 view_proj{1.0f};           ///< proj * view; every receiver point maps into its clip volume
-    float near_plane = 0.0f;             ///< light-view distances of the fitted near/far planes
+    float near_plane = 0.0f;             ///< light-view distances of the fitted near/far planes (0 < near < far)
     float far_plane = 0.0f;
     std::size_t count = 0;               ///< caster indices written to kept_indices (<= capacity)
     std::size_t needed = 0;              ///< casters that may shadow the receivers (indices the output needs)
@@ -486,6 +489,21 @@ inline glm::dvec3 lf_point_axis(const glm::dvec3* v, int n, const glm::dvec3& L)
     }
     if (!(glm::dot(p, p) > 1e-24) || !lf_finite(p)) return glm::dvec3(0.0);
     return glm::normalize(p);
+}
+
+/// A directional light's view is free to slide along the light's axis. Moves it back so the near
+/// plane lies 1% of the depth range in front of the eye (no move when it already does, so the eye
+/// moves continuously): every receiver and kept caster then has a positive light depth
+/// -(view * p).z, which smoothie.glsl, linear-depth maps and pcss_fit_near_plane read as a distance
+/// from the light. A move along the view axis leaves the x and y rows of view_proj (the texel grid)
+/// as they were.
+inline void lf_eye_behind(glm::dmat4& lview, double& nearp, double& farp) {
+    const double margin = 0.01 * (farp - nearp);
+    if (!(nearp < margin)) return;
+    const double back = margin - nearp;
+    lview[3][2] -= back;  // the eye moves back by `back`: every depth grows by it
+    nearp += back;
+    farp += back;
 }
 
 inline glm::dmat4 lf_ortho(double l, double r, double b, double t, double n, double f) {
@@ -926,6 +944,7 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
             const double pad = 1e-6 * std::fmax(1.0, std::fabs(farp) + std::fabs(nearp));
             nearp -= pad;
             farp += pad;
+            lf_eye_behind(lview, nearp, farp);
             lproj = lf_ortho(cx - half, cx + half, cy - half, cy + half, nearp, farp);
             res.texel_world_size = static_cast<float>(texel);
             res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
@@ -946,6 +965,7 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
             const double pad = 1e-6 * std::fmax(scale, 1e-30);
             nearp -= pad;
             farp += pad;
+            lf_eye_behind(lview, nearp, farp);
             lproj = lf_ortho(mn.x - pad, mx.x + pad, mn.y - pad, mx.y + pad, nearp, farp);
         }
     } else {

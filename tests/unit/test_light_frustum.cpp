@@ -1187,3 +1187,62 @@ TEST_CASE("light_frustum: a point light just above a wide scene gets one frustum
     MESSAGE("wide scenes: " << runs << " runs, " << fitted << " fitted, " << points << " receiver points checked");
     CHECK(fitted > 500);
 }
+
+// Issue 13 (composition): the directional fits put the light view's eye inside the receiver volume
+// (tight: at its centroid; stable: at the world origin), so -(view * p).z, the linear light depth
+// that smoothie.glsl, linear-depth maps and pcss_fit_near_plane read as a distance from the light,
+// was negative for part of the scene (near_plane -3.3 to -5.6 on the composition scene) and
+// smoothies lit every receiver there. Now every receiver and kept caster lies in front of the eye
+// (near_plane > 0), the eye moves only along the light's axis (view_proj's x and y rows, hence the
+// stable fit's texel grid, are those of the plain fit), and view_proj still holds every receiver.
+TEST_CASE("light_frustum: directional fits keep every receiver and caster in front of the light's eye (issue 13)") {
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int fits = 0, points = 0;
+    for (int it = 0; it < 400; ++it) {
+        LightFrustumInput in;
+        const glm::vec3 off(200.0f * (u(rng) - 0.5f), 20.0f * u(rng), 200.0f * (u(rng) - 0.5f));
+        const glm::vec3 eye = off + glm::vec3(10.0f * (u(rng) - 0.5f), 2.0f + 8.0f * u(rng), 10.0f * (u(rng) - 0.5f));
+        in.camera_view = glm::lookAt(eye, off + glm::vec3(u(rng) - 0.5f, 0.0f, u(rng) - 0.5f), glm::vec3(0, 1, 0));
+        in.camera_proj = glm::infinitePerspective(1.0f, 1.5f, 0.1f);
+        in.max_distance = 20.0f + 40.0f * u(rng);
+        in.has_scene_bounds = rng() % 2 == 0;
+        in.scene_min = off - glm::vec3(30.0f, 1.0f, 30.0f);
+        in.scene_max = off + glm::vec3(30.0f, 15.0f, 30.0f);
+        const float box[6] = {off.x - 1, off.y, off.z - 1, off.x + 1, off.y + 12, off.z + 1};  // a tower
+        in.casters = box;
+        in.caster_count = 1;
+        const glm::vec3 to_light = glm::normalize(glm::vec3(2.0f * u(rng) - 1.0f, 0.2f + u(rng), 2.0f * u(rng) - 1.0f));
+        in.light_position = glm::vec4(to_light, 0.0f);
+        in.stable = rng() % 2 == 0;
+        in.light_depth = rng() % 2 ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
+        in.light_reversed_z = rng() % 2 == 0;
+        std::uint32_t keep = 0;
+        const LightFrustumResult r = light_frustum_fit(in, &keep, 1);
+        REQUIRE(r.status == Status::Ok);
+        if (!r.visible) continue;
+        ++fits;
+        CHECK_MESSAGE(r.near_plane > 0.0f, "it=" << it << ": near_plane " << r.near_plane);
+        CHECK(r.far_plane > r.near_plane);
+        // the kept caster's corners and the receivers in the slice: positive light depth, inside the map
+        const glm::mat4 cvp = in.camera_proj * in.camera_view;
+        for (int k = 0; k < 300; ++k) {
+            const glm::vec3 lo = in.has_scene_bounds ? in.scene_min : eye - glm::vec3(60.0f);
+            const glm::vec3 hi = in.has_scene_bounds ? in.scene_max : eye + glm::vec3(60.0f);
+            const glm::vec3 p = lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng));
+            const glm::vec4 c = cvp * glm::vec4(p, 1.0f);
+            const float dep = -(in.camera_view * glm::vec4(p, 1.0f)).z;
+            if (!(c.w > 0.0f) || std::fabs(c.x) > c.w || std::fabs(c.y) > c.w || dep < 0.1f || dep > in.max_distance) continue;
+            ++points;
+            CHECK(-(r.view * glm::vec4(p, 1.0f)).z >= r.near_plane * (1.0f - 1e-5f) - 1e-4f);
+            CHECK(in_clip(r.view_proj, glm::dvec3(p), in.light_depth));
+        }
+        if (r.needed == 1)
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec3 q(box[(c & 1) ? 3 : 0], box[(c & 2) ? 4 : 1], box[(c & 4) ? 5 : 2]);
+                CHECK(-(r.view * glm::vec4(q, 1.0f)).z > 0.0f);
+            }
+    }
+    MESSAGE("directional eye placement: " << fits << " fits, " << points << " receiver points");
+    CHECK(fits > 300);
+}
