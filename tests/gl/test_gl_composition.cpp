@@ -9,12 +9,14 @@
 // shadow volumes (the exact per-pixel technique) on the pixels away from shadow edges.
 //
 // Written against the public headers and glsl/ snippets only, as a user would (the GL context comes
-// from gl_main.cpp, small helpers from tests/docs/docs_gl.hpp). It would have caught issue 13's
-// seams: a sun vector meaning "toward" in one header and "along" in another (every directional row
-// fails), the epsilon-tweaked P_inf rejected by the fits (every fit fails the first test case), a
-// default ScissorParams viewport (the stencil rows fail), a silhouette the volume, wedge or smoothie
-// headers read in the other orientation (the volume closure, the hard plane and the smoothie side
-// checks fail).
+// from gl_main.cpp, small helpers from tests/docs/docs_gl.hpp). It catches issue 13's seams: a sun
+// vector meaning "toward" in one header and "along" in another (every directional row fails), the
+// epsilon-tweaked P_inf rejected by a fit (the first test case fails), a silhouette that the volume,
+// wedge or smoothie headers read in the other orientation (the volume closure, hard plane and
+// smoothie side checks fail). On the headers before this test it failed 11 assertions:
+// light_frustum_fit refused the point light with LightInsideVolume (the warps took it), and its
+// directional view had its eye inside the scene, so smoothies lit receivers with a negative linear
+// light depth (99.33% under the rear sun). docs/composition.md has the table this test prints.
 //
 // Cones: no header takes a spot cone (CONVENTIONS.md: cones are separate, named fields; none
 // exists): a spot light is a point light to every header, its cone is the user's lighting term. The
@@ -1588,7 +1590,10 @@ Outcome run_smoothies(const Frame& f, bool soft) {
     return o;
 }
 
-// ---- pcss.hpp + pcss.glsl (docs/pcss.md): the map from the light's center, near plane at the casters
+// ---- pcss.hpp + pcss.glsl (docs/pcss.md): the map from the light's center, near plane at the casters.
+// Its own frustum, as the page builds it: a PcssLight describes a symmetric square frustum (one
+// frustum_width), and light_frustum_fit's point-light frustum is off-center with two widths, so its
+// matrix cannot be handed to pcss.hpp as it is (reported in docs/composition.md).
 Outcome run_pcss(const Frame& f, float size) {
     Outcome o;
     Gpu& g = *f.gpu;
