@@ -144,10 +144,13 @@ struct LightFrustumInput {
 struct LightFrustumResult {
     Status status = Status::NotRun;
     bool visible = false;                ///< false (with Ok): the receiver volume is empty; skip the shadow pass
-    glm::mat4 view{1.0f};                ///< world -> light view
+    /// world -> light view. Its eye is in front of every receiver and kept caster (near_plane > 0):
+    /// -(view * p).z is a positive distance along the light (directional: the eye sits 1% of the
+    /// depth range before the near plane), as smoothie.glsl and other linear-depth lookups need.
+    glm::mat4 view{1.0f};
     glm::mat4 proj{1.0f};                ///< light projection (ortho for directional, perspective for point)
     glm::mat4 view_proj{1.0f};           ///< proj * view; every receiver point maps into its clip volume
-    float near_plane = 0.0f;             ///< light-view distances of the fitted near/far planes
+    float near_plane = 0.0f;             ///< light-view distances of the fitted near/far planes (0 < near < far)
     float far_plane = 0.0f;
     std::size_t count = 0;               ///< caster indices written to kept_indices (<= capacity)
     std::size_t needed = 0;              ///< casters that may shadow the receivers (indices the output needs)
@@ -388,6 +391,121 @@ inline glm::dvec3 lf_view_up(const glm::dvec3& f, const glm::dvec3& v, const glm
     return lf_stable_up(f);
 }
 
+/// Nearest point to the origin of the simplex s[0 .. k) (k <= 4): the minimum over its faces of
+/// each face's affine nearest point with non-negative barycentric weights (a face's affine solution
+/// with a negative weight is not in the simplex; the true minimum lies in some face's relative
+/// interior). Keeps in s / k only the points with positive weight. Returns the point.
+inline glm::dvec3 lf_simplex_nearest(glm::dvec3 s[4], int& k) {
+    glm::dvec3 best(0.0);
+    double best2 = std::numeric_limits<double>::infinity();
+    int best_mask = 0;
+    for (int mask = 1; mask < (1 << k); ++mask) {
+        int idx[4], m = 0;
+        for (int i = 0; i < k; ++i)
+            if (mask & (1 << i)) idx[m++] = i;
+        double lambda[4] = {1.0, 0.0, 0.0, 0.0};
+        if (m > 1) {
+            // p = s0 + sum mu_j (s_j - s0), j = 1 .. m-1: (D^T D) mu = -D^T s0
+            const glm::dvec3 s0 = s[idx[0]];
+            glm::dvec3 d[3];
+            for (int j = 1; j < m; ++j) d[j - 1] = s[idx[j]] - s0;
+            const int q = m - 1;
+            glm::dmat3 G(1.0);
+            glm::dvec3 rhs(0.0);
+            for (int a = 0; a < q; ++a) {
+                rhs[a] = -glm::dot(d[a], s0);
+                for (int b = 0; b < q; ++b) G[b][a] = glm::dot(d[a], d[b]);
+            }
+            const double det = glm::determinant(G);
+            double scale = 1.0;
+            for (int a = 0; a < q; ++a) scale *= std::fmax(G[a][a], 1e-300);
+            if (!(std::fabs(det) > 1e-12 * scale)) continue;  // a degenerate face: its sub-faces cover it
+            const glm::dvec3 mu = glm::inverse(G) * rhs;
+            double sum = 0.0;
+            for (int j = 0; j < q; ++j) {
+                lambda[j + 1] = mu[j];
+                sum += mu[j];
+            }
+            lambda[0] = 1.0 - sum;
+        }
+        bool inside = true;
+        glm::dvec3 p(0.0);
+        for (int j = 0; j < m; ++j) {
+            inside = inside && lambda[j] >= 0.0;
+            p += lambda[j] * s[idx[j]];
+        }
+        if (!inside) continue;
+        const double p2 = glm::dot(p, p);
+        if (p2 < best2) {
+            best2 = p2;
+            best = p;
+            best_mask = mask;
+        }
+    }
+    int m = 0;
+    for (int i = 0; i < k; ++i)
+        if (best_mask & (1 << i)) s[m++] = s[i];
+    k = m;
+    return best;
+}
+
+/// Axis of the point-light fit: the axis of the narrowest cone around the light L that holds every
+/// vertex of the receiver volume. With u_i the unit directions from L to the vertices, that axis
+/// maximizes min_i u_i . a, and (duality) it is the direction of the point of the convex hull of the
+/// u_i nearest to the origin, found here by Gilbert-Johnson-Keerthi iterations (support point
+/// argmin_i u_i . p). That point is unique, so the axis moves continuously with the receivers (a mean
+/// of the vertices did not: it jumps when a vertex of the clipped volume splits, and the far corners
+/// of a camera slice pulled it so far from a light just above wide receivers that near receivers
+/// came out beyond 89.4 degrees: LightInsideVolume for a light a frustum pointing straight down
+/// holds). Zero vector: the origin is in the hull (no cone of half-angle < 90 degrees exists) or
+/// a vertex is at the light.
+inline glm::dvec3 lf_point_axis(const glm::dvec3* v, int n, const glm::dvec3& L) {
+    if (n <= 0) return glm::dvec3(0.0);
+    auto dir = [&](int i) {
+        const glm::dvec3 r = v[i] - L;
+        const double l = glm::length(r);
+        return (l > 0.0 && lf_finite(l)) ? r / l : glm::dvec3(0.0);
+    };
+    for (int i = 0; i < n; ++i)
+        if (!(glm::length(dir(i)) > 0.0)) return glm::dvec3(0.0);
+    glm::dvec3 s[4] = {dir(0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+    int k = 1;
+    glm::dvec3 p = s[0];
+    for (int it = 0; it < 64; ++it) {
+        const double p2 = glm::dot(p, p);
+        if (!(p2 > 1e-24)) return glm::dvec3(0.0);  // the origin is in the hull
+        int w = 0;
+        double wd = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < n; ++i) {
+            const double d = glm::dot(dir(i), p);
+            if (d < wd) { wd = d; w = i; }
+        }
+        if (p2 - wd <= 1e-12 * p2) break;  // no point of the hull is nearer along -p: p is the nearest
+        bool present = false;
+        for (int j = 0; j < k; ++j) present = present || glm::length(s[j] - dir(w)) == 0.0;
+        if (present || k == 4) break;  // no progress possible (rounding)
+        s[k++] = dir(w);
+        p = lf_simplex_nearest(s, k);
+    }
+    if (!(glm::dot(p, p) > 1e-24) || !lf_finite(p)) return glm::dvec3(0.0);
+    return glm::normalize(p);
+}
+
+/// A directional light's view is free to slide along the light's axis. Moves it back so the near
+/// plane lies 1% of the depth range in front of the eye (no move when it already does, so the eye
+/// moves continuously): every receiver and kept caster then has a positive light depth
+/// -(view * p).z, which smoothie.glsl, linear-depth maps and pcss_fit_near_plane read as a distance
+/// from the light. A move along the view axis leaves the x and y rows of view_proj (the texel grid)
+/// as they were.
+inline void lf_eye_behind(glm::dmat4& lview, double& nearp, double& farp) {
+    const double margin = 0.01 * (farp - nearp);
+    if (!(nearp < margin)) return;
+    const double back = margin - nearp;
+    lview[3][2] -= back;  // the eye moves back by `back`: every depth grows by it
+    nearp += back;
+    farp += back;
+}
+
 inline glm::dmat4 lf_ortho(double l, double r, double b, double t, double n, double f) {
     glm::dmat4 m(1.0);
     m[0][0] = 2.0 / (r - l);
@@ -613,8 +731,8 @@ inline bool light_frustum_sphere_may_intersect(const LightFrustumPlanes& p, cons
 /// kept); InvalidArgument (null pointer with a count, camera near plane at or behind the eye, singular
 /// matrix, infinite far plane with max_distance 0, a parameter outside its [Limit]); NonFinite;
 /// InvalidLight (see "Lights:"; also a point light with stable = true); LightInsideVolume (point
-/// light inside the receiver volume, or so close that a receiver lies > 89.4 degrees off the light's
-/// axis: use a cube map); Overflow (a float
+/// light inside the receiver volume, or so close that every frustum axis leaves a receiver > 89.4
+/// degrees off it - the axis is that of the narrowest cone holding the receivers: use a cube map); Overflow (a float
 /// matrix cannot place the receivers within 0.01 NDC of its clip volume: coordinates far too large
 /// for the fitted extent).
 inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::uint32_t* kept_indices,
@@ -826,6 +944,7 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
             const double pad = 1e-6 * std::fmax(1.0, std::fabs(farp) + std::fabs(nearp));
             nearp -= pad;
             farp += pad;
+            lf_eye_behind(lview, nearp, farp);
             lproj = lf_ortho(cx - half, cx + half, cy - half, cy + half, nearp, farp);
             res.texel_world_size = static_cast<float>(texel);
             res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
@@ -846,17 +965,13 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
             const double pad = 1e-6 * std::fmax(scale, 1e-30);
             nearp -= pad;
             farp += pad;
+            lf_eye_behind(lview, nearp, farp);
             lproj = lf_ortho(mn.x - pad, mx.x + pad, mn.y - pad, mx.y + pad, nearp, farp);
         }
     } else {
         const glm::dvec3 L = Lpos;
-        glm::dvec3 c(0.0);
-        for (int i = 0; i < nv; ++i) c += verts[i];
-        c /= double(nv);
-        const glm::dvec3 axis = c - L;
-        const double al = glm::length(axis);
-        if (!(al > 1e-9 * scale)) return fail(Status::LightInsideVolume);
-        const glm::dvec3 f = axis / al;
+        const glm::dvec3 f = lf_point_axis(verts, nv, L);
+        if (!(glm::length(f) > 0.0)) return fail(Status::LightInsideVolume);
         lview = lf_look_dir(L, f, lf_view_up(f, cam_fwd, cam_up));
         double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dmin = 1e300, dmax = 0;
         for (int i = 0; i < nv; ++i) {

@@ -82,8 +82,8 @@
 // r + 1e-7 max|coordinate| of c, i.e. touches the ball to float input precision (EdgeTouchesLight:
 // an occluder inside the emitter, which the method does not model). Errors: NaN/Inf (NonFinite),
 // r < 0 or padding < 0 (InvalidArgument), a light that is not a point light (InvalidLight), planes
-// beyond float (Overflow). Radius 0: outer_bound = -inner_bound = the hard plane (the hard shadow
-// quad's plane), coverage 0, visibility 1 - hard count.
+// beyond float (Overflow). Radius 0: inner_bound = -outer_bound = the hard plane (the hard shadow
+// quad's plane; the wedge, inside both, is that plane), coverage 0, visibility 1 - hard count.
 //
 // Coverage (penumbra_edge_coverage). Frame: z = (c - p)/D, D = |c - p|; the disk at depth D.
 //   1. Clip the edge to depth w <= D (only occluders between p and the emitter count).

@@ -241,6 +241,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (res.count != (res.needed < cap ? res.needed : cap)) __builtin_trap();
         if (!res.visible && (res.needed != 0 || st != shadowkit::Status::Ok)) __builtin_trap();
         if (res.visible && in.stable && !(res.texel_world_size > 0.0f)) __builtin_trap();
+        // the light's eye in front of everything (issue 13: linear light depths must be positive)
+        if (res.visible && !(res.near_plane > 0.0f && res.far_plane > res.near_plane)) __builtin_trap();
         for (size_t i = 0; i < res.count; ++i)
             if (keep[i] >= nb + ns) __builtin_trap();
     } else if (res.count != 0) {

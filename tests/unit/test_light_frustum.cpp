@@ -1131,3 +1131,118 @@ TEST_CASE("light_frustum: continuity of every fit while the light turns through 
         CHECK(s.fine_steps > 10000);
     }
 }
+
+// Issue 13 (composition): a point light just above a wide bounded scene was rejected with
+// LightInsideVolume although a frustum pointing straight down holds every receiver (and
+// perspective_shadow_maps.hpp's uniform fit accepts the same light): the fit aimed its axis at the
+// mean of the receiver volume's vertices, which the far corners of the camera slice pull away from
+// the light's foot, so near receivers came out beyond 89.4 degrees. The axis now starts at the
+// receivers' box center and is refined to the middle of their angular extents (as the warps do).
+// Expected: Ok whenever a straight-down frustum with per-axis tangents <= 20 exists (closed form:
+// the light is e above the box top, every box point within 20 e horizontally), and every receiver
+// point inside the slice maps into the fitted clip volume.
+TEST_CASE("light_frustum: a point light just above a wide scene gets one frustum (issue 13 composition)") {
+    std::mt19937 rng(1313);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int runs = 0, fitted = 0, points = 0;
+    for (int it = 0; it < 600; ++it) {
+        const float a = 2.0f + 8.0f * u(rng), b = 2.0f + 8.0f * u(rng), h = 0.5f + 3.0f * u(rng);
+        const glm::vec3 lo(-a, 0.0f, -b), hi(a, h, b);
+        const glm::vec3 L(a * (u(rng) - 0.5f), 0.0f, b * (u(rng) - 0.5f));
+        // the least height above the top for which straight down has per-axis tangents <= 20
+        const float reach = std::max(std::max(a + std::fabs(L.x), b + std::fabs(L.z)), 1e-3f);
+        const float e = reach / 20.0f * (1.0f + 3.0f * u(rng));
+        const glm::vec3 light(L.x, h + e, L.z);
+        LightFrustumInput in;
+        const glm::vec3 eye(a * (u(rng) - 0.5f), h + 2.0f + 4.0f * u(rng), b + 2.0f + 6.0f * u(rng));
+        in.camera_view = glm::lookAt(eye, glm::vec3(0.0f, 0.5f * h, 0.0f), glm::vec3(0, 1, 0));
+        in.camera_proj = glm::infinitePerspective(glm::radians(40.0f + 40.0f * u(rng)), 1.0f + u(rng), 0.1f);
+        in.max_distance = 100.0f;
+        in.has_scene_bounds = true;
+        in.scene_min = lo;
+        in.scene_max = hi;
+        in.light_position = glm::vec4(light, 1.0f);
+        ++runs;
+        const LightFrustumResult r = light_frustum_fit(in, nullptr, 0);
+        if (r.status != Status::Ok) {
+            FAIL_CHECK("it=" << it << ": " << std::string(status_name(r.status)) << " for a light " << e << " above a " << 2 * a << " x "
+                             << 2 * b << " scene");
+            continue;
+        }
+        if (!r.visible) continue;
+        ++fitted;
+        const glm::mat4 vp = in.camera_proj * in.camera_view;
+        for (int k = 0; k < 400; ++k) {
+            const glm::vec3 p = lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng));
+            const glm::vec4 c = vp * glm::vec4(p, 1.0f);
+            const float d = -(in.camera_view * glm::vec4(p, 1.0f)).z;
+            if (!(c.w > 0.0f) || std::fabs(c.x) > c.w || std::fabs(c.y) > c.w || d < 0.1f || d > in.max_distance) continue;
+            ++points;
+            if (!in_clip(r.view_proj, glm::dvec3(p), in.light_depth)) {
+                FAIL_CHECK("it=" << it << ": receiver outside the light's clip volume");
+                break;
+            }
+        }
+    }
+    MESSAGE("wide scenes: " << runs << " runs, " << fitted << " fitted, " << points << " receiver points checked");
+    CHECK(fitted > 500);
+}
+
+// Issue 13 (composition): the directional fits put the light view's eye inside the receiver volume
+// (tight: at its centroid; stable: at the world origin), so -(view * p).z, the linear light depth
+// that smoothie.glsl, linear-depth maps and pcss_fit_near_plane read as a distance from the light,
+// was negative for part of the scene (near_plane -3.3 to -5.6 on the composition scene) and
+// smoothies lit every receiver there. Now every receiver and kept caster lies in front of the eye
+// (near_plane > 0), the eye moves only along the light's axis (view_proj's x and y rows, hence the
+// stable fit's texel grid, are those of the plain fit), and view_proj still holds every receiver.
+TEST_CASE("light_frustum: directional fits keep every receiver and caster in front of the light's eye (issue 13)") {
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int fits = 0, points = 0;
+    for (int it = 0; it < 400; ++it) {
+        LightFrustumInput in;
+        const glm::vec3 off(200.0f * (u(rng) - 0.5f), 20.0f * u(rng), 200.0f * (u(rng) - 0.5f));
+        const glm::vec3 eye = off + glm::vec3(10.0f * (u(rng) - 0.5f), 2.0f + 8.0f * u(rng), 10.0f * (u(rng) - 0.5f));
+        in.camera_view = glm::lookAt(eye, off + glm::vec3(u(rng) - 0.5f, 0.0f, u(rng) - 0.5f), glm::vec3(0, 1, 0));
+        in.camera_proj = glm::infinitePerspective(1.0f, 1.5f, 0.1f);
+        in.max_distance = 20.0f + 40.0f * u(rng);
+        in.has_scene_bounds = rng() % 2 == 0;
+        in.scene_min = off - glm::vec3(30.0f, 1.0f, 30.0f);
+        in.scene_max = off + glm::vec3(30.0f, 15.0f, 30.0f);
+        const float box[6] = {off.x - 1, off.y, off.z - 1, off.x + 1, off.y + 12, off.z + 1};  // a tower
+        in.casters = box;
+        in.caster_count = 1;
+        const glm::vec3 to_light = glm::normalize(glm::vec3(2.0f * u(rng) - 1.0f, 0.2f + u(rng), 2.0f * u(rng) - 1.0f));
+        in.light_position = glm::vec4(to_light, 0.0f);
+        in.stable = rng() % 2 == 0;
+        in.light_depth = rng() % 2 ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
+        in.light_reversed_z = rng() % 2 == 0;
+        std::uint32_t keep = 0;
+        const LightFrustumResult r = light_frustum_fit(in, &keep, 1);
+        REQUIRE(r.status == Status::Ok);
+        if (!r.visible) continue;
+        ++fits;
+        CHECK_MESSAGE(r.near_plane > 0.0f, "it=" << it << ": near_plane " << r.near_plane);
+        CHECK(r.far_plane > r.near_plane);
+        // the kept caster's corners and the receivers in the slice: positive light depth, inside the map
+        const glm::mat4 cvp = in.camera_proj * in.camera_view;
+        for (int k = 0; k < 300; ++k) {
+            const glm::vec3 lo = in.has_scene_bounds ? in.scene_min : eye - glm::vec3(60.0f);
+            const glm::vec3 hi = in.has_scene_bounds ? in.scene_max : eye + glm::vec3(60.0f);
+            const glm::vec3 p = lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng));
+            const glm::vec4 c = cvp * glm::vec4(p, 1.0f);
+            const float dep = -(in.camera_view * glm::vec4(p, 1.0f)).z;
+            if (!(c.w > 0.0f) || std::fabs(c.x) > c.w || std::fabs(c.y) > c.w || dep < 0.1f || dep > in.max_distance) continue;
+            ++points;
+            CHECK(-(r.view * glm::vec4(p, 1.0f)).z >= r.near_plane * (1.0f - 1e-5f) - 1e-4f);
+            CHECK(in_clip(r.view_proj, glm::dvec3(p), in.light_depth));
+        }
+        if (r.needed == 1)
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec3 q(box[(c & 1) ? 3 : 0], box[(c & 2) ? 4 : 1], box[(c & 4) ? 5 : 2]);
+                CHECK(-(r.view * glm::vec4(q, 1.0f)).z > 0.0f);
+            }
+    }
+    MESSAGE("directional eye placement: " << fits << " fits, " << points << " receiver points");
+    CHECK(fits > 300);
+}

@@ -642,6 +642,10 @@ TEST_CASE("stiff: light radius 0 reduces to the hard shadow volume exactly") {
         CHECK(std::fabs(len3(nh) - 1.0) < 1e-6);
         CHECK(len3(D(glm::vec3(w.outer_bound)) + D(glm::vec3(w.inner_bound))) < 1e-6);
         CHECK(std::fabs(std::fabs(dot3(D(glm::vec3(w.outer_bound)), nh)) - 1.0) < 1e-6);
+        // as the header says: inner_bound = -outer_bound = the hard plane (issue 13: the comment had
+        // the signs the other way round; the composition test reads the planes by that comment)
+        CHECK(dot3(D(glm::vec3(w.inner_bound)), nh) > 1.0 - 1e-6);
+        CHECK(dot3(D(glm::vec3(w.outer_bound)), nh) < -1.0 + 1e-6);
         const double scale = std::max({len3(e0), len3(e1), len3(c), 1.0});
         CHECK(std::fabs(w.outer_bound.w + w.inner_bound.w) < 1e-5 * scale);
         // points off the hard plane are outside; coverage is exactly 0; visibility = 1 - hard
