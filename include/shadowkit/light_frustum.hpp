@@ -134,6 +134,14 @@ struct LightFrustumInput {
     /// a small scene gets the texels of its own size. The window is centered on the sphere's center,
     /// moved the least that makes it cover the bounded receivers.
     bool stable = false;
+    /// Stable mode: the depth range (near and far planes) from the scene bounds and every valid
+    /// caster instead of the receivers the camera sees, so it is fixed in the world. A camera move then
+    /// changes the map by a whole-texel translation in x/y only, which a cached map can scroll
+    /// (shadow_cache.hpp); with the default range every camera move shifts the depth planes too
+    /// (shadow_cache_plan: DepthMoved, the whole map re-rendered) and the stored depths change with
+    /// the camera. Costs depth precision: the range spans the whole scene along the light. Needs
+    /// has_scene_bounds (else InvalidArgument); ignored without `stable`.
+    bool stable_world_depth = false;
     std::uint32_t shadow_map_size = 2048;         ///< [Limit: >= 4] texels per side (stable mode)
     float radius_quantum = 1.0f / 16.0f;          ///< [Units: wu] [Limit: > 0] stable radius step
     /// Point lights: near plane never closer than point_min_near_ratio * far. [Limit: (0, 1)]
@@ -158,6 +166,13 @@ struct LightFrustumResult {
     std::size_t invalid_count = 0;       ///< casters with NaN/Inf or min > max / radius < 0 (culled, counted here)
     float texel_world_size = 0.0f;       ///< stable mode: world size of one texel (W / (shadow_map_size - 2))
     glm::vec4 bounding_sphere{0.0f};     ///< stable mode: (center, rounded radius) of the camera slice
+    /// Stable mode: where the map's texel (0, 0) begins on the light's texel grid, which is anchored at
+    /// the world origin: window x of a point = (light-view x) / texel - texel_anchor.x (likewise y), so
+    /// the world origin lies at window (-texel_anchor.x, -texel_anchor.y). Whole numbers for an even
+    /// shadow_map_size (half-integers for an odd one); a camera translation changes them by whole
+    /// numbers, the texels the map moved by. What a cached map's scroll offset and the
+    /// translation-invariant caster pass of glsl/shadow_cache.glsl (its anchor) need, exact in double.
+    glm::dvec2 texel_anchor{0.0};
 };
 
 /// World-space corners of the camera slice, see light_frustum_slice_corners.
@@ -506,6 +521,16 @@ inline void lf_eye_behind(glm::dmat4& lview, double& nearp, double& farp) {
     farp += back;
 }
 
+/// The light-view depth range (-z) of a box's 8 corners: (min, max).
+inline glm::dvec2 lf_box_light_depths(const glm::dmat4& lview, const glm::dvec3& mn, const glm::dvec3& mx) {
+    glm::dvec2 r(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+        const double z = -(lview * glm::dvec4((c & 1) ? mx.x : mn.x, (c & 2) ? mx.y : mn.y, (c & 4) ? mx.z : mn.z, 1.0)).z;
+        r = glm::dvec2(std::fmin(r.x, z), std::fmax(r.y, z));
+    }
+    return r;
+}
+
 inline glm::dmat4 lf_ortho(double l, double r, double b, double t, double n, double f) {
     glm::dmat4 m(1.0);
     m[0][0] = 2.0 / (r - l);
@@ -764,6 +789,7 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
         return fail(Status::InvalidArgument);
     const bool directional = in.light_position.w == 0.0f;
     if (in.stable && !directional) return fail(Status::InvalidLight);  // stable fit: directional lights only
+    if (in.stable && in.stable_world_depth && !in.has_scene_bounds) return fail(Status::InvalidArgument);
     const glm::dvec3 lxyz(in.light_position);
     const glm::dvec3 toward = directional ? glm::normalize(lxyz) : glm::dvec3(0.0);
     const glm::dvec3 Lpos = directional ? glm::dvec3(0.0) : lxyz / double(in.light_position.w);
@@ -932,9 +958,28 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
             const double S = double(in.shadow_map_size);
             const double texel = W / (S - 2.0);  // one texel of border on each side
             const double half = 0.5 * W + texel;
-            const double cx = std::floor(place(cl.x, rmn.x, rmx.x) / texel) * texel;
-            const double cy = std::floor(place(cl.y, rmn.y, rmx.y) / texel) * texel;
-            if (in.has_scene_bounds) {  // depth: the bounded receivers
+            const double kx = std::floor(place(cl.x, rmn.x, rmx.x) / texel);  // the snap: whole texels
+            const double ky = std::floor(place(cl.y, rmn.y, rmx.y) / texel);
+            const double cx = kx * texel, cy = ky * texel;
+            if (in.has_scene_bounds && in.stable_world_depth) {
+                // depth fixed in the world: the scene box and every valid caster (kept or not), none of
+                // which depends on the camera
+                glm::dvec2 zr = lf_box_light_depths(lview, glm::dvec3(in.scene_min), glm::dvec3(in.scene_max));
+                for (std::size_t i = 0; i < nb; ++i) {
+                    const float* b = in.casters + 6 * i;
+                    if (!lf_valid_box(b)) continue;
+                    const glm::dvec2 z = lf_box_light_depths(lview, glm::dvec3(b[0], b[1], b[2]), glm::dvec3(b[3], b[4], b[5]));
+                    zr = glm::dvec2(std::fmin(zr.x, z.x), std::fmax(zr.y, z.y));
+                }
+                for (std::size_t i = 0; i < ns; ++i) {
+                    const float* sp = in.caster_spheres + 4 * i;
+                    if (!lf_valid_sphere(sp)) continue;
+                    const double z = -(lview * glm::dvec4(double(sp[0]), double(sp[1]), double(sp[2]), 1.0)).z;
+                    zr = glm::dvec2(std::fmin(zr.x, z - double(sp[3])), std::fmax(zr.y, z + double(sp[3])));
+                }
+                nearp = zr.x;
+                farp = zr.y;
+            } else if (in.has_scene_bounds) {  // depth: the bounded receivers
                 farp = -rmn.z;
                 nearp = std::fmin(-rmx.z, caster_min_depth(lview));
             } else {
@@ -947,6 +992,7 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
             lf_eye_behind(lview, nearp, farp);
             lproj = lf_ortho(cx - half, cx + half, cy - half, cy + half, nearp, farp);
             res.texel_world_size = static_cast<float>(texel);
+            res.texel_anchor = glm::dvec2(kx - 0.5 * S, ky - 0.5 * S);  // (cx - half) / texel
             res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
             if (!(res.texel_world_size > 0.0f) || !lf_finite(res.bounding_sphere)) return fail(Status::Overflow);
         } else {

@@ -218,6 +218,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     in.caster_count = nb;
     in.caster_spheres = (ns && !null_spheres) ? spheres.data() : nullptr;
     in.caster_sphere_count = ns;
+    in.stable_world_depth = (f3 & 16) != 0;  // issue 18: the depth range fixed in the world (needs scene bounds)
     const size_t cap = r.size(47);
     const bool null_keep = (f3 & 4) && cap > 0;
     std::vector<uint32_t> keep(cap + 1, 0xFFFFFFFFu);
@@ -241,6 +242,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (res.count != (res.needed < cap ? res.needed : cap)) __builtin_trap();
         if (!res.visible && (res.needed != 0 || st != shadowkit::Status::Ok)) __builtin_trap();
         if (res.visible && in.stable && !(res.texel_world_size > 0.0f)) __builtin_trap();
+        if (in.stable && in.stable_world_depth && !in.has_scene_bounds) __builtin_trap();  // must be InvalidArgument
+        // the stable fit's anchor: finite and whole (shadow_map_size is a multiple of 16 here)
+        if (!std::isfinite(res.texel_anchor.x) || !std::isfinite(res.texel_anchor.y) ||
+            res.texel_anchor.x != std::floor(res.texel_anchor.x) || res.texel_anchor.y != std::floor(res.texel_anchor.y))
+            __builtin_trap();
         // the light's eye in front of everything (issue 13: linear light depths must be positive)
         if (res.visible && !(res.near_plane > 0.0f && res.far_plane > res.near_plane)) __builtin_trap();
         for (size_t i = 0; i < res.count; ++i)

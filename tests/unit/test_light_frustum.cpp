@@ -3,6 +3,7 @@
 // culling, point sampling for containment), independent recomputation (texel snapping).
 #include <shadowkit/infinite_projection.hpp>
 #include <shadowkit/light_frustum.hpp>
+#include <shadowkit/shadow_cache.hpp>  // issue 18: what the world-fixed depth range is for
 
 #include <doctest/doctest.h>
 
@@ -416,6 +417,7 @@ TEST_CASE("light_frustum: containment and no false culling over thousands of ran
         in.light_depth = (rng() & 1) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
         in.light_reversed_z = false;
         in.stable = !point && rng() % 3 == 0;
+        in.stable_world_depth = in.stable && in.has_scene_bounds && it % 2 == 0;  // issue 18 (no rng draw: same cases)
         in.shadow_map_size = 1024;
         std::vector<float> boxes;
         const int nc = 20;
@@ -670,6 +672,144 @@ TEST_CASE("light_frustum: stable mode is rotation invariant and moves by whole t
     }
     MESSAGE("stable: " << rot_cases << " rotations, " << trans_cases << " translations checked");
     CHECK(rot_cases > 1000);
+}
+
+// Issue 18: the stable fit's depth range followed the receivers the camera sees, so every camera move
+// shifted or resized the near/far planes: shadow_cache_plan called it DepthMoved or ProjectionChanged
+// and a cached map was rendered whole on almost every frame (1526 of 1561 moves here). With stable_world_depth the range comes from the scene box and every caster:
+// the depth row and the x/y scale stay bit for bit, the map moves by whole texels (texel_anchor),
+// and the plan scrolls or keeps. Expected values: the world origin's window position (closed form:
+// -texel_anchor), the plan's offset (= the change of the anchor), brute-force depth containment.
+TEST_CASE("light_frustum: stable_world_depth fixes the depth range in the world; camera moves are whole-texel scrolls (issue 18)") {
+    std::mt19937 rng(1818);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const unsigned S = 1024;
+    int moves = 0, scrolls = 0, keeps = 0, default_rendered = 0;
+    for (int it = 0; it < 200; ++it) {
+        LightFrustumInput in;
+        in.camera_proj = glm::perspective(0.5f + u(rng), 0.7f + u(rng), 0.1f + u(rng), 20.0f + 60.0f * u(rng));
+        in.light_position = glm::vec4(random_dir(rng), 0.0f);
+        if (in.light_position.y < -0.99f) in.light_position.y = 0.5f;  // away from the stable fit's singular direction
+        in.stable = true;
+        in.stable_world_depth = true;
+        in.shadow_map_size = S;
+        in.has_scene_bounds = true;
+        // a scene the camera sees whole (even cases) or in part (odd: 400 units wide, far plane <= 80)
+        const float half_w = it % 2 == 0 ? 20.0f : 200.0f;
+        in.scene_min = glm::vec3(-half_w, -2, -half_w) + glm::vec3(u(rng), u(rng), u(rng)) * 4.0f;
+        in.scene_max = glm::vec3(half_w, 6, half_w) - glm::vec3(u(rng), u(rng), u(rng)) * 4.0f;
+        std::vector<float> boxes;
+        for (int i = 0; i < 8; ++i) {  // casters in the box, and one beside it (its depth counts too)
+            const glm::vec3 c = i == 7 ? glm::vec3(30, 12, 0) : glm::vec3(u(rng) - 0.5f, u(rng) * 0.3f, u(rng) - 0.5f) * 30.0f;
+            const glm::vec3 h = glm::vec3(0.2f) + glm::vec3(u(rng), u(rng), u(rng)) * 2.0f;
+            boxes.insert(boxes.end(), {c.x - h.x, c.y - h.y, c.z - h.z, c.x + h.x, c.y + h.y, c.z + h.z});
+        }
+        in.casters = boxes.data();
+        in.caster_count = 8;
+        const glm::vec3 pos = glm::vec3(u(rng) - 0.5f, u(rng) * 0.5f, u(rng) - 0.5f) * 16.0f;
+        auto fit = [&](const glm::vec3& p, const glm::vec3& fwd) {
+            in.camera_view = look(p, fwd);
+            std::uint32_t keep[8];
+            return light_frustum_fit(in, keep, 8);
+        };
+        auto origin_window = [&](const LightFrustumResult& r) {  // the world origin in map texels
+            const glm::dvec4 h = glm::dmat4(r.view_proj) * glm::dvec4(0, 0, 0, 1);
+            return glm::dvec2(h.x / h.w, h.y / h.w) * (0.5 * S) + 0.5 * S;
+        };
+        // the plan's matrix: the float result in double with its x/y translation rebuilt exactly from
+        // the anchor (-2 anchor / S - 1: what the float entry rounds), as docs/light_frustum.md says
+        auto state = [&](const LightFrustumResult& r) {
+            ShadowCacheMapState st;
+            st.view_proj = glm::dmat4(r.view_proj);
+            st.view_proj[3][0] = -2.0 * r.texel_anchor.x / double(S) - 1.0;
+            st.view_proj[3][1] = -2.0 * r.texel_anchor.y / double(S) - 1.0;
+            st.width = st.height = int(S);
+            st.has_content = true;
+            return st;
+        };
+        const glm::vec3 fwd0 = glm::normalize(-pos + random_dir(rng) * 4.0f);
+        const LightFrustumResult a = fit(pos, fwd0);
+        REQUIRE(a.status == Status::Ok);
+        if (!a.visible) continue;
+        // closed form: the world origin lies at window -texel_anchor (whole numbers: S is even)
+        CHECK(a.texel_anchor.x == std::round(a.texel_anchor.x));
+        CHECK(std::fabs(origin_window(a).x + a.texel_anchor.x) < 1e-2);
+        CHECK(std::fabs(origin_window(a).y + a.texel_anchor.y) < 1e-2);
+        // the depth range holds the whole scene box and every caster (brute force over corners)
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1) ? in.scene_max.x : in.scene_min.x, (c & 2) ? in.scene_max.y : in.scene_min.y,
+                               (c & 4) ? in.scene_max.z : in.scene_min.z);
+            const glm::dvec4 h = glm::dmat4(a.view_proj) * glm::dvec4(p, 1.0);
+            CHECK(std::fabs(h.z / h.w) <= 1.0 + 1e-5);
+            for (int i = 0; i < 8; ++i) {
+                const float* b = &boxes[std::size_t(6 * i)];
+                const glm::dvec3 q((c & 1) ? b[3] : b[0], (c & 2) ? b[4] : b[1], (c & 4) ? b[5] : b[2]);
+                const glm::dvec4 hq = glm::dmat4(a.view_proj) * glm::dvec4(q, 1.0);
+                CHECK(std::fabs(hq.z / hq.w) <= 1.0 + 1e-5);
+            }
+        }
+        for (int k = 0; k < 8; ++k) {
+            // rotations (k even) and translations from sub-texel to ~40 texels (k odd)
+            const bool rotate = k % 2 == 0;
+            const float step = (k < 4 ? 0.3f : 40.0f) * a.texel_world_size;
+            const glm::vec3 p = rotate ? pos : pos + random_dir(rng) * step;
+            const glm::vec3 f = rotate ? glm::normalize(fwd0 + random_dir(rng) * 0.3f) : fwd0;
+            const LightFrustumResult b = fit(p, f);
+            REQUIRE(b.status == Status::Ok);
+            if (!b.visible) continue;
+            ++moves;
+            // the depth planes, the depth row and the texel size: bit for bit
+            CHECK(b.near_plane == a.near_plane);
+            CHECK(b.far_plane == a.far_plane);
+            CHECK(b.texel_world_size == a.texel_world_size);
+            for (int c = 0; c < 4; ++c) CHECK(b.view_proj[c][2] == a.view_proj[c][2]);
+            for (int c = 0; c < 3; ++c)
+                for (int row = 0; row < 2; ++row) CHECK(b.view_proj[c][row] == a.view_proj[c][row]);
+            // the map moved by the change of the anchor, in whole texels
+            const glm::dvec2 moved = origin_window(b) - origin_window(a), da = b.texel_anchor - a.texel_anchor;
+            CHECK(std::fabs(moved.x + da.x) < 1e-2);
+            CHECK(std::fabs(moved.y + da.y) < 1e-2);
+            // shadow_cache_plan: keep (same texels) or scroll by the anchor's change; never a full render
+            ShadowCacheRect rects[4];
+            const ShadowCachePlan plan = shadow_cache_plan(state(a), state(b), nullptr, 0, rects, 4);
+            REQUIRE(plan.status == Status::Ok);
+            CHECK_MESSAGE(plan.action != ShadowCacheAction::Render, "reason " << std::string(shadow_cache_reason_name(plan.reason)) << " anchor change " << (b.texel_anchor.x - a.texel_anchor.x) << " " << (b.texel_anchor.y - a.texel_anchor.y)
+                                                                             << " residual " << plan.residual_texels);
+            if (plan.action == ShadowCacheAction::Scroll) {
+                ++scrolls;
+                CHECK(plan.offset_x == int(a.texel_anchor.x - b.texel_anchor.x));
+                CHECK(plan.offset_y == int(a.texel_anchor.y - b.texel_anchor.y));
+            } else if (plan.action == ShadowCacheAction::Keep) {
+                ++keeps;
+                CHECK(da == glm::dvec2(0.0));
+            }
+            // the default range (the receivers the camera sees): the same move shifts the depth planes
+            in.stable_world_depth = false;
+            const LightFrustumResult a0 = fit(pos, fwd0), b0 = fit(p, f);
+            in.stable_world_depth = true;
+            if (a0.visible && b0.visible) {
+                const ShadowCachePlan p0 = shadow_cache_plan(state(a0), state(b0), nullptr, 0, rects, 4);
+                // the depth planes moved (DepthMoved) or the range changed size (ProjectionChanged)
+                if (p0.action == ShadowCacheAction::Render) ++default_rendered;
+            }
+        }
+    }
+    MESSAGE("stable_world_depth: " << moves << " camera moves, " << scrolls << " scrolls, " << keeps
+                                   << " keeps; the default depth range: " << default_rendered << " whole-map renders");
+    CHECK(moves > 1000);
+    CHECK(scrolls > moves / 4);
+    CHECK(default_rendered > moves / 2);  // what the option is for
+    // needs the scene bounds; ignored without `stable`
+    LightFrustumInput in = base_input();
+    in.stable = true;
+    in.stable_world_depth = true;
+    CHECK(light_frustum_fit(in, nullptr, 0).status == Status::InvalidArgument);
+    in.stable = false;
+    const LightFrustumResult with = light_frustum_fit(in, nullptr, 0);
+    in.stable_world_depth = false;
+    const LightFrustumResult without = light_frustum_fit(in, nullptr, 0);
+    REQUIRE(with.status == Status::Ok);
+    CHECK(with.view_proj == without.view_proj);
 }
 
 // Issue 13 item 4: the stable fit ignored has_scene_bounds (texel 0.244 for a 1-unit box at
