@@ -1,7 +1,7 @@
 // shadowkit-report: every technique's error against a ray-traced reference, against its run time.
 //
 //   shadowkit-report [--out DIR] [--scenes a,b|default] [--techniques x,y] [--mesh FILE]... [--size WxH]
-//                    [--frames N] [--light-sizes k,k|none] [--quick] [--list]
+//                    [--frames N] [--light-sizes k,k|none] [--temporal N|off] [--quick] [--list]
 //
 // Light sizes: `contact`, `overlap`, `stack`, `room` and every --mesh scene are also run with the
 // light resized by each factor k (default 0.5,2; none with --quick): area lights scale their size,
@@ -9,6 +9,11 @@
 // These variants (`NAME@light=K`) run only the soft techniques compared across light sizes (pcss,
 // smoothie, penumbra_wedges), each against its own area-light reference; report.md sums them up in
 // "## light size".
+//
+// Over time (issue 18, samples/report/temporal_rows.hpp): the chosen rows of every scene (not the
+// light-size variants) run N frames (--temporal N, default 16, --quick 6; off: none) of camera paths
+// and, for hard lights, a turning light, scored by flicker: DIR/flicker_vs_error.svg and the rows'
+// "temporal" entries.
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
@@ -38,6 +43,7 @@
 #include "report_writer.hpp"
 #include "scene.hpp"
 #include "techniques.hpp"
+#include "temporal_rows.hpp"
 
 namespace fs = std::filesystem;
 
@@ -52,6 +58,8 @@ struct Options {
     bool quick = false, list = false;
     std::vector<double> light_sizes{0.5, 2.0};
     bool light_sizes_set = false;
+    int temporal = 16;  // frames per temporal path (issue 18); 0: off
+    bool temporal_set = false;
 };
 
 // Scenes with light-size variants (the techniques run on them: skr::kLightSizeTechniques).
@@ -115,7 +123,7 @@ bool parse_int(const char* s, int& v) {
 
 const char* kUsage =
     "usage: shadowkit-report [--out DIR] [--scenes a,b|default] [--techniques x,y] [--mesh FILE]... [--size WxH]\n"
-    "                        [--frames N] [--light-sizes k,k|none] [--quick] [--list]\n";
+    "                        [--frames N] [--light-sizes k,k|none] [--temporal N|off] [--quick] [--list]\n";
 
 std::string cpu_name() {
     std::ifstream f("/proc/cpuinfo");
@@ -226,6 +234,12 @@ int main(int argc, char** argv) {
                 }
                 if (o.light_sizes.empty()) return fail("--light-sizes needs at least one factor or 'none'");
             }
+        } else if (a == "--temporal") {
+            const char* v = value("--temporal");
+            if (!v || (std::string(v) != "off" && (!parse_int(v, o.temporal) || o.temporal < 2 || o.temporal > 1000)))
+                return fail("--temporal wants a frame count from 2 to 1000 or 'off'");
+            if (std::string(v) == "off") o.temporal = 0;
+            o.temporal_set = true;
         } else if (a == "--frames") {
             const char* v = value("--frames");
             if (!v || !parse_int(v, o.frames) || o.frames < 1) return fail("--frames wants a positive integer");
@@ -257,6 +271,7 @@ int main(int argc, char** argv) {
         }
         if (!o.frames_set) o.frames = 10;
         if (!o.light_sizes_set) o.light_sizes.clear();
+        if (!o.temporal_set) o.temporal = 6;
     }
     // what to run
     std::vector<sk::Scene> scenes;
@@ -355,6 +370,12 @@ int main(int argc, char** argv) {
     info.frames = o.frames;
     info.quick = o.quick;
     info.timer_queries = skgl::timer_queries_in_use();
+    skr::TemporalOptions temporal;
+    temporal.frames = o.temporal;
+    temporal.max_ms = o.quick ? 20.0 : 40.0;
+    temporal.cache_dir = (fs::path(o.out) / "cache").string();
+    info.temporal_frames = o.temporal;
+    info.temporal_max_ms = temporal.max_ms;
 
     std::vector<skr::Row> rows;
     std::vector<skr::SceneInfo> infos;
@@ -468,6 +489,11 @@ int main(int argc, char** argv) {
         infos.back().ref_seconds = ref.seconds;
         infos.back().ref_cached = ref.from_cache;
         write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
+        if (si.base.empty() && o.temporal > 0) {  // issue 18: the chosen rows over time
+            std::vector<skr::Row*> scene_rows;
+            for (auto& p : pending) scene_rows.push_back(&p.row);
+            skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);
+        }
         for (auto& p : pending) {
             skr::Row& r = p.row;
             r.ref_samples = ref.samples_per_pixel;
@@ -505,6 +531,7 @@ int main(int argc, char** argv) {
     ok = skr::write_markdown((out / "report.md").string(), info, infos, rows, &prt) && ok;
     ok = skr::write_svg((out / "error_vs_time.svg").string(), infos, rows) && ok;
     ok = skr::write_light_size_svg((out / "error_vs_light_size.svg").string(), infos, rows) && ok;
+    ok = skr::write_flicker_svg((out / "flicker_vs_error.svg").string(), infos, rows) && ok;
     if (!ok) return fail("cannot write the report files in '" + o.out + "'");
     std::fprintf(stderr, "shadowkit-report: wrote %s/report.md, report.json, error_vs_time.svg (%zu rows)\n",
                  o.out.c_str(), rows.size());

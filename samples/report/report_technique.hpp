@@ -38,10 +38,16 @@ struct ReportSpec {
     std::string name, description;
     bool hard = true;                           ///< 0/1 visibility: misclassified pixels are scored
     std::vector<std::string> sweep, quick;      ///< named settings per row, e.g. "method=zfail scissor=off"
+    /// When set, the rows per scene instead of sweep / quick (none on a scene whose light it cannot take).
+    std::function<std::vector<std::string>(const Scene&, bool quick)> scene_sweep;
     /// After the timed frames and the read-back: work counters, gpu_bytes, debug images (ctx.debug_images).
     std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
     /// The class's failure after update() ("" when fine), for classes that report one.
     std::function<std::string(const T&)> error;
+    /// Issue 18: the temporal rows' sequence, for a family that measures more than V per frame (the
+    /// cached shadow map: texels re-rendered, time against a full re-render, the maps compared); unset:
+    /// init once, then update, render and read back V per frame.
+    std::function<SequenceResult(const RunContext&, const S&, const std::vector<TemporalFrame>&)> sequence;
 };
 
 template <class T, class S>
@@ -51,9 +57,10 @@ public:
     std::string name() const override { return spec_.name; }
     std::string description() const override { return spec_.description; }
     bool hard() const override { return spec_.hard; }
-    std::vector<ParamSet> sweep(const Scene&, bool quick) const override {
+    std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         std::vector<ParamSet> out;
-        for (const auto& text : quick ? spec_.quick : spec_.sweep) out.push_back(ParamSet::parse_named(text));
+        const std::vector<std::string> rows = spec_.scene_sweep ? spec_.scene_sweep(scene, quick) : quick ? spec_.quick : spec_.sweep;
+        for (const auto& text : rows) out.push_back(ParamSet::parse_named(text));
         return out;
     }
     RunResult run(const RunContext& ctx, const ParamSet& params) override {
@@ -90,6 +97,36 @@ public:
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (!err.empty()) return RunResult::failure(spec_.name + ": " + err);
         return r;
+    }
+
+    bool honors_fit_camera() const override { return true; }  // the View's camera is RunContext::fit_camera
+    SequenceResult run_sequence(const RunContext& ctx, const ParamSet& params, const std::vector<TemporalFrame>& frames) override {
+        S s;
+        app::Params bindings;
+        bind_settings(bindings, s);
+        std::string why;
+        if (!params.values.empty()) return SequenceResult::failure(spec_.name + " takes named settings (name=value words)");
+        for (const auto& [k, v] : params.named)
+            if (!bindings.set(k, v, why)) return SequenceResult::failure(why);
+        if (frames.empty()) return SequenceResult{};
+        if (spec_.sequence) return spec_.sequence(ctx, s, frames);
+        Scene scene = ctx.scene;  // its light turns with the frames
+        scene.light = frames[0].light;
+        T t;
+        if (!t.init(app::make_view(scene, ctx.gpu, frames[0].camera), why)) return SequenceResult::failure(why);
+        SequenceResult out;
+        for (const TemporalFrame& f : frames) {
+            scene.light = f.light;
+            const app::View view = app::make_view(scene, ctx.gpu, f.camera);
+            t.update(view, s);
+            if (spec_.error && !spec_.error(t).empty()) return SequenceResult::failure(spec_.error(t));
+            t.render(view, s);
+            out.visibility.push_back(read_r32f(t.visibility(), view.width, view.height));
+        }
+        const std::string err = skgl::gl_error_string();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (!err.empty()) return SequenceResult::failure(spec_.name + ": " + err);
+        return out;
     }
 
 private:

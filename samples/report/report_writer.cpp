@@ -95,13 +95,35 @@ static void write_prt_json(std::ofstream& f, const PrtReport& p) {
     f << "\n  }";
 }
 
+// Issue 18: a row's temporal paths (after its "pareto").
+static void write_temporal_json(std::ofstream& f, const Row& r) {
+    if (r.temporal.empty()) return;
+    f << ", \"temporal_choice\": \"" << json_escape(r.temporal_choice) << "\", \"temporal\": [";
+    for (std::size_t i = 0; i < r.temporal.size(); ++i) {
+        const TemporalRow& t = r.temporal[i];
+        f << (i ? ", " : "") << "{\"path\": \"" << json_escape(t.path) << "\", \"frames\": " << t.frames;
+        if (!t.scored) {
+            f << ", \"not_scored\": \"" << json_escape(t.note) << "\"}";
+            continue;
+        }
+        f << ", \"pixels\": " << t.pixels << ", \"temporal_rms\": " << num(t.temporal_rms)
+          << ", \"flip_fraction\": " << num(t.flip_fraction) << ", \"worst_range\": " << num(t.worst_range)
+          << ", \"v_changed\": " << (t.v_changed ? "true" : "false") << ", \"seconds\": " << num(t.seconds) << ", \"work\": {";
+        for (std::size_t k = 0; k < t.work.size(); ++k)
+            f << (k ? ", " : "") << "\"" << json_escape(t.work[k].first) << "\": " << num(t.work[k].second);
+        f << "}}";
+    }
+    f << "]";
+}
+
 bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows, const PrtReport* prt) {
     std::ofstream f(path);
     if (!f) return false;
     f << "{\n  \"renderer\": \"" << json_escape(info.renderer) << "\",\n  \"gl_version\": \""
       << json_escape(info.gl_version) << "\",\n  \"cpu\": \"" << json_escape(info.cpu) << "\",\n  \"date\": \""
       << json_escape(info.date) << "\",\n  \"quick\": " << (info.quick ? "true" : "false")
-      << ",\n  \"gpu_timing\": \"" << (info.timer_queries ? "GL_TIME_ELAPSED" : "glFinish+steady_clock") << "\",\n  \"rows\": [";
+      << ",\n  \"gpu_timing\": \"" << (info.timer_queries ? "GL_TIME_ELAPSED" : "glFinish+steady_clock")
+      << "\",\n  \"temporal_frames\": " << info.temporal_frames << ",\n  \"rows\": [";
     bool first = true;
     for (const auto& r : rows) {
         f << (first ? "\n" : ",\n") << "    {\"technique\": \"" << json_escape(r.technique) << "\", \"params\": {";
@@ -140,6 +162,7 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
                 f << (i ? ", " : "") << "\"" << json_escape(r.quality[i].first) << "\": " << num(r.quality[i].second);
             f << "}, \"pixels\": " << r.m.pixels << ", \"penumbra_pixels\": " << r.m.penumbra_pixels
               << ", \"pareto\": " << (r.pareto ? "true" : "false");
+            write_temporal_json(f, r);
         }
         f << ", \"ref_samples\": " << r.ref_samples << ", \"ref_stderr\": " << num(r.ref_stderr) << "}";
     }
@@ -249,6 +272,51 @@ static void write_light_size_markdown(std::ofstream& f, const std::vector<SceneI
     f << "\n";
 }
 
+// Issue 18: what the temporal tables mean (report.md's header).
+static void write_temporal_header(std::ofstream& f, const ReportInfo& info) {
+    if (info.temporal_frames <= 0) return;
+    f << "- over time (issue 18): chosen rows run " << info.temporal_frames
+      << " frames of each path (pan: the camera slides sideways by 0.1 to 4 texels of a 2048 map over the scene's "
+         "diagonal a frame; yaw: it turns 0.25 degree a frame; dolly: it moves 0.5% closer a frame; light: the light "
+         "turns 0.25 degree a frame about the scene's vertical axis, hard lights only). V is evaluated every frame at "
+         "the first frame's G-buffer points while the technique fits to the moving camera, over the points every "
+         "frame's camera sees. Temporal RMS: RMS over pixels and frames of (V_t - V_t-1) - (R_t - R_t-1) (the "
+         "reference R is constant on the camera paths: every change of V is error); flips: pixels that cross 0.5 "
+         "(lit <-> shadowed) at least once while the reference does not; range: the worst pixel's max - min of V - R. "
+         "Rows: per technique the lowest-RMSE setting, and the lowest of each combination of its `method`, `fit`, "
+         "`cache`, `pass`, `world_depth` and `culling` settings, among settings under "
+      << fmt("%.0f", info.temporal_max_ms)
+      << " ms a frame. Old drivers (not yet on the sample classes) fit to the G-buffer's camera whatever the path: "
+         "their camera paths are not scored. Plot: `flicker_vs_error.svg`.\n";
+}
+
+// Issue 18: the scene's temporal rows, after its table.
+static void write_temporal_markdown(std::ofstream& f, const std::vector<const Row*>& rs) {
+    bool any = false;
+    for (const Row* r : rs) any = any || !r->temporal.empty();
+    if (!any) return;
+    f << "Over time (per path: temporal RMS, flips, the worst pixel's range; \"same V\": V bit for bit the same in "
+         "every frame):\n\n| technique | params | chosen as | RMSE | ms | path | temporal RMS | flips | range | work |\n"
+         "|---|---|---|---:|---:|---|---:|---:|---:|---|\n";
+    for (const Row* r : rs) {
+        for (const TemporalRow& t : r->temporal) {
+            f << "| " << r->technique << " | " << r->params_label << " | " << r->temporal_choice << " | "
+              << fmt("%.4f", r->m.rmse) << " | " << fmt("%.2f", r->gpu_ms + r->cpu_ms) << " | " << t.path << " | ";
+            if (!t.scored) {
+                f << "not scored: " << t.note << " | | | |\n";
+                continue;
+            }
+            std::string work;
+            for (const auto& [k, v] : t.work)
+                work += (work.empty() ? "" : ", ") + k + " " + (v == std::floor(v) && std::fabs(v) < 1e6 ? fmt("%.0f", v) : fmt("%.3g", v));
+            f << fmt("%.4f", t.temporal_rms) << (t.v_changed ? "" : " (same V)") << " | "
+              << fmt("%.2f%%", 100.0 * t.flip_fraction) << " | " << fmt("%.3f", t.worst_range) << " | "
+              << (work.empty() ? "-" : work) << " |\n";
+        }
+    }
+    f << "\n";
+}
+
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
                     const std::vector<Row>& rows, const PrtReport* prt) {
     std::ofstream f(path);
@@ -264,8 +332,10 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
          "G-buffer points. Penumbra RMSE: pixels with 0 < V_ref < 1. Misclassified: hard techniques, pixels "
          "away from 1-pixel edges of round(V_ref). Leak: light leaking into the reference's umbra, the fraction of "
          "pixels with V_ref = 0 where V > 0.1 / the mean V over them.\n";
+    write_temporal_header(f, info);
     f << "- command: `" << info.command << "`\n\n";
     f << "![error against time](error_vs_time.svg)\n\n";
+    if (info.temporal_frames > 0) f << "![flicker against error](flicker_vs_error.svg)\n\n";
     write_light_size_markdown(f, scenes, rows);
     for (const auto& sc : scenes) {
         std::vector<const Row*> rs;
@@ -323,6 +393,7 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
               << most_accurate->image_v << "` and its signed error `" << most_accurate->image_err
               << "` (red: too bright, blue: too dark)";
         f << ".\n\n";
+        write_temporal_markdown(f, rs);
     }
     if (prt && prt->requested) write_prt_markdown(f, *prt);
     return static_cast<bool>(f);
@@ -494,6 +565,95 @@ bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>&
             f << "<text x=\"" << l + 6 << "\" y=\"" << t + 14 + 13 * ti << "\" fill=\"" << colors[ti] << "\">" << tech
               << "</text>\n";
         }
+    }
+    f << "</svg>\n";
+    return static_cast<bool>(f);
+}
+
+bool write_flicker_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    std::vector<const SceneInfo*> panels;
+    for (const auto& sc : scenes) {
+        bool any = false;
+        for (const auto& r : rows)
+            if (r.scene == sc.name && !r.failed)
+                for (const TemporalRow& t : r.temporal) any = any || t.scored;
+        if (any) panels.push_back(&sc);
+    }
+    if (panels.empty()) return true;
+    std::ofstream f(path);
+    if (!f) return false;
+    const int pw = 440, ph = 300, cols = 2;
+    const int n = static_cast<int>(panels.size());
+    const int W = pw * std::min(n, cols), H = ph * ((n + cols - 1) / cols);
+    static const char* palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
+                                    "#17becf", "#7f7f7f", "#bcbd22", "#000000", "#00a087", "#ffc000", "#4b0082",
+                                    "#ff1493", "#556b2f", "#00008b", "#a0522d", "#20b2aa", "#b30000"};
+    std::map<std::string, int> color;  // the same colours as error_vs_time.svg
+    for (const auto& r : rows)
+        if (!color.count(r.technique)) color[r.technique] = static_cast<int>(color.size()) % 20;
+    // one marker per path: circle pan, square yaw, triangle dolly, diamond light
+    auto marker = [&](const std::string& p, double x, double y, const char* col, const std::string& title) {
+        std::ostringstream m;
+        if (p == "yaw")
+            m << "<rect x=\"" << x - 3 << "\" y=\"" << y - 3 << "\" width=\"6\" height=\"6\"";
+        else if (p == "dolly")
+            m << "<polygon points=\"" << x << ',' << y - 4 << ' ' << x - 4 << ',' << y + 3 << ' ' << x + 4 << ',' << y + 3 << "\"";
+        else if (p == "light")
+            m << "<polygon points=\"" << x << ',' << y - 4 << ' ' << x - 4 << ',' << y << ' ' << x << ',' << y + 4 << ' ' << x + 4
+              << ',' << y << "\"";
+        else
+            m << "<circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"3\"";
+        m << " fill=\"" << col << "\" fill-opacity=\"0.8\"><title>" << title << "</title></" << (p == "yaw" ? "rect" : p == "pan" ? "circle" : "polygon") << ">\n";
+        return m.str();
+    };
+    f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+      << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    for (int si = 0; si < n; ++si) {
+        const SceneInfo& sc = *panels[static_cast<std::size_t>(si)];
+        const int ox = (si % cols) * pw, oy = (si / cols) * ph;
+        const int l = ox + 55, r = ox + pw - 15, t = oy + 25, b = oy + ph - 40;
+        double emax = 0.0, fmax = 0.0;
+        for (const auto& row : rows)
+            if (row.scene == sc.name && !row.failed)
+                for (const TemporalRow& tr : row.temporal)
+                    if (tr.scored) {
+                        emax = std::max(emax, row.m.rmse);
+                        fmax = std::max(fmax, tr.temporal_rms);
+                    }
+        emax = emax > 0 ? emax * 1.1 : 1.0;
+        fmax = fmax > 0 ? fmax * 1.1 : 1.0;
+        auto X = [&](double e) { return l + e / emax * (r - l); };
+        auto Y = [&](double v) { return b - v / fmax * (b - t); };
+        f << "<text x=\"" << ox + pw / 2 << "\" y=\"" << oy + 15 << "\" text-anchor=\"middle\" font-weight=\"bold\">"
+          << sc.name << "</text>\n<rect x=\"" << l << "\" y=\"" << t << "\" width=\"" << r - l << "\" height=\"" << b - t
+          << "\" fill=\"none\" stroke=\"#444\"/>\n";
+        for (int k = 0; k <= 4; ++k) {
+            f << "<text x=\"" << X(emax * k / 4.0) << "\" y=\"" << b + 14 << "\" text-anchor=\"middle\">"
+              << fmt("%.3g", emax * k / 4.0) << "</text>\n";
+            f << "<line x1=\"" << l << "\" y1=\"" << Y(fmax * k / 4.0) << "\" x2=\"" << r << "\" y2=\"" << Y(fmax * k / 4.0)
+              << "\" stroke=\"#eee\"/><text x=\"" << l - 4 << "\" y=\"" << Y(fmax * k / 4.0) + 4 << "\" text-anchor=\"end\">"
+              << fmt("%.3g", fmax * k / 4.0) << "</text>\n";
+        }
+        f << "<text x=\"" << (l + r) / 2 << "\" y=\"" << b + 30 << "\" text-anchor=\"middle\">RMSE (still frame)</text>\n";
+        f << "<text x=\"" << ox + 12 << "\" y=\"" << (t + b) / 2 << "\" transform=\"rotate(-90 " << ox + 12 << ' ' << (t + b) / 2
+          << ")\" text-anchor=\"middle\">temporal RMS</text>\n";
+        std::set<std::string> techs;
+        for (const auto& row : rows) {
+            if (row.scene != sc.name || row.failed) continue;
+            for (const TemporalRow& tr : row.temporal) {
+                if (!tr.scored) continue;
+                techs.insert(row.technique);
+                f << marker(tr.path, X(row.m.rmse), Y(tr.temporal_rms), palette[color[row.technique]],
+                            row.technique + " " + row.params_label + ", " + tr.path + ": temporal RMS " +
+                                fmt("%.4f", tr.temporal_rms) + ", flips " + fmt("%.2f%%", 100.0 * tr.flip_fraction) +
+                                ", RMSE " + fmt("%.4f", row.m.rmse));
+            }
+        }
+        int legend = 0;
+        for (const std::string& tech : techs)
+            f << "<text x=\"" << r - 5 << "\" y=\"" << t + 14 + 13 * legend++ << "\" text-anchor=\"end\" fill=\""
+              << palette[color[tech]] << "\">" << tech << "</text>\n";
+        f << "<text x=\"" << l + 5 << "\" y=\"" << t + 14 << "\">circle pan, square yaw, triangle dolly, diamond light</text>\n";
     }
     f << "</svg>\n";
     return static_cast<bool>(f);

@@ -10,6 +10,19 @@
 
 namespace skr {
 
+// Issue 18: one path of a row's temporal sequence (samples/report/temporal_rows.cpp).
+struct TemporalRow {
+    std::string path;         // pan, yaw, dolly, light (sk::temporal_path_name)
+    bool scored = false;      // false: `note` says why (a driver that ignores the fit camera, a failure)
+    std::string note;
+    int frames = 0;
+    std::size_t pixels = 0;   // compared: receivers facing the light in every frame, inside every frame's view
+    double temporal_rms = 0.0, flip_fraction = 0.0, worst_range = 0.0;
+    bool v_changed = false;   // V differed between frames at some pixel (bit for bit)
+    double seconds = 0.0;     // the sequence's wall time
+    std::vector<std::pair<std::string, double>> work;  // the sequence's counters (cached maps)
+};
+
 struct Row {
     std::string technique, params_label, scene;
     std::vector<std::pair<std::string, double>> params;              // old drivers: numbers
@@ -27,6 +40,8 @@ struct Row {
     double ref_stderr = 0.0;
     bool pareto = false;
     std::string image_v, image_err;
+    std::vector<TemporalRow> temporal;  // issue 18: empty when the row was not chosen (or --temporal off)
+    std::string temporal_choice;        // why it was chosen: "best", "best method=lispsm"
 };
 
 // The soft techniques run on the light-size variants (and listed, in this order, in "## light size").
@@ -48,6 +63,8 @@ struct ReportInfo {
     int width = 0, height = 0, frames = 0;
     bool quick = false;
     bool timer_queries = false;
+    int temporal_frames = 0;  // issue 18: frames per temporal path; 0: off
+    double temporal_max_ms = 0.0;  // rows slower than this (GPU + CPU ms a frame) get no temporal rows
 };
 
 // The `prt` pseudo-scene (not an sk::Scene): precomputed radiance transfer shading of the
@@ -97,6 +114,9 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
                     const std::vector<Row>& rows, const PrtReport* prt = nullptr);
 bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
+// flicker_vs_error.svg (issue 18): per scene with temporal rows, each (row, path) as a point at
+// (RMSE, temporal RMS); nothing is written without temporal rows.
+bool write_flicker_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
 // error_vs_light_size.svg: per scene with light-size variants, each soft technique's best RMSE
 // against the light's size (false if it cannot be written; nothing is written without variants).
 bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);

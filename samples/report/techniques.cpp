@@ -139,6 +139,7 @@ std::vector<std::unique_ptr<Technique>> make_techniques() {
     add_silmap_techniques(t);
     add_linear_techniques(t);
     add_prefilter_techniques(t);
+    add_cached_shadow_map_techniques(t);
     t.push_back(std::make_unique<Unshadowed>());
     return t;
 }

@@ -92,6 +92,25 @@ struct RunContext {
     const Camera* fit_camera = nullptr;
 };
 
+// Issue 18 (shadows over time): one frame of a temporal sequence, the camera the technique fits to
+// and the light (V stays at the G-buffer's points), and what a technique renders over the frames.
+struct TemporalFrame {
+    Camera camera;
+    Light light;
+};
+struct SequenceResult {
+    bool ok = true;
+    std::string error;
+    std::vector<std::vector<float>> visibility;        // per frame: width * height, bottom-up rows
+    std::vector<std::pair<std::string, double>> work;  // the sequence's own counters (cached maps: texels re-rendered...)
+    static SequenceResult failure(std::string why) {
+        SequenceResult r;
+        r.ok = false;
+        r.error = std::move(why);
+        return r;
+    }
+};
+
 // Grey image of a float buffer (w x h, `stride` floats per pixel, channel `c`), mapped from the
 // [lo, hi] range of its finite values below `ignore_above` to [0, 255].
 DebugImage grey_debug_image(const std::string& name, int w, int h, const std::vector<float>& data, int stride, int c,
@@ -110,6 +129,13 @@ public:
     // Parameter sweep for the report; `quick` gives a shorter one.
     virtual std::vector<ParamSet> sweep(const Scene& scene, bool quick) const = 0;
     virtual RunResult run(const RunContext& ctx, const ParamSet& params) = 0;
+    // Issue 18: true when run() fits to RunContext::fit_camera (ReportTechnique: the View's camera).
+    // The old drivers fit to the G-buffer's camera: false, and the temporal rows leave out their camera paths.
+    virtual bool honors_fit_camera() const { return false; }
+    // V at the G-buffer's points for each frame in turn (its light, its fit camera). Default
+    // (samples/report/temporal.cpp): run() once per frame (frames 1, warmup 0, no CPU G-buffer);
+    // ReportTechnique initializes once and updates and renders per frame.
+    virtual SequenceResult run_sequence(const RunContext& ctx, const ParamSet& params, const std::vector<TemporalFrame>& frames);
 };
 
 std::vector<std::unique_ptr<Technique>> make_techniques();
@@ -127,5 +153,6 @@ void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out);
+void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out);  // issue 18
 
 }  // namespace sk
