@@ -39,8 +39,7 @@ std::vector<TemporalFrame> temporal_path(const Scene& scene, TemporalPath path, 
     const glm::dvec3 eye(cam0.eye), target(cam0.target), up(cam0.up);
     const glm::dvec3 fwd = glm::normalize(target - eye);
     const glm::dvec3 right = glm::normalize(glm::cross(fwd, up));
-    const glm::dvec3 cam_up = glm::cross(right, fwd);
-    const glm::dvec3 pan_dir = glm::normalize(right + 0.3 * cam_up);
+    const glm::dvec3 pan_dir = right;
     const double texel = double(glm::length(scene.bounds_max() - scene.bounds_min())) / 2048.0;
     const glm::dvec3 center = 0.5 * (glm::dvec3(scene.bounds_min()) + glm::dvec3(scene.bounds_max()));
     double pan = 0.0;
@@ -48,7 +47,9 @@ std::vector<TemporalFrame> temporal_path(const Scene& scene, TemporalPath path, 
         TemporalFrame f{cam0, scene.light};
         switch (path) {
         case TemporalPath::Pan: {
-            if (t > 0) pan += texel * (frames > 2 ? 0.1 * std::pow(40.0, double(t - 1) / double(frames - 2)) : 1.0);
+            // steps of 0.1 to 4 texels, each the other way: the camera stays within about 2 texels of
+            // its start (the points it sees stay in view on a 1 km scene too)
+            if (t > 0) pan += (t % 2 ? 1.0 : -1.0) * texel * (frames > 2 ? 0.1 * std::pow(40.0, double(t - 1) / double(frames - 2)) : 1.0);
             const glm::dvec3 d = pan * pan_dir;
             f.camera.eye = glm::vec3(eye + d);
             f.camera.target = glm::vec3(target + d);

@@ -20,8 +20,9 @@
 namespace sk {
 
 /// The paths, all deterministic and starting at the scene's own camera and light:
-/// Pan:   the camera translates sideways (its right vector, tilted 0.3 toward its up vector) by steps
-///        growing from 0.1 to 4 "texels" (scene diagonal / 2048) per frame, geometrically;
+/// Pan:   the camera translates sideways (along its right vector) by steps growing geometrically
+///        from 0.1 to 4 "texels" (scene diagonal / 2048) a frame, each step the other way (so it stays
+///        within about 2 texels of its start and the points it sees stay in view);
 /// Yaw:   the camera turns about the world's vertical axis through its eye, 0.25 degree per frame;
 /// Dolly: the camera moves toward its target by 0.5% of the distance per frame;
 /// Light: the camera stays; the light turns about the vertical axis through the scene's center by

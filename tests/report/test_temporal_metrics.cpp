@@ -8,7 +8,8 @@
 //   frame: RMS from the closed form;
 // - soft V drifting by 0.1 a frame at 4 of 16 pixels: RMS sqrt(4 * 0.01 / 16) = 0.05, no flip,
 //   range 0.1 (N - 1);
-// - the paths: frame 0 is the scene's camera and light, the pan's steps grow from 0.1 to 4 texels,
+// - the paths: frame 0 is the scene's camera and light, the pan's steps grow from 0.1 to 4 texels
+//   and alternate in direction,
 //   the yaw turns 0.25 degree a frame, the light turns about the scene's center, and the frustum
 //   mask drops points that leave a frame's view.
 // Catches: a sum over frames instead of frame differences, the reference's change ignored or added
@@ -129,6 +130,9 @@ TEST_CASE("temporal paths: closed forms") {
     const auto pan = sk::temporal_path(s, sk::TemporalPath::Pan, N);
     CHECK(glm::length(glm::dvec3(pan[1].camera.eye - pan[0].camera.eye)) == doctest::Approx(0.1 * texel).epsilon(1e-3));
     CHECK(glm::length(glm::dvec3(pan[N - 1].camera.eye - pan[N - 2].camera.eye)) == doctest::Approx(4.0 * texel).epsilon(1e-3));
+    // each step the other way: frame 2 lies between frames 0 and 1
+    CHECK(glm::dot(glm::dvec3(pan[2].camera.eye - pan[1].camera.eye), glm::dvec3(pan[1].camera.eye - pan[0].camera.eye)) < 0.0);
+    CHECK(glm::length(glm::dvec3(pan[N - 1].camera.eye - s.camera.eye)) < 2.5 * texel);
     const glm::vec3 d0 = s.camera.target - s.camera.eye, d5 = pan[5].camera.target - pan[5].camera.eye;
     CHECK(glm::length(d5 - d0) < 1e-5f);  // a translation: the view direction stays
     const auto yaw = sk::temporal_path(s, sk::TemporalPath::Yaw, N);
