@@ -25,6 +25,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,7 @@ public:
     GLuint map() const { return tex_[cur_]; }  ///< the depth texture that holds the map
     int size() const { return size_; }
     std::size_t casters_drawn() const;          ///< casters the caster pass may draw this frame (culling)
+    const std::vector<std::uint8_t>& drawn() const { return drawn_; }  ///< per caster mesh: 1 drawn, 0 culled
 
 private:
     void make_map(int size);

@@ -15,7 +15,9 @@
 // Work (temporal rows, frames after the first, which renders the whole map): frames_kept /
 // frames_updated / frames_scrolled / frames_rendered (the plan's action), rerendered_fraction (mean
 // texels re-rendered / map texels), map_ms (median time of render_map: the scroll copy and the
-// scissored caster pass; glFinish + steady clock), and with the cache on, a second instance with the
+// scissored caster pass; glFinish + steady clock), culling_changes (culling=on: frames whose set of
+// drawn casters differs from the frame before: a caster crossed the culling boundary), and with the
+// cache on, a second instance with the
 // cache off renders the same frames for comparison: full_map_ms (its median), texels_differing (texel
 // frames where the kept map and the full re-render differ bit for bit), texels_differing_16ulp (by
 // more than 16 float steps: another surface), max_ulps, v_pixels_differing (V bit for bit).
@@ -68,6 +70,8 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
     SequenceResult out;
     std::vector<double> cached_ms, full_ms;
     double actions[4] = {0, 0, 0, 0}, rerendered = 0, differing = 0, differing_far = 0, max_ulps = 0, v_differing = 0;
+    double culling_changes = 0;  // frames whose set of drawn casters differs from the frame before
+    std::vector<std::uint8_t> drawn;
     for (std::size_t t = 0; t < frames.size(); ++t) {
         scene.light = frames[t].light;
         const app::View v = app::make_view(scene, ctx.gpu, frames[t].camera);
@@ -77,6 +81,8 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
         cached.render_visibility(v, s);
         out.visibility.push_back(read_r32f(cached.visibility(), v.width, v.height));
         const shadowkit::ShadowCachePlan& plan = cached.plan();
+        if (t > 0 && cached.drawn() != drawn) culling_changes += 1.0;
+        drawn = cached.drawn();
         if (t > 0) {  // the first frame renders the whole map
             actions[static_cast<int>(plan.action)] += 1.0;
             rerendered += double(plan.texels) / (double(s.size) * double(s.size));
@@ -106,6 +112,7 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
     out.work = {{"frames_kept", actions[0]},     {"frames_updated", actions[1]},
                 {"frames_scrolled", actions[2]}, {"frames_rendered", actions[3]},
                 {"rerendered_fraction", rerendered / later}, {"map_ms", median(cached_ms)}};
+    if (s.culling) out.work.emplace_back("culling_changes", culling_changes);
     if (s.cache) {
         out.work.emplace_back("full_map_ms", median(full_ms));
         out.work.emplace_back("texels_differing", differing);
