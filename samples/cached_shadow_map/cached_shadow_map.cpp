@@ -189,6 +189,7 @@ void CachedShadowMap::update(const app::View& v, const CachedShadowMapSettings& 
     current_.settings = settings * 2u + (ortho_ ? 1u : 0u);
     if (s.size != size_) previous_.has_content = false;  // a new map
     const shadowkit::ShadowCacheMapState none;           // cache off: no content, render everything
+    scrolled_ = false;
     plan_ = shadowkit::shadow_cache_plan(s.cache ? previous_ : none, current_, casters_.data(), casters_.size(), rects_.data(),
                                          rects_.size());
     if (plan_.status != shadowkit::Status::Ok) error_ = std::string("shadow_cache_plan: ") + shadowkit::status_name(plan_.status);
@@ -225,11 +226,12 @@ void CachedShadowMap::render_map(const app::View& v, const CachedShadowMapSettin
 
     // 1. Scroll: what stays on the map, copied by the whole-texel offset into the other texture
     //    (glCopyImageSubData's regions must not overlap within one image).
-    if (plan_.action == shadowkit::ShadowCacheAction::Scroll) {
+    if (plan_.action == shadowkit::ShadowCacheAction::Scroll && !scrolled_) {  // once per update()
         const shadowkit::ShadowCacheCopy& c = plan_.copy;
         glCopyImageSubData(tex_[cur_], GL_TEXTURE_2D, 0, c.src_x, c.src_y, 0, tex_[1 - cur_], GL_TEXTURE_2D, 0, c.dst_x,
                            c.dst_y, 0, c.width, c.height, 1);
         cur_ = 1 - cur_;
+        scrolled_ = true;
     }
 
     // 2. Each rectangle of the plan (Keep: none; Render: the whole map): clear it and draw the casters

@@ -85,6 +85,7 @@ public:
         render_visibility(v, s);
     }
     /// The plan applied to the map: a scroll copy, then the caster pass over the plan's rectangles.
+    /// Called again without update() it re-renders the same rectangles (the scroll is not repeated).
     void render_map(const app::View& v, const CachedShadowMapSettings& s);
     /// V at the G-buffer's points: the map's compare with the hardware 2x2 filter.
     void render_visibility(const app::View& v, const CachedShadowMapSettings& s);
@@ -124,6 +125,7 @@ private:
     // GL
     GLuint tex_[2] = {0, 0}, fbo_[2] = {0, 0};
     int cur_ = 0, size_ = 0;
+    bool scrolled_ = false;  // this frame's scroll is done
     GLuint plain_prog_ = 0, invariant_prog_ = 0, vis_prog_ = 0;
     app::VisibilityPass pass_;
 };

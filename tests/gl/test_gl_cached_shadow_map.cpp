@@ -10,7 +10,8 @@
 //  (c) the fit camera reaches the class: the tight fit's V changes along a camera path, the stable
 //      fit's does not under a pan (the View's camera of issue 18, not the G-buffer's);
 //  (d) casters that move (a box driving by, re-uploaded each frame) while the camera pans: the plan
-//      updates their old and new footprints, and the kept map equals a full re-render bit for bit.
+//      updates their old and new footprints, and the kept map equals a full re-render bit for bit,
+//      also when render() runs twice after one update() (a repeated scroll would shift the map twice).
 // What each check catches: a scroll with the wrong sign or copy region, a missing border strip or
 // caster footprint, a depth range that follows the camera, a class that fits to the G-buffer's camera.
 #include <doctest/doctest.h>
@@ -140,6 +141,7 @@ TEST_CASE("cached shadow map: casters that move dirty their old and new footprin
         full.update(v, full_s);
         REQUIRE_MESSAGE(cached.error().empty(), cached.error());
         cached.render(v, s);
+        cached.render(v, s);  // again without update(): the same map (a scroll is not repeated)
         full.render(v, full_s);
         const shadowkit::ShadowCachePlan& p = cached.plan();
         if (t > 0) {

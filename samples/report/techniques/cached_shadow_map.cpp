@@ -7,8 +7,10 @@
 // from the receivers (world_depth=off: every camera move renders the whole map), with caster culling,
 // and the tight fit (which follows the camera: nothing to keep); spot and area lights: the frustum
 // around the scene, cached and not; point lights: none (a cube map, samples/shadow_map).
-// Still rows: the camera does not move, so after the first frame a cached map is kept and the GPU time
-// is the lookup's; the temporal rows (sequence below) time the map on moving paths.
+// Still rows: ReportTechnique calls update() for every timed frame before the first render(), so their
+// plan is the first frame's (no content yet: the whole map) and their GPU ms is a full map plus the
+// lookup, comparable with shadow_map's; the temporal rows (sequence below) time the cache on moving
+// paths.
 //
 // Work (still rows), from what the class exposes: shadow_map_texels (the pair: 2 size^2), casters_drawn
 // and casters_culled (culling=on); gpu_bytes: the two depth textures.
@@ -133,7 +135,7 @@ void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& o
     spec.name = "cached_shadow_map";
     spec.description = "cached shadow map (shadow_cache.hpp): a sun's stable light_frustum fit (depth range fixed in the "
                        "world) follows the camera, each frame keep / scroll + border / re-render; spot and area lights: "
-                       "the scene's frustum, kept. Still rows keep the map after the first frame (GPU ms: the lookup)";
+                       "the scene's frustum, kept. Still rows: a full map + the lookup; the cache's cost is in the temporal rows";
     spec.scene_sweep = [](const Scene& scene, bool quick) -> std::vector<std::string> {
         switch (scene.light.type) {
         case LightType::Point: return {};  // a cube map
