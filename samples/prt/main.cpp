@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     a.add_scene(prt_app_scene());  // the tessellated prt scene (the built-in ones work too, coarsely)
     a.default_scene("prt");
     Prt prt;  // after the App: its GL objects go before the App's context
+    a.debug_view("ambient occlusion", [&] { return prt.debug_occlusion(a.view()); });
     if (!a.start(argc, argv)) return a.exit_code();  // options, window or EGL, scene
     std::string why;
     while (a.next_frame()) {  // input, camera, light

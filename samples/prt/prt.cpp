@@ -203,8 +203,21 @@ void Prt::update(const app::View& v, const PrtSettings& s) {
 }
 
 void Prt::render(const app::View& v, const PrtSettings& s) {
+    draw(v, env_rotated_.data(), s.order * s.order, s.shadows, s.exposure);
+}
+
+// The ambient occlusion: the shadowed transfer's band 0 lit by a constant environment (coefficient
+// 0 only): how much of the cosine-weighted sky each vertex sees.
+app::DebugImage Prt::debug_occlusion(const app::View& v) {
+    std::vector<glm::vec3> constant(25, glm::vec3(0.f));
+    constant[0] = glm::vec3(std::sqrt(4.f * 3.14159265f));  // a radiance of 1 in every direction
+    draw(v, constant.data(), 1, true, 1.f);
+    return {color(), app::DebugImage::Show::Value};
+}
+
+void Prt::draw(const app::View& v, const glm::vec3* env, int count, bool shadows, float exposure) {
     // The meshes into our target with the camera: depth test GL_LESS, back faces culled; the transfer
-    // (shadowed or unshadowed) at storage-buffer binding 0; the first order^2 coefficients shade.
+    // (shadowed or unshadowed) at storage-buffer binding 0; the first count = order^2 coefficients shade.
     glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo);
     glViewport(0, 0, target_.width, target_.height);
     glClearColor(0.05f, 0.06f, 0.08f, 1.f);
@@ -218,11 +231,11 @@ void Prt::render(const app::View& v, const PrtSettings& s) {
     glUseProgram(program_);
     const glm::mat4 view_proj = v.proj * v.view;
     glUniformMatrix4fv(glGetUniformLocation(program_, "u_view_proj"), 1, GL_FALSE, glm::value_ptr(view_proj));
-    glUniform3fv(glGetUniformLocation(program_, "u_env"), 25, glm::value_ptr(env_rotated_[0]));
-    glUniform1i(glGetUniformLocation(program_, "u_count"), s.order * s.order);
+    glUniform3fv(glGetUniformLocation(program_, "u_env"), 25, glm::value_ptr(env[0]));
+    glUniform1i(glGetUniformLocation(program_, "u_count"), count);
     glUniform1i(glGetUniformLocation(program_, "u_stride"), 25);
-    glUniform1f(glGetUniformLocation(program_, "u_exposure"), s.exposure);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_[s.shadows ? 0 : 1]);
+    glUniform1f(glGetUniformLocation(program_, "u_exposure"), exposure);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_[shadows ? 0 : 1]);
     glBindVertexArray(vao_);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh_.indices.size()), GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);

@@ -71,6 +71,9 @@ public:
     void render(const app::View& v, const PrtSettings& s);
     /// RGBA8 picture at the G-buffer's size.
     GLuint color() const { return target_.color.empty() ? 0u : target_.color[0]; }
+    /// Debug view (draws it into the picture): ambient occlusion, the shadowed transfer's band 0 under
+    /// a constant white environment (grey, stretched).
+    app::DebugImage debug_occlusion(const app::View& v);
     /// The first failure of precompute() or update(), "" while all is well.
     const std::string& error() const { return error_; }
 
@@ -78,6 +81,7 @@ public:
     double transfer_seconds() const { return seconds_; }  ///< the last precompute()
 
 private:
+    void draw(const app::View& v, const glm::vec3* env, int count, bool shadows, float exposure);
     void release();
     skprt::PrtScene mesh_;         // every mesh of the scene in one (positions, normals, albedo, indices)
     std::vector<glm::vec3> env_;   // the environment's 25 SH coefficients (RGB), unrotated
