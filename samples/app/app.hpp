@@ -86,7 +86,7 @@ public:
     /// Shows V: the composite albedo * (ambient + V N.L) or the chosen debug view, and the panel
     /// (window); headless, the PNG of the last frame.
     void present(GLuint visibility);
-    /// present() for a technique that shades the picture itself (samples/prt): its RGBA colour
+    /// present() for a technique that shades the picture itself (samples/prt): its RGBA color
     /// texture at the G-buffer's size instead of the composite of V.
     void present_color(GLuint picture);
 

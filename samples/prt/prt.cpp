@@ -44,7 +44,7 @@ void main() {
 }
 )";
 
-// Albedo by mesh index (a Scene has no colours): the prt scene's floor, blob and box, then again.
+// Albedo by mesh index (a Scene has no colors): the prt scene's floor, blob and box, then again.
 const glm::vec3 kAlbedo[3] = {{0.8f, 0.78f, 0.74f}, {0.85f, 0.55f, 0.35f}, {0.45f, 0.6f, 0.85f}};
 
 // The azimuth of the direction toward the light (a directional light's -direction, else its position

@@ -47,7 +47,7 @@ inline void bind_settings(app::Params& p, PrtSettings& s) {
 }
 
 /// The app shell's scene of samples/prt: prt_scene.hpp's floor, blob and box as three meshes (their
-/// albedos are the class's first three colours), the camera of the old sample, a directional light
+/// albedos are the class's first three colors), the camera of the old sample, a directional light
 /// along the environment's sun (the App turns it: the environment turns with it).
 sk::Scene prt_app_scene();
 
@@ -59,7 +59,7 @@ public:
     ~Prt() { release(); }
 
     /// The scene's meshes as one vertex buffer (position, albedo), the environment in SH, the program,
-    /// the colour target. false: no vertex-stage storage buffers, a mesh without normals.
+    /// the color target. false: no vertex-stage storage buffers, a mesh without normals.
     bool init(const app::View& v, std::string& why);
     /// CPU + Embree, when `strata` changed (or on the first call): every vertex's transfer vectors,
     /// shadowed and unshadowed, uploaded as two storage buffers. Seconds, not a per-frame step.
