@@ -164,17 +164,6 @@ void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth
     glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
-const SingleMapLookup& plain_shadow_map_lookup() {
-    static const SingleMapLookup lookup{"shadow_map", R"(
-layout(binding = 2) uniform sampler2DShadow u_shadow_map;
-uniform mat4 u_light_view_proj;
-float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
-}
-)", "u_light_view_proj"};
-    return lookup;
-}
-
 RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
                                 const SingleMapLookup& lookup, const std::vector<std::uint32_t>* only,
                                 const std::function<void(RunResult&, const skgl::Target&)>& extras) {
@@ -223,14 +212,6 @@ void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo) {
         glDrawBuffer(GL_NONE);
         glReadBuffer(GL_NONE);
     }
-}
-
-void set_nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
 void begin_offset_depth_pass(GLuint depth_prog) {

@@ -58,9 +58,7 @@ struct SingleMapLookup {
     const char* body;
     const char* matrix_uniform;
 };
-// The plain shadow map's lookup (glsl/shadow_map.glsl, 2x2 hardware PCF, u_light_view_proj).
-const SingleMapLookup& plain_shadow_map_lookup();
-// The single-map pipeline (shadow_map, silmap_plain, warped_sm): each frame a size x size map from
+// The single-map pipeline (warped_sm): each frame a size x size map from
 // light_vp (render_shadow_depth, casters `only` or all), then the lookup's visibility pass. Fills r's
 // gpu_ms, frames, visibility and gpu_bytes; extras (may be empty) runs before the map is freed.
 RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
@@ -72,8 +70,6 @@ RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, co
 GLuint make_depth_compare_texture(GLenum target, int size, int layers);
 // Generates count framebuffers, fbo[i] with layer i of tex (array layer, or cube face) as its only attachment.
 void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo);
-// Nearest filtering and clamp-to-edge on a 2D texture (exact texel reads).
-void set_nearest_clamped(GLuint tex);
 // Shadow-depth pass state: depth_prog bound, depth test GL_LESS, polygon offset (2, 2) enabled.
 void begin_offset_depth_pass(GLuint depth_prog);
 // Binds fbo with a size x size viewport and clears its depth.
