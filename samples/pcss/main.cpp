@@ -3,8 +3,8 @@
 // fixed kernel, and the depth bias of the lookup (receiver plane, constant, slope-scaled, normal offset).
 //   sample_pcss [--scene contact] [--param filter=poisson] [--param bias=constant] [--view "shadow map"]
 //               [--headless shot.png] [--help]
-// The light's size is in the panel (and --scene picks rect, disk and sphere lights: contact, overlap, stack
-// is a spot light: hard).
+// Scenes: contact (square light), overlap (disk), stack (a spot light: a hard shadow, filtered); the light's
+// size is in the panel. `--scene grazing --param bias=none` shows the acne a lookup without bias gets.
 #include "pcss.hpp"
 
 int main(int argc, char** argv) {
