@@ -98,7 +98,8 @@ public:
     void render(const app::View& v, const PcssSettings& s);
     /// R32F V at the G-buffer's pixels.
     GLuint visibility() const { return pass_.texture(); }
-    /// Why update() cannot work for this light or these settings; "" while all is well.
+    /// Why update() or render() cannot work for this light or these settings (a program that did not
+    /// compile); "" while all is well.
     const std::string& error() const { return error_; }
 
     /// Debug view: the map's depths.

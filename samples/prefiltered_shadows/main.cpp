@@ -16,8 +16,8 @@ int main(int argc, char** argv) {
     while (a.next_frame()) {  // input, camera, light; the G-buffer when the camera moved
         if (a.scene_changed() && !ps.init(a.view(), why)) return a.fail(why);
         a.cpu("uniforms + blur weights", [&] { ps.update(a.view(), s); });
-        if (!ps.error().empty()) return a.fail(ps.error());
         a.gpu("moments + blur + lookup", [&] { ps.render(a.view(), s); });
+        if (!ps.error().empty()) return a.fail(ps.error());
         a.present(ps.visibility());  // the composite (or a debug view) and the panel; headless: the PNG
     }
     return a.exit_code();

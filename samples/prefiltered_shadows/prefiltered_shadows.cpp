@@ -207,9 +207,9 @@ void PrefilteredShadows::make_maps(const PrefilteredShadowSettings& s) {
     texture_format_ = texture_format(u_.channels, format_);
     mips_ = s.mips;
     msaa_ = s.msaa;
-    std::string why;
-    skgl::make_target(moments_, size_, size_, {texture_format_}, msaa_ ? 0 : GL_DEPTH_COMPONENT32F, why);
-    skgl::make_target(blurred_, size_, size_, {texture_format_}, 0, why);
+    if (!skgl::make_target(moments_, size_, size_, {texture_format_}, msaa_ ? 0 : GL_DEPTH_COMPONENT32F, error_) ||
+        !skgl::make_target(blurred_, size_, size_, {texture_format_}, 0, error_))
+        return;
     if (mips_) {  // every level (make_target allocates one): a new texture in its place
         const int levels = 1 + static_cast<int>(std::floor(std::log2(double(size_))));
         glDeleteTextures(1, &moments_.color[0]);
@@ -252,6 +252,7 @@ void PrefilteredShadows::render(const app::View& v, const PrefilteredShadowSetti
     if (!error_.empty()) return;
     if (s.size != size_ || texture_format(u_.channels, format_) != texture_format_ || s.mips != mips_ || s.msaa != msaa_)
         make_maps(s);
+    if (!error_.empty()) return;
     const glm::mat4 vp = lm_.proj * lm_.view;
 
     // 1. The moments of every mesh from the light: depth test GL_LESS, no culling, blending or polygon

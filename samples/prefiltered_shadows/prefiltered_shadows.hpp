@@ -95,7 +95,8 @@ public:
     void render(const app::View& v, const PrefilteredShadowSettings& s);
     /// R32F V at the G-buffer's pixels.
     GLuint visibility() const { return pass_.texture(); }
-    /// Why update() cannot work for this light or these settings (a header's status); "" while all is well.
+    /// Why update() or render() cannot work for this light or these settings (a header's status, a
+    /// target GL refused); "" while all is well.
     const std::string& error() const { return error_; }
 
     /// Debug view: the filtered moment map's first moment (light space).

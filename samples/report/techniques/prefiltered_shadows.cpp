@@ -24,6 +24,10 @@ namespace {
 
 bool measure(PrefilteredShadows& t, const PrefilteredShadowSettings& s, const app::View& v, const RunContext& ctx,
              RunResult& r) {
+    if (!t.error().empty()) {  // render() could not make the maps
+        r = RunResult::failure(t.error());
+        return false;
+    }
     const shadowkit::PrefilterUniforms& u = t.uniforms();
     const int radius = t.kernel().radius;
     std::size_t triangles = 0;
