@@ -89,13 +89,9 @@ void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, flo
 // Edge adjacency of a caster mesh (silhouette.hpp); false with `error` naming the mesh and the status.
 bool build_caster_adjacency(const Mesh& m, shadowkit::SilhouetteAdjacency& adj, std::string& error);
 
-// The emitter's fraction above a receiver's tangent plane (the reference counts light samples below
-// it as unseen): GLSL declaring u_emitter* and `float sk_emitter_horizon(vec3 p, vec3 n)` (rect: 16
-// columns of the square, each clipped exactly; disk: the circular segment; sphere: the disk of its
-// radius facing p; 0 = no area light: 1), and its uniforms: `enabled` false sets u_emitter = 0.
-const char* emitter_horizon_glsl();
-void set_emitter_uniforms(GLuint prog, const Light& L, bool enabled);
-// Duff et al. 2017 orthonormal basis: the reference's basis of an emitter plane with normal n.
-void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b);
+// The emitter's fraction above a receiver's tangent plane (GLSL and its uniforms): the app shell's
+// (samples/app/gbuffer.hpp), used by the wedge drivers.
+using app::emitter_horizon_glsl;
+using app::set_emitter_uniforms;
 
 }  // namespace sk
