@@ -15,7 +15,7 @@
 //                                                                 sil.size(), nullptr, 0);
 //   // sil[0, r.count): edges (sil[2i], sil[2i+1]), each oriented as in its lit triangle
 //   // rigid meshes (positions fixed): cache the face planes once (allocates), then per frame the
-//   // fast path, bit for bit the same facing and edges (3.5-7x faster a frame; docs/benchmarks.md):
+//   // fast path, bit for bit the same facing and edges (3.3-9x faster a frame; docs/benchmarks.md):
 //   shadowkit::SilhouettePlanes planes = shadowkit::silhouette_build_planes(adj, pos, vertex_count);
 //   shadowkit::silhouette_compute_facing_planes(adj, planes, light_position, lit.data(), lit.size());
 //   r = shadowkit::silhouette_extract_planes(adj, planes, lit.data(), lit.size(), sil.data(), sil.size(), nullptr, 0);
