@@ -5,7 +5,7 @@
 //           casters between the sun and the slice)
 //   render  GPU, every frame: 1 the casters' depth into each cascade's layer of one depth array, with
 //           a slope-scaled offset; 2 V at the G-buffer's points: the cascade the view depth selects
-//           (blended into the next over the band), the point moved along its normal by one texel of it
+//           (blended into the next over the band), optionally the point moved along its normal
 #include "cascaded_shadow_maps.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -22,9 +22,9 @@ void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
 )";
 const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
 
-// V's lookup (after glsl/cascades.glsl): the cascade array at unit 2. The normal offset is one texel of
-// the cascade that serves p, of the next one inside the blend band (the larger: both are read there);
-// a constant depth bias alone leaves acne where a cascade's texels are large on the receiver.
+// V's lookup (after glsl/cascades.glsl): the cascade array at unit 2. The normal offset is in texels
+// of the cascade that serves p, of the next one inside the blend band (the larger: both are read
+// there); the depth pass's slope-scaled offset already keeps acne away, so it is 0 by default.
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
 uniform mat4 u_cascade_vp[4];

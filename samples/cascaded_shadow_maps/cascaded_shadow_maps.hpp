@@ -31,7 +31,9 @@ struct CascadedShadowMapSettings {
     float lambda = 0.75f;        ///< split scheme: 0 uniform, 1 logarithmic (Zhang et al. 2006's practical scheme between)
     float band = 0.1f;           ///< blend into the next cascade over this last fraction of each slice
     /// Offset of the lookup point along its normal, in texels of the cascade that serves it
-    /// (Cascade::texel_world_size): against acne where a map's texel is large on the receiver.
+    /// (Cascade::texel_world_size): what a shadow pass without a slope-scaled offset needs against
+    /// acne (docs/cascades.md). This one has glPolygonOffset(2, 2), which is enough: the normal offset
+    /// only moves shadows off their casters (report, outdoor 512: RMSE 0.078 -> 0.095 with 1 texel).
     float normal_offset = 0.f;
 };
 

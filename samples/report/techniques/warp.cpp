@@ -122,8 +122,7 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
 
     ReportSpec<CascadedShadowMaps, CascadedShadowMapSettings> cascades;
     cascades.name = "cascades";
-    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band, "
-                           "one texel of normal offset";
+    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band";
     cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
     cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4"};
     cascades.quick = {"size=512 count=4"};
