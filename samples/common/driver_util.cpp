@@ -140,20 +140,6 @@ GLuint make_depth_compare_texture(GLenum target, int size, int layers) {
     return tex;
 }
 
-void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo) {
-    glGenFramebuffers(count, fbo);
-    for (int i = 0; i < count; ++i) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
-        if (target == GL_TEXTURE_CUBE_MAP)
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
-                                   static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i), tex, 0);
-        else
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex, 0, i);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
-    }
-}
-
 void begin_offset_depth_pass(GLuint depth_prog) {
     glUseProgram(depth_prog);
     glEnable(GL_DEPTH_TEST);
@@ -180,12 +166,6 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
             draw_casters(gpu);
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
-}
-
-std::size_t caster_count(const SceneGpu& gpu) {
-    std::size_t n = 0;
-    for (bool c : gpu.caster) n += c ? 1 : 0;
-    return n;
 }
 
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi) {

@@ -68,8 +68,6 @@ RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, co
 // GL_DEPTH_COMPONENT32F texture (a 2D array of `layers`, or a cube map) with linear filtering,
 // clamp-to-edge and depth compare GL_LEQUAL: a layered hardware-PCF shadow map.
 GLuint make_depth_compare_texture(GLenum target, int size, int layers);
-// Generates count framebuffers, fbo[i] with layer i of tex (array layer, or cube face) as its only attachment.
-void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo);
 // Shadow-depth pass state: depth_prog bound, depth test GL_LESS, polygon offset (2, 2) enabled.
 void begin_offset_depth_pass(GLuint depth_prog);
 // Binds fbo with a size x size viewport and clears its depth.
@@ -80,7 +78,6 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
 
 // Draws the caster meshes (all, or only the listed mesh indices).
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = nullptr);
-std::size_t caster_count(const SceneGpu& gpu);
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 // Box around a spot light's cone: the apex and the cap disk at the farthest corner of lo..hi, the half
 // angle clamped to max_half_angle.
