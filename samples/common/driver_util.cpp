@@ -29,66 +29,6 @@ bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms) {
 }
 
 
-const char* emitter_horizon_glsl() {
-    return R"(
-uniform int u_emitter;       // 0 none, 1 rect, 2 disk, 3 sphere
-uniform vec3 u_emitter_c;    // centre
-uniform vec3 u_emitter_t;    // rect: half-edge vector; disk: radius vector
-uniform vec3 u_emitter_b;    // rect: half-edge vector; disk: radius vector
-float sk_emitter_horizon(vec3 p, vec3 n) {
-    if (u_emitter == 0) return 1.0;
-    float alpha = dot(n, u_emitter_c - p);
-    if (u_emitter == 1) {
-        float beta = dot(n, u_emitter_t);
-        float gamma = dot(n, u_emitter_b);
-        float sum = 0.0;
-        for (int i = 0; i < 16; ++i) {
-            float r = alpha + beta * (-1.0 + (float(i) + 0.5) / 8.0);   // need r + gamma y > 0, |y| <= 1
-            if (abs(gamma) < 1e-20) { sum += r > 0.0 ? 2.0 : 0.0; continue; }
-            float y0 = -r / gamma;
-            sum += gamma > 0.0 ? clamp(1.0 - y0, 0.0, 2.0) : clamp(y0 + 1.0, 0.0, 2.0);
-        }
-        return sum / 32.0;
-    }
-    float s;
-    if (u_emitter == 3) {
-        vec3 w = normalize(u_emitter_c - p);
-        s = length(u_emitter_t) * length(n - dot(n, w) * w);
-    } else {
-        s = length(vec2(dot(n, u_emitter_t), dot(n, u_emitter_b)));
-    }
-    if (!(s > 1e-20)) return alpha > 0.0 ? 1.0 : 0.0;
-    float d = clamp(-alpha / s, -1.0, 1.0);
-    return (acos(d) - d * sqrt(1.0 - d * d)) / 3.14159265;
-}
-)";
-}
-
-void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
-    const float sign = std::copysign(1.0f, n.z);
-    const float a = -1.0f / (sign + n.z);
-    const float bb = n.x * n.y * a;
-    t = glm::vec3(1.0f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-    b = glm::vec3(bb, sign + n.y * n.y * a, -n.y);
-}
-
-void set_emitter_uniforms(GLuint prog, const Light& L, bool enabled) {
-    int emitter = 0;
-    glm::vec3 t(0.f), b(0.f);
-    if (enabled) {
-        emitter = L.type == LightType::Rect ? 1 : (L.type == LightType::Disk ? 2 : 3);
-        emitter_basis(glm::normalize(L.direction), t, b);
-        const float r = L.type == LightType::Rect ? 0.5f * L.size : L.size;  // half edge or radius
-        t *= r;
-        b *= r;
-    }
-    glUseProgram(prog);
-    glUniform1i(glGetUniformLocation(prog, "u_emitter"), emitter);
-    glUniform3fv(glGetUniformLocation(prog, "u_emitter_c"), 1, glm::value_ptr(L.position));
-    glUniform3fv(glGetUniformLocation(prog, "u_emitter_t"), 1, glm::value_ptr(t));
-    glUniform3fv(glGetUniformLocation(prog, "u_emitter_b"), 1, glm::value_ptr(b));
-}
-
 const char* depth_only_vs() {
     return R"(#version 450 core
 layout(location = 0) in vec3 a_position;
@@ -164,17 +104,6 @@ void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth
     glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
-const SingleMapLookup& plain_shadow_map_lookup() {
-    static const SingleMapLookup lookup{"shadow_map", R"(
-layout(binding = 2) uniform sampler2DShadow u_shadow_map;
-uniform mat4 u_light_view_proj;
-float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
-}
-)", "u_light_view_proj"};
-    return lookup;
-}
-
 RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
                                 const SingleMapLookup& lookup, const std::vector<std::uint32_t>* only,
                                 const std::function<void(RunResult&, const skgl::Target&)>& extras) {
@@ -211,28 +140,6 @@ GLuint make_depth_compare_texture(GLenum target, int size, int layers) {
     return tex;
 }
 
-void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo) {
-    glGenFramebuffers(count, fbo);
-    for (int i = 0; i < count; ++i) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
-        if (target == GL_TEXTURE_CUBE_MAP)
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
-                                   static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i), tex, 0);
-        else
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex, 0, i);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
-    }
-}
-
-void set_nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 void begin_offset_depth_pass(GLuint depth_prog) {
     glUseProgram(depth_prog);
     glEnable(GL_DEPTH_TEST);
@@ -259,12 +166,6 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
             draw_casters(gpu);
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
-}
-
-std::size_t caster_count(const SceneGpu& gpu) {
-    std::size_t n = 0;
-    for (bool c : gpu.caster) n += c ? 1 : 0;
-    return n;
 }
 
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi) {

@@ -58,9 +58,7 @@ struct SingleMapLookup {
     const char* body;
     const char* matrix_uniform;
 };
-// The plain shadow map's lookup (glsl/shadow_map.glsl, 2x2 hardware PCF, u_light_view_proj).
-const SingleMapLookup& plain_shadow_map_lookup();
-// The single-map pipeline (shadow_map, silmap_plain, warped_sm): each frame a size x size map from
+// The single-map pipeline (warped_sm): each frame a size x size map from
 // light_vp (render_shadow_depth, casters `only` or all), then the lookup's visibility pass. Fills r's
 // gpu_ms, frames, visibility and gpu_bytes; extras (may be empty) runs before the map is freed.
 RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
@@ -70,10 +68,6 @@ RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, co
 // GL_DEPTH_COMPONENT32F texture (a 2D array of `layers`, or a cube map) with linear filtering,
 // clamp-to-edge and depth compare GL_LEQUAL: a layered hardware-PCF shadow map.
 GLuint make_depth_compare_texture(GLenum target, int size, int layers);
-// Generates count framebuffers, fbo[i] with layer i of tex (array layer, or cube face) as its only attachment.
-void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo);
-// Nearest filtering and clamp-to-edge on a 2D texture (exact texel reads).
-void set_nearest_clamped(GLuint tex);
 // Shadow-depth pass state: depth_prog bound, depth test GL_LESS, polygon offset (2, 2) enabled.
 void begin_offset_depth_pass(GLuint depth_prog);
 // Binds fbo with a size x size viewport and clears its depth.
@@ -84,7 +78,6 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
 
 // Draws the caster meshes (all, or only the listed mesh indices).
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = nullptr);
-std::size_t caster_count(const SceneGpu& gpu);
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 // Box around a spot light's cone: the apex and the cap disk at the farthest corner of lo..hi, the half
 // angle clamped to max_half_angle.
@@ -93,13 +86,9 @@ void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, flo
 // Edge adjacency of a caster mesh (silhouette.hpp); false with `error` naming the mesh and the status.
 bool build_caster_adjacency(const Mesh& m, shadowkit::SilhouetteAdjacency& adj, std::string& error);
 
-// The emitter's fraction above a receiver's tangent plane (the reference counts light samples below
-// it as unseen): GLSL declaring u_emitter* and `float sk_emitter_horizon(vec3 p, vec3 n)` (rect: 16
-// columns of the square, each clipped exactly; disk: the circular segment; sphere: the disk of its
-// radius facing p; 0 = no area light: 1), and its uniforms: `enabled` false sets u_emitter = 0.
-const char* emitter_horizon_glsl();
-void set_emitter_uniforms(GLuint prog, const Light& L, bool enabled);
-// Duff et al. 2017 orthonormal basis: the reference's basis of an emitter plane with normal n.
-void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b);
+// The emitter's fraction above a receiver's tangent plane (GLSL and its uniforms): the app shell's
+// (samples/app/gbuffer.hpp), used by the wedge drivers.
+using app::emitter_horizon_glsl;
+using app::set_emitter_uniforms;
 
 }  // namespace sk
