@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     CachedShadowMapSettings s;
     app::App a("cached shadow map");
     bind_settings(a.params(), s);  // fit, cache, pass, world_depth, culling, size: --param, the panel
+    a.default_scene("outdoor");    // a sun over 1 km of ground: its stable map scrolls with the camera
     CachedShadowMap sm;            // after the App: its GL objects go before the App's context
     a.debug_view("shadow map", [&] { return sm.debug_map(); });
     if (!a.start(argc, argv)) return a.exit_code();  // options, window or EGL, scene, G-buffer

@@ -16,8 +16,8 @@
 // and casters_culled (culling=on); gpu_bytes: the two depth textures.
 // Work (temporal rows, frames after the first, which renders the whole map): frames_kept /
 // frames_updated / frames_scrolled / frames_rendered (the plan's action), rerendered_fraction (mean
-// texels re-rendered / map texels), map_ms (median time of render_map: the scroll copy and the
-// scissored caster pass; glFinish + steady clock), culling_changes (culling=on: frames whose set of
+// texels re-rendered / map texels), map_ms and map_ms_max (median and slowest time of render_map:
+// the scroll copy and the scissored caster pass; glFinish + steady clock), culling_changes (culling=on: frames whose set of
 // drawn casters differs from the frame before: a caster crossed the culling boundary), and with the
 // cache on, a second instance with the
 // cache off renders the same frames for comparison: full_map_ms (its median), texels_differing (texel
@@ -113,7 +113,8 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
     const double later = double(frames.size() > 1 ? frames.size() - 1 : 1);
     out.work = {{"frames_kept", actions[0]},     {"frames_updated", actions[1]},
                 {"frames_scrolled", actions[2]}, {"frames_rendered", actions[3]},
-                {"rerendered_fraction", rerendered / later}, {"map_ms", median(cached_ms)}};
+                {"rerendered_fraction", rerendered / later}, {"map_ms", median(cached_ms)},
+                {"map_ms_max", cached_ms.empty() ? 0.0 : *std::max_element(cached_ms.begin(), cached_ms.end())}};
     if (s.culling) out.work.emplace_back("culling_changes", culling_changes);
     if (s.cache) {
         out.work.emplace_back("full_map_ms", median(full_ms));
