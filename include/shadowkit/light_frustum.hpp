@@ -11,6 +11,7 @@
 //   in.light_position = glm::vec4(to_sun, 0.0f);          // w = 0: direction *toward* the light (required)
 //   in.casters = boxes; in.caster_count = n;              // 6 floats per box: min xyz, max xyz
 //   in.stable = true; in.shadow_map_size = 2048;          // texel-snapped fit (directional lights)
+//   in.stable_world_depth = true;                         // + scene bounds: depth fixed in the world (cached maps)
 //   std::vector<std::uint32_t> keep(n);
 //   shadowkit::LightFrustumResult r = shadowkit::light_frustum_fit(in, keep.data(), keep.size());
 //   if (r.status == shadowkit::Status::Ok && r.visible) { render keep[0 .. r.count) with r.view_proj; }
@@ -754,7 +755,8 @@ inline bool light_frustum_sphere_may_intersect(const LightFrustumPlanes& p, cons
 /// Status: Ok (visible = false: the receiver volume is empty, every caster culled, nothing to draw);
 /// BufferTooSmall (the matrices are valid, `count` = capacity indices written, `needed` more are
 /// kept); InvalidArgument (null pointer with a count, camera near plane at or behind the eye, singular
-/// matrix, infinite far plane with max_distance 0, a parameter outside its [Limit]); NonFinite;
+/// matrix, infinite far plane with max_distance 0, a parameter outside its [Limit], stable with
+/// stable_world_depth but no scene bounds); NonFinite;
 /// InvalidLight (see "Lights:"; also a point light with stable = true); LightInsideVolume (point
 /// light inside the receiver volume, or so close that every frustum axis leaves a receiver > 89.4
 /// degrees off it - the axis is that of the narrowest cone holding the receivers: use a cube map); Overflow (a float
