@@ -276,8 +276,8 @@ static void write_light_size_markdown(std::ofstream& f, const std::vector<SceneI
 static void write_temporal_header(std::ofstream& f, const ReportInfo& info) {
     if (info.temporal_frames <= 0) return;
     f << "- over time (issue 18): chosen rows run " << info.temporal_frames
-      << " frames of each path (pan: the camera slides sideways by 0.1 to 4 texels of a 2048 map over the scene's "
-         "diagonal a frame; yaw: it turns 0.25 degree a frame; dolly: it moves 0.5% closer a frame; light: the light "
+      << " frames of each path (pan: the camera slides sideways, back and forth, by 0.1 to 4 texels of a 2048 map over "
+         "the scene's diagonal a frame; yaw: it turns 0.25 degree a frame; dolly: it moves 0.5% closer a frame; light: the light "
          "turns 0.25 degree a frame about the scene's vertical axis, hard lights only). V is evaluated every frame at "
          "the first frame's G-buffer points while the technique fits to the moving camera, over the points every "
          "frame's camera sees. Temporal RMS: RMS over pixels and frames of (V_t - V_t-1) - (R_t - R_t-1) (the "
@@ -286,8 +286,8 @@ static void write_temporal_header(std::ofstream& f, const ReportInfo& info) {
          "Rows: per technique the lowest-RMSE setting, and the lowest of each combination of its `method`, `fit`, "
          "`cache`, `pass`, `world_depth` and `culling` settings, among settings under "
       << fmt("%.0f", info.temporal_max_ms)
-      << " ms a frame. Old drivers (not yet on the sample classes) fit to the G-buffer's camera whatever the path: "
-         "their camera paths are not scored. Plot: `flicker_vs_error.svg`.\n";
+      << " ms a frame. Old drivers (not yet on the sample classes) take no fit camera: their camera paths are "
+         "not scored. Plot: `flicker_vs_error.svg`.\n";
 }
 
 // Issue 18: the scene's temporal rows, after its table.

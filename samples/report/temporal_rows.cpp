@@ -106,7 +106,7 @@ void run_temporal_rows(const sk::Scene& scene, const sk::SceneGpu& gpu, const sk
             if (!ref_error.empty()) {
                 tr.note = ref_error;
             } else if (camera && !tech->honors_fit_camera()) {
-                tr.note = "old driver, fits to the G-buffer's camera (ignores RunContext::fit_camera)";
+                tr.note = "old driver (samples/common), takes no fit camera (RunContext::fit_camera): not scored until ported";
             } else {
                 sk::ParamSet ps(row->params);
                 ps.named = row->named_params;
