@@ -3,8 +3,6 @@
 // how); then its driver file and the helpers only it used go.
 #pragma once
 
-#include <shadowkit/silhouette.hpp>
-
 #include <chrono>
 #include <functional>
 #include <initializer_list>
@@ -12,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "emitter.hpp"
 #include "gl.hpp"
 #include "techniques.hpp"
 
@@ -25,10 +24,6 @@ double median_of(std::vector<double> v);
 // Runs work() `runs` times and sets ms to the median of its CPU times; false at the first failing run.
 bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms);
 
-// Position-only depth pass (u_light_view_proj).
-const char* depth_only_vs();
-const char* depth_only_fs();
-
 // Times `frame` (median over ctx.frames after ctx.warmup) and reads V back from pass into r.
 void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPass& pass,
                         const std::function<void()>& frame);
@@ -36,7 +31,7 @@ void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPas
 // r, or the GL error as a failure.
 RunResult finish_run(RunResult r, std::initializer_list<GLuint> programs, const std::function<void()>& release = {});
 
-// The depth-only program (depth_only_vs / depth_only_fs); 0 on failure, the message appended to log.
+// The position-only depth program (u_light_view_proj); 0 on failure, the message appended to log.
 // (compile_visibility_program, VisibilityPass, set_light_uniforms: samples/app/gbuffer.hpp.)
 GLuint compile_depth_only_program(std::string& log);
 // Loads glsl/<snippet>.glsl (none for "") and compiles the depth-only program and the visibility program
@@ -90,16 +85,10 @@ void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 // angle clamped to max_half_angle.
 void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, float max_half_angle, glm::vec3& clo,
                    glm::vec3& chi);
-// Edge adjacency of a caster mesh (silhouette.hpp); false with `error` naming the mesh and the status.
-bool build_caster_adjacency(const Mesh& m, shadowkit::SilhouetteAdjacency& adj, std::string& error);
 
-// The emitter's fraction above a receiver's tangent plane (the reference counts light samples below
-// it as unseen): GLSL declaring u_emitter* and `float sk_emitter_horizon(vec3 p, vec3 n)` (rect: 16
-// columns of the square, each clipped exactly; disk: the circular segment; sphere: the disk of its
-// radius facing p; 0 = no area light: 1), and its uniforms: `enabled` false sets u_emitter = 0.
-const char* emitter_horizon_glsl();
-void set_emitter_uniforms(GLuint prog, const Light& L, bool enabled);
-// Duff et al. 2017 orthonormal basis: the reference's basis of an emitter plane with normal n.
-void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b);
+// The emitter's fraction above a receiver's tangent plane: the app shell's (samples/app/emitter.hpp).
+using app::emitter_basis;
+using app::emitter_horizon_glsl;
+using app::set_emitter_uniforms;
 
 }  // namespace sk

@@ -38,6 +38,8 @@ struct ReportSpec {
     std::string name, description;
     bool hard = true;                           ///< 0/1 visibility: misclassified pixels are scored
     std::vector<std::string> sweep, quick;      ///< named settings per row, e.g. "method=zfail scissor=off"
+    /// Rows that depend on the scene (its light, its name): when set, used instead of sweep / quick.
+    std::function<std::vector<std::string>(const Scene&, bool quick)> sweep_for;
     /// After the timed frames and the read-back: work counters, gpu_bytes, debug images (ctx.debug_images).
     std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
     /// The class's failure after update() ("" when fine), for classes that report one.
@@ -51,9 +53,10 @@ public:
     std::string name() const override { return spec_.name; }
     std::string description() const override { return spec_.description; }
     bool hard() const override { return spec_.hard; }
-    std::vector<ParamSet> sweep(const Scene&, bool quick) const override {
+    std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         std::vector<ParamSet> out;
-        for (const auto& text : quick ? spec_.quick : spec_.sweep) out.push_back(ParamSet::parse_named(text));
+        for (const auto& text : spec_.sweep_for ? spec_.sweep_for(scene, quick) : quick ? spec_.quick : spec_.sweep)
+            out.push_back(ParamSet::parse_named(text));
         return out;
     }
     RunResult run(const RunContext& ctx, const ParamSet& params) override {

@@ -175,6 +175,8 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
     }
     rlo -= glm::vec3(1e-4f * diag);
     rhi += glm::vec3(1e-4f * diag);
+    receiver_lo_ = rlo;
+    receiver_hi_ = rhi;
     shadowkit::ScissorParams sp;
     sp.view_proj = cam_vp;
     sp.viewport[2] = gpu.width;
@@ -227,7 +229,7 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
     }
 }
 
-void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
+void ShadowVolumes::render_stencil(const app::View& v, const ShadowVolumeSettings& s) {
     const app::SceneGpu& gpu = *v.gpu;
     const int W = pass_.target.width, H = pass_.target.height;
     // this frame's indices: each visible caster's sides and caps
@@ -277,8 +279,13 @@ void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     draw_volumes(s);
     end_volume_state();
+}
+
+void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
+    render_stencil(v, s);  // 1 and 2
 
     // 3. V = (stencil == 0) at the G-buffer's points, with the common light rules (pixels in a volume keep 0).
+    glBindFramebuffer(GL_FRAMEBUFFER, pass_.target.fbo);
     const float zero[4] = {0.f, 0.f, 0.f, 0.f};
     glClearBufferfv(GL_COLOR, 0, zero);
     glEnable(GL_STENCIL_TEST);
@@ -286,7 +293,7 @@ void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
     glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
     glUseProgram(vis_prog_);
     app::set_light_uniforms(vis_prog_, v.light());
-    pass_.draw(vis_prog_, gpu);
+    pass_.draw(vis_prog_, *v.gpu);
     glDisable(GL_STENCIL_TEST);
 }
 
