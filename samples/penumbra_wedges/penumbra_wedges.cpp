@@ -340,15 +340,7 @@ void PenumbraWedges::draw_hulls(const PenumbraWedgeSettings& s) const {
         glDepthFunc(back ? GL_GEQUAL : GL_LEQUAL);
         if (!per_wedge && count) glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(24 * count), GL_UNSIGNED_INT, at(first));
         for (std::size_t j = first; per_wedge && j < first + count; ++j) {
-            const Wedge& w = wedges_[order_[j]];
-            if (s.scissor) {
-                glEnable(GL_SCISSOR_TEST);
-                glScissor(w.sc.x, w.sc.y, w.sc.width, w.sc.height);
-            }
-            if (native) {
-                glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
-                glDepthBoundsEXT(w.sc.depth_min, w.sc.depth_max);
-            }
+            ShadowVolumes::set_scissor_and_depth_bounds(wedges_[order_[j]].sc, s.scissor, native);
             glDrawElements(GL_TRIANGLES, 24, GL_UNSIGNED_INT, at(j));
         }
         first += count;

@@ -349,14 +349,7 @@ void ShadowVolumes::draw_volumes(const ShadowVolumeSettings& s) const {
             glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
             glStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
         }
-        if (s.scissor) {
-            glEnable(GL_SCISSOR_TEST);
-            glScissor(c.sc.x, c.sc.y, c.sc.width, c.sc.height);
-        }
-        if (native) {
-            glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
-            glDepthBoundsEXT(c.sc.depth_min, c.sc.depth_max);
-        }
+        set_scissor_and_depth_bounds(c.sc, s.scissor, native);
         if (emulate) glUniform2f(bounds, c.sc.depth_min, c.sc.depth_max);
         const auto at = [](std::size_t first) { return reinterpret_cast<const void*>(first * sizeof(std::uint32_t)); };
         if (c.side_count)
@@ -375,6 +368,17 @@ void ShadowVolumes::draw_volumes(const ShadowVolumeSettings& s) const {
     glDisable(GL_SCISSOR_TEST);
     if (native) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
     glBindVertexArray(0);
+}
+
+void ShadowVolumes::set_scissor_and_depth_bounds(const shadowkit::ScissorRect& sc, bool scissor, bool native_bounds) {
+    if (scissor) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(sc.x, sc.y, sc.width, sc.height);
+    }
+    if (native_bounds) {
+        glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
+        glDepthBoundsEXT(sc.depth_min, sc.depth_max);
+    }
 }
 
 app::DebugImage ShadowVolumes::debug_scissor() {

@@ -100,6 +100,9 @@ public:
     void begin_volume_state(const ShadowVolumeSettings& s) const;
     void draw_volumes(const ShadowVolumeSettings& s) const;
     void end_volume_state() const;
+    /// One object's culling (Lengyel): its scissor rectangle (`scissor`) and its depth bounds with
+    /// GL_EXT_depth_bounds_test (`native_bounds`); the caller disables both after its last object.
+    static void set_scissor_and_depth_bounds(const shadowkit::ScissorRect& sc, bool scissor, bool native_bounds);
     const std::vector<Caster>& casters() const { return casters_; }
     const app::VisibilityPass& target() const { return pass_; }  ///< R32F V + DEPTH32F_STENCIL8
     bool native_depth_bounds() const { return native_bounds_; }  ///< GL_EXT_depth_bounds_test is there
