@@ -77,7 +77,8 @@ float wedge_light_radius(const sk::Light& L, const PenumbraWedgeSettings& s) {
         const glm::vec3 d = glm::normalize(L.direction);
         const glm::vec3 a = std::abs(d.y) < 0.9f ? glm::vec3(0.f, 1.f, 0.f) : glm::vec3(1.f, 0.f, 0.f);
         const glm::vec3 t = glm::normalize(glm::cross(a, d)), b = glm::cross(d, t);
-        r = shadowkit::penumbra_rect_bounding_sphere(glm::vec4(L.position, 1.f), 0.5f * L.size * t, 0.5f * L.size * b).light.radius;
+        const glm::vec3 half_u = 0.5f * L.size * t, half_v = 0.5f * L.size * b;
+        r = shadowkit::penumbra_rect_bounding_sphere(glm::vec4(L.position, 1.f), half_u, half_v).light.radius;
     } else if (L.type == sk::LightType::Rect) {
         r = L.size / std::sqrt(3.14159265358979f);
     }
@@ -104,7 +105,9 @@ bool PenumbraWedges::init(const app::View& v, std::string& why) {
     hull_indices_.reserve(24 * capacity_);
 
     // hull vertices (attribute 0) with their wedge's index (attribute 1), hull indices, the wedges' data
-    const auto bytes = [&](std::size_t per_wedge) { return static_cast<GLsizeiptr>(std::max<std::size_t>(capacity_, 1) * per_wedge); };
+    const auto bytes = [&](std::size_t per_wedge) {
+        return static_cast<GLsizeiptr>(std::max<std::size_t>(capacity_, 1) * per_wedge);
+    };
     glGenVertexArrays(1, &vao_);
     glGenBuffers(1, &vbo_);
     glGenBuffers(1, &ids_);
@@ -143,12 +146,12 @@ bool PenumbraWedges::init(const app::View& v, std::string& why) {
 void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) {
     const sk::Scene& scene = *v.scene;
     // 1. The hard shadow of the light's center: the volumes' CPU stage, with our settings.
-    volume_settings_.method =
-        s.method == PenumbraWedgeSettings::Method::ZFail ? ShadowVolumeSettings::Method::ZFail : ShadowVolumeSettings::Method::Auto;
+    using V = ShadowVolumeSettings;
+    volume_settings_.method = s.method == PenumbraWedgeSettings::Method::ZFail ? V::Method::ZFail : V::Method::Auto;
     volume_settings_.scissor = s.scissor;
     volume_settings_.depth_bounds = s.depth_bounds;
-    volume_settings_.projection = s.projection == PenumbraWedgeSettings::Projection::Finite ? ShadowVolumeSettings::Projection::Finite
-                                                                                            : ShadowVolumeSettings::Projection::Infinite;
+    volume_settings_.projection =
+        s.projection == PenumbraWedgeSettings::Projection::Finite ? V::Projection::Finite : V::Projection::Infinite;
     volumes_.update(v, volume_settings_);
     if (!volumes_.error().empty()) {
         if (error_.empty()) error_ = volumes_.error();
@@ -198,7 +201,8 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
     order_.clear();
     const auto group = [&](bool visible, bool back) {
         for (std::size_t i = 0; i < wedges_.size(); ++i)
-            if (wedges_[i].visible == visible && (!visible || wedges_[i].back == back)) order_.push_back(static_cast<std::uint32_t>(i));
+            if (wedges_[i].visible == visible && (!visible || wedges_[i].back == back))
+                order_.push_back(static_cast<std::uint32_t>(i));
     };
     group(true, false);
     front_ = order_.size();

@@ -105,7 +105,8 @@ public:
     void end_wedge_pass() const;
     const ShadowVolumes& volumes() const { return volumes_; }
     const std::vector<Wedge>& wedges() const { return wedges_; }
-    std::size_t edges_without_wedge() const { return skipped_; }  ///< silhouette edges penumbra_wedge skipped, or whose hull is not drawable
+    /// Silhouette edges without a wedge: penumbra_wedge skipped them, or their hull is not drawable.
+    std::size_t edges_without_wedge() const { return skipped_; }
     std::size_t silhouette_edges() const { return silhouette_edges_; }  ///< of every caster (with a light radius)
     float light_radius() const { return sphere_.radius; }
     std::size_t wedge_capacity() const { return capacity_; }

@@ -175,7 +175,8 @@ bool Smoothies::init(const app::View& v, std::string& why) {
                  GL_STREAM_DRAW);
     const auto attribute = [](GLuint location, GLint n, std::size_t offset) {
         glEnableVertexAttribArray(location);
-        glVertexAttribPointer(location, n, GL_FLOAT, GL_FALSE, sizeof(shadowkit::SmoothieVertex), reinterpret_cast<const void*>(offset));
+        glVertexAttribPointer(location, n, GL_FLOAT, GL_FALSE, sizeof(shadowkit::SmoothieVertex),
+                              reinterpret_cast<const void*>(offset));
     };
     attribute(0, 3, offsetof(shadowkit::SmoothieVertex, position));
     attribute(1, 1, offsetof(shadowkit::SmoothieVertex, alpha));
@@ -189,9 +190,11 @@ bool Smoothies::init(const app::View& v, std::string& why) {
     if (snippet.empty()) return false;
     const std::string head = "#version 450 core\n" + snippet;
     depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kDepthVS}, {GL_FRAGMENT_SHADER, head + kDepthFS}}, why);
-    smoothie_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kSmoothieVS}, {GL_FRAGMENT_SHADER, head + kSmoothieFS}}, why);
+    smoothie_prog_ =
+        skgl::compile_program({{GL_VERTEX_SHADER, head + kSmoothieVS}, {GL_FRAGMENT_SHADER, head + kSmoothieFS}}, why);
     vis_prog_ = app::compile_visibility_program(snippet, kLookupBody, why);
-    debug_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, app::fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, kDebugFS}}, why);
+    debug_prog_ =
+        skgl::compile_program({{GL_VERTEX_SHADER, app::fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, kDebugFS}}, why);
     if (!depth_prog_ || !smoothie_prog_ || !vis_prog_ || !debug_prog_) return false;
     return pass_.init(v.width, v.height, why);
 }
@@ -216,7 +219,8 @@ void Smoothies::update(const app::View& v, const SmoothieSettings& s) {
         const shadowkit::SilhouetteResult sr =
             shadowkit::silhouette_extract(c.adj, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(), nullptr, 0);
         if (fr.status != shadowkit::Status::Ok || sr.status != shadowkit::Status::Ok) {
-            error_ = std::string("silhouette: ") + shadowkit::status_name(fr.status != shadowkit::Status::Ok ? fr.status : sr.status);
+            const shadowkit::Status st = fr.status != shadowkit::Status::Ok ? fr.status : sr.status;
+            error_ = std::string("silhouette: ") + shadowkit::status_name(st);
             return;
         }
         c.sil_edges = sr.count / 2;
@@ -265,8 +269,8 @@ void Smoothies::update(const app::View& v, const SmoothieSettings& s) {
         in.edges = c.sil.data();
         in.edge_count = c.sil_edges;
         c.first = vertex_count_;
-        c.built = shadowkit::smoothie_build(in, light_vp_, sp, c.scratch.data(), c.scratch.size(), vertices_.data() + vertex_count_,
-                                            vertices_.size() - vertex_count_);
+        c.built = shadowkit::smoothie_build(in, light_vp_, sp, c.scratch.data(), c.scratch.size(),
+                                            vertices_.data() + vertex_count_, vertices_.size() - vertex_count_);
         if (c.built.status != shadowkit::Status::Ok) {
             error_ = std::string("smoothie_build: ") + shadowkit::status_name(c.built.status);
             return;
@@ -317,7 +321,8 @@ void Smoothies::render(const app::View& v, const SmoothieSettings& s) {
     const float no_smoothie[4] = {1e30f, 1.f, 0.f, 0.f};
     glClearBufferfv(GL_COLOR, 0, no_smoothie);
     if (vertex_count_ > 0) {
-        glNamedBufferSubData(vbo_, 0, static_cast<GLsizeiptr>(vertex_count_ * sizeof(shadowkit::SmoothieVertex)), vertices_.data());
+        const auto bytes = static_cast<GLsizeiptr>(vertex_count_ * sizeof(shadowkit::SmoothieVertex));
+        glNamedBufferSubData(vbo_, 0, bytes, vertices_.data());
         glEnable(GL_BLEND);
         glBlendEquation(GL_MIN);
         glUseProgram(smoothie_prog_);

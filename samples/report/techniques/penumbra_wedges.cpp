@@ -48,7 +48,8 @@ const char* kReachedVS =
 const char* kReachedFS =
     "layout(std430, binding = 0) readonly buffer W { vec4 w[]; }; layout(binding = 2) uniform sampler2D d; uniform int e;\n"
     "flat in uint v_w; out float o;\n"
-    "void main() { if (e != 0 && sk_outside_depth_bounds_at(d, ivec2(gl_FragCoord.xy), w[7u * v_w + 6u].xy)) discard; o = 0.0; }\n";
+    "void main() {\n  if (e != 0 && sk_outside_depth_bounds_at(d, ivec2(gl_FragCoord.xy), w[7u * v_w + 6u].xy)) discard;\n"
+    "  o = 0.0;\n}\n";
 
 bool measure(PenumbraWedges& pw, const S& s, const app::View& v, const RunContext& ctx, RunResult& r) {
     std::string why;
@@ -84,7 +85,8 @@ bool measure(PenumbraWedges& pw, const S& s, const app::View& v, const RunContex
             pw.draw_hulls(cs);
             pw.end_wedge_pass();
             glFinish();
-            if (it >= ctx.warmup) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            if (it >= ctx.warmup) ms.push_back(elapsed);
         }
         std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(ms.size() / 2), ms.end());
         return ms[ms.size() / 2];
@@ -137,7 +139,8 @@ bool measure(PenumbraWedges& pw, const S& s, const app::View& v, const RunContex
               {"wedge_speedup", wedge_ms > 0.0 ? wedge_ms_full / wedge_ms : 1.0},
               {"light_radius", double(pw.light_radius())},
               {"depth_bounds_native", native ? 1.0 : 0.0}};
-    if (s.projection == S::Projection::Infinite) r.work.emplace_back("projection_epsilon", double(pw.volumes().projection_epsilon()));
+    if (s.projection == S::Projection::Infinite)
+        r.work.emplace_back("projection_epsilon", double(pw.volumes().projection_epsilon()));
     if (has_stats) {
         r.work.emplace_back("fs_invocations", inv);
         r.work.emplace_back("fs_invocations_unculled", inv_full);
