@@ -61,7 +61,7 @@ bool measure(PenumbraWedges& pw, const S& s, const app::View& v, const RunContex
         return false;
     }
     const bool has_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
-    // the wedge pass's fragments, no colour written: `reached` under the counting program, else the class's
+    // the wedge pass's fragments, no color written: `reached` under the counting program, else the class's
     auto count = [&](const S& cs, bool reached, double& fragments, double& invocations) {
         pw.begin_wedge_pass(v, cs);
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
