@@ -50,7 +50,11 @@
 //   so the image may rotate by up to 180 degrees within that cone. Measured on random scenes with
 //   0.002 degree steps: receiver points move < 0.01 NDC per step outside it (tests/unit). The fits
 //   use only quantities that also move continuously with the camera (bounding-box centers and
-//   extents, never means of vertex lists), but camera sweeps are not measured.
+//   extents, a point light's narrowest-cone axis; never means of vertex lists), but camera sweeps are
+//   not measured.
+// Point lights: every fit aims at the axis of the narrowest cone around the light holding the
+//   receivers (and their extension toward it), as light_frustum.hpp does, centered on their angular
+//   extent; LightInsideVolume only when no frustum of half-angle < ~89.4 degrees holds them.
 // Buffers: none; no call allocates.
 //
 // Based on:
@@ -611,15 +615,111 @@ inline bool wp_persp_fit(const glm::dvec3* pts, int n, const glm::dvec3& S, cons
     return wp_fin(out);
 }
 
-/// Axis of a perspective fit from S: start at the points' box center, then twice through the middle
-/// of their angular extents (a nearly symmetric frustum, so no resolution is spent off to one side).
-/// Every step uses bounding boxes, not means, so the axis moves continuously with the points.
+/// The point of the simplex s[0..k) nearest the origin (k <= 4): the smallest over the faces' affine
+/// nearest points with non-negative barycentric weights. Keeps in s / k only the points with positive
+/// weight (Gilbert-Johnson-Keerthi's sub-simplex step). Returns the point.
+inline glm::dvec3 wp_simplex_nearest(glm::dvec3 s[4], int& k) {
+    glm::dvec3 best(0.0);
+    double best2 = std::numeric_limits<double>::infinity();
+    int best_mask = 0;
+    for (int mask = 1; mask < (1 << k); ++mask) {
+        int idx[4], m = 0;
+        for (int i = 0; i < k; ++i)
+            if (mask & (1 << i)) idx[m++] = i;
+        double lambda[4] = {1.0, 0.0, 0.0, 0.0};
+        if (m > 1) {
+            // p = s0 + sum mu_j (s_j - s0), j = 1 .. m-1: (D^T D) mu = -D^T s0
+            const glm::dvec3 s0 = s[idx[0]];
+            glm::dvec3 d[3];
+            for (int j = 1; j < m; ++j) d[j - 1] = s[idx[j]] - s0;
+            const int q = m - 1;
+            glm::dmat3 G(1.0);
+            glm::dvec3 rhs(0.0);
+            for (int a = 0; a < q; ++a) {
+                rhs[a] = -glm::dot(d[a], s0);
+                for (int b = 0; b < q; ++b) G[b][a] = glm::dot(d[a], d[b]);
+            }
+            const double det = glm::determinant(G);
+            double scale = 1.0;
+            for (int a = 0; a < q; ++a) scale *= std::fmax(G[a][a], 1e-300);
+            if (!(std::fabs(det) > 1e-12 * scale)) continue;  // a degenerate face: its sub-faces cover it
+            const glm::dvec3 mu = glm::inverse(G) * rhs;
+            double sum = 0.0;
+            for (int j = 0; j < q; ++j) {
+                lambda[j + 1] = mu[j];
+                sum += mu[j];
+            }
+            lambda[0] = 1.0 - sum;
+        }
+        bool inside = true;
+        glm::dvec3 p(0.0);
+        for (int j = 0; j < m; ++j) {
+            inside = inside && lambda[j] >= 0.0;
+            p += lambda[j] * s[idx[j]];
+        }
+        if (!inside) continue;
+        const double p2 = glm::dot(p, p);
+        if (p2 < best2) {
+            best2 = p2;
+            best = p;
+            best_mask = mask;
+        }
+    }
+    int m = 0;
+    for (int i = 0; i < k; ++i)
+        if (best_mask & (1 << i)) s[m++] = s[i];
+    k = m;
+    return best;
+}
+
+/// Axis of the narrowest cone around S that holds the points (light_frustum.hpp's point-light rule):
+/// with u_i the unit directions from S to the points, the axis maximizes min_i u_i . a, and (duality)
+/// it is the direction of the point of the u_i's convex hull nearest the origin, found by
+/// Gilbert-Johnson-Keerthi iterations (support point argmin_i u_i . p). That point is unique, so the
+/// axis moves continuously with the points. Zero vector: no cone of half-angle < 90 degrees holds them
+/// (the origin is in the hull) or a point is at S.
+inline glm::dvec3 wp_cone_axis(const glm::dvec3* pts, int n, const glm::dvec3& S) {
+    if (n <= 0) return glm::dvec3(0.0);
+    auto dir = [&](int i) {
+        const glm::dvec3 r = pts[i] - S;
+        const double l = glm::length(r);
+        return (l > 0.0 && wp_fin(l)) ? r / l : glm::dvec3(0.0);
+    };
+    for (int i = 0; i < n; ++i)
+        if (!(glm::length(dir(i)) > 0.0)) return glm::dvec3(0.0);
+    glm::dvec3 s[4] = {dir(0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+    int k = 1;
+    glm::dvec3 p = s[0];
+    for (int it = 0; it < 64; ++it) {
+        const double p2 = glm::dot(p, p);
+        if (!(p2 > 1e-24)) return glm::dvec3(0.0);  // the origin is in the hull
+        int w = 0;
+        double wd = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < n; ++i) {
+            const double d = glm::dot(dir(i), p);
+            if (d < wd) { wd = d; w = i; }
+        }
+        if (p2 - wd <= 1e-12 * p2) break;  // no point of the hull is nearer along -p: p is the nearest
+        bool present = false;
+        for (int j = 0; j < k; ++j) present = present || glm::length(s[j] - dir(w)) == 0.0;
+        if (present || k == 4) break;  // no progress possible (rounding)
+        s[k++] = dir(w);
+        p = wp_simplex_nearest(s, k);
+    }
+    if (!(glm::dot(p, p) > 1e-24) || !wp_fin(p)) return glm::dvec3(0.0);
+    return glm::normalize(p);
+}
+
+/// Axis of a perspective fit from S: start at the axis of the narrowest cone holding the points
+/// (wp_cone_axis, as light_frustum.hpp aims a point light), then twice through the middle of their
+/// angular extents (a nearly symmetric frustum, so no resolution is spent off to one side). Every
+/// step moves continuously with the points (a unique nearest point, bounding extents; never means).
+/// Before issue 13's follow-up the start was the points' box center, which for a light just above
+/// wide receivers lies below their top, so the far receivers came out beside or behind it.
 inline glm::dvec3 wp_persp_axis(const glm::dvec3* pts, int n, const glm::dvec3& S, const glm::dvec3& to_line,
                                 const glm::dvec3& v, const glm::dvec3& ref) {
-    glm::dvec3 f = wp_center(pts, n) - S;
-    const double l = glm::length(f);
-    if (!(l > 0.0) || !wp_fin(l)) return glm::dvec3(0.0);
-    f /= l;
+    glm::dvec3 f = wp_cone_axis(pts, n, S);
+    if (!(glm::length(f) > 0.0)) return glm::dvec3(0.0);
     for (int it = 0; it < 2; ++it) {
         const glm::dvec3 up = wp_up(f, to_line, v, ref);
         const glm::dvec3 sx = glm::cross(f, up);
@@ -627,7 +727,7 @@ inline glm::dvec3 wp_persp_axis(const glm::dvec3* pts, int n, const glm::dvec3& 
         for (int i = 0; i < n; ++i) {
             const glm::dvec3 r = pts[i] - S;
             const double dep = glm::dot(r, f);
-            if (!(dep > 1e-9 * glm::length(r))) return f;  // a point beside or behind: keep the box axis
+            if (!(dep > 1e-9 * glm::length(r))) return f;  // a point beside or behind: keep this axis
             const double ax = std::atan2(glm::dot(r, sx), dep), ay = std::atan2(glm::dot(r, up), dep);
             xl = std::fmin(xl, ax); xr = std::fmax(xr, ax);
             yb = std::fmin(yb, ay); yt = std::fmax(yt, ay);
@@ -993,11 +1093,12 @@ inline WarpResult warp_psm_matrix(const WarpInput& in) {
         }
         const glm::dvec3 S = glm::dvec3(Lh) / Lh.w;
         const bool sink = Lh.w < 0.0;
-        const double cl = glm::length(c - S);
-        if (!(cl > 0.0) || !wp_fin(cl)) return e;
-        const glm::dvec3 f = (c - S) / cl;
+        // the axis of the narrowest cone around S holding the body, refined (as the world-space point fits)
+        const glm::dvec3 f0 = wp_cone_axis(pts, s.nbody, S);
+        if (!(glm::length(f0) > 0.0)) return e;
         const glm::dvec3 ms = m - S;
-        const glm::dvec3 to_line = glm::length(ms) > 0.0 ? glm::normalize(ms) : f;
+        const glm::dvec3 to_line = glm::length(ms) > 0.0 ? glm::normalize(ms) : f0;
+        const glm::dvec3 f = wp_persp_axis(pts, s.nbody, S, to_line, v, glm::dvec3(0, 1, 0));
         glm::dmat4 LF;
         if (!wp_persp_fit(pts, s.nbody, S, f, wp_up(f, to_line, v, glm::dvec3(0, 1, 0)), max_tan, sink, LF, &e.tan_used))
             return e;

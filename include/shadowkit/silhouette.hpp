@@ -15,10 +15,13 @@
 //                                                                 sil.size(), nullptr, 0);
 //   // sil[0, r.count): edges (sil[2i], sil[2i+1]), each oriented as in its lit triangle
 //   // rigid meshes (positions fixed): cache the face planes once (allocates), then per frame the
-//   // fast path, bit for bit the same facing and edges (3.5-7x faster a frame; docs/benchmarks.md):
+//   // fast path, bit for bit the same facing and edges (3.3-9x faster a frame; docs/benchmarks.md):
 //   shadowkit::SilhouettePlanes planes = shadowkit::silhouette_build_planes(adj, pos, vertex_count);
 //   shadowkit::silhouette_compute_facing_planes(adj, planes, light_position, lit.data(), lit.size());
 //   r = shadowkit::silhouette_extract_planes(adj, planes, lit.data(), lit.size(), sil.data(), sil.size(), nullptr, 0);
+//   // or straight to shadow_volume.hpp's side quads, 6 indices per edge, without the edge buffer:
+//   std::vector<std::uint32_t> quads(3 * sil.size());
+//   r = shadowkit::silhouette_extract_planes_side_quads(adj, planes, lit.data(), lit.size(), quads.data(), quads.size());
 //   // the same on several threads, with any job system's parallel_for(n, fn) (see "parallel
 //   // silhouettes" below; identical output):
 //   std::vector<shadowkit::SilhouetteResult> chunks(16);
@@ -36,8 +39,9 @@
 //   * Buffers: every capacity counts elements of its pointer's type (uint8 facing bits, uint32
 //     indices: 2 per silhouette edge); results say `count` (elements written, a valid prefix) and
 //     `needed` (elements the whole output needs; count == needed when Ok). The adjacency and planes
-//     builds allocate; nothing else does, except silhouette_compute (says so). The *_planes
-//     extractions may overwrite elements past `count` (never past a capacity).
+//     builds allocate; nothing else does, except silhouette_compute (says so). The chunked and
+//     parallel extractions use their whole buffers as scratch (elements past `count`, never past a
+//     capacity); the serial ones write exactly [0, count).
 //   * Facing (exact). For a kept face (A, B, C) and light_position L = (l, w):
 //       d = dot(cross(B - A, C - A), l - w A)      (= w * (plane . L) for the plane through A)
 //     with real arithmetic on the float inputs: the sign of d is computed EXACTLY (an orient3d-style
@@ -223,8 +227,8 @@ struct SilhouetteFacing {
 /// Silhouette edges (silhouette_extract and the chunked functions).
 struct SilhouetteResult {
     Status status = Status::NotRun;
-    std::size_t count = 0;             ///< uint32 elements written to edge_indices (2 per edge, whole edges)
-    std::size_t needed = 0;            ///< uint32 elements the whole silhouette needs (2 per edge)
+    std::size_t count = 0;             ///< uint32 elements written to edge_indices (2 per edge, whole edges; side quads: 6)
+    std::size_t needed = 0;            ///< uint32 elements the whole silhouette needs (2 per edge; side quads: 6)
     std::size_t boundary_edges = 0;    ///< emitted edges flagged SilhouetteBoundary (whole silhouette)
     std::size_t nonmanifold_edges = 0; ///< emitted edges flagged SilhouetteNonManifold (whole silhouette)
 };
@@ -1133,114 +1137,190 @@ inline Status sil_check_planes_facing_args(const SilhouetteAdjacency& adj, const
     return Status::Ok;
 }
 
-// Non-manifold edges (edge rule) into out[2 n, ...) while n < room; returns the new n.
-inline std::size_t sil_extract_nonmanifold(const SilhouetteAdjacency& adj, const std::uint8_t* facing, std::uint32_t* edge_indices,
-                                           std::uint8_t* edge_flags, std::size_t room, std::size_t n, SilhouetteResult& r) {
+// Non-manifold edges (edge rule): emit(a, b) for each emitted edge, in order (|k| times each).
+template <class Emit>
+inline void sil_nonmanifold_each(const SilhouetteAdjacency& adj, const std::uint8_t* facing, Emit&& emit) {
     for (const SilhouetteNonManifoldEdge& E : adj.nonmanifold_edges) {
         long k = 0;
         for (std::uint32_t j = 0; j < E.count; ++j) {
             const std::uint32_t fd = adj.nonmanifold_faces[E.first + j];
             if (facing[fd & 0x7FFFFFFFu]) k += (fd & 0x80000000u) ? -1 : 1;
         }
-        for (long m = 0; m < (k < 0 ? -k : k); ++m) {
-            if (n < room) {
-                edge_indices[2 * n] = k > 0 ? E.v0 : E.v1;
-                edge_indices[2 * n + 1] = k > 0 ? E.v1 : E.v0;
-                if (edge_flags) edge_flags[n] = SilhouetteNonManifold;
-            }
-            ++n;
-            ++r.nonmanifold_edges;
-        }
+        for (long m = 0; m < (k < 0 ? -k : k); ++m) emit(k > 0 ? E.v0 : E.v1, k > 0 ? E.v1 : E.v0);
     }
-    return n;
 }
 
-// bit 0 of byte j = (byte j of x != 0), for the 8 bytes of x
-inline std::uint64_t sil_nonzero_bytes(std::uint64_t x) {
-    return ((((x & 0x7F7F7F7F7F7F7F7Full) + 0x7F7F7F7F7F7F7F7Full) | x) >> 7) & 0x0101010101010101ull;
+// bit j = (byte j of x != 0), for the 8 bytes of x
+inline std::uint64_t sil_byte_bits(std::uint64_t x) {
+    const std::uint64_t y = ((((x & 0x7F7F7F7F7F7F7F7Full) + 0x7F7F7F7F7F7F7F7Full) | x) >> 7) & 0x0101010101010101ull;
+    return (y * 0x0102040810204080ull) >> 56;  // bit 8 j -> bit 56 + j, no carries
 }
 
-// sil_extract_range on the planes' edge layout, 8 edges at a time. A branch-free pass loads the 8
-// edges' face pairs (one 8-byte load each) and their facing bytes into two words (byte j: edge j),
-// whose non-zero bytes give l0, l1 and s = l0 xor l1 (a boundary edge has f1 = f0, so its block's
-// boundary byte sets s = l0). A block without a silhouette edge ends there. Else, while 8 more edges
-// fit, all 8 are written branch-free at n (the vertex pair as loaded or swapped, one 8-byte store)
-// and n advances by s (so elements past `count`, within the room, may be overwritten); near the end
-// of the room, edge by edge.
-inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const std::uint8_t* facing,
-                                            std::uint32_t* edge_indices, std::uint8_t* edge_flags, std::size_t room,
-                                            std::size_t begin, std::size_t end, bool nonmanifold, SilhouetteResult& r) {
+inline int sil_popcount64(std::uint64_t x) {
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return static_cast<int>((x * 0x0101010101010101ull) >> 56);
+}
+
+// The facing bytes of 8 edges' faces: byte j of a = facing[f0], of b = facing[f1] of edge ef[j].
+inline void sil_gather8(const std::uint64_t* ef, const std::uint8_t* facing, std::uint64_t& a, std::uint64_t& b) {
+    a = 0;
+    b = 0;
+    for (unsigned j = 0; j < 8; ++j) {
+        const std::uint64_t x = ef[j];
+        a |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x)]) << (8 * j);
+        b |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x >> 32)]) << (8 * j);
+    }
+}
+
+// The 64 edges i0 .. i0 + 63 (i0 % 8 == 0, i0 + 64 <= edge count): returns the silhouette bits (bit
+// j: edge i0 + j is a silhouette edge), lit0 bit j: its face f0 is lit. Branch-free.
+inline std::uint64_t sil_planes_group(const SilhouettePlanes& pl, const std::uint8_t* facing, std::size_t i0, std::uint64_t& lit0) {
+    const std::uint64_t* ef = pl.edge_faces.data() + i0;
+    std::uint64_t l0 = 0, l1 = 0;
+    for (unsigned k = 0; k < 64; k += 16) {
+        std::uint64_t a0, b0, a1, b1;
+        sil_gather8(ef + k, facing, a0, b0);
+        sil_gather8(ef + k + 8, facing, a1, b1);
+#if defined(SHADOWKIT_SIL_SSE2)
+        const __m128i z = _mm_setzero_si128();
+        const __m128i A = _mm_set_epi64x(static_cast<long long>(a1), static_cast<long long>(a0));
+        const __m128i B = _mm_set_epi64x(static_cast<long long>(b1), static_cast<long long>(b0));
+        l0 |= static_cast<std::uint64_t>(static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(A, z))) ^ 0xFFFFu) << k;
+        l1 |= static_cast<std::uint64_t>(static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(B, z))) ^ 0xFFFFu) << k;
+#else
+        l0 |= (sil_byte_bits(a0) | sil_byte_bits(a1) << 8) << k;
+        l1 |= (sil_byte_bits(b0) | sil_byte_bits(b1) << 8) << k;
+#endif
+    }
+    std::uint64_t bnd;
+    std::memcpy(&bnd, pl.edge_boundary.data() + i0 / 8, sizeof bnd);  // bit j: edge i0 + j is a boundary edge
+    lit0 = l0;
+    return ((l0 ^ l1) & ~bnd) | (l0 & bnd);  // a boundary edge (f1 = f0): s = l0
+}
+
+// The vertex pair v (v0, v1 in memory order) oriented as in the lit face: as loaded if lit0 (0 / 1),
+// else swapped. Arithmetic, never a branch.
+inline std::uint64_t sil_orient(std::uint64_t v, std::uint64_t lit0) {
+    const std::uint64_t sw = v >> 32 | v << 32;
+    return sw ^ ((v ^ sw) & (std::uint64_t(0) - lit0));
+}
+
+// Edge (a, b) = w (memory order) written at edge slot n: the pair (a, b) at out[2 n], or with Quads
+// the side quad (b, a, a + nv, b, a + nv, b + nv) at out[6 n] (volume_build_side_quads' layout).
+// Writes exactly those elements.
+template <bool Quads>
+inline void sil_put_edge(std::uint32_t* out, std::size_t n, std::uint64_t w, std::uint32_t nv) {
+    if (!Quads) {
+        std::memcpy(out + 2 * n, &w, sizeof w);
+        return;
+    }
+#if defined(SHADOWKIT_SIL_SSE2)
+#if defined(__x86_64__) || defined(_M_X64)
+    const __m128i v = _mm_cvtsi64_si128(static_cast<long long>(w));  // a b 0 0
+#else
+    const __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&w));
+#endif
+    const __m128i t = _mm_unpacklo_epi64(v, _mm_add_epi32(v, _mm_set1_epi32(static_cast<int>(nv))));  // a b a+n b+n
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 6 * n), _mm_shuffle_epi32(t, _MM_SHUFFLE(1, 2, 0, 1)));  // b a a+n b
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 6 * n + 4), _mm_unpackhi_epi64(t, t));                // a+n b+n
+#else
+    std::uint32_t ab[2];
+    std::memcpy(ab, &w, sizeof w);
+    std::uint32_t* o = out + 6 * n;
+    o[0] = ab[1]; o[1] = ab[0]; o[2] = ab[0] + nv;
+    o[3] = ab[1]; o[4] = ab[0] + nv; o[5] = ab[1] + nv;
+#endif
+}
+
+// sil_extract_range on the planes' edge layout: edges [begin, end) (and the non-manifold edges if
+// `nonmanifold`) into out[0, room) edge slots, as pairs (2 uint32 per slot) or side quads (Quads: 6
+// per slot, vertex offset nv); flags (pairs only) into edge_flags. Adds to r (needed in elements,
+// boundary / non-manifold counts) and returns the number of edges found. 64 edges at a time: a
+// branch-free pass gathers their faces' facing bytes (one 8-byte load of the face pair per edge),
+// 16 edges' bytes at once become bits (SSE2 compare + movemask, else a multiply), s = l0 xor l1 (a
+// boundary edge: s = l0); then only the silhouette edges are visited (lowest set bit first), each
+// loads its vertex pair, orients it arithmetically and writes exactly its own elements. One loop exit
+// per 64 edges is the only data-dependent branch.
+template <bool Quads>
+inline std::size_t sil_planes_extract_impl(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const std::uint8_t* facing,
+                                           std::uint32_t* out, std::uint8_t* edge_flags, std::size_t room, std::size_t begin,
+                                           std::size_t end, bool nonmanifold, std::uint32_t nv, SilhouetteResult& r) {
     const std::uint64_t* ef = pl.edge_faces.data();
     const std::uint32_t* ev = pl.edge_vertices.data();
     const std::uint8_t* eb = pl.edge_boundary.data();
     std::size_t n = 0, boundary = 0;
-    auto emit = [&](std::size_t i, bool l0, bool sil, std::uint32_t bb) {
-        if (!sil) return;
+    auto load = [&](std::size_t i) {
+        std::uint64_t v;
+        std::memcpy(&v, ev + 2 * i, sizeof v);  // v0, v1 in memory order
+        return v;
+    };
+    auto emit = [&](std::uint64_t w, std::uint32_t bb) {  // with the room check
         if (n < room) {
-            const std::uint32_t v0 = ev[2 * i], v1 = ev[2 * i + 1];
-            edge_indices[2 * n] = l0 ? v0 : v1;
-            edge_indices[2 * n + 1] = l0 ? v1 : v0;
-            if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bb);  // SilhouetteBoundary == 1
+            sil_put_edge<Quads>(out, n, w, nv);
+            if (!Quads && edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bb);  // SilhouetteBoundary == 1
         }
         ++n;
-        boundary += bb;
     };
     auto single = [&](std::size_t i) {
         const std::uint64_t x = ef[i];
         const std::uint32_t bb = (eb[i / 8] >> (i % 8)) & 1u;
         const bool l0 = facing[static_cast<std::uint32_t>(x)] != 0;
         const bool l1 = bb == 0 && facing[static_cast<std::uint32_t>(x >> 32)] != 0;
-        emit(i, l0, l0 != l1, bb);
+        if (l0 == l1) return;
+        emit(sil_orient(load(i), l0 ? 1u : 0u), bb);
+        boundary += bb;
     };
     std::size_t i0 = begin;
     for (; i0 < end && (i0 % 8) != 0; ++i0) single(i0);  // the boundary bytes cover edges 8 k .. 8 k + 7
-    for (; i0 + 8 <= end; i0 += 8) {
-        std::uint64_t a = 0, b = 0;
-        for (unsigned j = 0; j < 8; ++j) {
-            const std::uint64_t x = ef[i0 + j];
-            a |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x)]) << (8 * j);
-            b |= static_cast<std::uint64_t>(facing[static_cast<std::uint32_t>(x >> 32)]) << (8 * j);
-        }
-        const std::uint64_t l0 = sil_nonzero_bytes(a);
-        std::uint64_t sil = l0 ^ sil_nonzero_bytes(b);
-        const std::uint32_t bnd = eb[i0 / 8];
-        if (bnd != 0) {  // boundary edges: s = l0
-            std::uint64_t bb = 0;
-            for (unsigned j = 0; j < 8; ++j) bb |= static_cast<std::uint64_t>((bnd >> j) & 1u) << (8 * j);
-            sil = (sil & ~bb) | (l0 & bb);
-        }
-        if (sil == 0) continue;
-        if (n + 8 <= room && bnd == 0 && edge_flags == nullptr) {  // the common case, fewest operations
-            std::uint64_t lj = l0, sj = sil;
-            for (unsigned j = 0; j < 8; ++j, lj >>= 8, sj >>= 8) {
-                std::uint64_t v;
-                std::memcpy(&v, ev + 2 * (i0 + j), sizeof v);  // v0, v1 in memory order
-                const std::uint64_t w = (lj & 1u) != 0 ? v : (v >> 32 | v << 32);
-                std::memcpy(edge_indices + 2 * n, &w, sizeof w);
-                n += static_cast<std::size_t>(sj & 1u);
+    for (; i0 + 64 <= end; i0 += 64) {
+        std::uint64_t l0 = 0;
+        std::uint64_t s = sil_planes_group(pl, facing, i0, l0);
+        if (s == 0) continue;
+        std::uint64_t bnd;
+        std::memcpy(&bnd, eb + i0 / 8, sizeof bnd);
+        if (bnd != 0) boundary += static_cast<std::size_t>(sil_popcount64(s & bnd));
+        if (n + 64 <= room) {  // every edge of the group fits
+            if (!Quads && edge_flags) {
+                for (; s != 0; s &= s - 1) {
+                    const int j = sil_ctz64(s);
+                    sil_put_edge<false>(out, n, sil_orient(load(i0 + static_cast<std::size_t>(j)), (l0 >> j) & 1u), nv);
+                    edge_flags[n] = static_cast<std::uint8_t>((bnd >> j) & 1u);
+                    ++n;
+                }
+            } else {
+                for (; s != 0; s &= s - 1) {
+                    const int j = sil_ctz64(s);
+                    sil_put_edge<Quads>(out, n, sil_orient(load(i0 + static_cast<std::size_t>(j)), (l0 >> j) & 1u), nv);
+                    ++n;
+                }
             }
-            continue;
-        }
-        if (n + 8 <= room) {
-            for (unsigned j = 0; j < 8; ++j) {
-                std::uint64_t v;
-                std::memcpy(&v, ev + 2 * (i0 + j), sizeof v);
-                const std::uint64_t w = ((l0 >> (8 * j)) & 1u) != 0 ? v : (v >> 32 | v << 32);
-                std::memcpy(edge_indices + 2 * n, &w, sizeof w);
-                const std::size_t sj = static_cast<std::size_t>((sil >> (8 * j)) & 1u), bj = (bnd >> j) & 1u;
-                if (edge_flags) edge_flags[n] = static_cast<std::uint8_t>(bj);
-                n += sj;
-                boundary += sj & bj;
+        } else {
+            for (; s != 0; s &= s - 1) {
+                const int j = sil_ctz64(s);
+                emit(sil_orient(load(i0 + static_cast<std::size_t>(j)), (l0 >> j) & 1u), static_cast<std::uint32_t>((bnd >> j) & 1u));
             }
-            continue;
         }
-        for (unsigned j = 0; j < 8; ++j) emit(i0 + j, ((l0 >> (8 * j)) & 1u) != 0, ((sil >> (8 * j)) & 1u) != 0, (bnd >> j) & 1u);
     }
     for (; i0 < end; ++i0) single(i0);
     r.boundary_edges += boundary;
-    if (nonmanifold) n = sil_extract_nonmanifold(adj, facing, edge_indices, edge_flags, room, n, r);
-    r.needed += 2 * n;
+    if (nonmanifold)
+        sil_nonmanifold_each(adj, facing, [&](std::uint32_t a, std::uint32_t b) {
+            const std::uint32_t ab[2] = {a, b};
+            std::uint64_t w;
+            std::memcpy(&w, ab, sizeof w);
+            emit(w, SilhouetteNonManifold);
+            ++r.nonmanifold_edges;
+        });
+    r.needed += (Quads ? 6 : 2) * n;
     return n;
+}
+
+inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const std::uint8_t* facing,
+                                            std::uint32_t* edge_indices, std::uint8_t* edge_flags, std::size_t room,
+                                            std::size_t begin, std::size_t end, bool nonmanifold, SilhouetteResult& r) {
+    return sil_planes_extract_impl<false>(adj, pl, facing, edge_indices, edge_flags, room, begin, end, nonmanifold, 0u, r);
 }
 
 } // namespace detail
@@ -1377,6 +1457,31 @@ inline SilhouetteResult silhouette_extract_planes(const SilhouetteAdjacency& adj
     const std::size_t n =
         detail::sil_planes_extract_range(adj, planes, facing, edge_indices, edge_flags, room, 0, adj.edges.size(), true, r);
     r.count = 2 * (n < room ? n : room);
+    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    return r;
+}
+
+/// The side quads of the silhouette in one pass, for shadow_volume.hpp: for each edge (a, b) that
+/// silhouette_extract_planes finds, in its order, the six indices (b, a, a + n, b, a + n, b + n), n =
+/// adj.vertex_count: byte for byte what volume_build_side_quads(edges, count, n, ...) writes for
+/// those edges (the 2n-vertex volume buffer of volume_build_vertices: i is (p_i, 1), i + n is
+/// (p_i, 0)), without the intermediate edge buffer and its second pass. `out` holds out_capacity
+/// uint32 elements; it needs 6 per silhouette edge (at most 3 * silhouette_indices_capacity(adj),
+/// `needed`); a short buffer gets the whole quads that fit (BufferTooSmall). count / needed are
+/// uint32 elements (6 per edge); boundary_edges / nonmanifold_edges as silhouette_extract. No flags,
+/// no allocation; writes only out[0, count). adj.vertex_count > 2^31 - 1: InvalidArgument.
+inline SilhouetteResult silhouette_extract_planes_side_quads(const SilhouetteAdjacency& adj, const SilhouettePlanes& planes,
+                                                             const std::uint8_t* facing, std::size_t facing_count, std::uint32_t* out,
+                                                             std::size_t out_capacity) {
+    SilhouetteResult r;
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, out, out_capacity, nullptr, 0);
+    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes);
+    if (r.status == Status::Ok && adj.vertex_count > 0x7FFFFFFFu) r.status = Status::InvalidArgument;
+    if (r.status != Status::Ok) return r;
+    const std::size_t room = out_capacity / 6;
+    const std::size_t n = detail::sil_planes_extract_impl<true>(adj, planes, facing, out, nullptr, room, 0, adj.edges.size(), true,
+                                                                adj.vertex_count, r);
+    r.count = 6 * (n < room ? n : room);
     if (r.count < r.needed) r.status = Status::BufferTooSmall;
     return r;
 }

@@ -192,6 +192,8 @@ struct App::Impl {
     std::vector<Pass> passes;
     std::function<void()> widgets;
     std::string last_view_label;
+    std::vector<sk::Scene> own_scenes;  // add_scene(): offered after the built-in ones
+    GLuint picture = 0;                 // present_color(): the technique's own picture instead of the composite
 #if SHADOWKIT_APP_GLFW
     GLFWwindow* win = nullptr;
     bool imgui = false, imgui_frame = false;  // the panel's frame began (NewFrame) and is not rendered yet
@@ -228,16 +230,26 @@ struct App::Impl {
         glClearColor(0.f, 0.f, 0.f, 1.f);
         glClear(GL_COLOR_BUFFER_BIT);
         last_view_label = shown == 0 ? "shaded" : debug[shown - 1].first + (d.texture ? "" : " (none for this scene)");
-        if (shown == 0 || d.texture == 0 || d.show == DebugImage::Show::Overlay)
+        if ((shown == 0 || d.texture == 0 || d.show == DebugImage::Show::Overlay) && picture)
+            gl->show.draw(DebugImage{picture, DebugImage::Show::Overlay});
+        else if (shown == 0 || d.texture == 0 || d.show == DebugImage::Show::Overlay)
             gl->composite.draw(gl->gpu, scene.light, visibility);
         if (d.texture) gl->show.draw(d);
     }
+    std::vector<std::string> scene_names() const {
+        std::vector<std::string> n = sk::builtin_scene_names();
+        for (const sk::Scene& s : own_scenes) n.push_back(s.name);
+        return n;
+    }
     bool load_scene(const std::string& name, std::string& why) {
         sk::Scene s;
+        const auto own = std::find_if(own_scenes.begin(), own_scenes.end(), [&](const sk::Scene& o) { return o.name == name; });
         if (!mesh.empty() && name == mesh) {
             if (!sk::load_mesh_scene(mesh, s, why)) return false;
+        } else if (own != own_scenes.end()) {
+            s = *own;
         } else if (!sk::make_builtin_scene(name, s)) {
-            why = "unknown scene '" + name + "'; valid: " + join(sk::builtin_scene_names());
+            why = "unknown scene '" + name + "'; valid: " + join(scene_names());
             return false;
         }
         scene = base = std::move(s);
@@ -273,6 +285,16 @@ void App::debug_view(const std::string& name, std::function<DebugImage()> image)
     impl_->debug.emplace_back(name, std::move(image));
 }
 
+void App::default_scene(const std::string& name) { impl_->scene_name = name; }
+
+void App::add_scene(sk::Scene scene) { impl_->own_scenes.push_back(std::move(scene)); }
+
+void App::present_color(GLuint picture) {
+    impl_->picture = picture;
+    present(0);
+    impl_->picture = 0;
+}
+
 int App::fail(const std::string& why) {
     std::fprintf(stderr, "%s: %s\n", impl_->program.c_str(), why.c_str());
     exit_code_ = 1;
@@ -303,7 +325,7 @@ bool App::start(int argc, char** argv) {
         if (a == "--help" || a == "-h") {
             std::printf("%s: %s\nusage: %s [%s]\n", I.program.c_str(), I.title.c_str(), I.program.c_str(),
                         join(options, "] [").c_str());
-            std::printf("scenes: %s\n", join(sk::builtin_scene_names()).c_str());
+            std::printf("scenes: %s\n", join(I.scene_names()).c_str());
             for (const auto& e : params_.entries()) {
                 if (e.kind == Params::Entry::Kind::Number)
                     std::printf("--param %s=<%g..%g> (now %s)\n", e.name.c_str(), e.min, e.max, e.get().c_str());
@@ -314,8 +336,8 @@ bool App::start(int argc, char** argv) {
             exit_code_ = 0;
             return false;
         } else if (a == "--scene") {
-            if (!value("NAME", v)) return bad("--scene wants a name; valid: " + join(sk::builtin_scene_names()));
-            const auto names = sk::builtin_scene_names();
+            if (!value("NAME", v)) return bad("--scene wants a name; valid: " + join(I.scene_names()));
+            const auto names = I.scene_names();
             if (std::find(names.begin(), names.end(), v) == names.end())
                 return bad("unknown scene '" + v + "'; valid: " + join(names));
             I.scene_name = v;
@@ -479,7 +501,7 @@ bool App::next_frame() {
     auto down = [&](int key) { return !want_keys && glfwGetKey(I.win, key) == GLFW_PRESS; };
     if (pressed(GLFW_KEY_V)) I.shown = (I.shown + 1) % (I.debug.size() + 1);
     // N / P (or the panel's scene list): another built-in scene
-    const auto names = sk::builtin_scene_names();
+    const auto names = I.scene_names();
     const bool next = pressed(GLFW_KEY_N), prev = pressed(GLFW_KEY_P);
     if (next || prev || I.pending_scene >= 0) {
         std::size_t k = static_cast<std::size_t>(std::find(names.begin(), names.end(), I.scene_name) - names.begin());
@@ -613,7 +635,7 @@ void App::present(GLuint visibility) {
         ImGui::Begin(I.title.c_str());
         ImGui::TextWrapped("%s", I.renderer.c_str());
         // scene
-        const auto names = sk::builtin_scene_names();
+        const auto names = I.scene_names();
         std::vector<const char*> items;
         for (const auto& n : names) items.push_back(n.c_str());
         int current = static_cast<int>(std::find(names.begin(), names.end(), I.scene_name) - names.begin());

@@ -55,6 +55,11 @@ public:
     Params& params() { return params_; }
     /// A debug view, shown by name (bind before start()): --view NAME, the V key, the panel.
     void debug_view(const std::string& name, std::function<DebugImage()> image);
+    /// The scene the sample starts on when --scene is not given (before start(); default "contact").
+    void default_scene(const std::string& name);
+    /// A scene of the sample's own (before start()): offered after the built-in ones by --scene, N/P
+    /// and the panel (samples/prt: its tessellated scene).
+    void add_scene(sk::Scene scene);
 
     /// Options, the window (GLFW + Dear ImGui) or the EGL context, the scene and its G-buffer. false:
     /// stop and return exit_code() (0 after --help, 2 for a bad option, 77 without GL, 1 otherwise).
@@ -81,6 +86,9 @@ public:
     /// Shows V: the composite albedo * (ambient + V N.L) or the chosen debug view, and the panel
     /// (window); headless, the PNG of the last frame.
     void present(GLuint visibility);
+    /// present() for a technique that shades the picture itself (samples/prt): its RGBA color
+    /// texture at the G-buffer's size instead of the composite of V.
+    void present_color(GLuint picture);
 
 private:
     struct Impl;

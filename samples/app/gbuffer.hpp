@@ -80,6 +80,16 @@ std::string visibility_fragment_shader(const std::string& snippets, const std::s
 GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log);
 /// The light uniforms of the common light rules (u_light_type, position, direction, cone) on `prog`.
 void set_light_uniforms(GLuint prog, const sk::Light& L);
+/// Area lights seen through one shadow map (PCF, PCSS, pre-filtered maps): the emitter's fraction above a
+/// receiver's tangent plane, by which such a technique multiplies its V (the reference counts light samples
+/// below that plane as unseen; a map from the light's center cannot). GLSL declaring u_emitter* and
+/// `float sk_emitter_horizon(vec3 p, vec3 n)`: rect (16 columns of the square, each clipped exactly),
+/// disk (the circular segment), sphere (the disk of its radius facing p); u_emitter = 0: 1.
+const char* emitter_horizon_glsl();
+/// Its uniforms on `prog` for L (a rect, disk or sphere light); `enabled` false sets u_emitter = 0 (V unchanged).
+void set_emitter_uniforms(GLuint prog, const sk::Light& L, bool enabled);
+/// Duff et al. 2017 orthonormal basis (t, b) of the plane with unit normal n: the reference's basis of an emitter.
+void emitter_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b);
 
 /// The last pass of every technique: V into an R32F target, one full-screen triangle over the G-buffer.
 struct VisibilityPass {

@@ -1,4 +1,4 @@
-// shadowkit-bench --compare [--reps N] [--threads T] [MESH.obj|MESH.ply ...]
+// shadowkit-bench --compare [--reps N] [--threads T] [--only TEXT] [MESH.obj|MESH.ply ...]
 //
 // One run, one thread, the per-frame CPU geometry of a moving point light (a new light position
 // every frame, the same sequence for every variant), on spheres of 10k / 100k / 1M triangles, a noisy
@@ -7,14 +7,16 @@
 //           two planes' signs, side quads emitted twice; z-fail: both caps, twice)
 //   exact   shadowkit's per-frame path for fresh positions: silhouette_compute_facing +
 //           silhouette_extract + volume_build_side_quads (+ volume_build_caps LitOnly for z-fail)
-//   fast    shadowkit's rigid-mesh path: silhouette_compute_facing_planes + silhouette_extract_planes
-//           + the same volume functions (identical output to `exact`, checked here per mesh)
+//   fast    shadowkit's rigid-mesh path: silhouette_compute_facing_planes +
+//           silhouette_extract_planes_side_quads (+ the same caps) (identical output to `exact`,
+//           checked here per mesh)
 //   memcpy  a memcpy of the bytes the fast frame must read (planes 16 B per face, edge faces 8 B per
 //           edge, the silhouette edges' vertices; z-fail also the faces' 12 B)
 // Timing: per-thread CPU time (the machine is shared), the variants interleaved (each repetition runs
 // every variant once, in a rotating order), each sample a batch of frames of >= 2 ms, the median of
 // --reps samples (default 15). With --threads T (default 2) the fast path also runs on 1..T threads of
 // a persistent pool (silhouette_extract_parallel_planes + per-chunk caps; wall time, medians).
+// --only TEXT keeps the rows whose "name triangles" contains TEXT (e.g. --only "grid 999").
 #include <shadowkit/shadow_volume.hpp>
 #include <shadowkit/silhouette.hpp>
 
@@ -132,25 +134,28 @@ std::size_t g_sink = 0;
 // One frame of shadowkit (exact or fast facing): returns the index count.
 std::size_t sk_frame(Case& c, const glm::vec4& L, bool fast, bool zfail) {
     const std::size_t fc = c.adj.face_count(), n = c.mesh.positions.size();
-    sk::SilhouetteResult sr;
-    if (fast) {
+    std::size_t k = 0;
+    if (fast) {  // side quads straight from the cached-plane extraction (no edge buffer)
         sk::silhouette_compute_facing_planes(c.adj, c.planes, L, c.facing.data(), fc);
-        sr = sk::silhouette_extract_planes(c.adj, c.planes, c.facing.data(), fc, c.sil.data(), c.sil.size(), nullptr, 0);
+        k = sk::silhouette_extract_planes_side_quads(c.adj, c.planes, c.facing.data(), fc, c.volume.data(), c.volume.size()).count;
     } else {
         sk::silhouette_compute_facing(c.adj, c.mesh.positions.data(), n, L, c.facing.data(), fc);
-        sr = sk::silhouette_extract(c.adj, c.facing.data(), fc, c.sil.data(), c.sil.size(), nullptr, 0);
+        const sk::SilhouetteResult sr = sk::silhouette_extract(c.adj, c.facing.data(), fc, c.sil.data(), c.sil.size(), nullptr, 0);
+        k = sk::volume_build_side_quads(c.sil.data(), sr.count, n, c.volume.data(), c.volume.size()).count;
     }
-    const sk::VolumeBuffer sq = sk::volume_build_side_quads(c.sil.data(), sr.count, n, c.volume.data(), c.volume.size());
-    std::size_t k = sq.count;
     if (zfail)
         k += sk::volume_build_caps(c.adj.faces.data(), c.adj.faces.size(), c.facing.data(), fc, n, sk::VolumeCapMode::LitOnly, true,
-                                   c.volume.data() + sq.count, c.volume.size() - sq.count)
+                                   c.volume.data() + k, c.volume.size() - k)
                  .count;
     return k;
 }
 
+// The bytes the fast frame must read: the cached plane (16 per face), the edge's face pair (8 per
+// edge: edge_faces is one uint64 per edge), the silhouette edges' vertex pairs (8 each), for z-fail
+// the faces' indices (12 per face).
 std::size_t fast_bytes(const Case& c, bool zfail) {
-    return c.adj.face_count() * 16 + c.planes.edge_faces.size() * 4 + c.sil_edges * 8 + (zfail ? c.adj.faces.size() * 4 : 0);
+    return c.adj.face_count() * 16 + c.planes.edge_faces.size() * sizeof(std::uint64_t) + c.sil_edges * 8 +
+           (zfail ? c.adj.faces.size() * 4 : 0);
 }
 
 void prepare(Case& c) {
@@ -227,15 +232,19 @@ int run_compare(int argc, char** argv) {
     int reps = 15;
     std::size_t max_threads = 2;
     std::vector<std::string> files;
+    std::string only;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--compare") continue;
         if (a == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--only" && i + 1 < argc) only = argv[++i];
         else if (a == "--threads" && i + 1 < argc) max_threads = static_cast<std::size_t>(std::max(1, std::atoi(argv[++i])));
         else files.push_back(a);
     }
     std::vector<std::unique_ptr<Case>> cases;
     auto add = [&](const std::string& name, bench::BenchMesh&& m) {
+        const std::size_t tris = m.indices.size() / 3;
+        if (!only.empty() && (name + " " + std::to_string(tris)).find(only) == std::string::npos) return;
         cases.push_back(std::make_unique<Case>());
         cases.back()->name = name;
         cases.back()->mesh = std::move(m);

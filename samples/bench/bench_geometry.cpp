@@ -6,7 +6,8 @@
 //   volume      volume_build_side_quads + volume_build_caps (z-fail index buffer: side quads, light and dark caps)
 //   frame       facing + silhouette + volume: the per-frame work of a moving light
 //   facing_planes / frame_planes: the same with the rigid-mesh fast path (silhouette_build_planes
-//               once, silhouette_compute_facing_planes + silhouette_extract_planes per frame)
+//               once, silhouette_compute_facing_planes + silhouette_extract_planes_side_quads (+ caps)
+//               per frame)
 //   --compare   not Google Benchmark: the side-by-side table of bench_compare.cpp (a bgfx-style
 //               baseline, the exact path, the fast path, memcpy; docs/benchmarks.md)
 //   silhouette_parallel / frame_parallel: the same on T threads (third argument) of a persistent
@@ -212,10 +213,8 @@ void BM_frame_planes(benchmark::State& state) {
     const std::size_t bytes = f.adj.face_count() * 16 + f.planes.edge_faces.size() * 8 + f.sil_edges * 8 + f.adj.faces.size() * 4;
     measure(state, bytes, f.adj.edges.size(), [&] {
         shadowkit::silhouette_compute_facing_planes(f.adj, f.planes, f.light, f.facing.data(), f.facing.size());
-        const auto sr = shadowkit::silhouette_extract_planes(f.adj, f.planes, f.facing.data(), f.facing.size(), f.sil.data(),
-                                                             f.sil.size(), nullptr, 0);
-        const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
-                                                           f.volume.size());
+        const auto sq = shadowkit::silhouette_extract_planes_side_quads(f.adj, f.planes, f.facing.data(), f.facing.size(),
+                                                                        f.volume.data(), f.volume.size());
         const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
                                                      f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
                                                      f.volume.data() + sq.count, f.volume.size() - sq.count);

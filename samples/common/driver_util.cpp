@@ -28,14 +28,15 @@ bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms) {
     return true;
 }
 
-static const char* depth_only_vs() {
+
+const char* depth_only_vs() {
     return R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 uniform mat4 u_light_view_proj;
 void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
 )";
 }
-static const char* depth_only_fs() { return "#version 450 core\nvoid main() {}\n"; }
+const char* depth_only_fs() { return "#version 450 core\nvoid main() {}\n"; }
 
 void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPass& pass,
                         const std::function<void()>& frame) {
@@ -103,17 +104,6 @@ void render_shadow_depth(const SceneGpu& gpu, GLuint fbo, int size, GLuint depth
     glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
-const SingleMapLookup& plain_shadow_map_lookup() {
-    static const SingleMapLookup lookup{"shadow_map", R"(
-layout(binding = 2) uniform sampler2DShadow u_shadow_map;
-uniform mat4 u_light_view_proj;
-float technique_visibility(vec3 p, vec3 n) {
-    return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
-}
-)", "u_light_view_proj"};
-    return lookup;
-}
-
 RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
                                 const SingleMapLookup& lookup, const std::vector<std::uint32_t>* only,
                                 const std::function<void(RunResult&, const skgl::Target&)>& extras) {
@@ -150,28 +140,6 @@ GLuint make_depth_compare_texture(GLenum target, int size, int layers) {
     return tex;
 }
 
-void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo) {
-    glGenFramebuffers(count, fbo);
-    for (int i = 0; i < count; ++i) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
-        if (target == GL_TEXTURE_CUBE_MAP)
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
-                                   static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i), tex, 0);
-        else
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, tex, 0, i);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
-    }
-}
-
-void set_nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 void begin_offset_depth_pass(GLuint depth_prog) {
     glUseProgram(depth_prog);
     glEnable(GL_DEPTH_TEST);
@@ -198,12 +166,6 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
             draw_casters(gpu);
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
-}
-
-std::size_t caster_count(const SceneGpu& gpu) {
-    std::size_t n = 0;
-    for (bool c : gpu.caster) n += c ? 1 : 0;
-    return n;
 }
 
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi) {

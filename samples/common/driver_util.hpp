@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "emitter.hpp"
 #include "gl.hpp"
 #include "techniques.hpp"
 
@@ -24,6 +23,10 @@ double median_of(std::vector<double> v);
 // Runs work() `runs` times and sets ms to the median of its CPU times; false at the first failing run.
 bool median_cpu_ms(int runs, const std::function<bool()>& work, double& ms);
 
+// Position-only depth pass (u_light_view_proj).
+const char* depth_only_vs();
+const char* depth_only_fs();
+
 // Times `frame` (median over ctx.frames after ctx.warmup) and reads V back from pass into r.
 void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPass& pass,
                         const std::function<void()>& frame);
@@ -31,7 +34,7 @@ void measure_visibility(RunResult& r, const RunContext& ctx, const VisibilityPas
 // r, or the GL error as a failure.
 RunResult finish_run(RunResult r, std::initializer_list<GLuint> programs, const std::function<void()>& release = {});
 
-// The position-only depth program (u_light_view_proj); 0 on failure, the message appended to log.
+// The depth-only program (depth_only_vs / depth_only_fs); 0 on failure, the message appended to log.
 // (compile_visibility_program, VisibilityPass, set_light_uniforms: samples/app/gbuffer.hpp.)
 GLuint compile_depth_only_program(std::string& log);
 // Loads glsl/<snippet>.glsl (none for "") and compiles the depth-only program and the visibility program
@@ -53,9 +56,7 @@ struct SingleMapLookup {
     const char* body;
     const char* matrix_uniform;
 };
-// The plain shadow map's lookup (glsl/shadow_map.glsl, 2x2 hardware PCF, u_light_view_proj).
-const SingleMapLookup& plain_shadow_map_lookup();
-// The single-map pipeline (shadow_map, silmap_plain, warped_sm): each frame a size x size map from
+// The single-map pipeline (warped_sm): each frame a size x size map from
 // light_vp (render_shadow_depth, casters `only` or all), then the lookup's visibility pass. Fills r's
 // gpu_ms, frames, visibility and gpu_bytes; extras (may be empty) runs before the map is freed.
 RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, const glm::mat4& light_vp,
@@ -65,10 +66,6 @@ RunResult run_single_shadow_map(const RunContext& ctx, RunResult r, int size, co
 // GL_DEPTH_COMPONENT32F texture (a 2D array of `layers`, or a cube map) with linear filtering,
 // clamp-to-edge and depth compare GL_LEQUAL: a layered hardware-PCF shadow map.
 GLuint make_depth_compare_texture(GLenum target, int size, int layers);
-// Generates count framebuffers, fbo[i] with layer i of tex (array layer, or cube face) as its only attachment.
-void make_depth_layer_fbos(GLenum target, GLuint tex, int count, GLuint* fbo);
-// Nearest filtering and clamp-to-edge on a 2D texture (exact texel reads).
-void set_nearest_clamped(GLuint tex);
 // Shadow-depth pass state: depth_prog bound, depth test GL_LESS, polygon offset (2, 2) enabled.
 void begin_offset_depth_pass(GLuint depth_prog);
 // Binds fbo with a size x size viewport and clears its depth.
@@ -79,16 +76,10 @@ void render_depth_layers(const SceneGpu& gpu, const GLuint* fbo, const glm::mat4
 
 // Draws the caster meshes (all, or only the listed mesh indices).
 void draw_casters(const SceneGpu& gpu, const std::vector<std::uint32_t>* only = nullptr);
-std::size_t caster_count(const SceneGpu& gpu);
 void mesh_bounds(const Mesh& m, glm::vec3& lo, glm::vec3& hi);
 // Box around a spot light's cone: the apex and the cap disk at the farthest corner of lo..hi, the half
 // angle clamped to max_half_angle.
 void spot_cone_box(const Light& L, const glm::vec3& lo, const glm::vec3& hi, float max_half_angle, glm::vec3& clo,
                    glm::vec3& chi);
-
-// The emitter's fraction above a receiver's tangent plane: the app shell's (samples/app/emitter.hpp).
-using app::emitter_basis;
-using app::emitter_horizon_glsl;
-using app::set_emitter_uniforms;
 
 }  // namespace sk

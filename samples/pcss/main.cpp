@@ -1,20 +1,26 @@
-// Sample: percentage-closer soft shadows (shadowkit/pcss.hpp for the uniforms, glsl/pcss.glsl for
-// the blocker search and the filter) on the built-in area-light scenes.
-//
-//   sample_pcss [--scene contact] [--headless out.png] [--size WxH] [--param name=value]...
-//   params: taps=16|32|64 (blocker search = filter taps), rotate=0|1 (per-pixel rotated Poisson),
-//           light_scale=S (emitter width x S; 0 = the hard-shadow limit), depth24=0|1,
-//           hard=1 (the plain 2x2 lookup with the same map and bias), horizon=0|1,
-//           fit_near=0|1 (1: the light's near plane at the casters, pcss_fit_near_plane)
-//   keys: 1-6 pick taps 16/32/64 x rotate 0/1, Tab + [ ] change a parameter live (light_scale
-//   too), arrows move the light, T switches technique, N/P scene, Esc quits; drag to orbit.
-#include <string>
-#include <vector>
+// Sample: soft shadows from one shadow map (pcss.hpp / .cpp): percentage-closer soft shadows (a blocker
+// search, the penumbra from the average blocker depth, a Poisson filter of that width), or PCF with a
+// fixed kernel, and the depth bias of the lookup (receiver plane, constant, slope-scaled, normal offset).
+//   sample_pcss [--scene contact] [--param filter=poisson] [--param bias=constant] [--view "shadow map"]
+//               [--headless shot.png] [--help]
+// Scenes: contact (square light), overlap (disk), stack (a spot light: a hard shadow, filtered); the light's
+// size is in the panel. `--scene grazing --param bias=none` shows the acne a lookup without bias gets.
+#include "pcss.hpp"
 
-#include "viewer.hpp"
-
-// T switches between PCSS, the PCF kernels, the bias study (Tab + [ ] change the bias method and
-// setting live) and the sampled area light; Tab + [ ] also change taps, rotation and light_scale.
 int main(int argc, char** argv) {
-    return sk::run_viewer(argc, argv, std::vector<std::string>{"pcss", "pcf", "bias", "sampled_area"});
+    PcssSettings s;
+    app::App a("PCSS / PCF");
+    bind_settings(a.params(), s);  // filter, taps, rotate, radius, size, depth, fit_near, bias, horizon: --param, the panel
+    Pcss pcss;  // after the App: its GL objects go before the App's context
+    a.debug_view("shadow map", [&] { return pcss.debug_depth(); });
+    if (!a.start(argc, argv)) return a.exit_code();  // options, window or EGL, scene, G-buffer
+    std::string why;
+    while (a.next_frame()) {  // input, camera, light; the G-buffer when the camera moved
+        if (a.scene_changed() && !pcss.init(a.view(), why)) return a.fail(why);
+        a.cpu("light frustum", [&] { pcss.update(a.view(), s); });
+        a.gpu("depth + filter", [&] { pcss.render(a.view(), s); });
+        if (!pcss.error().empty()) return a.fail(pcss.error());
+        a.present(pcss.visibility());  // the composite (or a debug view) and the panel; headless: the PNG
+    }
+    return a.exit_code();
 }

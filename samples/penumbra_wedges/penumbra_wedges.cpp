@@ -17,8 +17,6 @@
 #include <cmath>
 #include <limits>
 
-#include "emitter.hpp"
-
 namespace {
 
 // The wedge pass. A hull vertex carries its wedge's index; the fragment reads the receiver's world point

@@ -11,7 +11,8 @@
 //   penumbra_wedges.cpp  init (once per scene), update (CPU, every frame), render (the GPU passes)
 //   main.cpp             the calls
 // It uses shadowkit/penumbra_wedge.hpp, glsl/penumbra_wedge.glsl (glsl/shadow_volume.glsl for the
-// depth-bounds emulation), the shadow_volumes sample and the app shell (gbuffer.hpp, emitter.hpp, gl.hpp).
+// depth-bounds emulation), the shadow_volumes sample and the app shell (gbuffer.hpp, with the emitter's
+// horizon, and gl.hpp).
 // shadowkit-report wraps this same class (samples/report/techniques/penumbra_wedges.cpp).
 #pragma once
 
@@ -42,7 +43,7 @@ struct PenumbraWedgeSettings {
     /// spot and directional lights have none: the hard shadow alone.
     enum class RectLight { Area, Bounding };
     RectLight rect_radius = RectLight::Area;
-    /// V times the emitter's fraction above the receiver's tangent plane (app/emitter.hpp): light below it
+    /// V times the emitter's fraction above the receiver's tangent plane (app/gbuffer.hpp): light below it
     /// does not arrive, which the casters' silhouettes do not model on the casters' own lit faces.
     bool horizon = true;
     /// The hard volumes per caster: z-fail always, or z-pass where the near plane cannot be in the volume.

@@ -1,5 +1,5 @@
-// Internal helper shared by samples/prt and tests/report/test_prt_reference.cpp (NOT a public
-// header): the procedural `prt` scene (a lumpy blob and a box over a floor, indexed meshes with
+// Internal helper shared by samples/prt, the report's PRT section and tests/report/test_prt_reference.cpp
+// (NOT a public header): the procedural `prt` scene (a lumpy blob and a box over a floor, indexed meshes with
 // smooth per-vertex normals, y up), its sky + sun environment, Embree visibility for
 // shadowkit/prt.hpp's callback, multi-threaded transfer precomputation with a progress line, and
 // the Monte Carlo reference (environment x visibility x cosine, cosine-weighted, Embree rays).
@@ -29,6 +29,7 @@ struct PrtScene {
     std::vector<glm::vec3> positions, normals, albedo;  // per vertex
     std::vector<std::uint32_t> indices;
     std::size_t floor_vertices = 0;  // vertices [0, floor_vertices) are the floor
+    std::vector<std::size_t> part_begin;  // first vertex of each object: floor, blob, box (in that order)
     float size = 4.0f;               // floor edge length (scene scale)
 };
 
@@ -55,8 +56,10 @@ inline PrtScene make_prt_scene(int detail = 1) {
     detail = std::max(detail, 1);
     PrtScene s;
     const int fn = 64 * detail;
+    s.part_begin.push_back(0);
     add_grid(s, {-2.f, 0.f, 2.f}, {4.f, 0.f, 0.f}, {0.f, 0.f, -4.f}, fn, {0.f, 1.f, 0.f}, {0.8f, 0.78f, 0.74f});
     s.floor_vertices = s.positions.size();
+    s.part_begin.push_back(s.positions.size());
     // blob: a sphere of radius 0.72 with low-frequency bumps, just above the floor near x = -0.6
     {
         const glm::vec3 c(-0.6f, 0.74f, 0.1f);
@@ -105,6 +108,7 @@ inline PrtScene make_prt_scene(int detail = 1) {
         s.indices.insert(s.indices.end(), idx.begin(), idx.end());
     }
     // box: 0.7 x 0.9 x 0.7, standing at x = 0.9, each face a 12 x 12 grid
+    s.part_begin.push_back(s.positions.size());
     {
         const glm::vec3 lo(0.55f, 0.f, -0.55f), hi(1.25f, 0.9f, 0.15f), e = hi - lo;
         const glm::vec3 alb(0.45f, 0.6f, 0.85f);

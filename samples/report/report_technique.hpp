@@ -12,6 +12,7 @@
 // name, description, sweeps and `measure`.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -38,12 +39,18 @@ struct ReportSpec {
     std::string name, description;
     bool hard = true;                           ///< 0/1 visibility: misclassified pixels are scored
     std::vector<std::string> sweep, quick;      ///< named settings per row, e.g. "method=zfail scissor=off"
-    /// Rows that depend on the scene (its light, its name): when set, used instead of sweep / quick.
+    std::function<bool(const Scene&)> applies;  ///< the scenes it is swept on (empty: every scene)
+    /// Rows that differ between the scenes it applies to (the light's type, the scene): when set, used
+    /// instead of sweep / quick.
     std::function<std::vector<std::string>(const Scene&, bool quick)> sweep_for;
     /// After the timed frames and the read-back: work counters, gpu_bytes, debug images (ctx.debug_images).
     std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
     /// The class's failure after update() ("" when fine), for classes that report one.
     std::function<std::string(const T&)> error;
+    /// > 0: a slow row times fewer frames: after the warm-up (at least two frames; one slower than 100 ms
+    /// ends it) the timed frames stay within about this many ms, never fewer than 3 (llvmpipe: the median
+    /// of a few long frames is stable, and the full report keeps its run time).
+    double frame_budget_ms = 0.0;
 };
 
 template <class T, class S>
@@ -55,6 +62,7 @@ public:
     bool hard() const override { return spec_.hard; }
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         std::vector<ParamSet> out;
+        if (spec_.applies && !spec_.applies(scene)) return out;
         for (const auto& text : spec_.sweep_for ? spec_.sweep_for(scene, quick) : quick ? spec_.quick : spec_.sweep)
             out.push_back(ParamSet::parse_named(text));
         return out;
@@ -84,8 +92,21 @@ public:
         }
         std::nth_element(cpu.begin(), cpu.begin() + static_cast<std::ptrdiff_t>(cpu.size() / 2), cpu.end());
         r.cpu_ms = cpu[cpu.size() / 2];
-        r.gpu_ms = skgl::median_frame_ms([&] { t.render(view, s); }, ctx.warmup, ctx.frames);
-        r.frames = ctx.frames;
+        int warmup = ctx.warmup, frames = ctx.frames;
+        if (spec_.frame_budget_ms > 0.0) {
+            double last = 0.0;
+            for (int i = 0; i < std::max(ctx.warmup, 2); ++i) {
+                const auto w0 = std::chrono::steady_clock::now();
+                t.render(view, s);
+                glFinish();
+                last = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count();
+                if (i >= 1 && last > 100.0) break;
+            }
+            warmup = 0;
+            if (frames > 3 && last > 0.0) frames = std::clamp(static_cast<int>(spec_.frame_budget_ms / last), 3, frames);
+        }
+        r.gpu_ms = skgl::median_frame_ms([&] { t.render(view, s); }, warmup, frames);
+        r.frames = frames;
         r.visibility = read_r32f(t.visibility(), view.width, view.height);
         if (spec_.measure && !spec_.measure(t, s, view, ctx, r)) return r;
         r.work.emplace_back("init_ms", init_ms);

@@ -163,11 +163,16 @@ layout(binding = 0) uniform sampler2DArrayShadow u_cascades;
 uniform mat4 u_cascade_vp[4];
 uniform vec4 u_split_near;
 uniform vec4 u_split_far;
+uniform float u_texel[4];
 flat in vec4 v_point;
 out float lit;
 void main() {
-    lit = sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, 4, v_point.xyz, v_point.w,
-                            0.1, 0.0005, false);
+    // the page's normal offset (the ground's normal is +y) and its constant bias
+    int i = sk_cascade_by_depth(v_point.w, u_split_far, 4);
+    bool band = i >= 0 && i + 1 < 4 && sk_cascade_blend(v_point.w, u_split_near[i], u_split_far[i], 0.1) > 0.0;
+    float texel = i < 0 ? 0.0 : u_texel[band ? i + 1 : i];
+    vec3 p = v_point.xyz + vec3(0.0, 1.0, 0.0) * texel;
+    lit = sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, 4, p, v_point.w, 0.1, 0.0005, false);
 })");
     glUseProgram(lookup_program);
     glUniform1i(glGetUniformLocation(lookup_program, "u_count_points"), n);

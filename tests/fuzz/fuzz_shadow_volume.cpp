@@ -1,7 +1,8 @@
 // libFuzzer target for shadowkit/shadow_volume.hpp: arbitrary positions, edges, triangles, lit flags,
 // capacities, cap modes, lights, bounds, cameras, matrices and viewports. Invariants trap on
 // violation: Ok only with finite outputs in range, count <= capacity, count == needed when Ok,
-// nothing written past a capacity, never Ok for out-of-range input.
+// nothing written past a capacity, never Ok for out-of-range input; caps of up to 700 triangles
+// (the writer's 64-triangle groups) equal a plain reference.
 #include <shadowkit/shadow_volume.hpp>
 
 #include "fuzz_input.hpp"
@@ -61,6 +62,57 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             __builtin_trap();
         for (std::size_t k = 0; k < rc.count; ++k)
             if (ib[k] >= 2 * nv) __builtin_trap();
+    }
+
+    // many triangles (the caps writer's 64-triangle groups): against a plain reference (whole
+    // triangles while they fit), any capacity, indices and lit bytes from a generator seeded by the
+    // input (lit in runs or random, sometimes an index out of range), both modes, with and without
+    // the dark cap
+    {
+        const std::size_t nt2 = in.size(700);
+        const std::uint32_t nv2 = 1u + static_cast<std::uint32_t>(in.size(300));
+        std::uint32_t seed = in.u32();
+        auto next = [&seed] {
+            seed = seed * 1664525u + 1013904223u;
+            return seed >> 8;
+        };
+        const std::uint8_t style = in.u8();
+        std::vector<std::uint32_t> t2(3 * nt2);
+        for (auto& t : t2) t = ((style & 1) && next() % 997 == 0) ? nv2 + next() % 3 : next() % nv2;
+        std::vector<std::uint8_t> l2(nt2);
+        bool run = false;
+        for (auto& l : l2) {
+            if (next() % 29 == 0) run = !run;
+            l = static_cast<std::uint8_t>((style & 2) ? (run ? 1u : 0u) : next() % 3);
+        }
+        const bool ek = (style & 4) != 0, dark = (style & 8) != 0;
+        bool bad = false;
+        for (std::uint32_t t : t2) bad |= t >= nv2;
+        std::vector<std::uint32_t> ref;
+        for (std::size_t t = 0; t < nt2; ++t) {
+            const std::uint32_t a = t2[3 * t], b = t2[3 * t + 1], c = t2[3 * t + 2];
+            if (l2[t]) {
+                ref.insert(ref.end(), {a, b, c});
+                if (dark && !ek) ref.insert(ref.end(), {a + nv2, c + nv2, b + nv2});
+            } else if (dark && ek) {
+                ref.insert(ref.end(), {a + nv2, b + nv2, c + nv2});
+            }
+        }
+        const std::size_t cap2 = (style & 16) ? in.size(2 * t2.size() + 8) : 2 * t2.size() + 8;
+        std::vector<std::uint32_t> o2(cap2 + 1, 0xDEADBEEFu);
+        const sk::VolumeBuffer r2 = sk::volume_build_caps(t2.data(), t2.size(), l2.data(), nt2, nv2,
+                                                          ek ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly, dark,
+                                                          o2.data(), cap2);
+        if (o2[cap2] != 0xDEADBEEFu) __builtin_trap();
+        if (bad) {
+            if (r2.status != sk::Status::IndexOutOfRange) __builtin_trap();
+        } else {
+            const std::size_t want = std::min(ref.size(), cap2 / 3 * 3);
+            if (r2.needed != ref.size() || r2.count != want || (r2.status == sk::Status::Ok) != (want == ref.size()) ||
+                (r2.status != sk::Status::Ok && r2.status != sk::Status::BufferTooSmall))
+                __builtin_trap();
+            if (!std::equal(ref.begin(), ref.begin() + static_cast<std::ptrdiff_t>(want), o2.begin())) __builtin_trap();
+        }
     }
 
     glm::vec4 L(in.vec3(), (mode & 8) ? 0.0f : in.f32());

@@ -2,7 +2,10 @@
 // range), weld tolerances, lights and capacities. Invariants trap on violation: Ok only with valid
 // outputs, count <= capacity, count == needed when Ok, nothing written past a capacity, the
 // chunked path identical to the serial one, the facing filter equal to the exact fallback, and the
-// cached-plane fast path (silhouette_build_planes, *_planes, *_planes_chunk) identical to the exact path.
+// cached-plane fast path (silhouette_build_planes, *_planes, *_planes_chunk, and the side quads of
+// silhouette_extract_planes_side_quads against shadow_volume.hpp's volume_build_side_quads) identical
+// to the exact path.
+#include <shadowkit/shadow_volume.hpp>
 #include <shadowkit/silhouette.hpp>
 
 #include "fuzz_input.hpp"
@@ -179,6 +182,31 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (a1.status != sk::Status::Ok || a2.status != sk::Status::Ok || a1.count != a2.count ||
             !std::equal(o1.begin(), o1.begin() + static_cast<std::ptrdiff_t>(a1.count), o2.begin()) || o2.back() != 2u)
             __builtin_trap();
+        // side quads straight from the planes' extraction (exact or odd facing bytes, any capacity):
+        // the whole quads of volume_build_side_quads(silhouette_extract's edges) that fit, nothing
+        // written past count
+        {
+            const bool use_odd = (in.u8() & 1) != 0;
+            const std::uint8_t* fb = use_odd ? odd.data() : facing.data();
+            const sk::SilhouetteResult& ref = use_odd ? a1 : r;
+            const std::vector<std::uint32_t>& ref_idx = use_odd ? o1 : s.indices;
+            std::vector<std::uint32_t> rq(3 * ref.needed + 1);
+            const sk::VolumeBuffer vq = sk::volume_build_side_quads(ref_idx.data(), ref.needed, nv, rq.data(), rq.size());
+            if (vq.status != sk::Status::Ok || vq.count != 3 * ref.needed) __builtin_trap();
+            const std::size_t qcap = (in.u8() & 3) == 0 ? 3 * sk::silhouette_indices_capacity(adj) : in.size(3 * ref.needed + 8);
+            std::vector<std::uint32_t> qo(qcap + 4, 0xDEADBEEFu);
+            const sk::SilhouetteResult rq2 = sk::silhouette_extract_planes_side_quads(adj, pl, fb, fc, qo.data(), qcap);
+            const std::size_t want = 6 * std::min(qcap / 6, ref.needed / 2);
+            if (rq2.count > qcap || rq2.count != want || rq2.needed != 3 * ref.needed || rq2.boundary_edges != ref.boundary_edges ||
+                rq2.nonmanifold_edges != ref.nonmanifold_edges || (rq2.status == sk::Status::Ok) != (want == rq2.needed) ||
+                (rq2.status != sk::Status::Ok && rq2.status != sk::Status::BufferTooSmall))
+                __builtin_trap();
+            if (!std::equal(qo.begin(), qo.begin() + static_cast<std::ptrdiff_t>(want), rq.begin())) __builtin_trap();
+            for (std::size_t k = want; k < qo.size(); ++k)
+                if (qo[k] != 0xDEADBEEFu) __builtin_trap();
+            const sk::SilhouetteResult bad = sk::silhouette_extract_planes_side_quads(adj, pl, fb, fc + 1, qo.data(), qcap);
+            if (bad.status != sk::Status::InvalidArgument) __builtin_trap();
+        }
         // parallel planes path (chunks in reverse), then arbitrary chunk arguments
         const std::size_t pchunks = 1 + in.size(40);
         std::vector<std::uint8_t> qf(fc + 1, 0xCD);

@@ -803,7 +803,8 @@ void main() {
     // one texel of the cascade that serves the point (the next one's inside the blend band) along the
     // normal, as docs/shadow_map.md offsets a plain map
     int i = sk_cascade_by_depth(view_depth, u_split_far, 4);
-    float texel = i < 0 ? 0.0 : u_texel[min(i + 1, 3)];
+    bool band = i >= 0 && i + 1 < 4 && sk_cascade_blend(view_depth, u_split_near[i], u_split_far[i], 0.1) > 0.0;
+    float texel = i < 0 ? 0.0 : u_texel[band ? i + 1 : i];
     vec3 p = v_world + normalize(v_normal) * (u_normal_offset * texel);
     o_color = vec4(sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, 4, p, view_depth, 0.1,
                                      u_bias, u_zero_to_one));

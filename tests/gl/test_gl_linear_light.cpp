@@ -109,14 +109,14 @@ TEST_CASE("linear light: reference and technique against the closed-form 1D inte
     double rm[3] = {0, 0, 0};
     int idx = 0;
     for (int k : {1, 2, 4}) {
-        const sk::RunResult r = lin->run(ctx, sk::ParamSet{{{"size", 512.0}, {"segments", double(k)}}});
+        const sk::RunResult r = lin->run(ctx, sk::ParamSet::parse_named("size=512 segments=" + std::to_string(k)));
         REQUIRE_MESSAGE(r.ok, r.error);
         double mx = 0.0;
         rm[idx] = rmse_vs(g, ref, r.visibility, exact, &mx);
         MESSAGE("linear_light segments=" << k << " size 512: RMSE vs closed form " << rm[idx] << ", max " << mx);
         ++idx;
     }
-    const sk::RunResult r2 = sampled->run(ctx, sk::ParamSet{{{"size", 512.0}, {"samples", 2.0}}});
+    const sk::RunResult r2 = sampled->run(ctx, sk::ParamSet::parse_named("method=sampled size=512 samples=2"));
     REQUIRE_MESSAGE(r2.ok, r2.error);
     const double rs2 = rmse_vs(g, ref, r2.visibility, exact);
     MESSAGE("sampled_line N=2 (same number of shadow maps as segments=1): RMSE " << rs2
@@ -140,12 +140,12 @@ TEST_CASE("zero-length line light gives the point-light result exactly") {
     sk::Technique* lin = find(techniques, "linear_light");
     REQUIRE(lin);
     sk::RunContext ctx{scene, gpu, 1, 0, &g};
-    const sk::RunResult r0 = lin->run(ctx, sk::ParamSet{{{"size", 512.0}, {"segments", 4.0}}});
+    const sk::RunResult r0 = lin->run(ctx, sk::ParamSet::parse_named("size=512 segments=4"));
     REQUIRE_MESSAGE(r0.ok, r0.error);
     sk::Scene point = scene;
     point.light.type = sk::LightType::Point;
     sk::RunContext pctx{point, gpu, 1, 0, &g};
-    const sk::RunResult rp = lin->run(pctx, sk::ParamSet{{{"size", 512.0}, {"segments", 1.0}}});
+    const sk::RunResult rp = lin->run(pctx, sk::ParamSet::parse_named("size=512 segments=1"));
     REQUIRE_MESSAGE(rp.ok, rp.error);
     REQUIRE(r0.visibility.size() == rp.visibility.size());
     std::size_t diff = 0, agree = 0, n = 0;

@@ -1,4 +1,5 @@
-// Omnidirectional shadows on the GL driver (drivers_omni.cpp = omni_shadow.hpp + omni_shadow.glsl)
+// Omnidirectional shadows through the report's wrappers of the samples' classes (samples/omni_shadows/,
+// samples/dual_paraboloid/: omni_shadow.hpp + omni_shadow.glsl)
 // against the Embree point-light reference on the `room` scene:
 // (a) cube map: >= 99% of the receiver pixels away from 1-pixel shadow edges classified like the
 //     reference, for the hardware compare, the manual compare and 3x3 PCF (seams crossed);
@@ -68,9 +69,9 @@ TEST_CASE("cube shadow map agrees with the Embree reference on room; culling is 
         }
     MESSAGE("room: " << compared << " receiver pixels facing the light, " << shadowed << " shadowed in the reference");
     REQUIRE(shadowed > compared / 20);  // the view has shadows to get right
-    for (double size : {256.0, 512.0, 1024.0}) {
-        const sk::RunResult off = f.run("cube_sm", sk::ParamSet{{{"size", size}, {"culling", 0.0}}});
-        const sk::RunResult on = f.run("cube_sm", sk::ParamSet{{{"size", size}, {"culling", 1.0}}});
+    for (const std::string size : {"256", "512", "1024"}) {
+        const sk::RunResult off = f.run("cube_sm", sk::ParamSet::parse_named("size=" + size + " culling=off"));
+        const sk::RunResult on = f.run("cube_sm", sk::ParamSet::parse_named("size=" + size + " culling=on"));
         const sk::Metrics m = sk::compute_metrics(f.g, f.ref, on.visibility, true);
         MESSAGE("cube " << size << ": misclassified " << m.misclassified << " of " << m.pixels << " pixels, RMSE " << m.rmse
                         << ", draws " << work(on, "draws") << " (saved " << work(on, "draws_saved") << ")");
@@ -85,10 +86,10 @@ TEST_CASE("cube shadow map agrees with the Embree reference on room; culling is 
         CHECK(work(on, "draws_saved") == 12.0);
         CHECK(work(off, "draws") == 24.0);
     }
-    for (double lookup : {1.0, 2.0}) {
-        const sk::RunResult r = f.run("cube_sm", sk::ParamSet{{{"size", 512.0}, {"culling", 1.0}, {"lookup", lookup}}});
+    for (const std::string lookup : {"manual", "pcf"}) {
+        const sk::RunResult r = f.run("cube_sm", sk::ParamSet::parse_named("size=512 culling=on lookup=" + lookup));
         const sk::Metrics m = sk::compute_metrics(f.g, f.ref, r.visibility, true);
-        const std::string label = lookup == 1.0 ? "manual compare" : "3x3 PCF";
+        const std::string label = lookup == "manual" ? "manual compare" : "3x3 PCF";
         MESSAGE("cube 512 lookup " << label << ": misclassified " << m.misclassified
                                    << ", RMSE " << m.rmse);
         CHECK(m.misclassified <= 0.01);
@@ -105,11 +106,11 @@ TEST_CASE("cube shadow map agrees with the Embree reference on room; culling is 
 // cut through the maps (bound in the hundreds of texels): the error must be large (> 5%).
 TEST_CASE("dual-paraboloid error falls with tessellation and stays within its bound on room") {
     RoomFixture f;
-    const sk::RunResult cube = f.run("cube_sm", sk::ParamSet{{{"size", 512.0}, {"culling", 1.0}}});
+    const sk::RunResult cube = f.run("cube_sm", sk::ParamSet::parse_named("size=512 culling=on"));
     const sk::Metrics mc = sk::compute_metrics(f.g, f.ref, cube.visibility, true);
     double prev = 1.0;
     for (double tess : {0.0, 4.0, 1.0}) {
-        const sk::RunResult r = f.run("dual_paraboloid", sk::ParamSet{{{"size", 887.0}, {"tess", tess}}});
+        const sk::RunResult r = f.run("dual_paraboloid", sk::ParamSet::parse_named("size=887 tess=" + std::to_string(int(tess))));
         const sk::Metrics m = sk::compute_metrics(f.g, f.ref, r.visibility, true);
         double bound = -1;
         for (const auto& [k, v] : r.quality)
@@ -128,7 +129,7 @@ TEST_CASE("dual-paraboloid error falls with tessellation and stays within its bo
         }
         prev = m.misclassified;
     }
-    const sk::RunResult pcf = f.run("dual_paraboloid", sk::ParamSet{{{"size", 887.0}, {"tess", 1.0}, {"pcf", 1.0}}});
+    const sk::RunResult pcf = f.run("dual_paraboloid", sk::ParamSet::parse_named("size=887 tess=1 pcf=1"));
     const sk::Metrics mp = sk::compute_metrics(f.g, f.ref, pcf.visibility, true);
     MESSAGE("dual paraboloid 887 tess 1, 3x3 PCF across the rim: misclassified " << mp.misclassified << ", RMSE " << mp.rmse);
     CHECK(mp.misclassified <= 0.01);

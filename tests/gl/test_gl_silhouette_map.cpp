@@ -122,8 +122,9 @@ void compare(const sk::Scene& scene, bool check) {
     REQUIRE(plain);
     sk::RunContext ctx{scene, gpu, 2, 1, &g};
     for (int size : {128, 256}) {
-        const sk::ParamSet ps{{{"size", double(size)}}};
-        const sk::RunResult rs = sil->run(ctx, ps), rp = plain->run(ctx, ps);
+        const std::string n = "size=" + std::to_string(size);
+        const sk::RunResult rs = sil->run(ctx, sk::ParamSet::parse_named(n)),
+                            rp = plain->run(ctx, sk::ParamSet::parse_named("map=plain " + n));
         REQUIRE_MESSAGE(rs.ok, rs.error);
         REQUIRE_MESSAGE(rp.ok, rp.error);
         CHECK(rs.gpu_bytes == doctest::Approx(double(rp.gpu_bytes)).epsilon(0.01));  // equal memory
@@ -182,7 +183,7 @@ TEST_CASE("fence at low resolution: multi-edge texels are detected, the map stil
     sk::Technique* sil = find(techniques, "silhouette_map");
     REQUIRE(sil);
     sk::RunContext ctx{scene, gpu, 2, 1, &g};
-    const sk::RunResult r = sil->run(ctx, sk::ParamSet{{{"size", 128.0}}});
+    const sk::RunResult r = sil->run(ctx, sk::ParamSet::parse_named("size=128"));
     REQUIRE_MESSAGE(r.ok, r.error);
     double fail = -1.0, frac = -1.0;
     for (const auto& q : r.quality) {

@@ -4,11 +4,15 @@
 //     that emulates the hardware 2x2 bilinear depth compare (GL 4.6 sec. 8.23.1: compare each of
 //     the four texels, then filter the results with the bilinear weights); at texel centres the
 //     box kernel must give the exact fraction of passing taps;
-// (b) PCSS (the report's driver: pcss.hpp uniforms + glsl/pcss.glsl) on the `square` scene against
-//     the Embree reference: far below the hard shadow map's error and below a measured bound;
-//     light size 0 gives exactly the hard lookup's image;
+// (b) PCSS (the sample's Pcss class through the report's wrapper: pcss.hpp uniforms + glsl/pcss.glsl)
+//     on the `square` scene against the Embree reference: far below the hard shadow map's error and
+//     below a measured bound; a light of size 0 gives exactly the hard lookup's image;
 // (c) the sampled area light converges: error falls from N = 4 to 16 to 64 maps;
 // (d) PCSS with GL_DEPTH_COMPONENT24 and GL_DEPTH_COMPONENT32F maps both stay within the bound.
+// (e) the Pcss class's bias settings (the report's bias study) on a grazing light: acne without bias,
+//     peter-panning with a large constant, neither with the receiver plane, also under a 4-texel PCF;
+// (f) issue 18's View contract: a fit camera other than the G-buffer's leaves V unchanged;
+// (g) a light a class cannot map (point, directional, line) is an error naming the lights that work.
 #include <doctest/doctest.h>
 
 #include <glm/glm.hpp>
@@ -522,10 +526,11 @@ SquareFixture& square_fixture() {
     return f;
 }
 
-sk::RunResult run(SquareFixture& f, const std::string& name, const sk::ParamSet& ps) {
+// `scene`: the fixture's (default) or a copy with another light over the same G-buffer.
+sk::RunResult run(SquareFixture& f, const std::string& name, const sk::ParamSet& ps, const sk::Scene* scene = nullptr) {
     for (auto& t : f.techniques)
         if (t->name() == name) {
-            sk::RunContext ctx{f.scene, f.gpu, 1, 0, nullptr};
+            sk::RunContext ctx{scene ? *scene : f.scene, f.gpu, 1, 0, nullptr};
             return t->run(ctx, ps);
         }
     return sk::RunResult::failure("no technique " + name);
@@ -552,7 +557,7 @@ TEST_CASE("PCSS on the square scene: far below the hard shadow map, within the b
     REQUIRE_MESSAGE(hard.ok, hard.error);
     const sk::Metrics mh = metrics(f, hard);
     for (int rot = 0; rot <= 1; ++rot) {
-        const sk::RunResult p = run(f, "pcss", sk::ParamSet{{{"taps", 32.0}, {"rotate", double(rot)}}});
+        const sk::RunResult p = run(f, "pcss", sk::ParamSet::parse_named(std::string("filter=pcss taps=32 rotate=") + (rot ? "on" : "off")));
         REQUIRE_MESSAGE(p.ok, p.error);
         const sk::Metrics mp = metrics(f, p);
         MESSAGE("PCSS 32+32 rotate=" << rot << ": RMSE " << mp.rmse << " (penumbra " << mp.penumbra_rmse
@@ -563,9 +568,12 @@ TEST_CASE("PCSS on the square scene: far below the hard shadow map, within the b
         CHECK(mp.penumbra_rmse < 0.25 * mh.penumbra_rmse);
         for (float v : p.visibility) CHECK_FALSE(std::isnan(v));
     }
-    // light size 0: the blocker search region and the filter collapse to the single 2x2 compare
-    const sk::RunResult zero = run(f, "pcss", sk::ParamSet{{{"taps", 32.0}, {"rotate", 1.0}, {"light_scale", 0.0}}});
-    const sk::RunResult hard_lookup = run(f, "pcss", sk::ParamSet{{{"taps", 32.0}, {"hard", 1.0}, {"light_scale", 0.0}}});
+    // light size 0: the blocker search region and the filter collapse to the single 2x2 compare (the
+    // same map: the same near plane at the casters, the same bias; filter=hard is that one compare)
+    sk::Scene point_sized = f.scene;
+    point_sized.light.size = 0.f;
+    const sk::RunResult zero = run(f, "pcss", sk::ParamSet::parse_named("filter=pcss taps=32 rotate=on"), &point_sized);
+    const sk::RunResult hard_lookup = run(f, "pcss", sk::ParamSet::parse_named("filter=hard taps=32"), &point_sized);
     REQUIRE(zero.ok);
     REQUIRE(hard_lookup.ok);
     REQUIRE(zero.visibility.size() == hard_lookup.visibility.size());
@@ -586,7 +594,7 @@ TEST_CASE("sampled area light converges: RMSE falls monotonically from 4 to 16 t
     REQUIRE(f.ok);
     double prev = 1e9;
     for (int n : {4, 16, 64}) {
-        const sk::RunResult r = run(f, "sampled_area", sk::ParamSet{{{"maps", double(n)}}});
+        const sk::RunResult r = run(f, "sampled_area", sk::ParamSet::parse_named("maps=" + std::to_string(n)));
         REQUIRE_MESSAGE(r.ok, r.error);
         const sk::Metrics m = metrics(f, r);
         MESSAGE("sampled_area N=" << n << ": RMSE " << m.rmse << " (penumbra " << m.penumbra_rmse << ")");
@@ -602,7 +610,8 @@ TEST_CASE("PCSS with 24-bit and float32 depth maps both stay within the bound") 
     REQUIRE(f.ok);
     double rm[2] = {0, 0};
     for (int d24 = 0; d24 <= 1; ++d24) {
-        const sk::RunResult r = run(f, "pcss", sk::ParamSet{{{"taps", 32.0}, {"rotate", 1.0}, {"depth24", double(d24)}}});
+        const sk::RunResult r =
+            run(f, "pcss", sk::ParamSet::parse_named(std::string("filter=pcss taps=32 rotate=on depth=") + (d24 ? "unorm24" : "float32")));
         REQUIRE_MESSAGE(r.ok, r.error);
         rm[d24] = metrics(f, r).rmse;
         double bits = 0;
@@ -614,4 +623,112 @@ TEST_CASE("PCSS with 24-bit and float32 depth maps both stay within the bound") 
         CHECK(rm[d24] < kPcssSquareBound);
     }
     CHECK(std::abs(rm[0] - rm[1]) < 0.002);
+}
+
+// ---------------------------------------------------------------------------------- the classes' settings
+
+namespace {
+
+double quality(const sk::RunResult& r, const std::string& k) {
+    for (const auto& [name, v] : r.quality)
+        if (name == k) return v;
+    return -1.0;
+}
+
+}  // namespace
+
+// The depth-bias study is a sweep of the Pcss class's bias settings (samples/pcss/). On `grazing` (a
+// square light 11 degrees above the floor) the lookup without bias shades most lit receivers (acne),
+// a constant large enough for the hard lookup detaches the shadows from their contact lines
+// (peter-panning), and the receiver plane has neither; a 4-texel PCF with the constant that suffices for
+// one 2x2 compare has acne again (its taps reach farther along the slope), the receiver plane does not.
+TEST_CASE("Pcss bias settings on a grazing light: none gives acne, constant peter-panning, the receiver plane neither") {
+    (void)gl_test_context();
+    sk::Scene scene;
+    REQUIRE(sk::make_builtin_scene("grazing", scene));
+    sk::SceneGpu gpu;
+    sk::GBuffer g;
+    std::string why;
+    REQUIRE_MESSAGE(sk::prepare_scene_gpu(scene, 256, 192, gpu, g, why), why);
+    auto techniques = sk::make_techniques();
+    sk::Technique* bias = nullptr;
+    for (auto& t : techniques)
+        if (t->name() == "bias") bias = t.get();
+    REQUIRE(bias != nullptr);
+    auto run_bias = [&](const std::string& settings) {
+        sk::RunResult r = bias->run(sk::RunContext{scene, gpu, 1, 0, &g}, sk::ParamSet::parse_named(settings + " horizon=off"));
+        REQUIRE_MESSAGE(r.ok, r.error);
+        MESSAGE(settings << ": acne " << quality(r, "acne_fraction") << ", peter-panning " << quality(r, "peter_pan_px") << " px");
+        return r;
+    };
+    const sk::RunResult none = run_bias("filter=hard bias=none");
+    const sk::RunResult constant = run_bias("filter=hard bias=constant constant_bias=0.05");
+    const sk::RunResult plane = run_bias("filter=hard bias=receiver_plane plane_margin=1");
+    const std::string pcf = "filter=poisson taps=16 rotate=on radius_texels=4 ";
+    const sk::RunResult pcf_constant = run_bias(pcf + "bias=constant constant_bias=0.01");
+    const sk::RunResult pcf_plane = run_bias(pcf + "bias=receiver_plane plane_margin=1");
+    CHECK(quality(none, "lit_pixels") > 1000);
+    CHECK(quality(none, "contact_pixels") > 20);
+    CHECK(quality(none, "acne_fraction") > 0.2);
+    CHECK(quality(constant, "acne_fraction") < 0.001);
+    CHECK(quality(constant, "peter_pan_px") > 1.0);
+    CHECK(quality(plane, "acne_fraction") < 0.001);
+    CHECK(quality(plane, "peter_pan_px") < 0.5);
+    CHECK(quality(pcf_constant, "acne_fraction") > 0.01);
+    CHECK(quality(pcf_plane, "acne_fraction") < 0.001);
+}
+
+// issue 18's View contract for the family: every class fits its map(s) to the scene, not to the camera,
+// and evaluates V at the G-buffer's points, so a fit camera other than the G-buffer's changes nothing.
+TEST_CASE("PCF, PCSS, the sampled area light and the pre-filtered maps: a moved fit camera leaves V unchanged") {
+    (void)gl_test_context();
+    SquareFixture& f = square_fixture();
+    REQUIRE(f.ok);
+    sk::Camera moved = f.scene.camera;
+    moved.eye += glm::vec3(0.7f, 0.4f, -0.5f);
+    const std::pair<const char*, const char*> rows[] = {{"pcf", "filter=poisson radius_from_light=on"},
+                                                        {"pcss", "filter=pcss"},
+                                                        {"sampled_area", "maps=8"},
+                                                        {"vsm", "method=vsm size=512"}};
+    for (const auto& [name, settings] : rows) {
+        sk::RunResult a, b;
+        for (auto& t : f.techniques)
+            if (t->name() == name) {
+                sk::RunContext ctx{f.scene, f.gpu, 1, 0, nullptr};
+                a = t->run(ctx, sk::ParamSet::parse_named(settings));
+                ctx.fit_camera = &moved;
+                b = t->run(ctx, sk::ParamSet::parse_named(settings));
+            }
+        REQUIRE_MESSAGE(a.ok, std::string(name) << ": " << a.error);
+        REQUIRE_MESSAGE(b.ok, std::string(name) << ": " << b.error);
+        CHECK_MESSAGE(a.visibility == b.visibility, std::string(name));
+    }
+}
+
+// A light the technique cannot map is an error that says which lights work (the samples stop with it;
+// the report shows a failed row), never a silent picture.
+TEST_CASE("lights the family cannot map: an error naming the lights that work") {
+    (void)gl_test_context();
+    for (const char* scene_name : {"room", "outdoor", "linear"}) {
+        sk::Scene scene;
+        REQUIRE(sk::make_builtin_scene(scene_name, scene));
+        sk::SceneGpu gpu;
+        sk::GBuffer g;
+        std::string why;
+        REQUIRE_MESSAGE(sk::prepare_scene_gpu(scene, 64, 48, gpu, g, why), why);
+        auto techniques = sk::make_techniques();
+        for (auto& t : techniques) {
+            const std::string n = t->name();
+            if (n != "pcss" && n != "sampled_area" && n != "msm") continue;
+            const sk::RunResult r = t->run(sk::RunContext{scene, gpu, 1, 0, nullptr}, sk::ParamSet{});
+            const bool directional = scene.light.type == sk::LightType::Directional;
+            MESSAGE(std::string(scene_name) << " / " << n << ": " << (r.ok ? std::string("ok") : r.error));
+            if (n == "msm" && directional) {  // one orthographic map
+                CHECK(r.ok);
+                continue;
+            }
+            CHECK_FALSE(r.ok);
+            CHECK(r.error.find("spot") != std::string::npos);
+        }
+    }
 }

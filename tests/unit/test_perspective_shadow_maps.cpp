@@ -962,3 +962,82 @@ TEST_CASE("warp: depth conventions agree (GL vs zero-to-one vs reversed)") {
         CHECK(zc == doctest::Approx(1.0 - zb).epsilon(1e-5));
     }
 }
+
+// Issue 13 (composition), follow-up: a point light just above a wide scene. light_frustum.hpp aims its
+// point-light frustum at the axis of the narrowest cone holding the receivers and fits such a light;
+// the warps aimed theirs at the receivers' box center (refined to the middle of their angular extent
+// only when every point lay in front of that first axis), so the box center, below the scene's top,
+// put the far receivers at the light's height beside or behind the axis: LightInsideVolume for the
+// composition scene's point light 0.2 and 0.6 units above its top, which light_frustum_fit fits.
+// Expected (closed form, as in test_light_frustum): a frustum pointing straight down holds every
+// receiver with per-axis tangents <= 20 (the light is e above the box top, every box point within 20 e
+// horizontally), so every method must give Ok, and every receiver point in the camera's slice must map
+// into the map's clip volume (light_view_proj for x, y and depth_view_proj for the depth).
+TEST_CASE("warp: a point light just above a wide scene gets one map (issue 13 composition)") {
+    // the composition test's scene and camera (docs/composition.md), the light 0.2 and 0.6 above the top
+    for (float above : {0.2f, 0.6f, 1.0f}) {
+        WarpInput in;
+        in.camera_view = glm::lookAt(glm::vec3(0.5f, 5.5f, 7.5f), glm::vec3(0.0f, 0.5f, 0.0f), glm::vec3(0, 1, 0));
+        in.camera_proj = glm::infinitePerspective(glm::radians(50.0f), 192.0f / 144.0f, 0.1f);
+        in.max_distance = 30.0f;
+        in.has_scene_bounds = true;
+        in.scene_min = glm::vec3(-4.0f, 0.0f, -4.0f);
+        in.scene_max = glm::vec3(4.0f, 2.2f, 4.0f);
+        in.light_position = glm::vec4(0.2f, 2.2f + above, 0.1f, 1.0f);
+        for (int m = 0; m < 4; ++m) {
+            const WarpResult r = warp_matrix(in, kMethods[m]);
+            CHECK_MESSAGE(r.status == Status::Ok, kNames[m], " ", above, " above the top: ", std::string(status_name(r.status)));
+            CHECK(r.visible);
+        }
+    }
+    std::mt19937 rng(1313);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int fitted[4] = {0, 0, 0, 0}, points = 0;
+    const int N = 600;
+    for (int it = 0; it < N; ++it) {
+        const float a = 2.0f + 8.0f * u(rng), b = 2.0f + 8.0f * u(rng), h = 0.5f + 3.0f * u(rng);
+        const glm::vec3 lo(-a, 0.0f, -b), hi(a, h, b);
+        const glm::vec3 foot(a * (u(rng) - 0.5f), 0.0f, b * (u(rng) - 0.5f));
+        const float reach = std::max(std::max(a + std::fabs(foot.x), b + std::fabs(foot.z)), 1e-3f);
+        const float e = reach / 20.0f * (1.0f + 3.0f * u(rng));  // at least the height with tangents <= 20
+        WarpInput in;
+        const glm::vec3 eye(a * (u(rng) - 0.5f), h + 2.0f + 4.0f * u(rng), b + 2.0f + 6.0f * u(rng));
+        in.camera_view = glm::lookAt(eye, glm::vec3(0.0f, 0.5f * h, 0.0f), glm::vec3(0, 1, 0));
+        in.camera_proj = glm::infinitePerspective(glm::radians(40.0f + 40.0f * u(rng)), 1.0f + u(rng), 0.1f);
+        in.max_distance = 100.0f;
+        in.has_scene_bounds = true;
+        in.scene_min = lo;
+        in.scene_max = hi;
+        in.light_position = glm::vec4(foot.x, h + e, foot.z, 1.0f);
+        const glm::mat4 vp = in.camera_proj * in.camera_view;
+        std::vector<glm::dvec3> recv;
+        for (int k = 0; k < 200; ++k) {
+            const glm::vec3 p = lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng));
+            const glm::vec4 c = vp * glm::vec4(p, 1.0f);
+            const float d = -(in.camera_view * glm::vec4(p, 1.0f)).z;
+            if (c.w > 0.0f && std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && d >= 0.1f && d <= in.max_distance)
+                recv.push_back(glm::dvec3(p));
+        }
+        for (int m = 0; m < 4; ++m) {
+            const WarpResult r = warp_matrix(in, kMethods[m]);
+            if (r.status != Status::Ok) {
+                FAIL_CHECK(kNames[m] << " it=" << it << ": " << std::string(status_name(r.status)) << " for a light " << e << " above a "
+                                     << 2 * a << " x " << 2 * b << " scene");
+                continue;
+            }
+            if (!r.visible) continue;
+            ++fitted[m];
+            for (const glm::dvec3& p : recv) {
+                ++points;
+                if (!in_clip2(r.light_view_proj, r.depth_view_proj, p, in.light_depth, 1e-3)) {
+                    FAIL_CHECK(kNames[m] << " it=" << it << ": receiver outside the map's clip volume");
+                    break;
+                }
+            }
+        }
+    }
+    MESSAGE("wide scenes, a point light just above: fitted uniform " << fitted[0] << ", psm " << fitted[1] << ", lispsm "
+                                                                      << fitted[2] << ", tsm " << fitted[3] << " of " << N
+                                                                      << "; " << points << " receiver checks");
+    for (int m = 0; m < 4; ++m) CHECK(fitted[m] > N * 5 / 6);
+}

@@ -831,4 +831,44 @@ TEST_CASE("property (issue 16): the one-pass branch-free side quads and caps equ
         }
     }
     CHECK(compared > 10000);
+    // Large triangle counts (the 64-triangle groups of the SSE2 caps writer): lit patterns random,
+    // in runs (a smooth mesh), all and none; an out-of-range index anywhere (in a group or in the
+    // tail); capacities around every group boundary and around the need.
+    std::size_t big = 0;
+    for (int it = 0; it < 300; ++it) {
+        const std::size_t n = 1 + rng() % 5000, tris = 60 + rng() % 700;
+        std::vector<std::uint32_t> idx(3 * tris);
+        for (auto& i : idx) i = static_cast<std::uint32_t>(rng() % n);
+        if (it % 6 == 0) idx[rng() % idx.size()] = static_cast<std::uint32_t>(n + rng() % 3);
+        std::vector<std::uint8_t> lit(tris);
+        const int pattern = it % 4;
+        bool run = false;
+        for (auto& l : lit) {
+            if (pattern == 1 && rng() % 40 == 0) run = !run;
+            l = static_cast<std::uint8_t>(pattern == 0 ? (rng() % 2) * (1 + rng() % 255) : pattern == 1 ? (run ? 7 : 0) : pattern == 2 ? 1 : 0);
+        }
+        const bool ek = rng() % 3 == 0, dark = rng() % 3 != 0;
+        std::vector<std::size_t> caps = {0, 1, 7, 2 * idx.size(), 2 * idx.size() + 8};
+        const Ref full = ref_caps(idx, lit, n, ek, dark, 2 * idx.size() + 8);
+        for (std::size_t d = 0; d < 10; ++d) {
+            caps.push_back(full.needed + d > 5 ? full.needed + d - 5 : d);
+            caps.push_back(rng() % (2 * idx.size() + 9));
+            caps.push_back(6 * 64 * (1 + rng() % 4) + rng() % 16);  // around a group's room check
+        }
+        for (std::size_t cap : caps) {
+            const Ref r = ref_caps(idx, lit, n, ek, dark, cap);
+            std::vector<std::uint32_t> out(cap + 1, 0xC0FFEEu);
+            const sk::VolumeBuffer b = sk::volume_build_caps(idx.data(), idx.size(), lit.data(), lit.size(), n,
+                                                             ek ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly, dark,
+                                                             out.data(), cap);
+            REQUIRE(b.status == r.status);
+            CHECK(out[cap] == 0xC0FFEEu);
+            if (r.status == sk::Status::IndexOutOfRange) continue;
+            REQUIRE(b.count == r.count);
+            REQUIRE(b.needed == r.needed);
+            CHECK(std::equal(r.out.begin(), r.out.end(), out.begin()));
+            ++big;
+        }
+    }
+    CHECK(big > 5000);
 }

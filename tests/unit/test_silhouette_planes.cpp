@@ -1,6 +1,6 @@
 // Unit tests for the cached-plane fast path of shadowkit/silhouette.hpp (silhouette_build_planes,
 // silhouette_compute_facing_planes[_chunk], silhouette_extract_planes[_chunk],
-// silhouette_extract_parallel_planes; issue 16).
+// silhouette_extract_parallel_planes, silhouette_extract_planes_side_quads; issue 16).
 // Expected values: the exact reference path of the same header (silhouette_compute_facing, which the
 // tests of test_silhouette.cpp check against brute force) and, for the facing bits, the independent
 // big-integer evaluation of exact_facing_reference.hpp. The claim tested: the fast path's facing bits
@@ -145,6 +145,43 @@ void check_same(const Mesh& m, const sk::SilhouetteAdjacency& adj, const sk::Sil
         v.resize(sq.count + cp.count);
     }
     CHECK(vs == vf);
+    // the side quads straight from the fast extraction: the first 3 * rs.count elements of the exact
+    // path's volume buffer (volume_build_side_quads of silhouette_extract's edges), nothing past them
+    std::vector<std::uint32_t> q(3 * cap + 1, 0xFEu);
+    const sk::SilhouetteResult rq = sk::silhouette_extract_planes_side_quads(adj, pl, fast.data(), fc, q.data(), 3 * cap);
+    REQUIRE(rq.status == sk::Status::Ok);
+    CHECK(rq.count == 3 * rs.count);
+    CHECK(rq.needed == 3 * rs.needed);
+    CHECK(rq.boundary_edges == rs.boundary_edges);
+    CHECK(rq.nonmanifold_edges == rs.nonmanifold_edges);
+    CHECK(std::equal(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(rq.count), vs.begin()));
+    CHECK(std::all_of(q.begin() + static_cast<std::ptrdiff_t>(rq.count), q.end(), [](std::uint32_t x) { return x == 0xFEu; }));
+}
+
+// Noisy open height field of nx * nz quads (boundary edges), optionally with `fins` extra triangles
+// on interior edges (non-manifold: three faces on an edge) and a duplicated face. With `same_diagonal`
+// every quad is split the same way: facing[f] = f % 2 then makes every interior edge a silhouette edge.
+Mesh noisy_grid(int nx, int nz, int fins, std::mt19937& rng, bool same_diagonal = false) {
+    Mesh m;
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i <= nx; ++i)
+        for (int j = 0; j <= nz; ++j)
+            m.p.emplace_back(static_cast<float>(i), 0.3f * u(rng), static_cast<float>(j));
+    auto id = [&](int i, int j) { return static_cast<std::uint32_t>(i * (nz + 1) + j); };
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < nz; ++j) {
+            const std::uint32_t a = id(i, j), b = id(i, j + 1), c = id(i + 1, j), d = id(i + 1, j + 1);
+            if (same_diagonal || (rng() & 1)) m.i.insert(m.i.end(), {a, b, d, a, d, c});
+            else m.i.insert(m.i.end(), {a, b, c, b, d, c});
+        }
+    for (int f = 0; f < fins; ++f) {
+        const std::size_t t = rng() % (m.i.size() / 3);
+        const std::uint32_t a = m.i[3 * t], b = m.i[3 * t + 1];
+        m.p.push_back(0.5f * (m.p[a] + m.p[b]) + glm::vec3(0.1f * u(rng), 1.0f + u(rng), 0.1f * u(rng)));
+        m.i.insert(m.i.end(), {a, b, static_cast<std::uint32_t>(m.p.size() - 1)});
+    }
+    if (fins > 0) m.i.insert(m.i.end(), {m.i[0], m.i[1], m.i[2]});
+    return m;
 }
 
 } // namespace
@@ -176,6 +213,91 @@ TEST_CASE("property: cached-plane facing and silhouette equal the exact path bit
     MESSAGE(meshes << " meshes, " << lights << " lights, " << faces << " face facings compared, " << lit << " lit, "
                    << exact_faces << " faces stored for the exact path only");
     CHECK(faces > 100000);
+}
+
+TEST_CASE("property: fast extraction and side quads on large open grids equal the exact path, any capacity, nothing past count") {
+    // Meshes of 8 .. 5000 faces (many 64-edge groups, boundary edges in most groups, non-manifold
+    // fins), facing from random lights, random bytes or a checkerboard (every interior edge on the
+    // silhouette: full 64-edge groups), every buffer capacity from 0 to the full size: the fast pairs
+    // / flags / side quads are a prefix of the exact path's (whole edges / quads), the statuses and
+    // `needed` match, and no element past `count` is touched.
+    std::mt19937 rng(160016);
+    std::size_t configs = 0, edges_seen = 0, short_calls = 0;
+    for (int it = 0; it < 160; ++it) {
+        const Mesh m = noisy_grid(2 + static_cast<int>(rng() % 50), 2 + static_cast<int>(rng() % 50),
+                                  (it % 4 == 0) ? static_cast<int>(rng() % 12) : 0, rng, it % 3 == 1);
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+        REQUIRE(adj.status == sk::Status::Ok);
+        const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+        REQUIRE(pl.status == sk::Status::Ok);
+        const std::size_t fc = adj.face_count(), cap = sk::silhouette_indices_capacity(adj), n = m.p.size();
+        std::vector<std::uint8_t> facing(fc);
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4 L = some_light(rng, m, 20.0f, glm::vec3(10.0f, 0.0f, 10.0f));
+            if (!sk::silhouette_valid_light(L)) continue;
+            REQUIRE(sk::silhouette_compute_facing_planes(adj, pl, L, facing.data(), fc).status == sk::Status::Ok);
+            if (k == 1 && it % 3 == 1)  // checkerboard: the densest silhouette
+                for (std::size_t f = 0; f < fc; ++f) facing[f] = static_cast<std::uint8_t>(f % 2);
+            else if (k == 2 && it % 3 == 1)  // random bytes, any non-zero byte is lit
+                for (auto& f : facing) f = static_cast<std::uint8_t>((rng() & 1) ? 1 + rng() % 255 : 0);
+            else if (rng() % 5 == 0)
+                for (auto& f : facing) f = static_cast<std::uint8_t>(f ? 1 + rng() % 255 : 0);
+            std::vector<std::uint32_t> ref(cap);
+            std::vector<std::uint8_t> rfl(cap / 2);
+            const sk::SilhouetteResult rs = sk::silhouette_extract(adj, facing.data(), fc, ref.data(), cap, rfl.data(), cap / 2);
+            REQUIRE(rs.status == sk::Status::Ok);
+            std::vector<std::uint32_t> rq(3 * cap);
+            REQUIRE(sk::volume_build_side_quads(ref.data(), rs.count, n, rq.data(), rq.size()).status == sk::Status::Ok);
+            edges_seen += adj.edges.size();
+            ++configs;
+            for (int c = 0; c < 6; ++c) {
+                // pairs + flags, capacities in elements (odd ones included), flags room from 0 up
+                const std::size_t ic = c == 0 ? cap : rng() % (rs.count + 3), flc = c == 0 ? cap / 2 : ic / 2 + rng() % 3;
+                std::vector<std::uint32_t> fi(ic + 8, 0xC0FFEEu);
+                std::vector<std::uint8_t> ffl(flc + 8, 0xAAu);
+                const sk::SilhouetteResult rf = sk::silhouette_extract_planes(adj, pl, facing.data(), fc, fi.data(), ic,
+                                                                              (c % 2) ? ffl.data() : nullptr, (c % 2) ? flc : 0);
+                const std::size_t room = std::min(ic / 2, (c % 2) ? flc : ic / 2), want = 2 * std::min(room, rs.count / 2);
+                CHECK(rf.status == (want < rs.needed ? sk::Status::BufferTooSmall : sk::Status::Ok));
+                CHECK(rf.count == want);
+                CHECK(rf.needed == rs.needed);
+                CHECK(rf.boundary_edges == rs.boundary_edges);
+                CHECK(rf.nonmanifold_edges == rs.nonmanifold_edges);
+                CHECK(std::equal(fi.begin(), fi.begin() + static_cast<std::ptrdiff_t>(want), ref.begin()));
+                CHECK(std::all_of(fi.begin() + static_cast<std::ptrdiff_t>(want), fi.end(), [](std::uint32_t x) { return x == 0xC0FFEEu; }));
+                if (c % 2) {
+                    CHECK(std::equal(ffl.begin(), ffl.begin() + static_cast<std::ptrdiff_t>(want / 2), rfl.begin()));
+                    CHECK(std::all_of(ffl.begin() + static_cast<std::ptrdiff_t>(want / 2), ffl.end(), [](std::uint8_t x) { return x == 0xAAu; }));
+                }
+                // side quads, any capacity: the whole quads that fit
+                const std::size_t qc = c == 0 ? 3 * cap : rng() % (3 * rs.count + 7), qwant = 6 * std::min(qc / 6, rs.count / 2);
+                std::vector<std::uint32_t> q(qc + 8, 0xC0FFEEu);
+                const sk::SilhouetteResult rqf = sk::silhouette_extract_planes_side_quads(adj, pl, facing.data(), fc, q.data(), qc);
+                CHECK(rqf.status == (qwant < 3 * rs.needed ? sk::Status::BufferTooSmall : sk::Status::Ok));
+                CHECK(rqf.count == qwant);
+                CHECK(rqf.needed == 3 * rs.needed);
+                CHECK(rqf.boundary_edges == rs.boundary_edges);
+                CHECK(rqf.nonmanifold_edges == rs.nonmanifold_edges);
+                CHECK(std::equal(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(qwant), rq.begin()));
+                CHECK(std::all_of(q.begin() + static_cast<std::ptrdiff_t>(qwant), q.end(), [](std::uint32_t x) { return x == 0xC0FFEEu; }));
+                short_calls += c > 0;
+            }
+            // chunked: any chunk count, chunks starting anywhere in a 64-edge group
+            const std::size_t chunks = 1 + rng() % 13;
+            std::vector<sk::SilhouetteResult> per(chunks);
+            std::vector<std::uint32_t> ci(cap);
+            std::vector<std::uint8_t> cf(cap / 2);
+            for (std::size_t ch = 0; ch < chunks; ++ch)
+                per[ch] = sk::silhouette_extract_planes_chunk(adj, pl, facing.data(), fc, ci.data(), cap, cf.data(), cap / 2, ch, chunks);
+            const sk::SilhouetteResult rc = sk::silhouette_compact_chunks(adj, per.data(), chunks, ci.data(), cap, cf.data(), cap / 2);
+            REQUIRE(rc.status == sk::Status::Ok);
+            REQUIRE(rc.count == rs.count);
+            CHECK(std::equal(ci.begin(), ci.begin() + static_cast<std::ptrdiff_t>(rs.count), ref.begin()));
+            CHECK(std::equal(cf.begin(), cf.begin() + static_cast<std::ptrdiff_t>(rs.count / 2), rfl.begin()));
+        }
+    }
+    MESSAGE(configs << " grid configurations, " << edges_seen << " edges, " << short_calls << " short-buffer calls");
+    CHECK(configs > 300);
 }
 
 TEST_CASE("cached planes: every face's bit equals the independent big-integer sign, light on every vertex") {
@@ -315,9 +437,31 @@ TEST_CASE("cached planes: statuses (mismatched adjacency, failed build, bad ligh
           sk::Status::InvalidArgument);
     CHECK(sk::silhouette_extract_planes_chunk(adj, pl, facing.data(), facing.size(), idx.data(), idx.size() - 1, nullptr, 0, 0, 1)
               .status == sk::Status::BufferTooSmall);
+    // the side quads entry point: the same argument checks, no flags
+    std::vector<std::uint32_t> quads(3 * idx.size());
+    const sk::SilhouetteResult fq = sk::silhouette_extract_planes_side_quads(adj, pl, facing.data(), facing.size(), quads.data(), quads.size());
+    CHECK(fq.status == sk::Status::Ok);
+    CHECK(fq.count == 3 * full.count);
+    CHECK(sk::silhouette_extract_planes_side_quads(adj, pl, facing.data(), facing.size() - 1, quads.data(), quads.size()).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_extract_planes_side_quads(adj2, pl, facing.data(), facing.size(), quads.data(), quads.size()).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_extract_planes_side_quads(adj, pl, nullptr, facing.size(), quads.data(), quads.size()).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_extract_planes_side_quads(adj, pl, facing.data(), facing.size(), nullptr, 6).status ==
+          sk::Status::InvalidArgument);
+    CHECK(sk::silhouette_extract_planes_side_quads(sk::SilhouetteAdjacency{}, pl, facing.data(), facing.size(), quads.data(),
+                                                   quads.size()).status == sk::Status::InvalidArgument);
+    const sk::SilhouetteResult none = sk::silhouette_extract_planes_side_quads(adj, pl, facing.data(), facing.size(), nullptr, 0);
+    CHECK(none.status == sk::Status::BufferTooSmall);
+    CHECK(none.count == 0);
+    CHECK(none.needed == 3 * full.count);
     // an empty mesh is Ok
     const sk::SilhouetteAdjacency empty = sk::silhouette_build_adjacency(nullptr, 0, nullptr, 0);
     const sk::SilhouettePlanes pe = sk::silhouette_build_planes(empty, nullptr, 0);
     CHECK(pe.status == sk::Status::Ok);
     CHECK(sk::silhouette_compute_facing_planes(empty, pe, L, nullptr, 0).status == sk::Status::Ok);
+    const sk::SilhouetteResult eq = sk::silhouette_extract_planes_side_quads(empty, pe, nullptr, 0, nullptr, 0);
+    CHECK(eq.status == sk::Status::Ok);
+    CHECK(eq.count == 0);
 }

@@ -157,13 +157,13 @@ void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                        "edge (penumbra_wedge.hpp, glsl/penumbra_wedge.glsl), signed analytic coverage added into R32F; "
                        "per-wedge scissor and depth bounds; projection=infinite: epsilon-tweaked P_inf";
     spec.hard = false;
-    spec.sweep_for = [](const Scene& scene, bool quick) -> std::vector<std::string> {
+    spec.applies = [](const Scene& scene) {  // a light with an area
         const Light& L = scene.light;
-        const bool area =
-            (L.type == LightType::Rect || L.type == LightType::Disk || L.type == LightType::Sphere) && L.size > 0.f;
-        if (!area) return {};
+        return (L.type == LightType::Rect || L.type == LightType::Disk || L.type == LightType::Sphere) && L.size > 0.f;
+    };
+    spec.sweep_for = [](const Scene& scene, bool quick) -> std::vector<std::string> {
         if (quick) return {"scissor=off depth_bounds=off", "scissor=on depth_bounds=on"};
-        if (L.type == LightType::Rect)
+        if (scene.light.type == LightType::Rect)
             return {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off",
                     "scissor=off depth_bounds=on",  "scissor=on depth_bounds=on",
                     "scissor=on depth_bounds=on projection=infinite", "scissor=on depth_bounds=on rect_radius=bounding"};

@@ -58,6 +58,12 @@ void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                        "RG32F GL_MIN smoothie buffer; t in light NDC (t_from_light: from the light's size at the median "
                        "silhouette depth), size = map resolution";
     spec.hard = false;
+    spec.applies = [](const Scene& scene) {
+        // the report's light-size variants are named "<scene>@light=<k>"
+        const bool mesh = scene.name.rfind("mesh:", 0) == 0;
+        const bool variant = scene.name.find('@') != std::string::npos && scene.light.is_area();
+        return scene.name == "stack" || scene.name == "contact" || scene.name == "overlap" || mesh || variant;
+    };
     spec.sweep_for = [](const Scene& scene, bool quick) -> std::vector<std::string> {
         auto row = [](double t, int size) {
             char b[64];
@@ -69,10 +75,6 @@ void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out) {
             if (quick) return {row(0.02, 1024)};
             return {row(-1, 1024), row(0.02, 1024), row(0.05, 1024)};
         }
-        // the report's light-size variants are named "<scene>@light=<k>"
-        const bool mesh = scene.name.rfind("mesh:", 0) == 0;
-        const bool variant = scene.name.find('@') != std::string::npos && scene.light.is_area();
-        if (scene.name != "contact" && scene.name != "overlap" && !mesh && !variant) return {};
         if (quick) return {row(0.05, 1024), row(-1, 1024)};
         std::vector<std::string> rows;
         for (int size : {256, 512, 1024, 2048})

@@ -1,0 +1,88 @@
+// samples/cascaded_shadow_maps/cascaded_shadow_maps.hpp - cascaded (parallel-split) shadow maps for a
+// directional light: the camera's depth range cut into up to four slices, each with its own stable
+// orthographic map (cascades.hpp: the practical split scheme, texel-snapped fits that do not shimmer), the
+// lookup picking the slice by view depth and blending into the next over a band. What the sample shows
+// and the report measures.
+//
+// A sample folder is what a user copies (the same shape in every samples/<technique>/):
+//   cascaded_shadow_maps.hpp  the settings (what the panel edits, named once in bind_settings()) and the class
+//   cascaded_shadow_maps.cpp  the technique, top to bottom in the order it runs: init (once per scene),
+//                             update (CPU, every frame), render (the GPU passes, each with its GL state)
+//   main.cpp                  the calls: the app shell (samples/app) does the window, the camera G-buffer,
+//                             the panel, the timing and the picture
+// It uses only shadowkit/cascades.hpp, glsl/cascades.glsl and the app shell's G-buffer (app/gbuffer.hpp)
+// and GL helpers (app/gl.hpp). shadowkit-report wraps this same class (samples/report/techniques/warp.cpp).
+#pragma once
+
+#include <shadowkit/cascades.hpp>
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+#include "app.hpp"
+#include "gbuffer.hpp"
+#include "gl.hpp"
+#include "params.hpp"
+
+struct CascadedShadowMapSettings {
+    int size = 1024;             ///< texels per side of each cascade's map
+    int count = 4;               ///< cascades (1 to 4)
+    float lambda = 0.75f;        ///< split scheme: 0 uniform, 1 logarithmic (Zhang et al. 2006's practical scheme between)
+    float band = 0.1f;           ///< blend into the next cascade over this last fraction of each slice
+    /// Offset of the lookup point along its normal, in texels of the cascade that serves it
+    /// (Cascade::texel_world_size): what a shadow pass without a slope-scaled offset needs against
+    /// acne (docs/cascades.md). This one has glPolygonOffset(2, 2), which is enough: the normal offset
+    /// only moves shadows off their casters (report, outdoor 512: RMSE 0.078 -> 0.095 with 1 texel).
+    float normal_offset = 0.f;
+};
+
+/// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
+inline void bind_settings(app::Params& p, CascadedShadowMapSettings& s) {
+    p.choice("size", &s.size, {{"256", 256}, {"512", 512}, {"1024", 1024}, {"2048", 2048}, {"4096", 4096}});
+    p.number("count", &s.count, 1, 4);
+    p.number("lambda", &s.lambda, 0.0, 1.0);
+    p.number("band", &s.band, 0.0, 0.5);
+    p.number("normal_offset", &s.normal_offset, 0.0, 4.0);
+}
+
+class CascadedShadowMaps {
+public:
+    CascadedShadowMaps() = default;
+    CascadedShadowMaps(const CascadedShadowMaps&) = delete;
+    CascadedShadowMaps& operator=(const CascadedShadowMaps&) = delete;
+    ~CascadedShadowMaps() { release(); }
+
+    /// The casters' bounds, the programs and the V target.
+    bool init(const app::View& v, std::string& why);
+    /// CPU, every frame: the splits and each cascade's matrix (cascade_fit).
+    void update(const app::View& v, const CascadedShadowMapSettings& s);
+    /// GPU, every frame: the casters' depth into each cascade's layer, then V at the G-buffer's points.
+    void render(const app::View& v, const CascadedShadowMapSettings& s);
+    /// R32F V at the G-buffer's pixels.
+    GLuint visibility() const { return pass_.texture(); }
+    /// Why update() found no cascades (cascade_fit's status: InvalidLight for a point, spot or area
+    /// light), "" while all is well. V is 1 (lit) meanwhile.
+    const std::string& error() const { return error_; }
+
+    /// Debug view: the depths of cascade i's map (none beyond the count).
+    app::DebugImage debug_layer(int i) const { return {i < layers_ ? layer_view_[i] : 0u, app::DebugImage::Show::Depth}; }
+
+    // What update() found, for the report's counters and metrics.
+    const shadowkit::Cascade& cascade(int i) const { return cascades_[i]; }
+    const float* splits() const { return fit_.splits; }  ///< view depths: cascade i covers [splits[i], splits[i + 1]]
+    int count() const { return layers_; }                 ///< cascades as rendered last
+    int size() const { return size_; }                    ///< texels per side of each map as rendered last
+
+private:
+    void make_maps(int size, int count);
+    void release();
+    glm::vec3 caster_lo_{0.f}, caster_hi_{0.f};
+    std::string error_;
+    shadowkit::Cascade cascades_[4];
+    shadowkit::CascadeFitResult fit_;
+    int size_ = 0, layers_ = 0;
+    GLuint maps_ = 0, fbo_[4] = {0, 0, 0, 0}, layer_view_[4] = {0, 0, 0, 0};
+    GLuint depth_prog_ = 0, vis_prog_ = 0;
+    app::VisibilityPass pass_;
+};

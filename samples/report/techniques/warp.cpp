@@ -1,0 +1,134 @@
+// samples/report/techniques/warp.cpp - "warped_sm" and "cascades" in the report: the samples'
+// WarpedShadowMaps (samples/warped_shadow_maps/) and CascadedShadowMaps (samples/cascaded_shadow_maps/)
+// classes with timing, work counters, sweeps (report_technique.hpp) and the perspective aliasing metric.
+//
+// Sweeps, translated entry by entry from the old drivers (method 0..4 = fitted, uniform, psm, lispsm,
+// tsm): warped_sm on outdoor, duel and mesh files, every method x size 512 / 1024 / 2048 (quick: 1024);
+// cascades on scenes with a sun, size 256 / 512 / 1024 with 4 cascades (quick: 512).
+// Work, from what the classes expose: shadow_map_texels, triangles_drawn and casters_drawn (warped_sm:
+// the casters drawn(); cascades: every caster into each of count() layers), casters_culled (fitted: the
+// casters light_frustum_fit proved unable to shadow the view; 0 otherwise); gpu_bytes: the maps (4 bytes
+// a texel). Quality: fallback_uniform (1 when the warp fell back to the uniform fit), and over the lit
+// receiver pixels of the G-buffer (ctx.gbuffer) the perspective aliasing warp_aliasing_error (screen
+// pixels per texel: aliasing_mean, aliasing_max, undersampled_fraction with > 1), for cascades with
+// the cascade the view depth selects (cascade_select_by_depth).
+#include <shadowkit/cascades.hpp>
+#include <shadowkit/perspective_shadow_maps.hpp>
+
+#include <algorithm>
+
+#include "cascaded_shadow_maps.hpp"
+#include "report_technique.hpp"
+#include "warped_shadow_maps.hpp"
+
+namespace sk {
+
+namespace {
+
+// Perspective aliasing over the G-buffer's receiver pixels that face the light: light_vps[which[k]]
+// at pixel k (which empty: light_vps[0]; which[k] < 0: not counted).
+void add_aliasing(RunResult& r, const Scene& scene, const SceneGpu& gpu, const GBuffer& g,
+                  const std::vector<glm::mat4>& light_vps, const std::vector<int>& which, int size) {
+    const glm::mat4 cam_vp = gpu.proj * gpu.view;
+    double sum = 0.0, mx = 0.0;
+    std::size_t n = 0, under = 0;
+    for (std::size_t k = 0; k < g.kind.size(); ++k) {
+        if (g.kind[k] != 1) continue;
+        const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+        const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+        const glm::vec3 l = scene.light.type == LightType::Directional ? -glm::normalize(scene.light.direction)
+                                                                       : glm::normalize(scene.light.position - p);
+        if (glm::dot(nn, l) <= 0.f) continue;  // facing away (NaN counts as facing)
+        const int c = which.empty() ? 0 : which[k];
+        if (c < 0) continue;
+        const shadowkit::WarpAliasingValue ev = shadowkit::warp_aliasing_error(
+            light_vps[static_cast<std::size_t>(c)], cam_vp, p, nn, static_cast<std::uint32_t>(size),
+            glm::uvec2(static_cast<unsigned>(g.width), static_cast<unsigned>(g.height)));
+        if (ev.status != shadowkit::Status::Ok) continue;
+        sum += ev.value;
+        mx = std::max(mx, ev.value);
+        under += ev.value > 1.0 ? 1 : 0;
+        ++n;
+    }
+    if (n) {
+        r.quality.push_back({"aliasing_mean", sum / double(n)});
+        r.quality.push_back({"aliasing_max", mx});
+        r.quality.push_back({"undersampled_fraction", double(under) / double(n)});
+    }
+}
+
+bool measure_warped(WarpedShadowMaps& w, const WarpedShadowMapSettings&, const app::View& v, const RunContext& ctx,
+                    RunResult& r) {
+    const double texels = double(w.size()) * double(w.size());
+    std::size_t casters = 0, drawn = 0, triangles = 0;
+    for (std::size_t i = 0; i < v.scene->meshes.size(); ++i) {
+        casters += v.gpu->caster[i] ? 1 : 0;
+        if (!w.drawn(i)) continue;
+        ++drawn;
+        triangles += v.scene->meshes[i].indices.size() / 3;
+    }
+    r.gpu_bytes = static_cast<std::int64_t>(texels * 4.0);
+    r.work = {{"shadow_map_texels", texels},
+              {"triangles_drawn", double(triangles)},
+              {"casters_drawn", double(drawn)},
+              {"casters_culled", double(casters - drawn)}};
+    if (w.fallback_uniform()) r.quality.push_back({"fallback_uniform", 1.0});
+    if (ctx.gbuffer) add_aliasing(r, *v.scene, *v.gpu, *ctx.gbuffer, {w.light_view_proj()}, {}, w.size());
+    return true;
+}
+
+bool measure_cascades(CascadedShadowMaps& c, const CascadedShadowMapSettings&, const app::View& v,
+                      const RunContext& ctx, RunResult& r) {
+    const int count = c.count();
+    const double texels = double(count) * double(c.size()) * double(c.size());
+    std::size_t casters = 0;
+    for (bool k : v.gpu->caster) casters += k ? 1 : 0;
+    r.gpu_bytes = static_cast<std::int64_t>(texels * 4.0);
+    r.work = {{"shadow_map_texels", texels},
+              {"triangles_drawn", double(count) * double(v.gpu->caster_triangles)},
+              {"casters_drawn", double(count) * double(casters)},
+              {"casters_culled", 0.0}};
+    if (!ctx.gbuffer) return true;
+    // aliasing per pixel with the cascade the lookup selects (by view depth)
+    const GBuffer& g = *ctx.gbuffer;
+    std::vector<int> which(g.kind.size(), -1);
+    for (std::size_t k = 0; k < g.kind.size(); ++k) {
+        if (g.kind[k] == 0) continue;
+        const glm::vec4 p = v.gpu->view * glm::vec4(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2], 1.f);
+        which[k] = shadowkit::cascade_select_by_depth(-p.z, c.splits(), static_cast<std::uint32_t>(count)).index;
+    }
+    std::vector<glm::mat4> vps;
+    for (int i = 0; i < count; ++i) vps.push_back(c.cascade(i).view_proj);
+    add_aliasing(r, *v.scene, *v.gpu, g, vps, which, c.size());
+    return true;
+}
+
+}  // namespace
+
+void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
+    ReportSpec<WarpedShadowMaps, WarpedShadowMapSettings> warped;
+    warped.name = "warped_sm";
+    warped.description = "fitted (light_frustum, caster culling) / uniform / PSM / LiSPSM / TSM shadow maps, "
+                         "with the perspective aliasing metric";
+    // the warps are about perspective aliasing: the outdoor and duelling-frusta scenes (and user meshes)
+    warped.applies = [](const Scene& s) { return s.name == "outdoor" || s.name == "duel" || s.name.rfind("mesh:", 0) == 0; };
+    for (const char* m : {"fitted", "uniform", "psm", "lispsm", "tsm"}) {
+        for (const char* size : {"512", "1024", "2048"}) warped.sweep.push_back(std::string("method=") + m + " size=" + size);
+        warped.quick.push_back(std::string("method=") + m + " size=1024");
+    }
+    warped.measure = measure_warped;
+    warped.error = [](const WarpedShadowMaps& w) { return w.error(); };
+    out.push_back(std::make_unique<ReportTechnique<WarpedShadowMaps, WarpedShadowMapSettings>>(std::move(warped)));
+
+    ReportSpec<CascadedShadowMaps, CascadedShadowMapSettings> cascades;
+    cascades.name = "cascades";
+    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band";
+    cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
+    cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4"};
+    cascades.quick = {"size=512 count=4"};
+    cascades.measure = measure_cascades;
+    cascades.error = [](const CascadedShadowMaps& c) { return c.error(); };
+    out.push_back(std::make_unique<ReportTechnique<CascadedShadowMaps, CascadedShadowMapSettings>>(std::move(cascades)));
+}
+
+}  // namespace sk
