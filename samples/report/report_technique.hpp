@@ -40,8 +40,9 @@ struct ReportSpec {
     bool hard = true;                           ///< 0/1 visibility: misclassified pixels are scored
     std::vector<std::string> sweep, quick;      ///< named settings per row, e.g. "method=zfail scissor=off"
     std::function<bool(const Scene&)> applies;  ///< the scenes it is swept on (empty: every scene)
-    /// When set, the rows per scene instead of sweep / quick (issue 18: the cached map's rows depend on the light).
-    std::function<std::vector<std::string>(const Scene&, bool quick)> scene_sweep;
+    /// Rows that differ between the scenes it applies to (the light's type, the scene): when set, used
+    /// instead of sweep / quick.
+    std::function<std::vector<std::string>(const Scene&, bool quick)> sweep_for;
     /// After the timed frames and the read-back: work counters, gpu_bytes, debug images (ctx.debug_images).
     std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
     /// The class's failure after update() ("" when fine), for classes that report one.
@@ -66,8 +67,8 @@ public:
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         std::vector<ParamSet> out;
         if (spec_.applies && !spec_.applies(scene)) return out;
-        const std::vector<std::string> rows = spec_.scene_sweep ? spec_.scene_sweep(scene, quick) : quick ? spec_.quick : spec_.sweep;
-        for (const auto& text : rows) out.push_back(ParamSet::parse_named(text));
+        for (const auto& text : spec_.sweep_for ? spec_.sweep_for(scene, quick) : quick ? spec_.quick : spec_.sweep)
+            out.push_back(ParamSet::parse_named(text));
         return out;
     }
     RunResult run(const RunContext& ctx, const ParamSet& params) override {

@@ -286,8 +286,8 @@ static void write_temporal_header(std::ofstream& f, const ReportInfo& info) {
          "Rows: per technique the lowest-RMSE setting, and the lowest of each combination of its `method`, `fit`, "
          "`cache`, `pass`, `world_depth` and `culling` settings, among settings under "
       << fmt("%.0f", info.temporal_max_ms)
-      << " ms a frame. Old drivers (not yet on the sample classes) take no fit camera: their camera paths are "
-         "not scored. Plot: `flicker_vs_error.svg`.\n";
+      << " ms a frame. A technique that takes no fit camera (Technique::honors_fit_camera) gets its camera paths "
+         "marked not scored. Plot: `flicker_vs_error.svg`.\n";
 }
 
 // Issue 18: the scene's temporal rows, after its table.

@@ -1,7 +1,6 @@
 // samples/report/techniques.cpp - the registry (make_techniques), sweeps' ParamSet, the report's
 // G-buffer read-back, and the instrument check `unshadowed`.
 #include "techniques.hpp"
-#include "driver_util.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -119,7 +118,9 @@ public:
         if (!prog) return RunResult::failure(log);
         glUseProgram(prog);
         set_light_uniforms(prog, ctx.scene.light);
-        measure_visibility(r, ctx, pass, [&] { pass.draw(prog, ctx.gpu); });
+        r.gpu_ms = skgl::median_frame_ms([&] { pass.draw(prog, ctx.gpu); }, ctx.warmup, ctx.frames);
+        r.frames = ctx.frames;
+        r.visibility = skgl::read_color_float(pass.target, 0, 1);
         glDeleteProgram(prog);
         return r;
     }

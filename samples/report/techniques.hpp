@@ -2,12 +2,10 @@
 //
 // Every technique the report scores is a `Technique`: a name, a sweep of settings and run(), which
 // renders V at the camera G-buffer's points (the same points the ray-traced reference uses), times it
-// and counts its work. Two kinds live here during the transition of issue 15:
-// - ported families: the SAME technique classes the samples show (samples/<technique>/), wrapped by
-//   ReportTechnique (report_technique.hpp; one file per family in samples/report/techniques/), their
-//   settings named (`method=zfail scissor=on`);
-// - not yet ported: the old drivers of samples/common/drivers_*.cpp (numeric ParamSet values).
-// The GL tests reach both through make_techniques().
+// and counts its work: the SAME technique classes the samples show (samples/<technique>/), wrapped by
+// ReportTechnique (report_technique.hpp; one file per family in samples/report/techniques/), their
+// settings named (`method=zfail scissor=on`), and the instrument check `unshadowed` (techniques.cpp).
+// The GL tests reach them through make_techniques().
 #pragma once
 
 #include <cstdint>
@@ -25,7 +23,7 @@
 
 namespace sk {
 
-// The app shell's names as the drivers of samples/common (old interface) use them, unqualified.
+// The app shell's names, unqualified.
 using app::compile_visibility_program;
 using app::fullscreen_vertex_shader;
 using app::load_snippet;
@@ -85,7 +83,7 @@ struct RunContext {
     int frames = 20;
     int warmup = 3;
     const GBuffer* gbuffer = nullptr;  // CPU copy of the G-buffer, for CPU-side metrics
-    bool debug_images = false;         // the old viewer and the GL tests ask for RunResult::debug (never the report)
+    bool debug_images = false;         // the GL tests ask for RunResult::debug (never the report)
     // The camera techniques fit to (shadow-map fitting, warping, cascades) when it is not the G-buffer's
     // (issue 18's temporal rows: V is still evaluated at the G-buffer's points). Ported techniques get
     // it as app::View::camera; the old drivers ignore it.
@@ -123,14 +121,11 @@ public:
     virtual std::string description() const = 0;
     virtual bool hard() const = 0;                 // produces 0/1 visibility
     virtual bool listed_by_default() const { return true; }
-    // Parameters a viewer may change live besides the swept ones, with their defaults (e.g. the
-    // light size of PCSS or penumbra wedges, which the report keeps at the scene's light).
-    virtual std::vector<std::pair<std::string, double>> live_params() const { return {}; }
     // Parameter sweep for the report; `quick` gives a shorter one.
     virtual std::vector<ParamSet> sweep(const Scene& scene, bool quick) const = 0;
     virtual RunResult run(const RunContext& ctx, const ParamSet& params) = 0;
-    // Issue 18: true when run() fits to RunContext::fit_camera (ReportTechnique: the View's camera).
-    // The old drivers fit to the G-buffer's camera: false, and the temporal rows leave out their camera paths.
+    // Issue 18: true when run() fits to RunContext::fit_camera (ReportTechnique: the View's camera). A
+    // technique that does not (false: the instrument check `unshadowed`) gets no temporal camera paths.
     virtual bool honors_fit_camera() const { return false; }
     // V at the G-buffer's points for each frame in turn (its light, its fit camera). Default
     // (samples/report/temporal.cpp): run() once per frame (frames 1, warmup 0, no CPU G-buffer);
@@ -141,7 +136,6 @@ public:
 std::vector<std::unique_ptr<Technique>> make_techniques();
 
 // Registration, one function per family, called by make_techniques(): defined in
-// samples/common/drivers_<family>.cpp (old interface) or, once the family is ported,
 // samples/report/techniques/<family>.cpp (ReportTechnique around the sample's class).
 void add_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out);

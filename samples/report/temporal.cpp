@@ -1,5 +1,5 @@
 // samples/report/temporal.cpp - the report's temporal paths and flicker metrics (issue 18), and the
-// default Technique::run_sequence (run() once per frame: the old drivers).
+// default Technique::run_sequence (run() once per frame, for a Technique that is not a ReportTechnique).
 #include "temporal.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>

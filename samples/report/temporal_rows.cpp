@@ -106,7 +106,7 @@ void run_temporal_rows(const sk::Scene& scene, const sk::SceneGpu& gpu, const sk
             if (!ref_error.empty()) {
                 tr.note = ref_error;
             } else if (camera && !tech->honors_fit_camera()) {
-                tr.note = "old driver (samples/common), takes no fit camera (RunContext::fit_camera): not scored until ported";
+                tr.note = "takes no fit camera (Technique::honors_fit_camera() is false)";
             } else {
                 sk::ParamSet ps(row->params);
                 ps.named = row->named_params;

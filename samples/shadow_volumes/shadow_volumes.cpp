@@ -175,6 +175,8 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
     }
     rlo -= glm::vec3(1e-4f * diag);
     rhi += glm::vec3(1e-4f * diag);
+    receiver_lo_ = rlo;
+    receiver_hi_ = rhi;
     shadowkit::ScissorParams sp;
     sp.view_proj = cam_vp;
     sp.viewport[2] = gpu.width;
@@ -227,7 +229,7 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
     }
 }
 
-void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
+void ShadowVolumes::render_stencil(const app::View& v, const ShadowVolumeSettings& s) {
     const app::SceneGpu& gpu = *v.gpu;
     const int W = pass_.target.width, H = pass_.target.height;
     // this frame's indices: each visible caster's sides and caps
@@ -277,8 +279,13 @@ void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
     glStencilFunc(GL_ALWAYS, 0, 0xFF);
     draw_volumes(s);
     end_volume_state();
+}
+
+void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
+    render_stencil(v, s);  // 1 and 2
 
     // 3. V = (stencil == 0) at the G-buffer's points, with the common light rules (pixels in a volume keep 0).
+    glBindFramebuffer(GL_FRAMEBUFFER, pass_.target.fbo);
     const float zero[4] = {0.f, 0.f, 0.f, 0.f};
     glClearBufferfv(GL_COLOR, 0, zero);
     glEnable(GL_STENCIL_TEST);
@@ -286,7 +293,7 @@ void ShadowVolumes::render(const app::View& v, const ShadowVolumeSettings& s) {
     glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
     glUseProgram(vis_prog_);
     app::set_light_uniforms(vis_prog_, v.light());
-    pass_.draw(vis_prog_, gpu);
+    pass_.draw(vis_prog_, *v.gpu);
     glDisable(GL_STENCIL_TEST);
 }
 
@@ -342,14 +349,7 @@ void ShadowVolumes::draw_volumes(const ShadowVolumeSettings& s) const {
             glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
             glStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
         }
-        if (s.scissor) {
-            glEnable(GL_SCISSOR_TEST);
-            glScissor(c.sc.x, c.sc.y, c.sc.width, c.sc.height);
-        }
-        if (native) {
-            glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
-            glDepthBoundsEXT(c.sc.depth_min, c.sc.depth_max);
-        }
+        set_scissor_and_depth_bounds(c.sc, s.scissor, native);
         if (emulate) glUniform2f(bounds, c.sc.depth_min, c.sc.depth_max);
         const auto at = [](std::size_t first) { return reinterpret_cast<const void*>(first * sizeof(std::uint32_t)); };
         if (c.side_count)
@@ -368,6 +368,17 @@ void ShadowVolumes::draw_volumes(const ShadowVolumeSettings& s) const {
     glDisable(GL_SCISSOR_TEST);
     if (native) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
     glBindVertexArray(0);
+}
+
+void ShadowVolumes::set_scissor_and_depth_bounds(const shadowkit::ScissorRect& sc, bool scissor, bool native_bounds) {
+    if (scissor) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(sc.x, sc.y, sc.width, sc.height);
+    }
+    if (native_bounds) {
+        glEnable(GL_DEPTH_BOUNDS_TEST_EXT);
+        glDepthBoundsEXT(sc.depth_min, sc.depth_max);
+    }
 }
 
 app::DebugImage ShadowVolumes::debug_scissor() {

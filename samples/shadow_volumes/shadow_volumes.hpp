@@ -82,6 +82,9 @@ public:
     void update(const app::View& v, const ShadowVolumeSettings& s);
     /// GPU, every frame: scene depth, the volumes into the stencil, V = (stencil == 0).
     void render(const app::View& v, const ShadowVolumeSettings& s);
+    /// render() without its last pass: the scene's depth and each point's count of volumes in the stencil of
+    /// target().target.depth (what a technique built on the volumes reads; samples/penumbra_wedges/).
+    void render_stencil(const app::View& v, const ShadowVolumeSettings& s);
     /// R32F V at the G-buffer's pixels.
     GLuint visibility() const { return pass_.texture(); }
     /// The first failure of update() (a header's status), "" while all is well.
@@ -97,10 +100,18 @@ public:
     void begin_volume_state(const ShadowVolumeSettings& s) const;
     void draw_volumes(const ShadowVolumeSettings& s) const;
     void end_volume_state() const;
+    /// One object's culling (Lengyel): its scissor rectangle (`scissor`) and its depth bounds with
+    /// GL_EXT_depth_bounds_test (`native_bounds`); the caller disables both after its last object.
+    static void set_scissor_and_depth_bounds(const shadowkit::ScissorRect& sc, bool scissor, bool native_bounds);
     const std::vector<Caster>& casters() const { return casters_; }
     const app::VisibilityPass& target() const { return pass_; }  ///< R32F V + DEPTH32F_STENCIL8
     bool native_depth_bounds() const { return native_bounds_; }  ///< GL_EXT_depth_bounds_test is there
     float projection_epsilon() const { return epsilon_; }        ///< of the infinite projections (0: finite)
+    const glm::mat4& volume_view_proj() const { return volume_vp_; }  ///< the matrix of the volumes and the depth
+    /// The box of everything that can receive this light's shadows (update(): the scene, a spot light's
+    /// cut to its cone), which the scissor rectangles are clipped to.
+    glm::vec3 receiver_min() const { return receiver_lo_; }
+    glm::vec3 receiver_max() const { return receiver_hi_; }
     std::size_t vertex_count() const { return vertex_count_; }
     std::size_t index_capacity() const { return indices_.size(); }
 
@@ -113,6 +124,7 @@ private:
     // this frame
     glm::vec4 light_{0.f};
     glm::mat4 volume_vp_{1.f};
+    glm::vec3 receiver_lo_{0.f}, receiver_hi_{0.f};
     float epsilon_ = 0.f;
     GLuint gbuffer_depth_ = 0;  // the G-buffer's depth texture: what the depth-bounds emulation reads
     // GL

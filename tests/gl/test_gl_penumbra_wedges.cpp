@@ -1,5 +1,6 @@
-// The "penumbra_wedges" driver (soft shadow volumes: silhouette.hpp + shadow_volume.hpp +
-// penumbra_wedge.hpp + glsl/penumbra_wedge.glsl on the GL driver) against the Embree area-light
+// "penumbra_wedges" (soft shadow volumes: silhouette.hpp + shadow_volume.hpp + penumbra_wedge.hpp +
+// glsl/penumbra_wedge.glsl; the PenumbraWedges class of samples/penumbra_wedges/ through the report's
+// wrapper, its settings by name) against the Embree area-light
 // reference (sk::compute_reference) and against the CPU functions of penumbra_wedge.hpp:
 //  (a) light radius 0 reduces to the hard stencil shadow volume exactly;
 //  (b) the known over-darkening where two blockers' penumbrae overlap is measured on `overlap`;
@@ -83,11 +84,8 @@ Run run(const std::string& tech, const sk::Scene& scene, Prepared& p, sk::ParamS
     return r;
 }
 
-sk::ParamSet P(std::initializer_list<std::pair<std::string, double>> v) {
-    sk::ParamSet ps;
-    for (const auto& kv : v) ps.values.push_back(kv);
-    return ps;
-}
+// Named settings of samples/penumbra_wedges/ (bind_settings), e.g. "scissor=off faces=back"; "" the defaults.
+sk::ParamSet P(const std::string& named) { return sk::ParamSet::parse_named(named); }
 
 std::size_t count_different(const std::vector<float>& a, const std::vector<float>& b) {
     std::size_t n = 0;
@@ -184,7 +182,7 @@ TEST_CASE("(a) light radius 0: the hard stencil shadow volume, pixel for pixel")
         const sk::Scene s = contact_scene();
         Prepared p;
         prepare(s, p, false);
-        const Run w = run("penumbra_wedges", s, p, P({{"light_scale", 0.0}}));
+        const Run w = run("penumbra_wedges", s, p, P("light_scale=0"));
         const Run v = run("shadow_volume", s, p, sk::ParamSet::parse_named("method=auto scissor=on depth_bounds=on"));
         MESSAGE("contact, light_scale 0: wedges " << w.work("wedges") << ", pixels different from shadow_volume "
                                                   << count_different(w.res.visibility, v.res.visibility));
@@ -198,8 +196,8 @@ TEST_CASE("(a) light radius 0: the hard stencil shadow volume, pixel for pixel")
         s.light.size = 0.f;
         Prepared p;
         prepare(s, p);
-        const Run w = run("penumbra_wedges", s, p, P({}), true);
-        const Run v = run("shadow_volume", s, p, P({}), true);
+        const Run w = run("penumbra_wedges", s, p, P(""), true);
+        const Run v = run("shadow_volume", s, p, P(""), true);
         std::size_t shadowed = 0;
         for (std::size_t k = 0; k < p.g.kind.size(); ++k) shadowed += compared(p, p.ref, k) && p.ref.visibility[k] < 0.5f;
         MESSAGE("contact with a point light: misclassified " << w.m.misclassified << " of " << w.m.pixels << " (shadowed "
@@ -223,7 +221,7 @@ TEST_CASE("(b) overlap: the additive combination over-darkens where two penumbra
     for (auto& m : only_low.meshes)
         if (m.name == "high") m.caster = false;
     const sk::Reference rh = reference_for(only_high, p.g), rl = reference_for(only_low, p.g);
-    const Run w = run("penumbra_wedges", s, p, P({}));
+    const Run w = run("penumbra_wedges", s, p, P(""));
     auto pen = [](float v) { return v > 0.02f && v < 0.98f; };
     double se_o = 0.0, sd_o = 0.0, se_s = 0.0, sd_s = 0.0, se_add = 0.0;
     std::size_t n_o = 0, n_s = 0;
@@ -264,7 +262,7 @@ TEST_CASE("(c) contact: penumbra error far below the hard shadow map's, within t
     const sk::Scene s = contact_scene();
     Prepared p;
     prepare(s, p);
-    const Run w = run("penumbra_wedges", s, p, P({}));
+    const Run w = run("penumbra_wedges", s, p, P(""));
     const Run sm = run("shadow_map", s, p, sk::ParamSet::parse_named("size=2048"));
     // The wedges compute the shadow of a disk light (here the disk of the square's area). The floor of
     // their error is the difference between the square and that disk: the reference of the same scene
@@ -291,7 +289,7 @@ TEST_CASE("(d) the GPU coverage sum equals penumbra_visibility() on the CPU at s
         REQUIRE(sk::make_builtin_scene(name, s));
         Prepared p;
         prepare(s, p, false);
-        const Run w = run("penumbra_wedges", s, p, P({{"horizon", 0.0}}));
+        const Run w = run("penumbra_wedges", s, p, P("horizon=off"));
         CpuModel cpu;
         cpu.build(s, float(w.work("light_radius")));
         // hard counts per pixel, then compare away from changes of the count (where the rasterised
@@ -339,9 +337,10 @@ TEST_CASE("(e) scissor and depth bounds: V unchanged (float noise), fewer wedge 
         REQUIRE(sk::make_builtin_scene(name, s));
         Prepared p;
         prepare(s, p, false);
-        const Run base = run("penumbra_wedges", s, p, P({{"scissor", 0.0}, {"depth_bounds", 0.0}}));
+        const Run base = run("penumbra_wedges", s, p, P("scissor=off depth_bounds=off"));
         for (auto [sc, db] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}}) {
-            const Run c = run("penumbra_wedges", s, p, P({{"scissor", double(sc)}, {"depth_bounds", double(db)}}));
+            const std::string named = std::string("scissor=") + (sc ? "on" : "off") + " depth_bounds=" + (db ? "on" : "off");
+            const Run c = run("penumbra_wedges", s, p, P(named));
             const float d = max_abs_diff(base.res.visibility, c.res.visibility);
             MESSAGE(name << " scissor " << sc << " depth_bounds " << db << ": wedge_fragments "
                          << c.work("wedge_fragments") << " of " << base.work("wedge_fragments") << " (in-wedge "
@@ -381,9 +380,9 @@ TEST_CASE("(f) camera inside a wedge: back faces are drawn for it, front faces a
     REQUIRE(placed);
     Prepared p;
     prepare(s, p);
-    const Run autof = run("penumbra_wedges", s, p, P({}));
-    const Run back = run("penumbra_wedges", s, p, P({{"faces", 1.0}}));
-    const Run front = run("penumbra_wedges", s, p, P({{"faces", 2.0}}));
+    const Run autof = run("penumbra_wedges", s, p, P(""));
+    const Run back = run("penumbra_wedges", s, p, P("faces=back"));
+    const Run front = run("penumbra_wedges", s, p, P("faces=front"));
     std::size_t wrong = 0;
     for (std::size_t k = 0; k < p.g.kind.size(); ++k) wrong += std::abs(front.res.visibility[k] - autof.res.visibility[k]) > 0.05f;
     MESSAGE("camera in a wedge: wedges drawn with back faces " << autof.work("wedges_back") << " of " << autof.work("wedges")
@@ -407,8 +406,9 @@ TEST_CASE("(g) epsilon-tweaked P_inf (own depth pass) gives the finite + depth c
         Prepared p;
         prepare(s, p);
         for (int method : {0, 1}) {
-            const Run fin = run("penumbra_wedges", s, p, P({{"method", double(method)}}), true);
-            const Run inf = run("penumbra_wedges", s, p, P({{"method", double(method)}, {"projection", 1.0}}), true);
+            const std::string m = std::string("method=") + (method ? "auto" : "zfail");
+            const Run fin = run("penumbra_wedges", s, p, P(m), true);
+            const Run inf = run("penumbra_wedges", s, p, P(m + " projection=infinite"), true);
             const std::size_t diff = count_different(fin.res.visibility, inf.res.visibility);
             MESSAGE("stack, method " << method << ": misclassified finite " << fin.m.misclassified << ", P_inf "
                                      << inf.m.misclassified << " (epsilon " << inf.work("projection_epsilon")
@@ -424,8 +424,8 @@ TEST_CASE("(g) epsilon-tweaked P_inf (own depth pass) gives the finite + depth c
         REQUIRE(sk::make_builtin_scene(name, s));
         Prepared p;
         prepare(s, p, false);
-        const Run fin = run("penumbra_wedges", s, p, P({}));
-        const Run inf = run("penumbra_wedges", s, p, P({{"projection", 1.0}}));
+        const Run fin = run("penumbra_wedges", s, p, P(""));
+        const Run inf = run("penumbra_wedges", s, p, P("projection=infinite"));
         std::size_t big = 0;
         for (std::size_t k = 0; k < fin.res.visibility.size(); ++k)
             big += std::abs(fin.res.visibility[k] - inf.res.visibility[k]) > 1e-4f;

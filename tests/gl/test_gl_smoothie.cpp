@@ -1,4 +1,5 @@
-// Smoothies on the GL driver (llvmpipe here), every check against an independent CPU prediction:
+// Smoothies on the GL driver (llvmpipe here; (c) and (d) run the Smoothies class of samples/smoothies/
+// through the report's wrapper, its settings by name), every check against an independent CPU prediction:
 // (a) the three passes of glsl/smoothie.glsl (linear map, GL_MIN smoothie buffer, final lookup)
 //     on a square card over a floor give, at every texel, the visibility predicted on the CPU from
 //     the card's closed-form light-NDC distance and smoothie.hpp's eq. 1 remap / falloff / tap rule
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -324,6 +326,13 @@ sk::Technique* find_technique(std::vector<std::unique_ptr<sk::Technique>>& ts, c
     return nullptr;
 }
 
+// The named settings of samples/smoothies/ (bind_settings) for a given width t (exact: %.17g) and map size.
+sk::ParamSet named_t(double t, int size) {
+    char b[96];
+    std::snprintf(b, sizeof b, "t_from_light=off t=%.17g size=%d", t, size);
+    return sk::ParamSet::parse_named(b);
+}
+
 }  // namespace
 
 TEST_CASE("(a) three passes through glsl/smoothie.glsl match the CPU prediction at every texel (|dV| <= 1e-4)") {
@@ -452,7 +461,7 @@ TEST_CASE("(c) Fig. 9: penumbra widths on two receivers scale with (r - b) / b")
     REQUIRE(smoothie != nullptr);
     const float t = 0.2f;
     sk::RunContext ctx{scene, gpu, 1, 0};
-    const sk::RunResult res = smoothie->run(ctx, sk::ParamSet{{{"t", double(t)}, {"size", 2048.0}}});
+    const sk::RunResult res = smoothie->run(ctx, named_t(t, 2048));
     REQUIRE_MESSAGE(res.ok, res.error);
 
     const sk::LightMatrices lm = sk::fit_light(scene);
@@ -531,8 +540,8 @@ TEST_CASE("(d) contact vs the Embree area-light reference: umbra never shrinks; 
     REQUIRE(smoothie != nullptr);
     sk::RunContext ctx{scene, gpu, 1, 0};
     const auto r_hard = hard->run(ctx, sk::ParamSet::parse_named("size=1024"));
-    const auto r_t0 = smoothie->run(ctx, sk::ParamSet{{{"t", 0.0}, {"size", 1024.0}}});
-    const auto r_map = smoothie->run(ctx, sk::ParamSet{{{"t", -1.0}, {"size", 1024.0}}});
+    const auto r_t0 = smoothie->run(ctx, named_t(0.0, 1024));
+    const auto r_map = smoothie->run(ctx, sk::ParamSet::parse_named("t_from_light=on size=1024"));
     REQUIRE(r_hard.ok);
     REQUIRE(r_t0.ok);
     REQUIRE_MESSAGE(r_map.ok, r_map.error);
@@ -540,7 +549,7 @@ TEST_CASE("(d) contact vs the Embree area-light reference: umbra never shrinks; 
     for (const auto& [k, v] : r_map.work)
         if (k == "t") t_map = v;
     REQUIRE(t_map > 0.0);
-    const auto r_small = smoothie->run(ctx, sk::ParamSet{{{"t", t_map / 8.0}, {"size", 1024.0}}});
+    const auto r_small = smoothie->run(ctx, named_t(t_map / 8.0, 1024));
     REQUIRE(r_small.ok);
 
     // smoothies only darken: V_t <= V_0 at every pixel, so the umbra never shrinks

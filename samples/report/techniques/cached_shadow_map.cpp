@@ -137,7 +137,7 @@ void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& o
     spec.description = "cached shadow map (shadow_cache.hpp): a sun's stable light_frustum fit (depth range fixed in the "
                        "world) follows the camera, each frame keep / scroll + border / re-render; spot and area lights: "
                        "the scene's frustum, kept. Still rows: a full map + the lookup; the cache's cost is in the temporal rows";
-    spec.scene_sweep = [](const Scene& scene, bool quick) -> std::vector<std::string> {
+    spec.sweep_for = [](const Scene& scene, bool quick) -> std::vector<std::string> {
         switch (scene.light.type) {
         case LightType::Point: return {};  // a cube map
         case LightType::Directional:
