@@ -496,4 +496,21 @@ inline AreaLightScore score_square_light(const GBuffer& g, const std::vector<uns
     return r;
 }
 
+/// Prints the score as "<name>: N receiver pixels (M in penumbrae), RMSE .., penumbra RMSE .." (with
+/// "FAIL (> max_rmse)" above it) and a GL error if there is one; the program's exit code: 0 when there
+/// is no GL error, counted > 10000, penumbra > 500 and rmse <= max_rmse, else 1.
+inline int area_light_verdict(const char* name, const AreaLightScore& s, double max_rmse) {
+    char fail[48];
+    std::snprintf(fail, sizeof fail, "  FAIL (> %g)", max_rmse);
+    std::printf("%s: %d receiver pixels (%d in penumbrae), RMSE %.4f, penumbra RMSE %.4f against an 8x8-sample "
+                "area-light ray cast%s\n",
+                name, s.counted, s.penumbra, s.rmse, s.penumbra_rmse, s.rmse <= max_rmse ? "" : fail);
+    const GLenum err = glGetError();
+    if (err != GL_NO_ERROR) {
+        std::printf("%s: GL error 0x%x\n", name, err);
+        return 1;
+    }
+    return s.counted > 10000 && s.penumbra > 500 && s.rmse <= max_rmse ? 0 : 1;
+}
+
 }  // namespace docs

@@ -46,15 +46,5 @@ int main() {
     const std::vector<unsigned char> rgba = docs::window_rgba(W, H);
     const docs::GBuffer g = docs::gbuffer(W, H, camera_view_proj, draw_scene);
     const docs::AreaLightScore score = docs::score_square_light(g, rgba, light_center, light_size, docs::floor_boxes());
-    const int counted = score.counted, penumbra = score.penumbra;
-    const double rmse = score.rmse, rmse_pen = score.penumbra_rmse;
-    std::printf("gl_prefiltered_shadow: %d receiver pixels (%d in penumbrae), RMSE %.4f, penumbra RMSE %.4f against an 8x8-sample "
-                "area-light ray cast%s\n",
-                counted, penumbra, rmse, rmse_pen, rmse <= 0.06 ? "" : "  FAIL (> 0.06)");
-    const GLenum err = glGetError();
-    if (err != GL_NO_ERROR) {
-        std::printf("gl_prefiltered_shadow: GL error 0x%x\n", err);
-        return 1;
-    }
-    return counted > 10000 && penumbra > 500 && rmse <= 0.06 ? 0 : 1;
+    return docs::area_light_verdict("gl_prefiltered_shadow", score, 0.06);
 }
