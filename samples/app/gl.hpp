@@ -76,6 +76,8 @@ bool make_target(Target& t, int width, int height, const std::vector<GLenum>& co
                  GLenum depth_format, std::string& why);
 void destroy_target(Target& t);
 void set_depth_compare(GLuint depth_texture, bool compare, bool linear_filter);
+// A 2D texture read texel by texel: GL_NEAREST min and mag, S and T GL_CLAMP_TO_EDGE (left bound).
+void set_nearest_clamped(GLuint texture);
 
 // The depth-only program of a shadow map's pass: attribute 0 the position, gl_Position =
 // u_light_view_proj * vec4(a_position, 1.0), no color output. 0 and the log on failure.

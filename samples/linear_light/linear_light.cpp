@@ -100,14 +100,6 @@ float technique_visibility(vec3 p, vec3 n) {
     return body + "    return v / float(u_segments);\n}\n";
 }
 
-void nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 }  // namespace
 
 bool LinearLight::init(const app::View& v, std::string& why) {
@@ -203,11 +195,11 @@ void LinearLight::make_maps(const LinearLightSettings& s) {
     for (auto& t : maps_) {
         skgl::make_target(t, size_, size_, {}, GL_DEPTH_COMPONENT32F, why);
         skgl::set_depth_compare(t.depth, false, false);
-        nearest_clamped(t.depth);
+        skgl::set_nearest_clamped(t.depth);
     }
     for (auto& t : vmaps_) {
         skgl::make_target(t, size_, size_, {GL_RGBA32F}, 0, why);
-        nearest_clamped(t.color[0]);
+        skgl::set_nearest_clamped(t.color[0]);
     }
     if (!sampled) return;
     // sampled: one depth array that compares (sampler2DArrayShadow: GL_LEQUAL, GL_LINEAR), clamped

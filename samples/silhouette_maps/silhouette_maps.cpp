@@ -76,14 +76,6 @@ bool failed(shadowkit::Status st, const char* what, std::string& error) {
     return true;
 }
 
-void nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 }  // namespace
 
 bool SilhouetteMap::init(const app::View& v, std::string& why) {
@@ -183,7 +175,7 @@ void SilhouetteMap::make_maps(const SilhouetteMapSettings& s) {
         skgl::set_depth_compare(depth_.depth, true, true);
     } else {
         skgl::make_target(silmap_, side, side, {GL_RGBA8}, 0, why);
-        for (GLuint t : {depth_.depth, silmap_.color[0]}) nearest_clamped(t);
+        for (GLuint t : {depth_.depth, silmap_.color[0]}) skgl::set_nearest_clamped(t);
         skgl::set_depth_compare(depth_.depth, false, false);
     }
     built_ = s;
