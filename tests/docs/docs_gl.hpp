@@ -282,6 +282,26 @@ void main() { gl_Position = u_view_proj * vec4(position, 1.0); })",
                       "#version 450 core\nvoid main() {}\n");
 }
 
+/// Draws a triangle list of homogeneous positions (attribute 0, a vec4 each) with the program in use,
+/// from a vertex array and a stream buffer of its own (left bound); an empty list draws nothing.
+inline void draw_vec4_triangles(const std::vector<glm::vec4>& vertices) {
+    static GLuint vao = 0, vbo = 0;
+    if (vao == 0) {
+        glGenVertexArrays(1, &vao);
+        glGenBuffers(1, &vbo);
+        glBindVertexArray(vao);
+        glBindBuffer(GL_ARRAY_BUFFER, vbo);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
+    }
+    if (vertices.empty()) return;
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec4)), vertices.data(),
+                 GL_STREAM_DRAW);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+}
+
 /// The window's pixels (RGBA8, bottom row first), read from window_framebuffer().
 inline std::vector<unsigned char> window_rgba(int w, int h) {
     std::vector<unsigned char> rgba(static_cast<std::size_t>(w * h) * 4);

@@ -32,22 +32,7 @@ int fail(const char* what, shadowkit::Status s) {
 }
 
 // Draws a triangle list of homogeneous world positions (attribute 0) with the current program.
-void draw_vec4_triangles(const std::vector<glm::vec4>& vertices) {
-    static GLuint vao = 0, vbo = 0;
-    if (vao == 0) {
-        glGenVertexArrays(1, &vao);
-        glGenBuffers(1, &vbo);
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
-    }
-    glBindVertexArray(vao);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec4)), vertices.data(),
-                 GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
-}
+using docs::draw_vec4_triangles;
 
 GLuint texture_2d(GLenum format, int w, int h) {
     GLuint t = 0;

@@ -695,22 +695,7 @@ SceneGpu upload(const Scene& s) {
     return g;
 }
 
-void draw_vec4_triangles(const std::vector<glm::vec4>& vertices) {
-    static GLuint vao = 0, vbo = 0;
-    if (vao == 0) {
-        glGenVertexArrays(1, &vao);
-        glGenBuffers(1, &vbo);
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
-    }
-    if (vertices.empty()) return;
-    glBindVertexArray(vao);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(glm::vec4)), vertices.data(), GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
-}
+using docs::draw_vec4_triangles;
 
 // ------------------------------------------------------------------------------------------ programs
 
