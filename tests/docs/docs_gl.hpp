@@ -1,8 +1,9 @@
 // tests/docs/docs_gl.hpp - what a user's renderer already has, for the documentation programs in
 // tests/docs/gl_*.cpp: a GL 4.5 core context without a display, shader compilation, the text of a
-// snippet, a few meshes and their upload, and what scores a picture (a G-buffer pass, CPU ray casts). Deliberately small and separate from
-// samples/common: the docs programs show the path a user takes from README/docs pages and header
-// comments alone, so nothing of the samples' framework may leak into them.
+// snippet, a few meshes and their upload and draw calls, the programs' shared scenes, and what scores
+// a picture (a G-buffer pass, a per-point lookup pass, CPU ray casts). Separate from the samples' app
+// shell: the docs programs show the path a user takes from README/docs pages and header comments
+// alone, so nothing of the samples' framework may leak into them; never the docs' own blocks either.
 #pragma once
 
 #include <epoxy/egl.h>
