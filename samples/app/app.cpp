@@ -79,12 +79,8 @@ void main() {
     o_color = vec4(vec3(clamp((t.r - u_range.x) / max(u_range.y - u_range.x, 1e-30), 0.0, 1.0)), 1.0);
 }
 )";
-        std::string log;
-        prog_ = skgl::compile_program({{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, fs}}, log);
-        if (!prog_) {
-            why = log;
-            return false;
-        }
+        prog_ = compile_fullscreen_program(fs, why);
+        if (!prog_) return false;
         glGenVertexArrays(1, &vao_);
         // a sampler object overrides the texture's own state: depth maps are read as depth (no compare)
         glGenSamplers(1, &sampler_);
@@ -96,13 +92,9 @@ void main() {
         return true;
     }
     void draw(const DebugImage& d) {
-        GLint vp[4] = {0, 0, 1, 1};
-        glGetIntegerv(GL_VIEWPORT, vp);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_STENCIL_TEST);
-        glDisable(GL_SCISSOR_TEST);
+        const glm::ivec2 vp = begin_fullscreen_pass();
         glUseProgram(prog_);
-        glUniform2f(glGetUniformLocation(prog_, "u_viewport"), float(vp[2]), float(vp[3]));
+        glUniform2f(glGetUniformLocation(prog_, "u_viewport"), float(vp.x), float(vp.y));
         int mode = 0;
         if (d.show == DebugImage::Show::Stencil) {
             mode = 1;

@@ -169,6 +169,22 @@ void main() {
 )";
 }
 
+GLuint compile_fullscreen_program(const std::string& fragment_shader, std::string& why) {
+    std::string log;
+    const GLuint prog = skgl::compile_program({{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, fragment_shader}}, log);
+    if (!prog) why = log;
+    return prog;
+}
+
+glm::ivec2 begin_fullscreen_pass() {
+    GLint vp[4] = {0, 0, 1, 1};
+    glGetIntegerv(GL_VIEWPORT, vp);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    return {vp[2], vp[3]};
+}
+
 GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log) {
     return skgl::compile_program(
         {{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, visibility_fragment_shader(snippets, body)}}, log);
@@ -303,28 +319,20 @@ void main() {
     o_color = vec4(pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
 }
 )";
-    std::string log;
-    prog_ = skgl::compile_program({{GL_VERTEX_SHADER, fullscreen_vertex_shader()}, {GL_FRAGMENT_SHADER, fs}}, log);
-    if (!prog_) {
-        why = log;
-        return false;
-    }
+    prog_ = compile_fullscreen_program(fs, why);
+    if (!prog_) return false;
     glGenVertexArrays(1, &vao_);
     return true;
 }
 
 void Composite::draw(const SceneGpu& gpu, const sk::Light& light, GLuint visibility) {
-    GLint vp[4] = {0, 0, 1, 1};
-    glGetIntegerv(GL_VIEWPORT, vp);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_SCISSOR_TEST);
+    const glm::ivec2 vp = begin_fullscreen_pass();
     glUseProgram(prog_);
     glUniform1i(glGetUniformLocation(prog_, "u_directional"), light.type == sk::LightType::Directional ? 1 : 0);
     glUniform3fv(glGetUniformLocation(prog_, "u_light_position"), 1, glm::value_ptr(light.position));
     const glm::vec3 d = glm::normalize(light.direction);
     glUniform3fv(glGetUniformLocation(prog_, "u_light_direction"), 1, glm::value_ptr(d));
-    glUniform2f(glGetUniformLocation(prog_, "u_scale"), float(gpu.width) / float(vp[2]), float(gpu.height) / float(vp[3]));
+    glUniform2f(glGetUniformLocation(prog_, "u_scale"), float(gpu.width) / float(vp.x), float(gpu.height) / float(vp.y));
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, gpu.gbuffer.color[0]);
     glActiveTexture(GL_TEXTURE1);

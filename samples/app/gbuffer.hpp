@@ -76,6 +76,11 @@ std::string fullscreen_vertex_shader();
 /// unit 0: position + kind, unit 1: normal), applies the common light rules (set_light_uniforms) and
 /// writes clamp(V, 0, 1) to location 0 (0 on background pixels).
 std::string visibility_fragment_shader(const std::string& snippets, const std::string& body);
+/// fullscreen_vertex_shader() + `fragment_shader`; 0 on failure, `why` then replaced by the log.
+GLuint compile_fullscreen_program(const std::string& fragment_shader, std::string& why);
+/// A full-screen pass into the bound framebuffer's viewport (the composite, the debug views): turns
+/// the depth, stencil and scissor tests off and returns the viewport's width and height.
+glm::ivec2 begin_fullscreen_pass();
 /// fullscreen_vertex_shader() + visibility_fragment_shader(snippets, body); 0 with the log on failure.
 GLuint compile_visibility_program(const std::string& snippets, const std::string& body, std::string& log);
 /// The light uniforms of the common light rules (u_light_type, position, direction, cone) on `prog`.

@@ -237,6 +237,59 @@ void set_depth_compare(GLuint depth_texture, bool compare, bool linear_filter) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, f);
 }
 
+void set_nearest_clamped(GLuint texture) {
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+GLuint depth_only_program(std::string& log) {
+    const char* vs = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_light_view_proj;
+void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
+)";
+    return compile_program({{GL_VERTEX_SHADER, vs}, {GL_FRAGMENT_SHADER, "#version 450 core\nvoid main() {}\n"}}, log);
+}
+
+GLuint make_depth_texture(GLenum target, int size, int layers, GLenum filter, GLenum wrap) {
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(target, tex);
+    if (target == GL_TEXTURE_2D_ARRAY)
+        glTexStorage3D(target, 1, GL_DEPTH_COMPONENT32F, size, size, layers);
+    else
+        glTexStorage2D(target, 1, GL_DEPTH_COMPONENT32F, size, size);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+    glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, static_cast<GLint>(wrap));
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, static_cast<GLint>(wrap));
+    if (wrap == GL_CLAMP_TO_BORDER) {
+        const float far_border[4] = {1.f, 1.f, 1.f, 1.f};
+        glTexParameterfv(target, GL_TEXTURE_BORDER_COLOR, far_border);
+    }
+    return tex;
+}
+
+void make_depth_framebuffers(GLenum target, GLuint texture, int count, GLuint* fbo) {
+    glGenFramebuffers(count, fbo);
+    for (int i = 0; i < count; ++i) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo[i]);
+        if (target == GL_TEXTURE_2D_ARRAY)
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, texture, 0, i);
+        else
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                   target == GL_TEXTURE_CUBE_MAP ? static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i) : target,
+                                   texture, 0);
+        glDrawBuffer(GL_NONE);
+        glReadBuffer(GL_NONE);
+    }
+}
+
 std::vector<float> read_color_float(const Target& t, int attachment, int channels) {
     std::vector<float> out(static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) *
                            static_cast<std::size_t>(channels));

@@ -7,8 +7,9 @@
 //   readback to float arrays, PNG writing (stb_image_write);
 // - timing with glFinish + steady_clock (median over frames after warm-up), GL timer queries
 //   only where the renderer is not llvmpipe (timer queries are meaningless there).
-// A technique's code uses compile_program, make_target / destroy_target, GpuMesh / draw_mesh; the
-// rest is the shell's and the report's.
+// A technique's code uses compile_program, depth_only_program, make_target / destroy_target,
+// make_depth_texture / make_depth_framebuffers, GpuMesh / draw_mesh; the rest is the shell's and the
+// report's.
 #pragma once
 
 #include <epoxy/gl.h>
@@ -75,6 +76,24 @@ bool make_target(Target& t, int width, int height, const std::vector<GLenum>& co
                  GLenum depth_format, std::string& why);
 void destroy_target(Target& t);
 void set_depth_compare(GLuint depth_texture, bool compare, bool linear_filter);
+// A 2D texture read texel by texel: GL_NEAREST min and mag, S and T GL_CLAMP_TO_EDGE (left bound).
+void set_nearest_clamped(GLuint texture);
+
+// The depth-only program of a shadow map's pass: attribute 0 the position, gl_Position =
+// u_light_view_proj * vec4(a_position, 1.0), no color output. 0 and the log on failure.
+GLuint depth_only_program(std::string& log);
+
+// A depth texture that compares in hardware (sampler2DShadow, sampler2DArrayShadow,
+// samplerCubeShadow): GL_DEPTH_COMPONENT32F, one level, size x size, of `target` (GL_TEXTURE_2D,
+// GL_TEXTURE_2D_ARRAY with `layers` layers, GL_TEXTURE_CUBE_MAP); GL_COMPARE_REF_TO_TEXTURE with
+// GL_LEQUAL, `filter` for min and mag (GL_LINEAR: the 2x2 percentage-closer filter), S and T wrapped
+// with `wrap` (GL_CLAMP_TO_BORDER: the border is the far depth 1, outside the map is lit). Left bound
+// to `target` on the active texture unit.
+GLuint make_depth_texture(GLenum target, int size, int layers, GLenum filter, GLenum wrap);
+// `count` depth-only framebuffers of `texture` (of `target`): fbo[i]'s depth attachment is layer i of
+// a 2D array, face GL_TEXTURE_CUBE_MAP_POSITIVE_X + i of a cube map, or the 2D texture; no color
+// (draw and read buffer GL_NONE). Leaves fbo[count - 1] bound.
+void make_depth_framebuffers(GLenum target, GLuint texture, int count, GLuint* fbo);
 
 std::vector<float> read_color_float(const Target& t, int attachment, int channels);
 std::vector<float> read_depth_float(const Target& t);

@@ -132,6 +132,13 @@ Mesh make_room(const std::string& name, glm::vec3 c, glm::vec3 h) {
     return box;
 }
 
+// The scene's floor (or ground): a plane at y = 0 of half size `half` in x and z that receives
+// shadows and casts none.
+static void add_floor(Scene& s, const std::string& name, float half, int subdiv = 1) {
+    s.meshes.push_back(make_plane(name, {0.f, 0.f, 0.f}, half, half, subdiv));
+    s.meshes.back().caster = false;
+}
+
 std::vector<std::string> builtin_scene_names() {
     return {"contact", "overlap", "stack", "fence", "duel", "outdoor", "room", "grazing", "linear", "square"};
 }
@@ -141,8 +148,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
     s.name = name;
     if (name == "contact") {
         s.description = "box and cylinder resting on a floor under a square area light (contact hardening)";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 4.f);
         s.meshes.push_back(make_box("box", {-0.8f, 0.5f, 0.f}, {0.5f, 0.5f, 0.5f}));
         s.meshes.push_back(make_cylinder("cylinder", {0.9f, 0.f, 0.3f}, 0.35f, 1.4f, 32));
         s.light.type = LightType::Rect;
@@ -154,8 +160,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.target = {0.f, 0.3f, 0.f};
     } else if (name == "overlap") {
         s.description = "two blockers at different heights whose penumbrae overlap, disk light";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 4.f);
         s.meshes.push_back(make_box("high", {-0.35f, 1.6f, 0.f}, {0.45f, 0.05f, 0.45f}));
         s.meshes.push_back(make_box("low", {0.35f, 0.7f, 0.1f}, {0.4f, 0.05f, 0.4f}));
         s.light.type = LightType::Disk;
@@ -167,8 +172,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.target = {0.f, 0.3f, 0.f};
     } else if (name == "stack") {
         s.description = "a box casting onto a larger box and the floor (several receivers), spot light";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 4.f);
         s.meshes.push_back(make_box("base", {0.f, 0.4f, 0.f}, {1.f, 0.4f, 1.f}));
         s.meshes.push_back(make_box("top", {0.2f, 1.5f, 0.2f}, {0.3f, 0.3f, 0.3f}));
         s.light.type = LightType::Spot;
@@ -179,8 +183,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.target = {0.f, 0.5f, 0.f};
     } else if (name == "fence") {
         s.description = "thin fence slats at grazing light: shadow-map aliasing";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 5.f, 5.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 5.f);
         for (int i = 0; i < 12; ++i) {
             const float x = -2.2f + 0.4f * static_cast<float>(i);
             s.meshes.push_back(make_box("slat" + std::to_string(i), {x, 0.6f, 0.f}, {0.04f, 0.6f, 0.02f}));
@@ -194,8 +197,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.target = {0.f, 0.f, 1.f};
     } else if (name == "duel") {
         s.description = "light facing the camera (duelling frusta)";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 6.f, 6.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 6.f);
         for (int i = 0; i < 5; ++i)
             s.meshes.push_back(make_box("post" + std::to_string(i),
                                         {-2.f + static_cast<float>(i), 0.4f, -1.f + 0.5f * static_cast<float>(i % 2)},
@@ -208,8 +210,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.target = {0.f, 0.f, -1.f};
     } else if (name == "outdoor") {
         s.description = "1 km ground with many objects, directional light, camera near the ground";
-        s.meshes.push_back(make_plane("ground", {0.f, 0.f, 0.f}, 500.f, 500.f, 8));
-        s.meshes.back().caster = false;
+        add_floor(s, "ground", 500.f, 8);
         std::uint32_t h = 12345u;
         auto rnd = [&h]() {
             h ^= h << 13; h ^= h >> 17; h ^= h << 5;
@@ -246,8 +247,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.fovy = 1.2f;
     } else if (name == "linear") {
         s.description = "a box and a post on a floor under a line light (tube): linear-light soft shadows";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 4.f, 4.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 4.f);
         s.meshes.push_back(make_box("box", {-0.7f, 0.4f, 0.1f}, {0.4f, 0.4f, 0.4f}));
         s.meshes.push_back(make_box("post", {0.8f, 0.7f, -0.2f}, {0.06f, 0.7f, 0.06f}));
         s.light.type = LightType::Linear;
@@ -271,8 +271,7 @@ bool make_builtin_scene(const std::string& name, Scene& s) {
         s.camera.target = {0.f, 0.05f, 0.2f};
     } else if (name == "square") {
         s.description = "square occluder parallel to a floor under a parallel square area light (closed form)";
-        s.meshes.push_back(make_plane("floor", {0.f, 0.f, 0.f}, 3.f, 3.f));
-        s.meshes.back().caster = false;
+        add_floor(s, "floor", 3.f);
         // a thin double-sided square (box of tiny thickness)
         s.meshes.push_back(make_box("square", {0.f, 1.f, 0.f}, {0.5f, 1e-4f, 0.5f}));
         s.meshes.back().receiver = false;

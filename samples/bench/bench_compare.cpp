@@ -21,20 +21,17 @@
 #include <shadowkit/silhouette.hpp>
 
 #include "bench_meshes.hpp"
+#include "bench_pool.hpp"
 #include "bgfx_style.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace {
@@ -56,64 +53,6 @@ double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
-
-// Persistent pool: parallel_for(n, fn) runs fn(0..n-1) on the workers and the caller.
-class Pool {
-public:
-    explicit Pool(std::size_t threads) {
-        for (std::size_t t = 1; t < threads; ++t) workers_.emplace_back([this] { loop(); });
-    }
-    ~Pool() {
-        {
-            std::lock_guard<std::mutex> lk(m_);
-            stop_ = true;
-            ++gen_;
-        }
-        cv_.notify_all();
-        for (auto& w : workers_) w.join();
-    }
-    template <typename F>
-    void operator()(std::size_t n, const F& fn) {
-        {
-            std::lock_guard<std::mutex> lk(m_);
-            job_ = [&fn](std::size_t i) { fn(i); };
-            n_ = n;
-            next_.store(0);
-            done_.store(0);
-            ++gen_;
-        }
-        cv_.notify_all();
-        work();
-        while (done_.load(std::memory_order_acquire) < n) std::this_thread::yield();
-    }
-
-private:
-    void work() {
-        for (std::size_t i; (i = next_.fetch_add(1)) < n_;) {
-            job_(i);
-            done_.fetch_add(1, std::memory_order_release);
-        }
-    }
-    void loop() {
-        std::uint64_t seen = 0;
-        for (;;) {
-            std::unique_lock<std::mutex> lk(m_);
-            cv_.wait(lk, [&] { return gen_ != seen; });
-            seen = gen_;
-            if (stop_) return;
-            lk.unlock();
-            work();
-        }
-    }
-    std::vector<std::thread> workers_;
-    std::mutex m_;
-    std::condition_variable cv_;
-    std::function<void(std::size_t)> job_;
-    std::size_t n_ = 0;
-    std::atomic<std::size_t> next_{0}, done_{0};
-    std::uint64_t gen_ = 0;
-    bool stop_ = false;
-};
 
 struct Case {
     std::string name;
@@ -144,9 +83,7 @@ std::size_t sk_frame(Case& c, const glm::vec4& L, bool fast, bool zfail) {
         k = sk::volume_build_side_quads(c.sil.data(), sr.count, n, c.volume.data(), c.volume.size()).count;
     }
     if (zfail)
-        k += sk::volume_build_caps(c.adj.faces.data(), c.adj.faces.size(), c.facing.data(), fc, n, sk::VolumeCapMode::LitOnly, true,
-                                   c.volume.data() + k, c.volume.size() - k)
-                 .count;
+        k += bench::lit_caps(c.adj, c.facing.data(), 0, fc, n, c.volume.data() + k, c.volume.size() - k).count;
     return k;
 }
 
@@ -316,7 +253,7 @@ int run_compare(int argc, char** argv) {
             std::printf("| %s | %zu |", c.name.c_str(), c.adj.face_count());
             for (int zf = 0; zf < 2; ++zf)
                 for (std::size_t threads = 1; threads <= max_threads; ++threads) {
-                    Pool pool(threads);
+                    bench::Pool pool(threads);
                     const std::size_t chunks = 4 * threads, fc = c.adj.face_count(), n = c.mesh.positions.size();
                     const std::size_t side_room = 6 * c.adj.max_silhouette_edges();
                     std::vector<sk::SilhouetteResult> per(chunks);
@@ -330,10 +267,8 @@ int run_compare(int argc, char** argv) {
                         g_sink += sq.count;
                         if (zf)
                             pool(chunks, [&](std::size_t ch) {
-                                const std::size_t b = fc / chunks * ch + std::min(ch, fc % chunks);
-                                const std::size_t e = fc / chunks * (ch + 1) + std::min(ch + 1, fc % chunks);
-                                sk::volume_build_caps(c.adj.faces.data() + 3 * b, 3 * (e - b), c.facing.data() + b, e - b, n,
-                                                      sk::VolumeCapMode::LitOnly, true, c.volume.data() + side_room + 6 * b, 6 * (e - b));
+                                const std::size_t b = bench::chunk_begin(fc, chunks, ch), e = bench::chunk_begin(fc, chunks, ch + 1);
+                                bench::lit_caps(c.adj, c.facing.data(), b, e, n, c.volume.data() + side_room + 6 * b, 6 * (e - b));
                             });
                         t.push_back(wall_ns() - t0);
                     }

@@ -26,14 +26,10 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_meshes.hpp"
+#include "bench_pool.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
-#include <functional>
-#include <mutex>
-#include <thread>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -48,6 +44,7 @@ using Clock = std::chrono::steady_clock;
 using bench::BenchMesh;
 using bench::make_grid;
 using bench::make_sphere;
+using bench::Pool;
 
 // Everything a stage needs, built once per (mesh kind, size) and shared by the benchmarks.
 struct Fixture {
@@ -169,9 +166,8 @@ void BM_volume(benchmark::State& state) {
     measure(state, bytes, f.adj.edges.size(), [&] {
         const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), 2 * f.sil_edges, f.mesh.positions.size(),
                                                            f.volume.data(), f.volume.size());
-        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
-                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
-                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
+        const auto cp = bench::lit_caps(f.adj, f.facing.data(), 0, f.facing.size(), f.mesh.positions.size(),
+                                        f.volume.data() + sq.count, f.volume.size() - sq.count);
         benchmark::DoNotOptimize(cp);
         benchmark::ClobberMemory();
     });
@@ -188,9 +184,8 @@ void BM_frame(benchmark::State& state) {
                                                       nullptr, 0);
         const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
                                                            f.volume.size());
-        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
-                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
-                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
+        const auto cp = bench::lit_caps(f.adj, f.facing.data(), 0, f.facing.size(), f.mesh.positions.size(),
+                                        f.volume.data() + sq.count, f.volume.size() - sq.count);
         benchmark::DoNotOptimize(cp);
         benchmark::ClobberMemory();
     });
@@ -215,73 +210,13 @@ void BM_frame_planes(benchmark::State& state) {
         shadowkit::silhouette_compute_facing_planes(f.adj, f.planes, f.light, f.facing.data(), f.facing.size());
         const auto sq = shadowkit::silhouette_extract_planes_side_quads(f.adj, f.planes, f.facing.data(), f.facing.size(),
                                                                         f.volume.data(), f.volume.size());
-        const auto cp = shadowkit::volume_build_caps(f.adj.faces.data(), f.adj.faces.size(), f.facing.data(), f.facing.size(),
-                                                     f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
-                                                     f.volume.data() + sq.count, f.volume.size() - sq.count);
+        const auto cp = bench::lit_caps(f.adj, f.facing.data(), 0, f.facing.size(), f.mesh.positions.size(),
+                                        f.volume.data() + sq.count, f.volume.size() - sq.count);
         benchmark::DoNotOptimize(cp);
         benchmark::ClobberMemory();
     });
     set_label(state, f);
 }
-
-// A persistent pool: parallel_for(n, fn) runs fn(0..n-1) on the workers and the calling thread,
-// returns when all are done (what an engine's job system provides).
-class Pool {
-public:
-    explicit Pool(std::size_t threads) {
-        for (std::size_t t = 1; t < threads; ++t) workers_.emplace_back([this] { loop(); });
-    }
-    ~Pool() {
-        {
-            std::lock_guard<std::mutex> lk(m_);
-            stop_ = true;
-            ++gen_;
-        }
-        cv_.notify_all();
-        for (auto& w : workers_) w.join();
-    }
-    template <typename F>
-    void operator()(std::size_t n, const F& fn) {
-        {
-            std::lock_guard<std::mutex> lk(m_);
-            job_ = [&fn](std::size_t i) { fn(i); };
-            n_ = n;
-            next_.store(0);
-            done_.store(0);
-            ++gen_;
-        }
-        cv_.notify_all();
-        work();
-        while (done_.load(std::memory_order_acquire) < n) std::this_thread::yield();
-    }
-
-private:
-    void work() {
-        for (std::size_t i; (i = next_.fetch_add(1)) < n_;) {
-            job_(i);
-            done_.fetch_add(1, std::memory_order_release);
-        }
-    }
-    void loop() {
-        std::uint64_t seen = 0;
-        for (;;) {
-            std::unique_lock<std::mutex> lk(m_);
-            cv_.wait(lk, [&] { return gen_ != seen; });
-            seen = gen_;
-            if (stop_) return;
-            lk.unlock();
-            work();
-        }
-    }
-    std::vector<std::thread> workers_;
-    std::mutex m_;
-    std::condition_variable cv_;
-    std::function<void(std::size_t)> job_;
-    std::size_t n_ = 0;
-    std::atomic<std::size_t> next_{0}, done_{0};
-    std::uint64_t gen_ = 0;
-    bool stop_ = false;
-};
 
 Pool& pool(std::size_t threads) {
     static std::map<std::size_t, std::unique_ptr<Pool>> pools;
@@ -322,11 +257,9 @@ void BM_frame_parallel(benchmark::State& state) {
         const auto sq = shadowkit::volume_build_side_quads(f.sil.data(), sr.count, f.mesh.positions.size(), f.volume.data(),
                                                            f.volume.size());
         pl(chunks, [&](std::size_t c) {  // caps: chunk c's faces into its own 6-per-face range
-            const std::size_t b = fc / chunks * c + std::min(c, fc % chunks);
-            const std::size_t e = fc / chunks * (c + 1) + std::min(c + 1, fc % chunks);
-            cap_counts[c] = shadowkit::volume_build_caps(f.adj.faces.data() + 3 * b, 3 * (e - b), f.facing.data() + b, e - b,
-                                                         f.mesh.positions.size(), shadowkit::VolumeCapMode::LitOnly, true,
-                                                         f.volume.data() + side_room + 6 * b, 6 * (e - b))
+            const std::size_t b = bench::chunk_begin(fc, chunks, c), e = bench::chunk_begin(fc, chunks, c + 1);
+            cap_counts[c] = bench::lit_caps(f.adj, f.facing.data(), b, e, f.mesh.positions.size(),
+                                            f.volume.data() + side_room + 6 * b, 6 * (e - b))
                                 .count;
         });
         benchmark::DoNotOptimize(sq);

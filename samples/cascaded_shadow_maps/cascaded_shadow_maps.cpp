@@ -15,13 +15,6 @@
 
 namespace {
 
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
-
 // V's lookup (after glsl/cascades.glsl): the cascade array at unit 2. The normal offset is in texels
 // of the cascade that serves p, of the next one inside the blend band (the larger: both are read
 // there); the depth pass's slope-scaled offset already keeps acne away, so it is 0 by default.
@@ -57,7 +50,7 @@ bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
             for (const glm::vec3& p : m.positions) caster_lo_ = glm::min(caster_lo_, p), caster_hi_ = glm::max(caster_hi_, p);
     const std::string snippet = app::load_snippet("cascades", why);
     if (snippet.empty()) return false;
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     vis_prog_ = app::compile_visibility_program(snippet, kLookup, why);
     if (!depth_prog_ || !vis_prog_) return false;
     return pass_.init(v.width, v.height, why);
@@ -91,24 +84,11 @@ void CascadedShadowMaps::make_maps(int size, int count) {
     if (fbo_[0]) glDeleteFramebuffers(4, fbo_);
     std::fill(fbo_, fbo_ + 4, 0u);
     std::fill(layer_view_, layer_view_ + 4, 0u);
-    glGenTextures(1, &maps_);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, maps_);
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size, size, count);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    glGenFramebuffers(count, fbo_);
+    maps_ = skgl::make_depth_texture(GL_TEXTURE_2D_ARRAY, size, count, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    skgl::make_depth_framebuffers(GL_TEXTURE_2D_ARRAY, maps_, count, fbo_);
     glGenTextures(count, layer_view_);
-    for (int i = 0; i < count; ++i) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[i]);
-        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, maps_, 0, i);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
+    for (int i = 0; i < count; ++i)
         glTextureView(layer_view_[i], GL_TEXTURE_2D, maps_, GL_DEPTH_COMPONENT32F, 0, 1, static_cast<GLuint>(i), 1);
-    }
     size_ = size;
     layers_ = count;
 }

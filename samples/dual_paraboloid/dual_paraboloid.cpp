@@ -169,24 +169,11 @@ void DualParaboloid::make_maps(int size) {
     if (maps_) glDeleteTextures(1, &maps_);
     if (layer_view_[0]) glDeleteTextures(2, layer_view_);
     if (fbo_[0]) glDeleteFramebuffers(2, fbo_);
-    glGenTextures(1, &maps_);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, maps_);
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size, size, 2);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    glGenFramebuffers(2, fbo_);
+    maps_ = skgl::make_depth_texture(GL_TEXTURE_2D_ARRAY, size, 2, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    skgl::make_depth_framebuffers(GL_TEXTURE_2D_ARRAY, maps_, 2, fbo_);
     glGenTextures(2, layer_view_);
-    for (int i = 0; i < 2; ++i) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[i]);
-        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, maps_, 0, i);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
+    for (int i = 0; i < 2; ++i)
         glTextureView(layer_view_[i], GL_TEXTURE_2D, maps_, GL_DEPTH_COMPONENT32F, 0, 1, static_cast<GLuint>(i), 1);
-    }
     size_ = size;
 }
 

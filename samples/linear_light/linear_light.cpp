@@ -20,13 +20,6 @@
 
 namespace {
 
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
-
 // The skin on the GPU: 6 vertices per 2x2 cell of the other end's depth map, no attributes; the
 // vertex shader unprojects the cell and keeps it where the depths jump (else a point off screen).
 const char* kSkinGpuVS = R"(
@@ -107,14 +100,6 @@ float technique_visibility(vec3 p, vec3 n) {
     return body + "    return v / float(u_segments);\n}\n";
 }
 
-void nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 }  // namespace
 
 bool LinearLight::init(const app::View& v, std::string& why) {
@@ -126,7 +111,7 @@ bool LinearLight::init(const app::View& v, std::string& why) {
     const std::string snippet = app::load_snippet("linear_light", why);
     if (snippet.empty()) return false;
     const std::string head = "#version 450 core\n" + snippet;
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     skin_gpu_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kSkinGpuVS}, {GL_FRAGMENT_SHADER, head + kSkinFS}}, why);
     skin_cpu_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kSkinCpuVS}, {GL_FRAGMENT_SHADER, head + kSkinFS}}, why);
     vis_prog_ = app::compile_visibility_program(snippet, heidrich_lookup(kMaxSegments), why);
@@ -210,22 +195,15 @@ void LinearLight::make_maps(const LinearLightSettings& s) {
     for (auto& t : maps_) {
         skgl::make_target(t, size_, size_, {}, GL_DEPTH_COMPONENT32F, why);
         skgl::set_depth_compare(t.depth, false, false);
-        nearest_clamped(t.depth);
+        skgl::set_nearest_clamped(t.depth);
     }
     for (auto& t : vmaps_) {
         skgl::make_target(t, size_, size_, {GL_RGBA32F}, 0, why);
-        nearest_clamped(t.color[0]);
+        skgl::set_nearest_clamped(t.color[0]);
     }
     if (!sampled) return;
-    glGenTextures(1, &array_);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, array_);
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size_, size_, static_cast<GLsizei>(views_.size()));
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    // sampled: one depth array that compares (sampler2DArrayShadow: GL_LEQUAL, GL_LINEAR), clamped
+    array_ = skgl::make_depth_texture(GL_TEXTURE_2D_ARRAY, size_, static_cast<int>(views_.size()), GL_LINEAR, GL_CLAMP_TO_EDGE);
     glGenFramebuffers(1, &array_fbo_);
     glBindFramebuffer(GL_FRAMEBUFFER, array_fbo_);
     glDrawBuffer(GL_NONE);

@@ -140,22 +140,8 @@ void OmniShadows::make_cube(int size) {
     if (cube_) glDeleteTextures(1, &cube_);
     if (faces_view_) glDeleteTextures(1, &faces_view_);
     if (fbo_[0]) glDeleteFramebuffers(6, fbo_);
-    glGenTextures(1, &cube_);
-    glBindTexture(GL_TEXTURE_CUBE_MAP, cube_);
-    glTexStorage2D(GL_TEXTURE_CUBE_MAP, 1, GL_DEPTH_COMPONENT32F, size, size);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    glGenFramebuffers(6, fbo_);
-    for (int f = 0; f < 6; ++f) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[f]);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), cube_, 0);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
-    }
+    cube_ = skgl::make_depth_texture(GL_TEXTURE_CUBE_MAP, size, 1, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    skgl::make_depth_framebuffers(GL_TEXTURE_CUBE_MAP, cube_, 6, fbo_);
     glGenTextures(1, &faces_view_);
     glTextureView(faces_view_, GL_TEXTURE_2D_ARRAY, cube_, GL_DEPTH_COMPONENT32F, 0, 1, 0, 6);
     glTextureParameteri(faces_view_, GL_TEXTURE_COMPARE_MODE, GL_NONE);

@@ -26,13 +26,6 @@ namespace {
 
 namespace skp = shadowkit;
 
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
-
 // The lookup's helpers, after the snippets: the shadow coordinate, the light's window depth at an eye
 // distance, the receiver plane's depth gradient and its bias.
 const char* kHelpers = R"(
@@ -176,7 +169,7 @@ bool Pcss::init(const app::View& v, std::string& why) {
         snippets_ += text + "\n";
     }
     snippets_ += std::string(kHelpers) + app::emitter_horizon_glsl();
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     if (!depth_prog_) return false;
     // one map, two views: depth values (nearest, compare off) and the 2x2 compare (linear, GL_LEQUAL);
     // outside the map the border's far depth: lit
@@ -277,11 +270,7 @@ void Pcss::make_map(int size, PcssSettings::Depth depth) {
     glBindTexture(GL_TEXTURE_2D, map_);
     glTexStorage2D(GL_TEXTURE_2D, 1, depth == PcssSettings::Depth::Unorm24 ? GL_DEPTH_COMPONENT24 : GL_DEPTH_COMPONENT32F,
                    size, size);
-    glGenFramebuffers(1, &fbo_);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, map_, 0);
-    glDrawBuffer(GL_NONE);
-    glReadBuffer(GL_NONE);
+    skgl::make_depth_framebuffers(GL_TEXTURE_2D, map_, 1, &fbo_);
     size_ = size;
     depth_ = depth;
 }

@@ -65,12 +65,6 @@ void main() {
                                      u_quantized);
 }
 )";
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
 // V at a G-buffer point (after shadow_map.glsl, the snippet and the emitter's horizon): the receiver's t
 // minus its bias against the filtered moments at its uv; outside the map: lit.
 const char* kLookup = R"(
@@ -130,7 +124,7 @@ bool PrefilteredShadows::init(const app::View& v, std::string& why) {
     moment_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kMomentVS}, {GL_FRAGMENT_SHADER, head + kMomentFS}}, why);
     blur_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, full_vs}, {GL_FRAGMENT_SHADER, head + kBlurFS}}, why);
     resolve_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, full_vs}, {GL_FRAGMENT_SHADER, head + kResolveFS}}, why);
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     vis_prog_ = app::compile_visibility_program(shadow_map + "\n" + snippet + "\n" + app::emitter_horizon_glsl(), kLookup, why);
     if (!moment_prog_ || !blur_prog_ || !resolve_prog_ || !depth_prog_ || !vis_prog_) return false;
     glGenVertexArrays(1, &vao_);  // the full-screen triangle's (empty)

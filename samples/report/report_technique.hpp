@@ -9,14 +9,16 @@
 //   T::visibility(), then lets the family's `measure` read the work counters from what T exposes
 //   (sizes, per-caster results, passes it can run one at a time) - never from counters inside T.
 // One file per family in samples/report/techniques/ defines its add_<family>_techniques() with the
-// name, description, sweeps and `measure`.
+// name, description, sweeps and `measure`, and registers each spec with add_technique().
 #pragma once
 
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -73,12 +75,8 @@ public:
     }
     RunResult run(const RunContext& ctx, const ParamSet& params) override {
         S s;
-        app::Params bindings;
-        bind_settings(bindings, s);  // the technique header's names: the same as the sample's --param
-        std::string why;
-        if (!params.values.empty()) return RunResult::failure(spec_.name + " takes named settings (name=value words)");
-        for (const auto& [k, v] : params.named)
-            if (!bindings.set(k, v, why)) return RunResult::failure(why);
+        std::string why = set_named(params, s);
+        if (!why.empty()) return RunResult::failure(why);
         const app::View view =
             ctx.fit_camera ? app::make_view(ctx.scene, ctx.gpu, *ctx.fit_camera) : app::make_view(ctx.scene, ctx.gpu);
         T t;
@@ -123,12 +121,8 @@ public:
     bool honors_fit_camera() const override { return true; }  // the View's camera is RunContext::fit_camera
     SequenceResult run_sequence(const RunContext& ctx, const ParamSet& params, const std::vector<TemporalFrame>& frames) override {
         S s;
-        app::Params bindings;
-        bind_settings(bindings, s);
-        std::string why;
-        if (!params.values.empty()) return SequenceResult::failure(spec_.name + " takes named settings (name=value words)");
-        for (const auto& [k, v] : params.named)
-            if (!bindings.set(k, v, why)) return SequenceResult::failure(why);
+        std::string why = set_named(params, s);
+        if (!why.empty()) return SequenceResult::failure(why);
         if (frames.empty()) return SequenceResult{};
         if (spec_.sequence) return spec_.sequence(ctx, s, frames);
         Scene scene = ctx.scene;  // its light turns with the frames
@@ -151,7 +145,35 @@ public:
     }
 
 private:
+    /// The sweep entry's named settings into s, through the same app::Params bindings as the sample's
+    /// --param (the technique header's names): "" or what is wrong.
+    std::string set_named(const ParamSet& params, S& s) const {
+        app::Params bindings;
+        bind_settings(bindings, s);
+        if (!params.values.empty()) return spec_.name + " takes named settings (name=value words)";
+        std::string why;
+        for (const auto& [k, v] : params.named)
+            if (!bindings.set(k, v, why)) return why;
+        return "";
+    }
+
     ReportSpec<T, S> spec_;
 };
+
+namespace detail {
+template <class T, class = void>
+struct has_error : std::false_type {};
+template <class T>
+struct has_error<T, std::void_t<decltype(std::string(std::declval<const T&>().error()))>> : std::true_type {};
+}  // namespace detail
+
+/// Adds `spec` to the registry as a ReportTechnique<T, S>. A spec without `error` reads the class's
+/// own error() when T has one (every sample class but ShadowMap).
+template <class T, class S>
+void add_technique(std::vector<std::unique_ptr<Technique>>& out, ReportSpec<T, S> spec) {
+    if constexpr (detail::has_error<T>::value)
+        if (!spec.error) spec.error = [](const T& t) { return std::string(t.error()); };
+    out.push_back(std::make_unique<ReportTechnique<T, S>>(std::move(spec)));
+}
 
 }  // namespace sk

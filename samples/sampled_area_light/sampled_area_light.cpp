@@ -20,13 +20,6 @@
 
 namespace {
 
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
-
 // The lookups of one batch (after glsl/shadow_map.glsl): the maps at unit 2 (a depth array, compare on).
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_maps;
@@ -90,7 +83,7 @@ bool SampledAreaLight::init(const app::View& v, std::string& why) {
     }
     const std::string shadow_map = app::load_snippet("shadow_map", why);
     if (shadow_map.empty()) return false;
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     vis_prog_ = app::compile_visibility_program(shadow_map, kLookup, why);
     if (!depth_prog_ || !vis_prog_) return false;
     // the maps' compare: GL_LINEAR (a 2x2 percentage-closer compare), GL_LEQUAL, outside the map lit
@@ -145,13 +138,7 @@ void SampledAreaLight::make_maps(int size, int layers) {
     glGenTextures(1, &maps_);
     glBindTexture(GL_TEXTURE_2D_ARRAY, maps_);
     glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, size, size, layers);
-    glGenFramebuffers(layers, fbo_);
-    for (int i = 0; i < layers; ++i) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[i]);
-        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, maps_, 0, i);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
-    }
+    skgl::make_depth_framebuffers(GL_TEXTURE_2D_ARRAY, maps_, layers, fbo_);
     glGenTextures(1, &first_map_);
     glTextureView(first_map_, GL_TEXTURE_2D, maps_, GL_DEPTH_COMPONENT32F, 0, 1, 0, 1);
     size_ = size;

@@ -15,13 +15,6 @@
 
 namespace {
 
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
-
 // V's lookups (after glsl/shadow_map.glsl): the map is bound at unit 2.
 const char* kLookup2D = R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
@@ -47,7 +40,7 @@ bool ShadowMap::init(const app::View& v, std::string& why) {
     cube_ = v.light().type == sk::LightType::Point;
     const std::string snippet = app::load_snippet("shadow_map", why);
     if (snippet.empty()) return false;
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     vis_prog_ = app::compile_visibility_program(snippet, cube_ ? kLookupCube : kLookup2D, why);
     if (!depth_prog_ || !vis_prog_) return false;
     return pass_.init(v.width, v.height, why);
@@ -74,36 +67,17 @@ void ShadowMap::update(const app::View& v, const ShadowMapSettings&) {
     for (int f = 0; f < 6; ++f) light_vp_[f] = proj * glm::lookAt(L, L + dirs[f], ups[f]);
 }
 
-// A size x size depth texture that compares (sampler2DShadow / samplerCubeShadow): GL_LEQUAL against
-// the receiver's depth, GL_LINEAR for the hardware 2x2 filter; a 2D map's border is the far depth
-// (outside the map: lit). One framebuffer per face, depth only.
+// A size x size depth texture (GL_DEPTH_COMPONENT32F) that compares (sampler2DShadow /
+// samplerCubeShadow): GL_LEQUAL against the receiver's depth, GL_LINEAR for the hardware 2x2 filter; a
+// 2D map's border is the far depth (outside the map: lit), a cube map keeps GL's default wrap (its
+// lookups are seamless). One framebuffer per face, depth only.
 void ShadowMap::make_map(int size) {
     if (map_) glDeleteTextures(1, &map_);
     glDeleteFramebuffers(6, fbo_);
     std::fill(fbo_, fbo_ + 6, 0u);
     const GLenum target = cube_ ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
-    glGenTextures(1, &map_);
-    glBindTexture(target, map_);
-    glTexStorage2D(target, 1, GL_DEPTH_COMPONENT32F, size, size);
-    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(target, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(target, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    if (!cube_) {
-        const float far_border[4] = {1.f, 1.f, 1.f, 1.f};
-        glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-        glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-        glTexParameterfv(target, GL_TEXTURE_BORDER_COLOR, far_border);
-    }
-    const int faces = cube_ ? 6 : 1;
-    glGenFramebuffers(faces, fbo_);
-    for (int f = 0; f < faces; ++f) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_[f]);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
-                               cube_ ? static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f) : GL_TEXTURE_2D, map_, 0);
-        glDrawBuffer(GL_NONE);
-        glReadBuffer(GL_NONE);
-    }
+    map_ = skgl::make_depth_texture(target, size, 1, GL_LINEAR, cube_ ? GL_REPEAT : GL_CLAMP_TO_BORDER);
+    skgl::make_depth_framebuffers(target, map_, cube_ ? 6 : 1, fbo_);
     size_ = size;
 }
 

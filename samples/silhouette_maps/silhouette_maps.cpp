@@ -19,13 +19,6 @@
 
 namespace {
 
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
-
 // Pass 2, one instance per edge: a quad around the edge; each fragment (a texel of the dual grid the
 // edge crosses) writes the paper's silhouette point unless the depth map shows the edge occluded there.
 const char* kEdgeVS = R"(
@@ -83,14 +76,6 @@ bool failed(shadowkit::Status st, const char* what, std::string& error) {
     return true;
 }
 
-void nearest_clamped(GLuint tex) {
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 }  // namespace
 
 bool SilhouetteMap::init(const app::View& v, std::string& why) {
@@ -137,7 +122,7 @@ bool SilhouetteMap::init(const app::View& v, std::string& why) {
     const std::string plain = app::load_snippet("shadow_map", why);
     if (snippet.empty() || plain.empty()) return false;
     const std::string head = "#version 450 core\n" + snippet;
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     edge_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kEdgeVS}, {GL_FRAGMENT_SHADER, head + kEdgeFS}}, why);
     vis_prog_ = app::compile_visibility_program(snippet, kLookup, why);
     plain_prog_ = app::compile_visibility_program(plain, kLookupPlain, why);
@@ -190,7 +175,7 @@ void SilhouetteMap::make_maps(const SilhouetteMapSettings& s) {
         skgl::set_depth_compare(depth_.depth, true, true);
     } else {
         skgl::make_target(silmap_, side, side, {GL_RGBA8}, 0, why);
-        for (GLuint t : {depth_.depth, silmap_.color[0]}) nearest_clamped(t);
+        for (GLuint t : {depth_.depth, silmap_.color[0]}) skgl::set_nearest_clamped(t);
         skgl::set_depth_compare(depth_.depth, false, false);
     }
     built_ = s;

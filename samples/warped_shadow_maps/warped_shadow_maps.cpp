@@ -20,15 +20,10 @@
 
 namespace {
 
-// The depth pass: positions through the light's matrix; TSM also passes the light's undistorted clip
-// position, whose depth the fragment writes with the slope-scaled offset of glPolygonOffset(2, 2)
-// computed in the shader (sk_warp_map_depth: polygon offset does not apply to gl_FragDepth).
-const char* kDepthVS = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 u_light_view_proj;
-void main() { gl_Position = u_light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthFS = "#version 450 core\nvoid main() {}\n";
+// The depth pass: positions through the light's matrix (skgl::depth_only_program); TSM also passes the
+// light's undistorted clip position, whose depth the fragment writes with the slope-scaled offset of
+// glPolygonOffset(2, 2) computed in the shader (sk_warp_map_depth: polygon offset does not apply to
+// gl_FragDepth).
 const char* kTsmDepthVS = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 uniform mat4 u_light_view_proj;
@@ -82,7 +77,7 @@ bool WarpedShadowMaps::init(const app::View& v, std::string& why) {
     keep_.assign(scene.meshes.size(), 1);
     const std::string snippet = app::load_snippet("perspective_shadow_maps", why);
     if (snippet.empty()) return false;
-    depth_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, kDepthVS}, {GL_FRAGMENT_SHADER, kDepthFS}}, why);
+    depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     tsm_depth_prog_ = skgl::compile_program(
         {{GL_VERTEX_SHADER, kTsmDepthVS}, {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kTsmDepthFS}}, why);
     vis_prog_ = app::compile_visibility_program(snippet, kLookup, why);
@@ -157,22 +152,8 @@ void WarpedShadowMaps::update(const app::View& v, const WarpedShadowMapSettings&
 void WarpedShadowMaps::make_map(int size) {
     if (map_) glDeleteTextures(1, &map_);
     if (fbo_) glDeleteFramebuffers(1, &fbo_);
-    glGenTextures(1, &map_);
-    glBindTexture(GL_TEXTURE_2D, map_);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, size, size);
-    const float far_border[4] = {1.f, 1.f, 1.f, 1.f};
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, far_border);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glGenFramebuffers(1, &fbo_);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, map_, 0);
-    glDrawBuffer(GL_NONE);
-    glReadBuffer(GL_NONE);
+    map_ = skgl::make_depth_texture(GL_TEXTURE_2D, size, 1, GL_LINEAR, GL_CLAMP_TO_BORDER);
+    skgl::make_depth_framebuffers(GL_TEXTURE_2D, map_, 1, &fbo_);
     size_ = size;
 }
 

@@ -32,22 +32,7 @@ int fail(const char* what, shadowkit::Status s) {
 }
 
 // Draws a triangle list of homogeneous world positions (attribute 0) with the current program.
-void draw_vec4_triangles(const std::vector<glm::vec4>& vertices) {
-    static GLuint vao = 0, vbo = 0;
-    if (vao == 0) {
-        glGenVertexArrays(1, &vao);
-        glGenBuffers(1, &vbo);
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
-    }
-    glBindVertexArray(vao);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec4)), vertices.data(),
-                 GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
-}
+using docs::draw_vec4_triangles;
 
 GLuint texture_2d(GLenum format, int w, int h) {
     GLuint t = 0;
@@ -57,6 +42,19 @@ GLuint texture_2d(GLenum format, int w, int h) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     return t;
+}
+
+// A framebuffer (left bound) with `color` at attachment 0 and a w x h DEPTH_COMPONENT32F renderbuffer.
+GLuint framebuffer_with_depth(GLuint color, int w, int h) {
+    GLuint fbo = 0, depth = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    return fbo;
 }
 
 }  // namespace
@@ -104,14 +102,7 @@ layout(location = 0) out vec4 o_position;
 void main() { o_position = v_position; }
 )");
     const GLuint gbuffer_position = texture_2d(GL_RGBA32F, width, height);
-    GLuint gbuffer_fbo = 0, gbuffer_depth = 0;
-    glGenFramebuffers(1, &gbuffer_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, gbuffer_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, gbuffer_position, 0);
-    glGenRenderbuffers(1, &gbuffer_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, gbuffer_depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, gbuffer_depth);
+    const GLuint gbuffer_fbo = framebuffer_with_depth(gbuffer_position, width, height);
     glViewport(0, 0, width, height);
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     glClearBufferfv(GL_COLOR, 0, zero);
@@ -125,14 +116,7 @@ void main() { o_position = v_position; }
     // ---- the accumulation target (R32F, cleared to 0) with the scene's depth (a depth pre-pass),
     // and the visibility target
     const GLuint accumulation_texture = texture_2d(GL_R32F, width, height);
-    GLuint accumulation_fbo = 0, scene_depth = 0;
-    glGenFramebuffers(1, &accumulation_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, accumulation_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, accumulation_texture, 0);
-    glGenRenderbuffers(1, &scene_depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, scene_depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, scene_depth);
+    const GLuint accumulation_fbo = framebuffer_with_depth(accumulation_texture, width, height);
     glClearBufferfv(GL_COLOR, 0, zero);
     glClear(GL_DEPTH_BUFFER_BIT);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);

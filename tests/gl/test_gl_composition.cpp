@@ -248,54 +248,47 @@ glm::dvec2 ndc_xy(const glm::mat4& m, const glm::vec3& p) {
     return glm::dvec2(h.x, h.y) / h.w;
 }
 
-sk::LightFrustumInput light_frustum_input(const Scene& s, const Camera& c, const glm::vec4& light_position) {
-    sk::LightFrustumInput in;
+// What the three fits' inputs (LightFrustumInput, WarpInput, CascadeInput) share, under the same
+// names: the camera (its depth convention also the light matrix's), kMaxDistance (required with the
+// infinite far plane) and the light.
+template <class Input>
+Input fit_input(const Camera& c, const glm::vec4& light_position) {
+    Input in;
     in.camera_view = c.view;
     in.camera_proj = c.proj;
     in.camera_depth = c.clip_depth;
     in.camera_reversed_z = c.reversed_z;
-    in.max_distance = kMaxDistance;  // required with the infinite far plane
+    in.max_distance = kMaxDistance;
     in.light_position = light_position;
-    in.has_scene_bounds = true;
-    in.scene_min = s.lo;
-    in.scene_max = s.hi;
-    in.casters = s.caster_boxes.data();
-    in.caster_count = s.caster_boxes.size() / 6;
     in.light_depth = c.clip_depth;  // the light's matrix in the camera's depth convention
     in.light_reversed_z = c.reversed_z;
     return in;
 }
 
-sk::WarpInput warp_input(const Scene& s, const Camera& c, const glm::vec4& light_position) {
-    sk::WarpInput in;
-    in.camera_view = c.view;
-    in.camera_proj = c.proj;
-    in.camera_depth = c.clip_depth;
-    in.camera_reversed_z = c.reversed_z;
-    in.max_distance = kMaxDistance;
-    in.light_position = light_position;
+sk::LightFrustumInput light_frustum_input(const Scene& s, const Camera& c, const glm::vec4& light_position) {
+    auto in = fit_input<sk::LightFrustumInput>(c, light_position);
     in.has_scene_bounds = true;
     in.scene_min = s.lo;
     in.scene_max = s.hi;
-    in.light_depth = c.clip_depth;
-    in.light_reversed_z = c.reversed_z;
+    in.casters = s.caster_boxes.data();
+    in.caster_count = s.caster_boxes.size() / 6;
+    return in;
+}
+
+sk::WarpInput warp_input(const Scene& s, const Camera& c, const glm::vec4& light_position) {
+    auto in = fit_input<sk::WarpInput>(c, light_position);
+    in.has_scene_bounds = true;
+    in.scene_min = s.lo;
+    in.scene_max = s.hi;
     return in;
 }
 
 sk::CascadeInput cascade_input(const Scene& s, const Camera& c, const glm::vec4& light_position) {
-    sk::CascadeInput in;
-    in.camera_view = c.view;
-    in.camera_proj = c.proj;
-    in.camera_depth = c.clip_depth;
-    in.camera_reversed_z = c.reversed_z;
-    in.max_distance = kMaxDistance;
-    in.light_position = light_position;
+    auto in = fit_input<sk::CascadeInput>(c, light_position);
     in.shadow_map_size = kMap;
     in.has_caster_bounds = true;
     in.caster_min = s.lo;
     in.caster_max = s.hi;
-    in.light_depth = c.clip_depth;
-    in.light_reversed_z = c.reversed_z;
     return in;
 }
 
@@ -702,22 +695,7 @@ SceneGpu upload(const Scene& s) {
     return g;
 }
 
-void draw_vec4_triangles(const std::vector<glm::vec4>& vertices) {
-    static GLuint vao = 0, vbo = 0;
-    if (vao == 0) {
-        glGenVertexArrays(1, &vao);
-        glGenBuffers(1, &vbo);
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
-    }
-    if (vertices.empty()) return;
-    glBindVertexArray(vao);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(glm::vec4)), vertices.data(), GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
-}
+using docs::draw_vec4_triangles;
 
 // ------------------------------------------------------------------------------------------ programs
 

@@ -21,6 +21,34 @@ function(expect_fail expected_text)
   endif()
 endfunction()
 
+# Runs the report with ARGN; a non-zero exit fails with "<what> failed (rc)" and the output.
+function(report_ok what)
+  execute_process(COMMAND ${REPORT} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}${err}")
+  endif()
+endfunction()
+
+# Fails unless every file of ARGN exists in `dir`.
+function(expect_files dir)
+  foreach(f IN LISTS ARGN)
+    if(NOT EXISTS ${dir}/${f})
+      message(FATAL_ERROR "missing ${f}")
+    endif()
+  endforeach()
+endfunction()
+
+# Fails unless the report.md in `dir` contains every text of ARGN.
+function(expect_md dir)
+  file(READ ${dir}/report.md md)
+  foreach(text IN LISTS ARGN)
+    string(FIND "${md}" "${text}" pos)
+    if(pos EQUAL -1)
+      message(FATAL_ERROR "report.md lacks '${text}'")
+    endif()
+  endforeach()
+endfunction()
+
 expect_fail("unknown scene 'nosuch'" --scenes nosuch)
 expect_fail("unknown technique 'nosuch'" --techniques nosuch)
 expect_fail("unknown scene 'nosuch'" --scenes default,nosuch)
@@ -38,23 +66,10 @@ expect_fail("--temporal wants a frame count from 2 to 1000 or 'off'" --temporal 
 
 # issue 18, over time: temporal rows nested in their rows, flicker_vs_error.svg; shadow volumes are
 # exactly stable on camera paths, the cached map equals its full re-render (invariant pass)
-execute_process(
-  COMMAND ${REPORT} --quick --scenes outdoor --techniques shadow_volume,cached_shadow_map --size 64x48 --frames 1
-          --temporal 3 --out ${WORK}/temporal
-  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "temporal report run failed (${rc}):\n${out}${err}")
-endif()
-if(NOT EXISTS ${WORK}/temporal/flicker_vs_error.svg)
-  message(FATAL_ERROR "missing flicker_vs_error.svg")
-endif()
-file(READ ${WORK}/temporal/report.md md)
-foreach(text "| technique | params | chosen as | RMSE | ms | path | temporal RMS | flips | range | work |" "| pan | 0.0000 (same V) |")
-  string(FIND "${md}" "${text}" pos)
-  if(pos EQUAL -1)
-    message(FATAL_ERROR "report.md lacks '${text}'")
-  endif()
-endforeach()
+report_ok("temporal report run" --quick --scenes outdoor --techniques shadow_volume,cached_shadow_map --size 64x48 --frames 1
+          --temporal 3 --out ${WORK}/temporal)
+expect_files(${WORK}/temporal flicker_vs_error.svg)
+expect_md(${WORK}/temporal "| technique | params | chosen as | RMSE | ms | path | temporal RMS | flips | range | work |" "| pan | 0.0000 (same V) |")
 file(READ ${WORK}/temporal/report.json json)
 string(JSON tf GET "${json}" temporal_frames)
 if(NOT tf EQUAL 3)
@@ -102,24 +117,11 @@ endif()
 
 # light-size variants: an area light scaled, a spot light replaced by sphere lights (k = 1 added);
 # only the soft techniques run on them, each against an area-light reference
-execute_process(
-  COMMAND ${REPORT} --quick --scenes contact,stack --techniques penumbra_wedges,shadow_map --light-sizes 2
-          --size 64x48 --frames 1 --out ${WORK}/ls
-  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "light-size report run failed (${rc}):\n${out}${err}")
-endif()
-if(NOT EXISTS ${WORK}/ls/error_vs_light_size.svg)
-  message(FATAL_ERROR "missing error_vs_light_size.svg")
-endif()
-file(READ ${WORK}/ls/report.md md)
-foreach(text "\n## light size\n" "| contact@light=2 | square light, edge 1.6 | penumbra_wedges |"
-             "| stack@light=1 | sphere light, radius " "| stack@light=2 | sphere light, radius ")
-  string(FIND "${md}" "${text}" pos)
-  if(pos EQUAL -1)
-    message(FATAL_ERROR "report.md lacks '${text}'")
-  endif()
-endforeach()
+report_ok("light-size report run" --quick --scenes contact,stack --techniques penumbra_wedges,shadow_map --light-sizes 2
+          --size 64x48 --frames 1 --out ${WORK}/ls)
+expect_files(${WORK}/ls error_vs_light_size.svg)
+expect_md(${WORK}/ls "\n## light size\n" "| contact@light=2 | square light, edge 1.6 | penumbra_wedges |"
+          "| stack@light=1 | sphere light, radius " "| stack@light=2 | sphere light, radius ")
 file(READ ${WORK}/ls/report.json json)
 string(JSON nrows LENGTH "${json}" rows)
 math(EXPR last "${nrows} - 1")
@@ -145,20 +147,9 @@ if(variant_rows LESS 3)
 endif()
 
 # ported techniques name their settings: words in report.md and report.json, numbers stay numbers
-execute_process(
-  COMMAND ${REPORT} --quick --scenes stack --techniques shadow_volume,shadow_map --size 64x48 --frames 1 --out ${WORK}/named
-  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "named-settings report run failed (${rc}):\n${out}${err}")
-endif()
-file(READ ${WORK}/named/report.md md)
-foreach(text "| method=auto scissor=off depth_bounds=off |" "| method=auto scissor=on depth_bounds=on |"
-             "| shadow_map | size=512 |")
-  string(FIND "${md}" "${text}" pos)
-  if(pos EQUAL -1)
-    message(FATAL_ERROR "report.md lacks '${text}'")
-  endif()
-endforeach()
+report_ok("named-settings report run" --quick --scenes stack --techniques shadow_volume,shadow_map --size 64x48 --frames 1 --out ${WORK}/named)
+expect_md(${WORK}/named "| method=auto scissor=off depth_bounds=off |" "| method=auto scissor=on depth_bounds=on |"
+          "| shadow_map | size=512 |")
 file(READ ${WORK}/named/report.json json)
 string(JSON t0 TYPE "${json}" rows 0 params method)
 string(JSON v0 GET "${json}" rows 0 params scissor)
@@ -171,18 +162,9 @@ endif()
 file(WRITE ${WORK}/tet.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 file(WRITE ${WORK}/tet.ply "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
 
-execute_process(
-  COMMAND ${REPORT} --quick --scenes square,stack --mesh ${WORK}/tet.obj --mesh ${WORK}/tet.ply
-          --techniques shadow_map,unshadowed --size 96x72 --frames 2 --out ${WORK}/out
-  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "report run failed (${rc}):\n${out}${err}")
-endif()
-foreach(f report.md report.json error_vs_time.svg images/square__reference.png)
-  if(NOT EXISTS ${WORK}/out/${f})
-    message(FATAL_ERROR "missing ${f}")
-  endif()
-endforeach()
+report_ok("report run" --quick --scenes square,stack --mesh ${WORK}/tet.obj --mesh ${WORK}/tet.ply
+          --techniques shadow_map,unshadowed --size 96x72 --frames 2 --out ${WORK}/out)
+expect_files(${WORK}/out report.md report.json error_vs_time.svg images/square__reference.png)
 file(READ ${WORK}/out/report.json json)
 string(JSON renderer GET "${json}" renderer)
 string(JSON nrows LENGTH "${json}" rows)
@@ -240,12 +222,7 @@ if(NOT "${obj_rmse}" STREQUAL "${ply_rmse}")
 endif()
 
 # the `prt` pseudo-scene: a "## prt" section and a top-level "prt" object, error falling with the SH order
-execute_process(
-  COMMAND ${REPORT} --scenes prt --quick --size 64x48 --frames 2 --out ${WORK}/prt
-  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "prt report run failed (${rc}):\n${out}${err}")
-endif()
+report_ok("prt report run" --scenes prt --quick --size 64x48 --frames 2 --out ${WORK}/prt)
 file(READ ${WORK}/prt/report.md md)
 string(FIND "${md}" "\n## prt\n" pos)
 if(pos EQUAL -1)

@@ -162,9 +162,8 @@ void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& o
         (void)s;
         return true;
     };
-    spec.error = [](const CachedShadowMap& m) { return m.error(); };
     spec.sequence = sequence;
-    out.push_back(std::make_unique<ReportTechnique<CachedShadowMap, CachedShadowMapSettings>>(std::move(spec)));
+    add_technique(out, std::move(spec));
 }
 
 }  // namespace sk

@@ -65,15 +65,14 @@ void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     lin.sweep = {"size=512 segments=1", "size=512 segments=2", "size=512 segments=4", "size=512 segments=1 skin=gpu"};
     lin.quick = {"size=512 segments=1", "size=512 segments=2"};
     lin.measure = measure;
-    lin.error = [](const LinearLight& ll) { return ll.error(); };
     Spec sampled = lin;
     sampled.name = "sampled_line";
     sampled.description = "N shadow maps at the centers of N equal pieces of the line light, 2x2 PCF each, averaged (baseline)";
     sampled.sweep = {"method=sampled size=512 samples=2", "method=sampled size=512 samples=4",
                      "method=sampled size=512 samples=8", "method=sampled size=512 samples=16"};
     sampled.quick = {"method=sampled size=512 samples=2", "method=sampled size=512 samples=8"};
-    out.push_back(std::make_unique<ReportTechnique<LinearLight, LinearLightSettings>>(std::move(lin)));
-    out.push_back(std::make_unique<ReportTechnique<LinearLight, LinearLightSettings>>(std::move(sampled)));
+    add_technique(out, std::move(lin));
+    add_technique(out, std::move(sampled));
 }
 
 }  // namespace sk

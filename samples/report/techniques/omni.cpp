@@ -85,8 +85,7 @@ void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         for (const char* culling : {"off", "on"}) cube.sweep.push_back(std::string("size=") + size + " culling=" + culling);
     cube.quick = {"size=512 culling=off", "size=512 culling=on"};
     cube.measure = measure_cube;
-    cube.error = [](const OmniShadows& o) { return o.error(); };
-    out.push_back(std::make_unique<ReportTechnique<OmniShadows, OmniShadowSettings>>(std::move(cube)));
+    add_technique(out, std::move(cube));
 
     ReportSpec<DualParaboloid, DualParaboloidSettings> dp;
     dp.name = "dual_paraboloid";
@@ -96,8 +95,7 @@ void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         for (const char* tess : {"0", "4", "1"}) dp.sweep.push_back(std::string("size=") + size + " tess=" + tess);
     dp.quick = {"size=887 tess=0", "size=887 tess=1"};
     dp.measure = measure_paraboloid;
-    dp.error = [](const DualParaboloid& d) { return d.error(); };
-    out.push_back(std::make_unique<ReportTechnique<DualParaboloid, DualParaboloidSettings>>(std::move(dp)));
+    add_technique(out, std::move(dp));
 }
 
 }  // namespace sk

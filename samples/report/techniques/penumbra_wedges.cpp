@@ -171,8 +171,7 @@ void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                 "scissor=off depth_bounds=on", "scissor=on depth_bounds=on projection=infinite"};
     };
     spec.measure = measure;
-    spec.error = [](const PenumbraWedges& pw) { return pw.error(); };
-    out.push_back(std::make_unique<ReportTechnique<PenumbraWedges, S>>(std::move(spec)));
+    add_technique(out, std::move(spec));
 }
 
 }  // namespace sk

@@ -84,9 +84,8 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         spec.sweep.push_back(head + "size=1024 blur_from_light=on" + tail);
         spec.quick = {head + "size=1024 blur_from_light=on" + tail};
         spec.measure = measure;
-        spec.error = [](const PrefilteredShadows& t) { return t.error(); };
         spec.frame_budget_ms = 400.0;
-        out.push_back(std::make_unique<ReportTechnique<PrefilteredShadows, PrefilteredShadowSettings>>(std::move(spec)));
+        add_technique(out, std::move(spec));
     }
 }
 

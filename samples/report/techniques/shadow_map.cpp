@@ -25,7 +25,7 @@ void add_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                   {"casters_culled", 0.0}};
         return true;
     };
-    out.push_back(std::make_unique<ReportTechnique<ShadowMap, ShadowMapSettings>>(std::move(spec)));
+    add_technique(out, std::move(spec));
 }
 
 }  // namespace sk

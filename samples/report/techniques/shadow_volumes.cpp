@@ -119,8 +119,7 @@ void add_volume_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                   "method=auto scissor=on depth_bounds=on",    "method=zpass scissor=on depth_bounds=on",
                   "method=auto scissor=on depth_bounds=off",   "method=auto scissor=off depth_bounds=on"};
     spec.measure = measure;
-    spec.error = [](const ShadowVolumes& sv) { return sv.error(); };
-    out.push_back(std::make_unique<ReportTechnique<ShadowVolumes, ShadowVolumeSettings>>(std::move(spec)));
+    add_technique(out, std::move(spec));
 }
 
 }  // namespace sk

@@ -56,14 +56,13 @@ void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     sil.sweep = {"size=256", "size=512", "size=1024"};
     sil.quick = {"size=512"};
     sil.measure = measure;
-    sil.error = [](const SilhouetteMap& sm) { return sm.error(); };
     Spec plain = sil;
     plain.name = "silmap_plain";
     plain.description = "plain 2x2-PCF shadow map with the memory of silhouette_map at the same size (side sqrt(2) N)";
     plain.sweep = {"map=plain size=256", "map=plain size=512", "map=plain size=1024"};
     plain.quick = {"map=plain size=512"};
-    out.push_back(std::make_unique<ReportTechnique<SilhouetteMap, SilhouetteMapSettings>>(std::move(sil)));
-    out.push_back(std::make_unique<ReportTechnique<SilhouetteMap, SilhouetteMapSettings>>(std::move(plain)));
+    add_technique(out, std::move(sil));
+    add_technique(out, std::move(plain));
 }
 
 }  // namespace sk

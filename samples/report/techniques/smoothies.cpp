@@ -82,8 +82,7 @@ void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         return rows;
     };
     spec.measure = measure;
-    spec.error = [](const Smoothies& sm) { return sm.error(); };
-    out.push_back(std::make_unique<ReportTechnique<Smoothies, SmoothieSettings>>(std::move(spec)));
+    add_technique(out, std::move(spec));
 }
 
 }  // namespace sk

@@ -177,7 +177,6 @@ ReportSpec<Pcss, PcssSettings> pcss_spec(const char* name, const char* descripti
     spec.description = description;
     spec.hard = false;
     spec.measure = measure_pcss;
-    spec.error = [](const Pcss& t) { return t.error(); };
     spec.frame_budget_ms = 400.0;
     return spec;
 }
@@ -203,7 +202,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
             for (int t : taps)
                 rows.push_back("filter=poisson taps=" + std::to_string(t) + " rotate=" + rot + " radius_from_light=on fit_near=off");
     }
-    out.push_back(std::make_unique<ReportTechnique<Pcss, PcssSettings>>(std::move(pcf)));
+    add_technique(out, std::move(pcf));
 
     auto pcss = pcss_spec("pcss", "PCSS (pcss.hpp uniforms + glsl/pcss.glsl) on a 2048 map, near plane at the casters, "
                                   "receiver-plane bias: taps = search = filter (16/32/64), rotate off / on; x the "
@@ -213,7 +212,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         for (int t : {16, 32, 64}) pcss.sweep.push_back("filter=pcss taps=" + std::to_string(t) + " rotate=" + rot);
         for (int t : {16, 64}) pcss.quick.push_back("filter=pcss taps=" + std::to_string(t) + " rotate=" + rot);
     }
-    out.push_back(std::make_unique<ReportTechnique<Pcss, PcssSettings>>(std::move(pcss)));
+    add_technique(out, std::move(pcss));
 
     ReportSpec<SampledAreaLight, SampledAreaLightSettings> sampled;
     sampled.name = "sampled_area";
@@ -223,7 +222,6 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     sampled.applies = soft_scene;
     sampled.sweep = {"maps=4", "maps=16", "maps=64", "maps=256"};
     sampled.quick = {"maps=4", "maps=16", "maps=64"};
-    sampled.error = [](const SampledAreaLight& t) { return t.error(); };
     sampled.frame_budget_ms = 400.0;
     sampled.measure = [](SampledAreaLight& t, const SampledAreaLightSettings&, const app::View& v, const RunContext&,
                          RunResult& r) {
@@ -235,7 +233,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                   {"triangles_drawn", n * double(v.gpu->caster_triangles)}};
         return true;
     };
-    out.push_back(std::make_unique<ReportTechnique<SampledAreaLight, SampledAreaLightSettings>>(std::move(sampled)));
+    add_technique(out, std::move(sampled));
 
     // The bias study: each method at a few amounts, on the plain 2x2 compare and on a 16-tap rotated
     // Poisson PCF of radius 4 texels (the full sweep's PCF rows: the amounts that show the kernel-radius rule)
@@ -266,7 +264,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                     (quick ? bias.quick : bias.sweep).push_back(row + " fit_near=off horizon=off");
                 }
             }
-    out.push_back(std::make_unique<ReportTechnique<Pcss, PcssSettings>>(std::move(bias)));
+    add_technique(out, std::move(bias));
 }
 
 }  // namespace sk

@@ -117,8 +117,7 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         warped.quick.push_back(std::string("method=") + m + " size=1024");
     }
     warped.measure = measure_warped;
-    warped.error = [](const WarpedShadowMaps& w) { return w.error(); };
-    out.push_back(std::make_unique<ReportTechnique<WarpedShadowMaps, WarpedShadowMapSettings>>(std::move(warped)));
+    add_technique(out, std::move(warped));
 
     ReportSpec<CascadedShadowMaps, CascadedShadowMapSettings> cascades;
     cascades.name = "cascades";
@@ -127,8 +126,7 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4"};
     cascades.quick = {"size=512 count=4"};
     cascades.measure = measure_cascades;
-    cascades.error = [](const CascadedShadowMaps& c) { return c.error(); };
-    out.push_back(std::make_unique<ReportTechnique<CascadedShadowMaps, CascadedShadowMapSettings>>(std::move(cascades)));
+    add_technique(out, std::move(cascades));
 }
 
 }  // namespace sk
