@@ -198,6 +198,10 @@ int run_compare(int argc, char** argv) {
         const std::size_t slash = f.find_last_of('/');
         add(slash == std::string::npos ? f : f.substr(slash + 1), std::move(m));
     }
+    if (cases.empty()) {
+        std::fprintf(stderr, "shadowkit-bench --compare: no mesh matches --only \"%s\"\n", only.c_str());
+        return 2;
+    }
     std::printf("shadowkit-bench --compare: %d repetitions, medians of per-thread CPU time per frame (us)\n", reps);
     std::printf("\n| mesh | triangles | edges | silhouette edges | z-pass bgfx | exact | fast | memcpy | fast vs bgfx | fast / memcpy "
                 "| z-fail bgfx | exact | fast | memcpy | fast vs bgfx | fast / memcpy |\n");
