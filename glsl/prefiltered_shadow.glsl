@@ -35,8 +35,9 @@
 //    sk_prefilter_receiver_bias of the receiver plane for the blur's radius.
 // 5. Soft shadows with contact hardening (VSM, MSM): mipmaps as in 3 (every level, trilinear), then
 //    sk_prefilter_soft_visibility(moments, uv, t_receiver - depth_bias, method, params, moment_bias,
-//    quantized, soft) with soft = prefilter_soft_uniforms(...).params() (a perspective map from the
-//    emitter's center and its width): two textureLod lookups whose levels follow the penumbra.
+//    quantized, soft, receiver_slope) with soft = prefilter_soft_uniforms(...).params() (a perspective
+//    map from the emitter's center and its width), receiver_slope = (sk_prefilter_receiver_slope(...),
+//    cap) or vec2(0): two textureLod lookups whose levels follow the penumbra.
 // MSAA: render depth only into a multisampled depth texture, then sk_prefilter_resolve per texel
 // writes the mean of the samples' moments (not the moments of the mean depth) into the moment map.
 // Every lookup returns a value in [0, 1] for any texel contents, NaN and Inf included (a
@@ -346,19 +347,33 @@ float sk_prefilter_soft_level_of(float width_uv, vec4 soft) {
     if (!(k > 1.0)) return 0.0;
     return min(log2(k), log2(max(soft.w, 1.0)));
 }
+// |dt/du| + |dt/dv| of the receiver plane (the 2x2 solve of sk_prefilter_receiver_bias without a
+// radius), for the soft lookup's per-pixel kernels. 0 for a singular solve; clamped to [0, 1e6].
+float sk_prefilter_receiver_slope(vec3 duvt_dx, vec3 duvt_dy) {
+    float det = duvt_dx.x * duvt_dy.y - duvt_dx.y * duvt_dy.x;
+    float scale = (abs(duvt_dx.x) + abs(duvt_dx.y)) * (abs(duvt_dy.x) + abs(duvt_dy.y));
+    if (!(abs(det) > 1e-7 * scale) || !(abs(det) > 0.0)) return 0.0;
+    float gx = (duvt_dy.y * duvt_dx.z - duvt_dx.y * duvt_dy.z) / det;
+    float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
+    return sk_pf_clamp(abs(gx) + abs(gy), 0.0, 1e6);
+}
 // Soft visibility (1 lit) with contact hardening: the moments over the search region (textureLod at
-// its level), the average blocker depth (none: 1), the moments over that depth's penumbra, the
-// method's lookup. The map needs every mip level (glGenerateMipmap, GL_LINEAR_MIPMAP_LINEAR). light_uv
-// 0, ESM and EVSM: the hard lookup at level 0. t: the receiver's depth minus its bias.
+// its level), the average blocker depth, the moments over that depth's penumbra (no blocker found:
+// level 0, the hard lookup), the method's lookup. The map needs every mip level (glGenerateMipmap,
+// GL_LINEAR_MIPMAP_LINEAR). light_uv 0, ESM and EVSM: the hard lookup at level 0. t: the receiver's
+// depth minus its bias; receiver_slope = (sk_prefilter_receiver_slope, cap): each step compares
+// t - min(slope * half its width in uv, cap) ((0, 0): none).
 float sk_prefilter_soft_visibility(sampler2D moments, vec2 uv, float t, int method, vec4 params, float moment_bias,
-                                   bool quantized, vec4 soft) {
+                                   bool quantized, vec4 soft, vec2 receiver_slope) {
     if (!(soft.x > 0.0) || !(method == 0 || method == 4 || method == 5))
         return sk_prefilter_visibility(textureLod(moments, uv, 0.0), t, method, params, moment_bias, quantized);
-    float search = sk_prefilter_soft_level_of(sk_prefilter_soft_width(t, 0.0, soft), soft);
-    vec2 b = sk_prefilter_soft_blocker(textureLod(moments, uv, search), t, method, params, moment_bias, quantized);
-    if (!(b.x > 0.0)) return 1.0;
-    float level = sk_prefilter_soft_level_of(sk_prefilter_soft_width(t, b.y, soft), soft);
-    return sk_prefilter_visibility(textureLod(moments, uv, level), t, method, params, moment_bias, quantized);
+    float slope = sk_pf_clamp(receiver_slope.x, 0.0, 1e6), cap = sk_pf_clamp(receiver_slope.y, 0.0, 1.0);
+    float ws = sk_prefilter_soft_width(t, 0.0, soft);
+    vec2 b = sk_prefilter_soft_blocker(textureLod(moments, uv, sk_prefilter_soft_level_of(ws, soft)),
+                                       t - min(slope * 0.5 * ws, cap), method, params, moment_bias, quantized);
+    float wf = b.x > 0.0 ? sk_prefilter_soft_width(t, b.y, soft) : 0.0;
+    return sk_prefilter_visibility(textureLod(moments, uv, sk_prefilter_soft_level_of(wf, soft)),
+                                   t - min(slope * 0.5 * wf, cap), method, params, moment_bias, quantized);
 }
 
 // ---------------------------------------------------------------------------------------- filtering

@@ -24,7 +24,7 @@
 //   PrefilterSoftSettings ss;
 //   ss.light_proj = light_proj; ss.light_width = 2.0f; ss.range = range; ss.map_size = 1024;
 //   PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);  // su.status; su.params() -> GLSL `soft`
-//   //   sk_prefilter_soft_visibility(moments, uv, t_receiver, method, params, moment_bias, quantized, soft)
+//   //   sk_prefilter_soft_visibility(moments, uv, t_receiver, method, params, moment_bias, quantized, soft, slope)
 //
 // CONVENTIONS
 // - Moment depth t: every method filters a depth t in [0, 1] that grows away from the light and is
@@ -1141,26 +1141,48 @@ inline PrefilterPenumbra prefilter_soft_penumbra(float t_receiver, float t_block
     return r;
 }
 
+/// The receiver plane's depth slope |dt/du| + |dt/dv| (mirror of sk_prefilter_receiver_slope): the
+/// same 2x2 solve as prefilter_receiver_bias (Isidoro 2006) without a kernel radius, for the soft
+/// lookup, whose kernel changes per pixel. Total: 0 for a singular solve or non-finite input,
+/// clamped to [0, 1e6].
+inline float prefilter_receiver_slope(const glm::vec3& duvt_dx, const glm::vec3& duvt_dy) {
+    const float det = duvt_dx.x * duvt_dy.y - duvt_dx.y * duvt_dy.x;
+    const float scale = (std::fabs(duvt_dx.x) + std::fabs(duvt_dx.y)) * (std::fabs(duvt_dy.x) + std::fabs(duvt_dy.y));
+    if (!(std::fabs(det) > 1e-7f * scale) || !(std::fabs(det) > 0.0f)) return 0.0f;
+    const float gx = (duvt_dy.y * duvt_dx.z - duvt_dx.y * duvt_dy.z) / det;
+    const float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
+    return detail::pf_clamp(std::fabs(gx) + std::fabs(gy), 0.0f, 1e6f);
+}
+
 /// Soft visibility with contact hardening (mirror of sk_prefilter_soft_visibility): 1. the moments
 /// over the blocker-search region (the penumbra of a blocker at the range's near end) at mip level
-/// L_s; 2. the average blocker depth from them (prefilter_soft_blocker; none found: 1, lit); 3. the
-/// moments over the penumbra of that depth (its level L_p <= L_s); 4. prefilter_visibility of those.
-/// `sample_level(level)` returns the moment map's trilinear lookup at the receiver's uv at that
-/// (fractional) level: textureLod(moments, uv, level). light_width 0, ESM and EVSM give the hard lookup
-/// prefilter_visibility(sample_level(0), t, u). Total: in [0, 1] for any samples (NaN/Inf included);
-/// uniforms `u` not Ok give 1, `s` not Ok the hard lookup.
+/// L_s; 2. the average blocker depth from them (prefilter_soft_blocker); 3. the moments over the
+/// penumbra of that depth (its level L_p <= L_s), or, with no blocker found, level 0 (the hard
+/// lookup: a search region's moments can hide a small blocker close in front, which level 0 still
+/// resolves); 4. prefilter_visibility of those. `sample_level(level)` returns the moment map's
+/// trilinear lookup at the receiver's uv at that (fractional) level: textureLod(moments, uv, level).
+/// receiver_slope = (slope, cap): each step compares t - min(slope r, cap), r the half width of its
+/// region in uv, slope = prefilter_receiver_slope of the receiver plane (0, 0: no receiver-plane
+/// bias; a lit face steep to the light otherwise shadows itself under a wide kernel; the cap keeps
+/// umbrae right behind occluders on grazing receivers dark). light_width 0, ESM and EVSM give the
+/// hard lookup prefilter_visibility(sample_level(0), t, u). Total: in [0, 1] for any samples (NaN/Inf
+/// included); uniforms `u` not Ok give 1, `s` not Ok the hard lookup; NaN slopes count as 0.
 template <class SampleLevel>
 inline float prefilter_soft_visibility(SampleLevel&& sample_level, float t, const PrefilterUniforms& u,
-                                       const PrefilterSoftUniforms& s) {
+                                       const PrefilterSoftUniforms& s, const glm::vec2& receiver_slope = glm::vec2(0.0f)) {
     if (u.status != Status::Ok) return 1.0f;
     const bool soft = s.status == Status::Ok && s.light_uv > 0.0f &&
                       (u.method == PrefilterMethod::Vsm || u.method == PrefilterMethod::Msm || u.method == PrefilterMethod::MsmHausdorff);
     if (!soft) return prefilter_visibility(sample_level(0.0f), t, u);
-    const float search = prefilter_soft_level_of(prefilter_soft_width(t, 0.0f, s), s);
-    const glm::vec2 b = detail::pf_soft_blocker(sample_level(search), t, u);
-    if (!(b.x > 0.0f)) return 1.0f;
-    const float level = prefilter_soft_level_of(prefilter_soft_width(t, b.y, s), s);
-    return prefilter_visibility(sample_level(level), t, u);
+    const float slope = detail::pf_clamp(receiver_slope.x, 0.0f, 1e6f), cap = detail::pf_clamp(receiver_slope.y, 0.0f, 1.0f);
+    auto biased = [&](float width_uv) {
+        const float b = slope * 0.5f * width_uv;
+        return t - (b < cap ? b : cap);
+    };
+    const float ws = prefilter_soft_width(t, 0.0f, s);
+    const glm::vec2 b = detail::pf_soft_blocker(sample_level(prefilter_soft_level_of(ws, s)), biased(ws), u);
+    const float wf = b.x > 0.0f ? prefilter_soft_width(t, b.y, s) : 0.0f;
+    return prefilter_visibility(sample_level(prefilter_soft_level_of(wf, s)), biased(wf), u);
 }
 
 }  // namespace shadowkit

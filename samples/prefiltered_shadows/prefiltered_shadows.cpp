@@ -93,16 +93,20 @@ float technique_visibility(vec3 p, vec3 n) {
     vec4 c = sk_shadow_coord(u_light_view_proj, p, false);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0)))) return sk_emitter_horizon(p, n);
     float t = sk_prefilter_depth(-(u_light_view * vec4(p, 1.0)).z, u_depth_scale_offset) - u_depth_bias;
-    if (u_slope_bias > 0.0) {  // the receiver plane's (u, v, t) at two tangent steps (the G-buffer knows the plane)
+    vec3 d1 = vec3(0.0), d2 = vec3(0.0);  // the receiver plane's (u, v, t) steps (0: no receiver-plane bias)
+    if (u_slope_bias > 0.0) {  // two tangent steps (the G-buffer knows the plane)
         vec3 a = abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
         vec3 t1 = normalize(cross(n, a)), t2 = cross(n, t1);
         float h = 1e-2 * max(length(p - u_light_eye), 1e-4);
         vec3 o = uvt(p);
-        t -= min(u_slope_bias * sk_prefilter_receiver_bias(uvt(p + h * t1) - o, uvt(p + h * t2) - o, u_kernel_uv), u_slope_bias_max);
+        d1 = uvt(p + h * t1) - o;
+        d2 = uvt(p + h * t2) - o;
     }
     if (u_soft_on)  // the blocker search and the penumbra's filter, each a textureLod of the mip chain
-        return sk_prefilter_soft_visibility(u_moments, c.xy, t, u_method, u_params, u_moment_bias, u_quantized, u_soft) *
+        return sk_prefilter_soft_visibility(u_moments, c.xy, t, u_method, u_params, u_moment_bias, u_quantized, u_soft,
+                                            vec2(u_slope_bias * sk_prefilter_receiver_slope(d1, d2), u_slope_bias_max)) *
                sk_emitter_horizon(p, n);
+    t -= min(u_slope_bias * sk_prefilter_receiver_bias(d1, d2, u_kernel_uv), u_slope_bias_max);
     vec4 m = u_mips ? texture(u_moments, c.xy) : textureLod(u_moments, c.xy, 0.0);
     return sk_prefilter_visibility(m, t, u_method, u_params, u_moment_bias, u_quantized) * sk_emitter_horizon(p, n);
 }

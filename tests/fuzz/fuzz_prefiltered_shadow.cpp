@@ -151,8 +151,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float sv = prefilter_soft_visibility([&](float level) {
         check(std::isfinite(level) && level >= 0.0f);
         return level > 0.0f ? m2 : m;
-    }, t, u, sx);
+    }, t, u, sx, glm::vec2(r.f32(), r.f32()));
     check(unit(sv));
+    const float sl = prefilter_receiver_slope(r.vec3(), r.vec3());
+    check(std::isfinite(sl) && sl >= 0.0f && sl <= 1e6f);
     (void)status_name(static_cast<Status>(r.u8()));
     return 0;
 }

@@ -615,7 +615,7 @@ uniform vec4 u_soft;
 layout(location = 0) out float o;
 void main() {
     vec4 q = texelFetch(u_in, ivec2(gl_FragCoord.xy), 0);  // (u, v, t, 0)
-    o = sk_prefilter_soft_visibility(u_m, q.xy, q.z, u_method, u_params, u_moment_bias, u_quantized, u_soft);
+    o = sk_prefilter_soft_visibility(u_m, q.xy, q.z, u_method, u_params, u_moment_bias, u_quantized, u_soft, vec2(0.0));
 }
 )", log);
     REQUIRE_MESSAGE(soft_prog, log);

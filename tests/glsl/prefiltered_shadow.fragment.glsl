@@ -33,6 +33,8 @@ void main() {
     vec4 res = sk_prefilter_resolve(u_depth_ms, ivec2(gl_FragCoord.xy), 4, u_window_map, u_method, u_exponents, u_quantized);
     vec2 blk = sk_prefilter_soft_blocker(f, t, u_method, u_params, u_moment_bias, u_quantized);
     float pw = sk_prefilter_soft_level_of(sk_prefilter_soft_width(t, blk.y, u_soft), u_soft);
-    float sv = sk_prefilter_soft_visibility(u_moments, v_uv, tw, u_method, u_params, u_moment_bias, u_quantized, u_soft);
+    float slope = sk_prefilter_receiver_slope(vec3(dFdx(v_uv), dFdx(t)), vec3(dFdy(v_uv), dFdy(t)));
+    float sv = sk_prefilter_soft_visibility(u_moments, v_uv, tw, u_method, u_params, u_moment_bias, u_quantized, u_soft,
+                                            vec2(slope, 0.02));
     o_color = m + vec4(vm, em, 0.0) + ev + mm + vec4(a, b, c, d) + blur + res + vec4(blk, pw, sv);
 }
