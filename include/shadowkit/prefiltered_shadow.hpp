@@ -119,7 +119,12 @@
 //    pre-blur adds its own width. The blocker depth from the search-region moments: VSM with the
 //    non-blockers at t (exact for two depths: p = 1 - a, z_avg = z_b); MSM from the canonical
 //    representation through t (exact for two depths up to the moment bias). W = 0 or a receiver at
-//    a contact (d_b = d_r) gives level 0: the hard pre-filtered lookup.
+//    a contact (d_b = d_r) gives level 0: the hard pre-filtered lookup; so does a search that finds
+//    no blocker (MSM's bound over a wide mix of depths can miss a small blocker close in front,
+//    which level 0 resolves). A receiver plane with depth slope g (t per uv) spreads its own depths
+//    by +-g r over a region of half width r, half of them in front of it: the lookup compares
+//    t - min(g r, cap) per region (prefilter_receiver_slope; a filtered map cannot bias per tap as
+//    PCSS does, so sloped receivers under wide kernels stay its weak spot).
 //
 // Based on:
 //   W. Donnelly, A. Lauritzen, "Variance Shadow Maps", I3D 2006 (eq. 5: Chebyshev's one-sided bound).

@@ -83,7 +83,7 @@ uniform float u_slope_bias;
 uniform float u_slope_bias_max;
 uniform float u_kernel_uv;
 uniform bool u_mips;
-uniform bool u_soft_on;
+uniform bool u_soft_on;  // and u_soft = PrefilterSoftUniforms::params()
 uniform vec4 u_soft;
 // (u, v, t) of a world point
 vec3 uvt(vec3 q) {
@@ -99,8 +99,7 @@ float technique_visibility(vec3 p, vec3 n) {
         vec3 t1 = normalize(cross(n, a)), t2 = cross(n, t1);
         float h = 1e-2 * max(length(p - u_light_eye), 1e-4);
         vec3 o = uvt(p);
-        d1 = uvt(p + h * t1) - o;
-        d2 = uvt(p + h * t2) - o;
+        d1 = uvt(p + h * t1) - o, d2 = uvt(p + h * t2) - o;
     }
     if (u_soft_on)  // the blocker search and the penumbra's filter, each a textureLod of the mip chain
         return sk_prefilter_soft_visibility(u_moments, c.xy, t, u_method, u_params, u_moment_bias, u_quantized, u_soft,
@@ -194,8 +193,7 @@ void PrefilteredShadows::update(const app::View& v, const PrefilteredShadowSetti
     }
     kernel_ = skp::prefilter_blur_weights(s.blur, width, weights_, skp::kPrefilterMaxWeights);
     // soft: the map's projection (from the emitter's center), the emitter's width, the range and map size
-    soft_ = skp::PrefilterSoftUniforms{};
-    if (s.soft) soft_ = skp::prefilter_soft_uniforms({lm_.proj, light_width, range_, s.size});
+    soft_ = s.soft ? skp::prefilter_soft_uniforms({lm_.proj, light_width, range_, s.size}) : skp::PrefilterSoftUniforms{};
     if (range_.status != skp::Status::Ok) error_ = failed("prefilter_depth_range", range_.status);
     else if (u_.status != skp::Status::Ok) error_ = failed("prefilter_uniforms", u_.status);
     else if (kernel_.status != skp::Status::Ok) error_ = failed("prefilter_blur_weights", kernel_.status);

@@ -521,7 +521,7 @@ bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>&
     const int pw = 360, ph = 260, cols = 2;
     const int n = static_cast<int>(groups.size());
     const int W = pw * std::min(n, cols), H = ph * ((n + cols - 1) / cols);
-    static const char* colors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd"};
+    static const char* colors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b"};
     f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     for (int gi = 0; gi < n; ++gi) {

@@ -1,6 +1,6 @@
 // samples/report/techniques/prefiltered_shadows.cpp - "vsm", "esm", "evsm2", "evsm4", "msm",
-// "msm_hausdorff", and the soft lookup "msm_soft" / "vsm_soft" (soft=on: two rows and one, area lights;
-// msm_soft also on the light-size variants, skr::kLightSizeTechniques) in the report: the sample's PrefilteredShadows class (samples/prefiltered_shadows/), one
+// "msm_hausdorff", and the soft lookup "msm_soft" / "vsm_soft" (soft=on: two rows and one, area lights, also
+// on the light-size variants, skr::kLightSizeTechniques) in the report: the sample's PrefilteredShadows class (samples/prefiltered_shadows/), one
 // report technique per method (each its own colour on the error-vs-time chart), with timing, work
 // counters and sweeps (report_technique.hpp).
 //
@@ -15,6 +15,7 @@
 // gpu_bytes: the moment map and the blur's intermediate, the depth buffer (MSAA: 4 samples), mipmaps.
 // Debug images (ctx.debug_images, the GL tests): the moments 1..3 in light space.
 #include <string>
+#include <vector>
 
 #include "prefiltered_shadows.hpp"
 #include "report_technique.hpp"
@@ -89,7 +90,7 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         add_technique(out, std::move(spec));
     }
     // Soft shadows with contact hardening (soft=on): the blocker search and the penumbra's filter from the mip
-    // chain of a 3-texel-blurred map, on area lights; msm_soft also runs on the light-size variants (against PCSS)
+    // chain of a 3-texel-blurred map, on area lights and on the light-size variants (against PCSS)
     for (const char* name : {"msm_soft", "vsm_soft"}) {
         const bool msm = name[0] == 'm';
         ReportSpec<PrefilteredShadows, PrefilteredShadowSettings> spec;
