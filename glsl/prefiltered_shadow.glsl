@@ -293,7 +293,7 @@ float sk_prefilter_receiver_bias(vec3 duvt_dx, vec3 duvt_dy, float kernel_radius
 // ---------------------------------------------------------------------------------------- soft shadows
 // Contact hardening from a mipmapped moment map (VSM, MSM; prefiltered_shadow.hpp NUMERICS item 7):
 // `soft` = PrefilterSoftUniforms::params() = (light_uv, distance_scale, distance_offset, map_size).
-// (fraction, depth) of the blockers in front of t: VSM after Yang et al. 2010 (eq. 4: z_avg = (mu - p t) / (1 - p)),
+// (fraction, depth) of the blockers in front of t: VSM after Yang et al. 2010 (mu = p t + (1 - p) z_avg),
 // MSM the canonical representation's support points in front of t (after Peters et al. 2016).
 vec2 sk_prefilter_soft_blocker(vec4 moments, float t, int method, vec4 params, float moment_bias, bool quantized) {
     float z = sk_pf_clamp(t, 0.0, 1.0);
@@ -333,7 +333,7 @@ vec2 sk_prefilter_soft_blocker(vec4 moments, float t, int method, vec4 params, f
     return vec2(min(frac, 1.0), sk_pf_clamp(depth, 0.0, z));
 }
 // Penumbra width in uv of blockers at t_front on a receiver at t_receiver: light_uv (1/d_b - 1/d_r)
-// (similar triangles, Fernando 2005, eq. 1); t_front = 0: the blocker-search region. In [0, 1].
+// (similar triangles, Fernando 2005; Apelles eq. 3.21); t_front = 0: the blocker-search region. In [0, 1].
 float sk_prefilter_soft_width(float t_receiver, float t_front, vec4 soft) {
     if (isnan(t_receiver)) return 0.0;
     float tr = sk_pf_clamp(t_receiver, 0.0, 1.0), tb = sk_pf_clamp(t_front, 0.0, tr);

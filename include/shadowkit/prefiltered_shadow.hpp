@@ -134,9 +134,9 @@
 //   A. Lauritzen, M. McCool, "Layered Variance Shadow Maps", GI 2008 (exponential warps, EVSM).
 //   C. Peters, R. Klein, "Moment Shadow Mapping", I3D 2015 (Hamburger 4MSM, moment bias, Sec. 4.3
 //     optimized quantization, the Hausdorff variant).
-//   R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 sketch (eq. 1: penumbra width).
+//   R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 sketch (the penumbra width).
 //   B. Yang, Z. Dong, J. Feng, H.-P. Seidel, J. Kautz, "Variance Soft Shadow Mapping", Pacific
-//     Graphics 2010 (eq. 4: the average blocker depth from Chebyshev's bound).
+//     Graphics 2010 (the average blocker depth from Chebyshev's bound: mu = p t + (1 - p) z_avg).
 //   C. Peters, C. Muenstermann, N. Wetzstein, R. Klein, "Beyond Hard Shadows: Moment Shadow Maps for
 //     Single Scattering, Soft Shadows and Translucent Occluders", I3D 2016 (moment soft shadow
 //     mapping: blocker search from filtered moments; they filter with summed-area tables and bound
@@ -1027,7 +1027,7 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
     if (u.method == PrefilterMethod::Vsm) {
         const float p = pf_chebyshev(moments.x, moments.y, z, pf_clamp(u.min_variance, 0.0f, 1.0f));
         frac = 1.0f - p;
-        if (frac > 0.0f) depth = (moments.x - p * z) / frac;  // Yang et al. 2010, eq. 4: z_avg = (mu - p z) / (1 - p)
+        if (frac > 0.0f) depth = (moments.x - p * z) / frac;  // Yang et al. 2010: mu = p z + (1 - p) z_avg
     } else {
         const glm::vec4 b = pf_msm_bias(u.quantized ? prefilter_msm_dequantize(moments) : moments, u.moment_bias);
         const float d22 = b.y - b.x * b.x;
@@ -1063,8 +1063,7 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
 
 /// The average depth of the blockers in front of a receiver at moment depth t (already biased), from
 /// the moments filtered over the blocker-search region (mirror of sk_prefilter_soft_blocker). VSM:
-/// Chebyshev's p with the non-blockers at t, z_avg = (E[z] - p t) / (1 - p) (Yang et al. 2010,
-/// eq. 4); MSM / MSM Hausdorff: the canonical representation through t of the biased moments
+/// Chebyshev's p with the non-blockers at t, z_avg = (E[z] - p t) / (1 - p) (Yang et al. 2010); MSM / MSM Hausdorff: the canonical representation through t of the biased moments
 /// (after Peters et al. 2016): its support points in front of t, averaged by weight. Both are exact
 /// for a texel of two depths (a blocker over its receiver; MSM up to its moment bias). A share at or
 /// below kPrefilterSoftMinBlocker (MSM: or the moment bias) is no blocker. Ok for any moments and t (a non-finite moment
@@ -1099,7 +1098,7 @@ inline float prefilter_soft_level_of(float width_uv, const PrefilterSoftUniforms
 
 /// Full width of the penumbra in uv that blockers at moment depth t_front cast on a receiver at
 /// t_receiver (mirror of sk_prefilter_soft_width): similar triangles, w = W (d_r - d_b) / d_b at the
-/// receiver (Fernando 2005, eq. 1), in the map's uv at d_r: light_uv (1 / d_b - 1 / d_r). With
+/// receiver (Fernando 2005; Apelles eq. 3.21), in the map's uv at d_r: light_uv (1 / d_b - 1 / d_r). With
 /// t_front = 0 (the range's near end: the nearest a caster can be) it is the blocker-search region.
 /// Total: t's clamped to [0, 1] (NaN t_receiver: 0, NaN t_front: 0), t_front > t_receiver gives 0,
 /// clamped to [0, 1] (a region wider than the map); uniforms not Ok give 0.
@@ -1119,8 +1118,8 @@ struct PrefilterPenumbra {
     float level = 0.0f;        ///< the mip level that filters it, in [0, max_level] (prefilter_soft_level_of)
 };
 
-/// The penumbra of blockers at moment depth t_blocker on a receiver at t_receiver (Fernando 2005,
-/// eq. 1). NonFinite: NaN/Inf t; InvalidArgument: uniforms not Ok, t outside [0, 1], t_blocker >
+/// The penumbra of blockers at moment depth t_blocker on a receiver at t_receiver (Fernando 2005;
+/// Apelles eq. 3.21). NonFinite: NaN/Inf t; InvalidArgument: uniforms not Ok, t outside [0, 1], t_blocker >
 /// t_receiver; Overflow: a world width beyond float.
 inline PrefilterPenumbra prefilter_soft_penumbra(float t_receiver, float t_blocker, const PrefilterSoftUniforms& s) {
     PrefilterPenumbra r;
