@@ -33,6 +33,11 @@
 // 4. Lookup: visibility = sk_prefilter_visibility(texture(moments, uv), t_receiver - depth_bias,
 //    method, params, moment_bias, quantized); 1 = lit. depth_bias: a constant (MSM ~0.002) plus
 //    sk_prefilter_receiver_bias of the receiver plane for the blur's radius.
+// 5. Soft shadows with contact hardening (VSM, MSM): mipmaps as in 3 (every level, trilinear), then
+//    sk_prefilter_soft_visibility(moments, uv, t_receiver - depth_bias, method, params, moment_bias,
+//    quantized, soft, receiver_slope) with soft = prefilter_soft_uniforms(...).params() (a perspective
+//    map from the emitter's center and its width), receiver_slope = (sk_prefilter_receiver_slope(...),
+//    cap) or vec2(0): two textureLod lookups whose levels follow the penumbra.
 // MSAA: render depth only into a multisampled depth texture, then sk_prefilter_resolve per texel
 // writes the mean of the samples' moments (not the moments of the mean depth) into the moment map.
 // Every lookup returns a value in [0, 1] for any texel contents, NaN and Inf included (a
@@ -283,6 +288,92 @@ float sk_prefilter_receiver_bias(vec3 duvt_dx, vec3 duvt_dy, float kernel_radius
     float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
     float b = sk_pf_clamp(kernel_radius_uv, 0.0, 1.0) * (abs(gx) + abs(gy));
     return sk_pf_clamp(b, 0.0, 1.0);
+}
+
+// ---------------------------------------------------------------------------------------- soft shadows
+// Contact hardening from a mipmapped moment map (VSM, MSM; prefiltered_shadow.hpp NUMERICS item 7):
+// `soft` = PrefilterSoftUniforms::params() = (light_uv, distance_scale, distance_offset, map_size).
+// (fraction, depth) of the blockers in front of t: VSM after Yang et al. 2010 (mu = p t + (1 - p) z_avg),
+// MSM the canonical representation's support points in front of t (after Peters et al. 2016).
+vec2 sk_prefilter_soft_blocker(vec4 moments, float t, int method, vec4 params, float moment_bias, bool quantized) {
+    float z = sk_pf_clamp(t, 0.0, 1.0);
+    if (!sk_pf_finite(moments) || isnan(t) || !(method == 0 || method == 4 || method == 5)) return vec2(0.0, z);
+    float frac = 0.0, depth = z, min_share = 1e-3;
+    if (method == 0) {
+        float p = sk_pf_chebyshev(moments.x, moments.y, z, sk_pf_clamp(params.z, 0.0, 1.0));
+        frac = 1.0 - p;
+        if (frac > 0.0) depth = (moments.x - p * z) / frac;
+    } else {
+        vec4 b = sk_pf_msm_prepare(moments, moment_bias, quantized);
+        min_share = max(min_share, moment_bias);  // the bias's half sample at 0: a phantom blocker on every texel
+        float d22 = b.y - b.x * b.x;
+        if (!(d22 > 0.0)) {
+            if (z > b.x) { frac = 1.0; depth = b.x; }
+        } else {
+            vec2 z23;
+            bool solved;
+            float g = sk_pf_msm_hamburger(b, z, z23, solved);
+            if (solved) {
+                frac = g;
+                if (z <= z23.y) depth = z23.x;
+                else if (g > 0.0) depth = (b.x - (1.0 - g) * z) / g;  // E[x; x < z] = b1 - w(z) z
+            } else {  // two depths x1 <= x2
+                float l32 = (b.z - b.x * b.y) / d22;
+                float disc = l32 * l32 - 4.0 * (l32 * b.x - b.y);
+                if (!(disc > 0.0)) disc = 0.0;
+                float s = sqrt(disc), x1 = 0.5 * (l32 - s), x2 = 0.5 * (l32 + s);
+                float w1 = (x2 - b.x) / (x2 - x1);
+                if (x2 < z) { frac = 1.0; depth = b.x; }
+                else if (x1 < z && w1 >= 0.0 && w1 <= 1.0) { frac = w1; depth = x1; }
+                else if (!(w1 >= 0.0 && w1 <= 1.0) && z > b.x) { frac = 1.0; depth = b.x; }
+            }
+        }
+    }
+    if (!(frac > min_share) || !(depth <= 1e30 && depth >= -1e30)) return vec2(0.0, z);
+    return vec2(min(frac, 1.0), sk_pf_clamp(depth, 0.0, z));
+}
+// Penumbra width in uv of blockers at t_front on a receiver at t_receiver: light_uv (1/d_b - 1/d_r)
+// (similar triangles, Fernando 2005; Apelles eq. 3.21); t_front = 0: the blocker-search region. In [0, 1].
+float sk_prefilter_soft_width(float t_receiver, float t_front, vec4 soft) {
+    if (isnan(t_receiver)) return 0.0;
+    float tr = sk_pf_clamp(t_receiver, 0.0, 1.0), tb = sk_pf_clamp(t_front, 0.0, tr);
+    float dr = tr * soft.y + soft.z, db = tb * soft.y + soft.z;
+    return sk_pf_clamp(soft.x * (1.0 / db - 1.0 / dr), 0.0, 1.0);
+}
+// Mip level whose trilinear lookup has the variance of a box of width_uv: log2(K / sqrt(3)), K in
+// texels, clamped to [0, log2(map_size)].
+float sk_prefilter_soft_level_of(float width_uv, vec4 soft) {
+    float k = width_uv * soft.w * 0.57735027;
+    if (!(k > 1.0)) return 0.0;
+    return min(log2(k), log2(max(soft.w, 1.0)));
+}
+// |dt/du| + |dt/dv| of the receiver plane (the 2x2 solve of sk_prefilter_receiver_bias without a
+// radius), for the soft lookup's per-pixel kernels. 0 for a singular solve; clamped to [0, 1e6].
+float sk_prefilter_receiver_slope(vec3 duvt_dx, vec3 duvt_dy) {
+    float det = duvt_dx.x * duvt_dy.y - duvt_dx.y * duvt_dy.x;
+    float scale = (abs(duvt_dx.x) + abs(duvt_dx.y)) * (abs(duvt_dy.x) + abs(duvt_dy.y));
+    if (!(abs(det) > 1e-7 * scale) || !(abs(det) > 0.0)) return 0.0;
+    float gx = (duvt_dy.y * duvt_dx.z - duvt_dx.y * duvt_dy.z) / det;
+    float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
+    return sk_pf_clamp(abs(gx) + abs(gy), 0.0, 1e6);
+}
+// Soft visibility (1 lit) with contact hardening: the moments over the search region (textureLod at
+// its level), the average blocker depth, the moments over that depth's penumbra (no blocker found:
+// level 0, the hard lookup), the method's lookup. The map needs every mip level (glGenerateMipmap,
+// GL_LINEAR_MIPMAP_LINEAR). light_uv 0, ESM and EVSM: the hard lookup at level 0. t: the receiver's
+// depth minus its bias; receiver_slope = (sk_prefilter_receiver_slope, cap): each step compares
+// t - min(slope * half its width in uv, cap) ((0, 0): none).
+float sk_prefilter_soft_visibility(sampler2D moments, vec2 uv, float t, int method, vec4 params, float moment_bias,
+                                   bool quantized, vec4 soft, vec2 receiver_slope) {
+    if (!(soft.x > 0.0) || !(method == 0 || method == 4 || method == 5))
+        return sk_prefilter_visibility(textureLod(moments, uv, 0.0), t, method, params, moment_bias, quantized);
+    float slope = sk_pf_clamp(receiver_slope.x, 0.0, 1e6), cap = sk_pf_clamp(receiver_slope.y, 0.0, 1.0);
+    float ws = sk_prefilter_soft_width(t, 0.0, soft);
+    vec2 b = sk_prefilter_soft_blocker(textureLod(moments, uv, sk_prefilter_soft_level_of(ws, soft)),
+                                       t - min(slope * 0.5 * ws, cap), method, params, moment_bias, quantized);
+    float wf = b.x > 0.0 ? sk_prefilter_soft_width(t, b.y, soft) : 0.0;
+    return sk_prefilter_visibility(textureLod(moments, uv, sk_prefilter_soft_level_of(wf, soft)),
+                                   t - min(slope * 0.5 * wf, cap), method, params, moment_bias, quantized);
 }
 
 // ---------------------------------------------------------------------------------------- filtering

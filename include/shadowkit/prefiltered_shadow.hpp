@@ -20,6 +20,11 @@
 //   // two sk_prefilter_blur passes filter it, the lookup is
 //   //   sk_prefilter_visibility(texture(moments, uv), t_receiver, method, params, moment_bias, quantized).
 //   // The CPU mirrors (prefilter_moments, prefilter_visibility, ...) compute the same in float.
+//   // Soft shadows with contact hardening (VSM, MSM): a mipmapped moment map and the emitter's width
+//   PrefilterSoftSettings ss;
+//   ss.light_proj = light_proj; ss.light_width = 2.0f; ss.range = range; ss.map_size = 1024;
+//   PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);  // su.status; su.params() -> GLSL `soft`
+//   //   sk_prefilter_soft_visibility(moments, uv, t_receiver, method, params, moment_bias, quantized, soft, slope)
 //
 // CONVENTIONS
 // - Moment depth t: every method filters a depth t in [0, 1] that grows away from the light and is
@@ -38,7 +43,8 @@
 //   counts as lit (it can only come from an overflowed warp: keep exponents within the limits).
 // - Buffers: prefilter_blur_weights writes `weights_capacity` float elements.
 // - No function here takes a light: the light's projection enters only through near/far values
-//   (prefilter_window_depth_map) and prefilter_kernel_texels' projection matrix.
+//   (prefilter_window_depth_map) and the projection matrices of prefilter_kernel_texels and
+//   prefilter_soft_uniforms (with the emitter's width, a separate field).
 //
 // NUMERICS (derivations; the unit tests check each claim)
 // 1. Formats. Float32: largest finite F = 3.4028235e38, a value rounds to Inf from
@@ -102,6 +108,23 @@
 // 6. Kernel width. The blur is uniform over the map; a world width W at eye distance d covers
 //    0.5 P[0][0] W / w(d) of uv (w(d) = d for a perspective light, 1 for an orthographic one), times
 //    the map size in texels (prefilter_kernel_texels).
+// 7. Soft shadows (contact hardening). A perspective map from the emitter's center, emitter width W:
+//    blockers at eye distance d_b cast a penumbra W (d_r - d_b) / d_b on a receiver at d_r (PCSS's
+//    similar triangles), which covers light_uv (1 / d_b - 1 / d_r) of the map's uv, light_uv =
+//    0.5 sqrt|P00 P11| W / -P23. The search region is that width for d_b = near (the range's near end:
+//    no caster is closer). A box of K texels (variance K^2 / 12) is matched by a trilinear lookup at
+//    mip level L = log2(K / sqrt(3)) (box 2^L * tent 2^L: variance 4^L / 4), so a mipmapped moment
+//    map filters any width with two lookups; the mip boxes are aligned to the level's grid (the
+//    filter is not shift-invariant: a blocky, trilinear-smoothed penumbra at wide levels), and the
+//    pre-blur adds its own width. The blocker depth from the search-region moments: VSM with the
+//    non-blockers at t (exact for two depths: p = 1 - a, z_avg = z_b); MSM from the canonical
+//    representation through t (exact for two depths up to the moment bias). W = 0 or a receiver at
+//    a contact (d_b = d_r) gives level 0: the hard pre-filtered lookup; so does a search that finds
+//    no blocker (MSM's bound over a wide mix of depths can miss a small blocker close in front,
+//    which level 0 resolves). A receiver plane with depth slope g (t per uv) spreads its own depths
+//    by +-g r over a region of half width r, half of them in front of it: the lookup compares
+//    t - min(g r, cap) per region (prefilter_receiver_slope; a filtered map cannot bias per tap as
+//    PCSS does, so sloped receivers under wide kernels stay its weak spot).
 //
 // Based on:
 //   W. Donnelly, A. Lauritzen, "Variance Shadow Maps", I3D 2006 (eq. 5: Chebyshev's one-sided bound).
@@ -111,6 +134,13 @@
 //   A. Lauritzen, M. McCool, "Layered Variance Shadow Maps", GI 2008 (exponential warps, EVSM).
 //   C. Peters, R. Klein, "Moment Shadow Mapping", I3D 2015 (Hamburger 4MSM, moment bias, Sec. 4.3
 //     optimized quantization, the Hausdorff variant).
+//   R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 sketch (the penumbra width).
+//   B. Yang, Z. Dong, J. Feng, H.-P. Seidel, J. Kautz, "Variance Soft Shadow Mapping", Pacific
+//     Graphics 2010 (the average blocker depth from Chebyshev's bound: mu = p t + (1 - p) z_avg).
+//   C. Peters, C. Muenstermann, N. Wetzstein, R. Klein, "Beyond Hard Shadows: Moment Shadow Maps for
+//     Single Scattering, Soft Shadows and Translucent Occluders", I3D 2016 (moment soft shadow
+//     mapping: blocker search from filtered moments; they filter with summed-area tables and bound
+//     the blockers' partial moment, here the mean of the canonical representation's points in front).
 //   A. Moschig, "Apelles: A Library for GPU-Based Real-Time Global Illumination", master's thesis, TU
 //     Graz (2012), Sec. 2.1.2 (oversampling: VSM, ESM, CSM, layered VSM; light bleeding, Fig. 2.11).
 //
@@ -908,6 +938,255 @@ inline PrefilterKernelWidth prefilter_kernel_texels(const glm::mat4& light_proj,
     r.texels = glm::vec2(static_cast<float>(tx), static_cast<float>(ty));
     r.status = Status::Ok;
     return r;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Soft shadows with contact hardening (NUMERICS item 7)
+// ------------------------------------------------------------------------------------------------
+
+/// What the soft lookup needs besides the method's uniforms: the map's perspective projection, the
+/// emitter's width and the depth range the map encodes. Every field is required.
+struct PrefilterSoftSettings {
+    glm::mat4 light_proj = glm::mat4(0.0f);  ///< the map's perspective projection, from the emitter's center (required)
+    float light_width = -1.0f;               ///< the emitter's width in world units, >= 0 (required; 0: the hard lookup)
+    PrefilterDepthRange range;               ///< prefilter_depth_range of the map (required: status Ok, near > 0)
+    int map_size = 0;                        ///< texels per side of the square moment map, mipmapped to 1x1 (required)
+};
+
+/// The soft lookup's uniforms: `params()` is the `soft` vec4 of sk_prefilter_soft_visibility.
+struct PrefilterSoftUniforms {
+    Status status = Status::NotRun;
+    float light_uv = 0.0f;         ///< 0.5 sqrt|P[0][0] P[1][1]| light_width / -P[2][3]: the emitter's uv width x unit distance
+    float light_width = 0.0f;      ///< world units
+    float distance_scale = 0.0f;   ///< eye distance d = t * distance_scale + distance_offset
+    float distance_offset = 0.0f;  ///< (the inverse of the depth range: d(0) = near, d(1) = far)
+    float map_size = 0.0f;         ///< texels per side
+    float max_level = 0.0f;        ///< log2(map_size): the 1x1 level
+    glm::vec4 params() const { return glm::vec4(light_uv, distance_scale, distance_offset, map_size); }
+};
+
+/// Checks the soft settings. NonFinite: NaN/Inf in light_proj or light_width; InvalidArgument: a
+/// projection that is not perspective (P[3][3] != 0 or P[2][3] >= 0: an orthographic map has no
+/// emitter size here), light_width < 0 (the default), a range whose status is not Ok or whose near
+/// end is 0 (blockers at distance 0 make every penumbra infinite), map_size <= 0 (the default) or
+/// not a power of two (the mip chain halves it down to 1); Overflow: light_uv beyond float.
+inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings& s) {
+    PrefilterSoftUniforms u;
+    bool finite = std::isfinite(s.light_width);
+    for (int c = 0; c < 4; ++c)
+        for (int i = 0; i < 4; ++i) finite = finite && std::isfinite(s.light_proj[c][i]);
+    if (!finite) {
+        u.status = Status::NonFinite;
+        return u;
+    }
+    const double p23 = double(s.light_proj[2][3]);
+    const double ds = s.range.status == Status::Ok && s.range.scale > 0.0f ? 1.0 / double(s.range.scale) : 0.0;
+    const double near = -double(s.range.offset) * ds;
+    const bool pow2 = s.map_size > 0 && (s.map_size & (s.map_size - 1)) == 0;
+    if (s.light_proj[3][3] != 0.0f || !(p23 < 0.0) || s.light_width < 0.0f || !(ds > 0.0) || !(near > 0.0) || !pow2) {
+        u.status = Status::InvalidArgument;
+        return u;
+    }
+    const double luv = 0.5 * std::sqrt(std::abs(double(s.light_proj[0][0]) * double(s.light_proj[1][1]))) *
+                       double(s.light_width) / -p23;
+    if (!(luv < double(std::numeric_limits<float>::max())) || !(ds < double(std::numeric_limits<float>::max()))) {
+        u.status = Status::Overflow;
+        return u;
+    }
+    u.light_uv = static_cast<float>(luv);
+    u.light_width = s.light_width;
+    u.distance_scale = static_cast<float>(ds);
+    u.distance_offset = static_cast<float>(near);
+    u.map_size = static_cast<float>(s.map_size);
+    u.max_level = static_cast<float>(std::log2(double(s.map_size)));
+    u.status = Status::Ok;
+    return u;
+}
+
+/// The average blocker depth in front of a receiver, estimated from one filtered moment texel.
+struct PrefilterBlocker {
+    Status status = Status::NotRun;
+    bool blocker_found = false;  ///< false (with Ok): nothing in front of t in this texel (lit)
+    float depth = 0.0f;          ///< average blocker depth in t units, in [0, t] (t when none is found)
+    float fraction = 0.0f;       ///< the blockers' share of the texel, in [0, 1]
+};
+
+/// Blockers covering at most this share of the search region (or, MSM, at most the moment bias,
+/// which puts half of its weight at depth 0 on every texel) are not blockers: no blocker found.
+constexpr float kPrefilterSoftMinBlocker = 1e-3f;
+
+namespace detail {
+/// The blockers of moments b in front of z as (fraction, mean depth): VSM (Yang et al. 2010, VSSM:
+/// the non-blockers sit at z, mean = p z + (1 - p) z_avg with p = Chebyshev's bound); MSM from the
+/// canonical representation through z (after Peters et al. 2016: the support points in front of z
+/// are the blockers); the two-depth and one-depth fallbacks read them off. Exact for a two-depth texel.
+inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const PrefilterUniforms& u) {
+    const float z = pf_clamp(t, 0.0f, 1.0f);
+    if (!pf_finite(moments) || std::isnan(t)) return glm::vec2(0.0f, z);
+    float frac = 0.0f, depth = z;
+    if (u.method == PrefilterMethod::Vsm) {
+        const float p = pf_chebyshev(moments.x, moments.y, z, pf_clamp(u.min_variance, 0.0f, 1.0f));
+        frac = 1.0f - p;
+        if (frac > 0.0f) depth = (moments.x - p * z) / frac;  // Yang et al. 2010: mu = p z + (1 - p) z_avg
+    } else {
+        const glm::vec4 b = pf_msm_bias(u.quantized ? prefilter_msm_dequantize(moments) : moments, u.moment_bias);
+        const float d22 = b.y - b.x * b.x;
+        if (!(d22 > 0.0f)) {  // one depth
+            if (z > b.x) frac = 1.0f, depth = b.x;
+        } else {
+            float z2, z3;
+            bool solved;
+            const float g = pf_msm_hamburger_shadow(b, z, z2, z3, solved);
+            if (solved) {
+                frac = g;
+                if (z <= z3) depth = z2;  // the one support point in front of z
+                else if (g > 0.0f) depth = (b.x - (1.0f - g) * z) / g;  // E[x; x < z] = b1 - w(z) z
+            } else {  // two depths x1 <= x2 (D33 <= 0): the ones in front of z
+                const float l32 = (b.z - b.x * b.y) / d22;
+                float disc = l32 * l32 - 4.0f * (l32 * b.x - b.y);
+                if (!(disc > 0.0f)) disc = 0.0f;
+                const float s = std::sqrt(disc), x1 = 0.5f * (l32 - s), x2 = 0.5f * (l32 + s);
+                const float w1 = (x2 - b.x) / (x2 - x1);
+                if (x2 < z) frac = 1.0f, depth = b.x;
+                else if (x1 < z && w1 >= 0.0f && w1 <= 1.0f) frac = w1, depth = x1;
+                else if (!(w1 >= 0.0f && w1 <= 1.0f) && z > b.x) frac = 1.0f, depth = b.x;  // NaN weight: the mean
+            }
+        }
+    }
+    // the moment bias puts a/2 of a sample at 0 (a phantom blocker on every texel): ignore shares below it
+    const float min_share = u.method == PrefilterMethod::Vsm ? kPrefilterSoftMinBlocker
+                                                         : (u.moment_bias > kPrefilterSoftMinBlocker ? u.moment_bias : kPrefilterSoftMinBlocker);
+    if (!(frac > min_share) || !(depth <= 1e30f && depth >= -1e30f)) return glm::vec2(0.0f, z);
+    return glm::vec2(frac > 1.0f ? 1.0f : frac, pf_clamp(depth, 0.0f, z));
+}
+}  // namespace detail
+
+/// The average depth of the blockers in front of a receiver at moment depth t (already biased), from
+/// the moments filtered over the blocker-search region (mirror of sk_prefilter_soft_blocker). VSM:
+/// Chebyshev's p with the non-blockers at t, z_avg = (E[z] - p t) / (1 - p) (Yang et al. 2010); MSM / MSM Hausdorff: the canonical representation through t of the biased moments
+/// (after Peters et al. 2016): its support points in front of t, averaged by weight. Both are exact
+/// for a texel of two depths (a blocker over its receiver; MSM up to its moment bias). A share at or
+/// below kPrefilterSoftMinBlocker (MSM: or the moment bias) is no blocker. Ok for any moments and t (a non-finite moment
+/// or NaN t: no blocker). InvalidArgument: uniforms whose status is not Ok, or ESM / EVSM (no
+/// blocker estimate here: their soft lookup is the hard one).
+inline PrefilterBlocker prefilter_soft_blocker(const glm::vec4& moments, float t, const PrefilterUniforms& u) {
+    PrefilterBlocker r;
+    if (u.status != Status::Ok || !(u.method == PrefilterMethod::Vsm || u.method == PrefilterMethod::Msm ||
+                                    u.method == PrefilterMethod::MsmHausdorff)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const glm::vec2 b = detail::pf_soft_blocker(moments, t, u);
+    r.blocker_found = b.x > 0.0f;
+    r.fraction = b.x;
+    r.depth = b.y;
+    r.status = Status::Ok;
+    return r;
+}
+
+/// Mip level of the moment map whose trilinear lookup filters like a box of full width `width_uv`
+/// (uv units) (mirror of sk_prefilter_soft_level_of): a box of K texels has variance K^2 / 12, a
+/// bilinear lookup at level L a box of 2^L texels convolved with a tent of 2^L: variance 4^L / 4, so
+/// L = log2(K / sqrt(3)). Total: clamped to [0, max_level]; NaN or uniforms not Ok give 0.
+inline float prefilter_soft_level_of(float width_uv, const PrefilterSoftUniforms& s) {
+    if (s.status != Status::Ok || !(width_uv > 0.0f)) return 0.0f;
+    const float k = width_uv * s.map_size * 0.57735027f;  // K / sqrt(3)
+    if (!(k > 1.0f)) return 0.0f;
+    const float l = std::log2(k);
+    return l < s.max_level ? l : s.max_level;
+}
+
+/// Full width of the penumbra in uv that blockers at moment depth t_front cast on a receiver at
+/// t_receiver (mirror of sk_prefilter_soft_width): similar triangles, w = W (d_r - d_b) / d_b at the
+/// receiver (Fernando 2005; Apelles eq. 3.21), in the map's uv at d_r: light_uv (1 / d_b - 1 / d_r). With
+/// t_front = 0 (the range's near end: the nearest a caster can be) it is the blocker-search region.
+/// Total: t's clamped to [0, 1] (NaN t_receiver: 0, NaN t_front: 0), t_front > t_receiver gives 0,
+/// clamped to [0, 1] (a region wider than the map); uniforms not Ok give 0.
+inline float prefilter_soft_width(float t_receiver, float t_front, const PrefilterSoftUniforms& s) {
+    if (s.status != Status::Ok || std::isnan(t_receiver)) return 0.0f;
+    const float tr = detail::pf_clamp(t_receiver, 0.0f, 1.0f), tb = detail::pf_clamp(t_front, 0.0f, tr);
+    const float dr = tr * s.distance_scale + s.distance_offset, db = tb * s.distance_scale + s.distance_offset;
+    const float w = s.light_uv * (1.0f / db - 1.0f / dr);
+    return detail::pf_clamp(w, 0.0f, 1.0f);
+}
+
+/// The penumbra a blocker casts on a receiver.
+struct PrefilterPenumbra {
+    Status status = Status::NotRun;
+    float width_world = 0.0f;  ///< full width at the receiver, world units: W (d_r - d_b) / d_b
+    float width_uv = 0.0f;     ///< the same in the map's uv, in [0, 1] (prefilter_soft_width)
+    float level = 0.0f;        ///< the mip level that filters it, in [0, max_level] (prefilter_soft_level_of)
+};
+
+/// The penumbra of blockers at moment depth t_blocker on a receiver at t_receiver (Fernando 2005;
+/// Apelles eq. 3.21). NonFinite: NaN/Inf t; InvalidArgument: uniforms not Ok, t outside [0, 1], t_blocker >
+/// t_receiver; Overflow: a world width beyond float.
+inline PrefilterPenumbra prefilter_soft_penumbra(float t_receiver, float t_blocker, const PrefilterSoftUniforms& s) {
+    PrefilterPenumbra r;
+    if (!std::isfinite(t_receiver) || !std::isfinite(t_blocker)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (s.status != Status::Ok || t_receiver < 0.0f || t_receiver > 1.0f || t_blocker < 0.0f || t_blocker > t_receiver) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const double dr = double(t_receiver) * s.distance_scale + s.distance_offset;
+    const double db = double(t_blocker) * s.distance_scale + s.distance_offset;
+    const double w = double(s.light_width) * (dr - db) / db;
+    if (!(w < double(std::numeric_limits<float>::max()))) {
+        r.status = Status::Overflow;
+        return r;
+    }
+    r.width_world = static_cast<float>(w);
+    r.width_uv = prefilter_soft_width(t_receiver, t_blocker, s);
+    r.level = prefilter_soft_level_of(r.width_uv, s);
+    r.status = Status::Ok;
+    return r;
+}
+
+/// The receiver plane's depth slope |dt/du| + |dt/dv| (mirror of sk_prefilter_receiver_slope): the
+/// same 2x2 solve as prefilter_receiver_bias (Isidoro 2006) without a kernel radius, for the soft
+/// lookup, whose kernel changes per pixel. Total: 0 for a singular solve or non-finite input,
+/// clamped to [0, 1e6].
+inline float prefilter_receiver_slope(const glm::vec3& duvt_dx, const glm::vec3& duvt_dy) {
+    const float det = duvt_dx.x * duvt_dy.y - duvt_dx.y * duvt_dy.x;
+    const float scale = (std::fabs(duvt_dx.x) + std::fabs(duvt_dx.y)) * (std::fabs(duvt_dy.x) + std::fabs(duvt_dy.y));
+    if (!(std::fabs(det) > 1e-7f * scale) || !(std::fabs(det) > 0.0f)) return 0.0f;
+    const float gx = (duvt_dy.y * duvt_dx.z - duvt_dx.y * duvt_dy.z) / det;
+    const float gy = (duvt_dx.x * duvt_dy.z - duvt_dy.x * duvt_dx.z) / det;
+    return detail::pf_clamp(std::fabs(gx) + std::fabs(gy), 0.0f, 1e6f);
+}
+
+/// Soft visibility with contact hardening (mirror of sk_prefilter_soft_visibility): 1. the moments
+/// over the blocker-search region (the penumbra of a blocker at the range's near end) at mip level
+/// L_s; 2. the average blocker depth from them (prefilter_soft_blocker); 3. the moments over the
+/// penumbra of that depth (its level L_p <= L_s), or, with no blocker found, level 0 (the hard
+/// lookup: a search region's moments can hide a small blocker close in front, which level 0 still
+/// resolves); 4. prefilter_visibility of those. `sample_level(level)` returns the moment map's
+/// trilinear lookup at the receiver's uv at that (fractional) level: textureLod(moments, uv, level).
+/// receiver_slope = (slope, cap): each step compares t - min(slope r, cap), r the half width of its
+/// region in uv, slope = prefilter_receiver_slope of the receiver plane (0, 0: no receiver-plane
+/// bias; a lit face steep to the light otherwise shadows itself under a wide kernel; the cap keeps
+/// umbrae right behind occluders on grazing receivers dark). light_width 0, ESM and EVSM give the
+/// hard lookup prefilter_visibility(sample_level(0), t, u). Total: in [0, 1] for any samples (NaN/Inf
+/// included); uniforms `u` not Ok give 1, `s` not Ok the hard lookup; NaN slopes count as 0.
+template <class SampleLevel>
+inline float prefilter_soft_visibility(SampleLevel&& sample_level, float t, const PrefilterUniforms& u,
+                                       const PrefilterSoftUniforms& s, const glm::vec2& receiver_slope = glm::vec2(0.0f)) {
+    if (u.status != Status::Ok) return 1.0f;
+    const bool soft = s.status == Status::Ok && s.light_uv > 0.0f &&
+                      (u.method == PrefilterMethod::Vsm || u.method == PrefilterMethod::Msm || u.method == PrefilterMethod::MsmHausdorff);
+    if (!soft) return prefilter_visibility(sample_level(0.0f), t, u);
+    const float slope = detail::pf_clamp(receiver_slope.x, 0.0f, 1e6f), cap = detail::pf_clamp(receiver_slope.y, 0.0f, 1.0f);
+    auto biased = [&](float width_uv) {
+        const float b = slope * 0.5f * width_uv;
+        return t - (b < cap ? b : cap);
+    };
+    const float ws = prefilter_soft_width(t, 0.0f, s);
+    const glm::vec2 b = detail::pf_soft_blocker(sample_level(prefilter_soft_level_of(ws, s)), biased(ws), u);
+    const float wf = b.x > 0.0f ? prefilter_soft_width(t, b.y, s) : 0.0f;
+    return prefilter_visibility(sample_level(prefilter_soft_level_of(wf, s)), biased(wf), u);
 }
 
 }  // namespace shadowkit

@@ -7,7 +7,8 @@
 //           (prefilter_blur_weights; its width from the light's penumbra: prefilter_kernel_texels)
 //   render  GPU, every frame: 1 every mesh's moments from the light (or its 4x multisampled depth,
 //           resolved into moments); 2 the blur, horizontal then vertical; 3 optional mipmaps; 4 V at
-//           the G-buffer's points from the filtered moments, times the emitter's horizon
+//           the G-buffer's points from the filtered moments, times the emitter's horizon; soft=on: the
+//           mip levels of the blocker search and of the penumbra (prefilter_soft_uniforms)
 // Every mesh goes into the map, receivers too: a filter compares a receiver with its own depth in the
 // map (a texel left at the clear value t = 1 behind a receiver lights it, ESM by e^(c (1 - t))).
 #include "prefiltered_shadows.hpp"
@@ -82,6 +83,8 @@ uniform float u_slope_bias;
 uniform float u_slope_bias_max;
 uniform float u_kernel_uv;
 uniform bool u_mips;
+uniform bool u_soft_on;  // and u_soft = PrefilterSoftUniforms::params()
+uniform vec4 u_soft;
 // (u, v, t) of a world point
 vec3 uvt(vec3 q) {
     return vec3(sk_shadow_coord(u_light_view_proj, q, false).xy, sk_prefilter_depth(-(u_light_view * vec4(q, 1.0)).z, u_depth_scale_offset));
@@ -90,13 +93,19 @@ float technique_visibility(vec3 p, vec3 n) {
     vec4 c = sk_shadow_coord(u_light_view_proj, p, false);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0)))) return sk_emitter_horizon(p, n);
     float t = sk_prefilter_depth(-(u_light_view * vec4(p, 1.0)).z, u_depth_scale_offset) - u_depth_bias;
-    if (u_slope_bias > 0.0) {  // the receiver plane's (u, v, t) at two tangent steps (the G-buffer knows the plane)
+    vec3 d1 = vec3(0.0), d2 = vec3(0.0);  // the receiver plane's (u, v, t) steps (0: no receiver-plane bias)
+    if (u_slope_bias > 0.0) {  // two tangent steps (the G-buffer knows the plane)
         vec3 a = abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
         vec3 t1 = normalize(cross(n, a)), t2 = cross(n, t1);
         float h = 1e-2 * max(length(p - u_light_eye), 1e-4);
         vec3 o = uvt(p);
-        t -= min(u_slope_bias * sk_prefilter_receiver_bias(uvt(p + h * t1) - o, uvt(p + h * t2) - o, u_kernel_uv), u_slope_bias_max);
+        d1 = uvt(p + h * t1) - o, d2 = uvt(p + h * t2) - o;
     }
+    if (u_soft_on)  // the blocker search and the penumbra's filter, each a textureLod of the mip chain
+        return sk_prefilter_soft_visibility(u_moments, c.xy, t, u_method, u_params, u_moment_bias, u_quantized, u_soft,
+                                            vec2(u_slope_bias * sk_prefilter_receiver_slope(d1, d2), u_slope_bias_max)) *
+               sk_emitter_horizon(p, n);
+    t -= min(u_slope_bias * sk_prefilter_receiver_bias(d1, d2, u_kernel_uv), u_slope_bias_max);
     vec4 m = u_mips ? texture(u_moments, c.xy) : textureLod(u_moments, c.xy, 0.0);
     return sk_prefilter_visibility(m, t, u_method, u_params, u_moment_bias, u_quantized) * sk_emitter_horizon(p, n);
 }
@@ -164,7 +173,8 @@ void PrefilteredShadows::update(const app::View& v, const PrefilteredShadowSetti
     // the blur: its width in texels, or the light's penumbra there: the emitter's width x (z_r - z_b) / z_b
     // for a blocker halfway down the casters and a receiver at the far end, in texels of this map
     float width = s.blur_texels;
-    if (s.blur_from_light) {
+    const float light_width = !L.is_area() ? 0.f : (L.type == sk::LightType::Rect ? L.size : 2.f * L.size);
+    if (s.blur_from_light && !s.soft) {
         width = 1.f;  // no blur for a light without area
         float zmin = INFINITY, zmax = -INFINITY;
         for (const sk::Mesh& m : scene.meshes)
@@ -177,16 +187,18 @@ void PrefilteredShadows::update(const app::View& v, const PrefilteredShadowSetti
         const float zb = 0.5f * (zmin + zmax), zr = lm_.zfar / 1.01f;
         const bool emitter = L.is_area() && L.type != sk::LightType::Directional;
         if (emitter && lm_.perspective && zb > 0.f && zr > zb) {
-            const float light_width = L.type == sk::LightType::Rect ? L.size : 2.f * L.size;
             const skp::PrefilterKernelWidth k = skp::prefilter_kernel_texels(lm_.proj, light_width * (zr - zb) / zb, zr, s.size, s.size);
             if (k.status == skp::Status::Ok) width = std::clamp(std::round(10.f * k.texels.x) / 10.f, 1.f, 65.f);
         }
     }
     kernel_ = skp::prefilter_blur_weights(s.blur, width, weights_, skp::kPrefilterMaxWeights);
+    // soft: the map's projection (from the emitter's center), the emitter's width, the range and map size
+    soft_ = s.soft ? skp::prefilter_soft_uniforms({lm_.proj, light_width, range_, s.size}) : skp::PrefilterSoftUniforms{};
     if (range_.status != skp::Status::Ok) error_ = failed("prefilter_depth_range", range_.status);
     else if (u_.status != skp::Status::Ok) error_ = failed("prefilter_uniforms", u_.status);
     else if (kernel_.status != skp::Status::Ok) error_ = failed("prefilter_blur_weights", kernel_.status);
     else if (window_map_.status != skp::Status::Ok) error_ = failed("prefilter_window_depth_map", window_map_.status);
+    else if (s.soft && soft_.status != skp::Status::Ok) error_ = failed("prefilter_soft_uniforms (soft needs a perspective map)", soft_.status);
 }
 
 // The moment map (size x size, the format's channels; with a depth buffer unless MSAA; mipmapped on
@@ -199,7 +211,7 @@ void PrefilteredShadows::make_maps(const PrefilteredShadowSettings& s) {
     ms_fbo_ = ms_depth_ = 0;
     size_ = s.size;
     texture_format_ = texture_format(u_.channels, format_);
-    mips_ = s.mips;
+    mips_ = s.mips || s.soft;
     msaa_ = s.msaa;
     if (!skgl::make_target(moments_, size_, size_, {texture_format_}, msaa_ ? 0 : GL_DEPTH_COMPONENT32F, error_) ||
         !skgl::make_target(blurred_, size_, size_, {texture_format_}, 0, error_))
@@ -244,7 +256,7 @@ void PrefilteredShadows::fullscreen(GLuint prog, const skgl::Target& dst) const 
 
 void PrefilteredShadows::render(const app::View& v, const PrefilteredShadowSettings& s) {
     if (!error_.empty()) return;
-    if (s.size != size_ || texture_format(u_.channels, format_) != texture_format_ || s.mips != mips_ || s.msaa != msaa_)
+    if (s.size != size_ || texture_format(u_.channels, format_) != texture_format_ || (s.mips || s.soft) != mips_ || s.msaa != msaa_)
         make_maps(s);
     if (!error_.empty()) return;
     const glm::mat4 vp = lm_.proj * lm_.view;
@@ -330,6 +342,8 @@ void PrefilteredShadows::render(const app::View& v, const PrefilteredShadowSetti
     glUniform1f(loc("u_slope_bias_max"), s.slope_bias_max);
     glUniform1f(loc("u_kernel_uv"), float(kernel_.radius + 1) / float(size_));
     glUniform1i(loc("u_mips"), mips_ ? 1 : 0);
+    glUniform1i(loc("u_soft_on"), soft_.status == skp::Status::Ok ? 1 : 0);
+    glUniform4fv(loc("u_soft"), 1, glm::value_ptr(soft_.params()));
     pass_.draw(p, *v.gpu, GL_TEXTURE_2D, moments_.color[0]);
 }
 

@@ -14,7 +14,7 @@
 // glsl/shadow_map.glsl and the app shell's scene (sk::fit_light), G-buffer (app/gbuffer.hpp: the V
 // pass, the emitter's horizon) and GL helpers (app/gl.hpp). shadowkit-report wraps this same class
 // (samples/report/techniques/prefiltered_shadows.cpp) as "vsm", "esm", "evsm2", "evsm4", "msm" and
-// "msm_hausdorff": one row colour per method.
+// "msm_hausdorff": one row colour per method, and the soft lookup (soft=on) as "vsm_soft" and "msm_soft".
 // Spot, rect, disk and sphere lights (a perspective map from the light's center) and directional lights
 // (an orthographic map); point and line lights need cube maps (update() says so in error()).
 #pragma once
@@ -54,6 +54,9 @@ struct PrefilteredShadowSettings {
     float slope_bias_max = 1.f;
     bool mips = false;  ///< glGenerateMipmap and trilinear lookups (bilinear on level 0 without)
     bool msaa = false;  ///< the meshes' depth 4x multisampled, resolved into moments (sk_prefilter_resolve)
+    /// Soft shadows with contact hardening (VSM, MSM; the others: the hard lookup): mipmaps on, the blur
+    /// blur_texels wide, the penumbra's width from the blocker depth the moments give (sk_prefilter_soft_visibility)
+    bool soft = false;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -78,6 +81,7 @@ inline void bind_settings(app::Params& p, PrefilteredShadowSettings& s) {
     p.number("slope_bias_max", &s.slope_bias_max, 0.0, 1.0);
     p.toggle("mips", &s.mips);
     p.toggle("msaa", &s.msaa);
+    p.toggle("soft", &s.soft);
 }
 
 class PrefilteredShadows {
@@ -106,6 +110,7 @@ public:
     const shadowkit::PrefilterUniforms& uniforms() const { return u_; }   ///< of the last update()
     const shadowkit::PrefilterKernel& kernel() const { return kernel_; }  ///< of the last update()
     shadowkit::PrefilterFormat format() const { return format_; }         ///< the resolved format
+    const shadowkit::PrefilterSoftUniforms& soft() const { return soft_; } ///< of the last update() (NotRun: soft off)
 
 private:
     void make_maps(const PrefilteredShadowSettings& s);
@@ -119,6 +124,7 @@ private:
     shadowkit::PrefilterUniforms u_;
     shadowkit::PrefilterWindowMap window_map_;
     shadowkit::PrefilterKernel kernel_;
+    shadowkit::PrefilterSoftUniforms soft_;
     float weights_[shadowkit::kPrefilterMaxWeights] = {};
     // GL: the moments (+ depth), the blur's intermediate, the multisampled depth
     int size_ = 0;

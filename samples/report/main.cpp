@@ -7,7 +7,7 @@
 // light resized by each factor k (default 0.5,2; none with --quick): area lights scale their size,
 // point and spot lights become sphere lights of radius 4k% of the scene's diagonal (k = 1 added).
 // These variants (`NAME@light=K`) run only the soft techniques compared across light sizes (pcss,
-// smoothie, penumbra_wedges), each against its own area-light reference; report.md sums them up in
+// smoothie, penumbra_wedges, msm_soft, vsm_soft), each against its own area-light reference; report.md sums them up in
 // "## light size".
 //
 // Over time (issue 18, samples/report/temporal_rows.hpp): the chosen rows of every scene (not the

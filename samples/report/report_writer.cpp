@@ -521,7 +521,7 @@ bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>&
     const int pw = 360, ph = 260, cols = 2;
     const int n = static_cast<int>(groups.size());
     const int W = pw * std::min(n, cols), H = ph * ((n + cols - 1) / cols);
-    static const char* colors[] = {"#d62728", "#1f77b4", "#2ca02c"};
+    static const char* colors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b"};
     f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
       << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     for (int gi = 0; gi < n; ++gi) {
@@ -551,7 +551,7 @@ bool write_light_size_svg(const std::string& path, const std::vector<SceneInfo>&
         f << "<text x=\"" << (l + r) / 2 << "\" y=\"" << b + 30 << "\" text-anchor=\"middle\">light size (edge or radius)</text>\n";
         f << "<text x=\"" << ox + 12 << "\" y=\"" << (t + b) / 2 << "\" transform=\"rotate(-90 " << ox + 12 << ' '
           << (t + b) / 2 << ")\" text-anchor=\"middle\">best RMSE</text>\n";
-        for (int ti = 0; ti < 3; ++ti) {
+        for (int ti = 0; ti < int(std::size(kLightSizeTechniques)); ++ti) {
             const char* tech = kLightSizeTechniques[ti];
             f << "<polyline fill=\"none\" stroke=\"" << colors[ti] << "\" stroke-width=\"1.5\" points=\"";
             for (const SceneInfo* sc : g)

@@ -45,7 +45,7 @@ struct Row {
 };
 
 // The soft techniques run on the light-size variants (and listed, in this order, in "## light size").
-inline const char* const kLightSizeTechniques[] = {"penumbra_wedges", "pcss", "smoothie"};
+inline const char* const kLightSizeTechniques[] = {"penumbra_wedges", "pcss", "smoothie", "msm_soft", "vsm_soft"};
 
 struct SceneInfo {
     std::string name, description, reference_image;

@@ -2,7 +2,8 @@
 // depths, ranges, formats, settings, moment vectors and buffers (NaN/Inf, huge values, out-of-range
 // enums included). Traps on: a status Ok with a non-finite or out-of-range output, count > capacity
 // or count != needed with Ok, a lookup outside [0, 1], a total function with a non-finite output,
-// an exponent limit whose worst texel overflows or whose next float does not.
+// an exponent limit whose worst texel overflows or whose next float does not; the soft lookup's
+// uniforms, blocker, penumbra and levels out of range, a soft visibility outside [0, 1].
 #include <shadowkit/prefiltered_shadow.hpp>
 
 #include "fuzz_input.hpp"
@@ -125,6 +126,35 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const glm::mat4 P = r.boolean() ? r.perspective(1.0f, r.boolean()) : r.mat4();
     const PrefilterKernelWidth kw = prefilter_kernel_texels(P, r.f32(), r.f32(), r.i32(), r.i32());
     if (kw.status == Status::Ok) check(all_finite(kw.texels) && kw.texels.x >= 0.0f && kw.texels.y >= 0.0f);
+    // ---- soft shadows
+    PrefilterSoftSettings ss;
+    ss.light_proj = r.boolean() ? r.perspective(1.0f, r.boolean()) : r.mat4();
+    ss.light_width = r.value(raw, 1.0f);
+    ss.range = r.boolean() ? range : prefilter_depth_range(r.value(raw, 0.25f), r.value(raw, 0.25f));
+    ss.map_size = r.boolean() ? (1 << r.range(0, 14)) : r.i32();
+    const PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);
+    if (su.status == Status::Ok)
+        check(all_finite(su.params()) && std::isfinite(su.max_level) && su.light_uv >= 0.0f && su.distance_offset > 0.0f &&
+              su.distance_scale > 0.0f);
+    const PrefilterSoftUniforms& sx = r.boolean() ? su : PrefilterSoftUniforms{};
+    const PrefilterBlocker bl = prefilter_soft_blocker(m, t, u);
+    if (bl.status == Status::Ok) check(unit(bl.fraction) && unit(bl.depth) && (bl.blocker_found == (bl.fraction > 0.0f)));
+    const float tr = r.f32(), tb = r.f32();
+    const PrefilterPenumbra pen = prefilter_soft_penumbra(tr, tb, sx);
+    if (pen.status == Status::Ok)
+        check(std::isfinite(pen.width_world) && pen.width_world >= 0.0f && unit(pen.width_uv) && pen.level >= 0.0f &&
+              pen.level <= sx.max_level);
+    check(unit(prefilter_soft_width(tr, tb, sx)));
+    const float lv = prefilter_soft_level_of(r.f32(), sx);
+    check(std::isfinite(lv) && lv >= 0.0f && lv <= (sx.status == Status::Ok ? sx.max_level : 0.0f));
+    const glm::vec4 m2 = r.vec4();
+    const float sv = prefilter_soft_visibility([&](float level) {
+        check(std::isfinite(level) && level >= 0.0f);
+        return level > 0.0f ? m2 : m;
+    }, t, u, sx, glm::vec2(r.f32(), r.f32()));
+    check(unit(sv));
+    const float sl = prefilter_receiver_slope(r.vec3(), r.vec3());
+    check(std::isfinite(sl) && sl >= 0.0f && sl <= 1e6f);
     (void)status_name(static_cast<Status>(r.u8()));
     return 0;
 }

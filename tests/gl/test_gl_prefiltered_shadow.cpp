@@ -9,7 +9,9 @@
 //     for garbage texels (NaN, Inf, huge), always in [0, 1];
 // (d) the MSAA resolve equals the mean of the samples' moments (read back per sample);
 // (e) mipmaps of moments are 2x2 means (filtering moments is linear);
-// (f) the report drivers on `square`: every method within [0, 1] and below an error bound.
+// (f) the report drivers on `square`: every method within [0, 1] and below an error bound;
+// (g) the soft lookup (sk_prefilter_soft_visibility) equals its CPU mirror on the read-back mip chain
+//     and follows a plane-over-plane area-light penumbra (closed-form ray cast) within a bound.
 #include <doctest/doctest.h>
 
 #include <shadowkit/prefiltered_shadow.hpp>
@@ -571,4 +573,183 @@ TEST_CASE("report drivers on the analytic square scene: every method in [0, 1] a
             CHECK(m.rmse < hard_rmse);
         }
     }
+}
+
+// (g) Soft shadows with contact hardening: a half-plane blocker at distance 4 over a floor at 8 under
+// a square emitter of width 1 (a 90-degree map from its center). The GPU's sk_prefilter_soft_visibility
+// on the mipmapped moment map equals prefilter_soft_visibility with a CPU trilinear lookup of the
+// read-back levels, and both follow the area light's ray-cast penumbra
+// clamp(0.5 - (x_e d_r - x d_b) / (W (d_r - d_b))) (an infinite edge: the emitter's other axis drops out)
+// within a bound, where the hard lookup (level 0) cannot.
+TEST_CASE("soft lookup: GPU equals the CPU mirror on the read-back mip chain; penumbra against the ray cast") {
+    (void)gl_test_context();
+    const int N = 256, levels = 9;
+    const float W = 1.0f, db = 4.0f, dr = 8.0f, x_edge = 0.37f;
+    const PrefilterDepthRange range = prefilter_depth_range(3.5f, 8.5f);
+    const glm::mat4 P = glm::perspective(glm::radians(90.0f), 1.0f, 1.0f, 20.0f);
+    PrefilterSoftSettings ss;
+    ss.light_proj = P;
+    ss.light_width = W;
+    ss.range = range;
+    ss.map_size = N;
+    const PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);
+    REQUIRE(su.status == Status::Ok);
+    // the scene: floor at z = -8, the blocker x < x_edge at z = -4
+    std::vector<glm::vec3> pos = {{-30, -30, -dr}, {30, -30, -dr}, {30, 30, -dr}, {-30, 30, -dr},
+                                  {-30, -30, -db}, {x_edge, -30, -db}, {x_edge, 30, -db}, {-30, 30, -db}};
+    std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+    std::vector<glm::vec3> nrm(pos.size(), glm::vec3(0, 0, 1));
+    skgl::GpuMesh mesh = skgl::upload_mesh(&pos[0].x, &nrm[0].x, pos.size(), idx.data(), idx.size());
+    std::string log;
+    const GLuint moment_prog =
+        skgl::compile_program({{GL_VERTEX_SHADER, kMomentVS}, {GL_FRAGMENT_SHADER, kHead + snippet() + kMomentFS}}, log);
+    REQUIRE_MESSAGE(moment_prog, log);
+    const GLuint soft_prog = fullscreen_program(R"(
+layout(binding = 0) uniform sampler2D u_m;
+layout(binding = 1) uniform sampler2D u_in;
+uniform int u_method;
+uniform vec4 u_params;
+uniform float u_moment_bias;
+uniform bool u_quantized;
+uniform vec4 u_soft;
+layout(location = 0) out float o;
+void main() {
+    vec4 q = texelFetch(u_in, ivec2(gl_FragCoord.xy), 0);  // (u, v, t, 0)
+    o = sk_prefilter_soft_visibility(u_m, q.xy, q.z, u_method, u_params, u_moment_bias, u_quantized, u_soft, vec2(0.0));
+}
+)", log);
+    REQUIRE_MESSAGE(soft_prog, log);
+    // receiver points across the penumbra (centered on x_edge d_r / d_b), uv and t computed here
+    const int RX = 128, RY = 4;
+    std::vector<float> in(static_cast<std::size_t>(RX * RY * 4), 0.0f);
+    std::vector<double> xs(static_cast<std::size_t>(RX * RY));
+    const double xc = x_edge * dr / db, half = 1.5 * W * (dr - db) / db;
+    for (int j = 0; j < RY; ++j)
+        for (int i = 0; i < RX; ++i) {
+            const auto k = static_cast<std::size_t>(j * RX + i);
+            const double x = xc - half + 2.0 * half * (i + 0.5) / RX, y = -1.3 + 0.9 * j;
+            const glm::vec4 c = P * glm::vec4(float(x), float(y), -dr, 1.0f);
+            xs[k] = x;
+            in[4 * k] = 0.5f * c.x / c.w + 0.5f;
+            in[4 * k + 1] = 0.5f * c.y / c.w + 0.5f;
+            in[4 * k + 2] = prefilter_depth(dr, range);
+        }
+    const GLuint in_tex = make_texture(GL_RGBA32F, RX, RY, GL_FLOAT, in.data());
+    for (const PrefilterFormat fmt : {PrefilterFormat::Float32, PrefilterFormat::Unorm16}) {
+        const PrefilterMethod method = fmt == PrefilterFormat::Float32 ? PrefilterMethod::Vsm : PrefilterMethod::Msm;
+        CAPTURE(int(method));
+        PrefilterSettings s;
+        s.method = method;
+        s.format = fmt;
+        const PrefilterUniforms u = prefilter_uniforms(s);
+        REQUIRE(u.status == Status::Ok);
+        const float bias = method == PrefilterMethod::Msm ? 0.002f : 0.0f;
+        // the mipmapped moment map (every level), with a depth buffer for the moment pass
+        const GLenum tf = format_of(u.channels, fmt);
+        GLuint tex = 0, depth = 0, fbo = 0;
+        glGenTextures(1, &tex);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glTexStorage2D(GL_TEXTURE_2D, levels, tf, N, N);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glGenRenderbuffers(1, &depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, N, N);
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+        glDrawBuffers(2, bufs);
+        REQUIRE(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+        glViewport(0, 0, N, N);
+        glClearBufferfv(GL_COLOR, 0, glm::value_ptr(u.clear_value));
+        glClearDepth(1.0);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDisable(GL_CULL_FACE);
+        set_moment_uniforms(moment_prog, u);
+        glUniformMatrix4fv(glGetUniformLocation(moment_prog, "u_proj"), 1, GL_FALSE, glm::value_ptr(P));
+        glUniform2f(glGetUniformLocation(moment_prog, "u_depth_scale_offset"), range.scale, range.offset);
+        skgl::draw_mesh(mesh);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glGenerateMipmap(GL_TEXTURE_2D);
+        // the GPU's soft lookup at every receiver point
+        skgl::Target out;
+        std::string why;
+        REQUIRE(skgl::make_target(out, RX, RY, {GL_R32F}, 0, why));
+        set_moment_uniforms(soft_prog, u);
+        glUniform4fv(glGetUniformLocation(soft_prog, "u_soft"), 1, glm::value_ptr(su.params()));
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, in_tex);
+        std::vector<float> biased = in;
+        for (std::size_t k = 0; k < xs.size(); ++k) biased[4 * k + 2] -= bias;
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, RX, RY, GL_RGBA, GL_FLOAT, biased.data());
+        glActiveTexture(GL_TEXTURE0);
+        draw_fullscreen(soft_prog, out);
+        const std::vector<float> gpu = skgl::read_color_float(out, 0, 1);
+        // the levels as stored, and a CPU trilinear lookup (clamp to edge) of them
+        std::vector<std::vector<float>> mip(levels);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        for (int l = 0; l < levels; ++l) {
+            const int n = N >> l;
+            mip[static_cast<std::size_t>(l)].resize(static_cast<std::size_t>(n * n * 4));
+            glGetTexImage(GL_TEXTURE_2D, l, GL_RGBA, GL_FLOAT, mip[static_cast<std::size_t>(l)].data());
+        }
+        REQUIRE(skgl::gl_error_string().empty());
+        auto texel = [&](int l, int x, int y) {
+            const int n = N >> l;
+            x = std::clamp(x, 0, n - 1);
+            y = std::clamp(y, 0, n - 1);
+            const float* p = &mip[static_cast<std::size_t>(l)][static_cast<std::size_t>((y * n + x) * 4)];
+            return glm::vec4(p[0], p[1], p[2], p[3]);
+        };
+        auto bilinear = [&](int l, float uu, float vv) {
+            const float n = float(N >> l), fx = uu * n - 0.5f, fy = vv * n - 0.5f;
+            const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+            const float ax = fx - float(x0), ay = fy - float(y0);
+            return (1.0f - ay) * ((1.0f - ax) * texel(l, x0, y0) + ax * texel(l, x0 + 1, y0)) +
+                   ay * ((1.0f - ax) * texel(l, x0, y0 + 1) + ax * texel(l, x0 + 1, y0 + 1));
+        };
+        int close = 0;
+        double se_soft = 0.0, se_hard = 0.0;
+        for (std::size_t k = 0; k < xs.size(); ++k) {
+            const float uu = in[4 * k], vv = in[4 * k + 1], t = in[4 * k + 2] - bias;
+            auto sample = [&](float level) {
+                const float l = std::clamp(level, 0.0f, float(levels - 1));
+                const int l0 = int(std::floor(l));
+                const float f = l - float(l0);
+                const glm::vec4 a = bilinear(l0, uu, vv);
+                return f > 0.0f ? (1.0f - f) * a + f * bilinear(std::min(l0 + 1, levels - 1), uu, vv) : a;
+            };
+            const float cpu = prefilter_soft_visibility(sample, t, u, su);
+            REQUIRE((gpu[k] >= 0.0f && gpu[k] <= 1.0f));
+            if (std::fabs(gpu[k] - cpu) <= 2e-3f) ++close;
+            const double exact = 1.0 - std::clamp(((x_edge * dr - xs[k] * db) / (dr - db) + 0.5 * W) / W, 0.0, 1.0);
+            se_soft += (double(gpu[k]) - exact) * (double(gpu[k]) - exact);
+            const double hard = prefilter_visibility(sample(0.0f), t, u);
+            se_hard += (hard - exact) * (hard - exact);
+        }
+        const double rmse = std::sqrt(se_soft / double(xs.size())), rmse_hard = std::sqrt(se_hard / double(xs.size()));
+        MESSAGE("soft lookup, method " << int(method) << ": GPU = CPU mirror (2e-3) at " << close << " of " << xs.size()
+                                       << "; RMSE against the ray cast " << rmse << " (hard lookup " << rmse_hard << ")");
+        // fp32 on both sides (llvmpipe: all 512 within 2e-3); room for a driver's coarser filter weights
+        CHECK(close >= int(xs.size()) * 95 / 100);
+        CHECK(rmse < 0.035);              // measured 0.021 (VSM, MSM): the mip grid's blocky boxes
+        CHECK(rmse < 0.25 * rmse_hard);   // the hard lookup (level 0) misses the penumbra: 0.156
+        skgl::destroy_target(out);
+        glDeleteFramebuffers(1, &fbo);
+        glDeleteRenderbuffers(1, &depth);
+        glDeleteTextures(1, &tex);
+    }
+    glDeleteTextures(1, &in_tex);
+    glDeleteProgram(moment_prog);
+    glDeleteProgram(soft_prog);
+    skgl::destroy_mesh(mesh);
 }

@@ -10,6 +10,7 @@ uniform float u_moment_bias;
 uniform bool u_quantized;
 uniform float u_weights[SK_PREFILTER_MAX_WEIGHTS];
 uniform int u_radius;
+uniform vec4 u_soft;                 // prefilter_soft_uniforms(...).params()
 in float v_light_distance;
 in vec2 v_uv;
 out vec4 o_color;
@@ -30,5 +31,10 @@ void main() {
               sk_msm_hausdorff_visibility(f, t, u_moment_bias, u_quantized, u_params.w);
     vec4 blur = sk_prefilter_blur(u_moments, ivec2(gl_FragCoord.xy), ivec2(1, 0), u_radius, u_weights);
     vec4 res = sk_prefilter_resolve(u_depth_ms, ivec2(gl_FragCoord.xy), 4, u_window_map, u_method, u_exponents, u_quantized);
-    o_color = m + vec4(vm, em, 0.0) + ev + mm + vec4(a, b, c, d) + blur + res;
+    vec2 blk = sk_prefilter_soft_blocker(f, t, u_method, u_params, u_moment_bias, u_quantized);
+    float pw = sk_prefilter_soft_level_of(sk_prefilter_soft_width(t, blk.y, u_soft), u_soft);
+    float slope = sk_prefilter_receiver_slope(vec3(dFdx(v_uv), dFdx(t)), vec3(dFdy(v_uv), dFdy(t)));
+    float sv = sk_prefilter_soft_visibility(u_moments, v_uv, tw, u_method, u_params, u_moment_bias, u_quantized, u_soft,
+                                            vec2(slope, 0.02));
+    o_color = m + vec4(vm, em, 0.0) + ev + mm + vec4(a, b, c, d) + blur + res + vec4(blk, pw, sv);
 }

@@ -1,5 +1,6 @@
-// samples/report/techniques/prefiltered_shadows.cpp - "vsm", "esm", "evsm2", "evsm4", "msm" and
-// "msm_hausdorff" in the report: the sample's PrefilteredShadows class (samples/prefiltered_shadows/), one
+// samples/report/techniques/prefiltered_shadows.cpp - "vsm", "esm", "evsm2", "evsm4", "msm",
+// "msm_hausdorff", and the soft lookup "msm_soft" / "vsm_soft" (soft=on: two rows and one, area lights, also
+// on the light-size variants, skr::kLightSizeTechniques) in the report: the sample's PrefilteredShadows class (samples/prefiltered_shadows/), one
 // report technique per method (each its own colour on the error-vs-time chart), with timing, work
 // counters and sweeps (report_technique.hpp).
 //
@@ -14,6 +15,7 @@
 // gpu_bytes: the moment map and the blur's intermediate, the depth buffer (MSAA: 4 samples), mipmaps.
 // Debug images (ctx.debug_images, the GL tests): the moments 1..3 in light space.
 #include <string>
+#include <vector>
 
 #include "prefiltered_shadows.hpp"
 #include "report_technique.hpp"
@@ -34,7 +36,7 @@ bool measure(PrefilteredShadows& t, const PrefilteredShadowSettings& s, const ap
     for (const auto& mesh : v.gpu->meshes) triangles += static_cast<std::size_t>(mesh.index_count) / 3u;
     const std::int64_t texel_bytes = std::int64_t(u.channels) * (t.format() == shadowkit::PrefilterFormat::Float32 ? 4 : 2);
     const std::int64_t texels = std::int64_t(t.size()) * t.size();
-    r.gpu_bytes = texels * (2 * texel_bytes + 4 * (s.msaa ? 4 : 1)) + (s.mips ? texels * texel_bytes / 3 : 0);
+    r.gpu_bytes = texels * (2 * texel_bytes + 4 * (s.msaa ? 4 : 1)) + (s.mips || s.soft ? texels * texel_bytes / 3 : 0);
     r.work = {{"shadow_map_texels", double(texels)},
               {"blur_taps_per_texel", radius > 0 ? 2.0 * (2 * radius + 1) : 0.0},
               {"kernel_radius", double(radius)},
@@ -83,6 +85,34 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         if (name == "vsm" || name == "msm") spec.sweep.push_back(head + "size=2048 blur_from_light=off blur_texels=3" + tail);
         spec.sweep.push_back(head + "size=1024 blur_from_light=on" + tail);
         spec.quick = {head + "size=1024 blur_from_light=on" + tail};
+        spec.measure = measure;
+        spec.frame_budget_ms = 400.0;
+        add_technique(out, std::move(spec));
+    }
+    // Soft shadows with contact hardening (soft=on): the blocker search and the penumbra's filter from the mip
+    // chain of a 3-texel-blurred map, on area lights and on the light-size variants (against PCSS)
+    for (const char* name : {"msm_soft", "vsm_soft"}) {
+        const bool msm = name[0] == 'm';
+        ReportSpec<PrefilteredShadows, PrefilteredShadowSettings> spec;
+        spec.name = name;
+        spec.description = std::string(msm ? "moment" : "variance") +
+                           " soft shadows with contact hardening (prefilter_soft_uniforms + sk_prefilter_soft_visibility): "
+                           "blocker depth from the moments over the search region, the penumbra's width by similar "
+                           "triangles, both read from the mip chain of a 1024 map blurred by 3 texels; format " +
+                           (msm ? "unorm16, quantized" : "float32");
+        spec.hard = false;
+        spec.applies = [](const Scene& s) {
+            return s.light.is_area() && (s.light.type == LightType::Rect || s.light.type == LightType::Disk ||
+                                         s.light.type == LightType::Sphere);
+        };
+        // rows: MSM without and with the receiver-plane slope bias capped at 0.2 of the range (it removes the
+        // self-shadowing of lit faces steep to the light: contact 0.060 -> 0.021; 0.02 and 0.05 lie between);
+        // VSM with the slope bias capped at 0.02 (its best of 0, 0.02, 0.05, 0.2 on contact)
+        const std::string row = std::string("method=") + (msm ? "msm" : "vsm") +
+                                " size=1024 soft=on blur_from_light=off blur_texels=3" + (msm ? "" : " depth_bias=0");
+        spec.sweep = msm ? std::vector<std::string>{row, row + " slope_bias=1 slope_bias_max=0.2"}
+                         : std::vector<std::string>{row + " slope_bias=1 slope_bias_max=0.02"};
+        spec.quick = spec.sweep;
         spec.measure = measure;
         spec.frame_budget_ms = 400.0;
         add_technique(out, std::move(spec));
