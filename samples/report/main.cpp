@@ -53,7 +53,7 @@ struct Options {
     std::string out = "report";
     std::vector<std::string> scenes, techniques, meshes;
     int width = 400, height = 300;
-    int frames = 20;
+    int frames = 12;  // timed frames per row after 3 warm-up frames (medians; rows with a frame budget run fewer)
     bool frames_set = false, size_set = false;
     bool quick = false, list = false;
     std::vector<double> light_sizes{0.5, 2.0};

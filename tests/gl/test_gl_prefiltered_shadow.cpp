@@ -54,6 +54,14 @@ GLuint fullscreen_program(const std::string& fs_body, std::string& log) {
     return skgl::compile_program({{GL_VERTEX_SHADER, kFullscreenVS}, {GL_FRAGMENT_SHADER, kHead + snippet() + "\n" + fs_body}}, log);
 }
 
+// the lookup's uniforms, as sk_prefilter_visibility and sk_prefilter_soft_visibility take them
+const char* const kLookupUniforms = R"(
+uniform int u_method;
+uniform vec4 u_params;
+uniform float u_moment_bias;
+uniform bool u_quantized;
+)";
+
 GLuint make_texture(GLenum format, int w, int h, GLenum type, const void* data, GLenum upload_format = GL_RGBA) {
     GLuint tex = 0;
     glGenTextures(1, &tex);
@@ -357,13 +365,9 @@ TEST_CASE("lookups equal prefilter_visibility, for filtered texels and for garba
     std::mt19937 rng(31);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     std::string log;
-    const GLuint prog = fullscreen_program(R"(
+    const GLuint prog = fullscreen_program(std::string(kLookupUniforms) + R"(
 layout(binding = 0) uniform sampler2D u_m;
 layout(binding = 1) uniform sampler2D u_t;
-uniform int u_method;
-uniform vec4 u_params;
-uniform float u_moment_bias;
-uniform bool u_quantized;
 layout(location = 0) out float o;
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
@@ -604,13 +608,9 @@ TEST_CASE("soft lookup: GPU equals the CPU mirror on the read-back mip chain; pe
     const GLuint moment_prog =
         skgl::compile_program({{GL_VERTEX_SHADER, kMomentVS}, {GL_FRAGMENT_SHADER, kHead + snippet() + kMomentFS}}, log);
     REQUIRE_MESSAGE(moment_prog, log);
-    const GLuint soft_prog = fullscreen_program(R"(
+    const GLuint soft_prog = fullscreen_program(std::string(kLookupUniforms) + R"(
 layout(binding = 0) uniform sampler2D u_m;
 layout(binding = 1) uniform sampler2D u_in;
-uniform int u_method;
-uniform vec4 u_params;
-uniform float u_moment_bias;
-uniform bool u_quantized;
 uniform vec4 u_soft;
 layout(location = 0) out float o;
 void main() {
