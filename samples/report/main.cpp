@@ -11,7 +11,7 @@
 // "## light size".
 //
 // Over time (issue 18, samples/report/temporal_rows.hpp): the chosen rows of every scene (not the
-// light-size variants) run N frames (--temporal N, default 16, --quick 6; off: none) of camera paths
+// light-size variants) run N frames (--temporal N, default 12, --quick 6; off: none) of camera paths
 // and, for hard lights, a turning light, scored by flicker: DIR/flicker_vs_error.svg and the rows'
 // "temporal" entries.
 //
@@ -58,7 +58,7 @@ struct Options {
     bool quick = false, list = false;
     std::vector<double> light_sizes{0.5, 2.0};
     bool light_sizes_set = false;
-    int temporal = 16;  // frames per temporal path (issue 18); 0: off
+    int temporal = 12;  // frames per temporal path (issue 18); 0: off
     bool temporal_set = false;
 };
 
