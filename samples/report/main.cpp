@@ -11,7 +11,7 @@
 // "## light size".
 //
 // Over time (issue 18, samples/report/temporal_rows.hpp): the chosen rows of every scene (not the
-// light-size variants) run N frames (--temporal N, default 12, --quick 6; off: none) of camera paths
+// light-size variants) run N frames (--temporal N, default 12, --quick 4; off: none) of camera paths
 // and, for hard lights, a turning light, scored by flicker: DIR/flicker_vs_error.svg and the rows'
 // "temporal" entries.
 //
@@ -269,9 +269,9 @@ int main(int argc, char** argv) {
             o.width = 256;
             o.height = 192;
         }
-        if (!o.frames_set) o.frames = 10;
+        if (!o.frames_set) o.frames = 5;  // a preview: medians of 5 frames after 2 warm-up frames
         if (!o.light_sizes_set) o.light_sizes.clear();
-        if (!o.temporal_set) o.temporal = 6;
+        if (!o.temporal_set) o.temporal = 4;
     }
     // what to run
     std::vector<sk::Scene> scenes;
@@ -434,7 +434,7 @@ int main(int argc, char** argv) {
                 r.width = o.width;
                 r.height = o.height;
                 std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
-                sk::RunContext ctx{scene, gpu, o.frames, 3, &g};
+                sk::RunContext ctx{scene, gpu, o.frames, o.quick ? 2 : 3, &g};
                 sk::RunResult res;
                 try {  // a driver that throws (bad_alloc, ...) becomes a failed row, not a crash
                     res = t->run(ctx, ps);
