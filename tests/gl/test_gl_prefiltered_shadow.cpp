@@ -127,6 +127,20 @@ void set_moment_uniforms(GLuint p, const PrefilterUniforms& u) {
     glUniform1i(glGetUniformLocation(p, "u_quantized"), u.quantized ? 1 : 0);
 }
 
+// The moment pass into the bound framebuffer (color already cleared): depth cleared and tested, no culling.
+void draw_moment_pass(GLuint p, const PrefilterUniforms& u, const glm::mat4& proj, const PrefilterDepthRange& range,
+                      const skgl::GpuMesh& mesh) {
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    set_moment_uniforms(p, u);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
+    glUniform2f(glGetUniformLocation(p, "u_depth_scale_offset"), range.scale, range.offset);
+    skgl::draw_mesh(mesh);
+}
+
 GLenum format_of(int channels, PrefilterFormat f) {
     if (f == PrefilterFormat::Unorm16) return channels == 2 ? GL_RG16 : GL_RGBA16;
     if (f == PrefilterFormat::Float16) return channels == 1 ? GL_R16F : channels == 2 ? GL_RG16F : GL_RGBA16F;
@@ -195,15 +209,7 @@ TEST_CASE("moment pass: every method and format equals prefilter_moments of the 
         glClearBufferfv(GL_COLOR, 0, glm::value_ptr(clear));
         const float zero[4] = {0, 0, 0, 0};
         glClearBufferfv(GL_COLOR, 1, zero);
-        glClearDepth(1.0);
-        glClear(GL_DEPTH_BUFFER_BIT);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDisable(GL_CULL_FACE);
-        set_moment_uniforms(prog, u);
-        glUniformMatrix4fv(glGetUniformLocation(prog, "u_proj"), 1, GL_FALSE, glm::value_ptr(P));
-        glUniform2f(glGetUniformLocation(prog, "u_depth_scale_offset"), range.scale, range.offset);
-        skgl::draw_mesh(mesh);
+        draw_moment_pass(prog, u, P, range, mesh);
         const std::vector<float> m = skgl::read_color_float(t, 0, 4);
         const std::vector<float> tt = skgl::read_color_float(t, 1, 4);
         REQUIRE(skgl::gl_error_string().empty());
@@ -666,15 +672,7 @@ void main() {
         REQUIRE(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
         glViewport(0, 0, N, N);
         glClearBufferfv(GL_COLOR, 0, glm::value_ptr(u.clear_value));
-        glClearDepth(1.0);
-        glClear(GL_DEPTH_BUFFER_BIT);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDisable(GL_CULL_FACE);
-        set_moment_uniforms(moment_prog, u);
-        glUniformMatrix4fv(glGetUniformLocation(moment_prog, "u_proj"), 1, GL_FALSE, glm::value_ptr(P));
-        glUniform2f(glGetUniformLocation(moment_prog, "u_depth_scale_offset"), range.scale, range.offset);
-        skgl::draw_mesh(mesh);
+        draw_moment_pass(moment_prog, u, P, range, mesh);
         glBindTexture(GL_TEXTURE_2D, tex);
         glGenerateMipmap(GL_TEXTURE_2D);
         // the GPU's soft lookup at every receiver point
