@@ -407,11 +407,14 @@ inline glm::dvec3 lf_view_up(const glm::dvec3& f, const glm::dvec3& v, const glm
     return lf_stable_up(f);
 }
 
+#ifndef SHADOWKIT_CONE_AXIS_DEFINED
+#define SHADOWKIT_CONE_AXIS_DEFINED
+// Shared by light_frustum.hpp and perspective_shadow_maps.hpp, identical in both (hygiene.shared_enums).
 /// Nearest point to the origin of the simplex s[0 .. k) (k <= 4): the minimum over its faces of
 /// each face's affine nearest point with non-negative barycentric weights (a face's affine solution
 /// with a negative weight is not in the simplex; the true minimum lies in some face's relative
 /// interior). Keeps in s / k only the points with positive weight. Returns the point.
-inline glm::dvec3 lf_simplex_nearest(glm::dvec3 s[4], int& k) {
+inline glm::dvec3 cone_simplex_nearest(glm::dvec3 s[4], int& k) {
     glm::dvec3 best(0.0);
     double best2 = std::numeric_limits<double>::infinity();
     int best_mask = 0;
@@ -465,22 +468,19 @@ inline glm::dvec3 lf_simplex_nearest(glm::dvec3 s[4], int& k) {
     return best;
 }
 
-/// Axis of the point-light fit: the axis of the narrowest cone around the light L that holds every
-/// vertex of the receiver volume. With u_i the unit directions from L to the vertices, that axis
-/// maximizes min_i u_i . a, and (duality) it is the direction of the point of the convex hull of the
-/// u_i nearest to the origin, found here by Gilbert-Johnson-Keerthi iterations (support point
-/// argmin_i u_i . p). That point is unique, so the axis moves continuously with the receivers (a mean
-/// of the vertices did not: it jumps when a vertex of the clipped volume splits, and the far corners
-/// of a camera slice pulled it so far from a light just above wide receivers that near receivers
-/// came out beyond 89.4 degrees: LightInsideVolume for a light a frustum pointing straight down
-/// holds). Zero vector: the origin is in the hull (no cone of half-angle < 90 degrees exists) or
-/// a vertex is at the light.
-inline glm::dvec3 lf_point_axis(const glm::dvec3* v, int n, const glm::dvec3& L) {
+/// Axis of the narrowest cone around the apex L that holds the points v[0 .. n) (a point light's fit
+/// in light_frustum.hpp and perspective_shadow_maps.hpp). With u_i the unit directions from L to the
+/// points, that axis maximizes min_i u_i . a, and (duality) it is the direction of the point of the
+/// convex hull of the u_i nearest to the origin, found here by Gilbert-Johnson-Keerthi iterations
+/// (support point argmin_i u_i . p). That point is unique, so the axis moves continuously with the
+/// points (a mean of the points does not: it jumps when a vertex of a clipped volume splits). Zero
+/// vector: the origin is in the hull (no cone of half-angle < 90 degrees exists) or a point is at L.
+inline glm::dvec3 cone_axis(const glm::dvec3* v, int n, const glm::dvec3& L) {
     if (n <= 0) return glm::dvec3(0.0);
     auto dir = [&](int i) {
         const glm::dvec3 r = v[i] - L;
         const double l = glm::length(r);
-        return (l > 0.0 && lf_finite(l)) ? r / l : glm::dvec3(0.0);
+        return (l > 0.0 && std::isfinite(l)) ? r / l : glm::dvec3(0.0);
     };
     for (int i = 0; i < n; ++i)
         if (!(glm::length(dir(i)) > 0.0)) return glm::dvec3(0.0);
@@ -501,11 +501,12 @@ inline glm::dvec3 lf_point_axis(const glm::dvec3* v, int n, const glm::dvec3& L)
         for (int j = 0; j < k; ++j) present = present || glm::length(s[j] - dir(w)) == 0.0;
         if (present || k == 4) break;  // no progress possible (rounding)
         s[k++] = dir(w);
-        p = lf_simplex_nearest(s, k);
+        p = cone_simplex_nearest(s, k);
     }
-    if (!(glm::dot(p, p) > 1e-24) || !lf_finite(p)) return glm::dvec3(0.0);
+    if (!(glm::dot(p, p) > 1e-24) || !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return glm::dvec3(0.0);
     return glm::normalize(p);
 }
+#endif  // SHADOWKIT_CONE_AXIS_DEFINED
 
 /// A directional light's view is free to slide along the light's axis. Moves it back so the near
 /// plane lies 1% of the depth range in front of the eye (no move when it already does, so the eye
@@ -1018,7 +1019,9 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
         }
     } else {
         const glm::dvec3 L = Lpos;
-        const glm::dvec3 f = lf_point_axis(verts, nv, L);
+        // the narrowest cone around the light holding the receiver volume's vertices (a mean of the
+        // vertices put near receivers beyond 89.4 degrees for a light just above wide receivers)
+        const glm::dvec3 f = cone_axis(verts, nv, L);
         if (!(glm::length(f) > 0.0)) return fail(Status::LightInsideVolume);
         lview = lf_look_dir(L, f, lf_view_up(f, cam_fwd, cam_up));
         double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dmin = 1e300, dmax = 0;

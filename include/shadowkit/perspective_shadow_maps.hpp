@@ -615,10 +615,14 @@ inline bool wp_persp_fit(const glm::dvec3* pts, int n, const glm::dvec3& S, cons
     return wp_fin(out);
 }
 
-/// The point of the simplex s[0..k) nearest the origin (k <= 4): the smallest over the faces' affine
-/// nearest points with non-negative barycentric weights. Keeps in s / k only the points with positive
-/// weight (Gilbert-Johnson-Keerthi's sub-simplex step). Returns the point.
-inline glm::dvec3 wp_simplex_nearest(glm::dvec3 s[4], int& k) {
+#ifndef SHADOWKIT_CONE_AXIS_DEFINED
+#define SHADOWKIT_CONE_AXIS_DEFINED
+// Shared by light_frustum.hpp and perspective_shadow_maps.hpp, identical in both (hygiene.shared_enums).
+/// Nearest point to the origin of the simplex s[0 .. k) (k <= 4): the minimum over its faces of
+/// each face's affine nearest point with non-negative barycentric weights (a face's affine solution
+/// with a negative weight is not in the simplex; the true minimum lies in some face's relative
+/// interior). Keeps in s / k only the points with positive weight. Returns the point.
+inline glm::dvec3 cone_simplex_nearest(glm::dvec3 s[4], int& k) {
     glm::dvec3 best(0.0);
     double best2 = std::numeric_limits<double>::infinity();
     int best_mask = 0;
@@ -672,18 +676,19 @@ inline glm::dvec3 wp_simplex_nearest(glm::dvec3 s[4], int& k) {
     return best;
 }
 
-/// Axis of the narrowest cone around S that holds the points (light_frustum.hpp's point-light rule):
-/// with u_i the unit directions from S to the points, the axis maximizes min_i u_i . a, and (duality)
-/// it is the direction of the point of the u_i's convex hull nearest the origin, found by
-/// Gilbert-Johnson-Keerthi iterations (support point argmin_i u_i . p). That point is unique, so the
-/// axis moves continuously with the points. Zero vector: no cone of half-angle < 90 degrees holds them
-/// (the origin is in the hull) or a point is at S.
-inline glm::dvec3 wp_cone_axis(const glm::dvec3* pts, int n, const glm::dvec3& S) {
+/// Axis of the narrowest cone around the apex L that holds the points v[0 .. n) (a point light's fit
+/// in light_frustum.hpp and perspective_shadow_maps.hpp). With u_i the unit directions from L to the
+/// points, that axis maximizes min_i u_i . a, and (duality) it is the direction of the point of the
+/// convex hull of the u_i nearest to the origin, found here by Gilbert-Johnson-Keerthi iterations
+/// (support point argmin_i u_i . p). That point is unique, so the axis moves continuously with the
+/// points (a mean of the points does not: it jumps when a vertex of a clipped volume splits). Zero
+/// vector: the origin is in the hull (no cone of half-angle < 90 degrees exists) or a point is at L.
+inline glm::dvec3 cone_axis(const glm::dvec3* v, int n, const glm::dvec3& L) {
     if (n <= 0) return glm::dvec3(0.0);
     auto dir = [&](int i) {
-        const glm::dvec3 r = pts[i] - S;
+        const glm::dvec3 r = v[i] - L;
         const double l = glm::length(r);
-        return (l > 0.0 && wp_fin(l)) ? r / l : glm::dvec3(0.0);
+        return (l > 0.0 && std::isfinite(l)) ? r / l : glm::dvec3(0.0);
     };
     for (int i = 0; i < n; ++i)
         if (!(glm::length(dir(i)) > 0.0)) return glm::dvec3(0.0);
@@ -704,21 +709,22 @@ inline glm::dvec3 wp_cone_axis(const glm::dvec3* pts, int n, const glm::dvec3& S
         for (int j = 0; j < k; ++j) present = present || glm::length(s[j] - dir(w)) == 0.0;
         if (present || k == 4) break;  // no progress possible (rounding)
         s[k++] = dir(w);
-        p = wp_simplex_nearest(s, k);
+        p = cone_simplex_nearest(s, k);
     }
-    if (!(glm::dot(p, p) > 1e-24) || !wp_fin(p)) return glm::dvec3(0.0);
+    if (!(glm::dot(p, p) > 1e-24) || !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return glm::dvec3(0.0);
     return glm::normalize(p);
 }
+#endif  // SHADOWKIT_CONE_AXIS_DEFINED
 
 /// Axis of a perspective fit from S: start at the axis of the narrowest cone holding the points
-/// (wp_cone_axis, as light_frustum.hpp aims a point light), then twice through the middle of their
+/// (cone_axis, as light_frustum.hpp aims a point light), then twice through the middle of their
 /// angular extents (a nearly symmetric frustum, so no resolution is spent off to one side). Every
 /// step moves continuously with the points (a unique nearest point, bounding extents; never means).
 /// Before issue 13's follow-up the start was the points' box center, which for a light just above
 /// wide receivers lies below their top, so the far receivers came out beside or behind it.
 inline glm::dvec3 wp_persp_axis(const glm::dvec3* pts, int n, const glm::dvec3& S, const glm::dvec3& to_line,
                                 const glm::dvec3& v, const glm::dvec3& ref) {
-    glm::dvec3 f = wp_cone_axis(pts, n, S);
+    glm::dvec3 f = cone_axis(pts, n, S);
     if (!(glm::length(f) > 0.0)) return glm::dvec3(0.0);
     for (int it = 0; it < 2; ++it) {
         const glm::dvec3 up = wp_up(f, to_line, v, ref);
@@ -1094,7 +1100,7 @@ inline WarpResult warp_psm_matrix(const WarpInput& in) {
         const glm::dvec3 S = glm::dvec3(Lh) / Lh.w;
         const bool sink = Lh.w < 0.0;
         // the axis of the narrowest cone around S holding the body, refined (as the world-space point fits)
-        const glm::dvec3 f0 = wp_cone_axis(pts, s.nbody, S);
+        const glm::dvec3 f0 = cone_axis(pts, s.nbody, S);
         if (!(glm::length(f0) > 0.0)) return e;
         const glm::dvec3 ms = m - S;
         const glm::dvec3 to_line = glm::length(ms) > 0.0 ? glm::normalize(ms) : f0;

@@ -1277,7 +1277,7 @@ TEST_CASE("light_frustum: continuity of every fit while the light turns through 
 // perspective_shadow_maps.hpp's uniform fit accepts the same light): the fit aimed its axis at the
 // mean of the receiver volume's vertices, which the far corners of the camera slice pull away from
 // the light's foot, so near receivers came out beyond 89.4 degrees. The axis is now that of the
-// narrowest cone around the light holding the receivers (lf_point_axis; the warps start from it too).
+// narrowest cone around the light holding the receivers (detail::cone_axis; the warps start from it too).
 // Expected: Ok whenever a straight-down frustum with per-axis tangents <= 20 exists (closed form:
 // the light is e above the box top, every box point within 20 e horizontally), and every receiver
 // point inside the slice maps into the fitted clip volume.
