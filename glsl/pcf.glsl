@@ -6,7 +6,8 @@
 //   sm      sampler2DShadow: the shadow map, a depth texture.
 //   uvz     shadow coordinate: xy in [0,1] uv, z the (already biased) window depth of the receiver
 //           (sk_shadow_coord in shadow_map.glsl gives it).
-//   dz_duv  receiver-plane depth gradient from sk_receiver_plane_depth_bias(uvz), or vec2(0.0) to
+//   dz_duv  receiver-plane depth gradient from sk_receiver_plane_depth_bias(uvz) (screen derivatives)
+//           or sk_receiver_plane_gradient(step1, step2) (two uvz steps along the plane), or vec2(0.0) to
 //           disable it. Each tap at uv offset o then compares with z + dot(dz_duv, o).
 // Uniforms: none required. Taps with uv outside [0,1] count as lit.
 // GL state: the map's GL_TEXTURE_COMPARE_MODE = GL_COMPARE_REF_TO_TEXTURE, compare func GL_LEQUAL
@@ -113,16 +114,21 @@ float sk_interleaved_gradient_noise(vec2 pixel) {
 #error "SK_POISSON_TAPS needs SK_POISSON_TAP_COUNT, the length of its array"
 #endif
 
-// Receiver-plane depth gradient (dz/du, dz/dv) from screen-space derivatives of uvz: solves
-// [du/dx dv/dx; du/dy dv/dy] (dz/du, dz/dv) = (dz/dx, dz/dy). vec2(0.0) when singular.
-// Fragment stage only; call it outside non-uniform control flow.
-vec2 sk_receiver_plane_depth_bias(vec3 uvz) {
-    vec3 dx = dFdx(uvz);
-    vec3 dy = dFdy(uvz);
-    float det = dx.x * dy.y - dx.y * dy.x;
-    float scale = (abs(dx.x) + abs(dx.y)) * (abs(dy.x) + abs(dy.y));
+// Receiver-plane depth gradient (dz/du, dz/dv) from two steps of uvz along the receiver's plane
+// (Isidoro 2006): solves [du1 dv1; du2 dv2] (dz/du, dz/dv) = (dz1, dz2). vec2(0.0) when singular.
+// Any stage: a deferred pass steps along the G-buffer's plane (two tangents, through sk_shadow_coord),
+// which has no derivatives across silhouettes.
+vec2 sk_receiver_plane_gradient(vec3 step1, vec3 step2) {
+    float det = step1.x * step2.y - step1.y * step2.x;
+    float scale = (abs(step1.x) + abs(step1.y)) * (abs(step2.x) + abs(step2.y));
     if (!(abs(det) > 1e-7 * scale)) return vec2(0.0);
-    return vec2(dy.y * dx.z - dx.y * dy.z, dx.x * dy.z - dy.x * dx.z) / det;
+    return vec2(step2.y * step1.z - step1.y * step2.z, step1.x * step2.z - step2.x * step1.z) / det;
+}
+
+// The same from screen-space derivatives of uvz. Fragment stage only; call it outside non-uniform
+// control flow.
+vec2 sk_receiver_plane_depth_bias(vec3 uvz) {
+    return sk_receiver_plane_gradient(dFdx(uvz), dFdy(uvz));
 }
 
 // One hardware-compare tap at a uv offset, with the receiver plane applied; outside the map: lit.

@@ -10,8 +10,8 @@
 //           biases); 2 V at the G-buffer's points: the bias, then the filter (the program for these
 //           settings, compiled when they change)
 // The G-buffer knows each point's plane (position and normal), so the receiver-plane bias takes the
-// plane's depth gradient in the map from two tangent points (the solve of pcf.glsl's
-// sk_receiver_plane_depth_bias, whose dFdx/dFdy form would straddle silhouettes in a deferred pass).
+// plane's depth gradient in the map from two tangent points (pcf.glsl's sk_receiver_plane_gradient;
+// sk_receiver_plane_depth_bias, its dFdx/dFdy form, would straddle silhouettes in a deferred pass).
 #include "pcss.hpp"
 
 #include <shadowkit/pcss.hpp>
@@ -47,8 +47,9 @@ vec3 shadow_uvz(mat4 vp, vec3 p) {
 }
 // the light's window depth at eye distance d
 float window_depth(float d) { return u_far * (d - u_near) / (d * (u_far - u_near)); }
-// dz/duv of the plane (p, n) in the map: two tangent steps, then sk_receiver_plane_depth_bias's solve
-// (window z is affine in uv on a plane under a perspective: the step's size does not matter)
+// dz/duv of the plane (p, n) in the map: two tangent steps, solved by pcf.glsl's
+// sk_receiver_plane_gradient (the G-buffer knows the plane: no dFdx/dFdy across silhouettes;
+// window z is affine in uv on a plane under a perspective, so the step's size does not matter)
 vec2 plane_gradient(mat4 vp, vec3 eye, vec3 p, vec3 n) {
     vec3 a = abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
     vec3 t1 = normalize(cross(n, a));
@@ -57,10 +58,7 @@ vec2 plane_gradient(mat4 vp, vec3 eye, vec3 p, vec3 n) {
     vec3 z0 = sk_shadow_coord(vp, p, false).xyz;
     vec3 d1 = sk_shadow_coord(vp, p + h * t1, false).xyz - z0;
     vec3 d2 = sk_shadow_coord(vp, p + h * t2, false).xyz - z0;
-    float det = d1.x * d2.y - d1.y * d2.x;
-    float scale = (abs(d1.x) + abs(d1.y)) * (abs(d2.x) + abs(d2.y));
-    if (!(abs(det) > 1e-7 * scale)) return vec2(0.0);
-    return vec2(d2.y * d1.z - d1.y * d2.z, d1.x * d2.z - d2.x * d1.z) / det;
+    return sk_receiver_plane_gradient(d1, d2);
 }
 // the receiver's depth lowered by `margin` texels of the plane's slope (a 2x2 compare reads texel
 // centers up to a texel away) and a constant

@@ -20,7 +20,7 @@
 
 namespace {
 
-// The lookups of one batch (after glsl/shadow_map.glsl): the maps at unit 2 (a depth array, compare on).
+// The lookups of one batch (after glsl/shadow_map.glsl and pcf.glsl): the maps at unit 2 (a depth array, compare on).
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_maps;
 uniform mat4 u_vp[16];
@@ -33,8 +33,9 @@ vec3 shadow_uvz(mat4 vp, vec3 p) {
     vec4 c = sk_shadow_coord(vp, p, false);
     return c.w > 0.0 ? c.xyz : vec3(-1.0, -1.0, 0.0);
 }
-// dz/duv of the plane (p, n) in a map: two tangent steps, then the solve of pcf.glsl's
-// sk_receiver_plane_depth_bias (the G-buffer knows the plane: no dFdx/dFdy across silhouettes)
+// dz/duv of the plane (p, n) in the map: two tangent steps, solved by pcf.glsl's
+// sk_receiver_plane_gradient (the G-buffer knows the plane: no dFdx/dFdy across silhouettes;
+// window z is affine in uv on a plane under a perspective, so the step's size does not matter)
 vec2 plane_gradient(mat4 vp, vec3 eye, vec3 p, vec3 n) {
     vec3 a = abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
     vec3 t1 = normalize(cross(n, a));
@@ -43,10 +44,7 @@ vec2 plane_gradient(mat4 vp, vec3 eye, vec3 p, vec3 n) {
     vec3 z0 = sk_shadow_coord(vp, p, false).xyz;
     vec3 d1 = sk_shadow_coord(vp, p + h * t1, false).xyz - z0;
     vec3 d2 = sk_shadow_coord(vp, p + h * t2, false).xyz - z0;
-    float det = d1.x * d2.y - d1.y * d2.x;
-    float scale = (abs(d1.x) + abs(d1.y)) * (abs(d2.x) + abs(d2.y));
-    if (!(abs(det) > 1e-7 * scale)) return vec2(0.0);
-    return vec2(d2.y * d1.z - d1.y * d2.z, d1.x * d2.z - d2.x * d1.z) / det;
+    return sk_receiver_plane_gradient(d1, d2);
 }
 float technique_visibility(vec3 p, vec3 n) {
     float sum = 0.0;
@@ -81,10 +79,12 @@ bool SampledAreaLight::init(const app::View& v, std::string& why) {
         why = std::string("poisson_eliminate: ") + shadowkit::status_name(pr.status);
         return false;
     }
-    const std::string shadow_map = app::load_snippet("shadow_map", why);
+    const std::string shadow_map = app::load_snippet("shadow_map", why);  // sk_shadow_coord
     if (shadow_map.empty()) return false;
+    const std::string pcf = app::load_snippet("pcf", why);  // sk_receiver_plane_gradient
+    if (pcf.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
-    vis_prog_ = app::compile_visibility_program(shadow_map, kLookup, why);
+    vis_prog_ = app::compile_visibility_program(shadow_map + "\n" + pcf, kLookup, why);
     if (!depth_prog_ || !vis_prog_) return false;
     // the maps' compare: GL_LINEAR (a 2x2 percentage-closer compare), GL_LEQUAL, outside the map lit
     const float border[4] = {1.f, 1.f, 1.f, 1.f};
