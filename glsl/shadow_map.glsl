@@ -22,8 +22,17 @@
 // (GL_NEAREST: one texel, hard), GL_CLAMP_TO_EDGE; GL_TEXTURE_CUBE_MAP_SEAMLESS for cube maps.
 // Returns 1 = lit, 0 = shadowed (fractions at the 2x2 filter's edges); points outside the light
 // frustum get `outside`.
+// Automatic bias (the default; shadowkit/shadow_bias.hpp bias_auto_lookup is its CPU mirror and
+// derivation): sk_shadow_map_visibility_auto takes the receiver's world normal instead of a bias. It
+// compares each of the 2x2 filter's four texel centres with the receiver plane's own depth there
+// (the plane's window-depth gradient comes from the normal through the light's projection), so it
+// needs no slope-scaled bias and no polygon offset; what is left is `depth_step`, the map format's
+// window-depth step (1/65535 for 16-bit, 1/16777215 for 24-bit, 0.0 for float32: float rounding is
+// added either way). No constant depends on the scene. Render the map WITHOUT glPolygonOffset.
 // Usage:
 //   float v = sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, world_pos, false, 1e-4, 1.0);
+//   float v = sk_shadow_map_visibility_auto(u_shadow_map, u_light_view_proj, world_pos, world_normal,
+//                                           false, 0.0, 1.0);   // float32 map, automatic bias
 // MIT License. Copyright (c) shadowkit contributors.
 
 // Shadow-map coordinates (uv in [0,1], depth in window space) of a world point, and clip w.
@@ -60,4 +69,117 @@ float sk_cube_shadow_visibility(samplerCubeShadow shadow_map, vec4 light_positio
     float n = near_plane;
     float ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * major);
     return texture(shadow_map, vec4(d, ndc_z * 0.5 + 0.5 - bias));
+}
+
+// ---- automatic bias ----------------------------------------------------------------------------
+// Window-depth gradient (dz/du, dz/dv) of the plane through world_pos with normal `normal` in the map
+// of light_view_proj: the receiver plane of Isidoro 2006, from the normal instead of screen
+// derivatives (no error across silhouettes, any stage). The Jacobian of (uv, z) at world_pos is the
+// quotient rule d(c_i / c_w)/dp = (row_i - ndc_i row_w) / c_w, applied to two tangents of the plane;
+// the 2x2 solve gives dz/duv. .z: the solve's conditioning |det| / scale in (0, 1], 0 when the plane
+// (nearly) contains the light ray through world_pos (edge-on: no finite gradient; .xy = 0).
+vec3 sk_plane_depth_gradient(mat4 light_view_proj, vec3 world_pos, vec3 normal, bool zero_to_one) {
+    vec4 c = light_view_proj * vec4(world_pos, 1.0);
+    vec3 ndc = c.xyz / c.w;
+    vec3 rw = vec3(light_view_proj[0][3], light_view_proj[1][3], light_view_proj[2][3]);
+    vec3 jx = (vec3(light_view_proj[0][0], light_view_proj[1][0], light_view_proj[2][0]) - ndc.x * rw) / c.w;
+    vec3 jy = (vec3(light_view_proj[0][1], light_view_proj[1][1], light_view_proj[2][1]) - ndc.y * rw) / c.w;
+    vec3 jz = (vec3(light_view_proj[0][2], light_view_proj[1][2], light_view_proj[2][2]) - ndc.z * rw) / c.w;
+    vec3 n = normalize(normal);
+    vec3 an = abs(n);
+    vec3 axis = an.x <= an.y && an.x <= an.z ? vec3(1.0, 0.0, 0.0) : (an.y <= an.z ? vec3(0.0, 1.0, 0.0) : vec3(0.0, 0.0, 1.0));
+    vec3 t1 = normalize(cross(n, axis));
+    vec3 t2 = cross(n, t1);
+    float zs = zero_to_one ? 1.0 : 0.5;
+    vec3 s1 = vec3(0.5 * dot(jx, t1), 0.5 * dot(jy, t1), zs * dot(jz, t1));
+    vec3 s2 = vec3(0.5 * dot(jx, t2), 0.5 * dot(jy, t2), zs * dot(jz, t2));
+    float det = s1.x * s2.y - s1.y * s2.x;
+    float scale = (abs(s1.x) + abs(s1.y)) * (abs(s2.x) + abs(s2.y));
+    float cond = scale > 0.0 ? abs(det) / scale : 0.0;
+    if (!(cond > 1e-4)) return vec3(0.0);
+    return vec3((s2.y * s1.z - s1.y * s2.z) / det, (s1.x * s2.z - s2.x * s1.z) / det, cond);
+}
+
+// The automatic bias's precision margin in window depth at receiver depth z (bias_auto_epsilon):
+// two steps of the map's format, float rounding of the depths (2^-21 of |z|, plus 2^-21 for standard
+// depth, whose transform rounds at the scale of 1), and the rounding of the plane's extrapolation over
+// one texel, |g| texel (2^-20 + 2^-22 / conditioning).
+#ifndef SK_AUTO_BIAS_K
+#define SK_AUTO_BIAS_K 0.125
+#endif
+float sk_auto_bias_epsilon(vec3 g, vec2 texel_uv, float z, float depth_step) {
+#ifdef SK_REVERSED_Z
+    float float_term = 4.76837158e-7 * abs(z);
+#else
+    float float_term = 4.76837158e-7 * (1.0 + abs(z));
+#endif
+    float plane = abs(g.x) * texel_uv.x + abs(g.y) * texel_uv.y;
+    return 2.0 * max(depth_step, 0.0) + float_term + plane * (SK_AUTO_BIAS_K + 9.53674316e-7 + 2.38418579e-7 / max(g.z, 1e-4));
+}
+
+// The four taps of the automatic bias: the texel centres around c.xy (c from sk_shadow_coord) in a
+// map of `size` texels, their bilinear weights, and the reference depth of each: the receiver plane's
+// depth at that centre minus epsilon (plus with SK_REVERSED_Z), clamped to [0, 1]. tap_uv: (i, j),
+// (i+1, j), (i, j+1), (i+1, j+1).
+void sk_auto_bias_taps(vec4 c, vec3 g, vec2 size, float depth_step, out vec2 tap_uv[4], out vec4 tap_z, out vec4 weight) {
+    vec2 texel = 1.0 / size;
+    vec2 f = c.xy * size - 0.5;
+    vec2 i0 = floor(f);
+    vec2 w = f - i0;
+    float eps = sk_auto_bias_epsilon(g, texel, c.z, depth_step);
+    for (int k = 0; k < 4; ++k) {
+        vec2 centre = (i0 + vec2(float(k & 1), float(k >> 1)) + 0.5) * texel;
+        tap_uv[k] = centre;
+        float zp = c.z + dot(g.xy, centre - c.xy);
+#ifdef SK_REVERSED_Z
+        tap_z[k] = clamp(zp + eps, 0.0, 1.0);
+#else
+        tap_z[k] = clamp(zp - eps, 0.0, 1.0);
+#endif
+    }
+    weight = vec4((1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y);
+}
+
+// Lit fraction of world_pos with the automatic bias: the 2x2 bilinear filter done as four compares at
+// texel centres, each against the receiver plane's depth there. `normal`: the receiver's geometric
+// world normal (any length, either side). Points outside the map (or behind the light) get `outside`;
+// an edge-on receiver (its plane contains the light ray: N.L = 0) gets 1.0. Any filter mode works
+// (the taps sit on texel centres); GL_NEAREST is cheapest.
+float sk_shadow_map_visibility_auto(sampler2DShadow shadow_map, mat4 light_view_proj, vec3 world_pos, vec3 normal,
+                                    bool zero_to_one, float depth_step, float outside) {
+    vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
+    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
+        return outside;
+    vec3 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
+    if (g.z == 0.0) return 1.0;
+    vec2 uv[4];
+    vec4 z;
+    vec4 w;
+    sk_auto_bias_taps(c, g, vec2(textureSize(shadow_map, 0)), depth_step, uv, z, w);
+    return w.x * texture(shadow_map, vec3(uv[0], z.x)) + w.y * texture(shadow_map, vec3(uv[1], z.y)) +
+           w.z * texture(shadow_map, vec3(uv[2], z.z)) + w.w * texture(shadow_map, vec3(uv[3], z.w));
+}
+
+// The same for one layer of a depth array (sampled area lights, cascades).
+float sk_shadow_map_visibility_auto(sampler2DArrayShadow shadow_maps, float layer, mat4 light_view_proj, vec3 world_pos,
+                                    vec3 normal, bool zero_to_one, float depth_step, float outside) {
+    vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
+    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
+        return outside;
+    vec3 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
+    if (g.z == 0.0) return 1.0;
+    vec2 uv[4];
+    vec4 z;
+    vec4 w;
+    sk_auto_bias_taps(c, g, vec2(textureSize(shadow_maps, 0).xy), depth_step, uv, z, w);
+    return w.x * texture(shadow_maps, vec4(uv[0], layer, z.x)) + w.y * texture(shadow_maps, vec4(uv[1], layer, z.y)) +
+           w.z * texture(shadow_maps, vec4(uv[2], layer, z.z)) + w.w * texture(shadow_maps, vec4(uv[3], layer, z.w));
+}
+
+// For filtered kernels (pcf.glsl with GL_LINEAR taps, pcss.glsl): each tap applies the receiver plane
+// at its offset, but its hardware 2x2 reads texel centres up to one texel away with one reference, so
+// it needs one texel of the plane's slope plus the precision margin (bias_auto_filtered_bias).
+// Subtract it from uvz.z (add with SK_REVERSED_Z) and pass g.xy as dz_duv.
+float sk_auto_filtered_bias(vec3 g, vec2 texel_uv, float z, float depth_step) {
+    return abs(g.x) * texel_uv.x + abs(g.y) * texel_uv.y + sk_auto_bias_epsilon(g, texel_uv, z, depth_step);
 }

@@ -5,8 +5,8 @@
 //   update  CPU, every frame: the light's frustum around the scene (sk::fit_light: a perspective from
 //           its center), then per point on the emitter the same frustum moved there: N view-projections
 //   render  GPU, every frame, 16 maps at a time: 1 the casters' depth from each point into a layer of a
-//           depth array; 2 their lookups at the G-buffer's points, each a 2x2 compare with the receiver-
-//           plane bias, added (1/N each) into V with additive blending
+//           depth array; 2 their lookups at the G-buffer's points, each a 2x2 filter with the automatic
+//           bias of glsl/shadow_map.glsl (no constant), added (1/N each) into V with additive blending
 // A point on the emitter below the receiver's tangent plane does not light it (the reference's rule).
 #include "sampled_area_light.hpp"
 
@@ -20,46 +20,21 @@
 
 namespace {
 
-// The lookups of one batch (after glsl/shadow_map.glsl and pcf.glsl): the maps at unit 2 (a depth array, compare on).
+// The lookups of one batch (after glsl/shadow_map.glsl): the maps at unit 2 (a depth array, compare on).
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_maps;
 uniform mat4 u_vp[16];
 uniform vec3 u_pos[16];
 uniform int u_count;
 uniform float u_weight;    // 1 / N
-uniform float u_texel_uv;  // 1 / map size
-// (uv, window z) of p in a map; uv = -1 when p is behind that light
-vec3 shadow_uvz(mat4 vp, vec3 p) {
-    vec4 c = sk_shadow_coord(vp, p, false);
-    return c.w > 0.0 ? c.xyz : vec3(-1.0, -1.0, 0.0);
-}
-// dz/duv of the plane (p, n) in the map: two tangent steps, solved by pcf.glsl's
-// sk_receiver_plane_gradient (the G-buffer knows the plane: no dFdx/dFdy across silhouettes;
-// window z is affine in uv on a plane under a perspective, so the step's size does not matter)
-vec2 plane_gradient(mat4 vp, vec3 eye, vec3 p, vec3 n) {
-    vec3 a = abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
-    vec3 t1 = normalize(cross(n, a));
-    vec3 t2 = cross(n, t1);
-    float h = 0.01 * max(length(p - eye), 1e-4);
-    vec3 z0 = sk_shadow_coord(vp, p, false).xyz;
-    vec3 d1 = sk_shadow_coord(vp, p + h * t1, false).xyz - z0;
-    vec3 d2 = sk_shadow_coord(vp, p + h * t2, false).xyz - z0;
-    return sk_receiver_plane_gradient(d1, d2);
-}
 float technique_visibility(vec3 p, vec3 n) {
     float sum = 0.0;
     for (int i = 0; i < u_count; ++i) {
         if (dot(n, u_pos[i] - p) <= 0.0) continue;   // the point is below the tangent plane
-        vec3 uvz = shadow_uvz(u_vp[i], p);
-        if (uvz.x < -0.5 || any(lessThan(uvz.xy, vec2(0.0))) || any(greaterThan(uvz.xy, vec2(1.0)))) {
-            sum += 1.0;   // outside this map: lit
-            continue;
-        }
-        // receiver-plane bias: one texel of the plane's slope (the 2x2 compare reads texel centers up to
-        // a texel away) and 2e-6 of window depth (float32 rounding)
-        vec2 g = plane_gradient(u_vp[i], u_pos[i], p, n);
-        uvz.z -= 1.0 * u_texel_uv * (abs(g.x) + abs(g.y)) + 2e-6;
-        sum += texture(u_maps, vec4(uvz.xy, float(i), uvz.z));
+        // shadow_map.glsl's automatic bias: the 2x2 filter's four texel centres, each compared with the
+        // receiver plane's own depth there (the plane from the G-buffer's normal: no constant to tune,
+        // no dFdx/dFdy across silhouettes); outside this map: lit. The maps are float32: depth_step 0.
+        sum += sk_shadow_map_visibility_auto(u_maps, float(i), u_vp[i], p, n, false, 0.0, 1.0);
     }
     return sum * u_weight;
 }
@@ -81,10 +56,8 @@ bool SampledAreaLight::init(const app::View& v, std::string& why) {
     }
     const std::string shadow_map = app::load_snippet("shadow_map", why);  // sk_shadow_coord
     if (shadow_map.empty()) return false;
-    const std::string pcf = app::load_snippet("pcf", why);  // sk_receiver_plane_gradient
-    if (pcf.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
-    vis_prog_ = app::compile_visibility_program(shadow_map + "\n" + pcf, kLookup, why);
+    vis_prog_ = app::compile_visibility_program(shadow_map, kLookup, why);
     if (!depth_prog_ || !vis_prog_) return false;
     // the maps' compare: GL_LINEAR (a 2x2 percentage-closer compare), GL_LEQUAL, outside the map lit
     const float border[4] = {1.f, 1.f, 1.f, 1.f};
@@ -125,8 +98,41 @@ void SampledAreaLight::update(const app::View& v, const SampledAreaLightSettings
     vps_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         positions_[i] = L.position + scale * (points_[i].x * t + points_[i].y * b);
-        vps_[i] = lm.proj * glm::lookAt(positions_[i], positions_[i] + dir, up);
+        const glm::mat4 view = glm::lookAt(positions_[i], positions_[i] + dir, up);
+        vps_[i] = s.fit_casters ? caster_fit(*v.scene, view, lm.proj) * view : lm.proj * view;
     }
+}
+
+// Leave out what the scene does not need: the map only has to hold the casters. From the point's
+// view, the frustum through the casters' bounding box (x, y) reaching the farthest receiver (depth:
+// a receiver behind the casters must be inside the map); a receiver outside it is lit by this point
+// (no caster lies between them), which the lookup's `outside` = 1 gives. The scene's fit (`fallback`)
+// when the point is inside the casters' box.
+glm::mat4 SampledAreaLight::caster_fit(const sk::Scene& scene, const glm::mat4& view, const glm::mat4& fallback) {
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const sk::Mesh& m : scene.meshes)
+        if (m.caster)
+            for (const glm::vec3& p : m.positions) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+    const glm::vec3 slo = scene.bounds_min(), shi = scene.bounds_max();
+    float l = INFINITY, r = -INFINITY, bt = INFINITY, tp = -INFINITY, znear = INFINITY, zfar = 0.f;
+    for (int k = 0; k < 8; ++k) {
+        const glm::vec3 c = glm::vec3(view * glm::vec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.f));
+        const glm::vec3 e = glm::vec3(view * glm::vec4(k & 1 ? shi.x : slo.x, k & 2 ? shi.y : slo.y, k & 4 ? shi.z : slo.z, 1.f));
+        const float d = -c.z;  // view depth of a caster corner
+        if (!(d > 0.f)) return fallback;
+        l = std::min(l, c.x / d);
+        r = std::max(r, c.x / d);
+        bt = std::min(bt, c.y / d);
+        tp = std::max(tp, c.y / d);
+        znear = std::min(znear, d);
+        zfar = std::max(zfar, -e.z);
+    }
+    znear *= 0.99f;
+    zfar = std::max(zfar, znear * 2.f) * 1.01f;
+    return glm::frustum(l * znear, r * znear, bt * znear, tp * znear, znear, zfar);
 }
 
 // A depth array of `layers` maps (size x size), one framebuffer per layer, and a 2D view of layer 0.
@@ -154,7 +160,6 @@ void SampledAreaLight::render(const app::View& v, const SampledAreaLightSettings
     glUseProgram(vis_prog_);
     app::set_light_uniforms(vis_prog_, v.light());
     glUniform1f(glGetUniformLocation(vis_prog_, "u_weight"), 1.f / float(n));
-    glUniform1f(glGetUniformLocation(vis_prog_, "u_texel_uv"), 1.f / float(size_));
     for (int first = 0; first < n; first += layers_) {
         const int count = std::min(layers_, n - first);
         // 1. The casters' depth from each point of this batch into its layer: depth test GL_LESS,

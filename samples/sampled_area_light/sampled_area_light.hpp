@@ -29,12 +29,14 @@
 struct SampledAreaLightSettings {
     int maps = 16;    ///< N: shadow maps, one per point on the emitter (the first N of a progressive Poisson set)
     int size = 1024;  ///< texels per side of each map
+    bool fit_casters = true;  ///< each map's frustum fits the casters' bounds (off: the scene's frustum, fit_light)
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
 inline void bind_settings(app::Params& p, SampledAreaLightSettings& s) {
     p.number("maps", &s.maps, 1, 256);
     p.choice("size", &s.size, {{"512", 512}, {"1024", 1024}, {"2048", 2048}});
+    p.toggle("fit_casters", &s.fit_casters);
 }
 
 class SampledAreaLight {
@@ -66,6 +68,7 @@ public:
 
 private:
     void make_maps(int size, int layers);
+    static glm::mat4 caster_fit(const sk::Scene& scene, const glm::mat4& view, const glm::mat4& fallback);
     void release();
     std::string error_;
     glm::vec2 points_[kMaxMaps];         // the emitter's Poisson points, in [-1, 1]^2 (square) or the unit disk

@@ -6,7 +6,7 @@
 int main(int argc, char** argv) {
     ShadowMapSettings s;
     app::App a("shadow map");
-    bind_settings(a.params(), s);// size, hardware_pcf, offset_factor, offset_units: --param, the panel
+    bind_settings(a.params(), s);  // size, hardware_pcf, bias, offset_factor, offset_units: --param, the panel
     ShadowMap sm;         // after the App: its GL objects go before the App's context
     a.debug_view("shadow map", [&] { return sm.debug_depth(); });
     if (!a.start(argc, argv)) return a.exit_code();  // options, window or EGL, scene, G-buffer

@@ -4,8 +4,11 @@
 //   update  CPU, every frame: the light's frustum around the scene (sk::fit_light: a perspective from
 //           spot, area and sphere lights, an orthographic box for a directional light), or for a point
 //           light the six 90-degree faces of a cube map
-//   render  GPU, every frame: 1 the casters' depth from the light, with a slope-scaled polygon offset
-//           against acne; 2 V at the G-buffer's points, one hardware compare (2x2 PCF with GL_LINEAR)
+//   render  GPU, every frame: 1 the casters' depth from the light (bias=polygon_offset: with a
+//           slope-scaled polygon offset against acne); 2 V at the G-buffer's points: bias=auto (the
+//           default) the snippet's automatic bias, four compares at the 2x2 filter's texel centres
+//           against the receiver plane's own depth (from the G-buffer's normal); polygon_offset: one
+//           hardware compare (2x2 PCF with GL_LINEAR)
 #include "shadow_map.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -16,6 +19,27 @@
 namespace {
 
 // V's lookups (after glsl/shadow_map.glsl): the map is bound at unit 2.
+// The automatic bias: no constant; the map is float32 (depth_step 0.0). u_hard: the nearest of the
+// four taps only (hardware_pcf=off), a hard 0 / 1.
+const char* kLookupAuto = R"(
+layout(binding = 2) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_light_view_proj;
+uniform bool u_hard;
+float technique_visibility(vec3 p, vec3 n) {
+    if (!u_hard) return sk_shadow_map_visibility_auto(u_shadow_map, u_light_view_proj, p, n, false, 0.0, 1.0);
+    vec4 c = sk_shadow_coord(u_light_view_proj, p, false);
+    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
+        return 1.0;
+    vec3 g = sk_plane_depth_gradient(u_light_view_proj, p, n, false);
+    if (g.z == 0.0) return 1.0;
+    vec2 uv[4];
+    vec4 z, w;
+    sk_auto_bias_taps(c, g, vec2(textureSize(u_shadow_map, 0)), 0.0, uv, z, w);
+    int k = (w.y + w.w > 0.5 ? 1 : 0) + (w.z + w.w > 0.5 ? 2 : 0);   // the nearest texel centre
+    return texture(u_shadow_map, vec3(uv[k], z[k]));
+}
+)";
+// The classic lookup: no bias here, the depth pass's polygon offset carries it.
 const char* kLookup2D = R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_light_view_proj;
@@ -38,12 +62,21 @@ float technique_visibility(vec3 p, vec3 n) {
 bool ShadowMap::init(const app::View& v, std::string& why) {
     release();
     cube_ = v.light().type == sk::LightType::Point;
-    const std::string snippet = app::load_snippet("shadow_map", why);
-    if (snippet.empty()) return false;
+    snippet_ = app::load_snippet("shadow_map", why);
+    if (snippet_.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
-    vis_prog_ = app::compile_visibility_program(snippet, cube_ ? kLookupCube : kLookup2D, why);
-    if (!depth_prog_ || !vis_prog_) return false;
+    if (!depth_prog_ || !make_visibility_program(ShadowMapSettings{}, why)) return false;
     return pass_.init(v.width, v.height, why);
+}
+
+// The V program of the chosen bias (the cube map has one lookup).
+bool ShadowMap::make_visibility_program(const ShadowMapSettings& s, std::string& why) {
+    const bool automatic = !cube_ && s.bias == ShadowMapSettings::Bias::Auto;
+    if (vis_prog_ && vis_bias_ == int(automatic)) return true;
+    if (vis_prog_) glDeleteProgram(vis_prog_);
+    vis_prog_ = app::compile_visibility_program(snippet_, cube_ ? kLookupCube : (automatic ? kLookupAuto : kLookup2D), why);
+    vis_bias_ = int(automatic);
+    return vis_prog_ != 0;
 }
 
 void ShadowMap::update(const app::View& v, const ShadowMapSettings&) {
@@ -83,16 +116,22 @@ void ShadowMap::make_map(int size) {
 
 void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
     if (s.size != size_) make_map(s.size);
+    std::string why;
+    if (!make_visibility_program(s, why)) return;
+    const bool automatic = !cube_ && s.bias == ShadowMapSettings::Bias::Auto;
 
     // 1. The casters' depth from the light (each cube face in turn): depth test GL_LESS, cleared to
-    //    the far plane, a slope-scaled polygon offset pushing the stored depth away from the light.
+    //    the far plane; bias=polygon_offset (and cube maps): a slope-scaled polygon offset pushing the
+    //    stored depth away from the light. The automatic bias needs the true depths: no offset.
     glUseProgram(depth_prog_);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glClearDepth(1.0);
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(s.offset_factor, s.offset_units);
+    if (!automatic) {
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(s.offset_factor, s.offset_units);
+    }
     for (int f = 0; f < (cube_ ? 6 : 1); ++f) {
         glBindFramebuffer(GL_FRAMEBUFFER, fbo_[f]);
         glViewport(0, 0, size_, size_);
@@ -103,8 +142,9 @@ void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
 
-    // 2. V at the G-buffer's points: the snippet's compare, one texel (GL_NEAREST) or the 2x2 filter.
-    const GLenum filter = s.hardware_pcf ? GL_LINEAR : GL_NEAREST;
+    // 2. V at the G-buffer's points: the snippet's compare, one texel (GL_NEAREST) or the 2x2 filter
+    //    (the automatic bias's taps sit on texel centres: GL_NEAREST, the filter is in the shader).
+    const GLenum filter = s.hardware_pcf && !automatic ? GL_LINEAR : GL_NEAREST;
     glTextureParameteri(map_, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
     glTextureParameteri(map_, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
     glUseProgram(vis_prog_);
@@ -116,6 +156,7 @@ void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
         glUniform1f(glGetUniformLocation(vis_prog_, "u_cube_far"), far_);
     } else {
         glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_[0]));
+        if (automatic) glUniform1i(glGetUniformLocation(vis_prog_, "u_hard"), s.hardware_pcf ? 0 : 1);
     }
     pass_.draw(vis_prog_, *v.gpu, cube_ ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, map_);
 }
@@ -126,6 +167,7 @@ void ShadowMap::release() {  // (no GL call without objects: the App may have no
     if (depth_prog_) glDeleteProgram(depth_prog_);
     if (vis_prog_) glDeleteProgram(vis_prog_);
     map_ = depth_prog_ = vis_prog_ = 0;
+    vis_bias_ = -1;
     std::fill(fbo_, fbo_ + 6, 0u);
     size_ = 0;
 }

@@ -7,8 +7,8 @@
 //                   update (CPU, every frame), render (the GPU passes, each with its GL state)
 //   main.cpp        the calls: the app shell (samples/app) does the window, the camera G-buffer,
 //                   the panel, the timing and the picture
-// It uses only glsl/shadow_map.glsl and the app shell's scene (sk::fit_light: the light's frustum
-// around the scene), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
+// It uses only glsl/shadow_map.glsl (its automatic bias: sk_shadow_map_visibility_auto) and the app
+// shell's scene (sk::fit_light: the light's frustum around the scene), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
 // this same class (samples/report/techniques/shadow_map.cpp).
 #pragma once
 
@@ -22,9 +22,15 @@
 #include "params.hpp"
 
 struct ShadowMapSettings {
+    enum class Bias { Auto, PolygonOffset };
     int size = 2048;            ///< texels per side (of each of the six cube faces for a point light)
-    bool hardware_pcf = true;   ///< GL_LINEAR on the depth-compare texture: 2x2 PCF; off: GL_NEAREST, one texel
-    float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass: slope-scaled bias against acne
+    bool hardware_pcf = true;   ///< the 2x2 percentage-closer filter; off: the nearest texel, hard 0 / 1
+    /// auto (default): sk_shadow_map_visibility_auto, each of the 2x2 texels compared with the receiver
+    /// plane's own depth (from the G-buffer normal), no polygon offset, nothing to tune (2D maps; a
+    /// point light's cube map keeps the polygon offset). polygon_offset: glPolygonOffset(offset_factor,
+    /// offset_units) in the depth pass, the classic slope-scaled bias with hand-picked constants.
+    Bias bias = Bias::Auto;
+    float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass (bias=polygon_offset, cube maps)
     float offset_units = 2.f;
 };
 
@@ -32,6 +38,7 @@ struct ShadowMapSettings {
 inline void bind_settings(app::Params& p, ShadowMapSettings& s) {
     p.choice("size", &s.size, {{"256", 256}, {"512", 512}, {"1024", 1024}, {"2048", 2048}, {"4096", 4096}});
     p.toggle("hardware_pcf", &s.hardware_pcf);
+    p.choice("bias", &s.bias, {{"auto", ShadowMapSettings::Bias::Auto}, {"polygon_offset", ShadowMapSettings::Bias::PolygonOffset}});
     p.number("offset_factor", &s.offset_factor, 0.0, 8.0);
     p.number("offset_units", &s.offset_units, 0.0, 64.0);
 }
@@ -59,6 +66,7 @@ public:
 
 private:
     void make_map(int size);
+    bool make_visibility_program(const ShadowMapSettings& s, std::string& why);
     void release();
     bool cube_ = false;
     int size_ = 0;
@@ -66,5 +74,7 @@ private:
     float near_ = 0.f, far_ = 0.f;  // the cube faces' depth range
     GLuint map_ = 0, fbo_[6] = {0, 0, 0, 0, 0, 0};
     GLuint depth_prog_ = 0, vis_prog_ = 0;
+    int vis_bias_ = -1;  // the bias the V program was compiled for (its lookup differs)
+    std::string snippet_;
     app::VisibilityPass pass_;
 };
