@@ -100,21 +100,19 @@ vec3 sk_plane_depth_gradient(mat4 light_view_proj, vec3 world_pos, vec3 normal, 
     return vec3((s2.y * s1.z - s1.y * s2.z) / det, (s1.x * s2.z - s2.x * s1.z) / det, cond);
 }
 
-// The automatic bias's precision margin in window depth at receiver depth z (bias_auto_epsilon):
-// two steps of the map's format, float rounding of the depths (2^-21 of |z|, plus 2^-21 for standard
-// depth, whose transform rounds at the scale of 1), and the rounding of the plane's extrapolation over
-// one texel, |g| texel (2^-20 + 2^-22 / conditioning).
-#ifndef SK_AUTO_BIAS_K
-#define SK_AUTO_BIAS_K 0.125
-#endif
+// The automatic bias's margin in window depth at receiver depth z (shadow_bias.hpp bias_auto_epsilon,
+// where it is derived): two steps of the map's format, float rounding of the depths (2^-21 of |z|,
+// plus 2^-21 for standard depth, whose transform rounds at the scale of 1), and over one texel of the
+// plane's slope |g| texel: 1/8 for the creases of tessellated meshes, plus the float error of the
+// extrapolation (2^-20 + 2^-22 / conditioning).
 float sk_auto_bias_epsilon(vec3 g, vec2 texel_uv, float z, float depth_step) {
 #ifdef SK_REVERSED_Z
-    float float_term = 4.76837158e-7 * abs(z);
+    float float_term = 4.76837158e-7 * abs(z) + 1.17549435e-38;
 #else
     float float_term = 4.76837158e-7 * (1.0 + abs(z));
 #endif
     float plane = abs(g.x) * texel_uv.x + abs(g.y) * texel_uv.y;
-    return 2.0 * max(depth_step, 0.0) + float_term + plane * (SK_AUTO_BIAS_K + 9.53674316e-7 + 2.38418579e-7 / max(g.z, 1e-4));
+    return 2.0 * max(depth_step, 0.0) + float_term + plane * (0.125 + 9.53674316e-7 + 2.38418579e-7 / max(g.z, 1e-4));
 }
 
 // The four taps of the automatic bias: the texel centres around c.xy (c from sk_shadow_coord) in a

@@ -12,6 +12,10 @@
 //   sk::BiasReceiverPlane g = sk::bias_receiver_plane_depth_gradient(dFdx_uvz, dFdy_uvz);  // per pixel
 //   sk::BiasDepthValue step = sk::bias_depth_metric_resolution(sk::BiasDepthMetric::PostProjective,
 //                                                              sk::DepthFormat::Fixed24, 40.0, 0.1, 100.0);
+//   // The automatic bias (no constant to tune; glsl/shadow_map.glsl sk_shadow_map_visibility_auto):
+//   sk::BiasAutoLookup a = sk::bias_auto_lookup(light_view_proj, sk::ClipDepth::NegativeOneToOne, false,
+//                                               world_pos, world_normal, glm::ivec2(2048), sk::DepthFormat::Float32);
+//   float lit = sk::bias_auto_visibility(a, stored_depth_at_the_four_taps, false, 1.0f);
 //
 // Conventions. Units: "world" values are distances in the light's depth metric (eye distance along
 // the light's axis, or distance to the light); "window" values are stored depth in [0, 1]
@@ -34,13 +38,18 @@
 //   J. Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006 (receiver plane depth bias).
 //   D. Holbert, "Saying Goodbye to Shadow Acne", GDC 2011 poster (normal offset).
 //   A. Moschig, "Apelles: A Library for GPU-Based Real-Time Global Illumination", master's thesis, TU Graz (2012): distance to the light as a linear depth metric.
+//   H. Dou, Y. Yan, E. Kerzner, Z. Dai, C. Wyman, "Adaptive Depth Bias for Shadow Maps", JCGT 3(4), 2014
+//     (the bias from the receiver's tangent plane at the texel's sample, plus a precision term).
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -605,6 +614,266 @@ inline BiasValue bias_second_depth_value(float z1, float z2, float max_offset = 
                                         : 0.5 * (static_cast<double>(hi) - static_cast<double>(lo));
     const double cap = static_cast<double>(max_offset);
     return detail::bias_float(static_cast<double>(lo) + (half < cap ? half : cap));
+}
+
+// ------------------------------------------------------------------------------------------------
+// Automatic bias: no constant to tune
+// ------------------------------------------------------------------------------------------------
+//
+// Derivation. A shadow map stores, at each texel centre c, the depth of the first surface along the
+// light ray through c. The 2x2 percentage-closer filter at a receiver's shadow coordinate uv reads the
+// four texel centres c_k around uv (each less than one texel away per axis). When the receiver is the
+// plane (p, n), its own depth at c_k is z + g . (c_k - uv) exactly, g = dz/duv the plane's window-depth
+// gradient: window depth is affine in uv on a plane under any projective map (Isidoro 2006). So each
+// tap compared with the plane's depth at its own centre needs no slope term at all - the classic
+// slope-scaled and receiver-plane biases add |g| times up to a texel to every tap instead, which is
+// what lets a caster that close to the receiver through (peter-panning, leaks on fine geometry). g
+// comes from the normal: the Jacobian of (uv, z) at p (quotient rule, d(c_i / c_w)/dp = (row_i -
+// ndc_i row_w) / c_w) applied to two tangents of the plane, then the 2x2 solve of Isidoro's eq.; no
+// screen derivatives (they straddle silhouettes in a deferred pass). What remains is the margin
+// epsilon of bias_auto_epsilon, in window depth:
+//   2 step(format)                      the stored and the compared value each round to the format,
+//   2^-21 (|z| + 1) (|z| reversed-Z)    float rounding of the receiver's transform and the rasterizer,
+//   |g| texel (1/8 + 2^-20 + 2^-22/rc)  the extrapolation over one texel: 1/8 texel of slope for the
+//                                       creases of tessellated meshes (a concave neighbour facet rises
+//                                       toward the light within the texel), and the float error of g,
+//                                       which grows as 1/rc, rc = |det| / scale the solve's conditioning.
+// Nothing depends on the scene: texel size, format and plane are inputs. Measured (docs/shadow_map.md):
+// on the `stack` scene 512^2 one texel, 0.00018 misclassified against 0.0015 for glPolygonOffset(2, 2);
+// on the Stanford bunny the sampled area light converges (64 maps: RMSE 0.0098 against the wedges'
+// 0.0087; 0.0246 with the 1-texel receiver-plane bias). Fails: receivers that are not planar within a
+// texel beyond the 1/8 allowance (sharp concave creases show acne along the crease), and an edge-on
+// receiver (its plane contains the light ray: edge_on, lit - N.L = 0 shades it dark anyway).
+
+/// The receiver plane's window-depth gradient in a shadow map, from the surface normal.
+struct BiasPlaneGradient {
+    Status status = Status::NotRun;
+    bool edge_on = false;     ///< true (with Ok): the plane (nearly) contains the light ray through p (conditioning <= 1e-4); dz_duv 0
+    glm::vec4 coord{0.0f};    ///< (u, v, window z, clip w) of p, as sk_shadow_coord
+    glm::vec2 dz_duv{0.0f};   ///< window depth per uv
+    float conditioning = 0.0f;  ///< |det| / scale of the tangent solve, in (1e-4, 1]; 0 when edge_on
+};
+
+/// The automatic bias's lookup: the 2x2 filter as four compares at texel centres.
+struct BiasAutoLookup {
+    Status status = Status::NotRun;
+    bool outside = false;       ///< true (with Ok): p is behind the light or outside the map (uv or window z outside [0, 1]): no compare
+    bool edge_on = false;       ///< true (with Ok): the plane contains the light ray through p: no compare, lit
+    glm::vec4 coord{0.0f};      ///< (u, v, window z, clip w) of p
+    glm::vec2 dz_duv{0.0f};     ///< the receiver plane's window depth per uv
+    float epsilon = 0.0f;       ///< the precision margin, window depth (> 0 when compared)
+    glm::vec2 tap_uv[4]{};      ///< texel centres (i, j), (i+1, j), (i, j+1), (i+1, j+1) in uv
+    float tap_depth[4]{};       ///< reference of each compare: plane depth at the centre - epsilon (+ reversed-Z), clamped to [0, 1]
+    float tap_weight[4]{};      ///< bilinear weights, each in [0, 1], sum 1
+};
+
+namespace detail {
+inline bool bias_finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+inline glm::vec4 bias_coord(const glm::mat4& m, glm::vec3 p, bool zero_to_one) {  // sk_shadow_coord, in float
+    const glm::vec4 c = m * glm::vec4(p, 1.0f);
+    const glm::vec3 ndc = glm::vec3(c) / c.w;
+    return glm::vec4(ndc.x * 0.5f + 0.5f, ndc.y * 0.5f + 0.5f, zero_to_one ? ndc.z : ndc.z * 0.5f + 0.5f, c.w);
+}
+}  // namespace detail
+
+/// Window-depth gradient of the plane through world_pos with normal `normal` (any length, either
+/// side) in the map of light_view_proj (GL column-major, the matrix the map was rendered with; clip
+/// as it was built): the float arithmetic of glsl/shadow_map.glsl sk_plane_depth_gradient. The
+/// tangents are n x a, n x (n x a) with a the axis of n's smallest component. edge_on (with Ok,
+/// dz_duv 0) when the solve's conditioning |det| / scale <= 1e-4. NonFinite for NaN/Inf inputs,
+/// InvalidArgument for a zero normal or clip w <= 0 at world_pos (behind the light), Overflow for a
+/// transform, coordinate or gradient beyond float range.
+inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, ClipDepth clip, glm::vec3 world_pos,
+                                             glm::vec3 normal) {
+    BiasPlaneGradient r;
+    if (!detail::bias_finite(light_view_proj) || !detail::bias_finite(world_pos) || !detail::bias_finite(normal)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    const double nl = std::sqrt(static_cast<double>(normal.x) * normal.x + static_cast<double>(normal.y) * normal.y +
+                                static_cast<double>(normal.z) * normal.z);
+    if (!(nl > 0.0) || (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const glm::mat4& m = light_view_proj;
+    const glm::vec4 c = m * glm::vec4(world_pos, 1.0f);
+    if (!(c.w > 0.0f) || !std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(c.w)) {
+        r.status = c.w > 0.0f ? Status::Overflow : Status::InvalidArgument;
+        return r;
+    }
+    const bool z01 = clip == ClipDepth::ZeroToOne;
+    r.coord = detail::bias_coord(m, world_pos, z01);
+    if (!detail::bias_finite(glm::vec3(r.coord))) {  // c / w beyond float (w tiny)
+        r = BiasPlaneGradient{};
+        r.status = Status::Overflow;
+        return r;
+    }
+    const glm::vec3 ndc = glm::vec3(c) / c.w;
+    const glm::vec3 rw(m[0][3], m[1][3], m[2][3]);
+    const glm::vec3 jx = (glm::vec3(m[0][0], m[1][0], m[2][0]) - ndc.x * rw) / c.w;  // d ndc_i/dp (quotient rule)
+    const glm::vec3 jy = (glm::vec3(m[0][1], m[1][1], m[2][1]) - ndc.y * rw) / c.w;
+    const glm::vec3 jz = (glm::vec3(m[0][2], m[1][2], m[2][2]) - ndc.z * rw) / c.w;
+    const glm::vec3 n = glm::vec3(glm::dvec3(normal) / nl);
+    const glm::vec3 an = glm::abs(n);
+    const glm::vec3 axis = an.x <= an.y && an.x <= an.z ? glm::vec3(1.0f, 0.0f, 0.0f)
+                                                        : (an.y <= an.z ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f));
+    const glm::vec3 t1 = glm::normalize(glm::cross(n, axis));
+    const glm::vec3 t2 = glm::cross(n, t1);
+    const float zs = z01 ? 1.0f : 0.5f;
+    const glm::vec3 s1(0.5f * glm::dot(jx, t1), 0.5f * glm::dot(jy, t1), zs * glm::dot(jz, t1));
+    const glm::vec3 s2(0.5f * glm::dot(jx, t2), 0.5f * glm::dot(jy, t2), zs * glm::dot(jz, t2));
+    const float det = s1.x * s2.y - s1.y * s2.x;
+    const float scale = (std::fabs(s1.x) + std::fabs(s1.y)) * (std::fabs(s2.x) + std::fabs(s2.y));
+    const float cond = scale > 0.0f ? std::fabs(det) / scale : 0.0f;
+    r.status = Status::Ok;
+    if (!(cond > 1e-4f) || !std::isfinite(cond)) {
+        r.edge_on = true;
+        return r;
+    }
+    const float gu = (s2.y * s1.z - s1.y * s2.z) / det, gv = (s1.x * s2.z - s2.x * s1.z) / det;
+    if (!std::isfinite(gu) || !std::isfinite(gv)) {
+        r = BiasPlaneGradient{};
+        r.status = Status::Overflow;
+        return r;
+    }
+    r.dz_duv = glm::vec2(gu, gv);
+    r.conditioning = cond;
+    return r;
+}
+
+/// The window-depth step of a map format, the `depth_step` of the snippet's automatic bias:
+/// 1 / 65535 (Fixed16), 1 / 16777215 (Fixed24), 0 for Float32 (its rounding is in the float term).
+/// InvalidArgument for an unknown format.
+inline BiasValue bias_auto_depth_step(DepthFormat f) {
+    BiasValue r;
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    r.value = f == DepthFormat::Fixed16 ? static_cast<float>(1.0 / 65535.0)
+                                        : (f == DepthFormat::Fixed24 ? static_cast<float>(1.0 / 16777215.0) : 0.0f);
+    r.status = Status::Ok;
+    return r;
+}
+
+/// The automatic bias's precision margin (window depth) at receiver depth z for a plane of gradient
+/// dz_duv and conditioning rc (bias_plane_gradient) in a map of texel size texel_uv: the derivation
+/// above, in the float arithmetic of sk_auto_bias_epsilon. z, dz_duv finite; texel_uv finite > 0;
+/// conditioning finite in (0, 1]; depth_step finite >= 0 (bias_auto_depth_step). NonFinite,
+/// InvalidArgument accordingly, Overflow beyond float range.
+inline BiasValue bias_auto_epsilon(glm::vec2 dz_duv, float conditioning, glm::vec2 texel_uv, float z, float depth_step,
+                                   bool reversed_z) {
+    BiasValue r;
+    if (!detail::bias_finite(dz_duv) || !detail::bias_finite(texel_uv) || !std::isfinite(z) ||
+        !std::isfinite(conditioning) || !std::isfinite(depth_step)) {
+        r.status = Status::NonFinite;
+        return r;
+    }
+    if (!(texel_uv.x > 0.0f) || !(texel_uv.y > 0.0f) || !(conditioning > 0.0f) || conditioning > 1.0f ||
+        !(depth_step >= 0.0f)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const float float_term = reversed_z ? 4.76837158e-7f * std::fabs(z) + 1.17549435e-38f : 4.76837158e-7f * (1.0f + std::fabs(z));
+    const float plane = std::fabs(dz_duv.x) * texel_uv.x + std::fabs(dz_duv.y) * texel_uv.y;
+    const float cond = conditioning > 1e-4f ? conditioning : 1e-4f;
+    const float e = 2.0f * depth_step + float_term + plane * (0.125f + 9.53674316e-7f + 2.38418579e-7f / cond);
+    if (!std::isfinite(e)) { r.status = Status::Overflow; return r; }
+    r.value = e;
+    r.status = Status::Ok;
+    return r;
+}
+
+/// The automatic bias's lookup of world_pos (normal: the receiver's geometric normal, any length,
+/// either side) in a map of map_size texels rendered with light_view_proj WITHOUT polygon offset:
+/// the float arithmetic of sk_auto_bias_taps. map_size >= 1 per axis; format a DepthFormat.
+/// NonFinite for NaN/Inf inputs, InvalidArgument for a zero normal, a map size < 1 or an unknown
+/// clip depth or format; Overflow when the transform, gradient or margin is beyond float. Behind the light or
+/// outside the map: outside (with Ok); edge-on plane: edge_on (with Ok).
+inline BiasAutoLookup bias_auto_lookup(const glm::mat4& light_view_proj, ClipDepth clip, bool reversed_z, glm::vec3 world_pos,
+                                       glm::vec3 normal, glm::ivec2 map_size, DepthFormat format) {
+    BiasAutoLookup a;
+    if (map_size.x < 1 || map_size.y < 1 || !detail::bias_valid_format(format)) { a.status = Status::InvalidArgument; return a; }
+    if (!detail::bias_finite(light_view_proj) || !detail::bias_finite(world_pos) || !detail::bias_finite(normal)) {
+        a.status = Status::NonFinite;
+        return a;
+    }
+    const glm::vec4 c = light_view_proj * glm::vec4(world_pos, 1.0f);
+    const bool z01 = clip == ClipDepth::ZeroToOne;
+    const glm::vec4 coord = c.w > 0.0f ? detail::bias_coord(light_view_proj, world_pos, z01) : glm::vec4(0.0f);
+    if (!detail::bias_finite(glm::vec3(c)) || !std::isfinite(c.w) || !detail::bias_finite(glm::vec3(coord))) {
+        a.status = Status::Overflow;  // the transform or c / w beyond float
+        return a;
+    }
+    if (!(c.w > 0.0f) || !(coord.x >= 0.0f && coord.x <= 1.0f && coord.y >= 0.0f && coord.y <= 1.0f && coord.z >= 0.0f &&
+                           coord.z <= 1.0f)) {
+        if (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne) { a.status = Status::InvalidArgument; return a; }
+        if (glm::dot(normal, normal) == 0.0f) { a.status = Status::InvalidArgument; return a; }
+        a.outside = true;
+        a.coord = coord;
+        a.status = Status::Ok;
+        return a;
+    }
+    const BiasPlaneGradient g = bias_plane_gradient(light_view_proj, clip, world_pos, normal);
+    if (g.status != Status::Ok) { a.status = g.status; return a; }
+    a.coord = g.coord;
+    if (g.edge_on) { a.edge_on = true; a.status = Status::Ok; return a; }
+    const glm::vec2 size(static_cast<float>(map_size.x), static_cast<float>(map_size.y));
+    const glm::vec2 texel = 1.0f / size;
+    const BiasValue dstep = bias_auto_depth_step(format);
+    const BiasValue eps = bias_auto_epsilon(g.dz_duv, g.conditioning, texel, g.coord.z, dstep.value, reversed_z);
+    if (eps.status != Status::Ok) { a.status = eps.status; return a; }
+    const glm::vec2 f = glm::vec2(g.coord) * size - 0.5f;
+    const glm::vec2 i0(std::floor(f.x), std::floor(f.y));
+    const glm::vec2 w = f - i0;
+    for (int k = 0; k < 4; ++k) {
+        const glm::vec2 centre = (i0 + glm::vec2(static_cast<float>(k & 1), static_cast<float>(k >> 1)) + 0.5f) * texel;
+        a.tap_uv[k] = centre;
+        const float zp = g.coord.z + glm::dot(g.dz_duv, centre - glm::vec2(g.coord));
+        const float ref = reversed_z ? zp + eps.value : zp - eps.value;
+        if (!std::isfinite(ref)) { a = BiasAutoLookup{}; a.status = Status::Overflow; return a; }
+        a.tap_depth[k] = ref < 0.0f ? 0.0f : (ref > 1.0f ? 1.0f : ref);
+    }
+    a.tap_weight[0] = (1.0f - w.x) * (1.0f - w.y);
+    a.tap_weight[1] = w.x * (1.0f - w.y);
+    a.tap_weight[2] = (1.0f - w.x) * w.y;
+    a.tap_weight[3] = w.x * w.y;
+    a.dz_duv = g.dz_duv;
+    a.epsilon = eps.value;
+    a.status = Status::Ok;
+    return a;
+}
+
+/// The lit fraction sk_shadow_map_visibility_auto returns, from the map's stored depths at the four
+/// taps (stored[k] at tap_uv[k]; a texel outside the map: the border's far depth). A tap is lit when
+/// tap_depth <= stored (reversed-Z: >=), GL_LEQUAL / GL_GEQUAL. total: a result that is not Ok gives
+/// 0; outside gives outside_value; edge_on gives 1; a NaN stored depth counts as shadowed; the result
+/// is in [0, 1] (outside_value clamped).
+inline float bias_auto_visibility(const BiasAutoLookup& a, const float stored[4], bool reversed_z, float outside_value) {
+    if (a.status != Status::Ok || stored == nullptr) return 0.0f;
+    if (a.outside) return outside_value >= 0.0f ? (outside_value <= 1.0f ? outside_value : 1.0f) : 0.0f;
+    if (a.edge_on) return 1.0f;
+    float v = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        const bool lit = reversed_z ? a.tap_depth[k] >= stored[k] : a.tap_depth[k] <= stored[k];
+        v += lit ? a.tap_weight[k] : 0.0f;
+    }
+    return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+}
+
+/// The bias one filtered tap needs (pcf.glsl kernels with GL_LINEAR, pcss.glsl: each tap applies the
+/// receiver plane at its offset but its hardware 2x2 reads texel centres up to one texel away with one
+/// reference): one texel of the plane's slope plus bias_auto_epsilon (sk_auto_filtered_bias).
+/// Inputs and statuses as bias_auto_epsilon.
+inline BiasValue bias_auto_filtered(glm::vec2 dz_duv, float conditioning, glm::vec2 texel_uv, float z, float depth_step,
+                                    bool reversed_z) {
+    const BiasValue e = bias_auto_epsilon(dz_duv, conditioning, texel_uv, z, depth_step, reversed_z);
+    if (e.status != Status::Ok) return e;
+    return detail::bias_float(static_cast<double>(std::fabs(dz_duv.x)) * texel_uv.x +
+                              static_cast<double>(std::fabs(dz_duv.y)) * texel_uv.y + static_cast<double>(e.value));
 }
 
 } // namespace shadowkit

@@ -100,5 +100,41 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const float lo = a < b ? a : b, hi = a < b ? b : a;
         if (!(sd.value >= lo && sd.value <= hi)) __builtin_trap();
     }
+
+    // the automatic bias: a fuzzer-chosen (often invalid) matrix, point, normal, map size and format
+    const glm::mat4 m = r.boolean() ? r.mat4() : r.perspective(1.0f, false) * r.look_at_view();
+    const ClipDepth clip = static_cast<ClipDepth>(r.range(0, 2));  // 2: invalid
+    const glm::ivec2 map_size(static_cast<int>(r.range(0, 5000)) - 2, static_cast<int>(r.range(0, 5000)) - 2);
+    const BiasPlaneGradient pg = bias_plane_gradient(m, clip, p, nrm);
+    if (pg.status == Status::NotRun) __builtin_trap();
+    if (pg.status == Status::Ok) {
+        if (!all_finite(pg.coord) || !std::isfinite(pg.dz_duv.x) || !std::isfinite(pg.dz_duv.y)) __builtin_trap();
+        if (pg.edge_on ? (pg.dz_duv != glm::vec2(0.0f) || pg.conditioning != 0.0f)
+                       : !(pg.conditioning > 1e-4f && pg.conditioning <= 1.0f))
+            __builtin_trap();
+    }
+    const BiasAutoLookup al = bias_auto_lookup(m, clip, rev, p, nrm, map_size, fmt);
+    if (al.status == Status::NotRun) __builtin_trap();
+    if (al.status == Status::Ok && !al.outside && !al.edge_on) {
+        float wsum = 0.0f;
+        for (int k = 0; k < 4; ++k) {
+            if (!(al.tap_depth[k] >= 0.0f && al.tap_depth[k] <= 1.0f)) __builtin_trap();
+            if (!(al.tap_weight[k] >= 0.0f && al.tap_weight[k] <= 1.0f)) __builtin_trap();
+            if (!std::isfinite(al.tap_uv[k].x) || !std::isfinite(al.tap_uv[k].y)) __builtin_trap();
+            wsum += al.tap_weight[k];
+        }
+        if (!(std::fabs(wsum - 1.0f) <= 1e-4f) || !(al.epsilon > 0.0f) || !std::isfinite(al.epsilon)) __builtin_trap();
+        // the promise, at the lookup's own point: stored depths equal to the plane's at each tap are lit
+        float stored[4];
+        for (int k = 0; k < 4; ++k) stored[k] = rev ? al.tap_depth[k] - al.epsilon : al.tap_depth[k] + al.epsilon;
+        const float vis = bias_auto_visibility(al, stored, rev, 1.0f);
+        if (!(vis >= 0.0f && vis <= 1.0f)) __builtin_trap();
+    }
+    const float stored4[4] = {a, b, c, e};
+    const float vis = bias_auto_visibility(al, stored4, rev, e);  // total: any input
+    if (!(vis >= 0.0f && vis <= 1.0f)) __builtin_trap();
+    const BiasValue ab = bias_auto_filtered(glm::vec2(a, b), c, glm::vec2(std::fabs(e), std::fabs(a)), b, std::fabs(c), rev);
+    check(ab);
+    if (ab.status == Status::Ok && !(ab.value > 0.0f)) __builtin_trap();
     return 0;
 }
