@@ -77,49 +77,55 @@ float sk_cube_shadow_visibility(samplerCubeShadow shadow_map, vec4 light_positio
 // derivatives (no error across silhouettes, any stage). The Jacobian of (uv, z) at world_pos is the
 // quotient rule d(c_i / c_w)/dp = (row_i - ndc_i row_w) / c_w, applied to two tangents of the plane;
 // the 2x2 solve gives dz/duv. .z: the solve's conditioning |det| / scale in (0, 1], 0 when the plane
-// (nearly) contains the light ray through world_pos (edge-on: no finite gradient; .xy = 0).
-vec3 sk_plane_depth_gradient(mat4 light_view_proj, vec3 world_pos, vec3 normal, bool zero_to_one) {
+// (nearly) contains the light ray through world_pos (edge-on: no finite gradient; .xy = 0). .w: the
+// window depth that 4 float ulps of world_pos's coordinates move it by (a G-buffer's position is
+// rounded: 2^-21 |p|_1 |dz/dp|_1), part of the margin.
+vec4 sk_plane_depth_gradient(mat4 light_view_proj, vec3 world_pos, vec3 normal, bool zero_to_one) {
     vec4 c = light_view_proj * vec4(world_pos, 1.0);
     vec3 ndc = c.xyz / c.w;
     vec3 rw = vec3(light_view_proj[0][3], light_view_proj[1][3], light_view_proj[2][3]);
     vec3 jx = (vec3(light_view_proj[0][0], light_view_proj[1][0], light_view_proj[2][0]) - ndc.x * rw) / c.w;
     vec3 jy = (vec3(light_view_proj[0][1], light_view_proj[1][1], light_view_proj[2][1]) - ndc.y * rw) / c.w;
     vec3 jz = (vec3(light_view_proj[0][2], light_view_proj[1][2], light_view_proj[2][2]) - ndc.z * rw) / c.w;
+    float zs = zero_to_one ? 1.0 : 0.5;
+    vec3 ap = abs(world_pos);
+    vec3 ajz = abs(jz);
+    float pos_err = 4.76837158e-7 * (ap.x + ap.y + ap.z) * (ajz.x + ajz.y + ajz.z) * zs;
     vec3 n = normalize(normal);
     vec3 an = abs(n);
     vec3 axis = an.x <= an.y && an.x <= an.z ? vec3(1.0, 0.0, 0.0) : (an.y <= an.z ? vec3(0.0, 1.0, 0.0) : vec3(0.0, 0.0, 1.0));
     vec3 t1 = normalize(cross(n, axis));
     vec3 t2 = cross(n, t1);
-    float zs = zero_to_one ? 1.0 : 0.5;
     vec3 s1 = vec3(0.5 * dot(jx, t1), 0.5 * dot(jy, t1), zs * dot(jz, t1));
     vec3 s2 = vec3(0.5 * dot(jx, t2), 0.5 * dot(jy, t2), zs * dot(jz, t2));
     float det = s1.x * s2.y - s1.y * s2.x;
     float scale = (abs(s1.x) + abs(s1.y)) * (abs(s2.x) + abs(s2.y));
     float cond = scale > 0.0 ? abs(det) / scale : 0.0;
-    if (!(cond > 1e-4)) return vec3(0.0);
-    return vec3((s2.y * s1.z - s1.y * s2.z) / det, (s1.x * s2.z - s2.x * s1.z) / det, cond);
+    if (!(cond > 1e-4)) return vec4(0.0, 0.0, 0.0, pos_err);
+    return vec4((s2.y * s1.z - s1.y * s2.z) / det, (s1.x * s2.z - s2.x * s1.z) / det, cond, pos_err);
 }
 
 // The automatic bias's margin in window depth at receiver depth z (shadow_bias.hpp bias_auto_epsilon,
 // where it is derived): two steps of the map's format, float rounding of the depths (2^-21 of |z|,
-// plus 2^-21 for standard depth, whose transform rounds at the scale of 1), and over one texel of the
-// plane's slope |g| texel: 1/8 for the creases of tessellated meshes, plus the float error of the
-// extrapolation (2^-20 + 2^-22 / conditioning).
-float sk_auto_bias_epsilon(vec3 g, vec2 texel_uv, float z, float depth_step) {
+// plus 2^-21 for standard depth, whose transform rounds at the scale of 1), twice the receiver
+// position's rounding (g.w), and over one texel of the plane's slope |g| texel: 1/8 for the creases
+// of tessellated meshes, plus the float error of the extrapolation (2^-20 + 2^-22 / conditioning).
+// g: sk_plane_depth_gradient.
+float sk_auto_bias_epsilon(vec4 g, vec2 texel_uv, float z, float depth_step) {
 #ifdef SK_REVERSED_Z
     float float_term = 4.76837158e-7 * abs(z) + 1.17549435e-38;
 #else
     float float_term = 4.76837158e-7 * (1.0 + abs(z));
 #endif
     float plane = abs(g.x) * texel_uv.x + abs(g.y) * texel_uv.y;
-    return 2.0 * max(depth_step, 0.0) + float_term + plane * (0.125 + 9.53674316e-7 + 2.38418579e-7 / max(g.z, 1e-4));
+    return 2.0 * max(depth_step, 0.0) + float_term + 2.0 * g.w + plane * (0.125 + 9.53674316e-7 + 2.38418579e-7 / max(g.z, 1e-4));
 }
 
 // The four taps of the automatic bias: the texel centres around c.xy (c from sk_shadow_coord) in a
 // map of `size` texels, their bilinear weights, and the reference depth of each: the receiver plane's
 // depth at that centre minus epsilon (plus with SK_REVERSED_Z), clamped to [0, 1]. tap_uv: (i, j),
 // (i+1, j), (i, j+1), (i+1, j+1).
-void sk_auto_bias_taps(vec4 c, vec3 g, vec2 size, float depth_step, out vec2 tap_uv[4], out vec4 tap_z, out vec4 weight) {
+void sk_auto_bias_taps(vec4 c, vec4 g, vec2 size, float depth_step, out vec2 tap_uv[4], out vec4 tap_z, out vec4 weight) {
     vec2 texel = 1.0 / size;
     vec2 f = c.xy * size - 0.5;
     vec2 i0 = floor(f);
@@ -148,7 +154,7 @@ float sk_shadow_map_visibility_auto(sampler2DShadow shadow_map, mat4 light_view_
     vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
         return outside;
-    vec3 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
+    vec4 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
     if (g.z == 0.0) return 1.0;
     vec2 uv[4];
     vec4 z;
@@ -164,7 +170,7 @@ float sk_shadow_map_visibility_auto(sampler2DArrayShadow shadow_maps, float laye
     vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
         return outside;
-    vec3 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
+    vec4 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
     if (g.z == 0.0) return 1.0;
     vec2 uv[4];
     vec4 z;
@@ -178,6 +184,6 @@ float sk_shadow_map_visibility_auto(sampler2DArrayShadow shadow_maps, float laye
 // at its offset, but its hardware 2x2 reads texel centres up to one texel away with one reference, so
 // it needs one texel of the plane's slope plus the precision margin (bias_auto_filtered_bias).
 // Subtract it from uvz.z (add with SK_REVERSED_Z) and pass g.xy as dz_duv.
-float sk_auto_filtered_bias(vec3 g, vec2 texel_uv, float z, float depth_step) {
+float sk_auto_filtered_bias(vec4 g, vec2 texel_uv, float z, float depth_step) {
     return abs(g.x) * texel_uv.x + abs(g.y) * texel_uv.y + sk_auto_bias_epsilon(g, texel_uv, z, depth_step);
 }

@@ -634,6 +634,8 @@ inline BiasValue bias_second_depth_value(float z1, float z2, float max_offset = 
 // epsilon of bias_auto_epsilon, in window depth:
 //   2 step(format)                      the stored and the compared value each round to the format,
 //   2^-21 (|z| + 1) (|z| reversed-Z)    float rounding of the receiver's transform and the rasterizer,
+//   2 x 2^-21 |p|_1 |dz/dp|_1           the receiver's position is itself rounded (a G-buffer's, or the
+//                                       interpolated world position: a few ulps of its coordinates),
 //   |g| texel (1/8 + 2^-20 + 2^-22/rc)  the extrapolation over one texel: 1/8 texel of slope for the
 //                                       creases of tessellated meshes (a concave neighbour facet rises
 //                                       toward the light within the texel), and the float error of g,
@@ -652,6 +654,9 @@ struct BiasPlaneGradient {
     glm::vec4 coord{0.0f};    ///< (u, v, window z, clip w) of p, as sk_shadow_coord
     glm::vec2 dz_duv{0.0f};   ///< window depth per uv
     float conditioning = 0.0f;  ///< |det| / scale of the tangent solve, in (1e-4, 1]; 0 when edge_on
+    /// Window depth that 4 float ulps of world_pos's coordinates move it by: 2^-21 |p|_1 |dz/dp|_1 (a
+    /// G-buffer's position is rounded; part of the margin). >= 0, also when edge_on.
+    float position_error = 0.0f;
 };
 
 /// The automatic bias's lookup: the 2x2 filter as four compares at texel centres.
@@ -719,13 +724,21 @@ inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, C
     const glm::vec3 jx = (glm::vec3(m[0][0], m[1][0], m[2][0]) - ndc.x * rw) / c.w;  // d ndc_i/dp (quotient rule)
     const glm::vec3 jy = (glm::vec3(m[0][1], m[1][1], m[2][1]) - ndc.y * rw) / c.w;
     const glm::vec3 jz = (glm::vec3(m[0][2], m[1][2], m[2][2]) - ndc.z * rw) / c.w;
+    const float zs = z01 ? 1.0f : 0.5f;
+    const glm::vec3 ap = glm::abs(world_pos), ajz = glm::abs(jz);
+    const float pos_err = 4.76837158e-7f * (ap.x + ap.y + ap.z) * (ajz.x + ajz.y + ajz.z) * zs;
+    if (!std::isfinite(pos_err)) {
+        r = BiasPlaneGradient{};
+        r.status = Status::Overflow;
+        return r;
+    }
+    r.position_error = pos_err;
     const glm::vec3 n = glm::vec3(glm::dvec3(normal) / nl);
     const glm::vec3 an = glm::abs(n);
     const glm::vec3 axis = an.x <= an.y && an.x <= an.z ? glm::vec3(1.0f, 0.0f, 0.0f)
                                                         : (an.y <= an.z ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f));
     const glm::vec3 t1 = glm::normalize(glm::cross(n, axis));
     const glm::vec3 t2 = glm::cross(n, t1);
-    const float zs = z01 ? 1.0f : 0.5f;
     const glm::vec3 s1(0.5f * glm::dot(jx, t1), 0.5f * glm::dot(jy, t1), zs * glm::dot(jz, t1));
     const glm::vec3 s2(0.5f * glm::dot(jx, t2), 0.5f * glm::dot(jy, t2), zs * glm::dot(jz, t2));
     const float det = s1.x * s2.y - s1.y * s2.x;
@@ -760,27 +773,27 @@ inline BiasValue bias_auto_depth_step(DepthFormat f) {
 }
 
 /// The automatic bias's precision margin (window depth) at receiver depth z for a plane of gradient
-/// dz_duv and conditioning rc (bias_plane_gradient) in a map of texel size texel_uv: the derivation
-/// above, in the float arithmetic of sk_auto_bias_epsilon. z, dz_duv finite; texel_uv finite > 0;
-/// conditioning finite in (0, 1]; depth_step finite >= 0 (bias_auto_depth_step). NonFinite,
-/// InvalidArgument accordingly, Overflow beyond float range.
-inline BiasValue bias_auto_epsilon(glm::vec2 dz_duv, float conditioning, glm::vec2 texel_uv, float z, float depth_step,
-                                   bool reversed_z) {
+/// dz_duv, conditioning rc and position error (bias_plane_gradient) in a map of texel size texel_uv:
+/// the derivation above, in the float arithmetic of sk_auto_bias_epsilon. z, dz_duv finite; texel_uv
+/// finite > 0; conditioning finite in (0, 1]; position_error and depth_step finite >= 0
+/// (bias_auto_depth_step). NonFinite, InvalidArgument accordingly, Overflow beyond float range.
+inline BiasValue bias_auto_epsilon(glm::vec2 dz_duv, float conditioning, float position_error, glm::vec2 texel_uv, float z,
+                                   float depth_step, bool reversed_z) {
     BiasValue r;
     if (!detail::bias_finite(dz_duv) || !detail::bias_finite(texel_uv) || !std::isfinite(z) ||
-        !std::isfinite(conditioning) || !std::isfinite(depth_step)) {
+        !std::isfinite(conditioning) || !std::isfinite(depth_step) || !std::isfinite(position_error)) {
         r.status = Status::NonFinite;
         return r;
     }
     if (!(texel_uv.x > 0.0f) || !(texel_uv.y > 0.0f) || !(conditioning > 0.0f) || conditioning > 1.0f ||
-        !(depth_step >= 0.0f)) {
+        !(depth_step >= 0.0f) || !(position_error >= 0.0f)) {
         r.status = Status::InvalidArgument;
         return r;
     }
     const float float_term = reversed_z ? 4.76837158e-7f * std::fabs(z) + 1.17549435e-38f : 4.76837158e-7f * (1.0f + std::fabs(z));
     const float plane = std::fabs(dz_duv.x) * texel_uv.x + std::fabs(dz_duv.y) * texel_uv.y;
     const float cond = conditioning > 1e-4f ? conditioning : 1e-4f;
-    const float e = 2.0f * depth_step + float_term + plane * (0.125f + 9.53674316e-7f + 2.38418579e-7f / cond);
+    const float e = 2.0f * depth_step + float_term + 2.0f * position_error + plane * (0.125f + 9.53674316e-7f + 2.38418579e-7f / cond);
     if (!std::isfinite(e)) { r.status = Status::Overflow; return r; }
     r.value = e;
     r.status = Status::Ok;
@@ -824,7 +837,7 @@ inline BiasAutoLookup bias_auto_lookup(const glm::mat4& light_view_proj, ClipDep
     const glm::vec2 size(static_cast<float>(map_size.x), static_cast<float>(map_size.y));
     const glm::vec2 texel = 1.0f / size;
     const BiasValue dstep = bias_auto_depth_step(format);
-    const BiasValue eps = bias_auto_epsilon(g.dz_duv, g.conditioning, texel, g.coord.z, dstep.value, reversed_z);
+    const BiasValue eps = bias_auto_epsilon(g.dz_duv, g.conditioning, g.position_error, texel, g.coord.z, dstep.value, reversed_z);
     if (eps.status != Status::Ok) { a.status = eps.status; return a; }
     const glm::vec2 f = glm::vec2(g.coord) * size - 0.5f;
     const glm::vec2 i0(std::floor(f.x), std::floor(f.y));
@@ -868,9 +881,9 @@ inline float bias_auto_visibility(const BiasAutoLookup& a, const float stored[4]
 /// receiver plane at its offset but its hardware 2x2 reads texel centres up to one texel away with one
 /// reference): one texel of the plane's slope plus bias_auto_epsilon (sk_auto_filtered_bias).
 /// Inputs and statuses as bias_auto_epsilon.
-inline BiasValue bias_auto_filtered(glm::vec2 dz_duv, float conditioning, glm::vec2 texel_uv, float z, float depth_step,
-                                    bool reversed_z) {
-    const BiasValue e = bias_auto_epsilon(dz_duv, conditioning, texel_uv, z, depth_step, reversed_z);
+inline BiasValue bias_auto_filtered(glm::vec2 dz_duv, float conditioning, float position_error, glm::vec2 texel_uv, float z,
+                                    float depth_step, bool reversed_z) {
+    const BiasValue e = bias_auto_epsilon(dz_duv, conditioning, position_error, texel_uv, z, depth_step, reversed_z);
     if (e.status != Status::Ok) return e;
     return detail::bias_float(static_cast<double>(std::fabs(dz_duv.x)) * texel_uv.x +
                               static_cast<double>(std::fabs(dz_duv.y)) * texel_uv.y + static_cast<double>(e.value));

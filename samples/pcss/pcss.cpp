@@ -40,6 +40,7 @@ uniform float u_texel_uv;    // 1 / map size
 uniform float u_tan_half;    // tan(fov / 2) of the light's frustum
 uniform float u_margin;      // receiver plane: texels of plane slope
 uniform float u_const_bias;  // receiver plane: window depth
+uniform float u_depth_step;  // the automatic bias: the map format's window-depth step (0: float32)
 // (uv, window z) of p in the map; uv = -1 when p is behind the light
 vec3 shadow_uvz(mat4 vp, vec3 p) {
     vec4 c = sk_shadow_coord(vp, p, false);
@@ -70,7 +71,7 @@ vec3 plane_bias(vec3 uvz, vec2 g, float texel_uv) {
 
 // V at a G-buffer point: where it falls in the map, the bias, the filter; times the emitter's horizon.
 // FILTER: 0 hard, 1 box, 2 tent, 3 poisson, 4 pcss; BIAS: 0 none, 1 constant, 2 slope-scaled, 3 normal
-// offset, 4 receiver plane; ROTATE 0/1 (the #defines in front of the snippets).
+// offset, 4 receiver plane, 5 automatic; ROTATE 0/1 (the #defines in front of the snippets).
 const char* kLookup = R"(
 uniform int u_radius_texels;
 uniform float u_radius_uv;
@@ -101,8 +102,17 @@ float technique_visibility(vec3 p, vec3 n) {
 #elif BIAS == 4
     g = plane_gradient(u_light_view_proj, u_light_eye, p, n);
     uvz = plane_bias(uvz, g, u_texel_uv);
+#elif BIAS == 5
+    // shadow_map.glsl's automatic bias: the plane from the normal (edge-on: g = 0); the kernels' taps
+    // (one hardware 2x2 each) need one texel of its slope more than the hard lookup, which compares
+    // texel by texel
+    vec4 ga = sk_plane_depth_gradient(u_light_view_proj, p, n, false);
+    g = ga.xy;
+    uvz.z -= sk_auto_filtered_bias(ga, vec2(u_texel_uv), uvz.z, u_depth_step);
 #endif
-#if FILTER == 0
+#if FILTER == 0 && BIAS == 5
+    float v = sk_shadow_map_visibility_auto(u_map, u_light_view_proj, p, n, false, u_depth_step, 1.0);
+#elif FILTER == 0
     float v = sk_pcf_hard(u_map, uvz);
 #elif FILTER == 1
     float v = sk_pcf_box(u_map, uvz, g, u_radius_texels);
@@ -323,6 +333,7 @@ void Pcss::render(const app::View& v, const PcssSettings& s) {
     glUniform1f(loc("u_tan_half"), tan_half_);
     glUniform1f(loc("u_margin"), s.plane_margin);
     glUniform1f(loc("u_const_bias"), 2e-6f);  // float32 rounding of the G-buffer's positions and the map's depths
+    glUniform1f(loc("u_depth_step"), s.depth == PcssSettings::Depth::Unorm24 ? float(1.0 / 16777215.0) : 0.0f);  // the automatic bias
     glUniform1f(loc("u_constant_bias"), s.constant_bias);
     glUniform1f(loc("u_slope_scale"), s.slope_scale);
     glUniform1f(loc("u_normal_offset"), s.normal_offset);

@@ -45,12 +45,15 @@ struct PcssSettings {
     enum class Depth { Float32, Unorm24 };
     Depth depth = Depth::Float32;    ///< GL_DEPTH_COMPONENT32F or GL_DEPTH_COMPONENT24
     bool fit_near = true;            ///< the light's near plane at the casters (pcss_fit_near_plane): PCSS's search is cut there
-    /// The depth bias of the lookup (no polygon offset in the map): none; constant (world units along the
-    /// light's axis); slope_scaled (texel size x min(tan theta, 10) x slope_scale); normal_offset (the
-    /// point moved along its normal by texel size x sin theta x normal_offset); receiver_plane (every tap
-    /// compares with the receiver's plane, lowered by plane_margin texels of its slope: the default).
-    enum class Bias { None, Constant, SlopeScaled, NormalOffset, ReceiverPlane };
-    Bias bias = Bias::ReceiverPlane;
+    /// The depth bias of the lookup (no polygon offset in the map): auto (the default: shadow_map.glsl's
+    /// automatic bias, nothing to tune - the hard filter compares each 2x2 texel with the receiver plane's
+    /// own depth, the kernels apply the plane per tap with sk_auto_filtered_bias); none; constant (world
+    /// units along the light's axis); slope_scaled (texel size x min(tan theta, 10) x slope_scale);
+    /// normal_offset (the point moved along its normal by texel size x sin theta x normal_offset);
+    /// receiver_plane (every tap compares with the receiver's plane, lowered by plane_margin texels of
+    /// its slope).
+    enum class Bias { None, Constant, SlopeScaled, NormalOffset, ReceiverPlane, Auto };
+    Bias bias = Bias::Auto;
     float plane_margin = 1.f;   ///< receiver_plane: texels of plane slope (+ 2e-6 window depth)
     float constant_bias = 0.01f;  ///< constant: world units
     float slope_scale = 1.5f;   ///< slope_scaled
@@ -73,7 +76,7 @@ inline void bind_settings(app::Params& p, PcssSettings& s) {
     p.choice("depth", &s.depth, {{"float32", PcssSettings::Depth::Float32}, {"unorm24", PcssSettings::Depth::Unorm24}});
     p.toggle("fit_near", &s.fit_near);
     p.choice("bias", &s.bias,
-             {{"receiver_plane", B::ReceiverPlane}, {"none", B::None}, {"constant", B::Constant},
+             {{"auto", B::Auto}, {"receiver_plane", B::ReceiverPlane}, {"none", B::None}, {"constant", B::Constant},
               {"slope_scaled", B::SlopeScaled}, {"normal_offset", B::NormalOffset}});
     p.number("plane_margin", &s.plane_margin, 0.0, 8.0);
     p.number("constant_bias", &s.constant_bias, 0.0, 1.0);

@@ -30,7 +30,7 @@ float technique_visibility(vec3 p, vec3 n) {
     vec4 c = sk_shadow_coord(u_light_view_proj, p, false);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
         return 1.0;
-    vec3 g = sk_plane_depth_gradient(u_light_view_proj, p, n, false);
+    vec4 g = sk_plane_depth_gradient(u_light_view_proj, p, n, false);
     if (g.z == 0.0) return 1.0;
     vec2 uv[4];
     vec4 z, w;

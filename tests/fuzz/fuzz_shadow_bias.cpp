@@ -109,6 +109,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (pg.status == Status::NotRun) __builtin_trap();
     if (pg.status == Status::Ok) {
         if (!all_finite(pg.coord) || !std::isfinite(pg.dz_duv.x) || !std::isfinite(pg.dz_duv.y)) __builtin_trap();
+        if (!(pg.position_error >= 0.0f) || !std::isfinite(pg.position_error)) __builtin_trap();
         if (pg.edge_on ? (pg.dz_duv != glm::vec2(0.0f) || pg.conditioning != 0.0f)
                        : !(pg.conditioning > 1e-4f && pg.conditioning <= 1.0f))
             __builtin_trap();
@@ -133,7 +134,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float stored4[4] = {a, b, c, e};
     const float vis = bias_auto_visibility(al, stored4, rev, e);  // total: any input
     if (!(vis >= 0.0f && vis <= 1.0f)) __builtin_trap();
-    const BiasValue ab = bias_auto_filtered(glm::vec2(a, b), c, glm::vec2(std::fabs(e), std::fabs(a)), b, std::fabs(c), rev);
+    const BiasValue ab = bias_auto_filtered(glm::vec2(a, b), c, std::fabs(e), glm::vec2(std::fabs(e), std::fabs(a)), b, std::fabs(c), rev);
     check(ab);
     if (ab.status == Status::Ok && !(ab.value > 0.0f)) __builtin_trap();
     return 0;

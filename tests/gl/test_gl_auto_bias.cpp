@@ -46,7 +46,7 @@ layout(location = 0) out vec4 o;
 void main() {
     float a = sk_shadow_map_visibility_auto(u_map, u_vp, v_pos, v_normal, u_zero_to_one, u_depth_step, 0.5);
     float b = sk_shadow_map_visibility_auto(u_array, 1.0, u_vp, v_pos, v_normal, u_zero_to_one, u_depth_step, 0.5);
-    vec3 g = sk_plane_depth_gradient(u_vp, v_pos, v_normal, u_zero_to_one);
+    vec4 g = sk_plane_depth_gradient(u_vp, v_pos, v_normal, u_zero_to_one);
     o = vec4(a, b, g.x, g.y);
 })";
 

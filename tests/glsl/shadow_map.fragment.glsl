@@ -15,7 +15,7 @@ void main() {
     float b = sk_cube_shadow_visibility(u_cube, u_light_position, v_world, 0.05, 20.0, u_bias);
     float d = sk_shadow_map_visibility_auto(u_sm, u_light_vp, v_world, v_normal, false, u_depth_step, 1.0);
     float e = sk_shadow_map_visibility_auto(u_sm_array, 2.0, u_light_vp, v_world, v_normal, true, u_depth_step, 1.0);
-    vec3 g = sk_plane_depth_gradient(u_light_vp, v_world, v_normal, false);
+    vec4 g = sk_plane_depth_gradient(u_light_vp, v_world, v_normal, false);
     float f = sk_auto_filtered_bias(g, vec2(1.0 / 2048.0), c.z, u_depth_step);
     o_color = vec4(a + d, b + e, c.z + f, 1.0);
 }

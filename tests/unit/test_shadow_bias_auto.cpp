@@ -227,7 +227,15 @@ TEST_CASE("automatic bias: a caster in front of the receiver plane by more than 
         if (a.outside || a.edge_on) continue;
         // the margin is what the derivation says, no more: <= 1/8 texel of slope plus the rounding terms
         const double plane = std::fabs(a.dz_duv.x) / 1024.0 + std::fabs(a.dz_duv.y) / 1024.0;
-        CHECK(a.epsilon <= 0.126 * plane + 1e-6 + plane * 1e-3);
+        const BiasPlaneGradient pg = bias_plane_gradient(L.vp, ClipDepth::NegativeOneToOne, glm::vec3(p), glm::vec3(nrm));
+        // the position term: 4 ulps of p's coordinates through |dz/dp| (computed here in double)
+        const glm::dvec4 row_w(L.vpd[0][3], L.vpd[1][3], L.vpd[2][3], L.vpd[3][3]);
+        const glm::dvec4 cp = L.vpd * glm::dvec4(p, 1.0);
+        const glm::dvec3 jz = (glm::dvec3(L.vpd[0][2], L.vpd[1][2], L.vpd[2][2]) - (cp.z / cp.w) * glm::dvec3(row_w)) / cp.w;
+        const double pos = std::ldexp(1.0, -21) * (std::fabs(p.x) + std::fabs(p.y) + std::fabs(p.z)) *
+                           (std::fabs(jz.x) + std::fabs(jz.y) + std::fabs(jz.z)) * 0.5;
+        CHECK(std::fabs(pg.position_error - pos) <= 1e-3 * pos + 1e-12);
+        CHECK(a.epsilon <= 0.126 * plane + 1e-6 + plane * 1e-3 + 2.01 * pos);
         CHECK(a.epsilon > 0.0f);
         // a caster 2 epsilon (plus the float error of the taps' extrapolation) in front at every tap: V = 0
         float stored[4];
@@ -286,12 +294,13 @@ TEST_CASE("automatic bias: validation, outside, edge-on, formats") {
     CHECK(bias_auto_depth_step(DepthFormat::Fixed16).value == doctest::Approx(1.0 / 65535.0));
     CHECK(bias_auto_depth_step(DepthFormat::Fixed24).value == doctest::Approx(1.0 / 16777215.0));
     CHECK(bias_auto_depth_step(DepthFormat::Float32).value == 0.0f);
-    CHECK(bias_auto_epsilon(glm::vec2(1.0f), 0.5f, glm::vec2(0.0f), 0.5f, 0.0f, false).status == Status::InvalidArgument);
-    CHECK(bias_auto_epsilon(glm::vec2(1.0f), 0.0f, glm::vec2(1e-3f), 0.5f, 0.0f, false).status == Status::InvalidArgument);
-    CHECK(bias_auto_epsilon(glm::vec2(nan), 0.5f, glm::vec2(1e-3f), 0.5f, 0.0f, false).status == Status::NonFinite);
-    CHECK(bias_auto_epsilon(glm::vec2(3e38f), 1.0f, glm::vec2(1.0f), 0.5f, 0.0f, false).status == Status::Overflow);
+    CHECK(bias_auto_epsilon(glm::vec2(1.0f), 0.5f, 0.0f, glm::vec2(0.0f), 0.5f, 0.0f, false).status == Status::InvalidArgument);
+    CHECK(bias_auto_epsilon(glm::vec2(1.0f), 0.0f, 0.0f, glm::vec2(1e-3f), 0.5f, 0.0f, false).status == Status::InvalidArgument);
+    CHECK(bias_auto_epsilon(glm::vec2(nan), 0.5f, 0.0f, glm::vec2(1e-3f), 0.5f, 0.0f, false).status == Status::NonFinite);
+    CHECK(bias_auto_epsilon(glm::vec2(1.0f), 0.5f, -1.0f, glm::vec2(1e-3f), 0.5f, 0.0f, false).status == Status::InvalidArgument);
+    CHECK(bias_auto_epsilon(glm::vec2(3e38f), 1.0f, 0.0f, glm::vec2(1.0f), 0.5f, 0.0f, false).status == Status::Overflow);
     // the filtered taps' bias: one texel of slope more than the margin (closed form)
-    const BiasValue fb = bias_auto_filtered(glm::vec2(2.0f, -1.0f), 1.0f, glm::vec2(1.0f / 1024.0f), 0.5f, 0.0f, false);
+    const BiasValue fb = bias_auto_filtered(glm::vec2(2.0f, -1.0f), 1.0f, 1e-6f, glm::vec2(1.0f / 1024.0f), 0.5f, 0.0f, false);
     REQUIRE(fb.status == Status::Ok);
-    CHECK(fb.value == doctest::Approx(3.0 / 1024.0 * (1.0 + 0.125 + 9.5367e-7 + 2.3842e-7) + 4.76837e-7 * 1.5).epsilon(1e-5));
+    CHECK(fb.value == doctest::Approx(3.0 / 1024.0 * (1.0 + 0.125 + 9.5367e-7 + 2.3842e-7) + 4.76837e-7 * 1.5 + 2e-6).epsilon(1e-5));
 }
