@@ -569,11 +569,12 @@ TEST_CASE("PCSS on the square scene: far below the hard shadow map, within the b
         for (float v : p.visibility) CHECK_FALSE(std::isnan(v));
     }
     // light size 0: the blocker search region and the filter collapse to the single 2x2 compare (the
-    // same map: the same near plane at the casters, the same bias; filter=hard is that one compare)
+    // same map: the same near plane at the casters, the same bias; filter=hard is that one compare with
+    // the receiver-plane bias - with bias=auto, filter=hard is four compares at texel centres instead)
     sk::Scene point_sized = f.scene;
     point_sized.light.size = 0.f;
-    const sk::RunResult zero = run(f, "pcss", sk::ParamSet::parse_named("filter=pcss taps=32 rotate=on"), &point_sized);
-    const sk::RunResult hard_lookup = run(f, "pcss", sk::ParamSet::parse_named("filter=hard taps=32"), &point_sized);
+    const sk::RunResult zero = run(f, "pcss", sk::ParamSet::parse_named("filter=pcss taps=32 rotate=on bias=receiver_plane"), &point_sized);
+    const sk::RunResult hard_lookup = run(f, "pcss", sk::ParamSet::parse_named("filter=hard taps=32 bias=receiver_plane"), &point_sized);
     REQUIRE(zero.ok);
     REQUIRE(hard_lookup.ok);
     REQUIRE(zero.visibility.size() == hard_lookup.visibility.size());
