@@ -166,20 +166,20 @@ struct ContactShadowResult {
 };
 
 namespace detail {
-inline bool cs_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-inline bool cs_finite(glm::vec4 v) { return cs_finite(glm::vec3(v)) && std::isfinite(v.w); }
-inline bool cs_finite(const glm::mat4& m) { return cs_finite(m[0]) && cs_finite(m[1]) && cs_finite(m[2]) && cs_finite(m[3]); }
-inline float cs_format_step(DepthFormat f) {
+inline bool cts_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool cts_finite(glm::vec4 v) { return cts_finite(glm::vec3(v)) && std::isfinite(v.w); }
+inline bool cts_finite(const glm::mat4& m) { return cts_finite(m[0]) && cts_finite(m[1]) && cts_finite(m[2]) && cts_finite(m[3]); }
+inline float cts_format_step(DepthFormat f) {
     if (f == DepthFormat::Fixed24) return 1.0f / 16777215.0f;
     if (f == DepthFormat::Fixed16) return 1.0f / 65535.0f;
     return 0.0f;
 }
 // The near-plane and w >= 0 functions of a clip point: positive inside.
-inline float cs_near(glm::vec4 c, bool zero_to_one, bool reversed_z) {
+inline float cts_near(glm::vec4 c, bool zero_to_one, bool reversed_z) {
     return reversed_z ? c.w - c.z : (zero_to_one ? c.z : c.z + c.w);
 }
 // Everything the march needs before it reads the buffer (the GLSL computes the same, same order).
-struct CsSetup {
+struct CtsSetup {
     Status status = Status::NotRun;
     glm::vec2 uv0{0.0f}, uv1{0.0f};  // screen endpoints of the clipped ray
     float w0 = 0.0f, w1 = 0.0f;      // clip w at the endpoints
@@ -193,15 +193,15 @@ struct CsSetup {
     float depth_step = 0.0f;
 };
 // bias at a depth whose clip w is `w` and window depth `win` (header comment: 4 steps).
-inline float cs_bias(float depth_step, float win, float w, float inv_sdet) {
+inline float cts_bias(float depth_step, float win, float w, float inv_sdet) {
     const float dw = depth_step + 2.38418579e-7f * std::fabs(win);  // 2^-22: 4 float32 ulp in [0.5, 1)
     return 4.0f * dw * (w * w) * inv_sdet;
 }
-inline CsSetup cs_setup(int width, int height, const glm::mat4& proj, glm::vec3 view_pos, glm::vec4 light_position,
+inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec3 view_pos, glm::vec4 light_position,
                         const ContactShadowParams& p) {
-    CsSetup s;
+    CtsSetup s;
     if (!std::isfinite(p.length_world) || std::isnan(p.thickness_world) || !std::isfinite(p.jitter) ||
-        !cs_finite(proj) || !cs_finite(view_pos)) {
+        !cts_finite(proj) || !cts_finite(view_pos)) {
         s.status = Status::NonFinite;
         return s;
     }
@@ -225,16 +225,16 @@ inline CsSetup cs_setup(int width, int height, const glm::mat4& proj, glm::vec3 
     if (!std::isfinite(s.inv_sdet)) { s.status = Status::Overflow; return s; }
     // the light
     const glm::vec4 L = light_position;
-    if (!cs_finite(L) || L.w < 0.0f || (L.x == 0.0f && L.y == 0.0f && L.z == 0.0f && L.w == 0.0f)) {
+    if (!cts_finite(L) || L.w < 0.0f || (L.x == 0.0f && L.y == 0.0f && L.z == 0.0f && L.w == 0.0f)) {
         s.status = Status::InvalidLight;
         return s;
     }
     glm::vec3 to_light = glm::vec3(L);
     if (L.w > 0.0f) {
         const glm::vec3 lp = glm::vec3(L) / L.w;
-        if (!cs_finite(lp)) { s.status = Status::Overflow; return s; }
+        if (!cts_finite(lp)) { s.status = Status::Overflow; return s; }
         to_light = lp - view_pos;
-        if (!cs_finite(to_light)) { s.status = Status::Overflow; return s; }
+        if (!cts_finite(to_light)) { s.status = Status::Overflow; return s; }
     }
     const float m = std::fmax(std::fabs(to_light.x), std::fmax(std::fabs(to_light.y), std::fabs(to_light.z)));
     if (!(m > 0.0f)) { s.status = Status::InvalidLight; return s; }  // a point light at the receiver
@@ -247,10 +247,10 @@ inline CsSetup cs_setup(int width, int height, const glm::mat4& proj, glm::vec3 
     const glm::vec3 p1 = view_pos + dir * len;
     const glm::vec4 c0 = proj * glm::vec4(view_pos, 1.0f);
     glm::vec4 c1 = proj * glm::vec4(p1, 1.0f);
-    if (!cs_finite(p1) || !cs_finite(c0) || !cs_finite(c1)) { s.status = Status::Overflow; return s; }
+    if (!cts_finite(p1) || !cts_finite(c0) || !cts_finite(c1)) { s.status = Status::Overflow; return s; }
     // the receiver must be visible: in front of the near plane, w > 0, on screen
-    const float f0[6] = {cs_near(c0, zo, p.reversed_z), c0.w, c0.w - c0.x, c0.w + c0.x, c0.w - c0.y, c0.w + c0.y};
-    const float f1[6] = {cs_near(c1, zo, p.reversed_z), c1.w, c1.w - c1.x, c1.w + c1.x, c1.w - c1.y, c1.w + c1.y};
+    const float f0[6] = {cts_near(c0, zo, p.reversed_z), c0.w, c0.w - c0.x, c0.w + c0.x, c0.w - c0.y, c0.w + c0.y};
+    const float f1[6] = {cts_near(c1, zo, p.reversed_z), c1.w, c1.w - c1.x, c1.w + c1.x, c1.w - c1.y, c1.w + c1.y};
     if (!(f0[0] > 0.0f) || !(f0[1] > 0.0f) || !(f0[2] >= 0.0f) || !(f0[3] >= 0.0f) || !(f0[4] >= 0.0f) || !(f0[5] >= 0.0f)) {
         s.status = Status::InvalidArgument;
         return s;
@@ -269,7 +269,7 @@ inline CsSetup cs_setup(int width, int height, const glm::mat4& proj, glm::vec3 
     const glm::vec2 px = (s.uv1 - s.uv0) * glm::vec2(static_cast<float>(width), static_cast<float>(height));
     s.pixels = std::sqrt(px.x * px.x + px.y * px.y);
     s.thickness = p.thickness_world > 0.0f ? p.thickness_world : p.length_world;
-    s.depth_step = cs_format_step(p.depth_format);
+    s.depth_step = cts_format_step(p.depth_format);
     if (s.pixels > 1.0f) {  // else (NaN too: w1 = 0 at the clip) the ray stays in its own pixel: no samples
         s.u_start = 1.0f / s.pixels;
         s.steps = static_cast<int>(std::fmin(std::ceil(s.pixels), static_cast<float>(p.max_steps)));
@@ -283,7 +283,7 @@ inline CsSetup cs_setup(int width, int height, const glm::mat4& proj, glm::vec3 
 // Bilinear window depth at uv; NaN outside the hull of the pixel centers (there bilinear is not
 // exact on a plane: no sample), when a texel is outside [0, 1] or NaN, or when a texel is the
 // clear value `clear` (1, reversed-Z 0: the background): no surface there.
-inline float cs_depth_bilinear(const float* depth, int width, int height, glm::vec2 uv, float clear) {
+inline float cts_depth_bilinear(const float* depth, int width, int height, glm::vec2 uv, float clear) {
     const float x = uv.x * static_cast<float>(width) - 0.5f;
     const float y = uv.y * static_cast<float>(height) - 0.5f;
     if (!(x >= 0.0f && x <= static_cast<float>(width - 1) && y >= 0.0f && y <= static_cast<float>(height - 1)))
@@ -319,13 +319,13 @@ inline float cs_depth_bilinear(const float* depth, int width, int height, glm::v
 inline ContactShadowDerived contact_shadow_derive(int width, int height, const glm::mat4& proj, glm::vec3 view_pos,
                                                   glm::vec4 light_position, const ContactShadowParams& params) {
     ContactShadowDerived r;
-    const detail::CsSetup s = detail::cs_setup(width, height, proj, view_pos, light_position, params);
+    const detail::CtsSetup s = detail::cts_setup(width, height, proj, view_pos, light_position, params);
     if (s.status != Status::Ok) { r.status = s.status; return r; }
     // the receiver's own window depth: ndc = (a z + b) / (c z + d), the w = c z + d
     const float w0 = s.c * view_pos.z + s.d;
     const float ndc0 = (s.a * view_pos.z + s.b) / w0;
     const float win0 = params.clip_depth == ClipDepth::ZeroToOne ? ndc0 : ndc0 * 0.5f + 0.5f;
-    const float bias = detail::cs_bias(s.depth_step, win0, w0, s.inv_sdet);
+    const float bias = detail::cts_bias(s.depth_step, win0, w0, s.inv_sdet);
     if (!std::isfinite(bias)) { r.status = Status::Overflow; return r; }
     r.steps = s.steps;
     r.projected_pixels = s.pixels;
@@ -349,7 +349,7 @@ inline ContactShadowResult contact_shadow_march(const float* depth, std::size_t 
                                                 const glm::mat4& proj, glm::vec3 view_pos, glm::vec4 light_position,
                                                 const ContactShadowParams& params) {
     ContactShadowResult r;
-    const detail::CsSetup s = detail::cs_setup(width, height, proj, view_pos, light_position, params);
+    const detail::CtsSetup s = detail::cts_setup(width, height, proj, view_pos, light_position, params);
     if (s.status != Status::Ok) { r.status = s.status; return r; }
     r.needed = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
     if (depth == nullptr) { r.status = Status::InvalidArgument; return r; }
@@ -361,11 +361,11 @@ inline ContactShadowResult contact_shadow_march(const float* depth, std::size_t 
         const glm::vec2 uv = s.uv0 + (s.uv1 - s.uv0) * u;
         const float t = u * s.w0 / ((1.0f - u) * s.w1 + u * s.w0);  // perspective-correct fraction of the 3D ray
         const float dist_ray = -(s.z0 + (s.z1 - s.z0) * t);
-        const float win = detail::cs_depth_bilinear(depth, width, height, uv, params.reversed_z ? 0.0f : 1.0f);
+        const float win = detail::cts_depth_bilinear(depth, width, height, uv, params.reversed_z ? 0.0f : 1.0f);
         const float ndc = zo ? win : win * 2.0f - 1.0f;
         const float z_buf = (s.b - ndc * s.d) / (ndc * s.c - s.a);
         const float w_buf = s.c * z_buf + s.d;
-        const float bias = detail::cs_bias(s.depth_step, win, w_buf, s.inv_sdet);
+        const float bias = detail::cts_bias(s.depth_step, win, w_buf, s.inv_sdet);
         const float delta = dist_ray + z_buf;  // dist_ray - dist_buffer, dist = -z
         if (delta > bias && delta < s.thickness) {  // NaN (no surface, w = 0) compares false: no hit
             r.hit = true;
