@@ -191,6 +191,7 @@ struct CtsSetup {
     float a = 0.0f, b = 0.0f, c = 0.0f, d = 0.0f, inv_sdet = 0.0f;  // z/w rows; 1 / (s |a d - b c|)
     float thickness = 0.0f;
     float depth_step = 0.0f;
+    float bias0 = 0.0f;              // bias at the receiver's depth
 };
 // bias at a depth whose clip w is `w` and window depth `win` (header comment: 4 steps).
 inline float cts_bias(float depth_step, float win, float w, float inv_sdet) {
@@ -276,7 +277,11 @@ inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec
     } else {
         s.pixels = std::isfinite(s.pixels) ? s.pixels : 0.0f;
     }
-    if (!std::isfinite(s.length) || !std::isfinite(s.pixels)) { s.status = Status::Overflow; return s; }
+    // the bias at the receiver's own depth: ndc = (a z + b) / (c z + d), w = c z + d
+    const float wr = s.c * view_pos.z + s.d;
+    const float ndc0 = (s.a * view_pos.z + s.b) / wr;
+    s.bias0 = cts_bias(s.depth_step, zo ? ndc0 : ndc0 * 0.5f + 0.5f, wr, s.inv_sdet);
+    if (!std::isfinite(s.length) || !std::isfinite(s.pixels) || !std::isfinite(s.bias0)) { s.status = Status::Overflow; return s; }
     s.status = Status::Ok;
     return s;
 }
@@ -321,18 +326,12 @@ inline ContactShadowDerived contact_shadow_derive(int width, int height, const g
     ContactShadowDerived r;
     const detail::CtsSetup s = detail::cts_setup(width, height, proj, view_pos, light_position, params);
     if (s.status != Status::Ok) { r.status = s.status; return r; }
-    // the receiver's own window depth: ndc = (a z + b) / (c z + d), the w = c z + d
-    const float w0 = s.c * view_pos.z + s.d;
-    const float ndc0 = (s.a * view_pos.z + s.b) / w0;
-    const float win0 = params.clip_depth == ClipDepth::ZeroToOne ? ndc0 : ndc0 * 0.5f + 0.5f;
-    const float bias = detail::cts_bias(s.depth_step, win0, w0, s.inv_sdet);
-    if (!std::isfinite(bias)) { r.status = Status::Overflow; return r; }
     r.steps = s.steps;
     r.projected_pixels = s.pixels;
     r.start_offset_pixels = 1.0f;
     r.march_length_world = s.length;
     r.thickness_world = s.thickness;
-    r.bias_world = bias;
+    r.bias_world = s.bias0;
     r.depth_step_window = s.depth_step;
     r.status = Status::Ok;
     return r;
