@@ -23,6 +23,7 @@ namespace sk = shadowkit;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 
 struct Cam {
     glm::dvec3 eye{0.0, 2.0, 0.0}, target{0.0, 0.0, -6.0};
@@ -182,7 +183,7 @@ sk::ContactShadowResult march(const Cam& c, const Rendered& r, glm::dvec3 world,
 }
 
 glm::dvec4 sun(double elevation_deg, double azimuth_deg) {
-    const double e = elevation_deg * M_PI / 180.0, a = azimuth_deg * M_PI / 180.0;
+    const double e = elevation_deg * kPi / 180.0, a = azimuth_deg * kPi / 180.0;
     return glm::dvec4(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a), 0.0);
 }
 
@@ -261,6 +262,25 @@ TEST_CASE("light parallel and anti-parallel to the view direction, and behind th
         CHECK(floor_hits(c, r, L, 1.0f, 7, &tested) == 0);
         CHECK(tested > 100);
     }
+    // exactly anti-parallel (toward the light = the view direction): the floor faces away from that
+    // light and the ray goes under it; every result is Ok and the rays that leave their pixel mostly hit
+    {
+        int ok = 0, moved = 0, hit = 0;
+        for (int y = 5; y < c.height; y += 10)
+            for (int x = 5; x < c.width; x += 10) {
+                const glm::dvec3 w = r.world[std::size_t(y) * std::size_t(c.width) + std::size_t(x)];
+                if (std::isnan(w.x)) continue;
+                const sk::ContactShadowResult m = march(c, r, w, glm::dvec4(fwd, 0.0), params_of(c, 1.0f));
+                ok += m.status == sk::Status::Ok;
+                if (m.steps >= 4) {
+                    ++moved;
+                    hit += m.hit;
+                }
+            }
+        CHECK(ok > 100);
+        CHECK(moved > 20);
+        CHECK(hit * 10 >= moved * 9);
+    }
     // a light exactly along the view axis from the receiver: the ray projects to (almost) its own pixel
     const glm::dvec3 p = r.world[std::size_t(60) * 160 + 80];
     const glm::dvec3 to_eye = glm::normalize(c.eye - p);
@@ -332,7 +352,7 @@ TEST_CASE("random boxes, cameras, lights and formats: the march agrees with the 
         Cam c;
         c.width = 96;
         c.height = 72;
-        const double az = U(rng) * 2.0 * M_PI;
+        const double az = U(rng) * 2.0 * kPi;
         c.eye = glm::dvec3(5.0 * std::cos(az), 1.5 + 3.0 * U(rng), 5.0 * std::sin(az));
         c.target = glm::dvec3(U(rng) - 0.5, 0.0, U(rng) - 0.5);
         c.near_z = 0.05;
@@ -352,8 +372,8 @@ TEST_CASE("random boxes, cameras, lights and formats: the march agrees with the 
             const glm::dvec3 p = r.world[std::size_t(y) * std::size_t(c.width) + std::size_t(x)];
             if (std::isnan(p.x) || p.y > 1e-9) continue;  // floor receivers only
             // half the lights aim at the box (low), half anywhere
-            const double el = (2.0 + 60.0 * U(rng)) * M_PI / 180.0;
-            const double a = k % 2 ? std::atan2(center.z - p.z, center.x - p.x) + 0.6 * (U(rng) - 0.5) : U(rng) * 2.0 * M_PI;
+            const double el = (2.0 + 60.0 * U(rng)) * kPi / 180.0;
+            const double a = k % 2 ? std::atan2(center.z - p.z, center.x - p.x) + 0.6 * (U(rng) - 0.5) : U(rng) * 2.0 * kPi;
             const glm::dvec3 dir(std::cos(el) * std::cos(a), std::sin(el), std::cos(el) * std::sin(a));  // (x, y, z): azimuth in x-z
             const double len = 0.5 + 1.5 * U(rng);
             sk::ContactShadowParams prm = params_of(c, float(len));
