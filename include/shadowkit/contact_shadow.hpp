@@ -54,7 +54,7 @@
 // Derived, not tuned: bias = 4 depth steps of the format at the buffer's depth, in view distance:
 //   d(window)/dz = s (a d - b c) / (c z + d)^2 (s = 1/2 for GL clip depth, 1 for zero-to-one), so one
 //   window step dw is dz = dw w^2 / (s |a d - b c|) with w = c z + d; for a GL perspective camera
-//   (a d - b c = 2 f n / (f - n), w = distance) that is dz = dw d^2 f (f - n) / (f n) ~ dw d^2 / n
+//   (|a d - b c| = 2 f n / (f - n), w = distance) that is dz = dw d^2 (f - n) / (f n) ~ dw d^2 / n
 //   (Akeley & Su, "Minimum triangle separation for correct z-buffer occlusion", 2006). dw = the
 //   format's step (1 / (2^24 - 1), 1 / (2^16 - 1) for UNORM 24 / 16, 0 for float32) + 2^-22 |window|
 //   (float32 storage and the shader's three lerps: 4 ulp of a window depth in [0.5, 1)).
@@ -63,7 +63,7 @@
 //   steps: ceil(projected_pixels) clamped to [1, max_steps]; start: 1 pixel from the receiver.
 //
 // Based on:
-//   J. Gleeson (Bend Studio), "Bend Studio's screen space shadows" (Days Gone), SIGGRAPH 2023
+//   Bend Studio, "Bend Studio's screen space shadows" (Days Gone), SIGGRAPH 2023
 //   Advances in Real-Time Rendering: screen-space march from each pixel toward the light.
 //   Unreal Engine "Contact Shadows", Godot 4 and Unity HDRP contact shadows (short march, length and
 //   thickness as parameters, composed with the shadow map).
