@@ -21,7 +21,8 @@
 // Buffers: `depth` holds `depth_capacity` float elements; it needs width * height (`needed`):
 // window depth in [0, 1] (glDepthRange(0, 1)), row-major, row 0 at the bottom (glReadPixels order,
 // texelFetch's y); sample k of a row at pixel center (k + 0.5) / width. Values outside [0, 1],
-// NaN and the clear value (1; reversed-Z 0: the background) are "no surface" there. The buffer is read, never written; nothing allocates.
+// NaN and the clear value (1; reversed-Z 0: the background) are "no surface" there. The buffer is
+// read, never written; nothing allocates.
 // Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
 // GL_POSITION and Everitt & Kilgard use it. w > 0: a point or spot light at xyz / w. w = 0: a
 // directional light at infinity in direction xyz, the direction *toward* the light (its rays travel
@@ -32,7 +33,7 @@
 // "the ray left the screen / stayed inside its own pixel" is an outcome (fewer or no steps), never an
 // error. Arithmetic: float, operation for operation the GLSL's, so a GL test compares them.
 //
-// The march (derivation of every number in contact_shadow_derive's comment):
+// The march (and the derivation of every number contact_shadow_derive returns):
 //   1. Ray: from the receiver P0 along D = normalize(to light), length L = min(length_world, distance
 //      to a point light). Clip space C(t) = proj * (P0 + t L D) is affine in t, so the segment is
 //      clipped exactly in clip space against the near plane (z >= -w; z >= 0 zero-to-one; z <= w
