@@ -182,7 +182,7 @@ float sk_shadow_map_visibility_auto(sampler2DArrayShadow shadow_maps, float laye
 
 // For filtered kernels (pcf.glsl with GL_LINEAR taps, pcss.glsl): each tap applies the receiver plane
 // at its offset, but its hardware 2x2 reads texel centres up to one texel away with one reference, so
-// it needs one texel of the plane's slope plus the precision margin (bias_auto_filtered_bias).
+// it needs one texel of the plane's slope plus the precision margin (shadow_bias.hpp bias_auto_filtered).
 // Subtract it from uvz.z (add with SK_REVERSED_Z) and pass g.xy as dz_duv.
 float sk_auto_filtered_bias(vec4 g, vec2 texel_uv, float z, float depth_step) {
     return abs(g.x) * texel_uv.x + abs(g.y) * texel_uv.y + sk_auto_bias_epsilon(g, texel_uv, z, depth_step);

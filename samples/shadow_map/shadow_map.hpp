@@ -7,7 +7,8 @@
 //                   update (CPU, every frame), render (the GPU passes, each with its GL state)
 //   main.cpp        the calls: the app shell (samples/app) does the window, the camera G-buffer,
 //                   the panel, the timing and the picture
-// It uses only glsl/shadow_map.glsl (its automatic bias: sk_shadow_map_visibility_auto) and the app
+// It uses only glsl/shadow_map.glsl (its automatic bias: sk_shadow_map_visibility_auto),
+// glsl/contact_shadow.glsl (contact=on) and the app
 // shell's scene (sk::fit_light: the light's frustum around the scene), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
 // this same class (samples/report/techniques/shadow_map.cpp).
 #pragma once
@@ -32,6 +33,11 @@ struct ShadowMapSettings {
     Bias bias = Bias::Auto;
     float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass (bias=polygon_offset, cube maps)
     float offset_units = 2.f;
+    /// Contact shadows (glsl/contact_shadow.glsl): V times a march toward the light in the camera's depth
+    /// buffer, contact_pixels long on screen (the length of screen-space shadows in engines): the
+    /// occlusion near contacts that the map's bias and its 2x2 filter lose.
+    bool contact = false;
+    float contact_pixels = 16.f;  ///< the march's length: this many camera pixels' world size at the receiver
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -41,6 +47,8 @@ inline void bind_settings(app::Params& p, ShadowMapSettings& s) {
     p.choice("bias", &s.bias, {{"auto", ShadowMapSettings::Bias::Auto}, {"polygon_offset", ShadowMapSettings::Bias::PolygonOffset}});
     p.number("offset_factor", &s.offset_factor, 0.0, 8.0);
     p.number("offset_units", &s.offset_units, 0.0, 64.0);
+    p.toggle("contact", &s.contact);
+    p.number("contact_pixels", &s.contact_pixels, 1.0, 256.0);
 }
 
 class ShadowMap {
@@ -74,7 +82,7 @@ private:
     float near_ = 0.f, far_ = 0.f;  // the cube faces' depth range
     GLuint map_ = 0, fbo_[6] = {0, 0, 0, 0, 0, 0};
     GLuint depth_prog_ = 0, vis_prog_ = 0;
-    int vis_bias_ = -1;  // the bias the V program was compiled for (its lookup differs)
+    int vis_variant_ = -1;  // the bias and contact setting the V program was compiled for (its lookup differs)
     std::string snippet_;
     app::VisibilityPass pass_;
 };
