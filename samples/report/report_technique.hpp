@@ -41,6 +41,11 @@ struct ReportSpec {
     std::string name, description;
     bool hard = true;                           ///< 0/1 visibility: misclassified pixels are scored
     std::vector<std::string> sweep, quick;      ///< named settings per row, e.g. "method=zfail scissor=off"
+    /// The named settings that make this row family what it is, on top of the class's defaults, when
+    /// several families share a class ("method=vsm", "filter=poisson", "map=plain"): its `settings=default`
+    /// row is the class's defaults with these.
+    std::string identity;
+    bool default_row = true;  ///< false: no `settings=default` row (a study of settings, not a technique)
     std::function<bool(const Scene&)> applies;  ///< the scenes it is swept on (empty: every scene)
     /// Rows that differ between the scenes it applies to (the light's type, the scene): when set, used
     /// instead of sweep / quick.
@@ -66,11 +71,28 @@ public:
     std::string name() const override { return spec_.name; }
     std::string description() const override { return spec_.description; }
     bool hard() const override { return spec_.hard; }
+    /// The rows on `scene`: the sweep's, and the class's defaults (what a user gets with no tuning) marked
+    /// `settings=default`: on the sweep's row that has exactly the default settings, or a row of its own
+    /// first when none has.
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         std::vector<ParamSet> out;
         if (spec_.applies && !spec_.applies(scene)) return out;
         for (const auto& text : spec_.sweep_for ? spec_.sweep_for(scene, quick) : quick ? spec_.quick : spec_.sweep)
             out.push_back(ParamSet::parse_named(text));
+        if (!spec_.default_row) return out;
+        const ParamSet identity = ParamSet::parse_named(spec_.identity);
+        S d;
+        if (!set_named(identity, d).empty()) return out;
+        const std::string defaults = settings_label(d);
+        bool marked = false;
+        for (ParamSet& ps : out) {
+            S s;
+            if (!set_named(ps, s).empty() || settings_label(s) != defaults) continue;
+            ps.named.emplace_back("settings", "default");
+            marked = true;
+            break;
+        }
+        if (!marked) out.insert(out.begin(), ParamSet::parse_named(spec_.identity + (spec_.identity.empty() ? "" : " ") + "settings=default"));
         return out;
     }
     RunResult run(const RunContext& ctx, const ParamSet& params) override {
@@ -147,14 +169,23 @@ public:
 private:
     /// The sweep entry's named settings into s, through the same app::Params bindings as the sample's
     /// --param (the technique header's names): "" or what is wrong.
+    /// `settings=default` names the class's defaults: it sets nothing.
     std::string set_named(const ParamSet& params, S& s) const {
         app::Params bindings;
         bind_settings(bindings, s);
         if (!params.values.empty()) return spec_.name + " takes named settings (name=value words)";
         std::string why;
-        for (const auto& [k, v] : params.named)
+        for (const auto& [k, v] : params.named) {
+            if (k == "settings" && v == "default") continue;
             if (!bindings.set(k, v, why)) return why;
+        }
         return "";
+    }
+    /// Every bound setting of s as text ("size=2048 hardware_pcf=on ..."): equal labels, equal settings.
+    static std::string settings_label(S s) {
+        app::Params bindings;
+        bind_settings(bindings, s);
+        return bindings.label();
     }
 
     ReportSpec<T, S> spec_;

@@ -148,7 +148,7 @@ endif()
 
 # ported techniques name their settings: words in report.md and report.json, numbers stay numbers
 report_ok("named-settings report run" --quick --scenes stack --techniques shadow_volume,shadow_map --size 64x48 --frames 1 --out ${WORK}/named)
-expect_md(${WORK}/named "| method=auto scissor=off depth_bounds=off |" "| method=auto scissor=on depth_bounds=on |"
+expect_md(${WORK}/named "| method=auto scissor=off depth_bounds=off |" "| method=auto scissor=on depth_bounds=on settings=default |"
           "| shadow_map | size=512 |")
 file(READ ${WORK}/named/report.json json)
 string(JSON t0 TYPE "${json}" rows 0 params method)
@@ -168,9 +168,9 @@ expect_files(${WORK}/out report.md report.json error_vs_time.svg images/square__
 file(READ ${WORK}/out/report.json json)
 string(JSON renderer GET "${json}" renderer)
 string(JSON nrows LENGTH "${json}" rows)
-# 4 scenes x (2 shadow-map sizes + unshadowed)
-if(NOT nrows EQUAL 12)
-  message(FATAL_ERROR "expected 12 rows, got ${nrows}")
+# 4 scenes x (4 shadow-map rows of --quick: 512, 2048 (the default), polygon offset, contact + unshadowed)
+if(NOT nrows EQUAL 20)
+  message(FATAL_ERROR "expected 20 rows, got ${nrows}")
 endif()
 math(EXPR last "${nrows} - 1")
 set(seen_mesh_obj OFF)

@@ -71,6 +71,7 @@ void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     sampled.sweep = {"method=sampled size=512 samples=2", "method=sampled size=512 samples=4",
                      "method=sampled size=512 samples=8", "method=sampled size=512 samples=16"};
     sampled.quick = {"method=sampled size=512 samples=2", "method=sampled size=512 samples=8"};
+    sampled.identity = "method=sampled";
     add_technique(out, std::move(lin));
     add_technique(out, std::move(sampled));
 }

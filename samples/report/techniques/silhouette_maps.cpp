@@ -61,6 +61,7 @@ void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     plain.description = "plain 2x2-PCF shadow map with the memory of silhouette_map at the same size (side sqrt(2) N)";
     plain.sweep = {"map=plain size=256", "map=plain size=512", "map=plain size=1024"};
     plain.quick = {"map=plain size=512"};
+    plain.identity = "map=plain";
     add_technique(out, std::move(sil));
     add_technique(out, std::move(plain));
 }

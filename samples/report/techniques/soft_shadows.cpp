@@ -191,6 +191,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                                 "from the light: half the penumbra of a mid-height blocker); x the emitter's fraction "
                                 "above the tangent plane");
     pcf.applies = [](const Scene& s) { return soft_scene(s) || s.light.type == LightType::Spot; };
+    pcf.identity = "filter=poisson";
     for (bool quick : {false, true}) {
         auto& rows = quick ? pcf.quick : pcf.sweep;
         rows.push_back("filter=hard fit_near=off");
@@ -208,6 +209,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                                   "receiver-plane bias: taps = search = filter (16/32/64), rotate off / on; x the "
                                   "emitter's fraction above the tangent plane");
     pcss.applies = soft_scene;
+    pcss.identity = "filter=pcss";
     for (const char* rot : {"off", "on"}) {
         for (int t : {16, 32, 64}) pcss.sweep.push_back("filter=pcss taps=" + std::to_string(t) + " rotate=" + rot);
         for (int t : {16, 64}) pcss.quick.push_back("filter=pcss taps=" + std::to_string(t) + " rotate=" + rot);
@@ -240,6 +242,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     auto bias = pcss_spec("bias", "depth-bias study (shadow_bias.hpp): bias none / constant [world] / slope_scaled / "
                                   "normal_offset / receiver_plane [texels] at a few amounts, filter hard 2x2 / poisson 16 "
                                   "taps r=4; acne and peter-panning");
+    bias.default_row = false;  // a study of the bias settings: the class's default is pcss's row
     bias.applies = [](const Scene& s) {
         return s.name == "contact" || s.name == "fence" || s.name == "stack" || s.name == "grazing";
     };
