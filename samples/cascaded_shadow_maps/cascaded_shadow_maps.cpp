@@ -3,9 +3,11 @@
 //   update  CPU, every frame: cascade_fit cuts the camera's depth range at the practical split
 //           distances and fits each slice a stable orthographic map (its near plane pulled back to the
 //           casters between the sun and the slice)
-//   render  GPU, every frame: 1 the casters' depth into each cascade's layer of one depth array, with
-//           a slope-scaled offset; 2 V at the G-buffer's points: the cascade the view depth selects
-//           (blended into the next over the band), optionally the point moved along its normal
+//   render  GPU, every frame: 1 the casters' depth into each cascade's layer of one depth array
+//           (bias=polygon_offset: with a slope-scaled offset); 2 V at the G-buffer's points: the
+//           cascade the view depth selects (blended into the next over the band), with the automatic
+//           bias of glsl/shadow_map.glsl (the default) or the offset's single compare, optionally the
+//           point moved along its normal
 #include "cascaded_shadow_maps.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -39,6 +41,30 @@ float technique_visibility(vec3 p, vec3 n) {
 }
 )";
 
+// bias=auto: the same selection and blend, each cascade read with shadow_map.glsl's automatic bias on
+// its layer (outside a cascade's map: lit, as sk_cascade_sample); the array is float32 (depth_step 0).
+const char* kLookupAuto = R"(
+layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
+uniform mat4 u_cascade_vp[4];
+uniform vec4 u_split_near;
+uniform vec4 u_split_far;
+uniform int u_count;
+uniform float u_band;
+uniform mat4 u_camera_view;
+float cascade_visibility(int i, vec3 p, vec3 n) {
+    return sk_shadow_map_visibility_auto(u_cascades, float(i), u_cascade_vp[i], p, n, false, 0.0, 1.0);
+}
+float technique_visibility(vec3 p, vec3 n) {
+    float view_depth = -(u_camera_view * vec4(p, 1.0)).z;
+    int i = sk_cascade_by_depth(view_depth, u_split_far, u_count);
+    if (i < 0) return 1.0;  // beyond the last split: lit
+    float v = cascade_visibility(i, p, n);
+    float w = sk_cascade_blend(view_depth, u_split_near[i], u_split_far[i], u_band);
+    if (w > 0.0 && i + 1 < u_count) v = mix(v, cascade_visibility(i + 1, p, n), w);
+    return v;
+}
+)";
+
 }  // namespace
 
 bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
@@ -50,9 +76,12 @@ bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
             for (const glm::vec3& p : m.positions) caster_lo_ = glm::min(caster_lo_, p), caster_hi_ = glm::max(caster_hi_, p);
     const std::string snippet = app::load_snippet("cascades", why);
     if (snippet.empty()) return false;
+    const std::string shadow_map = app::load_snippet("shadow_map", why);  // the automatic bias
+    if (shadow_map.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     vis_prog_ = app::compile_visibility_program(snippet, kLookup, why);
-    if (!depth_prog_ || !vis_prog_) return false;
+    vis_auto_prog_ = app::compile_visibility_program(shadow_map + "\n" + snippet, kLookupAuto, why);
+    if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_) return false;
     return pass_.init(v.width, v.height, why);
 }
 
@@ -97,15 +126,20 @@ void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSetti
     if (s.size != size_ || s.count != layers_) make_maps(s.size, s.count);
     const bool ok = error_.empty();
 
+    const bool automatic = s.bias == CascadedShadowMapSettings::Bias::Auto;
+
     // 1. The casters' depth into each cascade's layer with its matrix: depth test GL_LESS, cleared to
-    //    the far plane, polygon offset (2, 2). No cascades (a light that is not the sun): empty maps.
+    //    the far plane; bias=polygon_offset: polygon offset (2, 2) (the automatic bias compares with the
+    //    true depths). No cascades (a light that is not the sun): empty maps.
     glUseProgram(depth_prog_);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glClearDepth(1.0);
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(2.f, 2.f);
+    if (!automatic) {
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(2.f, 2.f);
+    }
     glm::mat4 vps[4];
     float texel[4] = {0.f, 0.f, 0.f, 0.f};
     for (int i = 0; i < layers_; ++i) {
@@ -123,17 +157,20 @@ void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSetti
 
     // 2. V at the G-buffer's points: the matrices, the splits as each cascade's near and far view depth.
     const float* sp = fit_.splits;
-    glUseProgram(vis_prog_);
-    app::set_light_uniforms(vis_prog_, v.light());
-    glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_cascade_vp"), 4, GL_FALSE, glm::value_ptr(vps[0]));
-    glUniform4f(glGetUniformLocation(vis_prog_, "u_split_near"), sp[0], sp[1], sp[2], sp[3]);
-    glUniform4f(glGetUniformLocation(vis_prog_, "u_split_far"), sp[1], sp[2], sp[3], sp[4]);
-    glUniform1i(glGetUniformLocation(vis_prog_, "u_count"), ok ? layers_ : 0);
-    glUniform1f(glGetUniformLocation(vis_prog_, "u_band"), s.band);
-    glUniform1fv(glGetUniformLocation(vis_prog_, "u_texel"), 4, texel);
-    glUniform1f(glGetUniformLocation(vis_prog_, "u_normal_offset"), s.normal_offset);
-    glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(v.view));
-    pass_.draw(vis_prog_, *v.gpu, GL_TEXTURE_2D_ARRAY, maps_);
+    const GLuint prog = automatic ? vis_auto_prog_ : vis_prog_;
+    glUseProgram(prog);
+    app::set_light_uniforms(prog, v.light());
+    glUniformMatrix4fv(glGetUniformLocation(prog, "u_cascade_vp"), 4, GL_FALSE, glm::value_ptr(vps[0]));
+    glUniform4f(glGetUniformLocation(prog, "u_split_near"), sp[0], sp[1], sp[2], sp[3]);
+    glUniform4f(glGetUniformLocation(prog, "u_split_far"), sp[1], sp[2], sp[3], sp[4]);
+    glUniform1i(glGetUniformLocation(prog, "u_count"), ok ? layers_ : 0);
+    glUniform1f(glGetUniformLocation(prog, "u_band"), s.band);
+    glUniformMatrix4fv(glGetUniformLocation(prog, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(v.view));
+    if (!automatic) {
+        glUniform1fv(glGetUniformLocation(prog, "u_texel"), 4, texel);
+        glUniform1f(glGetUniformLocation(prog, "u_normal_offset"), s.normal_offset);
+    }
+    pass_.draw(prog, *v.gpu, GL_TEXTURE_2D_ARRAY, maps_);
 }
 
 void CascadedShadowMaps::release() {  // (no GL call without objects: the App may have no context)
@@ -142,7 +179,8 @@ void CascadedShadowMaps::release() {  // (no GL call without objects: the App ma
     if (fbo_[0]) glDeleteFramebuffers(4, fbo_);
     if (depth_prog_) glDeleteProgram(depth_prog_);
     if (vis_prog_) glDeleteProgram(vis_prog_);
-    maps_ = depth_prog_ = vis_prog_ = 0;
+    if (vis_auto_prog_) glDeleteProgram(vis_auto_prog_);
+    maps_ = depth_prog_ = vis_prog_ = vis_auto_prog_ = 0;
     std::fill(fbo_, fbo_ + 4, 0u);
     std::fill(layer_view_, layer_view_ + 4, 0u);
     size_ = layers_ = 0;

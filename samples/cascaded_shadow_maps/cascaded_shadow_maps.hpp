@@ -30,10 +30,15 @@ struct CascadedShadowMapSettings {
     int count = 4;               ///< cascades (1 to 4)
     float lambda = 0.75f;        ///< split scheme: 0 uniform, 1 logarithmic (Zhang et al. 2006's practical scheme between)
     float band = 0.1f;           ///< blend into the next cascade over this last fraction of each slice
-    /// Offset of the lookup point along its normal, in texels of the cascade that serves it
-    /// (Cascade::texel_world_size): what a shadow pass without a slope-scaled offset needs against
-    /// acne (docs/cascades.md). This one has glPolygonOffset(2, 2), which is enough: the normal offset
-    /// only moves shadows off their casters (report, outdoor 512: RMSE 0.078 -> 0.095 with 1 texel).
+    /// auto (default): shadow_map.glsl's automatic bias on each cascade's layer (each 2x2 texel compared
+    /// with the receiver plane's own depth; no polygon offset, nothing to tune). polygon_offset: the
+    /// depth pass with glPolygonOffset(2, 2) and sk_cascade_shadow's single compare, plus normal_offset.
+    enum class Bias { Auto, PolygonOffset };
+    Bias bias = Bias::Auto;
+    /// bias=polygon_offset: offset of the lookup point along its normal, in texels of the cascade that
+    /// serves it (Cascade::texel_world_size): what a shadow pass without a slope-scaled offset needs
+    /// against acne (docs/cascades.md). glPolygonOffset(2, 2) is enough: the normal offset only moves
+    /// shadows off their casters (report, outdoor 512: RMSE 0.078 -> 0.095 with 1 texel).
     float normal_offset = 0.f;
 };
 
@@ -43,6 +48,8 @@ inline void bind_settings(app::Params& p, CascadedShadowMapSettings& s) {
     p.number("count", &s.count, 1, 4);
     p.number("lambda", &s.lambda, 0.0, 1.0);
     p.number("band", &s.band, 0.0, 0.5);
+    p.choice("bias", &s.bias, {{"auto", CascadedShadowMapSettings::Bias::Auto},
+                               {"polygon_offset", CascadedShadowMapSettings::Bias::PolygonOffset}});
     p.number("normal_offset", &s.normal_offset, 0.0, 4.0);
 }
 
@@ -83,6 +90,6 @@ private:
     shadowkit::CascadeFitResult fit_;
     int size_ = 0, layers_ = 0;
     GLuint maps_ = 0, fbo_[4] = {0, 0, 0, 0}, layer_view_[4] = {0, 0, 0, 0};
-    GLuint depth_prog_ = 0, vis_prog_ = 0;
+    GLuint depth_prog_ = 0, vis_prog_ = 0, vis_auto_prog_ = 0;  // V: bias=polygon_offset, bias=auto
     app::VisibilityPass pass_;
 };

@@ -123,8 +123,8 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     cascades.name = "cascades";
     cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band";
     cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
-    cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4"};
-    cascades.quick = {"size=512 count=4"};
+    cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4", "size=1024 count=4 bias=polygon_offset"};
+    cascades.quick = {"size=512 count=4", "size=1024 count=4"};
     cascades.measure = measure_cascades;
     add_technique(out, std::move(cascades));
 }
