@@ -97,14 +97,20 @@
 //    b' = (1 - a) b + a (1/2, 1/2, 1/2, 1/2) mixes in half a sample at 0 and half at 1, which makes
 //    B' positive definite unless every sample is at 0 or 1 exactly (a cleared texel at t = 1 with
 //    nothing else). Where D33 <= 0 anyway (those texels, or rounding) the lookup reads the two depths
-//    off the 2x2 system (exact for two-depth texels), and with D22 <= 0 compares with the mean, so
-//    the Cholesky step never divides by zero. The bias must dominate the storage error of b and the
-//    fp32 arithmetic of the solve: measured on blurred receiver planes (spreads 1e-4 .. 1e-2 of the
-//    range, with and without an occluder) against the exact moments in double precision, the mean
-//    error is 0.017 at the paper's 6e-7 for Float32 moments and 0.007 at its 3e-5 for Unorm16 after
-//    the optimized basis transform (Peters & Klein 2015, Sec. 4.3: q = A b + (0.035955884801, 0, 0,
-//    0), all q in [0, 1] for t in [0, 1]; A^-1 computed here in double); a tenth of either gives 0.034
-//    and 0.091. The Unorm16 round trip b -> q -> 16 bits -> b is off by at most 1.03e-5.
+//    off the 2x2 system (exact for two-depth texels), and with D22 at or below the bias's own
+//    variance a ((b1 - 1/2)^2 + 1/4) (one depth: only rounding goes below it) compares with the
+//    mean, so the Cholesky step never divides by zero. Support points within 32 a (+ 4 ulps) of the
+//    receiver count as at the receiver, not in front: the solve's rounding moves a depth at t by up
+//    to ~1e-5 (Float32, a = 6e-7) and ~2e-4 (Unorm16, a = 3e-5), and without the tolerance a surface
+//    read at its own depth came out dark (3,881 of 99,999 single depths, Float32). The bias must
+//    dominate the storage error of b and the fp32 arithmetic of the solve: measured on blurred
+//    receiver planes (spreads 1e-4 .. 1e-2 of the range, with and without an occluder) against the
+//    same bound from the exact moments in double precision (which resolves what rounding hides and
+//    has no tolerance), the mean difference is 0.020 at the paper's 6e-7 for Float32 moments and
+//    0.017 at its 3e-5 for Unorm16 after the optimized basis transform (Peters & Klein 2015, Sec.
+//    4.3: q = A b + (0.035955884801, 0, 0, 0), all q in [0, 1] for t in [0, 1]; A^-1 computed here
+//    in double); smaller biases give more (Float32 at 1e-7: 0.029, Unorm16 at 3e-6: 0.069).
+//    The Unorm16 round trip b -> q -> 16 bits -> b is off by at most 1.03e-5.
 // 6. Kernel width. The blur is uniform over the map; a world width W at eye distance d covers
 //    0.5 P[0][0] W / w(d) of uv (w(d) = d for a perspective light, 1 for an orthographic one), times
 //    the map size in texels (prefilter_kernel_texels).
@@ -544,32 +550,54 @@ inline float pf_linstep(float amount, float p) {
     const float v = (p - a) / (1.0f - a);
     return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
 }
+/// Depths within this distance of the receiver count as at the receiver, not in front of it, for
+/// moment bias a (clamped): the solve's rounding moves a support point at t by up to ~1e-5 (Float32
+/// moments, a = 6e-7) and ~2e-4 (Unorm16 with the quantization, a = 3e-5), measured over the
+/// single-depth texels t = i / 1e5 and two-depth texels; 32 a covers both with a margin, plus a few
+/// ulps of t. Without it a surface at its own depth read rounding noise as an occluder.
+inline float pf_msm_root_tolerance(float a) {
+    return 32.0f * a + 4.0f * 5.9604645e-8f;
+}
+/// Largest D22 = b2 - b1^2 of biased moments b that one depth explains: the bias's own variance
+/// (half of a at 0 and half at 1 mixed with one depth, mean b1: a / 4 + a (1 - a)(z - 1/2)^2 ~
+/// a ((b1 - 1/2)^2 + 1/4)). Exact moments of any texel have at least that; below it only rounding
+/// can put D22, and the variance it leaves the texel's depths is none: one depth.
+inline float pf_msm_one_depth_variance(const glm::vec4& b, float a) {
+    return a * ((b.x - 0.5f) * (b.x - 0.5f) + 0.25f);
+}
 /// Shadow of a texel whose Hankel matrix is singular (D33 <= 0): its depths are (numerically) two,
 /// x1 and x2, the roots of x^2 - l32 x + (l32 b1 - b2) (the polynomial orthogonal to 1 and x), with
 /// weights (x2 - b1) / (x2 - x1) and (b1 - x1) / (x2 - x1); G = the weight of those in front of z.
 /// Falls back to a compare with the mean when that is not finite.
-inline float pf_two_depths_shadow(const glm::vec4& b, float z, float l32) {
+inline float pf_two_depths_shadow(const glm::vec4& b, float z, float l32, float tol) {
     const float a0 = l32 * b.x - b.y;
     float disc = l32 * l32 - 4.0f * a0;
     if (!(disc > 0.0f)) disc = 0.0f;
     const float s = std::sqrt(disc);
     const float x1 = 0.5f * (l32 - s), x2 = 0.5f * (l32 + s);
     const float w1 = (x2 - b.x) / (x2 - x1);
-    float g = (x1 < z ? w1 : 0.0f) + (x2 < z ? 1.0f - w1 : 0.0f);
-    if (!(g >= -1e30f && g <= 1e30f)) g = z > b.x ? 1.0f : 0.0f;
+    const float zt = z - tol;  // depths within tol of z are at z: not in front
+    float g = (x1 < zt ? w1 : 0.0f) + (x2 < zt ? 1.0f - w1 : 0.0f);
+    if (!(g >= -1e30f && g <= 1e30f)) g = zt > b.x ? 1.0f : 0.0f;
     return g < 0.0f ? 0.0f : (g > 1.0f ? 1.0f : g);
 }
 /// Shadow intensity lower bound (0 lit .. 1 shadowed) of biased moments b at depth z, Hamburger.
-/// roots_out: the two other support points (z2 <= z3); ok_out false when a fallback was taken.
-inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, float& z3, bool& solved) {
+/// z2, z3: the two other support points (z2 <= z3, both 0 after a fallback); solved: false when a
+/// fallback was taken (one or two depths, or a root at infinity). moment_bias: the bias a mixed into
+/// b (clamped to [0, 1]); support points within pf_msm_root_tolerance(a) of z count as at z, not in
+/// front, and D22 at or below pf_msm_one_depth_variance (rounding below the bias's own variance) is
+/// one depth.
+inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, float& z3, bool& solved, float moment_bias) {
     solved = false;
+    const float a = pf_clamp(moment_bias, 0.0f, 1.0f), tol = pf_msm_root_tolerance(a);
     z2 = z3 = 0.0f;
+    const float zt = z - tol;
     const float d22 = b.y - b.x * b.x;  // b2 - b1^2: variance
-    if (!(d22 > 0.0f)) return z > b.x ? 1.0f : 0.0f;  // one depth: a plain compare
+    if (!(d22 > pf_msm_one_depth_variance(b, a))) return zt > b.x ? 1.0f : 0.0f;  // one depth: a plain compare
     const float l32d22 = b.z - b.x * b.y;  // b3 - b1 b2
     const float l32 = l32d22 / d22;
     const float d33 = (b.w - b.y * b.y) - l32d22 * l32;  // b4 - b2^2 - (b3 - b1 b2)^2 / d22
-    if (!(d33 > 0.0f)) return pf_two_depths_shadow(b, z, l32);  // two depths: read them off
+    if (!(d33 > 0.0f)) return pf_two_depths_shadow(b, z, l32, tol);  // two depths: read them off
     // solve B c = (1, z, z^2) with B = L D L^T (L = [1 0 0; b1 1 0; b2 l32 1], D = diag(1, d22, d33))
     const float y2 = z - b.x;
     const float y3 = z * z - b.y - l32 * y2;
@@ -582,17 +610,17 @@ inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, flo
     const float s = std::sqrt(disc);
     const float q = -0.5f * (c2 + (c2 >= 0.0f ? s : -s));
     const float r1 = q / c3, r2 = c1 / q;
-    if (std::isnan(r1) || std::isnan(r2)) return pf_two_depths_shadow(b, z, l32);
+    if (std::isnan(r1) || std::isnan(r2)) return pf_two_depths_shadow(b, z, l32, tol);
     z2 = r1 < r2 ? r1 : r2;
     z3 = r1 < r2 ? r2 : r1;
     float g;
-    if (z <= z2)
+    if (zt <= z2)
         g = 0.0f;
-    else if (z <= z3)  // weight of the support point z2 (Lagrange: E[(x - z)(x - z3)] / ((z2 - z)(z2 - z3)))
+    else if (zt <= z3)  // weight of the support point z2 (Lagrange: E[(x - z)(x - z3)] / ((z2 - z)(z2 - z3)))
         g = (z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2));
     else  // 1 - weight of the support point z
         g = 1.0f - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3));
-    if (!(g >= -1e30f && g <= 1e30f)) return pf_two_depths_shadow(b, z, l32);  // NaN / Inf: a root at infinity
+    if (!(g >= -1e30f && g <= 1e30f)) return pf_two_depths_shadow(b, z, l32, tol);  // NaN / Inf: a root at infinity
     solved = true;
     return g < 0.0f ? 0.0f : (g > 1.0f ? 1.0f : g);
 }
@@ -657,7 +685,7 @@ inline float prefilter_msm(const glm::vec4& moments, float t, float moment_bias,
     const glm::vec4 b = detail::pf_msm_bias(quantized ? prefilter_msm_dequantize(moments) : moments, moment_bias);
     float z2, z3;
     bool solved;
-    const float g = detail::pf_msm_hamburger_shadow(b, detail::pf_clamp(t, -1.0f, 2.0f), z2, z3, solved);
+    const float g = detail::pf_msm_hamburger_shadow(b, detail::pf_clamp(t, -1.0f, 2.0f), z2, z3, solved, moment_bias);
     return detail::pf_linstep(bleed_reduction, 1.0f - g);
 }
 
@@ -674,7 +702,8 @@ inline float prefilter_msm_hausdorff(const glm::vec4& moments, float t, float mo
     const float z = detail::pf_clamp(t, -1.0f, 2.0f);
     float z2, z3;
     bool solved;
-    float g = detail::pf_msm_hamburger_shadow(b, z, z2, z3, solved);
+    const float tol = detail::pf_msm_root_tolerance(detail::pf_clamp(moment_bias, 0.0f, 1.0f));
+    float g = detail::pf_msm_hamburger_shadow(b, z, z2, z3, solved, moment_bias);
     if (solved && (z2 < 0.0f || z3 > 1.0f) && z > 0.0f && z < 1.0f) {
         const float e3 = b.z - (1.0f + z) * b.y + z * b.x;  // E[x (x - z)(x - 1)]
         const float e4 = b.w - (1.0f + z) * b.z + z * b.y;  // E[x^2 (x - z)(x - 1)]
@@ -682,7 +711,7 @@ inline float prefilter_msm_hausdorff(const glm::vec4& moments, float t, float mo
         // w(0) = E[(x - z)(x - zf)(x - 1)] / ((0 - z)(0 - zf)(0 - 1))
         const float e0 = b.z - (z + zf + 1.0f) * b.y + (z * zf + z + zf) * b.x - z * zf;
         float h = -e0 / (z * zf);
-        if (zf < z) h += e3 / (zf * (zf - z) * (zf - 1.0f));  // w(zf) = E[x (x - z)(x - 1)] / (zf (zf - z)(zf - 1))
+        if (zf < z - tol) h += e3 / (zf * (zf - z) * (zf - 1.0f));  // w(zf) = E[x (x - z)(x - 1)] / (zf (zf - z)(zf - 1))
         if (h >= -1e30f && h <= 1e30f) {
             h = h < 0.0f ? 0.0f : (h > 1.0f ? 1.0f : h);
             g = h > g ? h : g;  // the [0, 1] bound is never below the real-line one
@@ -1031,15 +1060,16 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
     } else {
         const glm::vec4 b = pf_msm_bias(u.quantized ? prefilter_msm_dequantize(moments) : moments, u.moment_bias);
         const float d22 = b.y - b.x * b.x;
-        if (!(d22 > 0.0f)) {  // one depth
-            if (z > b.x) frac = 1.0f, depth = b.x;
+        const float tol = pf_msm_root_tolerance(pf_clamp(u.moment_bias, 0.0f, 1.0f)), zt = z - tol;
+        if (!(d22 > pf_msm_one_depth_variance(b, pf_clamp(u.moment_bias, 0.0f, 1.0f)))) {  // one depth
+            if (zt > b.x) frac = 1.0f, depth = b.x;
         } else {
             float z2, z3;
             bool solved;
-            const float g = pf_msm_hamburger_shadow(b, z, z2, z3, solved);
+            const float g = pf_msm_hamburger_shadow(b, z, z2, z3, solved, u.moment_bias);
             if (solved) {
                 frac = g;
-                if (z <= z3) depth = z2;  // the one support point in front of z
+                if (zt <= z3) depth = z2;  // the one support point in front of z
                 else if (g > 0.0f) depth = (b.x - (1.0f - g) * z) / g;  // E[x; x < z] = b1 - w(z) z
             } else {  // two depths x1 <= x2 (D33 <= 0): the ones in front of z
                 const float l32 = (b.z - b.x * b.y) / d22;
@@ -1047,9 +1077,9 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
                 if (!(disc > 0.0f)) disc = 0.0f;
                 const float s = std::sqrt(disc), x1 = 0.5f * (l32 - s), x2 = 0.5f * (l32 + s);
                 const float w1 = (x2 - b.x) / (x2 - x1);
-                if (x2 < z) frac = 1.0f, depth = b.x;
-                else if (x1 < z && w1 >= 0.0f && w1 <= 1.0f) frac = w1, depth = x1;
-                else if (!(w1 >= 0.0f && w1 <= 1.0f) && z > b.x) frac = 1.0f, depth = b.x;  // NaN weight: the mean
+                if (x2 < zt) frac = 1.0f, depth = b.x;
+                else if (x1 < zt && w1 >= 0.0f && w1 <= 1.0f) frac = w1, depth = x1;
+                else if (!(w1 >= 0.0f && w1 <= 1.0f) && zt > b.x) frac = 1.0f, depth = b.x;  // NaN weight: the mean
             }
         }
     }

@@ -155,6 +155,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     check(unit(sv));
     const float sl = prefilter_receiver_slope(r.vec3(), r.vec3());
     check(std::isfinite(sl) && sl >= 0.0f && sl <= 1e6f);
+    // ---- bound properties (issue #27)
+    // item 1: MSM with the Float32 defaults lights a one-depth texel read at its own depth
+    {
+        const float t1 = r.f32();
+        const float z = std::isfinite(t1) ? std::fabs(std::fmod(t1, 1.0f)) : 0.5f;
+        PrefilterSettings ms;
+        ms.method = r.boolean() ? PrefilterMethod::Msm : PrefilterMethod::MsmHausdorff;
+        ms.format = PrefilterFormat::Float32;
+        const PrefilterUniforms mu = prefilter_uniforms(ms);
+        check(mu.status == Status::Ok);
+        check(prefilter_visibility(prefilter_moments(z, glm::vec2(0.0f), mu), z, mu) >= 0.999f);
+    }
     (void)status_name(static_cast<Status>(r.u8()));
     return 0;
 }

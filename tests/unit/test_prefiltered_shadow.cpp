@@ -587,8 +587,11 @@ TEST_CASE("MSM moment bias per format: the storage noise it suppresses, measured
     // [t - d, t + d] (d = 1e-4 .. 1e-2, 16 samples), alone or with an occluder (weight 0.3); the
     // reference is the same biased bound from the exact moments in double precision. Measured:
     // the mean |V_stored - V_exact moments| per bias. The defaults (the paper's 6e-7 for Float32,
-    // 3e-5 for the Unorm16 quantization) keep it below 0.02; a tenth of them does not: the bias is
-    // needed, and not larger than needed by more than a factor 10.
+    // 3e-5 for the Unorm16 quantization) keep it below 0.025; a tenth of them does not: the bias is
+    // needed, and not larger than needed by more than a factor 10. (The reference counts depths
+    // within the lookup's root tolerance as in front and resolves spreads below rounding, which the
+    // float lookup by design does not (issue #27 item 1): Float32 at 6e-7 measured 0.017 before
+    // that fix, 0.020 after; Unorm16 at 3e-5 0.007 before, 0.017 after.)
     auto noise = [](PrefilterFormat f, double a) {
         const bool quant = f == PrefilterFormat::Unorm16;
         double sum = 0.0;
@@ -616,9 +619,9 @@ TEST_CASE("MSM moment bias per format: the storage noise it suppresses, measured
         std::string table;
         for (double g : {1e-7, 6e-7, 3e-6, 1e-5, 3e-5, 1e-4}) table += " " + std::to_string(g) + ":" + std::to_string(noise(f, g));
         MESSAGE(std::string(f == PrefilterFormat::Float32 ? "Float32" : "Unorm16 quantized") << " mean storage noise per bias:" << table);
-        CHECK(noise(f, a) < 0.02);
+        CHECK(noise(f, a) < 0.025);
         CHECK(noise(f, 0.1 * a) > noise(f, a));
-        CHECK(noise(f, 0.1 * a) > 0.02);
+        CHECK(noise(f, 0.1 * a) > 0.025);
     }
 }
 
@@ -653,6 +656,50 @@ TEST_CASE("MSM never NaN: degenerate texels (one depth, two depths, fully lit, f
         for (double t : {0.0, 1.0}) {
             const glm::vec4 st = quant ? store4(quantize_double(power_moments(t)), f) : store4(power_moments(t), f);
             CHECK(prefilter_msm(st, 0.5f, a, quant, 0.0f) == doctest::Approx(t == 0.0 ? 0.0 : 1.0).epsilon(0.01));
+        }
+    }
+}
+
+TEST_CASE("MSM: a surface at its own depth is lit (issue #27 item 1: roots within rounding of t are not in front)") {
+    // A texel of one depth z holds nothing in front of z (the moment bias adds a/2 at depth 0), so a
+    // receiver at z has visibility >= 1 - a/2; likewise depths {0.7: 0.45, 1: 0.55} leave 0.55 of the
+    // texel at t = 1, not in front of a receiver at 1. Before the fix the solve ran on rounding noise:
+    // 39 of the 1001 depths k/1000 and 3,881 of the 99,999 depths i/1e5 came out dark (3.6e-7 at 0.265).
+    const float tol = 1e-3f;
+    for (PrefilterMethod m : {PrefilterMethod::Msm, PrefilterMethod::MsmHausdorff}) {
+        for (PrefilterFormat f : {PrefilterFormat::Float32, PrefilterFormat::Unorm16}) {
+            PrefilterSettings s;
+            s.method = m;
+            s.format = f;
+            const PrefilterUniforms u = prefilter_uniforms(s);
+            REQUIRE(u.status == Status::Ok);
+            const bool quant = f == PrefilterFormat::Unorm16;
+            int dark_k = 0, dark_i = 0;
+            float worst = 1.0f;
+            for (int k = 0; k <= 1000; ++k) {
+                const float t = float(k) / 1000.0f;
+                const float v = prefilter_visibility(prefilter_moments(t, glm::vec2(0.0f), u), t, u);
+                if (!(v >= 1.0f - tol)) ++dark_k;
+                worst = std::min(worst, v);
+            }
+            for (int i = 1; i < 100000; ++i) {
+                const float t = float(i) / 1e5f;
+                const float v = prefilter_visibility(prefilter_moments(t, glm::vec2(0.0f), u), t, u);
+                if (!(v >= 1.0f - tol)) ++dark_i;
+                worst = std::min(worst, v);
+            }
+            INFO("method " << int(m) << " format " << int(f) << " worst " << worst);
+            CHECK(dark_k == 0);
+            CHECK(dark_i == 0);
+            CHECK(prefilter_visibility(prefilter_moments(0.265f, glm::vec2(0.0f), u), 0.265f, u) >= 1.0f - tol);
+            // two depths, the receiver at the farther one: 0.55 of the texel is at t, not in front
+            const glm::dvec4 b = 0.45 * power_moments(0.7) + 0.55 * power_moments(1.0);
+            const glm::vec4 st = quant ? store4(quantize_double(b), f) : store4(b, f);
+            CHECK(prefilter_visibility(st, 1.0f, u) >= 0.55f - tol);
+            // a receiver between the two depths still sees the 0.45 in front: a bound >= 0.55, not lit
+            const float mid = prefilter_visibility(st, 0.85f, u);
+            CHECK(mid >= 0.55f - tol);
+            CHECK(mid < 0.7f);
         }
     }
 }
