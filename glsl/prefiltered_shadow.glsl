@@ -148,6 +148,22 @@ float sk_pf_chebyshev(float mean, float m2, float x, float min_var) {
     float p = var / (var + d * d);
     return p >= 0.0 ? (p > 1.0 ? 1.0 : p) : 0.0;
 }
+// VSM's bound made conservative in float (prefiltered_shadow.hpp, pf_vsm_bound): the mean moved
+// min_var / 3 + 4u |mean| toward x, the variance max(m2 - mean^2, 0) raised by min_var + 4u (m2 + mean^2),
+// u = 2^-24: the storage error (min_var = 3 u_format) and the fp32 arithmetic, so never below the lit
+// fraction. min_var = 0: plain Chebyshev.
+float sk_pf_vsm_bound(float mean, float m2, float x, float min_var) {
+    if (!(min_var > 0.0)) return sk_pf_chebyshev(mean, m2, x, 0.0);
+    const float u = 5.9604645e-8;
+    float em = min_var / 3.0 + 4.0 * u * abs(mean);
+    if (x <= mean + em) return 1.0;
+    float var = m2 - mean * mean;
+    if (!(var >= 0.0)) var = 0.0;
+    var += min_var + 4.0 * u * (abs(m2) + mean * mean);
+    float d = x - mean - em;
+    float p = var / (var + d * d);
+    return p >= 0.0 ? (p > 1.0 ? 1.0 : p) : 0.0;
+}
 // Light-bleeding reduction linstep(amount, 1, p) (Lauritzen 2007), amount in [0, 0.999].
 float sk_pf_linstep(float amount, float p) {
     float a = sk_pf_clamp(amount, 0.0, 0.999);
@@ -157,7 +173,7 @@ float sk_pf_linstep(float amount, float p) {
 
 float sk_vsm_visibility(vec2 moments, float t, float min_variance, float bleed_reduction) {
     if (!sk_pf_finite(vec4(moments, 0.0, 0.0)) || isnan(t)) return 1.0;
-    float p = sk_pf_chebyshev(moments.x, moments.y, t, sk_pf_clamp(min_variance, 0.0, 1.0));
+    float p = sk_pf_vsm_bound(moments.x, moments.y, t, sk_pf_clamp(min_variance, 0.0, 1.0));
     return sk_pf_linstep(bleed_reduction, p);
 }
 
@@ -313,7 +329,7 @@ vec2 sk_prefilter_soft_blocker(vec4 moments, float t, int method, vec4 params, f
     if (!sk_pf_finite(moments) || isnan(t) || !(method == 0 || method == 4 || method == 5)) return vec2(0.0, z);
     float frac = 0.0, depth = z, min_share = 1e-3;
     if (method == 0) {
-        float p = sk_pf_chebyshev(moments.x, moments.y, z, sk_pf_clamp(params.z, 0.0, 1.0));
+        float p = sk_pf_vsm_bound(moments.x, moments.y, z, sk_pf_clamp(params.z, 0.0, 1.0));
         frac = 1.0 - p;
         if (frac > 0.0) depth = (moments.x - p * z) / frac;
     } else {

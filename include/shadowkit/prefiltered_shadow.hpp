@@ -82,7 +82,10 @@
 // 4. Variance cancellation. var = E[t^2] - E[t]^2 from stored moments: with t in [0, 1] the stored
 //    M2 and the product M1^2 each carry a relative error <= u (plus fp32 register rounding), so the
 //    computed variance is off by at most 3u (float formats), 3 / 131070 (Unorm16): that floor is
-//    prefilter_min_variance: Float32 1.8e-7, Float16 1.5e-3, Unorm16 2.3e-5. Two surfaces dd apart
+//    prefilter_min_variance: Float32 1.8e-7, Float16 1.5e-3, Unorm16 2.3e-5. VSM adds it (plus
+//    4u (M2 + M1^2) for the fp32 arithmetic) to the computed variance rather than flooring with it, and
+//    moves the mean by its error, so the bound is never below the lit fraction (a floor applied as
+//    max(var, floor) left a cancelled variance just above it too small: 0.651 for a true 0.734). Two surfaces dd apart
 //    (half the texels each) have variance (dt / 2)^2, dt = dd / (far - near), so they are told apart
 //    above dt = 2 sqrt(3u): 8.5e-4 of the range (Float32), 0.077 (Float16), whatever the scene's
 //    scale (1e-3 or 1e5 units) or its distance from the light: t is linear over the encoded range.
@@ -544,6 +547,27 @@ inline float pf_chebyshev(float mean, float m2, float x, float min_var) {
     const float p = var / (var + d * d);
     return p >= 0.0f ? (p > 1.0f ? 1.0f : p) : 0.0f;
 }
+/// VSM's bound made conservative in float: the mean and variance computed from stored moments of
+/// depths in [0, 1] are off by at most EM and EV, so the bound with the mean moved EM toward x and
+/// the variance raised by EV is never below Chebyshev's bound of the exact moments, hence never
+/// below the lit fraction. EV = min_var + 4 u (m2 + mean^2), EM = min_var / 3 + 4 u |mean| (u =
+/// 2^-24): min_var = 3 u_format bounds the storage error (NUMERICS item 4, the mean's is u_format
+/// = min_var / 3); the u terms cover the fp32 arithmetic of the moment pass, the filter's
+/// normalized sum and this lookup (measured: 1 u (m2 + mean^2) was needed over random two- and
+/// three-depth texels in every format; without it Float32 was below the lit fraction by up to
+/// 0.007). min_var = 0: exact moments assumed (plain Chebyshev, no margin).
+inline float pf_vsm_bound(float mean, float m2, float x, float min_var) {
+    if (!(min_var > 0.0f)) return pf_chebyshev(mean, m2, x, 0.0f);
+    const float u = 5.9604645e-8f;
+    const float em = min_var / 3.0f + 4.0f * u * std::fabs(mean);
+    if (x <= mean + em) return 1.0f;
+    float var = m2 - mean * mean;
+    if (!(var >= 0.0f)) var = 0.0f;
+    var += min_var + 4.0f * u * (std::fabs(m2) + mean * mean);
+    const float d = x - mean - em;
+    const float p = var / (var + d * d);
+    return p >= 0.0f ? (p > 1.0f ? 1.0f : p) : 0.0f;
+}
 /// The light-bleeding reduction: linstep(amount, 1, p) (Lauritzen 2007); amount clamped to [0, 0.999].
 inline float pf_linstep(float amount, float p) {
     const float a = pf_clamp(amount, 0.0f, 0.999f);
@@ -631,12 +655,14 @@ inline glm::vec4 pf_msm_bias(const glm::vec4& b, float a) {
 }
 }  // namespace detail
 
-/// VSM visibility: Chebyshev's bound with the variance raised to min_variance, then the
-/// light-bleeding reduction linstep(bleed_reduction, 1, p). Total: non-finite moments give 1, NaN t
+/// VSM visibility: Chebyshev's bound made conservative in float (the variance raised by
+/// min_variance plus the fp32 rounding, the mean moved by its storage error: never below the lit
+/// fraction of the texel's depths; detail::pf_vsm_bound), then the light-bleeding reduction
+/// linstep(bleed_reduction, 1, p). Total: non-finite moments give 1, NaN t
 /// gives 1, min_variance clamped to [0, 1] (NaN -> 0), bleed_reduction to [0, 0.999] (NaN -> 0).
 inline float prefilter_vsm(const glm::vec2& moments, float t, float min_variance, float bleed_reduction) {
     if (!std::isfinite(moments.x) || !std::isfinite(moments.y) || std::isnan(t)) return 1.0f;
-    const float p = detail::pf_chebyshev(moments.x, moments.y, t, detail::pf_clamp(min_variance, 0.0f, 1.0f));
+    const float p = detail::pf_vsm_bound(moments.x, moments.y, t, detail::pf_clamp(min_variance, 0.0f, 1.0f));
     return detail::pf_linstep(bleed_reduction, p);
 }
 
@@ -1054,7 +1080,7 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
     if (!pf_finite(moments) || std::isnan(t)) return glm::vec2(0.0f, z);
     float frac = 0.0f, depth = z;
     if (u.method == PrefilterMethod::Vsm) {
-        const float p = pf_chebyshev(moments.x, moments.y, z, pf_clamp(u.min_variance, 0.0f, 1.0f));
+        const float p = pf_vsm_bound(moments.x, moments.y, z, pf_clamp(u.min_variance, 0.0f, 1.0f));
         frac = 1.0f - p;
         if (frac > 0.0f) depth = (moments.x - p * z) / frac;  // Yang et al. 2010: mu = p z + (1 - p) z_avg
     } else {

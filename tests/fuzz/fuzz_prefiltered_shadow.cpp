@@ -167,6 +167,33 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         check(mu.status == Status::Ok);
         check(prefilter_visibility(prefilter_moments(z, glm::vec2(0.0f), mu), z, mu) >= 0.999f);
     }
+    // item 2: VSM (default uniforms of any format) is never below the true lit fraction of a texel of
+    // two or three depths, moments summed in fp32 and stored in the format
+    {
+        PrefilterSettings vs;
+        vs.format = static_cast<PrefilterFormat>(r.range(0, 2));
+        const PrefilterUniforms vu = prefilter_uniforms(vs);
+        check(vu.status == Status::Ok);
+        const int k = r.boolean() ? 3 : 2;
+        float z[3], w[3], sw = 0.0f;
+        for (int i = 0; i < k; ++i) {
+            const float zi = r.f32(), wi = r.f32();
+            z[i] = std::isfinite(zi) ? std::fabs(std::fmod(zi, 1.0f)) : 1.0f;
+            w[i] = 0.05f + (std::isfinite(wi) ? std::fabs(std::fmod(wi, 1.0f)) : 0.5f);
+            sw += w[i];
+        }
+        glm::vec2 vm(0.0f);
+        for (int i = 0; i < k; ++i) vm += (w[i] / sw) * prefilter_vsm_moments(z[i], 0.0f, 0.0f);
+        vm = glm::vec2(prefilter_store(double(vm.x), vs.format).value, prefilter_store(double(vm.y), vs.format).value);
+        for (int j = 0; j < k; ++j) {
+            long double num = 0.0L, den = 0.0L;
+            for (int i = 0; i < k; ++i) {
+                den += (long double)(w[i] / sw);
+                if (z[i] >= z[j]) num += (long double)(w[i] / sw);
+            }
+            check(double(prefilter_visibility(glm::vec4(vm, 0.0f, 0.0f), z[j], vu)) >= double(num / den));
+        }
+    }
     (void)status_name(static_cast<Status>(r.u8()));
     return 0;
 }

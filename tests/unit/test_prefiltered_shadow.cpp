@@ -470,6 +470,76 @@ TEST_CASE("VSM: Chebyshev is exact for two depths; min variance; bleeding reduct
     CHECK(vm.y - vm.x * vm.x >= (1e-4 + 4e-4) / 12.0);
 }
 
+TEST_CASE("VSM: never darker than the true lit fraction in float, every format (issue #27 item 2)") {
+    // Chebyshev's bound P(x >= t) <= var / (var + (t - mean)^2) holds for exact moments; the stored
+    // ones lose E[t^2] - E[t]^2 to cancellation, and a floor applied as max(var, floor) leaves a
+    // cancelled variance just above the floor too small. Moments as the pass writes them (t and t^2
+    // in float, the filter's weighted sum in fp32, then the format's rounding); the true lit fraction
+    // (weight of the depths >= t) in long double from the depths and weights.
+    auto lit = [](const std::vector<float>& z, const std::vector<float>& w, float t) {
+        long double num = 0.0L, den = 0.0L;
+        for (std::size_t i = 0; i < z.size(); ++i) {
+            den += (long double)w[i];
+            if (z[i] >= t) num += (long double)w[i];
+        }
+        return double(num / den);
+    };
+    auto texel = [](const std::vector<float>& z, const std::vector<float>& w, PrefilterFormat f) {
+        glm::vec2 m(0.0f);
+        for (std::size_t i = 0; i < z.size(); ++i) m += w[i] * prefilter_vsm_moments(z[i], 0.0f, 0.0f);
+        return glm::vec2(prefilter_store(double(m.x), f).value, prefilter_store(double(m.y), f).value);
+    };
+    // the named case: Float32 gave 0.651 for a true 0.734
+    {
+        const std::vector<float> z = {0x1.ff6746p-1f, 1.0f};
+        const float w0 = 0x1.0fe474p-2f;
+        const std::vector<float> w = {w0, 1.0f - w0};
+        const double truth = lit(z, w, 1.0f);
+        CHECK(truth == doctest::Approx(0.734).epsilon(1e-3));
+        CHECK(double(prefilter_vsm(texel(z, w, PrefilterFormat::Float32), 1.0f, prefilter_min_variance(PrefilterFormat::Float32), 0.0f)) >= truth);
+    }
+    std::mt19937 rng(2027);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    for (PrefilterFormat f : {PrefilterFormat::Float32, PrefilterFormat::Float16, PrefilterFormat::Unorm16}) {
+        PrefilterSettings s;
+        s.method = PrefilterMethod::Vsm;
+        s.format = f;
+        const PrefilterUniforms un = prefilter_uniforms(s);
+        REQUIRE(un.status == Status::Ok);
+        int below = 0, n = 0;
+        double worst = 0.0;
+        for (int i = 0; i < 60000; ++i) {
+            const int k = 2 + int(rng() % 2u);
+            std::vector<float> z(static_cast<std::size_t>(k)), w(static_cast<std::size_t>(k));
+            const float base = u01(rng);
+            // close depths (the cancellation case) as often as spread ones
+            const float spread = (i % 3 == 0) ? 1.0f : std::ldexp(1.0f, -int(rng() % 20u));
+            float sw = 0.0f;
+            for (int j = 0; j < k; ++j) {
+                z[std::size_t(j)] = std::min(1.0f, std::max(0.0f, base + spread * (u01(rng) - 0.5f)));
+                if (rng() % 4u == 0u) z[std::size_t(j)] = 1.0f;
+                w[std::size_t(j)] = 0.05f + u01(rng);
+                sw += w[std::size_t(j)];
+            }
+            for (float& x : w) x /= sw;
+            const glm::vec2 m = texel(z, w, f);
+            // receivers at each depth (the sharp case) and between
+            for (int j = 0; j <= k; ++j) {
+                const float t = j < k ? z[std::size_t(j)] : u01(rng);
+                const double truth = lit(z, w, t);
+                const float v = prefilter_visibility(glm::vec4(m, 0.0f, 0.0f), t, un);
+                ++n;
+                if (double(v) < truth) {
+                    ++below;
+                    worst = std::max(worst, truth - double(v));
+                }
+            }
+        }
+        INFO("format " << int(f) << ": " << below << " of " << n << " below the true lit fraction, worst by " << worst);
+        CHECK(below == 0);
+    }
+}
+
 TEST_CASE("variance floor per format bounds the storage error of the variance (brute force)") {
     std::mt19937 rng(11);
     for (PrefilterFormat f : {PrefilterFormat::Float32, PrefilterFormat::Float16, PrefilterFormat::Unorm16}) {
