@@ -85,8 +85,8 @@
 //    prefilter_min_variance: Float32 1.8e-7, Float16 1.5e-3, Unorm16 2.3e-5. VSM adds it (plus
 //    4u (M2 + M1^2) for the fp32 arithmetic) to the computed variance rather than flooring with it, and
 //    moves the mean by its error, so the bound is never below the lit fraction (a floor applied as
-//    max(var, floor) left a cancelled variance just above it too small: 0.651 for a true 0.734). Two surfaces dd apart
-//    (half the texels each) have variance (dt / 2)^2, dt = dd / (far - near), so they are told apart
+//    max(var, floor) left a cancelled variance just above it too small: 0.651 for a true 0.734).
+//    Two surfaces dd apart (half the texels each) have variance (dt / 2)^2, dt = dd / (far - near), so they are told apart
 //    above dt = 2 sqrt(3u): 8.5e-4 of the range (Float32), 0.077 (Float16), whatever the scene's
 //    scale (1e-3 or 1e5 units) or its distance from the light: t is linear over the encoded range.
 //    Window depth of a projection with near / far = 1e-6 instead resolves dz = n dd / d^2 (for
