@@ -300,6 +300,10 @@ inline float prefilter_depth(float eye_distance, const PrefilterDepthRange& r) {
     return t > 1.0f ? 1.0f : t;
 }
 
+/// Largest error in t that prefilter_window_depth_map accepts (Overflow above it): well below the
+/// 8.5e-4 at which two surfaces are told apart in Float32 (NUMERICS item 4).
+constexpr float kPrefilterWindowTolerance = 1e-4f;
+
 /// Coefficients c of t = (c.x + c.y z_w) / (c.z + c.w z_w), window depth z_w -> moment depth.
 struct PrefilterWindowMap {
     Status status = Status::NotRun;
@@ -312,6 +316,11 @@ struct PrefilterWindowMap {
 /// d = n + (f - n) z_w (reversed: f - (f - n) z_w). Window depth is glDepthRange(0, 1) depth, the
 /// same for GL [-1, 1] and zero-to-one clip depth. NonFinite / InvalidArgument for bad planes
 /// (perspective: 0 < near < far; orthographic: finite near < far) or a range whose status is not Ok.
+/// Overflow: coefficients beyond float, or depth steps that collapse: over the distances the range
+/// and the projection share, t from the float window depth (rounded by the depth buffer) through the
+/// float map could be off by more than kPrefilterWindowTolerance. A standard perspective map does so
+/// from far / near ~ 1e3 (window depth crowds near 1: [0.1, 1e4] was off by 0.006); reversed-Z keeps
+/// t to ~1e-7 for any far / near, +inf included.
 inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj_far, bool perspective, bool reversed_z,
                                                      const PrefilterDepthRange& r) {
     PrefilterWindowMap m;
@@ -344,6 +353,38 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
             return m;
         }
     m.coefficients = glm::vec4(c);
+    // Depth steps: t is only as good as the window depth the buffer holds (rounded to float: off by
+    // up to 2^-24 z_w) times dt/dz_w, plus the float coefficients and the float evaluation of the
+    // ratio (a standard perspective map cancels near z_w = 1: c.z ~ -c.w ~ 1 / n). Bounded at both ends
+    // of the distances the range and the projection share (the error grows monotonically toward
+    // one of them); above kPrefilterWindowTolerance the map cannot keep t: Overflow.
+    const double u = 5.9604644775390625e-8;
+    const double d_lo = std::fmax(n, -o / s), d_hi = std::fmin(f, (1.0 - o) / s);
+    double worst = 0.0;
+    const double ends[2] = {d_lo, d_hi};
+    for (const double d : ends) {
+        if (!(d > 0.0) || !std::isfinite(d)) continue;
+        double z, dd_dz;  // window depth of d and its inverse slope
+        if (perspective) {
+            const double inv_f = std::isinf(f) ? 0.0 : 1.0 / f, span = 1.0 / n - inv_f;
+            z = reversed_z ? (1.0 / d - inv_f) / span : (1.0 / n - 1.0 / d) / span;
+            dd_dz = d * d * span;
+        } else {
+            z = reversed_z ? (f - d) / (f - n) : (d - n) / (f - n);
+            dd_dz = f - n;
+        }
+        const double t_exact = s * d + o;
+        const glm::dvec4 cf(m.coefficients);  // the float coefficients, exactly
+        const double num = cf.x + cf.y * z, den = cf.z + cf.w * z;
+        const double eval = 3.0 * u * ((std::abs(cf.x) + std::abs(cf.y * z)) + std::abs(t_exact) * (std::abs(cf.z) + std::abs(cf.w * z))) / std::abs(den);
+        const double err = s * dd_dz * u * std::abs(z) + std::abs(num / den - t_exact) + eval + u;
+        worst = std::isnan(err) ? std::numeric_limits<double>::infinity() : std::fmax(worst, err);
+    }
+    if (!(worst <= double(kPrefilterWindowTolerance))) {
+        m.coefficients = glm::vec4(0.0f);
+        m.status = Status::Overflow;
+        return m;
+    }
     m.status = Status::Ok;
     return m;
 }

@@ -38,6 +38,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const PrefilterWindowMap wm = prefilter_window_depth_map(pn, pf, persp, rev, range);
     if (wm.status == Status::Ok) check(all_finite(wm.coefficients));
     const float zw = r.f32();
+    if (wm.status == Status::Ok && persp && pn >= 1e-6f && range.scale < 1e30f) {
+        // item 4: an Ok map keeps t of the window depth the buffer holds within its tolerance (a
+        // distance inside the range and the projection, window depth in double rounded to float)
+        const double dl = std::fmax(double(pn), -double(range.offset) / double(range.scale));
+        const double dh = std::fmin(double(pf), (1.0 - double(range.offset)) / double(range.scale));
+        const double fr = std::isfinite(zw) ? std::fabs(std::fmod(double(zw), 1.0)) : 0.5;
+        const double dd = dl + (dh - dl) * fr;
+        if (dh > dl && dd > 0.0 && std::isfinite(dd)) {
+            const double inv_f = std::isinf(pf) ? 0.0 : 1.0 / double(pf), span = 1.0 / double(pn) - inv_f;
+            const double z = rev ? (1.0 / dd - inv_f) / span : (1.0 / double(pn) - 1.0 / dd) / span;
+            const double t_true = dd * double(range.scale) + double(range.offset);
+            check(std::fabs(double(prefilter_depth_from_window(static_cast<float>(z), wm.coefficients)) - t_true) <=
+                  2.0 * double(kPrefilterWindowTolerance) + 1e-5 * std::fabs(t_true));
+        }
+    }
     check(unit(prefilter_depth_from_window(zw, wm.coefficients)));
     check(unit(prefilter_depth_from_window(zw, r.vec4())));
 

@@ -417,6 +417,10 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
     REQUIRE(wide.status == Status::Ok);
     for (int rev = 0; rev <= 1; ++rev) {
         const PrefilterWindowMap wm = prefilter_window_depth_map(n, INFINITY, true, rev != 0, wide);
+        if (!rev) {  // standard-Z window depth has no bits left far away: Overflow (issue #27 item 4)
+            CHECK(wm.status == Status::Overflow);
+            continue;
+        }
         REQUIRE(wm.status == Status::Ok);
         std::mt19937 rng(5);
         std::uniform_real_distribution<double> ld(std::log(1e-3), std::log(1e3));
@@ -427,8 +431,7 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
             const float t = prefilter_depth_from_window(static_cast<float>(zw), wm.coefficients);
             worst = std::max(worst, std::abs(double(t) - (d - double(n)) / (1e3 - double(n))));
         }
-        if (rev) CHECK(worst < 1e-5);  // reversed-Z keeps t to float precision
-        else CHECK(worst > 1e-3);       // standard-Z window depth has no bits left far away
+        CHECK(worst < 1e-5);  // reversed-Z keeps t to float precision
     }
     // orthographic, both directions
     const PrefilterWindowMap wo = prefilter_window_depth_map(1.0f, 9.0f, false, false, prefilter_depth_range(1.0f, 9.0f));
@@ -438,6 +441,51 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
     CHECK(prefilter_window_depth_map(0.0f, 9.0f, true, false, r).status == Status::InvalidArgument);
     CHECK(prefilter_window_depth_map(1.0f, INFINITY, false, false, r).status == Status::NonFinite);
     CHECK(prefilter_window_depth_map(1.0f, 9.0f, true, false, PrefilterDepthRange{}).status == Status::InvalidArgument);
+}
+
+TEST_CASE("window depth map: Ok only where the float map keeps t (issue #27 item 4)") {
+    // A standard perspective depth buffer crowds far depths near z_w = 1: the float coefficients of
+    // t = (c.x + c.y z) / (c.z + c.w z) cancel there (c.z ~ -c.w ~ 1 / n) and z_w itself has no bits
+    // left, so t was off by 0.005 for [0.1, 1e4] (0.07 for 1e5, 0.10 for 1e6) with Ok. Reference: the
+    // window depth of eye distance d in long double, rounded to float (what the depth buffer holds),
+    // t = (d - near) / (far - near) of the true d. An Ok map must keep t within 2e-4 over the range;
+    // reversed-Z keeps it to ~1e-6 and must stay Ok.
+    struct Case { float n, f; };
+    const Case cases[] = {{0.1f, 1e4f}, {0.1f, 1e5f}, {0.1f, 1e6f}, {1e-3f, INFINITY}, {0.5f, 40.0f}, {1.0f, 10.0f},
+                          {0.01f, 100.0f}, {0.1f, 1000.0f}};
+    for (const Case& c : cases) {
+        const float rf = std::isinf(c.f) ? 1e3f : c.f;
+        const PrefilterDepthRange range = prefilter_depth_range(c.n, rf);
+        REQUIRE(range.status == Status::Ok);
+        for (int rev = 0; rev <= 1; ++rev) {
+            const PrefilterWindowMap wm = prefilter_window_depth_map(c.n, c.f, true, rev != 0, range);
+            CAPTURE(c.n);
+            CAPTURE(c.f);
+            CAPTURE(rev);
+            if (rev) REQUIRE(wm.status == Status::Ok);
+            if (wm.status != Status::Ok) {
+                CHECK(wm.status == Status::Overflow);
+                continue;
+            }
+            const long double n = c.n, f = c.f;
+            auto window = [&](long double d) {
+                const long double inv_f = std::isinf(c.f) ? 0.0L : 1.0L / f;
+                return rev ? (1.0L / d - inv_f) / (1.0L / n - inv_f) : (1.0L / n - 1.0L / d) / (1.0L / n - inv_f);
+            };
+            double worst = 0.0;
+            std::mt19937 rng(9);
+            std::uniform_real_distribution<double> ld(std::log(double(c.n)), std::log(double(rf)));
+            for (int i = 0; i <= 4000; ++i) {
+                const long double d = i == 0 ? (long double)rf : (long double)std::exp(ld(rng));
+                const float zw = static_cast<float>(window(d));
+                const double t_true = double((d - n) / ((long double)rf - n));
+                worst = std::max(worst, std::abs(double(prefilter_depth_from_window(zw, wm.coefficients)) - t_true));
+            }
+            MESSAGE("near " << c.n << " far " << c.f << (rev ? " reversed" : " standard") << ": worst t error " << worst);
+            CHECK(worst <= 2e-4);
+            if (rev) CHECK(worst <= 1e-5);
+        }
+    }
 }
 
 // ------------------------------------------------------------------------------------------------
