@@ -263,6 +263,8 @@ struct PrefilterDepthRange {
     Status status = Status::NotRun;
     float scale = 0.0f;   ///< 1 / (far - near)
     float offset = 0.0f;  ///< -near / (far - near)
+    float near_distance = 0.0f;  ///< near, as given (offset can underflow: -1e-60 for [1e-30, 1e30]); 0 if not set
+    float far_distance = 0.0f;   ///< far, as given; 0 if not set
 };
 
 /// The map of eye distances [near, far] (the range the shadow map encodes: the casters' and
@@ -288,6 +290,8 @@ inline PrefilterDepthRange prefilter_depth_range(float near, float far) {
     }
     r.scale = static_cast<float>(scale);
     r.offset = static_cast<float>(-double(near) * scale);
+    r.near_distance = near;
+    r.far_distance = far;
     r.status = Status::Ok;
     return r;
 }
@@ -822,7 +826,7 @@ struct PrefilterUniforms {
 inline glm::vec4 prefilter_moments(float t, const glm::vec2& dt, const PrefilterUniforms& u);
 
 /// Checks the settings against the format and resolves the defaults. InvalidArgument: an unknown
-/// method or format, a warp in Unorm16, MSM in Float16 (use Unorm16 with the quantization, or
+/// method or format, an ESM / EVSM exponent_positive of 0 (e^(0 t) = 1: no shadow at all), a warp in Unorm16, MSM in Float16 (use Unorm16 with the quantization, or
 /// Float32), accumulated_samples = 0, bleed_reduction outside [0, 1), min_variance > 1, moment_bias
 /// > 1; NonFinite: a NaN/Inf setting; Overflow: an exponent above prefilter_exponent_limit (the
 /// worst texel would be Inf).
@@ -839,6 +843,7 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
     const bool warp = s.method == PrefilterMethod::Esm || s.method == PrefilterMethod::Evsm2 || s.method == PrefilterMethod::Evsm4;
     const bool msm = s.method == PrefilterMethod::Msm || s.method == PrefilterMethod::MsmHausdorff;
     if (m < 0 || m > 5 || f < 0 || f > 2 || s.accumulated_samples == 0u || (warp && s.format == PrefilterFormat::Unorm16) ||
+        (warp && s.exponent_positive == 0.0f) ||
         (msm && s.format == PrefilterFormat::Float16) || s.bleed_reduction < 0.0f || !(s.bleed_reduction < 1.0f) ||
         s.min_variance > 1.0f || s.moment_bias > 1.0f) {
         u.status = Status::InvalidArgument;
@@ -1077,7 +1082,9 @@ inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings
     }
     const double p23 = double(s.light_proj[2][3]);
     const double ds = s.range.status == Status::Ok && s.range.scale > 0.0f ? 1.0 / double(s.range.scale) : 0.0;
-    const double near = -double(s.range.offset) * ds;
+    // the range's near end as given (its offset underflows for tiny near / far ratios: [1e-30, 1e30]
+    // has offset -1e-60, 0 in float); a range built by hand has only scale and offset
+    const double near = s.range.near_distance > 0.0f ? double(s.range.near_distance) : -double(s.range.offset) * ds;
     const bool pow2 = s.map_size > 0 && (s.map_size & (s.map_size - 1)) == 0;
     if (s.light_proj[3][3] != 0.0f || !(p23 < 0.0) || s.light_width < 0.0f || !(ds > 0.0) || !(near > 0.0) || !pow2) {
         u.status = Status::InvalidArgument;

@@ -1003,6 +1003,33 @@ PrefilterSoftUniforms soft_light(float width, float near, float far, int size) {
 
 }  // namespace
 
+TEST_CASE("issue #27 item 6: ESM exponent 0 is rejected; soft uniforms accept the valid range [1e-30, 1e30]") {
+    // c = 0: e^(0 t) = 1 for every depth, the lookup e^(-0 t) M = 1: no shadow at all
+    for (PrefilterMethod m : {PrefilterMethod::Esm, PrefilterMethod::Evsm2, PrefilterMethod::Evsm4}) {
+        PrefilterSettings s;
+        s.method = m;
+        s.exponent_positive = 0.0f;
+        CAPTURE(int(m));
+        CHECK(prefilter_uniforms(s).status == Status::InvalidArgument);
+        s.exponent_positive = 1.0f;
+        CHECK(prefilter_uniforms(s).status == Status::Ok);
+    }
+    // [1e-30, 1e30] is a valid depth range; its offset -near / (far - near) = -1e-60 underflows in
+    // float, which must not rebuild near as 0
+    const PrefilterDepthRange r = prefilter_depth_range(1e-30f, 1e30f);
+    REQUIRE(r.status == Status::Ok);
+    PrefilterSoftSettings ss;
+    ss.light_proj = glm::perspective(1.0f, 1.0f, 1e-30f, 1e30f);
+    ss.light_width = 1.0f;
+    ss.range = r;
+    ss.map_size = 1024;
+    const PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);
+    REQUIRE(su.status == Status::Ok);
+    CHECK(double(su.distance_offset) == doctest::Approx(1e-30).epsilon(1e-6));   // d(0) = near
+    CHECK(double(su.distance_scale) == doctest::Approx(1e30).epsilon(1e-6));     // d(1) - d(0) = far - near
+    CHECK(std::isfinite(su.light_uv));
+}
+
 TEST_CASE("soft: prefilter_soft_uniforms validates and gives light_uv in closed form") {
     CHECK(prefilter_soft_uniforms(PrefilterSoftSettings{}).status == Status::InvalidArgument);  // every default rejected
     const float fovy = 0.7f, W = 1.5f;
