@@ -57,6 +57,7 @@
 #endif
 
 // ---------------------------------------------------------------------------------------- helpers
+// x clamped to [lo, hi]; NaN -> lo.
 float sk_pf_clamp(float x, float lo, float hi) {
     if (!(x >= lo)) return lo;
     return x > hi ? hi : x;

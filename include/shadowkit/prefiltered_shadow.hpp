@@ -236,7 +236,7 @@ inline float pf_clamp_depth(float t) {
     if (!(t >= 0.0f)) return std::isnan(t) ? 1.0f : 0.0f;
     return t > 1.0f ? 1.0f : t;
 }
-/// x sanitized: NaN -> 0, clamped to [lo, hi].
+/// x sanitized: NaN -> lo, clamped to [lo, hi].
 inline float pf_clamp(float x, float lo, float hi) {
     if (!(x >= lo)) return lo;
     return x > hi ? hi : x;

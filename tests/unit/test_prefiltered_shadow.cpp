@@ -1383,3 +1383,26 @@ TEST_CASE("soft: prefilter_receiver_slope is |dt/du| + |dt/dv| of the plane; the
     }
     CHECK(prefilter_soft_visibility(plane, t, u, s, glm::vec2(NAN, NAN)) == without);
 }
+
+TEST_CASE("issue #27 item 7: the helpers do what their comments say") {
+    // pf_clamp: "NaN -> lo" (the comment said NaN -> 0)
+    CHECK(detail::pf_clamp(std::nanf(""), 0.25f, 1.0f) == 0.25f);
+    CHECK(detail::pf_clamp(std::nanf(""), -1.0f, 2.0f) == -1.0f);
+    CHECK(detail::pf_clamp(3.0f, 0.25f, 1.0f) == 1.0f);
+    // pf_msm_hamburger_shadow: z2 <= z3 are the other two support points when solved; both 0 and
+    // solved = false after a fallback (the comment named parameters roots_out / ok_out that do not exist)
+    float z2 = -1.0f, z3 = -1.0f;
+    bool solved = true;
+    // three depths {0.2, 0.5, 0.8} (weights 0.3, 0.4, 0.3): the canonical representation through 0.5 is them
+    const glm::vec4 b = 0.3f * prefilter_msm_moments(0.2f) + 0.4f * prefilter_msm_moments(0.5f) + 0.3f * prefilter_msm_moments(0.8f);
+    const float g = detail::pf_msm_hamburger_shadow(b, 0.5f, z2, z3, solved, 0.0f);
+    CHECK(solved);
+    CHECK(z2 == doctest::Approx(0.2f).epsilon(1e-3));
+    CHECK(z3 == doctest::Approx(0.8f).epsilon(1e-3));
+    CHECK(g == doctest::Approx(0.3f).epsilon(1e-3));  // the weight in front of 0.5
+    z2 = z3 = -1.0f;
+    detail::pf_msm_hamburger_shadow(prefilter_msm_moments(0.5f), 0.7f, z2, z3, solved, 0.0f);  // one depth: fallback
+    CHECK_FALSE(solved);
+    CHECK(z2 == 0.0f);
+    CHECK(z3 == 0.0f);
+}
