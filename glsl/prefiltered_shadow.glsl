@@ -282,7 +282,7 @@ float sk_msm_hausdorff_visibility(vec4 moments, float t, float moment_bias, bool
     bool solved;
     float tol = sk_pf_msm_root_tolerance(sk_pf_clamp(moment_bias, 0.0, 1.0));
     float g = sk_pf_msm_hamburger(b, z, moment_bias, z23, solved);
-    if (solved && (z23.x < 0.0 || z23.y > 1.0) && z > 0.0 && z < 1.0) {
+    if (solved && (z23.x < 0.0 || z23.y > 1.0) && z > tol && z < 1.0) {  // z <= tol: nothing on [0, 1] is more than tol in front
         float e3 = b.z - (1.0 + z) * b.y + z * b.x;
         float e4 = b.w - (1.0 + z) * b.z + z * b.y;
         float zf = e4 / e3;

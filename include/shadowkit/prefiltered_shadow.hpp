@@ -776,7 +776,7 @@ inline float prefilter_msm_hausdorff(const glm::vec4& moments, float t, float mo
     bool solved;
     const float tol = detail::pf_msm_root_tolerance(detail::pf_clamp(moment_bias, 0.0f, 1.0f));
     float g = detail::pf_msm_hamburger_shadow(b, z, z2, z3, solved, moment_bias);
-    if (solved && (z2 < 0.0f || z3 > 1.0f) && z > 0.0f && z < 1.0f) {
+    if (solved && (z2 < 0.0f || z3 > 1.0f) && z > tol && z < 1.0f) {  // z <= tol: nothing on [0, 1] is more than tol in front
         const float e3 = b.z - (1.0f + z) * b.y + z * b.x;  // E[x (x - z)(x - 1)]
         const float e4 = b.w - (1.0f + z) * b.z + z * b.y;  // E[x^2 (x - z)(x - 1)]
         const float zf = e4 / e3;
