@@ -57,6 +57,7 @@
 #endif
 
 // ---------------------------------------------------------------------------------------- helpers
+// x clamped to [lo, hi]; NaN -> lo.
 float sk_pf_clamp(float x, float lo, float hi) {
     if (!(x >= lo)) return lo;
     return x > hi ? hi : x;
@@ -148,6 +149,22 @@ float sk_pf_chebyshev(float mean, float m2, float x, float min_var) {
     float p = var / (var + d * d);
     return p >= 0.0 ? (p > 1.0 ? 1.0 : p) : 0.0;
 }
+// VSM's bound made conservative in float (prefiltered_shadow.hpp, pf_vsm_bound): the mean moved
+// min_var / 3 + 4u |mean| toward x, the variance max(m2 - mean^2, 0) raised by min_var + 4u (m2 + mean^2),
+// u = 2^-24: the storage error (min_var = 3 u_format) and the fp32 arithmetic, so never below the lit
+// fraction. min_var = 0: plain Chebyshev.
+float sk_pf_vsm_bound(float mean, float m2, float x, float min_var) {
+    if (!(min_var > 0.0)) return sk_pf_chebyshev(mean, m2, x, 0.0);
+    const float u = 5.9604645e-8;
+    float em = min_var / 3.0 + 4.0 * u * abs(mean);
+    if (x <= mean + em) return 1.0;
+    float var = m2 - mean * mean;
+    if (!(var >= 0.0)) var = 0.0;
+    var += min_var + 4.0 * u * (abs(m2) + mean * mean);
+    float d = x - mean - em;
+    float p = var / (var + d * d);
+    return p >= 0.0 ? (p > 1.0 ? 1.0 : p) : 0.0;
+}
 // Light-bleeding reduction linstep(amount, 1, p) (Lauritzen 2007), amount in [0, 0.999].
 float sk_pf_linstep(float amount, float p) {
     float a = sk_pf_clamp(amount, 0.0, 0.999);
@@ -157,7 +174,7 @@ float sk_pf_linstep(float amount, float p) {
 
 float sk_vsm_visibility(vec2 moments, float t, float min_variance, float bleed_reduction) {
     if (!sk_pf_finite(vec4(moments, 0.0, 0.0)) || isnan(t)) return 1.0;
-    float p = sk_pf_chebyshev(moments.x, moments.y, t, sk_pf_clamp(min_variance, 0.0, 1.0));
+    float p = sk_pf_vsm_bound(moments.x, moments.y, t, sk_pf_clamp(min_variance, 0.0, 1.0));
     return sk_pf_linstep(bleed_reduction, p);
 }
 
@@ -185,29 +202,41 @@ float sk_evsm_visibility(vec4 moments, float t, vec2 c, bool use_negative, float
     return v;
 }
 
+// Depths within this distance of the receiver count as at it, not in front (moment bias a): the
+// solve's rounding error, 32 a plus a few ulps (prefiltered_shadow.hpp, pf_msm_root_tolerance).
+float sk_pf_msm_root_tolerance(float a) {
+    return 32.0 * a + 4.0 * 5.9604645e-8;
+}
+// Largest D22 one depth explains: the bias's own variance a ((b1 - 1/2)^2 + 1/4) (pf_msm_one_depth_variance).
+float sk_pf_msm_one_depth_variance(vec4 b, float a) {
+    return a * ((b.x - 0.5) * (b.x - 0.5) + 0.25);
+}
 // Shadow of a texel with a singular Hankel matrix: its two depths, roots of x^2 - l32 x + (l32 b1 - b2).
-float sk_pf_two_depths_shadow(vec4 b, float z, float l32) {
+float sk_pf_two_depths_shadow(vec4 b, float z, float l32, float tol) {
     float a0 = l32 * b.x - b.y;
     float disc = l32 * l32 - 4.0 * a0;
     if (!(disc > 0.0)) disc = 0.0;
     float s = sqrt(disc);
     float x1 = 0.5 * (l32 - s), x2 = 0.5 * (l32 + s);
     float w1 = (x2 - b.x) / (x2 - x1);
-    float g = (x1 < z ? w1 : 0.0) + (x2 < z ? 1.0 - w1 : 0.0);
-    if (!(g >= -1e30 && g <= 1e30)) g = z > b.x ? 1.0 : 0.0;
+    float zt = z - tol;  // depths within tol of z are at z: not in front
+    float g = (x1 < zt ? w1 : 0.0) + (x2 < zt ? 1.0 - w1 : 0.0);
+    if (!(g >= -1e30 && g <= 1e30)) g = zt > b.x ? 1.0 : 0.0;
     return g < 0.0 ? 0.0 : (g > 1.0 ? 1.0 : g);
 }
 // Hamburger 4MSM (Peters & Klein 2015, Algorithm 2): the sharpest lower bound G of the shadow from
-// biased moments b; z23 receives the two other support points, solved = false on a fallback.
-float sk_pf_msm_hamburger(vec4 b, float z, out vec2 z23, out bool solved) {
+// biased moments b (moment bias a); z23 receives the two other support points, solved = false on a
+// fallback. Support points within sk_pf_msm_root_tolerance(a) of z count as at z.
+float sk_pf_msm_hamburger(vec4 b, float z, float moment_bias, out vec2 z23, out bool solved) {
     solved = false;
     z23 = vec2(0.0);
+    float a = sk_pf_clamp(moment_bias, 0.0, 1.0), tol = sk_pf_msm_root_tolerance(a), zt = z - tol;
     float d22 = b.y - b.x * b.x;
-    if (!(d22 > 0.0)) return z > b.x ? 1.0 : 0.0;
+    if (!(d22 > sk_pf_msm_one_depth_variance(b, a))) return zt > b.x ? 1.0 : 0.0;
     float l32d22 = b.z - b.x * b.y;
     float l32 = l32d22 / d22;
     float d33 = (b.w - b.y * b.y) - l32d22 * l32;
-    if (!(d33 > 0.0)) return sk_pf_two_depths_shadow(b, z, l32);
+    if (!(d33 > 0.0)) return sk_pf_two_depths_shadow(b, z, l32, tol);
     float y2 = z - b.x;
     float y3 = z * z - b.y - l32 * y2;
     float c3 = y3 / d33;
@@ -218,14 +247,14 @@ float sk_pf_msm_hamburger(vec4 b, float z, out vec2 z23, out bool solved) {
     float s = sqrt(disc);
     float q = -0.5 * (c2 + (c2 >= 0.0 ? s : -s));
     float r1 = q / c3, r2 = c1 / q;
-    if (isnan(r1) || isnan(r2)) return sk_pf_two_depths_shadow(b, z, l32);
+    if (isnan(r1) || isnan(r2)) return sk_pf_two_depths_shadow(b, z, l32, tol);
     float z2 = min(r1, r2), z3 = max(r1, r2);
     z23 = vec2(z2, z3);
     float g;
-    if (z <= z2) g = 0.0;
-    else if (z <= z3) g = (z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2));
+    if (zt <= z2) g = 0.0;
+    else if (zt <= z3) g = (z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2));
     else g = 1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3));
-    if (!(g >= -1e30 && g <= 1e30)) return sk_pf_two_depths_shadow(b, z, l32);
+    if (!(g >= -1e30 && g <= 1e30)) return sk_pf_two_depths_shadow(b, z, l32, tol);
     solved = true;
     return g < 0.0 ? 0.0 : (g > 1.0 ? 1.0 : g);
 }
@@ -239,7 +268,7 @@ float sk_msm_visibility(vec4 moments, float t, float moment_bias, bool quantized
     if (!sk_pf_finite(moments) || isnan(t)) return 1.0;
     vec2 z23;
     bool solved;
-    float g = sk_pf_msm_hamburger(sk_pf_msm_prepare(moments, moment_bias, quantized), sk_pf_clamp(t, -1.0, 2.0), z23, solved);
+    float g = sk_pf_msm_hamburger(sk_pf_msm_prepare(moments, moment_bias, quantized), sk_pf_clamp(t, -1.0, 2.0), moment_bias, z23, solved);
     return sk_pf_linstep(bleed_reduction, 1.0 - g);
 }
 
@@ -251,14 +280,15 @@ float sk_msm_hausdorff_visibility(vec4 moments, float t, float moment_bias, bool
     float z = sk_pf_clamp(t, -1.0, 2.0);
     vec2 z23;
     bool solved;
-    float g = sk_pf_msm_hamburger(b, z, z23, solved);
-    if (solved && (z23.x < 0.0 || z23.y > 1.0) && z > 0.0 && z < 1.0) {
+    float tol = sk_pf_msm_root_tolerance(sk_pf_clamp(moment_bias, 0.0, 1.0));
+    float g = sk_pf_msm_hamburger(b, z, moment_bias, z23, solved);
+    if (solved && (z23.x < 0.0 || z23.y > 1.0) && z > tol && z < 1.0) {  // z <= tol: nothing on [0, 1] is more than tol in front
         float e3 = b.z - (1.0 + z) * b.y + z * b.x;
         float e4 = b.w - (1.0 + z) * b.z + z * b.y;
         float zf = e4 / e3;
         float e0 = b.z - (z + zf + 1.0) * b.y + (z * zf + z + zf) * b.x - z * zf;
         float h = -e0 / (z * zf);
-        if (zf < z) h += e3 / (zf * (zf - z) * (zf - 1.0));
+        if (zf < z - tol) h += e3 / (zf * (zf - z) * (zf - 1.0));
         if (h >= -1e30 && h <= 1e30) g = max(g, clamp(h, 0.0, 1.0));
     }
     return sk_pf_linstep(bleed_reduction, 1.0 - g);
@@ -300,22 +330,23 @@ vec2 sk_prefilter_soft_blocker(vec4 moments, float t, int method, vec4 params, f
     if (!sk_pf_finite(moments) || isnan(t) || !(method == 0 || method == 4 || method == 5)) return vec2(0.0, z);
     float frac = 0.0, depth = z, min_share = 1e-3;
     if (method == 0) {
-        float p = sk_pf_chebyshev(moments.x, moments.y, z, sk_pf_clamp(params.z, 0.0, 1.0));
+        float p = sk_pf_vsm_bound(moments.x, moments.y, z, sk_pf_clamp(params.z, 0.0, 1.0));
         frac = 1.0 - p;
         if (frac > 0.0) depth = (moments.x - p * z) / frac;
     } else {
         vec4 b = sk_pf_msm_prepare(moments, moment_bias, quantized);
         min_share = max(min_share, moment_bias);  // the bias's half sample at 0: a phantom blocker on every texel
         float d22 = b.y - b.x * b.x;
-        if (!(d22 > 0.0)) {
-            if (z > b.x) { frac = 1.0; depth = b.x; }
+        float ab = sk_pf_clamp(moment_bias, 0.0, 1.0), zt = z - sk_pf_msm_root_tolerance(ab);
+        if (!(d22 > sk_pf_msm_one_depth_variance(b, ab))) {
+            if (zt > b.x) { frac = 1.0; depth = b.x; }
         } else {
             vec2 z23;
             bool solved;
-            float g = sk_pf_msm_hamburger(b, z, z23, solved);
+            float g = sk_pf_msm_hamburger(b, z, moment_bias, z23, solved);
             if (solved) {
                 frac = g;
-                if (z <= z23.y) depth = z23.x;
+                if (zt <= z23.y) depth = z23.x;
                 else if (g > 0.0) depth = (b.x - (1.0 - g) * z) / g;  // E[x; x < z] = b1 - w(z) z
             } else {  // two depths x1 <= x2
                 float l32 = (b.z - b.x * b.y) / d22;
@@ -323,9 +354,9 @@ vec2 sk_prefilter_soft_blocker(vec4 moments, float t, int method, vec4 params, f
                 if (!(disc > 0.0)) disc = 0.0;
                 float s = sqrt(disc), x1 = 0.5 * (l32 - s), x2 = 0.5 * (l32 + s);
                 float w1 = (x2 - b.x) / (x2 - x1);
-                if (x2 < z) { frac = 1.0; depth = b.x; }
-                else if (x1 < z && w1 >= 0.0 && w1 <= 1.0) { frac = w1; depth = x1; }
-                else if (!(w1 >= 0.0 && w1 <= 1.0) && z > b.x) { frac = 1.0; depth = b.x; }
+                if (x2 < zt) { frac = 1.0; depth = b.x; }
+                else if (x1 < zt && w1 >= 0.0 && w1 <= 1.0) { frac = w1; depth = x1; }
+                else if (!(w1 >= 0.0 && w1 <= 1.0) && zt > b.x) { frac = 1.0; depth = b.x; }
             }
         }
     }

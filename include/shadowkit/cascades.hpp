@@ -284,7 +284,9 @@ inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, 
 /// origin snapped to whole texels (one texel of border), near plane pulled back to the caster bounds.
 /// Status: NonFinite, InvalidLight (not a directional light), InvalidArgument (camera near plane at
 /// or behind the eye, singular matrix, split range empty or outside the camera's, a field outside its
-/// [Limit]), Overflow (beyond float, or the float matrix misplaces the slice by > 0.01 NDC).
+/// [Limit]), Overflow (beyond float, or receivers of the slice at float positions, transformed by the
+/// float matrix in float as a vertex shader does, can land more than 0.01 NDC outside the cascade: a
+/// slice small against its distance from the world origin, e.g. a few hundredths of a unit at 1e5).
 inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float split_far) {
     using namespace detail;
     Cascade out;
@@ -373,12 +375,34 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
     if (!cs_finite(out.view_proj) || !(static_cast<float>(texel) > 0.0f) || !std::isfinite(static_cast<float>(rad)) ||
         !cs_finite(glm::vec3(cw)))
         return fail(Status::Overflow);  // outside float range
-    // the float matrix must still place the slice inside the cascade
+    // What a vertex shader computes must still land inside the cascade: receivers at float world
+    // positions (each coordinate rounded: off by up to u times the largest), transformed by the float
+    // matrix in float (a 4-term dot product: error <= 4u sum |m_rj p_j|, plus the term |m_r3| u). The
+    // slice is the convex hull of its corners and the map is affine, so bounding the corners bounds
+    // every receiver: the exact image of the float matrix plus that error within 0.01 of [-1, 1].
     const double zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
+    const double uf = 5.9604644775390625e-8;  // 2^-24
+    const glm::dmat4 mf(out.view_proj);
+    glm::dvec3 pw[8];
+    double pmax = 0.0;
     for (int i = 0; i < 8; ++i) {
-        const glm::dvec4 h(out.view_proj * glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(cv[i], 1.0))), 1.0f));
-        const double x = h.x / h.w, y = h.y / h.w, z = h.z / h.w;
-        if (!(std::fabs(x) <= 1.01) || !(std::fabs(y) <= 1.01) || !(z >= zlo - 0.01) || !(z <= 1.01))
+        pw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
+        pmax = std::fmax(pmax, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
+    }
+    const double ep = uf * pmax;
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec4 h = mf * glm::dvec4(pw[i], 1.0);  // the float matrix, exactly (w = 1: orthographic)
+        double e[3];
+        for (int rr = 0; rr < 3; ++rr) {
+            double sabs = 0.0, srow = 0.0;
+            for (int j = 0; j < 3; ++j) {
+                sabs += std::fabs(mf[j][rr] * pw[i][j]);
+                srow += std::fabs(mf[j][rr]);
+            }
+            e[rr] = srow * ep + 4.0 * uf * (sabs + std::fabs(mf[3][rr]));
+        }
+        if (!(std::fabs(h.x) + e[0] <= 1.01) || !(std::fabs(h.y) + e[1] <= 1.01) || !(h.z - e[2] >= zlo - 0.01) ||
+            !(h.z + e[2] <= 1.01))
             return fail(Status::Overflow);
     }
     out.split_near = split_near;

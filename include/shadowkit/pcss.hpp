@@ -369,7 +369,8 @@ inline PcssValue pcss_search_uv(const PcssLight& L, float z_r) {
 /// false with Ok when the casters reach the given near plane, lie behind the light or beyond far).
 /// Render the shadow map with the returned near_z, and pass it to glsl/pcss.glsl.
 /// Statuses of pcss_validate_light; NonFinite for a NaN/Inf in the matrix or box; InvalidArgument
-/// for casters_min > casters_max in a coordinate.
+/// for a singular light_view (the zero matrix, a rank-deficient 3x3 part) or casters_min > casters_max
+/// in a coordinate.
 inline PcssFit pcss_fit_near_plane(const PcssLight& L, const glm::mat4& light_view, glm::vec3 casters_min,
                                    glm::vec3 casters_max) {
     PcssFit fit;
@@ -379,6 +380,17 @@ inline PcssFit pcss_fit_near_plane(const PcssLight& L, const glm::mat4& light_vi
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             if (!std::isfinite(light_view[c][r])) { fit.status = Status::NonFinite; return fit; }
+    {  // a view matrix is invertible: a zero or rank-deficient upper 3x3 maps casters onto a plane or a point
+        double a[3][3], len2[3] = {0.0, 0.0, 0.0};
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r) {
+                a[c][r] = static_cast<double>(light_view[c][r]);
+                len2[c] += a[c][r] * a[c][r];
+            }
+        const double det = a[0][0] * (a[1][1] * a[2][2] - a[2][1] * a[1][2]) - a[1][0] * (a[0][1] * a[2][2] - a[2][1] * a[0][2]) +
+                           a[2][0] * (a[0][1] * a[1][2] - a[1][1] * a[0][2]);
+        if (!(std::fabs(det) > 1e-12 * std::sqrt(len2[0] * len2[1] * len2[2]))) { fit.status = Status::InvalidArgument; return fit; }
+    }
     for (int i = 0; i < 3; ++i) {
         if (!std::isfinite(casters_min[i]) || !std::isfinite(casters_max[i])) { fit.status = Status::NonFinite; return fit; }
         if (!(casters_min[i] <= casters_max[i])) { fit.status = Status::InvalidArgument; return fit; }

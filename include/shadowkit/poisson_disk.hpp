@@ -808,6 +808,46 @@ inline bool pd_glsl_reserved(const char* name, std::size_t len) {
     }
     return false;
 }
+// main and the built-in function names of GLSL 4.50 (spec chapter 8, compatibility-profile texture
+// functions included) and 4.60's invocation votes: a global array of that name hides the function
+// for every snippet pasted after it.
+inline bool pd_glsl_builtin(const char* name, std::size_t len) {
+    static const char* const kNames[] = {
+        "main", "radians", "degrees", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh",
+        "acosh", "atanh", "pow", "exp", "log", "exp2", "log2", "sqrt", "inversesqrt", "abs", "sign", "floor",
+        "trunc", "round", "roundEven", "ceil", "fract", "mod", "modf", "min", "max", "clamp", "mix", "step",
+        "smoothstep", "isnan", "isinf", "floatBitsToInt", "floatBitsToUint", "intBitsToFloat", "uintBitsToFloat",
+        "fma", "frexp", "ldexp", "packUnorm2x16", "packSnorm2x16", "packUnorm4x8", "packSnorm4x8",
+        "unpackUnorm2x16", "unpackSnorm2x16", "unpackUnorm4x8", "unpackSnorm4x8", "packHalf2x16", "unpackHalf2x16",
+        "packDouble2x32", "unpackDouble2x32", "length", "distance", "dot", "cross", "normalize", "ftransform",
+        "faceforward", "reflect", "refract", "matrixCompMult", "outerProduct", "transpose", "determinant",
+        "inverse", "lessThan", "lessThanEqual", "greaterThan", "greaterThanEqual", "equal", "notEqual", "any",
+        "all", "not", "uaddCarry", "usubBorrow", "umulExtended", "imulExtended", "bitfieldExtract",
+        "bitfieldInsert", "bitfieldReverse", "bitCount", "findLSB", "findMSB", "textureSize", "textureQueryLod",
+        "textureQueryLevels", "textureSamples", "texture", "textureProj", "textureLod", "textureOffset",
+        "texelFetch", "texelFetchOffset", "textureProjOffset", "textureLodOffset", "textureProjLod",
+        "textureProjLodOffset", "textureGrad", "textureGradOffset", "textureProjGrad", "textureProjGradOffset",
+        "textureGather", "textureGatherOffset", "textureGatherOffsets", "texture1D", "texture1DProj",
+        "texture1DLod", "texture1DProjLod", "texture2D", "texture2DProj", "texture2DLod", "texture2DProjLod",
+        "texture3D", "texture3DProj", "texture3DLod", "texture3DProjLod", "textureCube", "textureCubeLod",
+        "shadow1D", "shadow2D", "shadow1DProj", "shadow2DProj", "shadow1DLod", "shadow2DLod", "shadow1DProjLod",
+        "shadow2DProjLod", "atomicCounterIncrement", "atomicCounterDecrement", "atomicCounter", "atomicAdd",
+        "atomicMin", "atomicMax", "atomicAnd", "atomicOr", "atomicXor", "atomicExchange", "atomicCompSwap",
+        "imageSize", "imageSamples", "imageLoad", "imageStore", "imageAtomicAdd", "imageAtomicMin",
+        "imageAtomicMax", "imageAtomicAnd", "imageAtomicOr", "imageAtomicXor", "imageAtomicExchange",
+        "imageAtomicCompSwap", "EmitStreamVertex", "EndStreamPrimitive", "EmitVertex", "EndPrimitive", "dFdx",
+        "dFdy", "dFdxFine", "dFdyFine", "dFdxCoarse", "dFdyCoarse", "fwidth", "fwidthFine", "fwidthCoarse",
+        "interpolateAtCentroid", "interpolateAtSample", "interpolateAtOffset", "noise1", "noise2", "noise3",
+        "noise4", "barrier", "memoryBarrier", "memoryBarrierAtomicCounter", "memoryBarrierBuffer",
+        "memoryBarrierShared", "memoryBarrierImage", "groupMemoryBarrier", "anyInvocation", "allInvocations",
+        "allInvocationsEqual"};
+    for (const char* w : kNames) {
+        std::size_t k = 0;
+        while (k < len && w[k] != '\0' && w[k] == name[k]) ++k;
+        if (k == len && w[k] == '\0') return true;
+    }
+    return false;
+}
 }  // namespace detail
 
 /// Writes `const vec2 NAME[N] = vec2[N](vec2(x, y), ...);\n` with 9 significant digits (round-trips
@@ -819,7 +859,8 @@ inline bool pd_glsl_reserved(const char* name, std::size_t len) {
 /// `out` is always NUL-terminated when out_capacity > 0 (count chars written, the NUL included).
 /// `pts` holds n points. Status: InvalidArgument for n == 0 (GLSL has no empty arrays), null pts,
 /// null `out` with out_capacity > 0, or a name that is not a GLSL identifier of 1..256 chars: a
-/// keyword or reserved word (float, if, sampler2D, ...), a name with "__" or starting with "gl_"
+/// keyword or reserved word (float, if, sampler2D, ...), main or a built-in function name (texture,
+/// textureSize, sin, ...: GLSL 4.50 chapter 8), a name with "__" or starting with "gl_"
 /// (reserved by GLSL) or "sk_" (the snippets' own), an unknown mode; NonFinite for a NaN/Inf
 /// coordinate; BufferTooSmall when out_capacity < needed (a truncated prefix is written).
 inline PoissonGlslResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, const char* name, PoissonGlsl mode,
@@ -845,7 +886,7 @@ inline PoissonGlslResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, co
         }
         if (len == 0 || len > 256 || (len >= 3 && ((name[0] == 'g' && name[1] == 'l' && name[2] == '_') ||
                                                    (name[0] == 's' && name[1] == 'k' && name[2] == '_'))) ||
-            detail::pd_glsl_reserved(name, len)) {
+            detail::pd_glsl_reserved(name, len) || detail::pd_glsl_builtin(name, len)) {
             res.status = Status::InvalidArgument;
             return res;
         }

@@ -82,8 +82,11 @@
 // 4. Variance cancellation. var = E[t^2] - E[t]^2 from stored moments: with t in [0, 1] the stored
 //    M2 and the product M1^2 each carry a relative error <= u (plus fp32 register rounding), so the
 //    computed variance is off by at most 3u (float formats), 3 / 131070 (Unorm16): that floor is
-//    prefilter_min_variance: Float32 1.8e-7, Float16 1.5e-3, Unorm16 2.3e-5. Two surfaces dd apart
-//    (half the texels each) have variance (dt / 2)^2, dt = dd / (far - near), so they are told apart
+//    prefilter_min_variance: Float32 1.8e-7, Float16 1.5e-3, Unorm16 2.3e-5. VSM adds it (plus
+//    4u (M2 + M1^2) for the fp32 arithmetic) to the computed variance rather than flooring with it, and
+//    moves the mean by its error, so the bound is never below the lit fraction (a floor applied as
+//    max(var, floor) left a cancelled variance just above it too small: 0.651 for a true 0.734).
+//    Two surfaces dd apart (half the texels each) have variance (dt / 2)^2, dt = dd / (far - near), so they are told apart
 //    above dt = 2 sqrt(3u): 8.5e-4 of the range (Float32), 0.077 (Float16), whatever the scene's
 //    scale (1e-3 or 1e5 units) or its distance from the light: t is linear over the encoded range.
 //    Window depth of a projection with near / far = 1e-6 instead resolves dz = n dd / d^2 (for
@@ -97,14 +100,21 @@
 //    b' = (1 - a) b + a (1/2, 1/2, 1/2, 1/2) mixes in half a sample at 0 and half at 1, which makes
 //    B' positive definite unless every sample is at 0 or 1 exactly (a cleared texel at t = 1 with
 //    nothing else). Where D33 <= 0 anyway (those texels, or rounding) the lookup reads the two depths
-//    off the 2x2 system (exact for two-depth texels), and with D22 <= 0 compares with the mean, so
-//    the Cholesky step never divides by zero. The bias must dominate the storage error of b and the
-//    fp32 arithmetic of the solve: measured on blurred receiver planes (spreads 1e-4 .. 1e-2 of the
-//    range, with and without an occluder) against the exact moments in double precision, the mean
-//    error is 0.017 at the paper's 6e-7 for Float32 moments and 0.007 at its 3e-5 for Unorm16 after
-//    the optimized basis transform (Peters & Klein 2015, Sec. 4.3: q = A b + (0.035955884801, 0, 0,
-//    0), all q in [0, 1] for t in [0, 1]; A^-1 computed here in double); a tenth of either gives 0.034
-//    and 0.091. The Unorm16 round trip b -> q -> 16 bits -> b is off by at most 1.03e-5.
+//    off the 2x2 system (exact for two-depth texels), and with D22 at or below the bias's own
+//    variance a ((b1 - 1/2)^2 + 1/4) (one depth: only rounding goes below it) compares with the
+//    mean, so the Cholesky step never divides by zero. Support points within 32 a (+ 4 ulps) of the
+//    receiver count as at the receiver, not in front: the solve's rounding moves a depth at t by up
+//    to ~1e-5 (Float32, a = 6e-7) and ~2e-4 (Unorm16, a = 3e-5), and without the tolerance a surface
+//    read at its own depth came out dark (3,881 of 99,999 single depths, Float32). The bias must
+//    dominate the storage error of b and the fp32 arithmetic of the solve: measured on blurred
+//    receiver planes (spreads 1e-4 .. 1e-2 of the range, with and without an occluder) against the
+//    same bound from the exact moments in double precision (which resolves what rounding hides and
+//    has no tolerance), the mean difference is 0.020 at the paper's 6e-7 for Float32 moments and
+//    0.017 at its 3e-5 for Unorm16 after the optimized basis transform (Peters & Klein 2015, Sec.
+//    4.3: q = A b + (0.035955884801, 0, 0, 0), all q in [0, 1] for t in [0, 1]; A^-1 computed here
+//    in double); smaller biases give more (Float32 at 1e-7: 0.029, Unorm16 at 3e-6: 0.069).
+//    The Unorm16 round trip b -> q -> 16 bits -> b is off by at most 1.06e-5 computed exactly,
+//    1.35e-5 through the float quantize / dequantize (1,000,001 depths t = i / 1e6).
 // 6. Kernel width. The blur is uniform over the map; a world width W at eye distance d covers
 //    0.5 P[0][0] W / w(d) of uv (w(d) = d for a perspective light, 1 for an orthographic one), times
 //    the map size in texels (prefilter_kernel_texels).
@@ -227,7 +237,7 @@ inline float pf_clamp_depth(float t) {
     if (!(t >= 0.0f)) return std::isnan(t) ? 1.0f : 0.0f;
     return t > 1.0f ? 1.0f : t;
 }
-/// x sanitized: NaN -> 0, clamped to [lo, hi].
+/// x sanitized: NaN -> lo, clamped to [lo, hi].
 inline float pf_clamp(float x, float lo, float hi) {
     if (!(x >= lo)) return lo;
     return x > hi ? hi : x;
@@ -254,6 +264,8 @@ struct PrefilterDepthRange {
     Status status = Status::NotRun;
     float scale = 0.0f;   ///< 1 / (far - near)
     float offset = 0.0f;  ///< -near / (far - near)
+    float near_distance = 0.0f;  ///< near, as given (offset can underflow: -1e-60 for [1e-30, 1e30]); 0 if not set
+    float far_distance = 0.0f;   ///< far, as given; 0 if not set
 };
 
 /// The map of eye distances [near, far] (the range the shadow map encodes: the casters' and
@@ -279,6 +291,8 @@ inline PrefilterDepthRange prefilter_depth_range(float near, float far) {
     }
     r.scale = static_cast<float>(scale);
     r.offset = static_cast<float>(-double(near) * scale);
+    r.near_distance = near;
+    r.far_distance = far;
     r.status = Status::Ok;
     return r;
 }
@@ -290,6 +304,10 @@ inline float prefilter_depth(float eye_distance, const PrefilterDepthRange& r) {
     if (!(t >= 0.0f)) return std::isnan(t) ? 1.0f : 0.0f;
     return t > 1.0f ? 1.0f : t;
 }
+
+/// Largest error in t that prefilter_window_depth_map accepts (Overflow above it): well below the
+/// 8.5e-4 at which two surfaces are told apart in Float32 (NUMERICS item 4).
+constexpr float kPrefilterWindowTolerance = 1e-4f;
 
 /// Coefficients c of t = (c.x + c.y z_w) / (c.z + c.w z_w), window depth z_w -> moment depth.
 struct PrefilterWindowMap {
@@ -303,6 +321,11 @@ struct PrefilterWindowMap {
 /// d = n + (f - n) z_w (reversed: f - (f - n) z_w). Window depth is glDepthRange(0, 1) depth, the
 /// same for GL [-1, 1] and zero-to-one clip depth. NonFinite / InvalidArgument for bad planes
 /// (perspective: 0 < near < far; orthographic: finite near < far) or a range whose status is not Ok.
+/// Overflow: coefficients beyond float, or depth steps that collapse: over the distances the range
+/// and the projection share, t from the float window depth (rounded by the depth buffer) through the
+/// float map could be off by more than kPrefilterWindowTolerance. A standard perspective map does so
+/// from far / near ~ 1e3 (window depth crowds near 1: [0.1, 1e4] was off by 0.006); reversed-Z keeps
+/// t to ~1e-7 for any far / near, +inf included.
 inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj_far, bool perspective, bool reversed_z,
                                                      const PrefilterDepthRange& r) {
     PrefilterWindowMap m;
@@ -335,6 +358,38 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
             return m;
         }
     m.coefficients = glm::vec4(c);
+    // Depth steps: t is only as good as the window depth the buffer holds (rounded to float: off by
+    // up to 2^-24 z_w) times dt/dz_w, plus the float coefficients and the float evaluation of the
+    // ratio (a standard perspective map cancels near z_w = 1: c.z ~ -c.w ~ 1 / n). Bounded at both ends
+    // of the distances the range and the projection share (the error grows monotonically toward
+    // one of them); above kPrefilterWindowTolerance the map cannot keep t: Overflow.
+    const double u = 5.9604644775390625e-8;
+    const double d_lo = std::fmax(n, -o / s), d_hi = std::fmin(f, (1.0 - o) / s);
+    double worst = 0.0;
+    const double ends[2] = {d_lo, d_hi};
+    for (const double d : ends) {
+        if (!(d > 0.0) || !std::isfinite(d)) continue;
+        double z, dd_dz;  // window depth of d and its inverse slope
+        if (perspective) {
+            const double inv_f = std::isinf(f) ? 0.0 : 1.0 / f, span = 1.0 / n - inv_f;
+            z = reversed_z ? (1.0 / d - inv_f) / span : (1.0 / n - 1.0 / d) / span;
+            dd_dz = d * d * span;
+        } else {
+            z = reversed_z ? (f - d) / (f - n) : (d - n) / (f - n);
+            dd_dz = f - n;
+        }
+        const double t_exact = s * d + o;
+        const glm::dvec4 cf(m.coefficients);  // the float coefficients, exactly
+        const double num = cf.x + cf.y * z, den = cf.z + cf.w * z;
+        const double eval = 3.0 * u * ((std::abs(cf.x) + std::abs(cf.y * z)) + std::abs(t_exact) * (std::abs(cf.z) + std::abs(cf.w * z))) / std::abs(den);
+        const double err = s * dd_dz * u * std::abs(z) + std::abs(num / den - t_exact) + eval + u;
+        worst = std::isnan(err) ? std::numeric_limits<double>::infinity() : std::fmax(worst, err);
+    }
+    if (!(worst <= double(kPrefilterWindowTolerance))) {
+        m.coefficients = glm::vec4(0.0f);
+        m.status = Status::Overflow;
+        return m;
+    }
     m.status = Status::Ok;
     return m;
 }
@@ -538,38 +593,81 @@ inline float pf_chebyshev(float mean, float m2, float x, float min_var) {
     const float p = var / (var + d * d);
     return p >= 0.0f ? (p > 1.0f ? 1.0f : p) : 0.0f;
 }
+/// VSM's bound made conservative in float: the mean and variance computed from stored moments of
+/// depths in [0, 1] are off by at most EM and EV, so the bound with the mean moved EM toward x and
+/// the variance raised by EV is never below Chebyshev's bound of the exact moments, hence never
+/// below the lit fraction. EV = min_var + 4 u (m2 + mean^2), EM = min_var / 3 + 4 u |mean| (u =
+/// 2^-24): min_var = 3 u_format bounds the storage error (NUMERICS item 4, the mean's is u_format
+/// = min_var / 3); the u terms cover the fp32 arithmetic of the moment pass, the filter's
+/// normalized sum and this lookup (measured: 1 u (m2 + mean^2) was needed over random two- and
+/// three-depth texels in every format; without it Float32 was below the lit fraction by up to
+/// 0.007). min_var = 0: exact moments assumed (plain Chebyshev, no margin).
+inline float pf_vsm_bound(float mean, float m2, float x, float min_var) {
+    if (!(min_var > 0.0f)) return pf_chebyshev(mean, m2, x, 0.0f);
+    const float u = 5.9604645e-8f;
+    const float em = min_var / 3.0f + 4.0f * u * std::fabs(mean);
+    if (x <= mean + em) return 1.0f;
+    float var = m2 - mean * mean;
+    if (!(var >= 0.0f)) var = 0.0f;
+    var += min_var + 4.0f * u * (std::fabs(m2) + mean * mean);
+    const float d = x - mean - em;
+    const float p = var / (var + d * d);
+    return p >= 0.0f ? (p > 1.0f ? 1.0f : p) : 0.0f;
+}
 /// The light-bleeding reduction: linstep(amount, 1, p) (Lauritzen 2007); amount clamped to [0, 0.999].
 inline float pf_linstep(float amount, float p) {
     const float a = pf_clamp(amount, 0.0f, 0.999f);
     const float v = (p - a) / (1.0f - a);
     return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
 }
+/// Depths within this distance of the receiver count as at the receiver, not in front of it, for
+/// moment bias a (clamped): the solve's rounding moves a support point at t by up to ~1e-5 (Float32
+/// moments, a = 6e-7) and ~2e-4 (Unorm16 with the quantization, a = 3e-5), measured over the
+/// single-depth texels t = i / 1e5 and two-depth texels; 32 a covers both with a margin, plus a few
+/// ulps of t. Without it a surface at its own depth read rounding noise as an occluder.
+inline float pf_msm_root_tolerance(float a) {
+    return 32.0f * a + 4.0f * 5.9604645e-8f;
+}
+/// Largest D22 = b2 - b1^2 of biased moments b that one depth explains: the bias's own variance
+/// (half of a at 0 and half at 1 mixed with one depth, mean b1: a / 4 + a (1 - a)(z - 1/2)^2 ~
+/// a ((b1 - 1/2)^2 + 1/4)). Exact moments of any texel have at least that; below it only rounding
+/// can put D22, and the variance it leaves the texel's depths is none: one depth.
+inline float pf_msm_one_depth_variance(const glm::vec4& b, float a) {
+    return a * ((b.x - 0.5f) * (b.x - 0.5f) + 0.25f);
+}
 /// Shadow of a texel whose Hankel matrix is singular (D33 <= 0): its depths are (numerically) two,
 /// x1 and x2, the roots of x^2 - l32 x + (l32 b1 - b2) (the polynomial orthogonal to 1 and x), with
 /// weights (x2 - b1) / (x2 - x1) and (b1 - x1) / (x2 - x1); G = the weight of those in front of z.
 /// Falls back to a compare with the mean when that is not finite.
-inline float pf_two_depths_shadow(const glm::vec4& b, float z, float l32) {
+inline float pf_two_depths_shadow(const glm::vec4& b, float z, float l32, float tol) {
     const float a0 = l32 * b.x - b.y;
     float disc = l32 * l32 - 4.0f * a0;
     if (!(disc > 0.0f)) disc = 0.0f;
     const float s = std::sqrt(disc);
     const float x1 = 0.5f * (l32 - s), x2 = 0.5f * (l32 + s);
     const float w1 = (x2 - b.x) / (x2 - x1);
-    float g = (x1 < z ? w1 : 0.0f) + (x2 < z ? 1.0f - w1 : 0.0f);
-    if (!(g >= -1e30f && g <= 1e30f)) g = z > b.x ? 1.0f : 0.0f;
+    const float zt = z - tol;  // depths within tol of z are at z: not in front
+    float g = (x1 < zt ? w1 : 0.0f) + (x2 < zt ? 1.0f - w1 : 0.0f);
+    if (!(g >= -1e30f && g <= 1e30f)) g = zt > b.x ? 1.0f : 0.0f;
     return g < 0.0f ? 0.0f : (g > 1.0f ? 1.0f : g);
 }
 /// Shadow intensity lower bound (0 lit .. 1 shadowed) of biased moments b at depth z, Hamburger.
-/// roots_out: the two other support points (z2 <= z3); ok_out false when a fallback was taken.
-inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, float& z3, bool& solved) {
+/// z2, z3: the two other support points (z2 <= z3, both 0 after a fallback); solved: false when a
+/// fallback was taken (one or two depths, or a root at infinity). moment_bias: the bias a mixed into
+/// b (clamped to [0, 1]); support points within pf_msm_root_tolerance(a) of z count as at z, not in
+/// front, and D22 at or below pf_msm_one_depth_variance (rounding below the bias's own variance) is
+/// one depth.
+inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, float& z3, bool& solved, float moment_bias) {
     solved = false;
+    const float a = pf_clamp(moment_bias, 0.0f, 1.0f), tol = pf_msm_root_tolerance(a);
     z2 = z3 = 0.0f;
+    const float zt = z - tol;
     const float d22 = b.y - b.x * b.x;  // b2 - b1^2: variance
-    if (!(d22 > 0.0f)) return z > b.x ? 1.0f : 0.0f;  // one depth: a plain compare
+    if (!(d22 > pf_msm_one_depth_variance(b, a))) return zt > b.x ? 1.0f : 0.0f;  // one depth: a plain compare
     const float l32d22 = b.z - b.x * b.y;  // b3 - b1 b2
     const float l32 = l32d22 / d22;
     const float d33 = (b.w - b.y * b.y) - l32d22 * l32;  // b4 - b2^2 - (b3 - b1 b2)^2 / d22
-    if (!(d33 > 0.0f)) return pf_two_depths_shadow(b, z, l32);  // two depths: read them off
+    if (!(d33 > 0.0f)) return pf_two_depths_shadow(b, z, l32, tol);  // two depths: read them off
     // solve B c = (1, z, z^2) with B = L D L^T (L = [1 0 0; b1 1 0; b2 l32 1], D = diag(1, d22, d33))
     const float y2 = z - b.x;
     const float y3 = z * z - b.y - l32 * y2;
@@ -582,17 +680,17 @@ inline float pf_msm_hamburger_shadow(const glm::vec4& b, float z, float& z2, flo
     const float s = std::sqrt(disc);
     const float q = -0.5f * (c2 + (c2 >= 0.0f ? s : -s));
     const float r1 = q / c3, r2 = c1 / q;
-    if (std::isnan(r1) || std::isnan(r2)) return pf_two_depths_shadow(b, z, l32);
+    if (std::isnan(r1) || std::isnan(r2)) return pf_two_depths_shadow(b, z, l32, tol);
     z2 = r1 < r2 ? r1 : r2;
     z3 = r1 < r2 ? r2 : r1;
     float g;
-    if (z <= z2)
+    if (zt <= z2)
         g = 0.0f;
-    else if (z <= z3)  // weight of the support point z2 (Lagrange: E[(x - z)(x - z3)] / ((z2 - z)(z2 - z3)))
+    else if (zt <= z3)  // weight of the support point z2 (Lagrange: E[(x - z)(x - z3)] / ((z2 - z)(z2 - z3)))
         g = (z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2));
     else  // 1 - weight of the support point z
         g = 1.0f - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3));
-    if (!(g >= -1e30f && g <= 1e30f)) return pf_two_depths_shadow(b, z, l32);  // NaN / Inf: a root at infinity
+    if (!(g >= -1e30f && g <= 1e30f)) return pf_two_depths_shadow(b, z, l32, tol);  // NaN / Inf: a root at infinity
     solved = true;
     return g < 0.0f ? 0.0f : (g > 1.0f ? 1.0f : g);
 }
@@ -603,12 +701,14 @@ inline glm::vec4 pf_msm_bias(const glm::vec4& b, float a) {
 }
 }  // namespace detail
 
-/// VSM visibility: Chebyshev's bound with the variance raised to min_variance, then the
-/// light-bleeding reduction linstep(bleed_reduction, 1, p). Total: non-finite moments give 1, NaN t
+/// VSM visibility: Chebyshev's bound made conservative in float (the variance raised by
+/// min_variance plus the fp32 rounding, the mean moved by its storage error: never below the lit
+/// fraction of the texel's depths; detail::pf_vsm_bound), then the light-bleeding reduction
+/// linstep(bleed_reduction, 1, p). Total: non-finite moments give 1, NaN t
 /// gives 1, min_variance clamped to [0, 1] (NaN -> 0), bleed_reduction to [0, 0.999] (NaN -> 0).
 inline float prefilter_vsm(const glm::vec2& moments, float t, float min_variance, float bleed_reduction) {
     if (!std::isfinite(moments.x) || !std::isfinite(moments.y) || std::isnan(t)) return 1.0f;
-    const float p = detail::pf_chebyshev(moments.x, moments.y, t, detail::pf_clamp(min_variance, 0.0f, 1.0f));
+    const float p = detail::pf_vsm_bound(moments.x, moments.y, t, detail::pf_clamp(min_variance, 0.0f, 1.0f));
     return detail::pf_linstep(bleed_reduction, p);
 }
 
@@ -657,7 +757,7 @@ inline float prefilter_msm(const glm::vec4& moments, float t, float moment_bias,
     const glm::vec4 b = detail::pf_msm_bias(quantized ? prefilter_msm_dequantize(moments) : moments, moment_bias);
     float z2, z3;
     bool solved;
-    const float g = detail::pf_msm_hamburger_shadow(b, detail::pf_clamp(t, -1.0f, 2.0f), z2, z3, solved);
+    const float g = detail::pf_msm_hamburger_shadow(b, detail::pf_clamp(t, -1.0f, 2.0f), z2, z3, solved, moment_bias);
     return detail::pf_linstep(bleed_reduction, 1.0f - g);
 }
 
@@ -674,15 +774,16 @@ inline float prefilter_msm_hausdorff(const glm::vec4& moments, float t, float mo
     const float z = detail::pf_clamp(t, -1.0f, 2.0f);
     float z2, z3;
     bool solved;
-    float g = detail::pf_msm_hamburger_shadow(b, z, z2, z3, solved);
-    if (solved && (z2 < 0.0f || z3 > 1.0f) && z > 0.0f && z < 1.0f) {
+    const float tol = detail::pf_msm_root_tolerance(detail::pf_clamp(moment_bias, 0.0f, 1.0f));
+    float g = detail::pf_msm_hamburger_shadow(b, z, z2, z3, solved, moment_bias);
+    if (solved && (z2 < 0.0f || z3 > 1.0f) && z > tol && z < 1.0f) {  // z <= tol: nothing on [0, 1] is more than tol in front
         const float e3 = b.z - (1.0f + z) * b.y + z * b.x;  // E[x (x - z)(x - 1)]
         const float e4 = b.w - (1.0f + z) * b.z + z * b.y;  // E[x^2 (x - z)(x - 1)]
         const float zf = e4 / e3;
         // w(0) = E[(x - z)(x - zf)(x - 1)] / ((0 - z)(0 - zf)(0 - 1))
         const float e0 = b.z - (z + zf + 1.0f) * b.y + (z * zf + z + zf) * b.x - z * zf;
         float h = -e0 / (z * zf);
-        if (zf < z) h += e3 / (zf * (zf - z) * (zf - 1.0f));  // w(zf) = E[x (x - z)(x - 1)] / (zf (zf - z)(zf - 1))
+        if (zf < z - tol) h += e3 / (zf * (zf - z) * (zf - 1.0f));  // w(zf) = E[x (x - z)(x - 1)] / (zf (zf - z)(zf - 1))
         if (h >= -1e30f && h <= 1e30f) {
             h = h < 0.0f ? 0.0f : (h > 1.0f ? 1.0f : h);
             g = h > g ? h : g;  // the [0, 1] bound is never below the real-line one
@@ -726,7 +827,7 @@ struct PrefilterUniforms {
 inline glm::vec4 prefilter_moments(float t, const glm::vec2& dt, const PrefilterUniforms& u);
 
 /// Checks the settings against the format and resolves the defaults. InvalidArgument: an unknown
-/// method or format, a warp in Unorm16, MSM in Float16 (use Unorm16 with the quantization, or
+/// method or format, an ESM / EVSM exponent_positive of 0 (e^(0 t) = 1: no shadow at all), a warp in Unorm16, MSM in Float16 (use Unorm16 with the quantization, or
 /// Float32), accumulated_samples = 0, bleed_reduction outside [0, 1), min_variance > 1, moment_bias
 /// > 1; NonFinite: a NaN/Inf setting; Overflow: an exponent above prefilter_exponent_limit (the
 /// worst texel would be Inf).
@@ -743,6 +844,7 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
     const bool warp = s.method == PrefilterMethod::Esm || s.method == PrefilterMethod::Evsm2 || s.method == PrefilterMethod::Evsm4;
     const bool msm = s.method == PrefilterMethod::Msm || s.method == PrefilterMethod::MsmHausdorff;
     if (m < 0 || m > 5 || f < 0 || f > 2 || s.accumulated_samples == 0u || (warp && s.format == PrefilterFormat::Unorm16) ||
+        (warp && s.exponent_positive == 0.0f) ||
         (msm && s.format == PrefilterFormat::Float16) || s.bleed_reduction < 0.0f || !(s.bleed_reduction < 1.0f) ||
         s.min_variance > 1.0f || s.moment_bias > 1.0f) {
         u.status = Status::InvalidArgument;
@@ -981,7 +1083,9 @@ inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings
     }
     const double p23 = double(s.light_proj[2][3]);
     const double ds = s.range.status == Status::Ok && s.range.scale > 0.0f ? 1.0 / double(s.range.scale) : 0.0;
-    const double near = -double(s.range.offset) * ds;
+    // the range's near end as given (its offset underflows for tiny near / far ratios: [1e-30, 1e30]
+    // has offset -1e-60, 0 in float); a range built by hand has only scale and offset
+    const double near = s.range.near_distance > 0.0f ? double(s.range.near_distance) : -double(s.range.offset) * ds;
     const bool pow2 = s.map_size > 0 && (s.map_size & (s.map_size - 1)) == 0;
     if (s.light_proj[3][3] != 0.0f || !(p23 < 0.0) || s.light_width < 0.0f || !(ds > 0.0) || !(near > 0.0) || !pow2) {
         u.status = Status::InvalidArgument;
@@ -1025,21 +1129,22 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
     if (!pf_finite(moments) || std::isnan(t)) return glm::vec2(0.0f, z);
     float frac = 0.0f, depth = z;
     if (u.method == PrefilterMethod::Vsm) {
-        const float p = pf_chebyshev(moments.x, moments.y, z, pf_clamp(u.min_variance, 0.0f, 1.0f));
+        const float p = pf_vsm_bound(moments.x, moments.y, z, pf_clamp(u.min_variance, 0.0f, 1.0f));
         frac = 1.0f - p;
         if (frac > 0.0f) depth = (moments.x - p * z) / frac;  // Yang et al. 2010: mu = p z + (1 - p) z_avg
     } else {
         const glm::vec4 b = pf_msm_bias(u.quantized ? prefilter_msm_dequantize(moments) : moments, u.moment_bias);
         const float d22 = b.y - b.x * b.x;
-        if (!(d22 > 0.0f)) {  // one depth
-            if (z > b.x) frac = 1.0f, depth = b.x;
+        const float tol = pf_msm_root_tolerance(pf_clamp(u.moment_bias, 0.0f, 1.0f)), zt = z - tol;
+        if (!(d22 > pf_msm_one_depth_variance(b, pf_clamp(u.moment_bias, 0.0f, 1.0f)))) {  // one depth
+            if (zt > b.x) frac = 1.0f, depth = b.x;
         } else {
             float z2, z3;
             bool solved;
-            const float g = pf_msm_hamburger_shadow(b, z, z2, z3, solved);
+            const float g = pf_msm_hamburger_shadow(b, z, z2, z3, solved, u.moment_bias);
             if (solved) {
                 frac = g;
-                if (z <= z3) depth = z2;  // the one support point in front of z
+                if (zt <= z3) depth = z2;  // the one support point in front of z
                 else if (g > 0.0f) depth = (b.x - (1.0f - g) * z) / g;  // E[x; x < z] = b1 - w(z) z
             } else {  // two depths x1 <= x2 (D33 <= 0): the ones in front of z
                 const float l32 = (b.z - b.x * b.y) / d22;
@@ -1047,9 +1152,9 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
                 if (!(disc > 0.0f)) disc = 0.0f;
                 const float s = std::sqrt(disc), x1 = 0.5f * (l32 - s), x2 = 0.5f * (l32 + s);
                 const float w1 = (x2 - b.x) / (x2 - x1);
-                if (x2 < z) frac = 1.0f, depth = b.x;
-                else if (x1 < z && w1 >= 0.0f && w1 <= 1.0f) frac = w1, depth = x1;
-                else if (!(w1 >= 0.0f && w1 <= 1.0f) && z > b.x) frac = 1.0f, depth = b.x;  // NaN weight: the mean
+                if (x2 < zt) frac = 1.0f, depth = b.x;
+                else if (x1 < zt && w1 >= 0.0f && w1 <= 1.0f) frac = w1, depth = x1;
+                else if (!(w1 >= 0.0f && w1 <= 1.0f) && zt > b.x) frac = 1.0f, depth = b.x;  // NaN weight: the mean
             }
         }
     }

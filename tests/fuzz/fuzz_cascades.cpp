@@ -123,6 +123,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!all_finite(one.view_proj) || !all_finite(one.sphere) || !(one.texel_world_size > 0.0f) ||
             !std::isfinite(one.texel_world_size) || !(one.split_far > one.split_near))
             __builtin_trap();
+        // issue #27 item 3: receivers at float positions (the slice's corners and center rounded to
+        // float) through the float matrix, in float as a vertex shader, land within 0.01 NDC
+        shadowkit::detail::CsRays rays;
+        if (shadowkit::detail::cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, rays) != shadowkit::Status::Ok)
+            __builtin_trap();
+        const double d0 = std::fmax(double(one.split_near), rays.near_depth), d1 = std::fmin(double(one.split_far), rays.far_depth);
+        const glm::dmat4 iv = glm::inverse(glm::dmat4(in.camera_view));
+        glm::dvec3 pts[9];
+        pts[8] = glm::dvec3(0.0);
+        for (int i = 0; i < 8; ++i) {
+            pts[i] = glm::dvec3(iv * glm::dvec4(shadowkit::detail::cs_corner(rays, i & 3, (i & 4) ? d1 : d0), 1.0));
+            pts[8] += pts[i] * 0.125;
+        }
+        const float zlo = in.light_depth == shadowkit::ClipDepth::ZeroToOne ? 0.0f : -1.0f;
+        for (const glm::dvec3& p : pts) {
+            const glm::vec4 h = one.view_proj * glm::vec4(glm::vec3(p), 1.0f);
+            const float x = h.x / h.w, y = h.y / h.w, z = h.z / h.w;
+            if (!(std::fabs(x) <= 1.0101f && std::fabs(y) <= 1.0101f && z >= zlo - 0.0101f && z <= 1.0101f)) __builtin_trap();
+        }
     }
     // selection by sphere on raw cascades
     {

@@ -38,6 +38,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const PrefilterWindowMap wm = prefilter_window_depth_map(pn, pf, persp, rev, range);
     if (wm.status == Status::Ok) check(all_finite(wm.coefficients));
     const float zw = r.f32();
+    if (wm.status == Status::Ok && persp && pn >= 1e-6f && range.scale < 1e30f) {
+        // item 4: an Ok map keeps t of the window depth the buffer holds within its tolerance (a
+        // distance inside the range and the projection, window depth in double rounded to float)
+        const double dl = std::fmax(double(pn), -double(range.offset) / double(range.scale));
+        const double dh = std::fmin(double(pf), (1.0 - double(range.offset)) / double(range.scale));
+        const double fr = std::isfinite(zw) ? std::fabs(std::fmod(double(zw), 1.0)) : 0.5;
+        const double dd = dl + (dh - dl) * fr;
+        if (dh > dl && dd > 0.0 && std::isfinite(dd)) {
+            const double inv_f = std::isinf(pf) ? 0.0 : 1.0 / double(pf), span = 1.0 / double(pn) - inv_f;
+            const double z = rev ? (1.0 / dd - inv_f) / span : (1.0 / double(pn) - 1.0 / dd) / span;
+            const double t_true = dd * double(range.scale) + double(range.offset);
+            check(std::fabs(double(prefilter_depth_from_window(static_cast<float>(z), wm.coefficients)) - t_true) <=
+                  2.0 * double(kPrefilterWindowTolerance) + 1e-5 * std::fabs(t_true));
+        }
+    }
     check(unit(prefilter_depth_from_window(zw, wm.coefficients)));
     check(unit(prefilter_depth_from_window(zw, r.vec4())));
 
@@ -155,6 +170,45 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     check(unit(sv));
     const float sl = prefilter_receiver_slope(r.vec3(), r.vec3());
     check(std::isfinite(sl) && sl >= 0.0f && sl <= 1e6f);
+    // ---- bound properties (issue #27)
+    // item 1: MSM with the Float32 defaults lights a one-depth texel read at its own depth
+    {
+        const float t1 = r.f32();
+        const float z = std::isfinite(t1) ? std::fabs(std::fmod(t1, 1.0f)) : 0.5f;
+        PrefilterSettings ms;
+        ms.method = r.boolean() ? PrefilterMethod::Msm : PrefilterMethod::MsmHausdorff;
+        ms.format = PrefilterFormat::Float32;
+        const PrefilterUniforms mu = prefilter_uniforms(ms);
+        check(mu.status == Status::Ok);
+        check(prefilter_visibility(prefilter_moments(z, glm::vec2(0.0f), mu), z, mu) >= 0.999f);
+    }
+    // item 2: VSM (default uniforms of any format) is never below the true lit fraction of a texel of
+    // two or three depths, moments summed in fp32 and stored in the format
+    {
+        PrefilterSettings vs;
+        vs.format = static_cast<PrefilterFormat>(r.range(0, 2));
+        const PrefilterUniforms vu = prefilter_uniforms(vs);
+        check(vu.status == Status::Ok);
+        const int k = r.boolean() ? 3 : 2;
+        float z[3], w[3], sw = 0.0f;
+        for (int i = 0; i < k; ++i) {
+            const float zi = r.f32(), wi = r.f32();
+            z[i] = std::isfinite(zi) ? std::fabs(std::fmod(zi, 1.0f)) : 1.0f;
+            w[i] = 0.05f + (std::isfinite(wi) ? std::fabs(std::fmod(wi, 1.0f)) : 0.5f);
+            sw += w[i];
+        }
+        glm::vec2 vm(0.0f);
+        for (int i = 0; i < k; ++i) vm += (w[i] / sw) * prefilter_vsm_moments(z[i], 0.0f, 0.0f);
+        vm = glm::vec2(prefilter_store(double(vm.x), vs.format).value, prefilter_store(double(vm.y), vs.format).value);
+        for (int j = 0; j < k; ++j) {
+            long double num = 0.0L, den = 0.0L;
+            for (int i = 0; i < k; ++i) {
+                den += (long double)(w[i] / sw);
+                if (z[i] >= z[j]) num += (long double)(w[i] / sw);
+            }
+            check(double(prefilter_visibility(glm::vec4(vm, 0.0f, 0.0f), z[j], vu)) >= double(num / den));
+        }
+    }
     (void)status_name(static_cast<Status>(r.u8()));
     return 0;
 }

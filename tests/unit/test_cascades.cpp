@@ -7,6 +7,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -409,11 +410,16 @@ TEST_CASE("cascades: stiff cases") {
         }
     }
     SUBCASE("coordinates at 1e6") {
-        in.camera_proj = glm::perspective(1.0f, 1.0f, 0.5f, 100.0f);
         const glm::vec3 o(1e6f, 1e6f, 1e6f);
         in.camera_view = glm::lookAt(o, o + glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+        // near 0.5: float receivers at 1e6 are 0.0625 apart and the float matrix's terms ~1e6 / half
+        // width cancel; the worst case misplaces the first cascade's receivers by more than 0.01 NDC
+        // (issue #27 item 3): Overflow, not an Ok that a vertex shader cannot honor
+        in.camera_proj = glm::perspective(1.0f, 1.0f, 0.5f, 100.0f);
+        CHECK(cascade_fit(in, 0.5f, 4, c, 4).status == Status::Overflow);
+        in.camera_proj = glm::perspective(1.0f, 1.0f, 2.0f, 200.0f);
         REQUIRE(cascade_fit(in, 0.5f, 4, c, 4).status == Status::Ok);
-        CHECK(in_clip(c[3].view_proj, glm::dvec3(o) + glm::dvec3(90, 0, 0), in.light_depth, 1e-3));
+        CHECK(in_clip(c[3].view_proj, glm::dvec3(o) + glm::dvec3(180, 0, 0), in.light_depth, 1e-3));
         // a camera at 3e38: the matrix's translation (3e38 / half-width) is beyond float: Overflow
         const glm::vec3 far_o(3e38f, 0.0f, 0.0f);
         in.camera_view = glm::lookAt(glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)) * glm::translate(glm::mat4(1.0f), -far_o);
@@ -542,4 +548,64 @@ TEST_CASE("cascades: continuity while the light turns through the view direction
                               << " NDC (within 0.5 deg of a light shining straight up: " << max_move_pole
                               << "), max extent change in 0.01 deg " << max_ext * 100 << "%");
     CHECK(failures == 0);
+}
+
+// Issue #27 item 3: a vertex shader transforms float world positions with the float matrix in float.
+// Far from the origin (camera at ~1e5, slices a few hundredths wide) the guard on the 8 float-rounded
+// corners passed while other receivers landed 0.5 NDC outside. Receivers here: the slice corners
+// computed in float (closed-form view-space corners, float inverse view) and float blends of them,
+// through the float view_proj in float; every Ok cascade must hold them within 0.01 NDC.
+TEST_CASE("cascades: far from the origin every Ok cascade holds its float receivers (float corners, float matrix)") {
+    std::mt19937 rng(2027);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int fits = 0, ok_cascades = 0, overflow = 0, outside = 0;
+    float worst = 0.0f;
+    for (int it = 0; it < 1000; ++it) {
+        CascadeInput in;
+        const glm::vec3 pos = rdir(rng) * std::pow(10.0f, 3.0f + 2.3f * u(rng));
+        const glm::vec3 fwd = rdir(rng);
+        in.camera_view = look(pos, fwd);
+        const float fovy = 0.4f + 1.4f * u(rng), aspect = 0.5f + 1.5f * u(rng);
+        const float n = std::pow(10.0f, -3.0f + 2.0f * u(rng)), f = n * (2.0f + 30.0f * u(rng));
+        in.camera_proj = glm::perspective(fovy, aspect, n, f);
+        in.light_position = glm::vec4(rdir(rng), 0.0f);
+        in.shadow_map_size = 512u << (rng() % 4);
+        in.light_depth = (rng() & 1) ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
+        Cascade c[4];
+        const std::uint32_t count = 1 + rng() % 4;
+        const CascadeFitResult fit = cascade_fit(in, u(rng), count, c, 4);
+        ++fits;
+        if (fit.status == Status::Overflow) ++overflow;
+        const glm::mat4 inv_view = glm::inverse(in.camera_view);  // float, as an application has it
+        const float ty = std::tan(0.5f * fovy), tx = ty * aspect;
+        for (std::size_t i = 0; i < fit.count; ++i) {
+            REQUIRE(c[i].status == Status::Ok);
+            ++ok_cascades;
+            glm::vec3 corner[8];
+            for (int k = 0; k < 8; ++k) {
+                const float dep = (k & 4) ? fit.splits[i + 1] : fit.splits[i];
+                const float sx = (k & 1) ? 1.0f : -1.0f, sy = (k & 2) ? 1.0f : -1.0f;
+                corner[k] = glm::vec3(inv_view * glm::vec4(sx * tx * dep, sy * ty * dep, -dep, 1.0f));
+            }
+            const float zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0f : -1.0f;
+            for (int k = 0; k < 64; ++k) {
+                glm::vec3 p = corner[k % 8];
+                if (k >= 8) {  // a float blend of two corners: a receiver inside the slice
+                    const float a = u(rng);
+                    p = corner[rng() % 8] * a + corner[rng() % 8] * (1.0f - a);
+                }
+                const glm::vec4 h = c[i].view_proj * glm::vec4(p, 1.0f);  // float, as the vertex shader
+                const float x = h.x / h.w, y = h.y / h.w, z = h.z / h.w;
+                const float out = std::max({std::fabs(x) - 1.0f, std::fabs(y) - 1.0f, zlo - z, z - 1.0f});
+                worst = std::max(worst, out);
+                if (!(out <= 0.01f)) {
+                    ++outside;
+                    break;
+                }
+            }
+        }
+    }
+    MESSAGE(fits << " far fits: " << ok_cascades << " Ok cascades, " << overflow << " Overflow; receivers outside by "
+                 << worst << " NDC at worst; " << outside << " cascades with a receiver outside");
+    CHECK(outside == 0);
 }

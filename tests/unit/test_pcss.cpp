@@ -572,6 +572,15 @@ TEST_CASE("near-plane fit: never lowers the near plane, validates, directional l
     glm::mat4 bad = view;
     bad[3][2] = INFINITY;
     CHECK(pcss_fit_near_plane(L, bad, glm::vec3(0.0f), glm::vec3(1.0f)).status == Status::NonFinite);
+    // issue #27 item 6: a zero (or otherwise singular) view matrix maps every caster to depth 0:
+    // not a view, InvalidArgument
+    CHECK(pcss_fit_near_plane(L, glm::mat4(0.0f), glm::vec3(0.0f), glm::vec3(1.0f)).status == Status::InvalidArgument);
+    glm::mat4 flat = view;  // rank 2: the z row duplicates x
+    flat[0][2] = flat[0][0];
+    flat[1][2] = flat[1][0];
+    flat[2][2] = flat[2][0];
+    CHECK(pcss_fit_near_plane(L, flat, glm::vec3(0.0f), glm::vec3(1.0f)).status == Status::InvalidArgument);
+    CHECK(pcss_fit_near_plane(L, glm::scale(view, glm::vec3(1e-3f)), glm::vec3(0.0f), glm::vec3(1.0f)).status == Status::Ok);
     // directional: the ortho near plane moves to 1% of (far - depth) in front of the casters
     PcssLight sun;
     sun.type = PcssLightType::Directional;

@@ -417,6 +417,57 @@ TEST_CASE("GLSL emission rejects reserved words and reserved identifiers") {
     CHECK(poisson_to_glsl(pts, 2, too_long.c_str(), PoissonGlsl::Array, big.data(), big.size()).status == Status::InvalidArgument);
 }
 
+TEST_CASE("GLSL emission rejects built-in function names and main (issue #27 item 5)") {
+    // A global array named like a built-in function hides it: `texture`, `textureSize`, `main`
+    // pasted before pcf.glsl made it fail to compile. The names: main and the built-in functions of
+    // the GLSL 4.50 specification, chapter 8 (8.1 angle .. 8.17 memory control, the compatibility
+    // profile's texture2D / shadow2D family), plus 4.60's anyInvocation, allInvocations,
+    // allInvocationsEqual.
+    const std::string names =
+        "main radians degrees sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh pow exp log exp2 "
+        "log2 sqrt inversesqrt abs sign floor trunc round roundEven ceil fract mod modf min max clamp mix "
+        "step smoothstep isnan isinf floatBitsToInt floatBitsToUint intBitsToFloat uintBitsToFloat fma frexp "
+        "ldexp packUnorm2x16 packSnorm2x16 packUnorm4x8 packSnorm4x8 unpackUnorm2x16 unpackSnorm2x16 "
+        "unpackUnorm4x8 unpackSnorm4x8 packHalf2x16 unpackHalf2x16 packDouble2x32 unpackDouble2x32 length "
+        "distance dot cross normalize ftransform faceforward reflect refract matrixCompMult outerProduct "
+        "transpose determinant inverse lessThan lessThanEqual greaterThan greaterThanEqual equal notEqual any "
+        "all not uaddCarry usubBorrow umulExtended imulExtended bitfieldExtract bitfieldInsert "
+        "bitfieldReverse bitCount findLSB findMSB textureSize textureQueryLod textureQueryLevels "
+        "textureSamples texture textureProj textureLod textureOffset texelFetch texelFetchOffset "
+        "textureProjOffset textureLodOffset textureProjLod textureProjLodOffset textureGrad textureGradOffset "
+        "textureProjGrad textureProjGradOffset textureGather textureGatherOffset textureGatherOffsets "
+        "texture1D texture1DProj texture1DLod texture1DProjLod texture2D texture2DProj texture2DLod "
+        "texture2DProjLod texture3D texture3DProj texture3DLod texture3DProjLod textureCube textureCubeLod "
+        "shadow1D shadow2D shadow1DProj shadow2DProj shadow1DLod shadow2DLod shadow1DProjLod shadow2DProjLod "
+        "atomicCounterIncrement atomicCounterDecrement atomicCounter atomicAdd atomicMin atomicMax atomicAnd "
+        "atomicOr atomicXor atomicExchange atomicCompSwap imageSize imageSamples imageLoad imageStore "
+        "imageAtomicAdd imageAtomicMin imageAtomicMax imageAtomicAnd imageAtomicOr imageAtomicXor "
+        "imageAtomicExchange imageAtomicCompSwap EmitStreamVertex EndStreamPrimitive EmitVertex EndPrimitive "
+        "dFdx dFdy dFdxFine dFdyFine dFdxCoarse dFdyCoarse fwidth fwidthFine fwidthCoarse "
+        "interpolateAtCentroid interpolateAtSample interpolateAtOffset noise1 noise2 noise3 noise4 barrier "
+        "memoryBarrier memoryBarrierAtomicCounter memoryBarrierBuffer memoryBarrierShared memoryBarrierImage "
+        "groupMemoryBarrier anyInvocation allInvocations allInvocationsEqual ";
+    const glm::vec2 pts[2] = {{0.5f, 0.0f}, {-0.5f, 0.25f}};
+    char text[512];
+    std::size_t start = 0, tested = 0;
+    while (start < names.size()) {
+        const std::size_t end = names.find(' ', start);
+        const std::string nm = names.substr(start, end - start);
+        start = end == std::string::npos ? names.size() : end + 1;
+        if (nm.empty()) continue;
+        INFO(nm);
+        CHECK(poisson_to_glsl(pts, 2, nm.c_str(), PoissonGlsl::ArrayForSnippets, text, sizeof text).status == Status::InvalidArgument);
+        ++tested;
+        // a longer or differently cased name is an ordinary identifier
+        CHECK(poisson_to_glsl(pts, 2, (nm + "_taps").c_str(), PoissonGlsl::Array, text, sizeof text).status == Status::Ok);
+    }
+    CHECK(tested == 188);
+    for (const char* good : {"Texture", "textures", "mainTaps", "Main", "sin_taps", "maxTaps"}) {
+        INFO(good);
+        CHECK(poisson_to_glsl(pts, 2, good, PoissonGlsl::Array, text, sizeof text).status == Status::Ok);
+    }
+}
+
 TEST_CASE("GLSL emission for the snippets: the array and the two #defines; count and needed in chars") {
     const glm::vec2 pts[2] = {{1.0f, 0.0f}, {-1.0f, -0.0f}};
     char text[256];

@@ -417,6 +417,10 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
     REQUIRE(wide.status == Status::Ok);
     for (int rev = 0; rev <= 1; ++rev) {
         const PrefilterWindowMap wm = prefilter_window_depth_map(n, INFINITY, true, rev != 0, wide);
+        if (!rev) {  // standard-Z window depth has no bits left far away: Overflow (issue #27 item 4)
+            CHECK(wm.status == Status::Overflow);
+            continue;
+        }
         REQUIRE(wm.status == Status::Ok);
         std::mt19937 rng(5);
         std::uniform_real_distribution<double> ld(std::log(1e-3), std::log(1e3));
@@ -427,8 +431,7 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
             const float t = prefilter_depth_from_window(static_cast<float>(zw), wm.coefficients);
             worst = std::max(worst, std::abs(double(t) - (d - double(n)) / (1e3 - double(n))));
         }
-        if (rev) CHECK(worst < 1e-5);  // reversed-Z keeps t to float precision
-        else CHECK(worst > 1e-3);       // standard-Z window depth has no bits left far away
+        CHECK(worst < 1e-5);  // reversed-Z keeps t to float precision
     }
     // orthographic, both directions
     const PrefilterWindowMap wo = prefilter_window_depth_map(1.0f, 9.0f, false, false, prefilter_depth_range(1.0f, 9.0f));
@@ -438,6 +441,51 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
     CHECK(prefilter_window_depth_map(0.0f, 9.0f, true, false, r).status == Status::InvalidArgument);
     CHECK(prefilter_window_depth_map(1.0f, INFINITY, false, false, r).status == Status::NonFinite);
     CHECK(prefilter_window_depth_map(1.0f, 9.0f, true, false, PrefilterDepthRange{}).status == Status::InvalidArgument);
+}
+
+TEST_CASE("window depth map: Ok only where the float map keeps t (issue #27 item 4)") {
+    // A standard perspective depth buffer crowds far depths near z_w = 1: the float coefficients of
+    // t = (c.x + c.y z) / (c.z + c.w z) cancel there (c.z ~ -c.w ~ 1 / n) and z_w itself has no bits
+    // left, so t was off by 0.005 for [0.1, 1e4] (0.07 for 1e5, 0.10 for 1e6) with Ok. Reference: the
+    // window depth of eye distance d in long double, rounded to float (what the depth buffer holds),
+    // t = (d - near) / (far - near) of the true d. An Ok map must keep t within 2e-4 over the range;
+    // reversed-Z keeps it to ~1e-6 and must stay Ok.
+    struct Case { float n, f; };
+    const Case cases[] = {{0.1f, 1e4f}, {0.1f, 1e5f}, {0.1f, 1e6f}, {1e-3f, INFINITY}, {0.5f, 40.0f}, {1.0f, 10.0f},
+                          {0.01f, 100.0f}, {0.1f, 1000.0f}};
+    for (const Case& c : cases) {
+        const float rf = std::isinf(c.f) ? 1e3f : c.f;
+        const PrefilterDepthRange range = prefilter_depth_range(c.n, rf);
+        REQUIRE(range.status == Status::Ok);
+        for (int rev = 0; rev <= 1; ++rev) {
+            const PrefilterWindowMap wm = prefilter_window_depth_map(c.n, c.f, true, rev != 0, range);
+            CAPTURE(c.n);
+            CAPTURE(c.f);
+            CAPTURE(rev);
+            if (rev) REQUIRE(wm.status == Status::Ok);
+            if (wm.status != Status::Ok) {
+                CHECK(wm.status == Status::Overflow);
+                continue;
+            }
+            const long double n = c.n, f = c.f;
+            auto window = [&](long double d) {
+                const long double inv_f = std::isinf(c.f) ? 0.0L : 1.0L / f;
+                return rev ? (1.0L / d - inv_f) / (1.0L / n - inv_f) : (1.0L / n - 1.0L / d) / (1.0L / n - inv_f);
+            };
+            double worst = 0.0;
+            std::mt19937 rng(9);
+            std::uniform_real_distribution<double> ld(std::log(double(c.n)), std::log(double(rf)));
+            for (int i = 0; i <= 4000; ++i) {
+                const long double d = i == 0 ? (long double)rf : (long double)std::exp(ld(rng));
+                const float zw = static_cast<float>(window(d));
+                const double t_true = double((d - n) / ((long double)rf - n));
+                worst = std::max(worst, std::abs(double(prefilter_depth_from_window(zw, wm.coefficients)) - t_true));
+            }
+            MESSAGE("near " << c.n << " far " << c.f << (rev ? " reversed" : " standard") << ": worst t error " << worst);
+            CHECK(worst <= 2e-4);
+            if (rev) CHECK(worst <= 1e-5);
+        }
+    }
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -468,6 +516,76 @@ TEST_CASE("VSM: Chebyshev is exact for two depths; min variance; bleeding reduct
     const glm::vec2 vm = prefilter_vsm_moments(0.5f, 0.01f, 0.02f);
     CHECK(vm.y - vm.x * vm.x == doctest::Approx(0.25 * (1e-4 + 4e-4)).epsilon(1e-2));
     CHECK(vm.y - vm.x * vm.x >= (1e-4 + 4e-4) / 12.0);
+}
+
+TEST_CASE("VSM: never darker than the true lit fraction in float, every format (issue #27 item 2)") {
+    // Chebyshev's bound P(x >= t) <= var / (var + (t - mean)^2) holds for exact moments; the stored
+    // ones lose E[t^2] - E[t]^2 to cancellation, and a floor applied as max(var, floor) leaves a
+    // cancelled variance just above the floor too small. Moments as the pass writes them (t and t^2
+    // in float, the filter's weighted sum in fp32, then the format's rounding); the true lit fraction
+    // (weight of the depths >= t) in long double from the depths and weights.
+    auto lit = [](const std::vector<float>& z, const std::vector<float>& w, float t) {
+        long double num = 0.0L, den = 0.0L;
+        for (std::size_t i = 0; i < z.size(); ++i) {
+            den += (long double)w[i];
+            if (z[i] >= t) num += (long double)w[i];
+        }
+        return double(num / den);
+    };
+    auto texel = [](const std::vector<float>& z, const std::vector<float>& w, PrefilterFormat f) {
+        glm::vec2 m(0.0f);
+        for (std::size_t i = 0; i < z.size(); ++i) m += w[i] * prefilter_vsm_moments(z[i], 0.0f, 0.0f);
+        return glm::vec2(prefilter_store(double(m.x), f).value, prefilter_store(double(m.y), f).value);
+    };
+    // the named case: Float32 gave 0.651 for a true 0.734
+    {
+        const std::vector<float> z = {0x1.ff6746p-1f, 1.0f};
+        const float w0 = 0x1.0fe474p-2f;
+        const std::vector<float> w = {w0, 1.0f - w0};
+        const double truth = lit(z, w, 1.0f);
+        CHECK(truth == doctest::Approx(0.734).epsilon(1e-3));
+        CHECK(double(prefilter_vsm(texel(z, w, PrefilterFormat::Float32), 1.0f, prefilter_min_variance(PrefilterFormat::Float32), 0.0f)) >= truth);
+    }
+    std::mt19937 rng(2027);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    for (PrefilterFormat f : {PrefilterFormat::Float32, PrefilterFormat::Float16, PrefilterFormat::Unorm16}) {
+        PrefilterSettings s;
+        s.method = PrefilterMethod::Vsm;
+        s.format = f;
+        const PrefilterUniforms un = prefilter_uniforms(s);
+        REQUIRE(un.status == Status::Ok);
+        int below = 0, n = 0;
+        double worst = 0.0;
+        for (int i = 0; i < 60000; ++i) {
+            const int k = 2 + int(rng() % 2u);
+            std::vector<float> z(static_cast<std::size_t>(k)), w(static_cast<std::size_t>(k));
+            const float base = u01(rng);
+            // close depths (the cancellation case) as often as spread ones
+            const float spread = (i % 3 == 0) ? 1.0f : std::ldexp(1.0f, -int(rng() % 20u));
+            float sw = 0.0f;
+            for (int j = 0; j < k; ++j) {
+                z[std::size_t(j)] = std::min(1.0f, std::max(0.0f, base + spread * (u01(rng) - 0.5f)));
+                if (rng() % 4u == 0u) z[std::size_t(j)] = 1.0f;
+                w[std::size_t(j)] = 0.05f + u01(rng);
+                sw += w[std::size_t(j)];
+            }
+            for (float& x : w) x /= sw;
+            const glm::vec2 m = texel(z, w, f);
+            // receivers at each depth (the sharp case) and between
+            for (int j = 0; j <= k; ++j) {
+                const float t = j < k ? z[std::size_t(j)] : u01(rng);
+                const double truth = lit(z, w, t);
+                const float v = prefilter_visibility(glm::vec4(m, 0.0f, 0.0f), t, un);
+                ++n;
+                if (double(v) < truth) {
+                    ++below;
+                    worst = std::max(worst, truth - double(v));
+                }
+            }
+        }
+        INFO("format " << int(f) << ": " << below << " of " << n << " below the true lit fraction, worst by " << worst);
+        CHECK(below == 0);
+    }
 }
 
 TEST_CASE("variance floor per format bounds the storage error of the variance (brute force)") {
@@ -587,8 +705,11 @@ TEST_CASE("MSM moment bias per format: the storage noise it suppresses, measured
     // [t - d, t + d] (d = 1e-4 .. 1e-2, 16 samples), alone or with an occluder (weight 0.3); the
     // reference is the same biased bound from the exact moments in double precision. Measured:
     // the mean |V_stored - V_exact moments| per bias. The defaults (the paper's 6e-7 for Float32,
-    // 3e-5 for the Unorm16 quantization) keep it below 0.02; a tenth of them does not: the bias is
-    // needed, and not larger than needed by more than a factor 10.
+    // 3e-5 for the Unorm16 quantization) keep it below 0.025; a tenth of them does not: the bias is
+    // needed, and not larger than needed by more than a factor 10. (The reference counts depths
+    // within the lookup's root tolerance as in front and resolves spreads below rounding, which the
+    // float lookup by design does not (issue #27 item 1): Float32 at 6e-7 measured 0.017 before
+    // that fix, 0.020 after; Unorm16 at 3e-5 0.007 before, 0.017 after.)
     auto noise = [](PrefilterFormat f, double a) {
         const bool quant = f == PrefilterFormat::Unorm16;
         double sum = 0.0;
@@ -616,9 +737,9 @@ TEST_CASE("MSM moment bias per format: the storage noise it suppresses, measured
         std::string table;
         for (double g : {1e-7, 6e-7, 3e-6, 1e-5, 3e-5, 1e-4}) table += " " + std::to_string(g) + ":" + std::to_string(noise(f, g));
         MESSAGE(std::string(f == PrefilterFormat::Float32 ? "Float32" : "Unorm16 quantized") << " mean storage noise per bias:" << table);
-        CHECK(noise(f, a) < 0.02);
+        CHECK(noise(f, a) < 0.025);
         CHECK(noise(f, 0.1 * a) > noise(f, a));
-        CHECK(noise(f, 0.1 * a) > 0.02);
+        CHECK(noise(f, 0.1 * a) > 0.025);
     }
 }
 
@@ -653,6 +774,61 @@ TEST_CASE("MSM never NaN: degenerate texels (one depth, two depths, fully lit, f
         for (double t : {0.0, 1.0}) {
             const glm::vec4 st = quant ? store4(quantize_double(power_moments(t)), f) : store4(power_moments(t), f);
             CHECK(prefilter_msm(st, 0.5f, a, quant, 0.0f) == doctest::Approx(t == 0.0 ? 0.0 : 1.0).epsilon(0.01));
+        }
+    }
+}
+
+TEST_CASE("MSM: a surface at its own depth is lit (issue #27 item 1: roots within rounding of t are not in front)") {
+    // A texel of one depth z holds nothing in front of z (the moment bias adds a/2 at depth 0), so a
+    // receiver at z has visibility >= 1 - a/2; likewise depths {0.7: 0.45, 1: 0.55} leave 0.55 of the
+    // texel at t = 1, not in front of a receiver at 1. Before the fix the solve ran on rounding noise:
+    // 39 of the 1001 depths k/1000 and 3,881 of the 99,999 depths i/1e5 came out dark (3.6e-7 at 0.265).
+    const float tol = 1e-3f;
+    for (PrefilterMethod m : {PrefilterMethod::Msm, PrefilterMethod::MsmHausdorff}) {
+        for (PrefilterFormat f : {PrefilterFormat::Float32, PrefilterFormat::Unorm16}) {
+            PrefilterSettings s;
+            s.method = m;
+            s.format = f;
+            const PrefilterUniforms u = prefilter_uniforms(s);
+            REQUIRE(u.status == Status::Ok);
+            const bool quant = f == PrefilterFormat::Unorm16;
+            int dark_k = 0, dark_i = 0;
+            float worst = 1.0f;
+            for (int k = 0; k <= 1000; ++k) {
+                const float t = float(k) / 1000.0f;
+                const float v = prefilter_visibility(prefilter_moments(t, glm::vec2(0.0f), u), t, u);
+                if (!(v >= 1.0f - tol)) ++dark_k;
+                worst = std::min(worst, v);
+            }
+            for (int i = 1; i < 100000; ++i) {
+                const float t = float(i) / 1e5f;
+                const float v = prefilter_visibility(prefilter_moments(t, glm::vec2(0.0f), u), t, u);
+                if (!(v >= 1.0f - tol)) ++dark_i;
+                worst = std::min(worst, v);
+            }
+            // Unorm16 as stored (each q rounded to 16 bits: errors of ~1e-5 in b, a third of the bias):
+            // within 0.01 (Hausdorff read the texel's own depth as 0.955 near t = 0 before its [0, 1]
+            // branch was limited to t > tol)
+            float worst_stored = 1.0f;
+            if (quant)
+                for (int i = 1; i < 120000; ++i) {  // i / 1e5, and near 0 (i / 1e7 up to 2e-3) densely
+                    const float t = i < 100000 ? float(i) / 1e5f : float(i - 99999) / 1e7f;
+                    const glm::vec4 st = store4(glm::dvec4(prefilter_moments(t, glm::vec2(0.0f), u)), f);
+                    worst_stored = std::min(worst_stored, prefilter_visibility(st, t, u));
+                }
+            INFO("method " << int(m) << " format " << int(f) << " worst " << worst << ", stored in 16 bits " << worst_stored);
+            CHECK(dark_k == 0);
+            CHECK(dark_i == 0);
+            CHECK(worst_stored >= 0.99f);
+            CHECK(prefilter_visibility(prefilter_moments(0.265f, glm::vec2(0.0f), u), 0.265f, u) >= 1.0f - tol);
+            // two depths, the receiver at the farther one: 0.55 of the texel is at t, not in front
+            const glm::dvec4 b = 0.45 * power_moments(0.7) + 0.55 * power_moments(1.0);
+            const glm::vec4 st = quant ? store4(quantize_double(b), f) : store4(b, f);
+            CHECK(prefilter_visibility(st, 1.0f, u) >= 0.55f - tol);
+            // a receiver between the two depths still sees the 0.45 in front: a bound >= 0.55, not lit
+            const float mid = prefilter_visibility(st, 0.85f, u);
+            CHECK(mid >= 0.55f - tol);
+            CHECK(mid < 0.7f);
         }
     }
 }
@@ -837,6 +1013,33 @@ PrefilterSoftUniforms soft_light(float width, float near, float far, int size) {
 }
 
 }  // namespace
+
+TEST_CASE("issue #27 item 6: ESM exponent 0 is rejected; soft uniforms accept the valid range [1e-30, 1e30]") {
+    // c = 0: e^(0 t) = 1 for every depth, the lookup e^(-0 t) M = 1: no shadow at all
+    for (PrefilterMethod m : {PrefilterMethod::Esm, PrefilterMethod::Evsm2, PrefilterMethod::Evsm4}) {
+        PrefilterSettings s;
+        s.method = m;
+        s.exponent_positive = 0.0f;
+        CAPTURE(int(m));
+        CHECK(prefilter_uniforms(s).status == Status::InvalidArgument);
+        s.exponent_positive = 1.0f;
+        CHECK(prefilter_uniforms(s).status == Status::Ok);
+    }
+    // [1e-30, 1e30] is a valid depth range; its offset -near / (far - near) = -1e-60 underflows in
+    // float, which must not rebuild near as 0
+    const PrefilterDepthRange r = prefilter_depth_range(1e-30f, 1e30f);
+    REQUIRE(r.status == Status::Ok);
+    PrefilterSoftSettings ss;
+    ss.light_proj = glm::perspective(1.0f, 1.0f, 1e-30f, 1e30f);
+    ss.light_width = 1.0f;
+    ss.range = r;
+    ss.map_size = 1024;
+    const PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);
+    REQUIRE(su.status == Status::Ok);
+    CHECK(double(su.distance_offset) == doctest::Approx(1e-30).epsilon(1e-6));   // d(0) = near
+    CHECK(double(su.distance_scale) == doctest::Approx(1e30).epsilon(1e-6));     // d(1) - d(0) = far - near
+    CHECK(std::isfinite(su.light_uv));
+}
 
 TEST_CASE("soft: prefilter_soft_uniforms validates and gives light_uv in closed form") {
     CHECK(prefilter_soft_uniforms(PrefilterSoftSettings{}).status == Status::InvalidArgument);  // every default rejected
@@ -1190,4 +1393,61 @@ TEST_CASE("soft: prefilter_receiver_slope is |dt/du| + |dt/dv| of the plane; the
         REQUIRE((v >= 0.0f && v <= 1.0f));
     }
     CHECK(prefilter_soft_visibility(plane, t, u, s, glm::vec2(NAN, NAN)) == without);
+}
+
+TEST_CASE("issue #27 item 7: the helpers do what their comments say") {
+    // pf_clamp: "NaN -> lo" (the comment said NaN -> 0)
+    CHECK(detail::pf_clamp(std::nanf(""), 0.25f, 1.0f) == 0.25f);
+    CHECK(detail::pf_clamp(std::nanf(""), -1.0f, 2.0f) == -1.0f);
+    CHECK(detail::pf_clamp(3.0f, 0.25f, 1.0f) == 1.0f);
+    // pf_msm_hamburger_shadow: z2 <= z3 are the other two support points when solved; both 0 and
+    // solved = false after a fallback (the comment named parameters roots_out / ok_out that do not exist)
+    float z2 = -1.0f, z3 = -1.0f;
+    bool solved = true;
+    // three depths {0.2, 0.5, 0.8} (weights 0.3, 0.4, 0.3): the canonical representation through 0.5 is them
+    const glm::vec4 b = 0.3f * prefilter_msm_moments(0.2f) + 0.4f * prefilter_msm_moments(0.5f) + 0.3f * prefilter_msm_moments(0.8f);
+    const float g = detail::pf_msm_hamburger_shadow(b, 0.5f, z2, z3, solved, 0.0f);
+    CHECK(solved);
+    CHECK(z2 == doctest::Approx(0.2f).epsilon(1e-3));
+    CHECK(z3 == doctest::Approx(0.8f).epsilon(1e-3));
+    CHECK(g == doctest::Approx(0.3f).epsilon(1e-3));  // the weight in front of 0.5
+    z2 = z3 = -1.0f;
+    detail::pf_msm_hamburger_shadow(prefilter_msm_moments(0.5f), 0.7f, z2, z3, solved, 0.0f);  // one depth: fallback
+    CHECK_FALSE(solved);
+    CHECK(z2 == 0.0f);
+    CHECK(z3 == 0.0f);
+}
+
+TEST_CASE("MSM quantization round trip, measured densely (the figure in NUMERICS item 5 and the docs)") {
+    // b -> q -> 16 bits -> b over t = i / 1e6: exactly (q and b in double, A^-1 by glm::inverse of the
+    // paper's A) and through the header's float quantize / dequantize. Documented: 1.06e-5 and 1.35e-5
+    // (the figure used to say 1.03e-5, the maximum over the coarser grid i / 20000).
+    static const double R[4][4] = {{-2.07224649, 13.7948857237, 0.105877704, 9.7924062118},
+                                   {32.23703778, -59.4683975703, -1.9077466311, -33.7652110555},
+                                   {-68.571074599, 82.0359750338, 9.3496555107, 47.9456096605},
+                                   {39.3703274134, -35.364903257, -6.6543490743, -23.9728048165}};
+    glm::dmat4 A(0.0);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) A[i][j] = R[i][j];
+    const glm::dmat4 Ai = glm::inverse(A);
+    const glm::dvec4 off(0.035955884801, 0.0, 0.0, 0.0);
+    double exact = 0.0, through_float = 0.0;
+    for (int i = 0; i <= 1000000; ++i) {
+        const double t = i / 1e6;
+        const glm::dvec4 b = power_moments(t);
+        glm::dvec4 qs = A * b + off;
+        for (int k = 0; k < 4; ++k) qs[k] = std::nearbyint(std::clamp(qs[k], 0.0, 1.0) * 65535.0) / 65535.0;
+        const glm::dvec4 be = Ai * (qs - off);
+        const glm::vec4 qf = prefilter_msm_quantize(glm::vec4(b));
+        const glm::vec4 bf = prefilter_msm_dequantize(store4(glm::dvec4(qf), PrefilterFormat::Unorm16));
+        for (int k = 0; k < 4; ++k) {
+            exact = std::max(exact, std::abs(be[k] - b[k]));
+            through_float = std::max(through_float, std::abs(double(bf[k]) - b[k]));
+        }
+    }
+    MESSAGE("MSM Unorm16 round trip over 1,000,001 depths: exact " << exact << ", through float " << through_float);
+    CHECK(exact <= 1.06e-5);
+    CHECK(exact > 1.05e-5);
+    CHECK(through_float <= 1.36e-5);
+    CHECK(through_float > 1.3e-5);
 }
