@@ -144,6 +144,22 @@ void sk_auto_bias_taps(vec4 c, vec4 g, vec2 size, float depth_step, out vec2 tap
     weight = vec4((1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y);
 }
 
+// The automatic bias's lookup of world_pos in a map of `size` texels: true with its four taps, or
+// false when no compare is needed, with `v` the value then (behind the light or outside the map:
+// `outside`; an edge-on receiver: 1.0).
+bool sk_auto_bias_lookup(mat4 light_view_proj, vec3 world_pos, vec3 normal, bool zero_to_one, vec2 size, float depth_step,
+                         float outside, out float v, out vec2 uv[4], out vec4 z, out vec4 w) {
+    vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
+    v = outside;
+    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
+        return false;
+    vec4 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
+    v = 1.0;
+    if (g.z == 0.0) return false;
+    sk_auto_bias_taps(c, g, size, depth_step, uv, z, w);
+    return true;
+}
+
 // Lit fraction of world_pos with the automatic bias: the 2x2 bilinear filter done as four compares at
 // texel centres, each against the receiver plane's depth there. `normal`: the receiver's geometric
 // world normal (any length, either side). Points outside the map (or behind the light) get `outside`;
@@ -151,15 +167,12 @@ void sk_auto_bias_taps(vec4 c, vec4 g, vec2 size, float depth_step, out vec2 tap
 // (the taps sit on texel centres); GL_NEAREST is cheapest.
 float sk_shadow_map_visibility_auto(sampler2DShadow shadow_map, mat4 light_view_proj, vec3 world_pos, vec3 normal,
                                     bool zero_to_one, float depth_step, float outside) {
-    vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
-    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
-        return outside;
-    vec4 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
-    if (g.z == 0.0) return 1.0;
+    float v;
     vec2 uv[4];
-    vec4 z;
-    vec4 w;
-    sk_auto_bias_taps(c, g, vec2(textureSize(shadow_map, 0)), depth_step, uv, z, w);
+    vec4 z, w;
+    if (!sk_auto_bias_lookup(light_view_proj, world_pos, normal, zero_to_one, vec2(textureSize(shadow_map, 0)), depth_step,
+                             outside, v, uv, z, w))
+        return v;
     return w.x * texture(shadow_map, vec3(uv[0], z.x)) + w.y * texture(shadow_map, vec3(uv[1], z.y)) +
            w.z * texture(shadow_map, vec3(uv[2], z.z)) + w.w * texture(shadow_map, vec3(uv[3], z.w));
 }
@@ -167,15 +180,12 @@ float sk_shadow_map_visibility_auto(sampler2DShadow shadow_map, mat4 light_view_
 // The same for one layer of a depth array (sampled area lights, cascades).
 float sk_shadow_map_visibility_auto(sampler2DArrayShadow shadow_maps, float layer, mat4 light_view_proj, vec3 world_pos,
                                     vec3 normal, bool zero_to_one, float depth_step, float outside) {
-    vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
-    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
-        return outside;
-    vec4 g = sk_plane_depth_gradient(light_view_proj, world_pos, normal, zero_to_one);
-    if (g.z == 0.0) return 1.0;
+    float v;
     vec2 uv[4];
-    vec4 z;
-    vec4 w;
-    sk_auto_bias_taps(c, g, vec2(textureSize(shadow_maps, 0).xy), depth_step, uv, z, w);
+    vec4 z, w;
+    if (!sk_auto_bias_lookup(light_view_proj, world_pos, normal, zero_to_one, vec2(textureSize(shadow_maps, 0).xy),
+                             depth_step, outside, v, uv, z, w))
+        return v;
     return w.x * texture(shadow_maps, vec4(uv[0], layer, z.x)) + w.y * texture(shadow_maps, vec4(uv[1], layer, z.y)) +
            w.z * texture(shadow_maps, vec4(uv[2], layer, z.z)) + w.w * texture(shadow_maps, vec4(uv[3], layer, z.w));
 }

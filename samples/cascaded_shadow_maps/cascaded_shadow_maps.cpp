@@ -17,19 +17,23 @@
 
 namespace {
 
-// V's lookup (after glsl/cascades.glsl): the cascade array at unit 2. The normal offset is in texels
-// of the cascade that serves p, of the next one inside the blend band (the larger: both are read
-// there); the depth pass's slope-scaled offset already keeps acne away, so it is 0 by default.
-const char* kLookup = R"(
+// What both lookups read: the cascade array at unit 2, the matrices, the splits (each cascade's near
+// and far view depth), the blend band and the camera's view (the view depth selects the cascade).
+const char* kCascadeInputs = R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
 uniform mat4 u_cascade_vp[4];
 uniform vec4 u_split_near;
 uniform vec4 u_split_far;
 uniform int u_count;
 uniform float u_band;
+uniform mat4 u_camera_view;
+)";
+// bias=polygon_offset's lookup (after glsl/cascades.glsl). The normal offset is in texels of the
+// cascade that serves p, of the next one inside the blend band (the larger: both are read there); the
+// depth pass's slope-scaled offset already keeps acne away, so it is 0 by default.
+const char* kLookup = R"(
 uniform float u_texel[4];       // Cascade::texel_world_size
 uniform float u_normal_offset;  // texels
-uniform mat4 u_camera_view;
 float technique_visibility(vec3 p, vec3 n) {
     float view_depth = -(u_camera_view * vec4(p, 1.0)).z;
     int i = sk_cascade_by_depth(view_depth, u_split_far, u_count);
@@ -44,13 +48,6 @@ float technique_visibility(vec3 p, vec3 n) {
 // bias=auto: the same selection and blend, each cascade read with shadow_map.glsl's automatic bias on
 // its layer (outside a cascade's map: lit, as sk_cascade_sample); the array is float32 (depth_step 0).
 const char* kLookupAuto = R"(
-layout(binding = 2) uniform sampler2DArrayShadow u_cascades;
-uniform mat4 u_cascade_vp[4];
-uniform vec4 u_split_near;
-uniform vec4 u_split_far;
-uniform int u_count;
-uniform float u_band;
-uniform mat4 u_camera_view;
 float cascade_visibility(int i, vec3 p, vec3 n) {
     return sk_shadow_map_visibility_auto(u_cascades, float(i), u_cascade_vp[i], p, n, false, 0.0, 1.0);
 }
@@ -79,8 +76,8 @@ bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
     const std::string shadow_map = app::load_snippet("shadow_map", why);  // the automatic bias
     if (shadow_map.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
-    vis_prog_ = app::compile_visibility_program(snippet, kLookup, why);
-    vis_auto_prog_ = app::compile_visibility_program(shadow_map + "\n" + snippet, kLookupAuto, why);
+    vis_prog_ = app::compile_visibility_program(snippet, std::string(kCascadeInputs) + kLookup, why);
+    vis_auto_prog_ = app::compile_visibility_program(shadow_map + "\n" + snippet, std::string(kCascadeInputs) + kLookupAuto, why);
     if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_) return false;
     return pass_.init(v.width, v.height, why);
 }

@@ -29,14 +29,11 @@ uniform mat4 u_light_view_proj;
 uniform bool u_hard;
 float map_visibility(vec3 p, vec3 n) {
     if (!u_hard) return sk_shadow_map_visibility_auto(u_shadow_map, u_light_view_proj, p, n, false, 0.0, 1.0);
-    vec4 c = sk_shadow_coord(u_light_view_proj, p, false);
-    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
-        return 1.0;
-    vec4 g = sk_plane_depth_gradient(u_light_view_proj, p, n, false);
-    if (g.z == 0.0) return 1.0;
+    float v;
     vec2 uv[4];
     vec4 z, w;
-    sk_auto_bias_taps(c, g, vec2(textureSize(u_shadow_map, 0)), 0.0, uv, z, w);
+    if (!sk_auto_bias_lookup(u_light_view_proj, p, n, false, vec2(textureSize(u_shadow_map, 0)), 0.0, 1.0, v, uv, z, w))
+        return v;
     int k = (w.y + w.w > 0.5 ? 1 : 0) + (w.z + w.w > 0.5 ? 2 : 0);   // the nearest texel centre
     return texture(u_shadow_map, vec3(uv[k], z[k]));
 }
