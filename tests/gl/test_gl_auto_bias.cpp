@@ -4,7 +4,8 @@
 // normals under random perspective and orthographic lights, GL and zero-to-one clip; every lookup's V
 // must equal the mirror's (same float arithmetic: within 1e-4 - the GPU may fuse multiply-adds, which
 // moves a tap across its compare only where the stored depth lies within rounding of the reference).
-// Also the array-layer overload and sk_plane_depth_gradient against bias_plane_gradient.
+// Also the array-layer overload, sk_plane_depth_gradient against bias_plane_gradient, and reversed-Z
+// (SK_REVERSED_Z, zero-to-one clip, GL_GEQUAL compare) against the mirror's reversed_z.
 #include <shadowkit/shadow_bias.hpp>
 
 #include <doctest/doctest.h>
@@ -57,8 +58,11 @@ TEST_CASE("sk_shadow_map_visibility_auto equals bias_auto_lookup + bias_auto_vis
     std::string log;
     const std::string snippet = skgl::read_text_file(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
     REQUIRE(!snippet.empty());
-    const GLuint prog = skgl::compile_program({{GL_VERTEX_SHADER, kVS}, {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kFS}}, log);
-    REQUIRE_MESSAGE(prog != 0, log);
+    const GLuint prog_std = skgl::compile_program({{GL_VERTEX_SHADER, kVS}, {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kFS}}, log);
+    REQUIRE_MESSAGE(prog_std != 0, log);
+    const GLuint prog_rev = skgl::compile_program(
+        {{GL_VERTEX_SHADER, kVS}, {GL_FRAGMENT_SHADER, "#version 450 core\n#define SK_REVERSED_Z\n" + snippet + kFS}}, log);
+    REQUIRE_MESSAGE(prog_rev != 0, log);
     constexpr int kSize = 256, kPoints = 4096;
     std::mt19937 rng(42);
     std::uniform_real_distribution<float> U(0.0f, 1.0f);
@@ -100,16 +104,23 @@ TEST_CASE("sk_shadow_map_visibility_auto equals bias_auto_lookup + bias_auto_vis
     glCreateBuffers(2, vbo);
     int compared = 0, differ = 0, outside = 0;
     double worst_g = 0.0;
-    for (int round = 0; round < 8; ++round) {
+    for (int round = 0; round < 12; ++round) {
         const bool persp = round % 2 == 0;
-        const shadowkit::ClipDepth clip = (round / 2) % 2 ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
+        const bool rev = round >= 8;  // reversed-Z: zero-to-one clip, the far plane at 0, compare GL_GEQUAL
+        const GLuint prog = rev ? prog_rev : prog_std;
+        for (GLuint t : {map, array}) glTextureParameteri(t, GL_TEXTURE_COMPARE_FUNC, rev ? GL_GEQUAL : GL_LEQUAL);
+        const shadowkit::ClipDepth clip =
+            rev || (round / 2) % 2 ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
         const glm::vec3 eye = glm::vec3(U(rng) - 0.5f, 1.0f, U(rng) - 0.5f) * 8.0f;
         const glm::mat4 view = glm::lookAt(eye, glm::vec3(0.0f), std::fabs(glm::normalize(eye).y) > 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0));
         const bool z01 = clip == shadowkit::ClipDepth::ZeroToOne;
         const glm::mat4 proj = persp ? (z01 ? glm::perspectiveRH_ZO(1.0f, 1.0f, 1.0f, 20.0f) : glm::perspectiveRH_NO(1.0f, 1.0f, 1.0f, 20.0f))
                                      : (z01 ? glm::orthoRH_ZO(-3.f, 3.f, -3.f, 3.f, 1.0f, 20.0f) : glm::orthoRH_NO(-3.f, 3.f, -3.f, 3.f, 1.0f, 20.0f));
-        const glm::mat4 vp = proj * view;
-        const shadowkit::DepthFormat fmt = round / 4 ? shadowkit::DepthFormat::Fixed16 : shadowkit::DepthFormat::Float32;
+        glm::mat4 rz(1.0f);  // z' = w - z: reversed depth in zero-to-one clip
+        rz[2][2] = -1.0f;
+        rz[3][2] = 1.0f;
+        const glm::mat4 vp = rev ? rz * proj * view : proj * view;
+        const shadowkit::DepthFormat fmt = (round / 4) % 2 ? shadowkit::DepthFormat::Fixed16 : shadowkit::DepthFormat::Float32;
         const float step = shadowkit::bias_auto_depth_step(fmt).value;
         // receivers: points whose window depth is near the map's depths, random normals facing the light
         std::vector<glm::vec4> pos(kPoints), nrm(kPoints);
@@ -143,12 +154,12 @@ TEST_CASE("sk_shadow_map_visibility_auto equals bias_auto_lookup + bias_auto_vis
         std::vector<float> out(std::size_t(kPoints) * 4);
         glReadPixels(0, 0, kPoints, 1, GL_RGBA, GL_FLOAT, out.data());
         for (int k = 0; k < kPoints; ++k) {
-            const shadowkit::BiasAutoLookup a = shadowkit::bias_auto_lookup(vp, clip, false, glm::vec3(pos[std::size_t(k)]),
+            const shadowkit::BiasAutoLookup a = shadowkit::bias_auto_lookup(vp, clip, rev, glm::vec3(pos[std::size_t(k)]),
                                                                            glm::vec3(nrm[std::size_t(k)]), glm::ivec2(kSize), fmt);
             REQUIRE(a.status == shadowkit::Status::Ok);
             float stored[4];
             for (int t = 0; t < 4; ++t) stored[t] = stored_at(a.tap_uv[t]);
-            const float expect = shadowkit::bias_auto_visibility(a, stored, false, 0.5f);
+            const float expect = shadowkit::bias_auto_visibility(a, stored, rev, 0.5f);
             const float got = out[std::size_t(k) * 4], got_array = out[std::size_t(k) * 4 + 1];
             outside += a.outside ? 1 : 0;
             ++compared;
@@ -172,5 +183,6 @@ TEST_CASE("sk_shadow_map_visibility_auto equals bias_auto_lookup + bias_auto_vis
     glDeleteFramebuffers(1, &fbo);
     glDeleteBuffers(2, vbo);
     glDeleteVertexArrays(1, &vao);
-    glDeleteProgram(prog);
+    glDeleteProgram(prog_std);
+    glDeleteProgram(prog_rev);
 }
