@@ -342,6 +342,44 @@ LightMatrices fit_light(const Scene& s) {
     return m;
 }
 
+LightMatrices fit_light_to_casters(const Scene& s) {
+    const LightMatrices scene_fit = fit_light(s);
+    const Light& L = s.light;
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const Mesh& m : s.meshes)
+        if (m.caster)
+            for (const glm::vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    if (!(lo.x <= hi.x)) return scene_fit;  // no casters
+    if (L.type == LightType::Directional) {  // the box across the light: the casters' extent
+        LightMatrices m = scene_fit;
+        glm::vec3 a(INFINITY), b(-INFINITY);
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 v = glm::vec3(m.view * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.f));
+            a = glm::min(a, v), b = glm::max(b, v);
+        }
+        m.proj = glm::ortho(a.x, b.x, a.y, b.y, m.znear, m.zfar);
+        return m;
+    }
+    if (L.type != LightType::Spot && L.type != LightType::Rect && L.type != LightType::Disk) return scene_fit;
+    const glm::vec3 center = 0.5f * (lo + hi);
+    const glm::vec3 dir = glm::normalize(center - L.position);
+    const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, 1.f, 0.f);
+    LightMatrices m;
+    m.view = glm::lookAt(L.position, L.position + dir, up);
+    float cnear = 0.f, cfar = 0.f, tan_max = 0.f;
+    fit_box_depth(m.view, lo, hi, cnear, cfar, tan_max);  // the casters: their widest angle, their nearest depth
+    float zmin = INFINITY;
+    for (int i = 0; i < 8; ++i)
+        zmin = std::min(zmin, -glm::vec3(m.view * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.f)).z);
+    const float half = std::atan(tan_max * 1.02f);
+    if (!(zmin > 0.f) || !(half < std::min(L.spot_half_angle, 1.4f))) return scene_fit;
+    float tan_scene = 0.f;
+    fit_box_depth(m.view, s.bounds_min(), s.bounds_max(), m.znear, m.zfar, tan_scene);  // far: the farthest receiver
+    m.znear = std::max(0.9f * zmin, m.zfar * 2e-3f);
+    m.proj = glm::perspective(2.f * half, 1.f, m.znear, m.zfar);
+    return m;
+}
+
 static void hash_bytes(std::uint64_t& h, const void* data, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < n; ++i) {

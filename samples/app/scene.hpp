@@ -86,6 +86,12 @@ struct LightMatrices {
     bool perspective = true;
 };
 LightMatrices fit_light(const Scene& scene);
+/// fit_light, left out what the scene does not need: a spot or area light's frustum aimed at the
+/// casters' bounding box and just wide enough for it (a receiver outside it is lit: no caster lies
+/// between them), deep enough for the farthest receiver; a directional light's box narrowed to the
+/// casters across the light (its depth still spans the scene). fit_light when the casters do not fit
+/// (the light inside their box, wider than the spot's cone) and for point, sphere and line lights.
+LightMatrices fit_light_to_casters(const Scene& scene);
 // Perspective depth range of the box lo..hi seen through view (zfar 1.01 x the farthest corner, znear the
 // larger of 0.9 x the nearest and 2e-3 zfar) and the largest tangent max(|x|, |y|) / -z of its corners.
 void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,

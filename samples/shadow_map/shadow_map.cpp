@@ -1,9 +1,9 @@
 // samples/shadow_map/shadow_map.cpp - the plain shadow map, top to bottom:
 //   init    the programs: a depth-only pass, and V = the map's compare at each G-buffer point
 //           (glsl/shadow_map.glsl); the V target
-//   update  CPU, every frame: the light's frustum around the scene (sk::fit_light: a perspective from
-//           spot, area and sphere lights, an orthographic box for a directional light), or for a point
-//           light the six 90-degree faces of a cube map
+//   update  CPU, every frame: the light's frustum around the casters (sk::fit_light_to_casters: a
+//           perspective from spot and area lights, an orthographic box for a directional light; the
+//           scene's with fit_casters=off), or for a point light the six 90-degree faces of a cube map
 //           contact=on: V times contact_shadow.glsl's march in the G-buffer's depth (contact_pixels
 //           camera pixels long)
 //   render  GPU, every frame: 1 the casters' depth from the light (bias=polygon_offset: with a
@@ -109,10 +109,10 @@ bool ShadowMap::make_visibility_program(const ShadowMapSettings& s, std::string&
     return vis_prog_ != 0;
 }
 
-void ShadowMap::update(const app::View& v, const ShadowMapSettings&) {
+void ShadowMap::update(const app::View& v, const ShadowMapSettings& s) {
     const sk::Scene& scene = *v.scene;
     if (!cube_) {
-        const sk::LightMatrices lm = sk::fit_light(scene);
+        const sk::LightMatrices lm = s.fit_casters ? sk::fit_light_to_casters(scene) : sk::fit_light(scene);
         light_vp_[0] = lm.proj * lm.view;
         return;
     }

@@ -8,8 +8,8 @@
 //   main.cpp        the calls: the app shell (samples/app) does the window, the camera G-buffer,
 //                   the panel, the timing and the picture
 // It uses only glsl/shadow_map.glsl (its automatic bias: sk_shadow_map_visibility_auto),
-// glsl/contact_shadow.glsl (contact=on) and the app
-// shell's scene (sk::fit_light: the light's frustum around the scene), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
+// glsl/contact_shadow.glsl (contact=on) and the app shell's scene (sk::fit_light_to_casters: the
+// light's frustum around the casters), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
 // this same class (samples/report/techniques/shadow_map.cpp).
 #pragma once
 
@@ -31,6 +31,7 @@ struct ShadowMapSettings {
     /// point light's cube map keeps the polygon offset). polygon_offset: glPolygonOffset(offset_factor,
     /// offset_units) in the depth pass, the classic slope-scaled bias with hand-picked constants.
     Bias bias = Bias::Auto;
+    bool fit_casters = true;    ///< the map fits the casters (sk::fit_light_to_casters); off: the whole scene (sk::fit_light)
     float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass (bias=polygon_offset, cube maps)
     float offset_units = 2.f;
     /// Contact shadows (glsl/contact_shadow.glsl): V times a march toward the light in the camera's depth
@@ -47,6 +48,7 @@ inline void bind_settings(app::Params& p, ShadowMapSettings& s) {
     p.choice("bias", &s.bias, {{"auto", ShadowMapSettings::Bias::Auto}, {"polygon_offset", ShadowMapSettings::Bias::PolygonOffset}});
     p.number("offset_factor", &s.offset_factor, 0.0, 8.0);
     p.number("offset_units", &s.offset_units, 0.0, 64.0);
+    p.toggle("fit_casters", &s.fit_casters);
     p.toggle("contact", &s.contact);
     p.number("contact_pixels", &s.contact_pixels, 1.0, 256.0);
 }
