@@ -342,7 +342,7 @@ LightMatrices fit_light(const Scene& s) {
     return m;
 }
 
-LightMatrices fit_light_to_casters(const Scene& s) {
+LightMatrices fit_light_to_casters(const Scene& s, bool penumbra_margin) {
     const LightMatrices scene_fit = fit_light(s);
     const Light& L = s.light;
     glm::vec3 lo(INFINITY), hi(-INFINITY);
@@ -371,7 +371,10 @@ LightMatrices fit_light_to_casters(const Scene& s) {
     float zmin = INFINITY;
     for (int i = 0; i < 8; ++i)
         zmin = std::min(zmin, -glm::vec3(m.view * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.f)).z);
-    const float half = std::atan(tan_max * 1.02f);
+    // a receiver whose ray to some point of the emitter crosses the casters lies within the emitter's
+    // radius, seen from the nearest caster, of their cone from the centre
+    const float radius = !penumbra_margin || !L.is_area() ? 0.f : (L.type == LightType::Rect ? 0.7072f * L.size : L.size);
+    const float half = std::atan(tan_max * 1.02f + radius / std::max(zmin, 1e-6f));
     if (!(zmin > 0.f) || !(half < std::min(L.spot_half_angle, 1.4f))) return scene_fit;
     float tan_scene = 0.f;
     fit_box_depth(m.view, s.bounds_min(), s.bounds_max(), m.znear, m.zfar, tan_scene);  // far: the farthest receiver

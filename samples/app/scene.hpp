@@ -91,7 +91,9 @@ LightMatrices fit_light(const Scene& scene);
 /// between them), deep enough for the farthest receiver; a directional light's box narrowed to the
 /// casters across the light (its depth still spans the scene). fit_light when the casters do not fit
 /// (the light inside their box, wider than the spot's cone) and for point, sphere and line lights.
-LightMatrices fit_light_to_casters(const Scene& scene);
+/// penumbra_margin: soft shadows from the map of the light's center reach beyond that frustum by up to
+/// the emitter's radius seen from the nearest caster; true widens it by that (PCSS, pre-filtered maps).
+LightMatrices fit_light_to_casters(const Scene& scene, bool penumbra_margin = false);
 // Perspective depth range of the box lo..hi seen through view (zfar 1.01 x the farthest corner, znear the
 // larger of 0.9 x the nearest and 2e-3 zfar) and the largest tangent max(|x|, |y|) / -z of its corners.
 void fit_box_depth(const glm::mat4& view, const glm::vec3& lo, const glm::vec3& hi, float& znear, float& zfar,

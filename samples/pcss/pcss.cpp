@@ -216,8 +216,9 @@ void Pcss::update(const app::View& v, const PcssSettings& s) {
         error_ = "PCF / PCSS need a spot, rect, disk or sphere light (one perspective map from the light's center)";
         return;
     }
-    // the light's frustum around the scene, from its center
-    const sk::LightMatrices lm = sk::fit_light(scene);
+    // the light's frustum from its center around the casters, widened by their penumbra (the scene's
+    // with fit_casters=off)
+    const sk::LightMatrices lm = s.fit_casters ? sk::fit_light_to_casters(scene, true) : sk::fit_light(scene);
     light_view_ = lm.view;
     light_proj_ = lm.proj;
     near_ = lm.znear;
