@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <ostream>
 #include <thread>
@@ -243,25 +242,31 @@ struct LightScore {
     double acne = 0.0, leak = 0.0, gap_texels = 0.0, gap_world = 0.0;
 };
 
-// The contact gap's rule: over the umbra pixels sorted by distance to the occluder (in texels or in world
-// units), the largest distance at which the pixels up to it are mostly (more than half, at least two)
-// lit by the technique.
-double contact_gap(std::vector<std::pair<float, bool>>& px) {
-    std::sort(px.begin(), px.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+// The contact gap's rule: over the umbra pixels sorted by their distance to the occluder in texels, the
+// largest distance up to which the pixels are mostly (more than half, at least two) lit by the technique;
+// the gap in world units is that pixel's distance along its shadow ray.
+struct GapPixel {
+    float texels, world;
+    bool lit;
+};
+void contact_gap(std::vector<GapPixel>& px, double& texels, double& world) {
+    std::sort(px.begin(), px.end(), [](const GapPixel& a, const GapPixel& b) { return a.texels < b.texels; });
     std::size_t leaks = 0;
-    double gap = 0.0;
+    texels = world = 0.0;
     for (std::size_t i = 0; i < px.size(); ++i) {
-        leaks += px[i].second ? 1 : 0;
-        if (leaks >= 2 && 2 * leaks > i + 1) gap = px[i].first;
+        leaks += px[i].lit ? 1 : 0;
+        if (leaks >= 2 && 2 * leaks > i + 1) {
+            texels = px[i].texels;
+            world = px[i].world;
+        }
     }
-    return gap;
 }
 
 LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size) {
     LightScore s;
     const int w = g.width, h = g.height;
     std::size_t lit = 0, acne = 0, umbra = 0, leak = 0;
-    std::vector<std::pair<float, bool>> by_texels, by_world;
+    std::vector<GapPixel> umbra_px;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
@@ -290,14 +295,12 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                 const float cn = r.cos_n[k];
                 const float tan_n = std::sqrt(std::max(0.f, 1.f - cn * cn)) / cn;
                 const float texel = r.texel[k] / static_cast<float>(map_size);
-                by_texels.emplace_back(r.t[k] / (texel * std::max(1.f, tan_n)), l);
-                by_world.emplace_back(r.t[k], l);
+                umbra_px.push_back({r.t[k] / (texel * std::max(1.f, tan_n)), r.t[k], l});
             }
         }
     s.acne = lit ? double(acne) / double(lit) : 0.0;
     s.leak = umbra ? double(leak) / double(umbra) : 0.0;
-    s.gap_texels = contact_gap(by_texels);
-    s.gap_world = contact_gap(by_world);
+    contact_gap(umbra_px, s.gap_texels, s.gap_world);
     return s;
 }
 
@@ -393,17 +396,6 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                 for (std::size_t l = c0; l < c1; ++l) {
                     const std::vector<float>& v = res.visibility[l - c0];
                     if (v.size() != g.kind.size()) continue;
-                    if (const char* dbg = std::getenv("SK_SWEEP_DEBUG"); dbg && l < 12) {  // R: reference, G: technique
-                        std::vector<std::uint8_t> px(3 * v.size());
-                        for (std::size_t k = 0; k < v.size(); ++k) {
-                            const int c = refs[l - c0].cls[k];
-                            px[3 * k] = c == 1 ? 255 : c == 2 ? 0 : 60;
-                            px[3 * k + 1] = static_cast<std::uint8_t>(255.f * std::clamp(v[k], 0.f, 1.f));
-                            px[3 * k + 2] = c == 0 ? 60 : 0;
-                        }
-                        skgl::write_png(std::string(dbg) + "/" + base.name + "_" + j.t->name() + "_" + std::to_string(l) + ".png",
-                                        g.width, g.height, 3, px.data());
-                    }
                     const LightScore s = score(g, refs[l - c0], v, row.map_size);
                     const glm::vec3 wl = sl.towards[l];
                     if (s.acne > 0.0) ++row.lights_with_acne;
