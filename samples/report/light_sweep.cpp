@@ -239,8 +239,29 @@ void hard_reference(const sk::Scene& s, const sk::GBuffer& g, const Embree& e, c
 }
 
 struct LightScore {
-    double acne = 0.0, leak = 0.0, gap_texels = 0.0, gap_world = 0.0;
+    double acne = 0.0, acne_texel = 0.0, leak = 0.0, gap_texels = 0.0, gap_world = 0.0;
 };
+
+// True when the reference shadows some point of p's one-texel neighbourhood in the map: the eight points
+// one texel of the map away from p on its tangent plane (as the light sees them: b1 across the light,
+// b2 along its projection on the plane, stretched by 1 / cos), each shadow ray from eps off the plane.
+bool shadow_within_a_texel(const Embree& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps) {
+    const bool sun = L.type == sk::LightType::Directional;
+    const glm::vec3 d = sun ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
+    const float c = glm::dot(n, d);
+    glm::vec3 b1 = glm::cross(n, d);
+    if (glm::length(b1) < 1e-6f || !(c > 0.f)) return false;
+    b1 = glm::normalize(b1);
+    const glm::vec3 b2 = glm::cross(b1, n);
+    for (int i = 0; i < 8; ++i) {
+        const float a = float(i) * (kPi / 4.f);
+        const glm::vec3 q = p + texel * (std::cos(a) * b1 + std::sin(a) / c * b2) + eps * n;
+        const glm::vec3 to = sun ? d : L.position - q;
+        const float dist = sun ? INFINITY : glm::length(to) * (1.f - 1e-5f);
+        if (std::isfinite(e.hit(q, glm::normalize(to), dist))) return true;
+    }
+    return false;
+}
 
 // The contact gap's rule: over the umbra pixels sorted by their distance to the occluder in texels, the
 // largest distance up to which the pixels are mostly (more than half, at least two) lit by the technique;
@@ -262,10 +283,11 @@ void contact_gap(std::vector<GapPixel>& px, double& texels, double& world) {
     }
 }
 
-LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size) {
+LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size, const Embree& e,
+                 const sk::Light& L, float eps) {
     LightScore s;
     const int w = g.width, h = g.height;
-    std::size_t lit = 0, acne = 0, umbra = 0, leak = 0;
+    std::size_t lit = 0, acne = 0, acne_texel = 0, umbra = 0, leak = 0;
     std::vector<GapPixel> umbra_px;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -287,7 +309,12 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
             if (edge) continue;
             if (c == 1) {
                 ++lit;
-                acne += v[k] < 0.5f ? 1 : 0;
+                if (v[k] < 0.5f) {
+                    ++acne;
+                    const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+                    const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+                    if (!shadow_within_a_texel(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), eps)) ++acne_texel;
+                }
             } else {
                 ++umbra;
                 const bool l = v[k] > 0.5f;
@@ -299,6 +326,7 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
             }
         }
     s.acne = lit ? double(acne) / double(lit) : 0.0;
+    s.acne_texel = lit ? double(acne_texel) / double(lit) : 0.0;
     s.leak = umbra ? double(leak) / double(umbra) : 0.0;
     contact_gap(umbra_px, s.gap_texels, s.gap_world);
     return s;
@@ -358,6 +386,7 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
         }
         if (jobs.empty()) continue;
         double ref_seconds = 0.0;
+        const float eps = 1e-5f * glm::length(base.bounds_max() - base.bounds_min());  // reference.cpp's ray offset
         const std::size_t chunk = static_cast<std::size_t>(std::max(1, opt.chunk));
         std::vector<LightRef> refs;
         for (std::size_t c0 = 0; c0 < sl.lights.size(); c0 += chunk) {
@@ -396,11 +425,15 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                 for (std::size_t l = c0; l < c1; ++l) {
                     const std::vector<float>& v = res.visibility[l - c0];
                     if (v.size() != g.kind.size()) continue;
-                    const LightScore s = score(g, refs[l - c0], v, row.map_size);
+                    const LightScore s = score(g, refs[l - c0], v, row.map_size, e, sl.lights[l], eps);
                     const glm::vec3 wl = sl.towards[l];
                     if (s.acne > 0.0) ++row.lights_with_acne;
                     if (s.leak > 0.0) ++row.lights_with_leak;
                     if (s.gap_texels > 0.0) ++row.lights_with_gap;
+                    if (s.acne_texel > row.acne_beyond_texel_max) {
+                        row.acne_beyond_texel_max = s.acne_texel;
+                        row.acne_beyond_texel_worst_light = wl;
+                    }
                     if (s.acne > row.acne_fraction_max) {
                         row.acne_fraction_max = s.acne;
                         row.acne_worst_light = wl;
@@ -425,9 +458,10 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                 std::fprintf(stderr, "  sweep     %-9s %-11s failed: %s\n", r.scene.c_str(), r.technique.c_str(), r.error.c_str());
             else
                 std::fprintf(stderr,
-                             "  sweep     %-9s %-11s %4d %-11s lights: acne max %.4f, gap max %.2f texels (%.3g world), "
-                             "leak max %.4f; %.1f s (+ references %.1f s)\n",
+                             "  sweep     %-9s %-11s %4d %-11s lights: acne max %.4f (beyond a texel %.4f), gap max %.2f texels "
+                             "(%.3g world), leak max %.4f; %.1f s (+ references %.1f s)\n",
                              r.scene.c_str(), r.technique.c_str(), r.lights, r.light.c_str(), r.acne_fraction_max,
+                             r.acne_beyond_texel_max,
                              r.gap_texels_max, r.gap_world_max, r.leak_fraction_max, r.seconds, ref_seconds);
         }
     }
@@ -469,7 +503,9 @@ void write_light_sweep_json(std::ostream& f, const LightSweep& s) {
               << ", \"gap_world_max\": null, \"leak_fraction_max\": null";
         } else {
             f << ", \"acne_fraction_max\": " << num(r.acne_fraction_max) << ", \"acne_worst_light\": " << vec(r.acne_worst_light)
-              << ", \"lights_with_acne\": " << r.lights_with_acne << ", \"gap_texels_max\": " << num(r.gap_texels_max)
+              << ", \"lights_with_acne\": " << r.lights_with_acne
+              << ", \"acne_beyond_texel_max\": " << num(r.acne_beyond_texel_max)
+              << ", \"acne_beyond_texel_worst_light\": " << vec(r.acne_beyond_texel_worst_light) << ", \"gap_texels_max\": " << num(r.gap_texels_max)
               << ", \"gap_world_max\": " << num(r.gap_world_max) << ", \"gap_worst_light\": " << vec(r.gap_worst_light)
               << ", \"lights_with_gap\": " << r.lights_with_gap << ", \"leak_fraction_max\": " << num(r.leak_fraction_max)
               << ", \"leak_worst_light\": " << vec(r.leak_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak;
@@ -494,20 +530,21 @@ void write_light_sweep_markdown(std::ostream& f, const LightSweep& s) {
         f << "No scene of this run has a technique the sweep covers.\n\n";
         return;
     }
-    f << "| scene | technique | light | lights (grazing) | acne max | worst (acne) | gap max, texels | gap max, world | "
+    f << "| scene | technique | light | lights (grazing) | acne max | worst (acne) | acne beyond a texel | gap max, texels | gap max, world | "
          "worst (gap) | leak max | worst (leak) | lights with acne / gap / leak | seconds |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const LightSweepRow& r : s.rows) {
         const std::string label = r.technique + (r.settings.empty() ? "" : " " + r.settings);
         if (r.failed) {
             f << "| " << r.scene << " | " << label << " | " << r.light << " | failed: " << r.error
-              << " | | | | | | | | | |\n";
+              << " | | | | | | | | | | |\n";
             continue;
         }
         std::snprintf(b, sizeof b,
-                      "| %s | %s | %s | %d (%d) | %.4f | %s | %.2f | %.3g | %s | %.4f | %s | %d / %d / %d | %.1f + %.1f |\n",
+                      "| %s | %s | %s | %d (%d) | %.4f | %s | %.4f | %.2f | %.3g | %s | %.4f | %s | %d / %d / %d | %.1f + %.1f |\n",
                       r.scene.c_str(), label.c_str(), r.light.c_str(), r.lights, r.grazing_lights, r.acne_fraction_max,
-                      r.acne_fraction_max > 0 ? elevation_text(r.acne_worst_light).c_str() : "-", r.gap_texels_max,
+                      r.acne_fraction_max > 0 ? elevation_text(r.acne_worst_light).c_str() : "-", r.acne_beyond_texel_max,
+                      r.gap_texels_max,
                       r.gap_world_max, r.gap_texels_max > 0 ? elevation_text(r.gap_worst_light).c_str() : "-",
                       r.leak_fraction_max, r.leak_fraction_max > 0 ? elevation_text(r.leak_worst_light).c_str() : "-",
                       r.lights_with_acne, r.lights_with_gap, r.lights_with_leak, r.seconds, r.reference_seconds);
