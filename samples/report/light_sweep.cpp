@@ -264,7 +264,8 @@ bool shadow_within_a_texel(const Embree& e, const sk::Light& L, glm::vec3 p, glm
 }
 
 // The contact gap's rule: over the umbra pixels sorted by their distance to the occluder in texels, the
-// largest distance up to which the pixels are mostly (more than half, at least two) lit by the technique;
+// largest distance of a pixel lit by the technique up to which the pixels are mostly (more than half, at
+// least two) lit by it;
 // the gap in world units is that pixel's distance along its shadow ray.
 struct GapPixel {
     float texels, world;
@@ -276,7 +277,7 @@ void contact_gap(std::vector<GapPixel>& px, double& texels, double& world) {
     texels = world = 0.0;
     for (std::size_t i = 0; i < px.size(); ++i) {
         leaks += px[i].lit ? 1 : 0;
-        if (leaks >= 2 && 2 * leaks > i + 1) {
+        if (px[i].lit && leaks >= 2 && 2 * leaks > i + 1) {
             texels = px[i].texels;
             world = px[i].world;
         }
