@@ -265,8 +265,7 @@ bool shadow_within_a_texel(const Embree& e, const sk::Light& L, glm::vec3 p, glm
 
 // The contact gap's rule: over the umbra pixels sorted by their distance to the occluder in texels, the
 // largest distance of a pixel lit by the technique up to which the pixels are mostly (more than half, at
-// least two) lit by it;
-// the gap in world units is that pixel's distance along its shadow ray.
+// least two) lit by it; the gap in world units is that pixel's distance along its shadow ray.
 struct GapPixel {
     float texels, world;
     bool lit;
