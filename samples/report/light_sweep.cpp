@@ -242,10 +242,11 @@ struct LightScore {
     double acne = 0.0, acne_texel = 0.0, leak = 0.0, gap_texels = 0.0, gap_world = 0.0;
 };
 
-// True when the reference shadows some point of p's one-texel neighbourhood in the map: the eight points
-// one texel of the map away from p on its tangent plane (as the light sees them: b1 across the light,
-// b2 along its projection on the plane, stretched by 1 / cos), each shadow ray from eps off the plane.
-bool shadow_within_a_texel(const Embree& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps) {
+// True when the reference shadows some point of p's neighbourhood in the map that the 2x2 filter reaches:
+// a 7x7 grid, half a texel apart, over +-1.5 texels of the map on p's tangent plane (as the light sees
+// it: b1 across the light, b2 along its projection on the plane, stretched by 1 / cos), each shadow ray
+// from eps off the plane.
+bool shadow_within_filter_reach(const Embree& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps) {
     const bool sun = L.type == sk::LightType::Directional;
     const glm::vec3 d = sun ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
     const float c = glm::dot(n, d);
@@ -253,9 +254,10 @@ bool shadow_within_a_texel(const Embree& e, const sk::Light& L, glm::vec3 p, glm
     if (glm::length(b1) < 1e-6f || !(c > 0.f)) return false;
     b1 = glm::normalize(b1);
     const glm::vec3 b2 = glm::cross(b1, n);
-    for (int i = 0; i < 8; ++i) {
-        const float a = float(i) * (kPi / 4.f);
-        const glm::vec3 q = p + texel * (std::cos(a) * b1 + std::sin(a) / c * b2) + eps * n;
+    for (int i = 0; i < 49; ++i) {
+        if (i == 24) continue;  // p itself: lit
+        const float u = 0.5f * float(i % 7 - 3), w = 0.5f * float(i / 7 - 3);
+        const glm::vec3 q = p + texel * (u * b1 + w / c * b2) + eps * n;
         const glm::vec3 to = sun ? d : L.position - q;
         const float dist = sun ? INFINITY : glm::length(to) * (1.f - 1e-5f);
         if (std::isfinite(e.hit(q, glm::normalize(to), dist))) return true;
@@ -313,7 +315,7 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                     ++acne;
                     const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
                     const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-                    if (!shadow_within_a_texel(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), eps)) ++acne_texel;
+                    if (!shadow_within_filter_reach(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), eps)) ++acne_texel;
                 }
             } else {
                 ++umbra;
@@ -430,9 +432,9 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                     if (s.acne > 0.0) ++row.lights_with_acne;
                     if (s.leak > 0.0) ++row.lights_with_leak;
                     if (s.gap_texels > 0.0) ++row.lights_with_gap;
-                    if (s.acne_texel > row.acne_beyond_texel_max) {
-                        row.acne_beyond_texel_max = s.acne_texel;
-                        row.acne_beyond_texel_worst_light = wl;
+                    if (s.acne_texel > row.acne_beyond_filter_max) {
+                        row.acne_beyond_filter_max = s.acne_texel;
+                        row.acne_beyond_filter_worst_light = wl;
                     }
                     if (s.acne > row.acne_fraction_max) {
                         row.acne_fraction_max = s.acne;
@@ -458,10 +460,10 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                 std::fprintf(stderr, "  sweep     %-9s %-11s failed: %s\n", r.scene.c_str(), r.technique.c_str(), r.error.c_str());
             else
                 std::fprintf(stderr,
-                             "  sweep     %-9s %-11s %4d %-11s lights: acne max %.4f (beyond a texel %.4f), gap max %.2f texels "
+                             "  sweep     %-9s %-11s %4d %-11s lights: acne max %.4f (beyond the filter %.4f), gap max %.2f texels "
                              "(%.3g world), leak max %.4f; %.1f s (+ references %.1f s)\n",
                              r.scene.c_str(), r.technique.c_str(), r.lights, r.light.c_str(), r.acne_fraction_max,
-                             r.acne_beyond_texel_max,
+                             r.acne_beyond_filter_max,
                              r.gap_texels_max, r.gap_world_max, r.leak_fraction_max, r.seconds, ref_seconds);
         }
     }
@@ -504,8 +506,8 @@ void write_light_sweep_json(std::ostream& f, const LightSweep& s) {
         } else {
             f << ", \"acne_fraction_max\": " << num(r.acne_fraction_max) << ", \"acne_worst_light\": " << vec(r.acne_worst_light)
               << ", \"lights_with_acne\": " << r.lights_with_acne
-              << ", \"acne_beyond_texel_max\": " << num(r.acne_beyond_texel_max)
-              << ", \"acne_beyond_texel_worst_light\": " << vec(r.acne_beyond_texel_worst_light) << ", \"gap_texels_max\": " << num(r.gap_texels_max)
+              << ", \"acne_beyond_filter_max\": " << num(r.acne_beyond_filter_max)
+              << ", \"acne_beyond_filter_worst_light\": " << vec(r.acne_beyond_filter_worst_light) << ", \"gap_texels_max\": " << num(r.gap_texels_max)
               << ", \"gap_world_max\": " << num(r.gap_world_max) << ", \"gap_worst_light\": " << vec(r.gap_worst_light)
               << ", \"lights_with_gap\": " << r.lights_with_gap << ", \"leak_fraction_max\": " << num(r.leak_fraction_max)
               << ", \"leak_worst_light\": " << vec(r.leak_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak;
@@ -530,7 +532,7 @@ void write_light_sweep_markdown(std::ostream& f, const LightSweep& s) {
         f << "No scene of this run has a technique the sweep covers.\n\n";
         return;
     }
-    f << "| scene | technique | light | lights (grazing) | acne max | worst (acne) | acne beyond a texel | gap max, texels | gap max, world | "
+    f << "| scene | technique | light | lights (grazing) | acne max | worst (acne) | acne beyond the filter | gap max, texels | gap max, world | "
          "worst (gap) | leak max | worst (leak) | lights with acne / gap / leak | seconds |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const LightSweepRow& r : s.rows) {
@@ -543,7 +545,7 @@ void write_light_sweep_markdown(std::ostream& f, const LightSweep& s) {
         std::snprintf(b, sizeof b,
                       "| %s | %s | %s | %d (%d) | %.4f | %s | %.4f | %.2f | %.3g | %s | %.4f | %s | %d / %d / %d | %.1f + %.1f |\n",
                       r.scene.c_str(), label.c_str(), r.light.c_str(), r.lights, r.grazing_lights, r.acne_fraction_max,
-                      r.acne_fraction_max > 0 ? elevation_text(r.acne_worst_light).c_str() : "-", r.acne_beyond_texel_max,
+                      r.acne_fraction_max > 0 ? elevation_text(r.acne_worst_light).c_str() : "-", r.acne_beyond_filter_max,
                       r.gap_texels_max,
                       r.gap_world_max, r.gap_texels_max > 0 ? elevation_text(r.gap_worst_light).c_str() : "-",
                       r.leak_fraction_max, r.leak_fraction_max > 0 ? elevation_text(r.leak_worst_light).c_str() : "-",

@@ -33,10 +33,10 @@ struct LightSweepRow {
     int map_size = 0;
     double acne_fraction_max = 0.0, gap_texels_max = 0.0, gap_world_max = 0.0, leak_fraction_max = 0.0;
     glm::vec3 acne_worst_light{0.f}, gap_worst_light{0.f}, leak_worst_light{0.f};
-    // acne away from the map's resolution: acne pixels whose one-texel neighbourhood in the map (on their
-    // tangent plane) the reference lights entirely, over the same lit pixels
-    double acne_beyond_texel_max = 0.0;
-    glm::vec3 acne_beyond_texel_worst_light{0.f};
+    // acne away from the map's resolution: acne pixels whose neighbourhood in the map within the 2x2
+    // filter's reach (+-1.5 texels on their tangent plane) the reference lights entirely, over the same lit pixels
+    double acne_beyond_filter_max = 0.0;
+    glm::vec3 acne_beyond_filter_worst_light{0.f};
     int lights_with_acne = 0, lights_with_gap = 0, lights_with_leak = 0;
     double seconds = 0.0;            // the technique's frames and scoring
     double reference_seconds = 0.0;  // the scene's hard references (shared by its techniques)
