@@ -507,7 +507,8 @@ void write_light_sweep_json(std::ostream& f, const LightSweep& s) {
             f << ", \"acne_fraction_max\": " << num(r.acne_fraction_max) << ", \"acne_worst_light\": " << vec(r.acne_worst_light)
               << ", \"lights_with_acne\": " << r.lights_with_acne
               << ", \"acne_beyond_filter_max\": " << num(r.acne_beyond_filter_max)
-              << ", \"acne_beyond_filter_worst_light\": " << vec(r.acne_beyond_filter_worst_light) << ", \"gap_texels_max\": " << num(r.gap_texels_max)
+              << ", \"acne_beyond_filter_worst_light\": " << vec(r.acne_beyond_filter_worst_light)
+              << ", \"gap_texels_max\": " << num(r.gap_texels_max)
               << ", \"gap_world_max\": " << num(r.gap_world_max) << ", \"gap_worst_light\": " << vec(r.gap_worst_light)
               << ", \"lights_with_gap\": " << r.lights_with_gap << ", \"leak_fraction_max\": " << num(r.leak_fraction_max)
               << ", \"leak_worst_light\": " << vec(r.leak_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak;
