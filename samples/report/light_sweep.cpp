@@ -239,30 +239,33 @@ void hard_reference(const sk::Scene& s, const sk::GBuffer& g, const Embree& e, c
 }
 
 struct LightScore {
-    double acne = 0.0, acne_texel = 0.0, leak = 0.0, gap_texels = 0.0, gap_world = 0.0;
+    double acne = 0.0, acne_texel = 0.0, leak = 0.0, leak_texel = 0.0, gap_texels = 0.0, gap_world = 0.0;
 };
 
-// True when the reference shadows some point of p's neighbourhood in the map that the 2x2 filter reaches:
-// a 7x7 grid, half a texel apart, over +-1.5 texels of the map on p's tangent plane (as the light sees
-// it: b1 across the light, b2 along its projection on the plane, stretched by 1 / cos), each shadow ray
-// from eps off the plane.
-bool shadow_within_filter_reach(const Embree& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps) {
+// Whether the reference gives every point of p's neighbourhood in the map that the 2x2 filter reaches the
+// class `shadowed`: a 7x7 grid, half a texel apart, over +-1.5 texels of the map on p's tangent plane (as
+// the light sees it: b1 across the light, b2 along its projection on the plane, stretched by 1 / cos),
+// each shadow ray from eps off the plane; `across_only`: the seven points on the b1 line (a shadow's side
+// edge, not the contact it starts at).
+bool uniform_within_filter_reach(const Embree& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps,
+                                 bool shadowed, bool across_only) {
     const bool sun = L.type == sk::LightType::Directional;
     const glm::vec3 d = sun ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
     const float c = glm::dot(n, d);
+    if (!(c > 0.f)) return false;
     glm::vec3 b1 = glm::cross(n, d);
-    if (glm::length(b1) < 1e-6f || !(c > 0.f)) return false;
+    if (glm::length(b1) < 1e-6f) b1 = glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f));
     b1 = glm::normalize(b1);
     const glm::vec3 b2 = glm::cross(b1, n);
-    for (int i = 0; i < 49; ++i) {
-        if (i == 24) continue;  // p itself: lit
+    for (int i = across_only ? 21 : 0; i < (across_only ? 28 : 49); ++i) {
+        if (i == 24) continue;  // p itself
         const float u = 0.5f * float(i % 7 - 3), w = 0.5f * float(i / 7 - 3);
         const glm::vec3 q = p + texel * (u * b1 + w / c * b2) + eps * n;
         const glm::vec3 to = sun ? d : L.position - q;
         const float dist = sun ? INFINITY : glm::length(to) * (1.f - 1e-5f);
-        if (std::isfinite(e.hit(q, glm::normalize(to), dist))) return true;
+        if (std::isfinite(e.hit(q, glm::normalize(to), dist)) != shadowed) return false;
     }
-    return false;
+    return true;
 }
 
 // The contact gap's rule: over the umbra pixels sorted by their distance to the occluder in texels, the
@@ -289,7 +292,7 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                  const sk::Light& L, float eps) {
     LightScore s;
     const int w = g.width, h = g.height;
-    std::size_t lit = 0, acne = 0, acne_texel = 0, umbra = 0, leak = 0;
+    std::size_t lit = 0, acne = 0, acne_texel = 0, umbra = 0, leak = 0, leak_texel = 0;
     std::vector<GapPixel> umbra_px;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -315,20 +318,33 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                     ++acne;
                     const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
                     const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-                    if (!shadow_within_filter_reach(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), eps)) ++acne_texel;
+                    if (uniform_within_filter_reach(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), eps, false, false))
+                        ++acne_texel;
                 }
             } else {
                 ++umbra;
                 const bool l = v[k] > 0.5f;
-                leak += l ? 1 : 0;
+                const float texel = r.texel[k] / static_cast<float>(map_size);
+                // a leak at a shadow's side edge (hidden from the screen-space edge test behind its
+                // occluder) is no contact gap
+                bool side = false;
+                if (l) {
+                    ++leak;
+                    const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+                    const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
+                    if (uniform_within_filter_reach(e, L, p, nn, texel, eps, true, false))
+                        ++leak_texel;
+                    else
+                        side = !uniform_within_filter_reach(e, L, p, nn, texel, eps, true, true);
+                }
                 const float cn = r.cos_n[k];
                 const float tan_n = std::sqrt(std::max(0.f, 1.f - cn * cn)) / cn;
-                const float texel = r.texel[k] / static_cast<float>(map_size);
-                umbra_px.push_back({r.t[k] / (texel * std::max(1.f, tan_n)), r.t[k], l});
+                umbra_px.push_back({r.t[k] / (texel * std::max(1.f, tan_n)), r.t[k], l && !side});
             }
         }
     s.acne = lit ? double(acne) / double(lit) : 0.0;
     s.acne_texel = lit ? double(acne_texel) / double(lit) : 0.0;
+    s.leak_texel = umbra ? double(leak_texel) / double(umbra) : 0.0;
     s.leak = umbra ? double(leak) / double(umbra) : 0.0;
     contact_gap(umbra_px, s.gap_texels, s.gap_world);
     return s;
@@ -440,6 +456,10 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                         row.acne_fraction_max = s.acne;
                         row.acne_worst_light = wl;
                     }
+                    if (s.leak_texel > row.leak_beyond_filter_max) {
+                        row.leak_beyond_filter_max = s.leak_texel;
+                        row.leak_beyond_filter_worst_light = wl;
+                    }
                     if (s.leak > row.leak_fraction_max) {
                         row.leak_fraction_max = s.leak;
                         row.leak_worst_light = wl;
@@ -461,10 +481,10 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
             else
                 std::fprintf(stderr,
                              "  sweep     %-9s %-11s %4d %-11s lights: acne max %.4f (beyond the filter %.4f), gap max %.2f texels "
-                             "(%.3g world), leak max %.4f; %.1f s (+ references %.1f s)\n",
+                             "(%.3g world), leak max %.4f (beyond the filter %.4f); %.1f s (+ references %.1f s)\n",
                              r.scene.c_str(), r.technique.c_str(), r.lights, r.light.c_str(), r.acne_fraction_max,
                              r.acne_beyond_filter_max,
-                             r.gap_texels_max, r.gap_world_max, r.leak_fraction_max, r.seconds, ref_seconds);
+                             r.gap_texels_max, r.gap_world_max, r.leak_fraction_max, r.leak_beyond_filter_max, r.seconds, ref_seconds);
         }
     }
     out.seconds = since(t_all);
@@ -511,7 +531,9 @@ void write_light_sweep_json(std::ostream& f, const LightSweep& s) {
               << ", \"gap_texels_max\": " << num(r.gap_texels_max)
               << ", \"gap_world_max\": " << num(r.gap_world_max) << ", \"gap_worst_light\": " << vec(r.gap_worst_light)
               << ", \"lights_with_gap\": " << r.lights_with_gap << ", \"leak_fraction_max\": " << num(r.leak_fraction_max)
-              << ", \"leak_worst_light\": " << vec(r.leak_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak;
+              << ", \"leak_worst_light\": " << vec(r.leak_worst_light)
+              << ", \"leak_beyond_filter_max\": " << num(r.leak_beyond_filter_max)
+              << ", \"leak_beyond_filter_worst_light\": " << vec(r.leak_beyond_filter_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak;
         }
         f << ", \"seconds\": " << num(r.seconds) << ", \"reference_seconds\": " << num(r.reference_seconds) << "}";
     }
@@ -534,22 +556,23 @@ void write_light_sweep_markdown(std::ostream& f, const LightSweep& s) {
         return;
     }
     f << "| scene | technique | light | lights (grazing) | acne max | worst (acne) | acne beyond the filter | gap max, texels | gap max, world | "
-         "worst (gap) | leak max | worst (leak) | lights with acne / gap / leak | seconds |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "worst (gap) | leak max | worst (leak) | leak beyond the filter | lights with acne / gap / leak | seconds |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const LightSweepRow& r : s.rows) {
         const std::string label = r.technique + (r.settings.empty() ? "" : " " + r.settings);
         if (r.failed) {
             f << "| " << r.scene << " | " << label << " | " << r.light << " | failed: " << r.error
-              << " | | | | | | | | | | |\n";
+              << " | | | | | | | | | | | |\n";
             continue;
         }
         std::snprintf(b, sizeof b,
-                      "| %s | %s | %s | %d (%d) | %.4f | %s | %.4f | %.2f | %.3g | %s | %.4f | %s | %d / %d / %d | %.1f + %.1f |\n",
+                      "| %s | %s | %s | %d (%d) | %.4f | %s | %.4f | %.2f | %.3g | %s | %.4f | %s | %.4f | %d / %d / %d | %.1f + %.1f |\n",
                       r.scene.c_str(), label.c_str(), r.light.c_str(), r.lights, r.grazing_lights, r.acne_fraction_max,
                       r.acne_fraction_max > 0 ? elevation_text(r.acne_worst_light).c_str() : "-", r.acne_beyond_filter_max,
                       r.gap_texels_max,
                       r.gap_world_max, r.gap_texels_max > 0 ? elevation_text(r.gap_worst_light).c_str() : "-",
                       r.leak_fraction_max, r.leak_fraction_max > 0 ? elevation_text(r.leak_worst_light).c_str() : "-",
+                      r.leak_beyond_filter_max,
                       r.lights_with_acne, r.lights_with_gap, r.lights_with_leak, r.seconds, r.reference_seconds);
         f << b;
     }

@@ -37,6 +37,9 @@ struct LightSweepRow {
     // filter's reach (+-1.5 texels on their tangent plane) the reference lights entirely, over the same lit pixels
     double acne_beyond_filter_max = 0.0;
     glm::vec3 acne_beyond_filter_worst_light{0.f};
+    // likewise leaks whose whole neighbourhood within the filter's reach the reference shadows
+    double leak_beyond_filter_max = 0.0;
+    glm::vec3 leak_beyond_filter_worst_light{0.f};
     int lights_with_acne = 0, lights_with_gap = 0, lights_with_leak = 0;
     double seconds = 0.0;            // the technique's frames and scoring
     double reference_seconds = 0.0;  // the scene's hard references (shared by its techniques)
