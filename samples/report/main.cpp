@@ -17,10 +17,10 @@
 // "temporal" entries.
 //
 // Light sweep (samples/report/light_sweep.hpp, docs/report.md): after the scenes, the hard shadow-map
-// techniques of the run at their defaults (shadow_map; pcf filter=hard) on every built-in visibility scene of the
-// run (not the light-size variants, --mesh scenes or prt) under N random lights (--light-sweep N,
-// default 1000, --quick 100; off: none) at 128x96: report.json's "light_sweep", report.md's
-// "## light sweep".
+// techniques of the run at their defaults (shadow_map; pcf filter=hard) on every built-in visibility
+// scene of the run (not the light-size variants, --mesh scenes or prt) under N random lights
+// (--light-sweep N, default 1000, --quick 100; off: none) at 128x96: report.json's "light_sweep",
+// report.md's "## light sweep".
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
