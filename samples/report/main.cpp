@@ -1,7 +1,8 @@
 // shadowkit-report: every technique's error against a ray-traced reference, against its run time.
 //
 //   shadowkit-report [--out DIR] [--scenes a,b|default] [--techniques x,y] [--mesh FILE]... [--size WxH]
-//                    [--frames N] [--light-sizes k,k|none] [--temporal N|off] [--quick] [--list]
+//                    [--frames N] [--light-sizes k,k|none] [--temporal N|off] [--light-sweep N|off]
+//                    [--quick] [--list]
 //
 // Light sizes: `contact`, `overlap`, `stack`, `room` and every --mesh scene are also run with the
 // light resized by each factor k (default 0.5,2; none with --quick): area lights scale their size,
@@ -14,6 +15,12 @@
 // light-size variants) run N frames (--temporal N, default 12, --quick 4; off: none) of camera paths
 // and, for hard lights, a turning light, scored by flicker: DIR/flicker_vs_error.svg and the rows'
 // "temporal" entries.
+//
+// Light sweep (samples/report/light_sweep.hpp, docs/report.md): after the scenes, the hard shadow-map
+// techniques of the run at their defaults (shadow_map; pcf filter=hard) on every built-in visibility
+// scene of the run (not the light-size variants, --mesh scenes or prt) under N random lights
+// (--light-sweep N, default 1000, --quick 100; off: none) at 128x96: report.json's "light_sweep",
+// report.md's "## light sweep".
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
@@ -37,6 +44,7 @@
 #include <glm/glm.hpp>
 
 #include "gl.hpp"
+#include "light_sweep.hpp"
 #include "metrics.hpp"
 #include "prt_section.hpp"
 #include "reference.hpp"
@@ -60,6 +68,8 @@ struct Options {
     bool light_sizes_set = false;
     int temporal = 12;  // frames per temporal path (issue 18); 0: off
     bool temporal_set = false;
+    int light_sweep = 1000;  // lights per scene of the light sweep; 0: off
+    bool light_sweep_set = false;
 };
 
 // Scenes with light-size variants (the techniques run on them: skr::kLightSizeTechniques).
@@ -123,7 +133,8 @@ bool parse_int(const char* s, int& v) {
 
 const char* kUsage =
     "usage: shadowkit-report [--out DIR] [--scenes a,b|default] [--techniques x,y] [--mesh FILE]... [--size WxH]\n"
-    "                        [--frames N] [--light-sizes k,k|none] [--temporal N|off] [--quick] [--list]\n";
+    "                        [--frames N] [--light-sizes k,k|none] [--temporal N|off] [--light-sweep N|off]\n"
+    "                        [--quick] [--list]\n";
 
 std::string cpu_name() {
     std::ifstream f("/proc/cpuinfo");
@@ -240,6 +251,12 @@ int main(int argc, char** argv) {
                 return fail("--temporal wants a frame count from 2 to 1000 or 'off'");
             if (std::string(v) == "off") o.temporal = 0;
             o.temporal_set = true;
+        } else if (a == "--light-sweep") {
+            const char* v = value("--light-sweep");
+            if (!v || (std::string(v) != "off" && (!parse_int(v, o.light_sweep) || o.light_sweep < 1 || o.light_sweep > 100000)))
+                return fail("--light-sweep wants a light count from 1 to 100000 or 'off'");
+            if (std::string(v) == "off") o.light_sweep = 0;
+            o.light_sweep_set = true;
         } else if (a == "--frames") {
             const char* v = value("--frames");
             if (!v || !parse_int(v, o.frames) || o.frames < 1) return fail("--frames wants a positive integer");
@@ -272,6 +289,7 @@ int main(int argc, char** argv) {
         if (!o.frames_set) o.frames = 5;  // a preview: medians of 5 frames after 2 warm-up frames
         if (!o.light_sizes_set) o.light_sizes.clear();
         if (!o.temporal_set) o.temporal = 4;
+        if (!o.light_sweep_set) o.light_sweep = 100;
     }
     // what to run
     std::vector<sk::Scene> scenes;
@@ -525,10 +543,25 @@ int main(int argc, char** argv) {
                          prt.transfer_seconds, prt.ref_seconds, 100.0 * prt.ref_stderr);
         }
     }
+    skr::LightSweep sweep;
+    if (o.light_sweep > 0) {
+        // the built-in visibility scenes of the run (no light-size variants, no --mesh scene, no prt)
+        std::vector<sk::Scene> sweep_scenes;
+        for (std::size_t i = 0; i < scenes.size(); ++i) {
+            sk::Scene b;
+            if (variant_base[i].empty() && sk::make_builtin_scene(scenes[i].name, b)) sweep_scenes.push_back(scenes[i]);
+        }
+        skr::LightSweepOptions so;
+        so.lights = o.light_sweep;
+        std::fprintf(stderr, "  sweep     %d lights per scene at %dx%d, %zu scenes\n", so.lights, so.width, so.height,
+                     sweep_scenes.size());
+        skr::run_light_sweep(sweep_scenes, chosen, so, sweep);
+        std::fprintf(stderr, "  sweep     %.1f s\n", sweep.seconds);
+    }
     skr::mark_pareto(rows);
     const fs::path out(o.out);
-    bool ok = skr::write_json((out / "report.json").string(), info, rows, &prt);
-    ok = skr::write_markdown((out / "report.md").string(), info, infos, rows, &prt) && ok;
+    bool ok = skr::write_json((out / "report.json").string(), info, rows, &prt, &sweep);
+    ok = skr::write_markdown((out / "report.md").string(), info, infos, rows, &prt, &sweep) && ok;
     ok = skr::write_svg((out / "error_vs_time.svg").string(), infos, rows) && ok;
     ok = skr::write_light_size_svg((out / "error_vs_light_size.svg").string(), infos, rows) && ok;
     ok = skr::write_flicker_svg((out / "flicker_vs_error.svg").string(), infos, rows) && ok;

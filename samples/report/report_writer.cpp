@@ -1,5 +1,7 @@
 #include "report_writer.hpp"
 
+#include "light_sweep.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -116,7 +118,8 @@ static void write_temporal_json(std::ofstream& f, const Row& r) {
     f << "]";
 }
 
-bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows, const PrtReport* prt) {
+bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows, const PrtReport* prt,
+                const LightSweep* sweep) {
     std::ofstream f(path);
     if (!f) return false;
     f << "{\n  \"renderer\": \"" << json_escape(info.renderer) << "\",\n  \"gl_version\": \""
@@ -168,6 +171,7 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
     }
     f << "\n  ]";
     if (prt && prt->requested) write_prt_json(f, *prt);
+    if (sweep) write_light_sweep_json(f, *sweep);
     f << "\n}\n";
     return static_cast<bool>(f);
 }
@@ -318,7 +322,7 @@ static void write_temporal_markdown(std::ofstream& f, const std::vector<const Ro
 }
 
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
-                    const std::vector<Row>& rows, const PrtReport* prt) {
+                    const std::vector<Row>& rows, const PrtReport* prt, const LightSweep* sweep) {
     std::ofstream f(path);
     if (!f) return false;
     f << "# shadowkit report: error against run time\n\n";
@@ -396,6 +400,7 @@ bool write_markdown(const std::string& path, const ReportInfo& info, const std::
         write_temporal_markdown(f, rs);
     }
     if (prt && prt->requested) write_prt_markdown(f, *prt);
+    if (sweep) write_light_sweep_markdown(f, *sweep);
     return static_cast<bool>(f);
 }
 

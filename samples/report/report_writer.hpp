@@ -104,15 +104,18 @@ struct PrtReport {
     std::vector<PrtOrderRow> orders;   // orders 1 .. 5, then the CPCA row
 };
 
+struct LightSweep;  // light_sweep.hpp
+
 // Marks rows on each scene's Pareto front (no other row of the scene is both faster and lower RMSE).
 void mark_pareto(std::vector<Row>& rows);
 
 std::string json_escape(const std::string& s);
-// `prt` (may be null or not requested): a top-level "prt" object / a "## prt" section after the scenes.
+// `prt` (may be null or not requested): a top-level "prt" object / a "## prt" section after the scenes;
+// `sweep` (may be null or not requested) likewise: a top-level "light_sweep" array / "## light sweep".
 bool write_json(const std::string& path, const ReportInfo& info, const std::vector<Row>& rows,
-                const PrtReport* prt = nullptr);
+                const PrtReport* prt = nullptr, const LightSweep* sweep = nullptr);
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
-                    const std::vector<Row>& rows, const PrtReport* prt = nullptr);
+                    const std::vector<Row>& rows, const PrtReport* prt = nullptr, const LightSweep* sweep = nullptr);
 bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
 // flicker_vs_error.svg (issue 18): per scene with temporal rows, each (row, path) as a point at
 // (RMSE, temporal RMS); nothing is written without temporal rows.

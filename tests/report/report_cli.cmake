@@ -63,6 +63,8 @@ expect_fail("--light-sizes wants factors in (0, 100]" --light-sizes 0)
 expect_fail("--light-sizes wants factors in (0, 100]" --light-sizes 2,abc)
 expect_fail("--temporal wants a frame count from 2 to 1000 or 'off'" --temporal 1)
 expect_fail("--temporal wants a frame count from 2 to 1000 or 'off'" --temporal often)
+expect_fail("--light-sweep wants a light count from 1 to 100000 or 'off'" --light-sweep 0)
+expect_fail("--light-sweep wants a light count from 1 to 100000 or 'off'" --light-sweep many)
 
 # issue 18, over time: temporal rows nested in their rows, flicker_vs_error.svg; shadow volumes are
 # exactly stable on camera paths, the cached map equals its full re-render (invariant pass)
@@ -219,6 +221,39 @@ endif()
 # the same tetrahedron through the OBJ and the PLY loader must score identically
 if(NOT "${obj_rmse}" STREQUAL "${ply_rmse}")
   message(FATAL_ERROR "tet.obj rows (${obj_rmse}) differ from tet.ply rows (${ply_rmse})")
+endif()
+
+# the light sweep: a top-level "light_sweep" array (shadow_map at its defaults under 20 lights on
+# contact, 7 of them grazing) and a "## light sweep" section; --light-sweep off leaves both out
+report_ok("light-sweep report run" --quick --scenes contact --techniques shadow_map --light-sweep 20 --temporal off
+          --size 64x48 --frames 1 --out ${WORK}/sweep)
+expect_md(${WORK}/sweep "\n## light sweep\n" "| contact | shadow_map | spot | 20 (7) |")
+file(READ ${WORK}/sweep/report.json json)
+string(JSON nsweep LENGTH "${json}" light_sweep)
+if(NOT nsweep EQUAL 1)
+  message(FATAL_ERROR "expected 1 light_sweep entry (contact, shadow_map), got ${nsweep}")
+endif()
+foreach(key scene technique settings lights grazing_lights width height acne_fraction_max acne_worst_light
+            gap_texels_max gap_world_max leak_fraction_max seconds)
+  string(JSON v ERROR_VARIABLE jerr GET "${json}" light_sweep 0 ${key})
+  if(jerr OR v MATCHES "null|nan|inf")
+    message(FATAL_ERROR "light_sweep[0].${key} = '${v}' ${jerr}")
+  endif()
+endforeach()
+string(JSON lights GET "${json}" light_sweep 0 lights)
+string(JSON grazing GET "${json}" light_sweep 0 grazing_lights)
+string(JSON acne GET "${json}" light_sweep 0 acne_fraction_max)
+string(JSON leak GET "${json}" light_sweep 0 leak_fraction_max)
+string(JSON nworst LENGTH "${json}" light_sweep 0 acne_worst_light)
+if(NOT lights EQUAL 20 OR NOT grazing EQUAL 7 OR NOT nworst EQUAL 3 OR acne GREATER 1 OR leak GREATER 1)
+  message(FATAL_ERROR "light_sweep[0]: lights ${lights}, grazing ${grazing}, worst light of ${nworst}, acne ${acne}, leak ${leak}")
+endif()
+report_ok("light-sweep off run" --quick --scenes contact --techniques shadow_map --light-sweep off --temporal off
+          --size 64x48 --frames 1 --out ${WORK}/nosweep)
+file(READ ${WORK}/nosweep/report.json json)
+string(JSON t ERROR_VARIABLE jerr TYPE "${json}" light_sweep)
+if(NOT jerr)
+  message(FATAL_ERROR "--light-sweep off still wrote a light_sweep entry")
 endif()
 
 # the `prt` pseudo-scene: a "## prt" section and a top-level "prt" object, error falling with the SH order
