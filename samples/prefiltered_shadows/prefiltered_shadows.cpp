@@ -149,7 +149,7 @@ void PrefilteredShadows::update(const app::View& v, const PrefilteredShadowSetti
         return;
     }
     // the light's frustum around the scene: a perspective from its center, or an orthographic box
-    lm_ = sk::fit_light(scene);
+    lm_ = s.fit_casters ? sk::fit_light_to_casters(scene, true) : sk::fit_light(scene);
     // t = (d - near) / (far - near) along the light's axis; the same t from a depth buffer (MSAA resolve)
     range_ = skp::prefilter_depth_range(lm_.znear, lm_.zfar);
     window_map_ = skp::prefilter_window_depth_map(lm_.znear, lm_.zfar, lm_.perspective, false, range_);

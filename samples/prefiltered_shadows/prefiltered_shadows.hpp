@@ -57,6 +57,8 @@ struct PrefilteredShadowSettings {
     /// Soft shadows with contact hardening (VSM, MSM; the others: the hard lookup): mipmaps on, the blur
     /// blur_texels wide, the penumbra's width from the blocker depth the moments give (sk_prefilter_soft_visibility)
     bool soft = false;
+    /// The map around the casters and their penumbra (sk::fit_light_to_casters) instead of the scene.
+    bool fit_casters = true;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -82,6 +84,7 @@ inline void bind_settings(app::Params& p, PrefilteredShadowSettings& s) {
     p.toggle("mips", &s.mips);
     p.toggle("msaa", &s.msaa);
     p.toggle("soft", &s.soft);
+    p.toggle("fit_casters", &s.fit_casters);
 }
 
 class PrefilteredShadows {
