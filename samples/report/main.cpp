@@ -17,6 +17,11 @@
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
+// Scanned meshes (docs/report.md): `bunny`, `bunny_sun`, `dragon`, `dragon_sun` (in the default set) load
+// npm packages from sk::mesh_dir() ($SHADOWKIT_MESH_DIR, else /usr/local/share/shadowkit/meshes; installed by
+// cmake/install-deps.sh). When a package is missing, one line names it and its scenes are skipped (the exit
+// status does not change). They run each technique's ReportSpec::mesh_sweep (its defaults and the one or
+// two settings that matter; --quick: the defaults), no light-size variants.
 // The scene `prt` (in the default set) is not a visibility scene: it adds a "## prt" section and a
 // top-level "prt" object (PRT shading error vs SH order against a Monte Carlo reference).
 #include <algorithm>
@@ -257,6 +262,11 @@ int main(int argc, char** argv) {
             sk::make_builtin_scene(n, s);
             std::printf("  %-10s %s\n", n.c_str(), s.description.c_str());
         }
+        for (const auto& n : sk::scanned_scene_names())
+            std::printf("  %-10s %s%s\n", n.c_str(), sk::scanned_scene_description(n).c_str(),
+                        sk::scanned_scene_present(n) ? ""
+                                                     : (" [not installed: npm " + sk::scanned_scene_package(n) +
+                                                        ", bash cmake/install-deps.sh]").c_str());
         std::printf("  %-10s %s\n", "prt", skr::prt_description());
         std::printf("techniques:\n");
         for (const auto& t : techniques)
@@ -280,6 +290,7 @@ int main(int argc, char** argv) {
     if (wanted.empty() && o.meshes.empty()) {
         for (const auto& n : scene_names)
             if (n != "square") wanted.push_back(n);
+        for (const auto& n : sk::scanned_scene_names()) wanted.push_back(n);
         run_prt = true;
     }
     // `--scenes default` (alone or with others) stands for the default set, e.g. beside --mesh
@@ -292,18 +303,44 @@ int main(int argc, char** argv) {
             }
             for (const auto& b : scene_names)
                 if (b != "square") expanded.push_back(b);
+            for (const auto& b : sk::scanned_scene_names()) expanded.push_back(b);
             expanded.push_back("prt");
         }
         wanted = std::move(expanded);
     }
+    std::vector<std::string> missing_scenes, missing_packages;  // scanned meshes not installed: skipped
     for (const auto& n : wanted) {
         if (n == "prt") {
             run_prt = true;
             continue;
         }
         sk::Scene s;
-        if (!sk::make_builtin_scene(n, s)) return fail("unknown scene '" + n + "' (see --list)");
+        if (sk::is_scanned_scene(n)) {
+            if (!sk::scanned_scene_present(n)) {
+                missing_scenes.push_back(n);
+                const std::string pkg = sk::scanned_scene_package(n);
+                if (std::find(missing_packages.begin(), missing_packages.end(), pkg) == missing_packages.end())
+                    missing_packages.push_back(pkg);
+                continue;
+            }
+            std::string why;
+            if (!sk::make_scanned_scene(n, s, why)) return fail("scene " + n + ": " + why);
+        } else if (!sk::make_builtin_scene(n, s)) {
+            return fail("unknown scene '" + n + "' (see --list)");
+        }
         scenes.push_back(std::move(s));
+    }
+    if (!missing_scenes.empty()) {
+        auto join = [](const std::vector<std::string>& v) {
+            std::string out;
+            for (const auto& x : v) out += (out.empty() ? "" : ", ") + x;
+            return out;
+        };
+        std::fprintf(stderr,
+                     "shadowkit-report: skipping scenes %s: npm package%s %s not found in %s (install with `bash "
+                     "cmake/install-deps.sh`, or set SHADOWKIT_MESH_DIR)\n",
+                     join(missing_scenes).c_str(), missing_packages.size() > 1 ? "s" : "", join(missing_packages).c_str(),
+                     sk::mesh_dir().c_str());
     }
     for (const auto& m : o.meshes) {
         sk::Scene s;

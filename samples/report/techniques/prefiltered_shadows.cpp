@@ -85,6 +85,9 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         if (name == "vsm" || name == "msm") spec.sweep.push_back(head + "size=2048 blur_from_light=off blur_texels=3" + tail);
         spec.sweep.push_back(head + "size=1024 blur_from_light=on" + tail);
         spec.quick = {head + "size=1024 blur_from_light=on" + tail};
+        // scanned meshes: the defaults (blur from the light, depth_bias 0.002); VSM and MSM also the 3-texel blur
+        spec.mesh_sweep = {head + "size=1024 blur_from_light=on"};
+        if (name == "vsm" || name == "msm") spec.mesh_sweep.push_back(head + "size=1024 blur_from_light=off blur_texels=3" + tail);
         spec.measure = measure;
         spec.frame_budget_ms = 400.0;
         add_technique(out, std::move(spec));
@@ -113,6 +116,7 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         spec.sweep = msm ? std::vector<std::string>{row, row + " slope_bias=1 slope_bias_max=0.2"}
                          : std::vector<std::string>{row + " slope_bias=1 slope_bias_max=0.02"};
         spec.quick = spec.sweep;
+        spec.mesh_sweep = {std::string("method=") + (msm ? "msm" : "vsm") + " soft=on", spec.sweep.back()};  // defaults first
         spec.measure = measure;
         spec.frame_budget_ms = 400.0;
         add_technique(out, std::move(spec));

@@ -14,6 +14,7 @@ void add_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     spec.description = "plain shadow map, 2x2 hardware PCF, slope-scaled polygon offset (baseline)";
     spec.sweep = {"size=512", "size=1024", "size=2048", "size=4096"};
     spec.quick = {"size=512", "size=2048"};
+    spec.mesh_sweep = {"size=2048", "size=4096"};  // scanned meshes: the default, and the larger map
     spec.measure = [](ShadowMap& sm, const ShadowMapSettings&, const app::View& v, const RunContext&, RunResult& r) {
         const double faces = sm.cube() ? 6.0 : 1.0, texels = double(sm.size()) * double(sm.size());
         std::size_t casters = 0;

@@ -88,6 +88,7 @@ void add_smoothie_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         }
         return rows;
     };
+    spec.mesh_sweep = {"t_from_light=on size=1024", "t_from_light=off t=0.05 size=1024"};
     spec.measure = measure;
     add_technique(out, std::move(spec));
 }

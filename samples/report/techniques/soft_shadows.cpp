@@ -202,6 +202,9 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
             for (int t : taps)
                 rows.push_back("filter=poisson taps=" + std::to_string(t) + " rotate=" + rot + " radius_from_light=on fit_near=off");
     }
+    // scanned meshes: the class's defaults with a Poisson filter (32 rotated taps, radius 2 texels), and the radius
+    // from the light
+    pcf.mesh_sweep = {"filter=poisson", "filter=poisson radius_from_light=on"};
     add_technique(out, std::move(pcf));
 
     auto pcss = pcss_spec("pcss", "PCSS (pcss.hpp uniforms + glsl/pcss.glsl) on a 2048 map, near plane at the casters, "
@@ -212,6 +215,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         for (int t : {16, 32, 64}) pcss.sweep.push_back("filter=pcss taps=" + std::to_string(t) + " rotate=" + rot);
         for (int t : {16, 64}) pcss.quick.push_back("filter=pcss taps=" + std::to_string(t) + " rotate=" + rot);
     }
+    pcss.mesh_sweep = {"filter=pcss taps=32 rotate=on", "filter=pcss taps=64 rotate=on"};
     add_technique(out, std::move(pcss));
 
     ReportSpec<SampledAreaLight, SampledAreaLightSettings> sampled;
@@ -222,6 +226,7 @@ void add_soft_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     sampled.applies = soft_scene;
     sampled.sweep = {"maps=4", "maps=16", "maps=64", "maps=256"};
     sampled.quick = {"maps=4", "maps=16", "maps=64"};
+    sampled.mesh_sweep = {"maps=16", "maps=64"};
     sampled.frame_budget_ms = 400.0;
     sampled.measure = [](SampledAreaLight& t, const SampledAreaLightSettings&, const app::View& v, const RunContext&,
                          RunResult& r) {
