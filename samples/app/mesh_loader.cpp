@@ -261,11 +261,9 @@ const ScannedMesh* find_scanned(const std::string& name) {
     return nullptr;
 }
 
-std::string scanned_description(const ScannedMesh& m, std::size_t triangles) {
-    std::string d = std::string("scanned mesh: ") + m.title;
-    if (triangles > 0) d += ", " + std::to_string(triangles) + " triangles,";
-    d += m.sun ? " on a floor, sun 40 degrees up" : " on a floor under a square area light";
-    return d;
+std::string scanned_description(const ScannedMesh& m) {
+    return std::string("scanned mesh: ") + m.title +
+           (m.sun ? " on a floor, sun 40 degrees up" : " on a floor under a square area light");
 }
 
 }  // namespace
@@ -436,7 +434,7 @@ std::string scanned_scene_path(const std::string& name) {
 
 std::string scanned_scene_description(const std::string& name) {
     const ScannedMesh* m = find_scanned(name);
-    return m ? scanned_description(*m, 0) : "";
+    return m ? scanned_description(*m) : "";
 }
 
 bool scanned_scene_present(const std::string& name) {
@@ -461,14 +459,13 @@ bool make_scanned_scene(const std::string& name, Scene& out, std::string& why) {
     const float height = normalize_mesh(m, path, why);
     if (height < 0.f) return false;
     m.name = sm->package;
-    const std::size_t tris = m.indices.size() / 3;
     place_on_floor(std::move(m), height, out);
     if (sm->sun)
         set_sun(out);
     else
         set_area_light(out, height);
     out.name = sm->name;
-    out.description = scanned_description(*sm, tris);
+    out.description = scanned_description(*sm);
     return true;
 }
 

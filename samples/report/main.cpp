@@ -21,7 +21,8 @@
 // npm packages from sk::mesh_dir() ($SHADOWKIT_MESH_DIR, else /usr/local/share/shadowkit/meshes; installed by
 // cmake/install-deps.sh). When a package is missing, one line names it and its scenes are skipped (the exit
 // status does not change). They run each technique's ReportSpec::mesh_sweep (its defaults and the one or
-// two settings that matter; --quick: the defaults), no light-size variants.
+// two settings that matter; --quick: the defaults, 3 timed frames, no temporal rows, and by default only
+// bunny and dragon_sun), no light-size variants.
 // The scene `prt` (in the default set) is not a visibility scene: it adds a "## prt" section and a
 // top-level "prt" object (PRT shading error vs SH order against a Monte Carlo reference).
 #include <algorithm>
@@ -66,6 +67,10 @@ struct Options {
     int temporal = 12;  // frames per temporal path (issue 18); 0: off
     bool temporal_set = false;
 };
+
+// The scanned-mesh scenes of the default set with --quick (one per mesh and per kind of light; the others
+// when named): there each technique runs its defaults, 3 timed frames after 1 warm-up, no temporal rows.
+const std::set<std::string> kQuickScannedScenes = {"bunny", "dragon_sun"};
 
 // Scenes with light-size variants (the techniques run on them: skr::kLightSizeTechniques).
 const std::set<std::string> kLightSizeScenes = {"contact", "overlap", "stack", "room"};
@@ -290,7 +295,8 @@ int main(int argc, char** argv) {
     if (wanted.empty() && o.meshes.empty()) {
         for (const auto& n : scene_names)
             if (n != "square") wanted.push_back(n);
-        for (const auto& n : sk::scanned_scene_names()) wanted.push_back(n);
+        for (const auto& n : sk::scanned_scene_names())
+            if (!o.quick || kQuickScannedScenes.count(n)) wanted.push_back(n);
         run_prt = true;
     }
     // `--scenes default` (alone or with others) stands for the default set, e.g. beside --mesh
@@ -303,7 +309,8 @@ int main(int argc, char** argv) {
             }
             for (const auto& b : scene_names)
                 if (b != "square") expanded.push_back(b);
-            for (const auto& b : sk::scanned_scene_names()) expanded.push_back(b);
+            for (const auto& b : sk::scanned_scene_names())
+                if (!o.quick || kQuickScannedScenes.count(b)) expanded.push_back(b);
             expanded.push_back("prt");
         }
         wanted = std::move(expanded);
@@ -427,6 +434,7 @@ int main(int argc, char** argv) {
         si.light_size = scene.light.is_area() ? double(scene.light.size) : 0.0;
         si.description = scene.description;
         si.triangles = scene.triangle_count();
+        const bool scanned = sk::is_scanned_scene(scene.name);
         if (!sk::prepare_scene_gpu(scene, o.width, o.height, gpu, g, why)) {
             std::fprintf(stderr, "shadowkit-report: scene %s: %s\n", scene.name.c_str(), why.c_str());
             continue;
@@ -472,6 +480,10 @@ int main(int argc, char** argv) {
                 r.height = o.height;
                 std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
                 sk::RunContext ctx{scene, gpu, o.frames, o.quick ? 2 : 3, &g};
+                if (o.quick && scanned && !o.frames_set) {  // a preview of the scanned meshes: the time budget
+                    ctx.frames = std::min(ctx.frames, 3);
+                    ctx.warmup = 1;
+                }
                 sk::RunResult res;
                 try {  // a driver that throws (bad_alloc, ...) becomes a failed row, not a crash
                     res = t->run(ctx, ps);
@@ -526,7 +538,7 @@ int main(int argc, char** argv) {
         infos.back().ref_seconds = ref.seconds;
         infos.back().ref_cached = ref.from_cache;
         write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
-        if (si.base.empty() && o.temporal > 0) {  // issue 18: the chosen rows over time
+        if (si.base.empty() && o.temporal > 0 && !(o.quick && scanned)) {  // issue 18: the chosen rows over time
             std::vector<skr::Row*> scene_rows;
             for (auto& p : pending) scene_rows.push_back(&p.row);
             skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);
