@@ -538,7 +538,7 @@ int main(int argc, char** argv) {
         infos.back().ref_seconds = ref.seconds;
         infos.back().ref_cached = ref.from_cache;
         write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
-        if (si.base.empty() && o.temporal > 0 && !scanned) {  // scanned meshes: still rows only (time budget)  // issue 18: the chosen rows over time
+        if (si.base.empty() && o.temporal > 0 && !scanned) {  // issue 18: the chosen rows over time (not on scanned meshes: time budget)
             std::vector<skr::Row*> scene_rows;
             for (auto& p : pending) scene_rows.push_back(&p.row);
             skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);
