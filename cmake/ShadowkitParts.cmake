@@ -1,6 +1,6 @@
 # Which parts of shadowkit's own tree can be built with what is installed, and why not.
 #   header tests (unit, glsl, hygiene, consume, docs)  GLM + doctest + glslang
-#   GL harness (GL tests, samples, report)              epoxy + EGL, stb, and for now Embree + assimp
+#   GL harness (GL tests, samples, report)              epoxy + EGL, stb, and for now Embree + assimp + zlib
 #                                                       (the GL tests compare against the report's
 #                                                       Embree reference)
 #   samples                                             + GLFW (window)
@@ -59,12 +59,14 @@ if(SHADOWKIT_BUILD_GL_TESTS OR SHADOWKIT_BUILD_SAMPLES OR SHADOWKIT_BUILD_REPORT
   find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb)
   find_package(embree 3 CONFIG QUIET)
   find_package(assimp CONFIG QUIET)
+  find_package(ZLIB QUIET)
   find_package(Threads)
   set(_why "")
   _sk_need(EPOXY_FOUND "libepoxy not found (Debian: libepoxy-dev libegl-dev)")
   _sk_need(STB_INCLUDE_DIR "stb not found (Debian: libstb-dev)")
   _sk_need(embree_FOUND "Embree not found (Debian: libembree-dev)")
   _sk_need(assimp_FOUND "assimp not found (Debian: libassimp-dev)")
+  _sk_need(ZLIB_FOUND "zlib not found (Debian: zlib1g-dev)")
   if(_why STREQUAL "")
     set(SHADOWKIT_HAVE_HARNESS ON)
   endif()

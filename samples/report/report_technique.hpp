@@ -50,6 +50,11 @@ struct ReportSpec {
     /// Rows that differ between the scenes it applies to (the light's type, the scene): when set, used
     /// instead of sweep / quick.
     std::function<std::vector<std::string>(const Scene&, bool quick)> sweep_for;
+    /// The rows on the scanned-mesh scenes (bunny, dragon, ...: is_scanned_scene), the report's time budget:
+    /// the class's default settings first (the only row with --quick), then the one or two settings that
+    /// matter there. Used instead of sweep / quick / sweep_for on those scenes; empty: those as elsewhere.
+    /// `applies` sees a scanned-mesh scene as a mesh scene (named "mesh:<name>", like --mesh scenes).
+    std::vector<std::string> mesh_sweep;
     /// After the timed frames and the read-back: work counters, gpu_bytes, debug images (ctx.debug_images).
     std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
     /// The class's failure after update() ("" when fine), for classes that report one.
@@ -76,9 +81,19 @@ public:
     /// first when none has.
     std::vector<ParamSet> sweep(const Scene& scene, bool quick) const override {
         std::vector<ParamSet> out;
-        if (spec_.applies && !spec_.applies(scene)) return out;
-        for (const auto& text : spec_.sweep_for ? spec_.sweep_for(scene, quick) : quick ? spec_.quick : spec_.sweep)
-            out.push_back(ParamSet::parse_named(text));
+        const bool scanned = is_scanned_scene(scene.name);
+        if (spec_.applies && !spec_.applies(scene)) {
+            if (!scanned) return out;
+            Scene alias = scene;  // the families' rules name mesh scenes by the prefix "mesh:"
+            alias.name = "mesh:" + scene.name;
+            if (!spec_.applies(alias)) return out;
+        }
+        std::vector<std::string> rows;
+        if (scanned && !spec_.mesh_sweep.empty())
+            rows = quick ? std::vector<std::string>{spec_.mesh_sweep.front()} : spec_.mesh_sweep;
+        else
+            rows = spec_.sweep_for ? spec_.sweep_for(scene, quick) : quick ? spec_.quick : spec_.sweep;
+        for (const auto& text : rows) out.push_back(ParamSet::parse_named(text));
         if (!spec_.default_row) return out;
         const ParamSet identity = ParamSet::parse_named(spec_.identity);
         S d;

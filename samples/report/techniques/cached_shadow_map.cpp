@@ -151,6 +151,7 @@ void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& o
             return {"cache=on", "cache=off"};
         }
     };
+    spec.mesh_sweep = {"fit=stable cache=on pass=invariant"};  // scanned meshes: the defaults
     spec.measure = [](CachedShadowMap& m, const CachedShadowMapSettings& s, const app::View& v, const RunContext&, RunResult& r) {
         const double texels = double(m.size()) * double(m.size());
         std::size_t casters = 0;

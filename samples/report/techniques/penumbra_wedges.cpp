@@ -170,6 +170,7 @@ void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         return {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off", "scissor=on depth_bounds=on",
                 "scissor=off depth_bounds=on", "scissor=on depth_bounds=on projection=infinite"};
     };
+    spec.mesh_sweep = {"scissor=on depth_bounds=on"};  // scanned meshes: the defaults (the others are speed settings)
     spec.measure = measure;
     add_technique(out, std::move(spec));
 }

@@ -86,6 +86,9 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         spec.sweep.push_back(head + "size=1024 blur_from_light=on" + tail);
         spec.quick = {head + "size=1024 blur_from_light=on" + tail};
         spec.identity = "method=" + name + tail;
+        // scanned meshes: the defaults (their settings=default row); VSM and MSM also the 3-texel blur
+        spec.mesh_sweep = {spec.identity};
+        if (name == "vsm" || name == "msm") spec.mesh_sweep.push_back(head + "size=1024 blur_from_light=off blur_texels=3" + tail);
         spec.measure = measure;
         spec.frame_budget_ms = 400.0;
         add_technique(out, std::move(spec));
@@ -115,6 +118,7 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                          : std::vector<std::string>{row + " slope_bias=1 slope_bias_max=0.02"};
         spec.quick = spec.sweep;
         spec.identity = std::string("method=") + (msm ? "msm" : "vsm") + " soft=on" + (msm ? "" : " depth_bias=0");
+        spec.mesh_sweep = {spec.identity, spec.sweep.back()};  // defaults first
         spec.measure = measure;
         spec.frame_budget_ms = 400.0;
         add_technique(out, std::move(spec));

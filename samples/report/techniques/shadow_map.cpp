@@ -14,6 +14,7 @@ void add_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     spec.description = "plain shadow map, 2x2 PCF; bias=auto (default: each texel compared with the receiver plane, nothing to tune) or polygon_offset (slope-scaled glPolygonOffset(2, 2))";
     spec.sweep = {"size=512", "size=1024", "size=2048", "size=4096", "size=2048 fit_casters=off", "size=2048 bias=polygon_offset fit_casters=off", "size=2048 contact=on"};
     spec.quick = {"size=512", "size=2048", "size=2048 bias=polygon_offset fit_casters=off", "size=2048 contact=on"};
+    spec.mesh_sweep = {"size=2048", "size=2048 bias=polygon_offset fit_casters=off", "size=2048 contact=on"};  // scanned meshes
     spec.measure = [](ShadowMap& sm, const ShadowMapSettings&, const app::View& v, const RunContext&, RunResult& r) {
         const double faces = sm.cube() ? 6.0 : 1.0, texels = double(sm.size()) * double(sm.size());
         std::size_t casters = 0;

@@ -118,6 +118,8 @@ void add_volume_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                   "method=zpass scissor=off depth_bounds=off", "method=zfail scissor=on depth_bounds=on",
                   "method=auto scissor=on depth_bounds=on",    "method=zpass scissor=on depth_bounds=on",
                   "method=auto scissor=on depth_bounds=off",   "method=auto scissor=off depth_bounds=on"};
+    // scanned meshes (open, with holes): the defaults, and z-fail for every caster
+    spec.mesh_sweep = {"method=auto scissor=on depth_bounds=on", "method=zfail scissor=on depth_bounds=on"};
     spec.measure = measure;
     add_technique(out, std::move(spec));
 }

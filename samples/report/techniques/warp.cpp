@@ -116,6 +116,7 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         for (const char* size : {"512", "1024", "2048"}) warped.sweep.push_back(std::string("method=") + m + " size=" + size);
         warped.quick.push_back(std::string("method=") + m + " size=1024");
     }
+    warped.mesh_sweep = {"method=lispsm size=1024", "method=fitted size=1024"};  // scanned meshes: default, fitted
     warped.measure = measure_warped;
     add_technique(out, std::move(warped));
 
@@ -125,6 +126,7 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
     cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4", "size=1024 count=4 bias=polygon_offset"};
     cascades.quick = {"size=512 count=4", "size=1024 count=4"};
+    cascades.mesh_sweep = {"size=1024 count=4", "size=512 count=4"};
     cascades.measure = measure_cascades;
     add_technique(out, std::move(cascades));
 }
