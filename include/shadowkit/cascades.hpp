@@ -389,6 +389,8 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
         pw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
         pmax = std::fmax(pmax, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
     }
+    // a slice reaching beyond float range has receivers no float position (and no vertex shader) holds
+    if (!(pmax <= static_cast<double>(std::numeric_limits<float>::max()))) return fail(Status::Overflow);
     const double ep = uf * pmax;
     for (int i = 0; i < 8; ++i) {
         const glm::dvec4 h = mf * glm::dvec4(pw[i], 1.0);  // the float matrix, exactly (w = 1: orthographic)
