@@ -33,19 +33,6 @@ const SweepTechnique kSweepTechniques[] = {
     {"pcf", "filter=hard", PcssSettings{}.size},
 };
 
-struct Pcg {
-    std::uint64_t state;
-    explicit Pcg(std::uint64_t seed) : state(seed * 6364136223846793005ull + 1442695040888963407ull) { next(); }
-    std::uint32_t next() {
-        const std::uint64_t old = state;
-        state = old * 6364136223846793005ull + 1442695040888963407ull;
-        const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
-        const auto rot = static_cast<std::uint32_t>(old >> 59u);
-        return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
-    }
-    float uniform() { return static_cast<float>(next() >> 8) * (1.0f / 16777216.0f); }
-};
-
 struct Embree {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
@@ -153,7 +140,7 @@ SweepLights make_lights(const sk::Scene& s, const sk::GBuffer& g, const LightSwe
             if (glm::all(glm::greaterThanEqual(q, b.lo)) && glm::all(glm::lessThanEqual(q, b.hi))) return true;
         return false;
     };
-    Pcg rng(opt.seed ^ name_hash(s.name));
+    sk::Pcg rng(opt.seed ^ name_hash(s.name));
     const float s1 = std::sin(kPi / 180.f);
     for (int i = 0; i < opt.lights; ++i) {
         const bool grazing = i % 3 == 0;

@@ -19,19 +19,6 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-struct Pcg {
-    std::uint64_t state;
-    explicit Pcg(std::uint64_t seed) : state(seed * 6364136223846793005ull + 1442695040888963407ull) { next(); }
-    std::uint32_t next() {
-        const std::uint64_t old = state;
-        state = old * 6364136223846793005ull + 1442695040888963407ull;
-        const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
-        const auto rot = static_cast<std::uint32_t>(old >> 59u);
-        return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
-    }
-    float uniform() { return static_cast<float>(next() >> 8) * (1.0f / 16777216.0f); }
-};
-
 void orthonormal_basis(glm::vec3 n, glm::vec3& t, glm::vec3& b) {
     // Duff et al. 2017, "Building an Orthonormal Basis, Revisited"
     const float sign = std::copysign(1.0f, n.z);

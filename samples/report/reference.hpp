@@ -13,6 +13,20 @@ namespace sk {
 // Camera G-buffer read back from the GPU: world position and normal per pixel (bottom-up rows,
 // as glReadPixels returns them). kind: 0 = background, 1 = receiver, 2 = geometry that is not a
 // receiver (drawn, but left out of the metrics).
+/// PCG32 (O'Neill 2014), seeded: the reference's stratified jitter and the light sweep's directions.
+struct Pcg {
+    std::uint64_t state;
+    explicit Pcg(std::uint64_t seed) : state(seed * 6364136223846793005ull + 1442695040888963407ull) { next(); }
+    std::uint32_t next() {
+        const std::uint64_t old = state;
+        state = old * 6364136223846793005ull + 1442695040888963407ull;
+        const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
+        const auto rot = static_cast<std::uint32_t>(old >> 59u);
+        return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+    }
+    float uniform() { return static_cast<float>(next() >> 8) * (1.0f / 16777216.0f); }
+};
+
 struct GBuffer {
     int width = 0, height = 0;
     std::vector<float> position;  // xyz per pixel
