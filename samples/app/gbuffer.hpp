@@ -7,7 +7,7 @@
 //   the G-buffer's surface points: the same points the report's ray-traced reference uses.
 // - View: what a technique's init / update / render get each frame: the scene (meshes, light), its
 //   SceneGpu, and the camera the technique fits to (`view`, `proj`). That camera is the G-buffer's in
-//   the samples; the report may move it away from the G-buffer's (issue 18's temporal rows): a
+//   the samples; the report may move it away from the G-buffer's (the report's temporal rows): a
 //   technique fits to view.view / view.proj and evaluates at the G-buffer's points, never re-derives
 //   one from the other.
 // - The last pass of every technique: a full-screen triangle over the G-buffer whose fragment shader is

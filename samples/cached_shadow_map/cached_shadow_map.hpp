@@ -1,5 +1,5 @@
 // samples/cached_shadow_map/cached_shadow_map.hpp - a shadow map that leaves out the work that did not
-// change between frames (issue 18): what the sample shows and the report measures.
+// change between frames (shadows over time): what the sample shows and the report measures.
 //
 // A sun's stable (texel-snapped) light frustum follows the camera (light_frustum.hpp with a depth
 // range fixed in the world), and every frame shadow_cache.hpp says what the map still needs: nothing

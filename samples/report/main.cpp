@@ -11,7 +11,7 @@
 // smoothie, penumbra_wedges, msm_soft, vsm_soft), each against its own area-light reference; report.md sums them up in
 // "## light size".
 //
-// Over time (issue 18, samples/report/temporal_rows.hpp): the chosen rows of every scene (not the
+// Over time (samples/report/temporal_rows.hpp): the chosen rows of every scene (not the
 // light-size variants) run N frames (--temporal N, default 12, --quick 4; off: none) of camera paths
 // and, for hard lights, a turning light, scored by flicker: DIR/flicker_vs_error.svg and the rows'
 // "temporal" entries.
@@ -72,7 +72,7 @@ struct Options {
     bool quick = false, list = false;
     std::vector<double> light_sizes{0.5, 2.0};
     bool light_sizes_set = false;
-    int temporal = 12;  // frames per temporal path (issue 18); 0: off
+    int temporal = 12;  // frames per temporal path; 0: off
     bool temporal_set = false;
     int light_sweep = 1000;  // lights per scene of the light sweep; 0: off
     bool light_sweep_set = false;
@@ -556,7 +556,7 @@ int main(int argc, char** argv) {
         infos.back().ref_seconds = ref.seconds;
         infos.back().ref_cached = ref.from_cache;
         write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
-        if (si.base.empty() && o.temporal > 0 && !scanned) {  // issue 18: the chosen rows over time (not on scanned meshes: time budget)
+        if (si.base.empty() && o.temporal > 0 && !scanned) {  // the chosen rows over time (not on scanned meshes: time budget)
             std::vector<skr::Row*> scene_rows;
             for (auto& p : pending) scene_rows.push_back(&p.row);
             skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);

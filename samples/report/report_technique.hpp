@@ -63,7 +63,7 @@ struct ReportSpec {
     /// ends it) the timed frames stay within about this many ms, never fewer than 3 (llvmpipe: the median
     /// of a few long frames is stable, and the full report keeps its run time).
     double frame_budget_ms = 0.0;
-    /// Issue 18: the temporal rows' sequence, for a family that measures more than V per frame (the
+    /// The temporal rows' sequence, for a family that measures more than V per frame (the
     /// cached shadow map: texels re-rendered, time against a full re-render, the maps compared); unset:
     /// init once, then update, render and read back V per frame.
     std::function<SequenceResult(const RunContext&, const S&, const std::vector<TemporalFrame>&)> sequence;

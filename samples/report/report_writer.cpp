@@ -97,7 +97,7 @@ static void write_prt_json(std::ofstream& f, const PrtReport& p) {
     f << "\n  }";
 }
 
-// Issue 18: a row's temporal paths (after its "pareto").
+// A row's temporal paths (after its "pareto").
 static void write_temporal_json(std::ofstream& f, const Row& r) {
     if (r.temporal.empty()) return;
     f << ", \"temporal_choice\": \"" << json_escape(r.temporal_choice) << "\", \"temporal\": [";
@@ -276,10 +276,10 @@ static void write_light_size_markdown(std::ofstream& f, const std::vector<SceneI
     f << "\n";
 }
 
-// Issue 18: what the temporal tables mean (report.md's header).
+// What the temporal tables mean (report.md's header).
 static void write_temporal_header(std::ofstream& f, const ReportInfo& info) {
     if (info.temporal_frames <= 0) return;
-    f << "- over time (issue 18): chosen rows run " << info.temporal_frames
+    f << "- over time: chosen rows run " << info.temporal_frames
       << " frames of each path (pan: the camera slides sideways, back and forth, by 0.1 to 4 texels of a 2048 map over "
          "the scene's diagonal a frame; yaw: it turns 0.25 degree a frame; dolly: it moves 0.5% closer a frame; light: the light "
          "turns 0.25 degree a frame about the scene's vertical axis, hard lights only). V is evaluated every frame at "
@@ -294,7 +294,7 @@ static void write_temporal_header(std::ofstream& f, const ReportInfo& info) {
          "marked not scored. Plot: `flicker_vs_error.svg`.\n";
 }
 
-// Issue 18: the scene's temporal rows, after its table.
+// The scene's temporal rows, after its table.
 static void write_temporal_markdown(std::ofstream& f, const std::vector<const Row*>& rs) {
     bool any = false;
     for (const Row* r : rs) any = any || !r->temporal.empty();

@@ -10,7 +10,7 @@
 
 namespace skr {
 
-// Issue 18: one path of a row's temporal sequence (samples/report/temporal_rows.cpp).
+// One path of a row's temporal sequence (samples/report/temporal_rows.cpp).
 struct TemporalRow {
     std::string path;         // pan, yaw, dolly, light (sk::temporal_path_name)
     bool scored = false;      // false: `note` says why (a driver that ignores the fit camera, a failure)
@@ -40,7 +40,7 @@ struct Row {
     double ref_stderr = 0.0;
     bool pareto = false;
     std::string image_v, image_err;
-    std::vector<TemporalRow> temporal;  // issue 18: empty when the row was not chosen (or --temporal off)
+    std::vector<TemporalRow> temporal;  // empty when the row was not chosen (or --temporal off)
     std::string temporal_choice;        // why it was chosen: "best", "best method=lispsm"
 };
 
@@ -63,7 +63,7 @@ struct ReportInfo {
     int width = 0, height = 0, frames = 0;
     bool quick = false;
     bool timer_queries = false;
-    int temporal_frames = 0;  // issue 18: frames per temporal path; 0: off
+    int temporal_frames = 0;  // frames per temporal path; 0: off
     double temporal_max_ms = 0.0;  // rows slower than this (GPU + CPU ms a frame) get no temporal rows
 };
 
@@ -117,7 +117,7 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
                     const std::vector<Row>& rows, const PrtReport* prt = nullptr, const LightSweep* sweep = nullptr);
 bool write_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
-// flicker_vs_error.svg (issue 18): per scene with temporal rows, each (row, path) as a point at
+// flicker_vs_error.svg: per scene with temporal rows, each (row, path) as a point at
 // (RMSE, temporal RMS); nothing is written without temporal rows.
 bool write_flicker_svg(const std::string& path, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows);
 // error_vs_light_size.svg: per scene with light-size variants, each soft technique's best RMSE

@@ -85,12 +85,12 @@ struct RunContext {
     const GBuffer* gbuffer = nullptr;  // CPU copy of the G-buffer, for CPU-side metrics
     bool debug_images = false;         // the GL tests ask for RunResult::debug (never the report)
     // The camera techniques fit to (shadow-map fitting, warping, cascades) when it is not the G-buffer's
-    // (issue 18's temporal rows: V is still evaluated at the G-buffer's points). Ported techniques get
+    // (the temporal rows: V is still evaluated at the G-buffer's points). Ported techniques get
     // it as app::View::camera; the old drivers ignore it.
     const Camera* fit_camera = nullptr;
 };
 
-// Issue 18 (shadows over time): one frame of a temporal sequence, the camera the technique fits to
+// Shadows over time: one frame of a temporal sequence, the camera the technique fits to
 // and the light (V stays at the G-buffer's points), and what a technique renders over the frames.
 struct TemporalFrame {
     Camera camera;
@@ -124,7 +124,7 @@ public:
     // Parameter sweep for the report; `quick` gives a shorter one.
     virtual std::vector<ParamSet> sweep(const Scene& scene, bool quick) const = 0;
     virtual RunResult run(const RunContext& ctx, const ParamSet& params) = 0;
-    // Issue 18: true when run() fits to RunContext::fit_camera (ReportTechnique: the View's camera). A
+    // True when run() fits to RunContext::fit_camera (ReportTechnique: the View's camera). A
     // technique that does not (false: the instrument check `unshadowed`) gets no temporal camera paths.
     virtual bool honors_fit_camera() const { return false; }
     // V at the G-buffer's points for each frame in turn (its light, its fit camera). Default
@@ -147,6 +147,6 @@ void add_omni_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out);
-void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out);  // issue 18
+void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out);
 
 }  // namespace sk

@@ -1,4 +1,4 @@
-// samples/report/temporal.cpp - the report's temporal paths and flicker metrics (issue 18), and the
+// samples/report/temporal.cpp - the report's temporal paths and flicker metrics, and the
 // default Technique::run_sequence (run() once per frame, for a Technique that is not a ReportTechnique).
 #include "temporal.hpp"
 

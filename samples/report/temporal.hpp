@@ -1,4 +1,4 @@
-// samples/report/temporal.hpp - shadows over time (issue 18): the report's camera and light paths and
+// samples/report/temporal.hpp - shadows over time: the report's camera and light paths and
 // the flicker metrics (report-only code, part of shadowkit_report_core).
 //
 // A temporal row runs a technique over N frames of a path and evaluates V every frame at the SAME

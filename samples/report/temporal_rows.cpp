@@ -1,4 +1,4 @@
-// samples/report/temporal_rows.cpp - the report's temporal rows (issue 18), see temporal_rows.hpp.
+// samples/report/temporal_rows.cpp - the report's temporal rows, see temporal_rows.hpp.
 #include "temporal_rows.hpp"
 
 #include <chrono>

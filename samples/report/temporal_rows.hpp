@@ -1,4 +1,4 @@
-// samples/report/temporal_rows.hpp - the report's temporal rows (issue 18): which rows of a scene run
+// samples/report/temporal_rows.hpp - the report's temporal rows: which rows of a scene run
 // over time, and running them on every path (samples/report/temporal.hpp has the paths and metrics).
 #pragma once
 

@@ -1,4 +1,4 @@
-// samples/report/techniques/cached_shadow_map.cpp - "cached_shadow_map" in the report (issue 18): the
+// samples/report/techniques/cached_shadow_map.cpp - "cached_shadow_map" in the report: the
 // sample's CachedShadowMap class (samples/cached_shadow_map/) with timing, work counters and sweeps
 // (report_technique.hpp).
 //
