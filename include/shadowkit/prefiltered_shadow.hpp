@@ -1169,8 +1169,9 @@ inline glm::vec2 pf_soft_blocker(const glm::vec4& moments, float t, const Prefil
 /// The average depth of the blockers in front of a receiver at moment depth t (already biased), from
 /// the moments filtered over the blocker-search region (mirror of sk_prefilter_soft_blocker). VSM:
 /// Chebyshev's p with the non-blockers at t, z_avg = (E[z] - p t) / (1 - p) (Yang et al. 2010); MSM / MSM Hausdorff: the canonical representation through t of the biased moments
-/// (after Peters et al. 2016): its support points in front of t, averaged by weight. Both are exact
-/// for a texel of two depths (a blocker over its receiver; MSM up to its moment bias). A share at or
+/// (after Peters et al. 2016): its support points in front of t, averaged by weight. For a texel of
+/// two depths z1 < z2 MSM is exact up to its moment bias for any t; VSM only for t = z2 (below it p is
+/// not the blockers' share: 0.1 at 0.2 over 0.8 gives 0.181 at t = z2 - 0.002, 0.092 at z2 - 0.01). A share at or
 /// below kPrefilterSoftMinBlocker (MSM: or the moment bias) is no blocker. Ok for any moments and t (a non-finite moment
 /// or NaN t: no blocker). InvalidArgument: uniforms whose status is not Ok, or ESM / EVSM (no
 /// blocker estimate here: their soft lookup is the hard one).

@@ -1451,3 +1451,30 @@ TEST_CASE("MSM quantization round trip, measured densely (the figure in NUMERICS
     CHECK(through_float <= 1.36e-5);
     CHECK(through_float > 1.3e-5);
 }
+
+TEST_CASE("soft blocker depth of two depths: MSM exact for any receiver depth, VSM only at the far depth (issue #27 item 11)") {
+    // a blocker share f = 0.1 at z1 = 0.2 over a receiver surface at z2 = 0.8 (the average blocker depth is z1)
+    const float f = 0.1f, z1 = 0.2f, z2 = 0.8f;
+    for (PrefilterMethod m : {PrefilterMethod::Vsm, PrefilterMethod::Msm}) {
+        PrefilterSettings s;
+        s.method = m;
+        s.format = m == PrefilterMethod::Vsm ? PrefilterFormat::Float32 : PrefilterFormat::Unorm16;
+        const PrefilterUniforms u = prefilter_uniforms(s);
+        REQUIRE(u.status == Status::Ok);
+        const glm::vec4 mo = f * prefilter_moments(z1, {0.0f, 0.0f}, u) + (1.0f - f) * prefilter_moments(z2, {0.0f, 0.0f}, u);
+        const PrefilterBlocker at = prefilter_soft_blocker(mo, z2, u);
+        REQUIRE(at.status == Status::Ok);
+        CHECK(at.blocker_found);
+        CHECK(at.depth == doctest::Approx(z1).epsilon(1e-3));
+        const PrefilterBlocker below = prefilter_soft_blocker(mo, z2 - 0.01f, u);
+        REQUIRE(below.status == Status::Ok);
+        if (m == PrefilterMethod::Msm) {
+            CHECK(below.blocker_found);
+            CHECK(below.depth == doctest::Approx(z1).epsilon(1e-3));
+        } else {
+            // Yang et al.'s z_avg = (E[z] - p t) / (1 - p) with Chebyshev's p: not the blockers' depth off t = z2
+            CHECK(below.blocker_found);
+            CHECK(below.depth < 0.5f * z1);
+        }
+    }
+}
