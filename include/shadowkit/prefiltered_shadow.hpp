@@ -229,6 +229,9 @@ constexpr int kPrefilterMaxRadius = 32;
 /// Weights a kernel of the largest radius needs (center plus one side).
 constexpr std::size_t kPrefilterMaxWeights = 33;
 /// The optimized MSM quantization's offset of the first component (Peters & Klein 2015, Sec. 4.3).
+/// It is not a 16-bit code (x 65535 = 2356.37): the moments of t = 0 (q = (offset, 0, 0, 0)) are stored
+/// 5.6e-6 off in q0 and come back as b1 = -1.25e-6, so a receiver at t = 0 with moment bias 0 is
+/// shadowed by its own depth; the Unorm16 default bias (3e-5) lights it (unit-tested).
 constexpr float kPrefilterMsmOffset = 0.035955884801f;
 
 namespace detail {

@@ -1478,3 +1478,18 @@ TEST_CASE("soft blocker depth of two depths: MSM exact for any receiver depth, V
         }
     }
 }
+
+TEST_CASE("MSM 16-bit: the quantization offset is not a 16-bit code; t = 0 stored, lit with the default bias (issue #27 item 10)") {
+    const glm::vec4 q = prefilter_msm_quantize(glm::vec4(0.0f));  // the moments of t = 0
+    glm::vec4 stored;
+    for (int i = 0; i < 4; ++i) stored[i] = prefilter_store(double(q[i]), PrefilterFormat::Unorm16).value;
+    // offset x 65535 = 2356.37: rounding to a code moves q0 by 0.37 / 65535
+    CHECK(std::fabs(double(stored.x) - double(kPrefilterMsmOffset)) == doctest::Approx(0.3688 / 65535.0).epsilon(0.01));
+    CHECK(prefilter_msm(stored, 0.0f, 0.0f, true, 0.0f) < 0.5f);  // the documented limit: no bias, self-shadowed
+    PrefilterSettings s;
+    s.method = PrefilterMethod::Msm;
+    s.format = PrefilterFormat::Unorm16;
+    const PrefilterUniforms u = prefilter_uniforms(s);
+    REQUIRE(u.status == Status::Ok);
+    CHECK(prefilter_visibility(stored, 0.0f, u) > 0.99f);  // the default moment bias lights it
+}
