@@ -54,7 +54,11 @@
 //   not measured.
 // Point lights: every fit aims at the axis of the narrowest cone around the light holding the
 //   receivers (and their extension toward it), as light_frustum.hpp does, centered on their angular
-//   extent; LightInsideVolume only when no frustum of half-angle < ~89.4 degrees holds them.
+//   extent; LightInsideVolume only when no frustum of half-angle < ~89.4 degrees holds them. The
+//   receivers' extension toward a point light stops at max(distance to the casters' box, 1e-4 x the
+//   farthest receiver's distance): with the light inside the casters' box, casters nearer the light
+//   than 1e-4 x that distance lie outside every fit (PSM, LiSPSM, TSM and the uniform fit alike).
+//   Keep such casters out of the box (a light's own fixture) or use a cube map.
 // Buffers: none; no call allocates.
 //
 // Based on:
