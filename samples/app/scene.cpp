@@ -342,14 +342,22 @@ LightMatrices fit_light(const Scene& s) {
     return m;
 }
 
+bool caster_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
+    glm::vec3 a(INFINITY), b(-INFINITY);
+    for (const Mesh& m : s.meshes)
+        if (m.caster)
+            for (const glm::vec3& p : m.positions) a = glm::min(a, p), b = glm::max(b, p);
+    if (!(a.x <= b.x)) return false;
+    lo = a;
+    hi = b;
+    return true;
+}
+
 LightMatrices fit_light_to_casters(const Scene& s, bool penumbra_margin) {
     const LightMatrices scene_fit = fit_light(s);
     const Light& L = s.light;
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const Mesh& m : s.meshes)
-        if (m.caster)
-            for (const glm::vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-    if (!(lo.x <= hi.x)) return scene_fit;  // no casters
+    glm::vec3 lo, hi;
+    if (!caster_bounds(s, lo, hi)) return scene_fit;  // no casters
     if (L.type == LightType::Directional) {  // the box across the light: the casters' extent
         LightMatrices m = scene_fit;
         glm::vec3 a(INFINITY), b(-INFINITY);

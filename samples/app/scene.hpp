@@ -107,6 +107,8 @@ struct LightMatrices {
     bool perspective = true;
 };
 LightMatrices fit_light(const Scene& scene);
+/// The bounding box of the scene's caster meshes; false (lo, hi untouched) when no mesh casts.
+bool caster_bounds(const Scene& scene, glm::vec3& lo, glm::vec3& hi);
 /// fit_light, left out what the scene does not need: a spot or area light's frustum aimed at the
 /// casters' bounding box and just wide enough for it (a receiver outside it is lit: no caster lies
 /// between them), deep enough for the farthest receiver; a directional light's box narrowed to the

@@ -66,11 +66,9 @@ float technique_visibility(vec3 p, vec3 n) {
 
 bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
     release();
-    caster_lo_ = glm::vec3(INFINITY);
+    caster_lo_ = glm::vec3(INFINITY);  // an empty box when nothing casts
     caster_hi_ = glm::vec3(-INFINITY);
-    for (const sk::Mesh& m : v.scene->meshes)
-        if (m.caster)
-            for (const glm::vec3& p : m.positions) caster_lo_ = glm::min(caster_lo_, p), caster_hi_ = glm::max(caster_hi_, p);
+    sk::caster_bounds(*v.scene, caster_lo_, caster_hi_);
     const std::string snippet = app::load_snippet("cascades", why);
     if (snippet.empty()) return false;
     const std::string shadow_map = app::load_snippet("shadow_map", why);  // the automatic bias

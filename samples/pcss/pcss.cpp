@@ -197,14 +197,9 @@ bool Pcss::init(const app::View& v, std::string& why) {
     glSamplerParameteri(compare_sampler_, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glSamplerParameteri(compare_sampler_, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     // the casters' bounds: where pcss_fit_near_plane puts the near plane
-    casters_lo_ = glm::vec3(INFINITY);
+    casters_lo_ = glm::vec3(INFINITY);  // an empty box when nothing casts
     casters_hi_ = glm::vec3(-INFINITY);
-    for (const sk::Mesh& m : v.scene->meshes)
-        if (m.caster)
-            for (const glm::vec3& p : m.positions) {
-                casters_lo_ = glm::min(casters_lo_, p);
-                casters_hi_ = glm::max(casters_hi_, p);
-            }
+    sk::caster_bounds(*v.scene, casters_lo_, casters_hi_);
     return pass_.init(v.width, v.height, why);
 }
 

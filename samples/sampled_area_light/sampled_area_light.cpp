@@ -93,13 +93,17 @@ void SampledAreaLight::update(const app::View& v, const SampledAreaLightSettings
         scale = L.type == sk::LightType::Rect ? 0.5f * L.size : L.size;
         app::emitter_basis(L.type == sk::LightType::Sphere ? dir : glm::normalize(L.direction), t, b);
     }
+    // the boxes every point's fit reads: the casters' and the scene's (once, not per point)
+    glm::vec3 clo(0.f), chi(0.f);
+    const bool fit = s.fit_casters && sk::caster_bounds(*v.scene, clo, chi);
+    const glm::vec3 slo = v.scene->bounds_min(), shi = v.scene->bounds_max();
     const auto n = static_cast<std::size_t>(s.maps);
     positions_.resize(n);
     vps_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         positions_[i] = L.position + scale * (points_[i].x * t + points_[i].y * b);
         const glm::mat4 view = glm::lookAt(positions_[i], positions_[i] + dir, up);
-        vps_[i] = s.fit_casters ? caster_fit(*v.scene, view, lm.proj) * view : lm.proj * view;
+        vps_[i] = fit ? caster_fit(clo, chi, slo, shi, view, lm.proj) * view : lm.proj * view;
     }
 }
 
@@ -107,16 +111,9 @@ void SampledAreaLight::update(const app::View& v, const SampledAreaLightSettings
 // view, the frustum through the casters' bounding box (x, y) reaching the farthest receiver (depth:
 // a receiver behind the casters must be inside the map); a receiver outside it is lit by this point
 // (no caster lies between them), which the lookup's `outside` = 1 gives. The scene's fit (`fallback`)
-// when the point is inside the casters' box.
-glm::mat4 SampledAreaLight::caster_fit(const sk::Scene& scene, const glm::mat4& view, const glm::mat4& fallback) {
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const sk::Mesh& m : scene.meshes)
-        if (m.caster)
-            for (const glm::vec3& p : m.positions) {
-                lo = glm::min(lo, p);
-                hi = glm::max(hi, p);
-            }
-    const glm::vec3 slo = scene.bounds_min(), shi = scene.bounds_max();
+// when the point is inside the casters' box. lo..hi: the casters' box; slo..shi: the scene's.
+glm::mat4 SampledAreaLight::caster_fit(glm::vec3 lo, glm::vec3 hi, glm::vec3 slo, glm::vec3 shi, const glm::mat4& view,
+                                       const glm::mat4& fallback) {
     float l = INFINITY, r = -INFINITY, bt = INFINITY, tp = -INFINITY, znear = INFINITY, zfar = 0.f;
     for (int k = 0; k < 8; ++k) {
         const glm::vec3 c = glm::vec3(view * glm::vec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.f));

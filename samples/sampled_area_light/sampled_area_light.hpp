@@ -68,7 +68,8 @@ public:
 
 private:
     void make_maps(int size, int layers);
-    static glm::mat4 caster_fit(const sk::Scene& scene, const glm::mat4& view, const glm::mat4& fallback);
+    static glm::mat4 caster_fit(glm::vec3 lo, glm::vec3 hi, glm::vec3 slo, glm::vec3 shi, const glm::mat4& view,
+                                const glm::mat4& fallback);
     void release();
     std::string error_;
     glm::vec2 points_[kMaxMaps];         // the emitter's Poisson points, in [-1, 1]^2 (square) or the unit disk
