@@ -8,11 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <ostream>
 #include <thread>
 
 #include "pcss.hpp"
+#include "reference.hpp"
 #include "report_writer.hpp"
 #include "shadow_map.hpp"
 
@@ -33,55 +33,24 @@ const SweepTechnique kSweepTechniques[] = {
     {"pcf", "filter=hard", PcssSettings{}.size},
 };
 
-struct Embree {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    Embree() = default;
-    Embree(const Embree&) = delete;
-    Embree& operator=(const Embree&) = delete;
-    ~Embree() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
-    }
-    bool build(const sk::Scene& s) {
-        device = rtcNewDevice(nullptr);
-        if (!device) return false;
-        scene = rtcNewScene(device);
-        for (const auto& m : s.meshes) {
-            if (!m.caster || m.indices.empty()) continue;
-            RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                  3 * sizeof(float), m.positions.size()));
-            for (std::size_t i = 0; i < m.positions.size(); ++i) std::memcpy(v + 3 * i, &m.positions[i], 3 * sizeof(float));
-            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                       3 * sizeof(unsigned), m.indices.size() / 3));
-            std::memcpy(idx, m.indices.data(), (m.indices.size() / 3) * 3 * sizeof(unsigned));
-            rtcCommitGeometry(geom);
-            rtcAttachGeometry(scene, geom);
-            rtcReleaseGeometry(geom);
-        }
-        rtcCommitScene(scene);
-        return true;
-    }
-    // Distance to the first caster along dir (unit) within tfar; INFINITY when none.
-    float hit(glm::vec3 org, glm::vec3 dir, float tfar) const {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRayHit rh{};
-        rh.ray.org_x = org.x;
-        rh.ray.org_y = org.y;
-        rh.ray.org_z = org.z;
-        rh.ray.dir_x = dir.x;
-        rh.ray.dir_y = dir.y;
-        rh.ray.dir_z = dir.z;
-        rh.ray.tnear = 0.f;
-        rh.ray.tfar = tfar;
-        rh.ray.mask = 0xffffffffu;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &ctx, &rh);
-        return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
-    }
-};
+// Distance to the first caster along dir (unit) within tfar; INFINITY when none.
+float first_hit(RTCScene scene, glm::vec3 org, glm::vec3 dir, float tfar) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh{};
+    rh.ray.org_x = org.x;
+    rh.ray.org_y = org.y;
+    rh.ray.org_z = org.z;
+    rh.ray.dir_x = dir.x;
+    rh.ray.dir_y = dir.y;
+    rh.ray.dir_z = dir.z;
+    rh.ray.tnear = 0.f;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ctx, &rh);
+    return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
+}
 
 // How a scene's light is replaced: a directional light (scenes lit by a sun) or a spot light (every other
 // scene: spot, point and area lights; one 2D map, which both shadow_map and pcf accept, where a point
@@ -181,14 +150,14 @@ struct LightRef {
     std::vector<float> t, cos_n, texel;  // texel: the map's texel world size at the point (per map size 1)
 };
 
-void hard_reference(const sk::Scene& s, const sk::GBuffer& g, const Embree& e, const sk::Light& L, LightRef& r) {
+void hard_reference(const sk::Scene& s, const sk::GBuffer& g, const sk::EmbreeScene& e, const sk::Light& L, LightRef& r) {
     const std::size_t n = g.kind.size();
     r.cls.assign(n, 0);
     r.t.assign(n, 0.f);
     r.cos_n.assign(n, 0.f);
     r.texel.assign(n, 0.f);
     const float diag = glm::length(s.bounds_max() - s.bounds_min());
-    const float eps = 1e-5f * diag;  // reference.cpp's ray offset
+    const float eps = sk::ReferenceOptions{}.offset_fraction * diag;  // the reference's ray offset
     sk::Scene lit = s;
     lit.light = L;
     const sk::LightMatrices lm = sk::fit_light(lit);
@@ -212,7 +181,7 @@ void hard_reference(const sk::Scene& s, const sk::GBuffer& g, const Embree& e, c
         if (!(c > 0.f)) continue;
         const glm::vec3 org = p + eps * nn;
         if (L.type != sk::LightType::Directional) tfar = glm::length(L.position - org) * (1.f - 1e-5f);
-        const float t = e.hit(org, glm::normalize(L.type == sk::LightType::Directional ? d : L.position - org), tfar);
+        const float t = first_hit(e.scene, org, glm::normalize(L.type == sk::LightType::Directional ? d : L.position - org), tfar);
         r.cls[k] = std::isfinite(t) ? 2 : 1;
         r.t[k] = std::isfinite(t) ? t : 0.f;
         r.cos_n[k] = c;
@@ -234,7 +203,7 @@ struct LightScore {
 // the light sees it: b1 across the light, b2 along its projection on the plane, stretched by 1 / cos),
 // each shadow ray from eps off the plane; `across_only`: the seven points on the b1 line (a shadow's side
 // edge, not the contact it starts at).
-bool uniform_within_filter_reach(const Embree& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps,
+bool uniform_within_filter_reach(const sk::EmbreeScene& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel, float eps,
                                  bool shadowed, bool across_only) {
     const bool sun = L.type == sk::LightType::Directional;
     const glm::vec3 d = sun ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
@@ -250,7 +219,7 @@ bool uniform_within_filter_reach(const Embree& e, const sk::Light& L, glm::vec3 
         const glm::vec3 q = p + texel * (u * b1 + w / c * b2) + eps * n;
         const glm::vec3 to = sun ? d : L.position - q;
         const float dist = sun ? INFINITY : glm::length(to) * (1.f - 1e-5f);
-        if (std::isfinite(e.hit(q, glm::normalize(to), dist)) != shadowed) return false;
+        if (std::isfinite(first_hit(e.scene, q, glm::normalize(to), dist)) != shadowed) return false;
     }
     return true;
 }
@@ -275,7 +244,7 @@ void contact_gap(std::vector<GapPixel>& px, double& texels, double& world) {
     }
 }
 
-LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size, const Embree& e,
+LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size, const sk::EmbreeScene& e,
                  const sk::Light& L, float eps) {
     LightScore s;
     const int w = g.width, h = g.height;
@@ -358,9 +327,9 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
             std::fprintf(stderr, "  sweep     %s: %s\n", base.name.c_str(), why.c_str());
             continue;
         }
-        Embree e;
-        if (!e.build(base)) {
-            std::fprintf(stderr, "  sweep     %s: rtcNewDevice failed\n", base.name.c_str());
+        sk::EmbreeScene e;
+        if (!sk::build_embree(base, e, why)) {
+            std::fprintf(stderr, "  sweep     %s: %s\n", base.name.c_str(), why.c_str());
             continue;
         }
         const SweepLights sl = make_lights(base, g, opt);
@@ -391,7 +360,7 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
         }
         if (jobs.empty()) continue;
         double ref_seconds = 0.0;
-        const float eps = 1e-5f * glm::length(base.bounds_max() - base.bounds_min());  // reference.cpp's ray offset
+        const float eps = sk::ReferenceOptions{}.offset_fraction * glm::length(base.bounds_max() - base.bounds_min());  // the reference's ray offset
         const std::size_t chunk = static_cast<std::size_t>(std::max(1, opt.chunk));
         std::vector<LightRef> refs;
         for (std::size_t c0 = 0; c0 < sl.lights.size(); c0 += chunk) {
@@ -435,26 +404,14 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                     if (s.acne > 0.0) ++row.lights_with_acne;
                     if (s.leak > 0.0) ++row.lights_with_leak;
                     if (s.gap_texels > 0.0) ++row.lights_with_gap;
-                    if (s.acne_texel > row.acne_beyond_filter_max) {
-                        row.acne_beyond_filter_max = s.acne_texel;
-                        row.acne_beyond_filter_worst_light = wl;
-                    }
-                    if (s.acne > row.acne_fraction_max) {
-                        row.acne_fraction_max = s.acne;
-                        row.acne_worst_light = wl;
-                    }
-                    if (s.leak_texel > row.leak_beyond_filter_max) {
-                        row.leak_beyond_filter_max = s.leak_texel;
-                        row.leak_beyond_filter_worst_light = wl;
-                    }
-                    if (s.leak > row.leak_fraction_max) {
-                        row.leak_fraction_max = s.leak;
-                        row.leak_worst_light = wl;
-                    }
-                    if (s.gap_texels > row.gap_texels_max) {
-                        row.gap_texels_max = s.gap_texels;
-                        row.gap_worst_light = wl;
-                    }
+                    auto keep_max = [&wl](double value, double& max, glm::vec3& worst) {  // and the light it came from
+                        if (value > max) max = value, worst = wl;
+                    };
+                    keep_max(s.acne_texel, row.acne_beyond_filter_max, row.acne_beyond_filter_worst_light);
+                    keep_max(s.acne, row.acne_fraction_max, row.acne_worst_light);
+                    keep_max(s.leak_texel, row.leak_beyond_filter_max, row.leak_beyond_filter_worst_light);
+                    keep_max(s.leak, row.leak_fraction_max, row.leak_worst_light);
+                    keep_max(s.gap_texels, row.gap_texels_max, row.gap_worst_light);
                     row.gap_world_max = std::max(row.gap_world_max, s.gap_world);
                 }
                 row.seconds += since(t0);

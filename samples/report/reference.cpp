@@ -43,14 +43,27 @@ glm::vec2 concentric_disk(float u, float v) {
     return {r * std::cos(phi), r * std::sin(phi)};
 }
 
-struct EmbreeScene {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    ~EmbreeScene() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
-    }
-};
+
+bool occluded(RTCScene scene, glm::vec3 org, glm::vec3 dir, float tfar) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay ray{};
+    ray.org_x = org.x;
+    ray.org_y = org.y;
+    ray.org_z = org.z;
+    ray.dir_x = dir.x;
+    ray.dir_y = dir.y;
+    ray.dir_z = dir.z;
+    ray.tnear = 0.f;
+    ray.tfar = tfar;
+    ray.mask = 0xffffffffu;
+    ray.flags = 0;
+    ray.time = 0.f;
+    rtcOccluded1(scene, &ctx, &ray);
+    return ray.tfar < 0.f;
+}
+
+}  // namespace
 
 bool build_embree(const Scene& s, EmbreeScene& e, std::string& why) {
     e.device = rtcNewDevice(nullptr);
@@ -80,27 +93,6 @@ bool build_embree(const Scene& s, EmbreeScene& e, std::string& why) {
     rtcCommitScene(e.scene);
     return true;
 }
-
-bool occluded(RTCScene scene, glm::vec3 org, glm::vec3 dir, float tfar) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRay ray{};
-    ray.org_x = org.x;
-    ray.org_y = org.y;
-    ray.org_z = org.z;
-    ray.dir_x = dir.x;
-    ray.dir_y = dir.y;
-    ray.dir_z = dir.z;
-    ray.tnear = 0.f;
-    ray.tfar = tfar;
-    ray.mask = 0xffffffffu;
-    ray.flags = 0;
-    ray.time = 0.f;
-    rtcOccluded1(scene, &ctx, &ray);
-    return ray.tfar < 0.f;
-}
-
-}  // namespace
 
 bool compute_reference(const Scene& s, const GBuffer& g, const ReferenceOptions& opt, Reference& out,
                        std::string& why) {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <embree3/rtcore.h>
+
 #include "scene.hpp"
 
 namespace sk {
@@ -26,6 +28,22 @@ struct Pcg {
     }
     float uniform() { return static_cast<float>(next() >> 8) * (1.0f / 16777216.0f); }
 };
+
+/// The scene's casters in an Embree scene of its own device (released with it): what the reference's
+/// and the light sweep's rays hit.
+struct EmbreeScene {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    EmbreeScene() = default;
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+    ~EmbreeScene() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+/// Builds e from the scene's caster meshes; false with `why` when Embree has no device.
+bool build_embree(const Scene& s, EmbreeScene& e, std::string& why);
 
 struct GBuffer {
     int width = 0, height = 0;
