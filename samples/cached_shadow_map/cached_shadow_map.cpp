@@ -6,6 +6,8 @@
 //           the casters' bounds, and shadow_cache_plan: what of last frame's map is still right
 //   render  GPU, every frame: 1 a scroll (copy by whole texels into the other texture of a pair),
 //           2 clear + draw the casters inside each rectangle of the plan (scissor), 3 V at the G-buffer
+//           with the automatic bias of glsl/shadow_map.glsl (bias=auto, the default; bias=offset: a
+//           slope-scaled offset in the caster passes and the hardware 2x2 compare)
 #include "cached_shadow_map.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -62,17 +64,22 @@ const char* kInvariantFS = R"(
 flat in vec3 g_plane;
 flat in vec2 g_origin;
 uniform ivec2 u_anchor;
+uniform bool u_offset;  // bias=offset; bias=auto stores the true depth
 void main() {
     float d = sk_shadow_cache_depth(g_plane, g_origin, gl_FragCoord.xy, u_anchor);
-    gl_FragDepth = min(d + sk_shadow_cache_depth_offset(g_plane, 2.0, 2.4e-7), 1.0);
+    gl_FragDepth = u_offset ? min(d + sk_shadow_cache_depth_offset(g_plane, 2.0, 2.4e-7), 1.0) : d;
 }
 )";
 
-// V's lookup (after glsl/shadow_map.glsl): the map at unit 2, 2x2 PCF with GL_LINEAR.
+// V's lookup (after glsl/shadow_map.glsl): the map at unit 2. bias=auto: the automatic bias, the 2x2
+// filter as four compares at texel centres against the receiver plane (GL_NEAREST); bias=offset: the
+// hardware 2x2 compare (GL_LINEAR) of the offset depths.
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_light_view_proj;
+uniform bool u_auto;
 float technique_visibility(vec3 p, vec3 n) {
+    if (u_auto) return sk_shadow_map_visibility_auto(u_shadow_map, u_light_view_proj, p, n, false, 0.0, 1.0);
     return sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, p, false, 0.0, 1.0);
 }
 )";
@@ -123,7 +130,7 @@ void CachedShadowMap::update(const app::View& v, const CachedShadowMapSettings& 
     }
     const sk::Light& L = v.light();
     const double S = double(s.size);
-    std::uint64_t settings = s.pass == CachedShadowMapSettings::Pass::Invariant ? 1u : 2u;
+    std::uint64_t settings = (s.pass == CachedShadowMapSettings::Pass::Invariant ? 1u : 2u) + (s.bias == CachedShadowMapSettings::Bias::Auto ? 4u : 0u);
     std::fill(drawn_.begin(), drawn_.end(), std::uint8_t(1));
     if (L.type == sk::LightType::Directional) {
         // the sun's frustum fitted to the camera: stable (snapped, the depth range from the scene box)
@@ -254,12 +261,15 @@ void CachedShadowMap::render_map(const app::View& v, const CachedShadowMapSettin
             glUniform2i(glGetUniformLocation(invariant_prog_, "u_anchor"), anchor_.x, anchor_.y);
             glUniform2i(glGetUniformLocation(invariant_prog_, "u_viewport_anchor"), anchor_.x - guard, anchor_.y - guard);
             glUniform2f(glGetUniformLocation(invariant_prog_, "u_viewport_size"), float(kGuardViewport), float(kGuardViewport));
+            glUniform1i(glGetUniformLocation(invariant_prog_, "u_offset"), s.bias == CachedShadowMapSettings::Bias::Offset ? 1 : 0);
         } else {
             glViewport(0, 0, S, S);
             glUseProgram(plain_prog_);
             glUniformMatrix4fv(glGetUniformLocation(plain_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_f_));
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.f, 2.f);
+            if (s.bias == CachedShadowMapSettings::Bias::Offset) {
+                glEnable(GL_POLYGON_OFFSET_FILL);
+                glPolygonOffset(2.f, 2.f);
+            }
         }
         glEnable(GL_SCISSOR_TEST);
         for (std::size_t k = 0; k < plan_.count; ++k) {
@@ -285,9 +295,15 @@ void CachedShadowMap::render_map(const app::View& v, const CachedShadowMapSettin
     for (shadowkit::ShadowCacheCaster& c : casters_) std::copy(c.bounds, c.bounds + 6, c.previous_bounds);
 }
 
-void CachedShadowMap::render_visibility(const app::View& v, const CachedShadowMapSettings&) {
-    // 3. V at the G-buffer's points: the snippet's compare, 2x2 PCF (GL_LINEAR), the far border outside.
+void CachedShadowMap::render_visibility(const app::View& v, const CachedShadowMapSettings& s) {
+    // 3. V at the G-buffer's points: the snippet's compare, 2x2 PCF (bias=auto: four texel-centre
+    //    compares, GL_NEAREST; bias=offset: GL_LINEAR), the far border outside.
+    const bool automatic = s.bias == CachedShadowMapSettings::Bias::Auto;
+    const GLint filter = automatic ? GL_NEAREST : GL_LINEAR;
+    glTextureParameteri(tex_[cur_], GL_TEXTURE_MIN_FILTER, filter);
+    glTextureParameteri(tex_[cur_], GL_TEXTURE_MAG_FILTER, filter);
     glUseProgram(vis_prog_);
+    glUniform1i(glGetUniformLocation(vis_prog_, "u_auto"), automatic ? 1 : 0);
     app::set_light_uniforms(vis_prog_, v.light());
     glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_f_));
     pass_.draw(vis_prog_, *v.gpu, GL_TEXTURE_2D, tex_[cur_]);

@@ -54,6 +54,11 @@ struct CachedShadowMapSettings {
     /// settings: a caster crossing the culling boundary re-renders the whole map). Off: every caster.
     bool culling = false;
     int size = 2048;  ///< texels per side (<= 2048: the invariant pass draws into a 4096^2 guard viewport)
+    /// auto: the caster passes store true depths and V uses glsl/shadow_map.glsl's automatic bias
+    /// (sk_shadow_map_visibility_auto, no constant); offset: a slope-scaled offset (2, 2) in the caster
+    /// passes and the hardware 2x2 compare, the classic hand-picked bias.
+    enum class Bias { Auto, Offset };
+    Bias bias = Bias::Auto;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -66,6 +71,7 @@ inline void bind_settings(app::Params& p, CachedShadowMapSettings& s) {
     p.toggle("world_depth", &s.world_depth);
     p.toggle("culling", &s.culling);
     p.choice("size", &s.size, {{"512", 512}, {"1024", 1024}, {"2048", 2048}});
+    p.choice("bias", &s.bias, {{"auto", CachedShadowMapSettings::Bias::Auto}, {"offset", CachedShadowMapSettings::Bias::Offset}});
 }
 
 class CachedShadowMap {

@@ -51,16 +51,22 @@ layout(location = 0) out vec4 o_vis;
 void main() { o_vis = sk_linear_light_skin_output(v_value, gl_FragCoord.z); }
 )";
 
-// V for method=sampled: the array of depth maps at unit 2, one hardware compare per sample.
+// V for method=sampled (after glsl/shadow_map.glsl): the array of depth maps at unit 2, per sample the
+// automatic bias's 2x2 lookup (u_auto) or one hardware compare of the offset depths.
 const char* kSampledLookup = R"(
 layout(binding = 2) uniform sampler2DArrayShadow u_maps;
 uniform mat4 u_vp[16];
 uniform vec3 u_pos[16];
 uniform int u_count;
+uniform bool u_auto;
 float technique_visibility(vec3 p, vec3 n) {
     float v = 0.0;
     for (int i = 0; i < u_count; ++i) {
         if (dot(n, u_pos[i] - p) <= 0.0) continue;
+        if (u_auto) {
+            v += sk_shadow_map_visibility_auto(u_maps, float(i), u_vp[i], p, n, false, 0.0, 1.0);
+            continue;
+        }
         vec4 c = u_vp[i] * vec4(p, 1.0);
         if (c.w <= 0.0) { v += 1.0; continue; }
         vec3 w = c.xyz / c.w * 0.5 + 0.5;
@@ -76,9 +82,17 @@ float technique_visibility(vec3 p, vec3 n) {
 std::string heidrich_lookup(int max_segments) {
     const std::string maps = std::to_string(max_segments + 1);
     std::string body = "uniform mat4 u_vp[" + maps + "];\nuniform vec3 u_end[" + maps + "];\nuniform int u_segments;\n" +
-                       "uniform bool u_point;\nlayout(binding = 2) uniform sampler2D u_depth[" + maps + "];\n" +
+                       "uniform bool u_point;\nuniform bool u_auto;\nuniform float u_size;\n" +
+                       "layout(binding = 2) uniform sampler2D u_depth[" + maps + "];\n" +
                        "layout(binding = 7) uniform sampler2D u_vis[" + std::to_string(2 * max_segments) + "];\n";
     body += R"(
+// bias=auto: the end depth test reads the nearest texel (within half a texel of p): the receiver
+// plane's slope over one texel plus the precision margin covers it (glsl/shadow_map.glsl).
+float end_bias(mat4 vp, vec3 p, vec3 n) {
+    if (!u_auto) return 0.0;
+    vec4 g = sk_plane_depth_gradient(vp, p, n, false);
+    return sk_auto_filtered_bias(g, vec2(1.0 / u_size), sk_shadow_coord(vp, p, false).z, 0.0);
+}
 float technique_visibility(vec3 p, vec3 n) {
     if (u_point) {
         if (dot(n, u_end[0] - p) <= 0.0) return 0.0;
@@ -87,7 +101,8 @@ float technique_visibility(vec3 p, vec3 n) {
         vec3 w = c.xyz / c.w * 0.5 + 0.5;
         if (any(lessThan(w.xy, vec2(0.0))) || any(greaterThan(w.xy, vec2(1.0)))) return 1.0;
         ivec2 sz = textureSize(u_depth[0], 0);
-        return w.z <= texelFetch(u_depth[0], clamp(ivec2(w.xy * vec2(sz)), ivec2(0), sz - 1), 0).r ? 1.0 : 0.0;
+        float stored = texelFetch(u_depth[0], clamp(ivec2(w.xy * vec2(sz)), ivec2(0), sz - 1), 0).r;
+        return w.z <= stored + end_bias(u_vp[0], p, n) ? 1.0 : 0.0;
     }
     float v = 0.0;
 )";
@@ -95,7 +110,8 @@ float technique_visibility(vec3 p, vec3 n) {
         const std::string a = std::to_string(i), b = std::to_string(i + 1);
         body += "    if (" + a + " < u_segments) v += sk_linear_light_visibility(u_depth[" + a + "], u_vis[" +
                 std::to_string(2 * i) + "], u_vp[" + a + "], u_end[" + a + "], u_depth[" + b + "], u_vis[" +
-                std::to_string(2 * i + 1) + "], u_vp[" + b + "], u_end[" + b + "], p, n, 0.0);\n";
+                std::to_string(2 * i + 1) + "], u_vp[" + b + "], u_end[" + b + "], p, n, max(end_bias(u_vp[" + a +
+                "], p, n), end_bias(u_vp[" + b + "], p, n)));\n";
     }
     return body + "    return v / float(u_segments);\n}\n";
 }
@@ -114,8 +130,10 @@ bool LinearLight::init(const app::View& v, std::string& why) {
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     skin_gpu_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kSkinGpuVS}, {GL_FRAGMENT_SHADER, head + kSkinFS}}, why);
     skin_cpu_prog_ = skgl::compile_program({{GL_VERTEX_SHADER, head + kSkinCpuVS}, {GL_FRAGMENT_SHADER, head + kSkinFS}}, why);
-    vis_prog_ = app::compile_visibility_program(snippet, heidrich_lookup(kMaxSegments), why);
-    sampled_prog_ = app::compile_visibility_program("", kSampledLookup, why);
+    const std::string map_snippet = app::load_snippet("shadow_map", why);
+    if (map_snippet.empty()) return false;
+    vis_prog_ = app::compile_visibility_program(snippet + map_snippet, heidrich_lookup(kMaxSegments), why);
+    sampled_prog_ = app::compile_visibility_program(map_snippet, kSampledLookup, why);
     if (!depth_prog_ || !skin_gpu_prog_ || !skin_cpu_prog_ || !vis_prog_ || !sampled_prog_) return false;
     // the CPU skin's vertices (position, value); an empty vertex array for the GPU skin
     glGenVertexArrays(1, &empty_vao_);
@@ -222,8 +240,10 @@ void LinearLight::render_depth_maps(const app::View& v, const LinearLightSetting
     glUseProgram(depth_prog_);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(2.f, 2.f);
+    if (s.bias == LinearLightSettings::Bias::Offset) {
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(2.f, 2.f);
+    }
     for (std::size_t i = 0; i < views_.size(); ++i) {
         glBindFramebuffer(GL_FRAMEBUFFER, sampled ? array_fbo_ : maps_[i].fbo);
         if (sampled) glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, array_, 0, static_cast<GLint>(i));
@@ -321,6 +341,7 @@ void LinearLight::render_visibility(const app::View& v, const LinearLightSetting
         glUniformMatrix4fv(glGetUniformLocation(sampled_prog_, "u_vp"), kMaxSamples, GL_FALSE, glm::value_ptr(vps[0]));
         glUniform3fv(glGetUniformLocation(sampled_prog_, "u_pos"), kMaxSamples, glm::value_ptr(pos[0]));
         glUniform1i(glGetUniformLocation(sampled_prog_, "u_count"), static_cast<GLint>(views_.size()));
+        glUniform1i(glGetUniformLocation(sampled_prog_, "u_auto"), s.bias == LinearLightSettings::Bias::Auto ? 1 : 0);
         pass_.draw(sampled_prog_, *v.gpu, GL_TEXTURE_2D_ARRAY, array_);
         return;
     }
@@ -357,6 +378,8 @@ void LinearLight::render_visibility(const app::View& v, const LinearLightSetting
     glUniform3fv(glGetUniformLocation(vis_prog_, "u_end"), kMaxSegments + 1, glm::value_ptr(ends[0]));
     glUniform1i(glGetUniformLocation(vis_prog_, "u_segments"), k_);
     glUniform1i(glGetUniformLocation(vis_prog_, "u_point"), seg_.is_point ? 1 : 0);
+    glUniform1i(glGetUniformLocation(vis_prog_, "u_auto"), s.bias == LinearLightSettings::Bias::Auto ? 1 : 0);
+    glUniform1f(glGetUniformLocation(vis_prog_, "u_size"), float(size_));
     pass_.draw(vis_prog_, *v.gpu);
 }
 

@@ -44,6 +44,12 @@ struct LinearLightSettings {
     Skin skin = Skin::Cpu;
     float threshold = 0.05f;  ///< heidrich: relative depth jump that makes a discontinuity
     int samples = 4;          ///< sampled: shadow maps along the line
+    /// auto: true depths in every map and glsl/shadow_map.glsl's automatic bias (sampled: its 2x2
+    /// lookup per map; heidrich: the end depth tests read the nearest texel, so each gets the receiver
+    /// plane's slope over one texel plus the precision margin, sk_auto_filtered_bias, the larger of the
+    /// two ends'); offset: a slope-scaled polygon offset (2, 2) in the depth passes, no bias in V.
+    enum class Bias { Auto, Offset };
+    Bias bias = Bias::Auto;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -56,6 +62,7 @@ inline void bind_settings(app::Params& p, LinearLightSettings& s) {
     p.choice("skin", &s.skin, {{"cpu", K::Cpu}, {"gpu", K::Gpu}});
     p.number("threshold", &s.threshold, 0.0, 1.0);
     p.number("samples", &s.samples, 1, 16);
+    p.choice("bias", &s.bias, {{"auto", LinearLightSettings::Bias::Auto}, {"offset", LinearLightSettings::Bias::Offset}});
 }
 
 class LinearLight {

@@ -3,9 +3,10 @@
 //   update  CPU, every frame: the receivers the light can reach (the scene box, cut to a spot light's
 //           cone), then the light's matrix: light_frustum_fit (fitted, with the casters it keeps) or
 //           warp_matrix (uniform, PSM, LiSPSM, TSM: the map follows the camera's perspective)
-//   render  GPU, every frame: 1 the casters' depth into the map with that matrix and a slope-scaled
-//           offset (TSM: its x, y warped, its depth the light's own, written per fragment);
-//           2 V at the G-buffer's points, one hardware compare (2x2 PCF) through the same matrices
+//   render  GPU, every frame: 1 the casters' depth into the map with that matrix (bias=offset: a
+//           slope-scaled offset; TSM: its x, y warped, its depth the light's own, written per fragment
+//           with the offset); 2 V at the G-buffer's points through the same matrices: bias=auto (the
+//           default) glsl/shadow_map.glsl's automatic bias, else one hardware compare (2x2 PCF)
 // Spot and area lights are point lights at their center here; directional lights are orthographic fits
 // (fitted, uniform) or warped in the light's space.
 #include "warped_shadow_maps.hpp"
@@ -38,13 +39,19 @@ const char* kTsmDepthFS = R"(
 in vec4 v_depth_clip;
 void main() { gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, false); }
 )";
-// V's lookup (after glsl/perspective_shadow_maps.glsl): x, y through u_warp, the compare depth through
-// u_depth_proj (the same matrix for every method but TSM). The map is bound at unit 2.
+// V's lookup (after glsl/perspective_shadow_maps.glsl and glsl/shadow_map.glsl): x, y through u_warp,
+// the compare depth through u_depth_proj (the same matrix for every method but TSM). The map is bound
+// at unit 2. u_auto (bias=auto, not TSM): the automatic bias through the one matrix, four compares at
+// texel centres; else the hardware 2x2 compare of the offset depths.
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_warp;
 uniform mat4 u_depth_proj;
-float technique_visibility(vec3 p, vec3 n) { return sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, p, 0.0, false); }
+uniform bool u_auto;
+float technique_visibility(vec3 p, vec3 n) {
+    if (u_auto) return sk_shadow_map_visibility_auto(u_shadow_map, u_warp, p, n, false, 0.0, 1.0);
+    return sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, p, 0.0, false);
+}
 )";
 
 // Box around a spot light's cone: the apex and the cap disk at the farthest corner of lo..hi (half
@@ -76,11 +83,12 @@ bool WarpedShadowMaps::init(const app::View& v, std::string& why) {
     }
     keep_.assign(scene.meshes.size(), 1);
     const std::string snippet = app::load_snippet("perspective_shadow_maps", why);
-    if (snippet.empty()) return false;
+    const std::string map_snippet = app::load_snippet("shadow_map", why);
+    if (snippet.empty() || map_snippet.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
     tsm_depth_prog_ = skgl::compile_program(
         {{GL_VERTEX_SHADER, kTsmDepthVS}, {GL_FRAGMENT_SHADER, "#version 450 core\n" + snippet + kTsmDepthFS}}, why);
-    vis_prog_ = app::compile_visibility_program(snippet, kLookup, why);
+    vis_prog_ = app::compile_visibility_program(snippet + map_snippet, kLookup, why);
     if (!depth_prog_ || !tsm_depth_prog_ || !vis_prog_) return false;
     return pass_.init(v.width, v.height, why);
 }
@@ -159,10 +167,12 @@ void WarpedShadowMaps::make_map(int size) {
 
 void WarpedShadowMaps::render(const app::View& v, const WarpedShadowMapSettings& s) {
     if (s.size != size_) make_map(s.size);
+    const bool automatic = s.bias == WarpedShadowMapSettings::Bias::Auto && !separate_depth_;
 
-    // 1. The casters' depth from the light: depth test GL_LESS, cleared to the far plane, polygon offset
-    //    (2, 2) against acne. TSM: gl_FragDepth from the unwarped light's depth (the same offset, in the
-    //    shader). Nothing in view, or no matrix: the map stays empty (all lit).
+    // 1. The casters' depth from the light: depth test GL_LESS, cleared to the far plane; bias=offset
+    //    (and TSM) a polygon offset (2, 2) against acne, bias=auto the true depths. TSM: gl_FragDepth
+    //    from the unwarped light's depth (the same offset, in the shader). Nothing in view, or no
+    //    matrix: the map stays empty (all lit).
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glViewport(0, 0, size_, size_);
     glEnable(GL_DEPTH_TEST);
@@ -176,8 +186,10 @@ void WarpedShadowMaps::render(const app::View& v, const WarpedShadowMapSettings&
         glUniformMatrix4fv(glGetUniformLocation(prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_));
         if (separate_depth_)
             glUniformMatrix4fv(glGetUniformLocation(prog, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(depth_vp_));
-        glEnable(GL_POLYGON_OFFSET_FILL);
-        glPolygonOffset(2.f, 2.f);
+        if (!automatic) {
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(2.f, 2.f);
+        }
         for (std::size_t i = 0; i < v.gpu->meshes.size(); ++i)
             if (drawn(i)) skgl::draw_mesh(v.gpu->meshes[i]);
         glDisable(GL_POLYGON_OFFSET_FILL);
@@ -188,6 +200,7 @@ void WarpedShadowMaps::render(const app::View& v, const WarpedShadowMapSettings&
     app::set_light_uniforms(vis_prog_, v.light());
     glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_warp"), 1, GL_FALSE, glm::value_ptr(light_vp_));
     glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(depth_vp_));
+    glUniform1i(glGetUniformLocation(vis_prog_, "u_auto"), automatic ? 1 : 0);
     pass_.draw(vis_prog_, *v.gpu, GL_TEXTURE_2D, map_);
 }
 

@@ -33,6 +33,13 @@ struct WarpedShadowMapSettings {
     enum class Method { Fitted, Uniform, Psm, Lispsm, Tsm };
     Method method = Method::Lispsm;
     int size = 1024;  ///< texels per side of the map
+    /// auto: true depths in the map and glsl/shadow_map.glsl's automatic bias through the warp's matrix
+    /// (sk_shadow_map_visibility_auto: the receiver plane's depth at each of the 2x2 filter's texel
+    /// centres, no constant); offset: a slope-scaled offset (2, 2) in the depth pass and the hardware
+    /// 2x2 compare. TSM always uses the offset (its depth comes from a second matrix, which the
+    /// automatic bias's plane gradient does not take).
+    enum class Bias { Auto, Offset };
+    Bias bias = Bias::Auto;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -41,6 +48,7 @@ inline void bind_settings(app::Params& p, WarpedShadowMapSettings& s) {
     p.choice("method", &s.method,
              {{"fitted", M::Fitted}, {"uniform", M::Uniform}, {"psm", M::Psm}, {"lispsm", M::Lispsm}, {"tsm", M::Tsm}});
     p.choice("size", &s.size, {{"256", 256}, {"512", 512}, {"1024", 1024}, {"2048", 2048}, {"4096", 4096}});
+    p.choice("bias", &s.bias, {{"auto", WarpedShadowMapSettings::Bias::Auto}, {"offset", WarpedShadowMapSettings::Bias::Offset}});
 }
 
 class WarpedShadowMaps {

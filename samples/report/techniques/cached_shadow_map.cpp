@@ -142,16 +142,17 @@ void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& o
         case LightType::Point: return {};  // a cube map
         case LightType::Directional:
             if (quick) return {"fit=stable cache=on pass=invariant size=1024", "fit=tight cache=off pass=plain size=1024"};
-            return {"fit=stable cache=on pass=invariant",         "fit=stable cache=on pass=plain",
+            return {"fit=stable cache=on pass=invariant",         "fit=stable cache=on pass=invariant bias=offset",
+                    "fit=stable cache=on pass=plain",
                     "fit=stable cache=off pass=plain",            "fit=stable cache=on pass=plain world_depth=off",
                     "fit=stable cache=off pass=plain culling=on", "fit=tight cache=off pass=plain",
                     "fit=tight cache=off pass=plain culling=on"};
         default:
             if (quick) return {"cache=on size=1024"};
-            return {"cache=on", "cache=off"};
+            return {"cache=on", "cache=on bias=offset", "cache=off"};
         }
     };
-    spec.mesh_sweep = {"fit=stable cache=on pass=invariant"};  // scanned meshes: the defaults
+    spec.mesh_sweep = {"fit=stable cache=on pass=invariant", "fit=stable cache=on pass=invariant bias=offset"};  // scanned meshes
     spec.measure = [](CachedShadowMap& m, const CachedShadowMapSettings& s, const app::View& v, const RunContext&, RunResult& r) {
         const double texels = double(m.size()) * double(m.size());
         std::size_t casters = 0;

@@ -62,14 +62,16 @@ void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                       "into `segments` sub-lights";
     lin.hard = false;
     lin.applies = linear_scene;
-    lin.sweep = {"size=512 segments=1", "size=512 segments=2", "size=512 segments=4", "size=512 segments=1 skin=gpu"};
+    lin.sweep = {"size=512 segments=1", "size=512 segments=2", "size=512 segments=4", "size=512 segments=1 skin=gpu",
+                 "size=512 segments=1 bias=offset"};
     lin.quick = {"size=512 segments=1", "size=512 segments=2"};
     lin.measure = measure;
     Spec sampled = lin;
     sampled.name = "sampled_line";
     sampled.description = "N shadow maps at the centers of N equal pieces of the line light, 2x2 PCF each, averaged (baseline)";
     sampled.sweep = {"method=sampled size=512 samples=2", "method=sampled size=512 samples=4",
-                     "method=sampled size=512 samples=8", "method=sampled size=512 samples=16"};
+                     "method=sampled size=512 samples=8", "method=sampled size=512 samples=16",
+                     "method=sampled size=512 samples=8 bias=offset"};
     sampled.quick = {"method=sampled size=512 samples=2", "method=sampled size=512 samples=8"};
     sampled.identity = "method=sampled";
     add_technique(out, std::move(lin));

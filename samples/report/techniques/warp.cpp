@@ -116,7 +116,9 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         for (const char* size : {"512", "1024", "2048"}) warped.sweep.push_back(std::string("method=") + m + " size=" + size);
         warped.quick.push_back(std::string("method=") + m + " size=1024");
     }
-    warped.mesh_sweep = {"method=lispsm size=1024", "method=fitted size=1024"};  // scanned meshes: default, fitted
+    warped.sweep.push_back("method=lispsm size=1024 bias=offset");  // the automatic bias against the classic offset
+    warped.mesh_sweep = {"method=lispsm size=1024", "method=lispsm size=1024 bias=offset",
+                         "method=fitted size=1024"};  // scanned meshes: default, its offset twin, fitted
     warped.measure = measure_warped;
     add_technique(out, std::move(warped));
 
