@@ -116,6 +116,13 @@ float technique_visibility(vec3 p, vec3 n) {
     return body + "    return v / float(u_segments);\n}\n";
 }
 
+// Whether the depth passes store true depths for the automatic bias (method=sampled with bias=auto,
+// heidrich with bias=heidrich_auto), or offset depths (LinearLightSettings::bias).
+bool true_depths(const LinearLightSettings& s) {
+    using B = LinearLightSettings::Bias;
+    return s.method == LinearLightSettings::Method::Sampled ? s.bias == B::Auto : s.bias == B::HeidrichAuto;
+}
+
 }  // namespace
 
 bool LinearLight::init(const app::View& v, std::string& why) {
@@ -240,7 +247,7 @@ void LinearLight::render_depth_maps(const app::View& v, const LinearLightSetting
     glUseProgram(depth_prog_);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    if (s.bias == LinearLightSettings::Bias::Offset) {
+    if (!true_depths(s)) {
         glEnable(GL_POLYGON_OFFSET_FILL);
         glPolygonOffset(2.f, 2.f);
     }
@@ -341,7 +348,7 @@ void LinearLight::render_visibility(const app::View& v, const LinearLightSetting
         glUniformMatrix4fv(glGetUniformLocation(sampled_prog_, "u_vp"), kMaxSamples, GL_FALSE, glm::value_ptr(vps[0]));
         glUniform3fv(glGetUniformLocation(sampled_prog_, "u_pos"), kMaxSamples, glm::value_ptr(pos[0]));
         glUniform1i(glGetUniformLocation(sampled_prog_, "u_count"), static_cast<GLint>(views_.size()));
-        glUniform1i(glGetUniformLocation(sampled_prog_, "u_auto"), s.bias == LinearLightSettings::Bias::Auto ? 1 : 0);
+        glUniform1i(glGetUniformLocation(sampled_prog_, "u_auto"), true_depths(s) ? 1 : 0);
         pass_.draw(sampled_prog_, *v.gpu, GL_TEXTURE_2D_ARRAY, array_);
         return;
     }
@@ -378,7 +385,7 @@ void LinearLight::render_visibility(const app::View& v, const LinearLightSetting
     glUniform3fv(glGetUniformLocation(vis_prog_, "u_end"), kMaxSegments + 1, glm::value_ptr(ends[0]));
     glUniform1i(glGetUniformLocation(vis_prog_, "u_segments"), k_);
     glUniform1i(glGetUniformLocation(vis_prog_, "u_point"), seg_.is_point ? 1 : 0);
-    glUniform1i(glGetUniformLocation(vis_prog_, "u_auto"), s.bias == LinearLightSettings::Bias::Auto ? 1 : 0);
+    glUniform1i(glGetUniformLocation(vis_prog_, "u_auto"), true_depths(s) ? 1 : 0);
     glUniform1f(glGetUniformLocation(vis_prog_, "u_size"), float(size_));
     pass_.draw(vis_prog_, *v.gpu);
 }

@@ -63,7 +63,7 @@ void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     lin.hard = false;
     lin.applies = linear_scene;
     lin.sweep = {"size=512 segments=1", "size=512 segments=2", "size=512 segments=4", "size=512 segments=1 skin=gpu",
-                 "size=512 segments=1 bias=offset"};
+                 "size=512 segments=1 bias=heidrich_auto"};
     lin.quick = {"size=512 segments=1", "size=512 segments=2"};
     lin.measure = measure;
     Spec sampled = lin;
