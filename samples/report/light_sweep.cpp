@@ -11,10 +11,13 @@
 #include <ostream>
 #include <thread>
 
+#include "cached_shadow_map.hpp"
+#include "cascaded_shadow_maps.hpp"
 #include "pcss.hpp"
 #include "reference.hpp"
 #include "report_writer.hpp"
 #include "shadow_map.hpp"
+#include "warped_shadow_maps.hpp"
 
 namespace skr {
 
@@ -22,7 +25,9 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-// The techniques the sweep covers, at their class defaults (pcf: the hard 2x2 lookup), and their map size.
+// The techniques the sweep covers, at their class defaults (pcf: the hard 2x2 lookup), and their map
+// size (per cascade for cascades). Each runs where its report rows run (warped_sm: outdoor, duel and the
+// scanned meshes; cascades: suns; cached_shadow_map: every light but a point light).
 struct SweepTechnique {
     const char* name;
     const char* settings;
@@ -31,6 +36,9 @@ struct SweepTechnique {
 const SweepTechnique kSweepTechniques[] = {
     {"shadow_map", "", ShadowMapSettings{}.size},
     {"pcf", "filter=hard", PcssSettings{}.size},
+    {"cached_shadow_map", "", CachedShadowMapSettings{}.size},
+    {"warped_sm", "", WarpedShadowMapSettings{}.size},
+    {"cascades", "", CascadedShadowMapSettings{}.size},
 };
 
 // Distance to the first caster along dir (unit) within tfar; INFINITY when none.
@@ -80,6 +88,7 @@ std::uint64_t name_hash(const std::string& s) {
 // are uniform in solid angle over the cap above 1 degree; azimuth uniform. Spot lights inside a caster's
 // bounding box (one that does not hold the scene's own light: the room) are drawn again.
 SweepLights make_lights(const sk::Scene& s, const sk::GBuffer& g, const LightSweepOptions& opt) {
+    const int count = sk::is_scanned_scene(s.name) ? opt.mesh_lights : opt.lights;
     SweepLights out;
     const sk::Light& L0 = s.light;
     out.type = L0.type == sk::LightType::Directional ? sk::LightType::Directional : sk::LightType::Spot;
@@ -111,7 +120,7 @@ SweepLights make_lights(const sk::Scene& s, const sk::GBuffer& g, const LightSwe
     };
     sk::Pcg rng(opt.seed ^ name_hash(s.name));
     const float s1 = std::sin(kPi / 180.f);
-    for (int i = 0; i < opt.lights; ++i) {
+    for (int i = 0; i < count; ++i) {
         const bool grazing = i % 3 == 0;
         glm::vec3 w(0.f, 1.f, 0.f);
         for (int attempt = 0; attempt < 64; ++attempt) {
@@ -306,6 +315,38 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
     return s;
 }
 
+// The technique's frames (its run_sequence: one init, then update + render + read-back per frame);
+// a failure (exception, wrong frame count) is a failed SequenceResult whose error is one line.
+sk::SequenceResult run_frames(sk::Technique& t, const sk::RunContext& ctx, const sk::ParamSet& params,
+                              const std::vector<sk::TemporalFrame>& frames) {
+    sk::SequenceResult res;
+    try {
+        res = t.run_sequence(ctx, params, frames);
+    } catch (const std::exception& ex) {
+        res = sk::SequenceResult::failure(std::string("exception: ") + ex.what());
+    }
+    if (res.ok && res.visibility.size() != frames.size()) res = sk::SequenceResult::failure("wrong frame count");
+    if (!res.ok) res.error = res.error.substr(0, res.error.find('\n'));
+    return res;
+}
+
+// The frames one at a time: frame_ok[f] = 0 where the technique failed (its visibility left empty);
+// error: the first failure's.
+sk::SequenceResult run_one_by_one(sk::Technique& t, const sk::RunContext& ctx, const sk::ParamSet& params,
+                                  const std::vector<sk::TemporalFrame>& frames, std::vector<std::uint8_t>& frame_ok) {
+    sk::SequenceResult out;
+    out.visibility.resize(frames.size());
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        sk::SequenceResult one = run_frames(t, ctx, params, {frames[f]});
+        frame_ok[f] = one.ok ? 1 : 0;
+        if (one.ok)
+            out.visibility[f] = std::move(one.visibility[0]);
+        else if (out.error.empty())
+            out.error = one.error;
+    }
+    return out;
+}
+
 double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -383,20 +424,22 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                 if (row.failed) continue;
                 const auto t0 = std::chrono::steady_clock::now();
                 sk::RunContext ctx{scene, gpu, 1, 0, &g};
-                sk::SequenceResult res;
-                try {
-                    res = j.t->run_sequence(ctx, j.params, frames);
-                } catch (const std::exception& ex) {
-                    res = sk::SequenceResult::failure(std::string("exception: ") + ex.what());
-                }
-                if (res.ok && res.visibility.size() != frames.size()) res = sk::SequenceResult::failure("wrong frame count");
-                if (!res.ok) {
-                    row.failed = true;
-                    row.error = res.error.substr(0, res.error.find('\n'));
-                    row.seconds += since(t0);
-                    continue;
+                ctx.verify_sequence = false;  // V only
+                sk::SequenceResult res = run_frames(*j.t, ctx, j.params, frames);
+                std::vector<std::uint8_t> frame_ok(frames.size(), 1);
+                if (!res.ok) {  // a light the technique rejects (a status): retry the chunk's lights one by one
+                    res = run_one_by_one(*j.t, ctx, j.params, frames, frame_ok);
+                    for (std::size_t f = 0; f < frames.size(); ++f)
+                        if (!frame_ok[f]) {
+                            if (row.lights_failed++ == 0) row.first_light_error = res.error;
+                        }
+                    if (row.lights_failed == row.lights) {
+                        row.failed = true;
+                        row.error = row.first_light_error;
+                    }
                 }
                 for (std::size_t l = c0; l < c1; ++l) {
+                    if (!frame_ok[l - c0]) continue;
                     const std::vector<float>& v = res.visibility[l - c0];
                     if (v.size() != g.kind.size()) continue;
                     const LightScore s = score(g, refs[l - c0], v, row.map_size, e, sl.lights[l], eps);
@@ -477,7 +520,9 @@ void write_light_sweep_json(std::ostream& f, const LightSweep& s) {
               << ", \"lights_with_gap\": " << r.lights_with_gap << ", \"leak_fraction_max\": " << num(r.leak_fraction_max)
               << ", \"leak_worst_light\": " << vec(r.leak_worst_light)
               << ", \"leak_beyond_filter_max\": " << num(r.leak_beyond_filter_max)
-              << ", \"leak_beyond_filter_worst_light\": " << vec(r.leak_beyond_filter_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak;
+              << ", \"leak_beyond_filter_worst_light\": " << vec(r.leak_beyond_filter_worst_light) << ", \"lights_with_leak\": " << r.lights_with_leak
+              << ", \"lights_failed\": " << r.lights_failed;
+            if (r.lights_failed > 0) f << ", \"first_light_error\": \"" << json_escape(r.first_light_error) << "\"";
         }
         f << ", \"seconds\": " << num(r.seconds) << ", \"reference_seconds\": " << num(r.reference_seconds) << "}";
     }
@@ -503,7 +548,9 @@ void write_light_sweep_markdown(std::ostream& f, const LightSweep& s) {
          "worst (gap) | leak max | worst (leak) | leak beyond the filter | lights with acne / gap / leak | seconds |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const LightSweepRow& r : s.rows) {
-        const std::string label = r.technique + (r.settings.empty() ? "" : " " + r.settings);
+        std::string label = r.technique + (r.settings.empty() ? "" : " " + r.settings);
+        if (r.lights_failed > 0 && !r.failed)
+            label += " (" + std::to_string(r.lights_failed) + " lights rejected: " + r.first_light_error + ")";
         if (r.failed) {
             f << "| " << r.scene << " | " << label << " | " << r.light << " | failed: " << r.error
               << " | | | | | | | | | | | |\n";

@@ -20,6 +20,7 @@ namespace skr {
 
 struct LightSweepOptions {
     int lights = 1000;              // per scene; a third of them grazing (1 to 5 degrees above the floor)
+    int mesh_lights = 250;          // per scanned-mesh scene (sk::is_scanned_scene): their frames cost 5 to 20x
     int width = 128, height = 96;   // the camera G-buffer the sweep renders and scores (low resolution)
     std::uint64_t seed = 0x5eedu;   // the light directions (deterministic)
     int chunk = 250;                // lights per technique init (run_sequence call)
@@ -41,6 +42,10 @@ struct LightSweepRow {
     double leak_beyond_filter_max = 0.0;
     glm::vec3 leak_beyond_filter_worst_light{0.f};
     int lights_with_acne = 0, lights_with_gap = 0, lights_with_leak = 0;
+    // lights the technique rejected with a status (e.g. a warp's LightInsideVolume: no single frustum
+    // holds the receivers): not scored; the row fails only when every light does
+    int lights_failed = 0;
+    std::string first_light_error;
     double seconds = 0.0;            // the technique's frames and scoring
     double reference_seconds = 0.0;  // the scene's hard references (shared by its techniques)
     bool failed = false;

@@ -17,10 +17,11 @@
 // "temporal" entries.
 //
 // Light sweep (samples/report/light_sweep.hpp, docs/report.md): after the scenes, the hard shadow-map
-// techniques of the run at their defaults (shadow_map; pcf filter=hard) on every built-in visibility
-// scene of the run (not the light-size variants, --mesh scenes or prt) under N random lights
-// (--light-sweep N, default 1000, --quick 100; off: none) at 128x96: report.json's "light_sweep",
-// report.md's "## light sweep".
+// techniques of the run at their defaults (shadow_map; pcf filter=hard; cached_shadow_map, warped_sm,
+// cascades) on every built-in visibility scene and scanned mesh of the run (not the light-size
+// variants, --mesh scenes or prt) under N random lights (--light-sweep N, default 1000, --quick 100;
+// N / 4 on the scanned meshes; off: none) at 128x96: report.json's "light_sweep", report.md's
+// "## light sweep".
 //
 // Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
 // one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
@@ -594,16 +595,19 @@ int main(int argc, char** argv) {
     }
     skr::LightSweep sweep;
     if (o.light_sweep > 0) {
-        // the built-in visibility scenes of the run (no light-size variants, no --mesh scene, no prt)
+        // the built-in visibility scenes and scanned meshes of the run (no light-size variants, no --mesh
+        // scene, no prt)
         std::vector<sk::Scene> sweep_scenes;
         for (std::size_t i = 0; i < scenes.size(); ++i) {
             sk::Scene b;
-            if (variant_base[i].empty() && sk::make_builtin_scene(scenes[i].name, b)) sweep_scenes.push_back(scenes[i]);
+            if (variant_base[i].empty() && (sk::is_scanned_scene(scenes[i].name) || sk::make_builtin_scene(scenes[i].name, b)))
+                sweep_scenes.push_back(scenes[i]);
         }
         skr::LightSweepOptions so;
         so.lights = o.light_sweep;
-        std::fprintf(stderr, "  sweep     %d lights per scene at %dx%d, %zu scenes\n", so.lights, so.width, so.height,
-                     sweep_scenes.size());
+        so.mesh_lights = std::max(1, o.light_sweep / 4);  // scanned meshes: a quarter (their frames cost 5 to 20x)
+        std::fprintf(stderr, "  sweep     %d lights per scene (%d per scanned mesh) at %dx%d, %zu scenes\n", so.lights,
+                     so.mesh_lights, so.width, so.height, sweep_scenes.size());
         skr::run_light_sweep(sweep_scenes, chosen, so, sweep);
         std::fprintf(stderr, "  sweep     %.1f s\n", sweep.seconds);
     }

@@ -88,6 +88,9 @@ struct RunContext {
     // (the temporal rows: V is still evaluated at the G-buffer's points). Ported techniques get
     // it as app::View::camera; the old drivers ignore it.
     const Camera* fit_camera = nullptr;
+    // run_sequence: also check what the sequence keeps against a full re-render each frame (the cached
+    // map's bit-for-bit test of the temporal rows); the light sweep turns it off (only V is scored).
+    bool verify_sequence = true;
 };
 
 // Shadows over time: one frame of a temporal sequence, the camera the technique fits to

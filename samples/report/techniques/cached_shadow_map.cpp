@@ -68,7 +68,8 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
     CachedShadowMap cached, full;
     std::string why;
     const app::View v0 = app::make_view(scene, ctx.gpu, frames[0].camera);
-    if (!cached.init(v0, why) || (s.cache && !full.init(v0, why))) return SequenceResult::failure(why);
+    const bool verify = s.cache && ctx.verify_sequence;
+    if (!cached.init(v0, why) || (verify && !full.init(v0, why))) return SequenceResult::failure(why);
     SequenceResult out;
     std::vector<double> cached_ms, full_ms;
     double actions[4] = {0, 0, 0, 0}, rerendered = 0, differing = 0, differing_far = 0, max_ulps = 0, v_differing = 0;
@@ -90,7 +91,7 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
             rerendered += double(plan.texels) / (double(s.size) * double(s.size));
             cached_ms.push_back(ms);
         }
-        if (!s.cache) continue;
+        if (!s.cache || !ctx.verify_sequence) continue;
         full.update(v, full_s);
         if (!full.error().empty()) return SequenceResult::failure(full.error());
         const double fms = timed_map(full, v, full_s);
@@ -116,7 +117,7 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
                 {"rerendered_fraction", rerendered / later}, {"map_ms", median(cached_ms)},
                 {"map_ms_max", cached_ms.empty() ? 0.0 : *std::max_element(cached_ms.begin(), cached_ms.end())}};
     if (s.culling) out.work.emplace_back("culling_changes", culling_changes);
-    if (s.cache) {
+    if (verify) {
         out.work.emplace_back("full_map_ms", median(full_ms));
         out.work.emplace_back("texels_differing", differing);
         out.work.emplace_back("texels_differing_16ulp", differing_far);
