@@ -216,6 +216,38 @@ void main() {
 
 }  // namespace
 
+namespace {
+// Issue 25 item 2: cascades.glsl's filtered lookup exists only with pcf.glsl pasted first.
+const char* kFilteredCascades = R"(
+uniform sampler2DArrayShadow u_maps;
+uniform mat4 u_vp[4];
+uniform vec4 u_near;
+uniform vec4 u_far;
+in vec3 v_world;
+in float v_depth;
+out vec4 o_color;
+void main() {
+    float a = sk_cascade_shadow_filtered(u_maps, u_vp, u_near, u_far, 4, v_world, v_depth, 0.1, 1e-4, false,
+                                         SK_CASCADE_KERNEL_TENT, 2, 16, 0.0);
+    float b = sk_cascade_sample_filtered(u_maps, u_vp[1], 1, v_world, 1e-4, false, SK_CASCADE_KERNEL_POISSON_ROTATED,
+                                         3, 16, 0.0);
+    o_color = vec4(a, b, float(SK_CASCADE_KERNEL_HARD + SK_CASCADE_KERNEL_BOX + SK_CASCADE_KERNEL_POISSON), 1.0);
+}
+)";
+
+}  // namespace
+
+TEST_CASE("cascades.glsl after pcf.glsl has the filtered cascade lookup; alone it does not (issue 25.2)") {
+    const std::string pcf = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcf.glsl");
+    const std::string cascades = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "cascades.glsl");
+    for (int v : {330, 450}) {
+        const std::string src = "#version " + std::to_string(v) + " core\n" + pcf + cascades + kFilteredCascades;
+        CHECK_MESSAGE(compile(src, EShLangFragment, v).empty(), compile(src, EShLangFragment, v));
+    }
+    // Control: without pcf.glsl the function is not declared (the check can fail).
+    CHECK_FALSE(compile("#version 450 core\n" + cascades + kFilteredCascades, EShLangFragment, 450).empty());
+}
+
 TEST_CASE("a generated Poisson array pasted before pcf.glsl and pcss.glsl compiles (issue 13.5)") {
     const std::string pcf = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcf.glsl");
     const std::string pcss = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcss.glsl");
