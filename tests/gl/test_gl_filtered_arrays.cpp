@@ -23,6 +23,9 @@
 
 #include "gl_test.hpp"
 #include "pcf_reference.hpp"
+#include "metrics.hpp"
+#include "reference.hpp"
+#include "scene.hpp"
 #include "techniques.hpp"
 
 using namespace pcfref;
@@ -469,4 +472,51 @@ TEST_CASE("sk_cascade_shadow_filtered: a pcf.glsl kernel in each cascade's layer
     const GLuint texs[2] = {maps, tp};
     glDeleteTextures(2, texs);
     glDeleteProgram(prog);
+}
+
+// ------------------------------------------------------------------------------ the sample's setting
+
+// samples/cascaded_shadow_maps' pcf_radius (through the report's wrapper, as shadowkit-report runs it)
+// on `outdoor` against the Embree reference: a tent of radius 2 softens the edges (more pixels strictly
+// between 0 and 1); thresholded at 0.5 it keeps the hard shadow's classification away from edges.
+TEST_CASE("the cascaded sample's pcf_radius: a tent in each cascade's layer, softer, same classification") {
+    (void)gl_test_context();
+    sk::Scene scene;
+    REQUIRE(sk::make_builtin_scene("outdoor", scene));
+    sk::SceneGpu gpu;
+    sk::GBuffer g;
+    std::string why;
+    REQUIRE_MESSAGE(sk::prepare_scene_gpu(scene, 200, 150, gpu, g, why), why);
+    sk::ReferenceOptions opt;
+    opt.strata = 1;  // a sun: one ray per pixel
+    opt.progress = false;
+    sk::Reference ref;
+    REQUIRE_MESSAGE(sk::compute_reference(scene, g, opt, ref, why), why);
+    auto techniques = sk::make_techniques();
+    auto run = [&](const std::string& settings) {
+        for (auto& t : techniques)
+            if (t->name() == "cascades") {
+                sk::RunContext ctx{scene, gpu, 1, 0, nullptr};
+                return t->run(ctx, sk::ParamSet::parse_named(settings));
+            }
+        return sk::RunResult::failure("no technique cascades");
+    };
+    for (const char* bias : {"bias=auto", "bias=polygon_offset"}) {
+        const sk::RunResult r0 = run(std::string(bias) + " size=512 pcf_radius=0");
+        const sk::RunResult r2 = run(std::string(bias) + " size=512 pcf_radius=2");
+        REQUIRE_MESSAGE(r0.ok, r0.error);
+        REQUIRE_MESSAGE(r2.ok, r2.error);
+        auto partial = [](const std::vector<float>& v) {
+            std::size_t n = 0;
+            for (float x : v) n += x > 0.02f && x < 0.98f ? 1 : 0;
+            return n;
+        };
+        const sk::Metrics m0 = sk::compute_metrics(g, ref, r0.visibility, true);
+        const sk::Metrics m2 = sk::compute_metrics(g, ref, r2.visibility, true);
+        MESSAGE(std::string(bias) << ": RMSE " << m0.rmse << " (2x2) -> " << m2.rmse << " (tent r=2); misclassified "
+                                  << m0.misclassified << " -> " << m2.misclassified << "; partial pixels "
+                                  << partial(r0.visibility) << " -> " << partial(r2.visibility));
+        CHECK(partial(r2.visibility) > partial(r0.visibility) * 3 / 2);
+        CHECK(m2.misclassified <= m0.misclassified + 0.005);
+    }
 }
