@@ -290,6 +290,40 @@ inline void cs_depth_range(const CascadeInput& in, const glm::dmat4& lv, double 
     farp += pad;
 }
 
+// What a vertex shader computes must still land inside the cascade: receivers at float world
+// positions (each coordinate rounded: off by up to u times the largest), transformed by the float
+// matrix in float (a 4-term dot product: error <= 4u sum |m_rj p_j|, plus the term |m_r3| u). The
+// slice is the convex hull of its corners pw (world) and the map is affine, so bounding the corners
+// bounds every receiver: the exact image of the float matrix plus that error within 0.01 of [-1, 1].
+// A slice reaching beyond float range has receivers no float position (and no vertex shader) holds.
+// stable_world_depth: the slice's depth may reach beyond the scene, where nothing is (the range holds
+// the scene bounds by construction): x/y only.
+inline bool cs_float_landing_ok(const CascadeInput& in, const glm::mat4& view_proj, const glm::dvec3 (&pw)[8]) {
+    const double zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
+    const double uf = 5.9604644775390625e-8;  // 2^-24
+    const glm::dmat4 mf(view_proj);
+    double pmax = 0.0;
+    for (int i = 0; i < 8; ++i)
+        pmax = std::fmax(pmax, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
+    if (!(pmax <= static_cast<double>(std::numeric_limits<float>::max()))) return false;
+    const double ep = uf * pmax;
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec4 h = mf * glm::dvec4(pw[i], 1.0);  // the float matrix, exactly (w = 1: orthographic)
+        double e[3];
+        for (int rr = 0; rr < 3; ++rr) {
+            double sabs = 0.0, srow = 0.0;
+            for (int j = 0; j < 3; ++j) {
+                sabs += std::fabs(mf[j][rr] * pw[i][j]);
+                srow += std::fabs(mf[j][rr]);
+            }
+            e[rr] = srow * ep + 4.0 * uf * (sabs + std::fabs(mf[3][rr]));
+        }
+        const bool z_ok = in.stable_world_depth || (h.z - e[2] >= zlo - 0.01 && h.z + e[2] <= 1.01);
+        if (!(std::fabs(h.x) + e[0] <= 1.01) || !(std::fabs(h.y) + e[1] <= 1.01) || !z_ok) return false;
+    }
+    return true;
+}
+
 }  // namespace detail
 
 /// Practical split scheme (Zhang et al. 2006): C_i = lambda * n (f/n)^(i/m) + (1 - lambda) * (n + (f - n) i/m)
@@ -420,39 +454,12 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
     if (!cs_finite(out.view_proj) || !(static_cast<float>(texel) > 0.0f) || !std::isfinite(static_cast<float>(rad)) ||
         !cs_finite(glm::vec3(cw)))
         return fail(Status::Overflow);  // outside float range
-    // What a vertex shader computes must still land inside the cascade: receivers at float world
-    // positions (each coordinate rounded: off by up to u times the largest), transformed by the float
-    // matrix in float (a 4-term dot product: error <= 4u sum |m_rj p_j|, plus the term |m_r3| u). The
-    // slice is the convex hull of its corners and the map is affine, so bounding the corners bounds
-    // every receiver: the exact image of the float matrix plus that error within 0.01 of [-1, 1].
-    const double zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
-    const double uf = 5.9604644775390625e-8;  // 2^-24
-    const glm::dmat4 mf(out.view_proj);
-    glm::dvec3 pw[8];
-    double pmax = 0.0;
-    for (int i = 0; i < 8; ++i) {
-        pw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
-        pmax = std::fmax(pmax, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
-    }
-    // a slice reaching beyond float range has receivers no float position (and no vertex shader) holds
-    if (!(pmax <= static_cast<double>(std::numeric_limits<float>::max()))) return fail(Status::Overflow);
-    const double ep = uf * pmax;
-    for (int i = 0; i < 8; ++i) {
-        const glm::dvec4 h = mf * glm::dvec4(pw[i], 1.0);  // the float matrix, exactly (w = 1: orthographic)
-        double e[3];
-        for (int rr = 0; rr < 3; ++rr) {
-            double sabs = 0.0, srow = 0.0;
-            for (int j = 0; j < 3; ++j) {
-                sabs += std::fabs(mf[j][rr] * pw[i][j]);
-                srow += std::fabs(mf[j][rr]);
-            }
-            e[rr] = srow * ep + 4.0 * uf * (sabs + std::fabs(mf[3][rr]));
-        }
-        // stable_world_depth: the slice's depth may reach beyond the scene, where nothing is; the
-        // range holds the scene bounds by construction
-        const bool z_ok = in.stable_world_depth || (h.z - e[2] >= zlo - 0.01 && h.z + e[2] <= 1.01);
-        if (!(std::fabs(h.x) + e[0] <= 1.01) || !(std::fabs(h.y) + e[1] <= 1.01) || !z_ok) return fail(Status::Overflow);
-    }
+    // what a vertex shader computes (float positions, the float matrix) must land inside the cascade
+    const glm::dvec3 pw[8] = {glm::dvec3(iv * glm::dvec4(cv[0], 1.0)), glm::dvec3(iv * glm::dvec4(cv[1], 1.0)),
+                              glm::dvec3(iv * glm::dvec4(cv[2], 1.0)), glm::dvec3(iv * glm::dvec4(cv[3], 1.0)),
+                              glm::dvec3(iv * glm::dvec4(cv[4], 1.0)), glm::dvec3(iv * glm::dvec4(cv[5], 1.0)),
+                              glm::dvec3(iv * glm::dvec4(cv[6], 1.0)), glm::dvec3(iv * glm::dvec4(cv[7], 1.0))};
+    if (!cs_float_landing_ok(in, out.view_proj, pw)) return fail(Status::Overflow);
     out.split_near = split_near;
     out.split_far = split_far;
     out.sphere = glm::vec4(glm::vec3(cw), static_cast<float>(rad));
