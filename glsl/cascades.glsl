@@ -25,6 +25,11 @@
 // maps: 76-83% of the lit pixels right, docs/composition.md). Offset world_pos by one texel along the
 // normal first (Cascade::texel_world_size of the cascade sk_cascade_by_depth selects; inside the blend
 // band the next one's), keeping view_depth unchanged: 99.7-100% (docs/cascades.md).
+// Filtering: paste glsl/pcf.glsl BEFORE this snippet and sk_cascade_shadow_filtered runs a pcf.glsl
+// kernel (box, tent, Poisson, rotated Poisson: SK_CASCADE_KERNEL_*) in each cascade's layer, blended
+// over the band like sk_cascade_shadow. Any other filter (pcss.glsl's array overloads, a receiver
+// plane, the automatic bias) composes through sk_cascade_pick: it returns the cascade, the next one
+// inside the band and the blend weight; read each with the kernel and mix (docs/cascades.md).
 // Points outside the selected cascade's map (uv outside [0,1]) and beyond the last split are lit.
 // MIT License. Copyright (c) shadowkit contributors.
 
@@ -54,6 +59,24 @@ float sk_cascade_blend(float view_depth, float split_near, float split_far, floa
     return clamp((view_depth - start) / max(split_far - start, 1e-20), 0.0, 1.0);
 }
 
+// The cascades a point at view_depth reads: returns the first (-1 beyond the last split: lit);
+// `second` = the next cascade inside the blend band (-1 outside it or after the last cascade), `weight`
+// its weight in mix(first's value, second's value, weight) (0 when second is -1).
+int sk_cascade_pick(float view_depth, vec4 split_near, vec4 split_far, int count, float band, out int second,
+                    out float weight)
+{
+    second = -1;
+    weight = 0.0;
+    int i = sk_cascade_by_depth(view_depth, split_far, count);
+    if (i < 0) return -1;
+    float w = sk_cascade_blend(view_depth, split_near[i], split_far[i], band);
+    if (w > 0.0 && i + 1 < count) {
+        second = i + 1;
+        weight = w;
+    }
+    return i;
+}
+
 // World position -> (u, v, depth) in [0,1] for one cascade (orthographic: w == 1, divide kept).
 vec3 sk_cascade_coord(mat4 light_view_proj, vec3 world_pos, bool zero_to_one)
 {
@@ -75,13 +98,55 @@ float sk_cascade_sample(sampler2DArrayShadow maps, mat4 light_view_proj, int lay
 float sk_cascade_shadow(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_near, vec4 split_far, int count,
                         vec3 world_pos, float view_depth, float band, float bias, bool zero_to_one)
 {
-    int i = sk_cascade_by_depth(view_depth, split_far, count);
+    int j;
+    float w;
+    int i = sk_cascade_pick(view_depth, split_near, split_far, count, band, j, w);
     if (i < 0) return 1.0;
     float s = sk_cascade_sample(maps, light_vp[i], i, world_pos, bias, zero_to_one);
-    float w = sk_cascade_blend(view_depth, split_near[i], split_far[i], band);
-    if (w > 0.0 && i + 1 < count) {
-        float s2 = sk_cascade_sample(maps, light_vp[i + 1], i + 1, world_pos, bias, zero_to_one);
-        s = mix(s, s2, w);
-    }
+    if (j >= 0) s = mix(s, sk_cascade_sample(maps, light_vp[j], j, world_pos, bias, zero_to_one), w);
     return s;
 }
+
+#ifdef SK_PCF_GLSL
+// ---- filtered cascades (needs glsl/pcf.glsl pasted before this snippet) --------------------------
+const int SK_CASCADE_KERNEL_HARD = 0;             // sk_pcf_hard: the hardware 2x2
+const int SK_CASCADE_KERNEL_BOX = 1;              // sk_pcf_box, radius_texels
+const int SK_CASCADE_KERNEL_TENT = 2;             // sk_pcf_tent, radius_texels
+const int SK_CASCADE_KERNEL_POISSON = 3;          // sk_pcf_poisson, radius_texels texels, `taps`, `angle`
+const int SK_CASCADE_KERNEL_POISSON_ROTATED = 4;  // sk_pcf_poisson_rotated (angle from the pixel's noise)
+
+// One cascade read with a pcf.glsl kernel: uvz = sk_cascade_coord minus bias, no receiver plane
+// (screen derivatives are not uniform across the band's branches; compose through sk_cascade_pick
+// for one). The radius is in texels of that cascade (its world width grows with the cascade).
+float sk_cascade_sample_filtered(sampler2DArrayShadow maps, mat4 light_view_proj, int layer, vec3 world_pos, float bias,
+                                 bool zero_to_one, int kernel, int radius_texels, int taps, float angle)
+{
+    vec3 c = sk_cascade_coord(light_view_proj, world_pos, zero_to_one);
+    if (any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0)))) return 1.0;
+    vec3 uvz = vec3(c.xy, c.z - bias);
+    float l = float(layer);
+    float radius_uv = float(radius_texels) / float(textureSize(maps, 0).x);
+    if (kernel == SK_CASCADE_KERNEL_BOX) return sk_pcf_box(maps, l, uvz, vec2(0.0), radius_texels);
+    if (kernel == SK_CASCADE_KERNEL_TENT) return sk_pcf_tent(maps, l, uvz, vec2(0.0), radius_texels);
+    if (kernel == SK_CASCADE_KERNEL_POISSON) return sk_pcf_poisson(maps, l, uvz, vec2(0.0), radius_uv, taps, angle);
+    if (kernel == SK_CASCADE_KERNEL_POISSON_ROTATED) return sk_pcf_poisson_rotated(maps, l, uvz, vec2(0.0), radius_uv, taps);
+    return sk_pcf_hard(maps, l, uvz);
+}
+
+// sk_cascade_shadow with a pcf.glsl kernel in each cascade's layer, blended over the band.
+float sk_cascade_shadow_filtered(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_near, vec4 split_far, int count,
+                                 vec3 world_pos, float view_depth, float band, float bias, bool zero_to_one, int kernel,
+                                 int radius_texels, int taps, float angle)
+{
+    int j;
+    float w;
+    int i = sk_cascade_pick(view_depth, split_near, split_far, count, band, j, w);
+    if (i < 0) return 1.0;
+    float s = sk_cascade_sample_filtered(maps, light_vp[i], i, world_pos, bias, zero_to_one, kernel, radius_texels, taps,
+                                         angle);
+    if (j >= 0)
+        s = mix(s, sk_cascade_sample_filtered(maps, light_vp[j], j, world_pos, bias, zero_to_one, kernel, radius_texels,
+                                              taps, angle), w);
+    return s;
+}
+#endif

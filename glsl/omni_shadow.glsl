@@ -4,7 +4,8 @@
 // versions: 330, 450
 // stages: vertex, fragment
 //
-// Storage: every map holds stored = distance_to_light / range (depth pass fragment stage:
+// Storage: every map holds stored = distance_to_light / range (NOT window depth: a cube rendered with
+// ordinary perspective faces is read with shadow_map.glsl's sk_cube_visibility_hardware_depth) (depth pass fragment stage:
 // gl_FragDepth = sk_omni_linear_depth(world, light, range)); GL_TEXTURE_COMPARE_MODE =
 // GL_COMPARE_REF_TO_TEXTURE, GL_LEQUAL, GL_LINEAR filtering for the hardware 2x2 compare.
 // Cube: render face f with omni_cube_matrices().view_proj[f] into GL_TEXTURE_CUBE_MAP_POSITIVE_X + f,
@@ -25,7 +26,7 @@
 // Usage (fragment stage):
 //   vec3 L = u_light_position.xyz / u_light_position.w - p; float d = length(L);
 //   float b = sk_omni_bias(d, dot(n, L / d), sk_omni_cube_texel_angle(u_size), 1.4143, 1.4835, u_storage);
-//   float v = sk_omni_cube_shadow(u_cube, u_light_position, p, u_range, b);   // 1 lit, 0 shadowed
+//   float v = sk_cube_visibility_distance(u_cube, u_light_position, p, u_range, b);   // 1 lit, 0 shadowed
 //
 // MIT License. Copyright (c) shadowkit contributors.
 
@@ -55,15 +56,24 @@ float sk_omni_bias(float d, float cos_theta, float texel_angle, float filter_rad
 // Largest angle one texel of a size^2 face subtends (2 / size).
 float sk_omni_cube_texel_angle(float size) { return 2.0 / size; }
 
+// ---- cube lookups: each name says what the cube holds -------------------------------------------
+// sk_cube_visibility_distance*: a cube storing distance / range (this snippet's depth pass). A cube
+// of hardware depth (six perspective faces, window depth) is read with shadow_map.glsl's
+// sk_cube_visibility_hardware_depth instead: each on the other's map compiles and is wrong.
+// The old names (sk_omni_cube_shadow, _manual, sk_omni_cube_pcf) fail to compile, naming the new one.
+#define sk_omni_cube_shadow sk_omni_cube_shadow_renamed_to_sk_cube_visibility_distance
+#define sk_omni_cube_shadow_manual sk_omni_cube_shadow_manual_renamed_to_sk_cube_visibility_distance_manual
+#define sk_omni_cube_pcf sk_omni_cube_pcf_renamed_to_sk_cube_visibility_distance_pcf
+
 // Hardware compare: samplerCubeShadow on the distance cube (GL_LINEAR: 2x2 PCF across seams).
-float sk_omni_cube_shadow(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias) {
+float sk_cube_visibility_distance(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias) {
     vec3 d = world_pos - sk_omni_light_point(light_position);
     return texture(shadow_map, vec4(d, (length(d) - bias) / range));
 }
 
 // Manual compare: samplerCube on the same texture with compare mode NONE (GL_NEAREST), or an R32F
 // colour cube holding distance / range.
-float sk_omni_cube_shadow_manual(samplerCube distance_map, vec4 light_position, vec3 world_pos, float range, float bias) {
+float sk_cube_visibility_distance_manual(samplerCube distance_map, vec4 light_position, vec3 world_pos, float range, float bias) {
     vec3 d = world_pos - sk_omni_light_point(light_position);
     float stored = texture(distance_map, d).r;
     return (length(d) - bias) / range <= stored ? 1.0 : 0.0;
@@ -91,8 +101,8 @@ void sk_omni_cube_tangents(vec3 d, out vec3 t_s, out vec3 t_t, out float major) 
 // (2 radius + 1)^2 hardware-compare taps one texel apart in the face plane; each tap is a
 // direction, so taps beyond a face edge land on the neighbor face (seams handled by the cube
 // lookup). Bias with filter_radius = (radius + 1) * 1.4143.
-float sk_omni_cube_pcf(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias,
-                       float size, int radius) {
+float sk_cube_visibility_distance_pcf(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range,
+                                      float bias, float size, int radius) {
     vec3 d = world_pos - sk_omni_light_point(light_position);
     float ref = (length(d) - bias) / range;
     vec3 ts, tt;

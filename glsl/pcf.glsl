@@ -3,7 +3,9 @@
 // stages: fragment
 //
 // Inputs (per call):
-//   sm      sampler2DShadow: the shadow map, a depth texture.
+//   sm      sampler2DShadow: the shadow map, a depth texture; or a sampler2DArrayShadow followed by
+//           `float layer` (cascades, a depth array): every kernel has both overloads, with the same
+//           arithmetic (a layer of an array gives the values of the same depths in a 2D map).
 //   uvz     shadow coordinate: xy in [0,1] uv, z the (already biased) window depth of the receiver
 //           (sk_shadow_coord in shadow_map.glsl gives it).
 //   dz_duv  receiver-plane depth gradient from sk_receiver_plane_depth_bias(uvz) (screen derivatives)
@@ -21,11 +23,18 @@
 //   vec2 g = sk_receiver_plane_depth_bias(uvz);          // call in uniform control flow (dFdx)
 //   float lit = sk_pcf_poisson(sm, uvz, g, 3.0 / 2048.0, 16,
 //                              6.2831853 * sk_interleaved_gradient_noise(gl_FragCoord.xy));
+//   float lit = sk_pcf_tent(cascades, float(i), uvz, g, 2);   // layer i of a depth array
 //   box: (2r+1)^2 taps; tent: (2r+1)^2 taps weighted (r+1-|i|)(r+1-|j|); Poisson: `taps` in
 //   1..SK_POISSON_TAP_COUNT, rotated by `angle` (0.0: unrotated; per-pixel noise turns banding into noise).
+// Cascades: glsl/cascades.glsl's sk_cascade_shadow_filtered (paste this snippet first) runs these
+// kernels in the cascade array with the blend band; sk_cascade_pick composes any other.
 // Based on Reeves et al. 1987 (PCF), Isidoro 2006 (receiver plane depth bias), Jimenez 2014
 // (interleaved gradient noise).
 // MIT License. Copyright (c) shadowkit contributors.
+
+// Tells glsl/cascades.glsl (pasted after this) that the kernels exist: it then adds
+// sk_cascade_shadow_filtered.
+#define SK_PCF_GLSL 1
 
 #ifndef SK_POISSON_DISK64_DEFINED
 #define SK_POISSON_DISK64_DEFINED
@@ -188,5 +197,68 @@ float sk_pcf_poisson(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float radius_uv,
 // Rotated Poisson: the angle from interleaved gradient noise at this pixel (fragment stage).
 float sk_pcf_poisson_rotated(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float radius_uv, int taps) {
     return sk_pcf_poisson(sm, uvz, dz_duv, radius_uv, taps,
+                          6.28318531 * sk_interleaved_gradient_noise(gl_FragCoord.xy));
+}
+
+// ---- depth arrays: the same kernels on one layer of a sampler2DArrayShadow ----------------------
+// Each is the 2D kernel above with texture(sm, vec4(uv, layer, ref)) for texture(sm, vec3(uv, ref))
+// and textureSize(sm, 0).xy for the map's size: identical taps, weights and order.
+
+// One hardware-compare tap at a uv offset in layer `layer`, with the receiver plane; outside: lit.
+float sk_pcf_tap(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, vec2 offset_uv) {
+    vec2 uv = uvz.xy + offset_uv;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    return texture(sm, vec4(uv, layer, uvz.z + dot(dz_duv, offset_uv)));
+}
+
+// Hard shadow in one layer.
+float sk_pcf_hard(sampler2DArrayShadow sm, float layer, vec3 uvz) {
+    return sk_pcf_tap(sm, layer, uvz, vec2(0.0), vec2(0.0));
+}
+
+// Box in one layer: (2r+1)^2 taps one texel apart. r is clamped to [0, 8].
+float sk_pcf_box(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, int radius_texels) {
+    int r = clamp(radius_texels, 0, 8);
+    vec2 texel = 1.0 / vec2(textureSize(sm, 0).xy);
+    float sum = 0.0;
+    for (int j = -r; j <= r; ++j)
+        for (int i = -r; i <= r; ++i)
+            sum += sk_pcf_tap(sm, layer, uvz, dz_duv, vec2(float(i), float(j)) * texel);
+    float n = float(2 * r + 1);
+    return sum / (n * n);
+}
+
+// Tent in one layer: (2r+1)^2 taps weighted (r+1-|i|)(r+1-|j|). r is clamped to [0, 8].
+float sk_pcf_tent(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, int radius_texels) {
+    int r = clamp(radius_texels, 0, 8);
+    vec2 texel = 1.0 / vec2(textureSize(sm, 0).xy);
+    float sum = 0.0;
+    float wsum = 0.0;
+    for (int j = -r; j <= r; ++j)
+        for (int i = -r; i <= r; ++i) {
+            float w = float(r + 1 - abs(i)) * float(r + 1 - abs(j));
+            sum += w * sk_pcf_tap(sm, layer, uvz, dz_duv, vec2(float(i), float(j)) * texel);
+            wsum += w;
+        }
+    return sum / wsum;
+}
+
+// Poisson disk in one layer (see the 2D version).
+float sk_pcf_poisson(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, float radius_uv, int taps,
+                     float angle) {
+    int n = clamp(taps, 1, SK_POISSON_TAP_COUNT);
+    if (!(radius_uv > 0.0) || n == 1) return sk_pcf_tap(sm, layer, uvz, dz_duv, vec2(0.0));
+    float c = cos(angle);
+    float s = sin(angle);
+    mat2 rot = mat2(c, s, -s, c);
+    float sum = 0.0;
+    for (int i = 0; i < n; ++i)
+        sum += sk_pcf_tap(sm, layer, uvz, dz_duv, rot * SK_POISSON_TAPS[i] * radius_uv);
+    return sum / float(n);
+}
+
+// Rotated Poisson in one layer: the angle from interleaved gradient noise at this pixel.
+float sk_pcf_poisson_rotated(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, float radius_uv, int taps) {
+    return sk_pcf_poisson(sm, layer, uvz, dz_duv, radius_uv, taps,
                           6.28318531 * sk_interleaved_gradient_noise(gl_FragCoord.xy));
 }

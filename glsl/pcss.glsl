@@ -5,6 +5,12 @@
 // Inputs (per call):
 //   depth_map  sampler2D view of the shadow map (compare mode off, nearest).
 //   sm         sampler2DShadow view of the same map (compare mode on).
+//   Depth arrays (cascades): every function has an overload taking sampler2DArray depth_maps,
+//   sampler2DArrayShadow sm (two views or two sampler objects of one GL_TEXTURE_2D_ARRAY) and a
+//   `float layer` after the samplers; the blocker search reads textureLod(depth_maps,
+//   vec3(uv, layer), 0.0).r where the 2D version reads textureLod(depth_map, uv, 0.0).r, the rest is
+//   the same arithmetic. Per cascade, light_uv_per_depth changes with the cascade's width and depth
+//   range (docs/cascades.md, "Filtering").
 //   uvz        shadow coordinate: uv in [0,1], z the receiver's (biased) window depth.
 //   dz_duv     receiver-plane gradient (sk_receiver_plane_depth_bias in pcf.glsl) or vec2(0.0); each
 //              blocker-search and filter tap at uv offset o compares with uvz.z + dot(dz_duv, o).
@@ -244,4 +250,92 @@ float sk_pcss_directional(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec
 #endif
     float w = clamp(light_uv_per_depth * max(z_r - z_b, 0.0), 0.0, max_filter_uv);
     return sk_pcss_filter(sm, uvz, dz_duv, w, filter_taps, angle);
+}
+
+// ---- depth arrays: the same functions on one layer (cascades) ------------------------------------
+
+// Blocker search in layer `layer` of a depth array (compare mode off, nearest).
+float sk_pcss_blocker_window_depth(sampler2DArray depth_maps, float layer, vec3 uvz, vec2 dz_duv, float search_uv, int taps,
+                                   float angle) {
+    int n = clamp(taps, 1, SK_POISSON_TAP_COUNT);
+    float c = cos(angle);
+    float s = sin(angle);
+    mat2 rot = mat2(c, s, -s, c);
+    float sum = 0.0;
+    float count = 0.0;
+    for (int i = 0; i < n; ++i) {
+        vec2 o = rot * SK_POISSON_TAPS[i] * (0.5 * search_uv);
+        vec2 uv = uvz.xy + o;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
+        float d = textureLod(depth_maps, vec3(uv, layer), 0.0).r;
+        if (sk_depth_closer(d, uvz.z + dot(dz_duv, o))) {
+            sum += d;
+            count += 1.0;
+        }
+    }
+    return count > 0.0 ? sum / count : -1.0;
+}
+
+// The array search without a receiver plane.
+float sk_pcss_blocker_window_depth(sampler2DArray depth_maps, float layer, vec3 uvz, float search_uv, int taps, float angle) {
+    return sk_pcss_blocker_window_depth(depth_maps, layer, uvz, vec2(0.0), search_uv, taps, angle);
+}
+
+// Poisson PCF in one layer of a compare-mode depth array.
+float sk_pcss_filter(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, float width_uv, int taps, float angle) {
+    int n = clamp(taps, 1, SK_POISSON_TAP_COUNT);
+    float radius = 0.5 * width_uv;
+    if (!(radius > 0.0) || n == 1) {
+        if (any(lessThan(uvz.xy, vec2(0.0))) || any(greaterThan(uvz.xy, vec2(1.0)))) return 1.0;
+        return texture(sm, vec4(uvz.xy, layer, uvz.z));
+    }
+    float c = cos(angle);
+    float s = sin(angle);
+    mat2 rot = mat2(c, s, -s, c);
+    float sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        vec2 o = rot * SK_POISSON_TAPS[i] * radius;
+        vec2 uv = uvz.xy + o;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+            sum += 1.0;
+            continue;
+        }
+        sum += texture(sm, vec4(uv, layer, uvz.z + dot(dz_duv, o)));
+    }
+    return sum / float(n);
+}
+
+// PCSS for a perspective light in one layer (an array of spot maps).
+float sk_pcss(sampler2DArray depth_maps, sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, float light_uv_at_near,
+              float near, float far, int search_taps, int filter_taps, float angle, float max_filter_uv) {
+    float z_r = sk_linearize_depth(uvz.z, near, far);
+    float search_uv = min(light_uv_at_near * max(z_r - near, 0.0) / z_r, max_filter_uv);
+    if (!(search_uv * float(textureSize(depth_maps, 0).x) > 1.0)) return sk_pcss_filter(sm, layer, uvz, dz_duv, 0.0, 1, angle);
+    float b = sk_pcss_blocker_window_depth(depth_maps, layer, uvz, dz_duv, search_uv, search_taps, angle);
+    if (b < 0.0) return 1.0;
+    float z_b = max(sk_linearize_depth(b, near, far), 1e-30);
+    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near / z_r;
+    w = clamp(w, 0.0, max_filter_uv);
+    return sk_pcss_filter(sm, layer, uvz, dz_duv, w, filter_taps, angle);
+}
+
+// PCSS for a directional light in one layer (a cascade: light_uv_per_depth of that cascade).
+float sk_pcss_directional(sampler2DArray depth_maps, sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv,
+                          float light_uv_per_depth, int search_taps, int filter_taps, float angle, float max_filter_uv) {
+#ifdef SK_REVERSED_Z
+    float z_r = 1.0 - uvz.z;
+#else
+    float z_r = uvz.z;
+#endif
+    float search_uv = min(light_uv_per_depth * max(z_r, 0.0), max_filter_uv);
+    if (!(search_uv * float(textureSize(depth_maps, 0).x) > 1.0)) return sk_pcss_filter(sm, layer, uvz, dz_duv, 0.0, 1, angle);
+    float b = sk_pcss_blocker_window_depth(depth_maps, layer, uvz, dz_duv, search_uv, search_taps, angle);
+    if (b < 0.0) return 1.0;
+#ifdef SK_REVERSED_Z
+    float z_b = 1.0 - b;
+#else
+    float z_b = b;
+#endif
+    float w = clamp(light_uv_per_depth * max(z_r - z_b, 0.0), 0.0, max_filter_uv);
+    return sk_pcss_filter(sm, layer, uvz, dz_duv, w, filter_taps, angle);
 }

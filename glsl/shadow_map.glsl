@@ -12,8 +12,10 @@
 // with glPolygonOffset when rendering the map (bias_polygon_offset). docs/shadow_map.md has numbers.
 // zero_to_one: true when the projection was built for glClipControl(..., GL_ZERO_TO_ONE).
 // Defines: SK_REVERSED_Z before this snippet for reversed-Z maps (1 at near, compare GL_GEQUAL).
-// Lights: sk_cube_shadow_visibility takes `vec4 light_position` as the shadowkit headers do (w > 0:
-// a point light at xyz / w; a cube map needs a point light: other w give 1.0, lit).
+// Lights: sk_cube_visibility_hardware_depth takes `vec4 light_position` as the shadowkit headers do
+// (w > 0: a point light at xyz / w; a cube map needs a point light: other w give 1.0, lit).
+// Cubes: sk_cube_visibility_hardware_depth reads a cube of window depth (perspective faces). A cube of
+// distance / range (omni_shadow.glsl) needs omni_shadow.glsl's sk_cube_visibility_distance.
 // Uniforms: none required (pass the values above).
 // GL state: the map is a depth texture (GL_DEPTH_COMPONENT24 / 32F) rendered with depth test
 // GL_LESS (GL_GREATER reversed) and cleared to 1 (reversed: 0); sampled as sampler2DShadow /
@@ -56,12 +58,16 @@ float sk_shadow_map_visibility(sampler2DShadow shadow_map, mat4 light_view_proj,
 #endif
 }
 
-// Cube shadow map of a point light rendered with six 90-degree perspective faces sharing
-// near/far (GL clip depth, not reversed): the reference depth is the face's window depth of the
-// major-axis distance, ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]),
-// minus `bias` (window units).
-float sk_cube_shadow_visibility(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos,
-                                float near_plane, float far_plane, float bias) {
+// Cube shadow map of HARDWARE DEPTH: a point light's cube rendered with six 90-degree perspective
+// faces sharing near/far (GL clip depth, not reversed), each texel the face's window depth. A cube
+// storing distance / range (omni_shadow.glsl's depth pass) is read with omni_shadow.glsl's
+// sk_cube_visibility_distance instead: this function on that map compiles and is wrong almost
+// everywhere. (Its old name sk_cube_shadow_visibility fails to compile, naming this one.) The
+// reference depth is the face's window depth of the major-axis distance,
+// ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]), minus `bias` (window units).
+#define sk_cube_shadow_visibility sk_cube_shadow_visibility_renamed_to_sk_cube_visibility_hardware_depth
+float sk_cube_visibility_hardware_depth(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos,
+                                        float near_plane, float far_plane, float bias) {
     if (!(light_position.w > 0.0)) return 1.0;
     vec3 d = world_pos - light_position.xyz / light_position.w;
     float major = max(abs(d.x), max(abs(d.y), abs(d.z)));

@@ -216,6 +216,70 @@ void main() {
 
 }  // namespace
 
+namespace {
+// Issue 25 item 2: cascades.glsl's filtered lookup exists only with pcf.glsl pasted first.
+const char* kFilteredCascades = R"(
+uniform sampler2DArrayShadow u_maps;
+uniform mat4 u_vp[4];
+uniform vec4 u_near;
+uniform vec4 u_far;
+in vec3 v_world;
+in float v_depth;
+out vec4 o_color;
+void main() {
+    float a = sk_cascade_shadow_filtered(u_maps, u_vp, u_near, u_far, 4, v_world, v_depth, 0.1, 1e-4, false,
+                                         SK_CASCADE_KERNEL_TENT, 2, 16, 0.0);
+    float b = sk_cascade_sample_filtered(u_maps, u_vp[1], 1, v_world, 1e-4, false, SK_CASCADE_KERNEL_POISSON_ROTATED,
+                                         3, 16, 0.0);
+    o_color = vec4(a, b, float(SK_CASCADE_KERNEL_HARD + SK_CASCADE_KERNEL_BOX + SK_CASCADE_KERNEL_POISSON), 1.0);
+}
+)";
+
+}  // namespace
+
+TEST_CASE("cascades.glsl after pcf.glsl has the filtered cascade lookup; alone it does not (issue 25.2)") {
+    const std::string pcf = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcf.glsl");
+    const std::string cascades = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "cascades.glsl");
+    for (int v : {330, 450}) {
+        const std::string src = "#version " + std::to_string(v) + " core\n" + pcf + cascades + kFilteredCascades;
+        CHECK_MESSAGE(compile(src, EShLangFragment, v).empty(), compile(src, EShLangFragment, v));
+    }
+    // Control: without pcf.glsl the function is not declared (the check can fail).
+    CHECK_FALSE(compile("#version 450 core\n" + cascades + kFilteredCascades, EShLangFragment, 450).empty());
+}
+
+// Issue 25 item 3: the two cube conventions have names that say what the cube holds; a call to an old,
+// ambiguous name fails to compile with an identifier that names the new function.
+TEST_CASE("cube lookups: the old names fail to compile and name the new ones (issue 25.3)") {
+    const std::string shadow_map = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "shadow_map.glsl");
+    const std::string omni = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "omni_shadow.glsl");
+    const std::string decl = "uniform samplerCubeShadow u_cube;\nuniform samplerCube u_dist;\nin vec3 v_world;\nout vec4 o_color;\n";
+    struct Case {
+        const std::string* snippet;
+        const char* call;
+        const char* new_name;
+    };
+    const Case cases[] = {
+        {&shadow_map, "sk_cube_shadow_visibility(u_cube, vec4(0.0, 0.0, 0.0, 1.0), v_world, 0.1, 10.0, 0.0)",
+         "sk_cube_visibility_hardware_depth"},
+        {&omni, "sk_omni_cube_shadow(u_cube, vec4(0.0, 0.0, 0.0, 1.0), v_world, 10.0, 0.0)", "sk_cube_visibility_distance"},
+        {&omni, "sk_omni_cube_shadow_manual(u_dist, vec4(0.0, 0.0, 0.0, 1.0), v_world, 10.0, 0.0)",
+         "sk_cube_visibility_distance_manual"},
+        {&omni, "sk_omni_cube_pcf(u_cube, vec4(0.0, 0.0, 0.0, 1.0), v_world, 10.0, 0.0, 512.0, 1)",
+         "sk_cube_visibility_distance_pcf"},
+    };
+    for (const Case& c : cases) {
+        std::string old_call = c.call;
+        const std::string old_src = "#version 450 core\n" + *c.snippet + decl + "void main() { o_color = vec4(" + old_call + "); }\n";
+        const std::string err = compile(old_src, EShLangFragment, 450);
+        CHECK_MESSAGE(err.find(std::string("renamed_to_") + c.new_name) != std::string::npos, err);
+        // the same call under the new name compiles (the arguments are right: only the name was refused)
+        const std::string new_call = c.new_name + old_call.substr(old_call.find('('));
+        const std::string new_src = "#version 450 core\n" + *c.snippet + decl + "void main() { o_color = vec4(" + new_call + "); }\n";
+        CHECK_MESSAGE(compile(new_src, EShLangFragment, 450).empty(), compile(new_src, EShLangFragment, 450));
+    }
+}
+
 TEST_CASE("a generated Poisson array pasted before pcf.glsl and pcss.glsl compiles (issue 13.5)") {
     const std::string pcf = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcf.glsl");
     const std::string pcss = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "pcss.glsl");

@@ -7,6 +7,8 @@
 //   in.max_distance = 300.0f;                           // shadow distance (required for an infinite far)
 //   in.light_position = glm::vec4(to_sun, 0.0f);        // directional: w = 0, xyz toward the light (required)
 //   in.shadow_map_size = 2048;
+//   in.has_scene_bounds = true; in.scene_min = lo; in.scene_max = hi;  // every receiver and caster
+//   in.stable_world_depth = true;                       // depth fixed in the world: cached cascades scroll
 //   shadowkit::Cascade cascades[4];
 //   const shadowkit::CascadeFitResult fit = shadowkit::cascade_fit(in, 0.75f, 4, cascades, 4);
 //   if (fit.status == shadowkit::Status::Ok) {
@@ -105,6 +107,18 @@ struct CascadeInput {
     glm::vec3 caster_max{0.0f};
     ClipDepth light_depth = ClipDepth::NegativeOneToOne;
     bool light_reversed_z = false;
+    /// Scene bounds (every receiver and caster); used by stable_world_depth. [Limit: scene_min <= scene_max]
+    bool has_scene_bounds = false;
+    glm::vec3 scene_min{0.0f};
+    glm::vec3 scene_max{0.0f};
+    /// Every cascade's depth range (near and far planes) from the scene bounds (and the caster
+    /// bounds) along the light instead of the slice's bounding sphere, so it is fixed in the world: a
+    /// camera move then changes a cascade by a whole-texel translation in x/y only (texel_anchor),
+    /// which a cached map scrolls (shadow_cache.hpp's shadow_cache_plan: Scroll or Keep); with the
+    /// default range every camera move shifts the depth planes (DepthMoved: the whole map rendered).
+    /// Costs depth precision: the range spans the whole scene along the light. Needs has_scene_bounds
+    /// (else InvalidArgument).
+    bool stable_world_depth = false;
 };
 
 /// One fitted cascade (the result of cascade_fit_slice, and an element of cascade_fit's output).
@@ -115,6 +129,12 @@ struct Cascade {
     float split_far = 0.0f;
     glm::vec4 sphere{0.0f};          ///< world bounding sphere of the slice (center, rounded radius)
     float texel_world_size = 0.0f;   ///< world size of one shadow-map texel
+    /// Where the map's texel (0, 0) begins on the light's texel grid, anchored at the world origin:
+    /// window x of a point = (light-view x) / texel - texel_anchor.x (likewise y); whole numbers for an
+    /// even shadow_map_size. A camera move changes them by the whole texels the map moved. For
+    /// shadow_cache_plan, rebuild the double matrix's x/y translation exactly from it:
+    /// view_proj[3][0] = -2 texel_anchor.x / size - 1 (likewise [3][1]), as for light_frustum.hpp.
+    glm::dvec2 texel_anchor{0.0};
 };
 
 /// Split distances of cascade_split_distances: distances[0 .. count] (count + 1 values).
@@ -234,7 +254,74 @@ inline Status cs_check_input(const CascadeInput& in) {
         if (in.caster_min.x > in.caster_max.x || in.caster_min.y > in.caster_max.y || in.caster_min.z > in.caster_max.z)
             return Status::InvalidArgument;
     }
+    if (in.has_scene_bounds) {
+        if (!cs_finite(in.scene_min) || !cs_finite(in.scene_max)) return Status::NonFinite;
+        if (in.scene_min.x > in.scene_max.x || in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z)
+            return Status::InvalidArgument;
+    }
+    if (in.stable_world_depth && !in.has_scene_bounds) return Status::InvalidArgument;
     return Status::Ok;
+}
+
+// Light-view distance range [nearp, farp] of one cascade: the slice's sphere (center at light-view
+// depth cl_z, radius rad) pulled back to the caster bounds; with stable_world_depth the scene bounds
+// and the caster bounds alone (camera-invariant). Padded by 1e-6 of the magnitudes.
+inline void cs_depth_range(const CascadeInput& in, const glm::dmat4& lv, double cl_z, double rad, double& nearp,
+                           double& farp) {
+    nearp = -cl_z - rad;
+    farp = -cl_z + rad;
+    if (in.stable_world_depth) {
+        nearp = std::numeric_limits<double>::infinity();
+        farp = -nearp;
+    }
+    auto extend = [&](const glm::vec3& lo, const glm::vec3& hi, bool far_too) {
+        const glm::dvec3 mn(lo), mx(hi);
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1) ? mx.x : mn.x, (c & 2) ? mx.y : mn.y, (c & 4) ? mx.z : mn.z);
+            const double dist = -(lv * glm::dvec4(p, 1.0)).z;
+            nearp = std::fmin(nearp, dist);
+            if (far_too) farp = std::fmax(farp, dist);
+        }
+    };
+    if (in.stable_world_depth) extend(in.scene_min, in.scene_max, true);
+    if (in.has_caster_bounds) extend(in.caster_min, in.caster_max, in.stable_world_depth);
+    const double pad = 1e-6 * std::fmax(1.0, std::fabs(nearp) + std::fabs(farp));
+    nearp -= pad;
+    farp += pad;
+}
+
+// What a vertex shader computes must still land inside the cascade: receivers at float world
+// positions (each coordinate rounded: off by up to u times the largest), transformed by the float
+// matrix in float (a 4-term dot product: error <= 4u sum |m_rj p_j|, plus the term |m_r3| u). The
+// slice is the convex hull of its corners pw (world) and the map is affine, so bounding the corners
+// bounds every receiver: the exact image of the float matrix plus that error within 0.01 of [-1, 1].
+// A slice reaching beyond float range has receivers no float position (and no vertex shader) holds.
+// stable_world_depth: the slice's depth may reach beyond the scene, where nothing is (the range holds
+// the scene bounds by construction): x/y only.
+inline bool cs_float_landing_ok(const CascadeInput& in, const glm::mat4& view_proj, const glm::dvec3 (&pw)[8]) {
+    const double zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
+    const double uf = 5.9604644775390625e-8;  // 2^-24
+    const glm::dmat4 mf(view_proj);
+    double pmax = 0.0;
+    for (int i = 0; i < 8; ++i)
+        pmax = std::fmax(pmax, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
+    if (!(pmax <= static_cast<double>(std::numeric_limits<float>::max()))) return false;
+    const double ep = uf * pmax;
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec4 h = mf * glm::dvec4(pw[i], 1.0);  // the float matrix, exactly (w = 1: orthographic)
+        double e[3];
+        for (int rr = 0; rr < 3; ++rr) {
+            double sabs = 0.0, srow = 0.0;
+            for (int j = 0; j < 3; ++j) {
+                sabs += std::fabs(mf[j][rr] * pw[i][j]);
+                srow += std::fabs(mf[j][rr]);
+            }
+            e[rr] = srow * ep + 4.0 * uf * (sabs + std::fabs(mf[3][rr]));
+        }
+        const bool z_ok = in.stable_world_depth || (h.z - e[2] >= zlo - 0.01 && h.z + e[2] <= 1.01);
+        if (!(std::fabs(h.x) + e[0] <= 1.01) || !(std::fabs(h.y) + e[1] <= 1.01) || !z_ok) return false;
+    }
+    return true;
 }
 
 }  // namespace detail
@@ -343,18 +430,10 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
     const double S = double(in.shadow_map_size);
     const double texel = 2.0 * rad / (S - 2.0);
     const double half = rad + texel;
-    const double cx = std::floor(cl.x / texel) * texel, cy = std::floor(cl.y / texel) * texel;  // snap
-    double nearp = -cl.z - rad, farp = -cl.z + rad;
-    if (in.has_caster_bounds) {
-        const glm::dvec3 mn(in.caster_min), mx(in.caster_max);
-        for (int c = 0; c < 8; ++c) {
-            const glm::dvec3 p((c & 1) ? mx.x : mn.x, (c & 2) ? mx.y : mn.y, (c & 4) ? mx.z : mn.z);
-            nearp = std::fmin(nearp, -(lv * glm::dvec4(p, 1.0)).z);
-        }
-    }
-    const double pad = 1e-6 * std::fmax(1.0, std::fabs(nearp) + std::fabs(farp));
-    nearp -= pad;
-    farp += pad;
+    const double kx = std::floor(cl.x / texel), ky = std::floor(cl.y / texel);  // snap to whole texels
+    const double cx = kx * texel, cy = ky * texel;
+    double nearp = 0.0, farp = 0.0;
+    cs_depth_range(in, lv, cl.z, rad, nearp, farp);
     glm::dmat4 pr(1.0);
     pr[0][0] = 1.0 / half;
     pr[1][1] = 1.0 / half;
@@ -375,42 +454,17 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
     if (!cs_finite(out.view_proj) || !(static_cast<float>(texel) > 0.0f) || !std::isfinite(static_cast<float>(rad)) ||
         !cs_finite(glm::vec3(cw)))
         return fail(Status::Overflow);  // outside float range
-    // What a vertex shader computes must still land inside the cascade: receivers at float world
-    // positions (each coordinate rounded: off by up to u times the largest), transformed by the float
-    // matrix in float (a 4-term dot product: error <= 4u sum |m_rj p_j|, plus the term |m_r3| u). The
-    // slice is the convex hull of its corners and the map is affine, so bounding the corners bounds
-    // every receiver: the exact image of the float matrix plus that error within 0.01 of [-1, 1].
-    const double zlo = in.light_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
-    const double uf = 5.9604644775390625e-8;  // 2^-24
-    const glm::dmat4 mf(out.view_proj);
-    glm::dvec3 pw[8];
-    double pmax = 0.0;
-    for (int i = 0; i < 8; ++i) {
-        pw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
-        pmax = std::fmax(pmax, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
-    }
-    // a slice reaching beyond float range has receivers no float position (and no vertex shader) holds
-    if (!(pmax <= static_cast<double>(std::numeric_limits<float>::max()))) return fail(Status::Overflow);
-    const double ep = uf * pmax;
-    for (int i = 0; i < 8; ++i) {
-        const glm::dvec4 h = mf * glm::dvec4(pw[i], 1.0);  // the float matrix, exactly (w = 1: orthographic)
-        double e[3];
-        for (int rr = 0; rr < 3; ++rr) {
-            double sabs = 0.0, srow = 0.0;
-            for (int j = 0; j < 3; ++j) {
-                sabs += std::fabs(mf[j][rr] * pw[i][j]);
-                srow += std::fabs(mf[j][rr]);
-            }
-            e[rr] = srow * ep + 4.0 * uf * (sabs + std::fabs(mf[3][rr]));
-        }
-        if (!(std::fabs(h.x) + e[0] <= 1.01) || !(std::fabs(h.y) + e[1] <= 1.01) || !(h.z - e[2] >= zlo - 0.01) ||
-            !(h.z + e[2] <= 1.01))
-            return fail(Status::Overflow);
-    }
+    // what a vertex shader computes (float positions, the float matrix) must land inside the cascade
+    const glm::dvec3 pw[8] = {glm::dvec3(iv * glm::dvec4(cv[0], 1.0)), glm::dvec3(iv * glm::dvec4(cv[1], 1.0)),
+                              glm::dvec3(iv * glm::dvec4(cv[2], 1.0)), glm::dvec3(iv * glm::dvec4(cv[3], 1.0)),
+                              glm::dvec3(iv * glm::dvec4(cv[4], 1.0)), glm::dvec3(iv * glm::dvec4(cv[5], 1.0)),
+                              glm::dvec3(iv * glm::dvec4(cv[6], 1.0)), glm::dvec3(iv * glm::dvec4(cv[7], 1.0))};
+    if (!cs_float_landing_ok(in, out.view_proj, pw)) return fail(Status::Overflow);
     out.split_near = split_near;
     out.split_far = split_far;
     out.sphere = glm::vec4(glm::vec3(cw), static_cast<float>(rad));
     out.texel_world_size = static_cast<float>(texel);
+    out.texel_anchor = glm::dvec2(kx - 0.5 * S, ky - 0.5 * S);
     out.status = Status::Ok;
     return out;
 }

@@ -30,7 +30,7 @@
 //   sk::OmniCullResult cr = sk::omni_cull_face_lists(ci, lists.data(), lists.size(), off);
 //   for face f: attach GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, draw casters lists[off[f] .. off[f+1])
 //   with cm.view_proj[f], writing gl_FragDepth = distance / range (glsl/omni_shadow.glsl).
-//   Lookup: sk_omni_cube_shadow(..., bias) with bias from omni_distance_bias (or its GLSL twin).
+//   Lookup: sk_cube_visibility_distance(..., bias) with bias from omni_distance_bias (or its GLSL twin).
 // Usage (dual paraboloid):
 //   sk::OmniParaboloidFrame fr = sk::omni_paraboloid_frame(light_position, axis, up);  // fr.view
 //   float L = sk::omni_paraboloid_max_edge_length(distance, size, 1.0f).length;        // tessellate to L

@@ -435,7 +435,8 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
 /// it, a shader pass that does is not bit-identical to re-rendering (rounding of a z + b + c vs
 /// a z + (b + c), fixed-point steps) and the near/far planes would clip different casters: a depth
 /// translation renders the whole map (DepthMoved). Keep a cascade's depth range fixed in the world
-/// (e.g. from the scene's bounds along the light) so camera motion only moves it in x/y.
+/// (e.g. from the scene's bounds along the light: cascades.hpp's and light_frustum.hpp's
+/// stable_world_depth) so camera motion only moves it in x/y.
 /// Perspective maps (spot lights, cube faces) never scroll: any change of the matrix renders.
 ///
 /// `casters`: caster_count entries (null allowed when 0); only those whose bounds changed count.

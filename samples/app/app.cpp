@@ -672,8 +672,16 @@ void App::present(GLuint visibility) {
         sk::Light& L = I.scene.light;
         ImGui::TextUnformatted("light (arrows, PageUp/PageDown)");
         if (L.type != sk::LightType::Directional) ImGui::DragFloat3("position", glm::value_ptr(L.position), 0.02f);
-        if (ImGui::DragFloat3("direction", glm::value_ptr(L.direction), 0.01f) && glm::length(L.direction) < 1e-6f)
+        if (L.type == sk::LightType::Directional) {
+            // the headers' convention (light_position = (xyz, 0): xyz toward the light); the scene keeps
+            // the way its rays travel, the opposite
+            glm::vec3 toward = -L.direction;
+            if (ImGui::DragFloat3("toward light", glm::value_ptr(toward), 0.01f))
+                L.direction = glm::length(toward) < 1e-6f ? glm::vec3(0.f, -1.f, 0.f) : -toward;
+        } else if (ImGui::DragFloat3("aim (rays travel)", glm::value_ptr(L.direction), 0.01f) &&
+                   glm::length(L.direction) < 1e-6f) {
             L.direction = glm::vec3(0.f, -1.f, 0.f);
+        }
         if (L.is_area()) ImGui::DragFloat("size", &L.size, 0.01f, 0.f, 100.f);
         // the time of every pass
         ImGui::Separator();

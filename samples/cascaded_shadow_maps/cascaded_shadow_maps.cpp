@@ -7,7 +7,8 @@
 //           (bias=polygon_offset: with a slope-scaled offset); 2 V at the G-buffer's points: the
 //           cascade the view depth selects (blended into the next over the band), with the automatic
 //           bias of glsl/shadow_map.glsl (the default) or the offset's single compare, optionally the
-//           point moved along its normal
+//           point moved along its normal; pcf_radius > 0: a tent of that radius in texels in each layer
+//           (pcf.glsl's array overloads) instead of the single 2x2 compare
 #include "cascaded_shadow_maps.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -27,8 +28,10 @@ uniform vec4 u_split_far;
 uniform int u_count;
 uniform float u_band;
 uniform mat4 u_camera_view;
+uniform int u_pcf_radius;  // 0: the hardware 2x2; r: pcf.glsl's (2r+1)^2 tent in each cascade's layer
 )";
-// bias=polygon_offset's lookup (after glsl/cascades.glsl). The normal offset is in texels of the
+// bias=polygon_offset's lookup (after glsl/pcf.glsl and glsl/cascades.glsl: the tent of radius 0 is
+// one tap, sk_cascade_shadow's compare). The normal offset is in texels of the
 // cascade that serves p, of the next one inside the blend band (the larger: both are read there); the
 // depth pass's slope-scaled offset already keeps acne away, so it is 0 by default.
 const char* kLookup = R"(
@@ -40,16 +43,25 @@ float technique_visibility(vec3 p, vec3 n) {
     if (i < 0) return 1.0;  // beyond the last split: lit
     bool band = sk_cascade_blend(view_depth, u_split_near[i], u_split_far[i], u_band) > 0.0 && i + 1 < u_count;
     p += n * (u_normal_offset * u_texel[band ? i + 1 : i]);
-    return sk_cascade_shadow(u_cascades, u_cascade_vp, u_split_near, u_split_far, u_count, p, view_depth, u_band,
-                             0.0, false);
+    return sk_cascade_shadow_filtered(u_cascades, u_cascade_vp, u_split_near, u_split_far, u_count, p, view_depth,
+                                      u_band, 0.0, false, SK_CASCADE_KERNEL_TENT, u_pcf_radius, 0, 0.0);
 }
 )";
 
 // bias=auto: the same selection and blend, each cascade read with shadow_map.glsl's automatic bias on
 // its layer (outside a cascade's map: lit, as sk_cascade_sample); the array is float32 (depth_step 0).
+// pcf_radius > 0: the tent with the receiver plane from the normal and shadow_map.glsl's bias for
+// filtered kernels (sk_auto_filtered_bias).
 const char* kLookupAuto = R"(
 float cascade_visibility(int i, vec3 p, vec3 n) {
-    return sk_shadow_map_visibility_auto(u_cascades, float(i), u_cascade_vp[i], p, n, false, 0.0, 1.0);
+    if (u_pcf_radius <= 0) return sk_shadow_map_visibility_auto(u_cascades, float(i), u_cascade_vp[i], p, n, false, 0.0, 1.0);
+    vec4 c = sk_shadow_coord(u_cascade_vp[i], p, false);
+    if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
+        return 1.0;
+    vec4 g = sk_plane_depth_gradient(u_cascade_vp[i], p, n, false);
+    if (g.z == 0.0) return 1.0;  // edge-on, as the automatic bias
+    float b = sk_auto_filtered_bias(g, 1.0 / vec2(textureSize(u_cascades, 0).xy), c.z, 0.0);
+    return sk_pcf_tent(u_cascades, float(i), vec3(c.xy, c.z - b), g.xy, u_pcf_radius);
 }
 float technique_visibility(vec3 p, vec3 n) {
     float view_depth = -(u_camera_view * vec4(p, 1.0)).z;
@@ -73,9 +85,12 @@ bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
     if (snippet.empty()) return false;
     const std::string shadow_map = app::load_snippet("shadow_map", why);  // the automatic bias
     if (shadow_map.empty()) return false;
+    const std::string pcf = app::load_snippet("pcf", why);  // the tent of pcf_radius (array overloads)
+    if (pcf.empty()) return false;
     depth_prog_ = skgl::depth_only_program(why);  // gl_Position = u_light_view_proj * a_position, no color
-    vis_prog_ = app::compile_visibility_program(snippet, std::string(kCascadeInputs) + kLookup, why);
-    vis_auto_prog_ = app::compile_visibility_program(shadow_map + "\n" + snippet, std::string(kCascadeInputs) + kLookupAuto, why);
+    vis_prog_ = app::compile_visibility_program(pcf + "\n" + snippet, std::string(kCascadeInputs) + kLookup, why);
+    vis_auto_prog_ = app::compile_visibility_program(pcf + "\n" + shadow_map + "\n" + snippet,
+                                                     std::string(kCascadeInputs) + kLookupAuto, why);
     if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_) return false;
     return pass_.init(v.width, v.height, why);
 }
@@ -160,6 +175,7 @@ void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSetti
     glUniform4f(glGetUniformLocation(prog, "u_split_far"), sp[1], sp[2], sp[3], sp[4]);
     glUniform1i(glGetUniformLocation(prog, "u_count"), ok ? layers_ : 0);
     glUniform1f(glGetUniformLocation(prog, "u_band"), s.band);
+    glUniform1i(glGetUniformLocation(prog, "u_pcf_radius"), s.pcf_radius);
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(v.view));
     if (!automatic) {
         glUniform1fv(glGetUniformLocation(prog, "u_texel"), 4, texel);

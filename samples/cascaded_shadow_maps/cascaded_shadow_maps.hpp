@@ -10,8 +10,8 @@
 //                             update (CPU, every frame), render (the GPU passes, each with its GL state)
 //   main.cpp                  the calls: the app shell (samples/app) does the window, the camera G-buffer,
 //                             the panel, the timing and the picture
-// It uses only shadowkit/cascades.hpp, glsl/cascades.glsl and the app shell's G-buffer (app/gbuffer.hpp)
-// and GL helpers (app/gl.hpp). shadowkit-report wraps this same class (samples/report/techniques/warp.cpp).
+// It uses only shadowkit/cascades.hpp, glsl/cascades.glsl (with glsl/pcf.glsl and glsl/shadow_map.glsl)
+// and the app shell's G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps this same class (samples/report/techniques/warp.cpp).
 #pragma once
 
 #include <shadowkit/cascades.hpp>
@@ -40,6 +40,10 @@ struct CascadedShadowMapSettings {
     /// against acne (docs/cascades.md). glPolygonOffset(2, 2) is enough: the normal offset only moves
     /// shadows off their casters (report, outdoor 512: RMSE 0.078 -> 0.095 with 1 texel).
     float normal_offset = 0.f;
+    /// 0 (default): the hardware 2x2 compare. 1-4: a (2r+1)^2 tent of radius r texels in each cascade's
+    /// layer (pcf.glsl's sampler2DArrayShadow overloads), blended over the band like the 2x2; with
+    /// bias=auto the receiver plane comes from the normal (sk_auto_filtered_bias).
+    int pcf_radius = 0;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -51,6 +55,7 @@ inline void bind_settings(app::Params& p, CascadedShadowMapSettings& s) {
     p.choice("bias", &s.bias, {{"auto", CascadedShadowMapSettings::Bias::Auto},
                                {"polygon_offset", CascadedShadowMapSettings::Bias::PolygonOffset}});
     p.number("normal_offset", &s.normal_offset, 0.0, 4.0);
+    p.number("pcf_radius", &s.pcf_radius, 0, 4);
 }
 
 class CascadedShadowMaps {

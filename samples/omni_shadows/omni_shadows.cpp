@@ -48,9 +48,9 @@ float technique_visibility(vec3 p, vec3 n) {
     float d = length(L);
     float radius = u_lookup == 1 ? 0.7072 : (u_lookup == 2 ? 2.8285 : 1.4143);
     float b = sk_omni_bias(d, dot(n, L / d), sk_omni_cube_texel_angle(u_size), radius, 1.4835, u_storage);
-    if (u_lookup == 1) return sk_omni_cube_shadow_manual(u_cube_distance, vec4(u_light, 1.0), p, u_range, b);
-    if (u_lookup == 2) return sk_omni_cube_pcf(u_cube, vec4(u_light, 1.0), p, u_range, b, u_size, 1);
-    return sk_omni_cube_shadow(u_cube, vec4(u_light, 1.0), p, u_range, b);
+    if (u_lookup == 1) return sk_cube_visibility_distance_manual(u_cube_distance, vec4(u_light, 1.0), p, u_range, b);
+    if (u_lookup == 2) return sk_cube_visibility_distance_pcf(u_cube, vec4(u_light, 1.0), p, u_range, b, u_size, 1);
+    return sk_cube_visibility_distance(u_cube, vec4(u_light, 1.0), p, u_range, b);
 }
 )";
 // The debug view: the faces (a 2D-array view of the cube, compare off) side by side, 3 x 2.

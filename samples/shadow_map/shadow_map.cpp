@@ -77,7 +77,7 @@ uniform vec3 u_cube_light;
 uniform float u_cube_near;
 uniform float u_cube_far;
 float technique_visibility(vec3 p, vec3 n) {
-    return sk_cube_shadow_visibility(u_cube, vec4(u_cube_light, 1.0), p, u_cube_near, u_cube_far, 0.0);
+    return sk_cube_visibility_hardware_depth(u_cube, vec4(u_cube_light, 1.0), p, u_cube_near, u_cube_far, 0.0);
 }
 )";
 

@@ -2,7 +2,8 @@
 // cascade_select_by_depth / _by_sphere and cascade_blend_weight on inputs decoded from raw bytes (NaN/Inf,
 // null outputs with a capacity, near planes at or behind the eye, epsilon-tweaked infinite projections).
 // Traps on Ok with a non-finite output or a broken invariant (monotonic splits, exact ends, count <=
-// capacity, index in range), on Ok for a null pointer with a count, a point light or a near plane <= 0.
+// capacity, index in range), on Ok for a null pointer with a count, a point light or a near plane <= 0,
+// or stable_world_depth without scene bounds.
 #include <shadowkit/cascades.hpp>
 
 #include "fuzz_input.hpp"
@@ -154,5 +155,27 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const float w = shadowkit::cascade_blend_weight(r.f32(), r.f32(), r.f32(), r.f32());
     if (!(w >= 0.0f && w <= 1.0f)) __builtin_trap();
+    // issue 25: the world-fixed depth range (decoded last, so earlier inputs keep their meaning). Ok
+    // needs scene bounds and a valid light and camera; the anchor is finite and whole for an even size.
+    {
+        const uint8_t f3 = r.u8();
+        in.stable_world_depth = (f3 & 1) != 0;
+        in.has_scene_bounds = (f3 & 2) != 0;
+        in.scene_min = r.vec3();
+        in.scene_max = (f3 & 4) ? in.scene_min + glm::abs(r.vec3()) : r.vec3();
+        shadowkit::Cascade wc[4];
+        const shadowkit::CascadeFitResult wf = shadowkit::cascade_fit(in, r.f32(), 4, wc, 4);
+        if (wf.status == shadowkit::Status::Ok) {
+            if (light_bad || near_bad) __builtin_trap();
+            if (in.stable_world_depth && !in.has_scene_bounds) __builtin_trap();
+            for (const shadowkit::Cascade& c4 : wc) {
+                if (!all_finite(c4.view_proj) || !std::isfinite(c4.texel_anchor.x) || !std::isfinite(c4.texel_anchor.y))
+                    __builtin_trap();
+                if (in.shadow_map_size % 2 == 0 &&
+                    (c4.texel_anchor.x != std::floor(c4.texel_anchor.x) || c4.texel_anchor.y != std::floor(c4.texel_anchor.y)))
+                    __builtin_trap();
+            }
+        }
+    }
     return 0;
 }

@@ -810,7 +810,7 @@ void main() {
     float d = length(L);
     float b = sk_omni_bias(d, dot(normalize(v_normal), L / d), sk_omni_cube_texel_angle(u_size), 1.4143, 1.4835,
                            vec2(0.0, 2.4e-7));
-    o_color = vec4(sk_omni_cube_shadow(u_cube, u_light_position, v_world, u_range, b));
+    o_color = vec4(sk_cube_visibility_distance(u_cube, u_light_position, v_world, u_range, b));
 })");
     // penumbra_wedge.hpp + penumbra_wedge.glsl (docs/penumbra_wedge.md)
     const std::string wedge = docs::snippet("penumbra_wedge");

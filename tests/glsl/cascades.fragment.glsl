@@ -17,5 +17,10 @@ void main()
     vec3 c = sk_cascade_coord(u_light_vp[0], v_world_pos, false);
     float s0 = sk_cascade_sample(u_shadow_maps, u_light_vp[0], 0, v_world_pos, 0.0005, true);
     float s = sk_cascade_shadow(u_shadow_maps, u_light_vp, u_split_near, u_split_far, u_count, v_world_pos, v_view_depth, 0.1, 0.0005, false);
-    frag_color = vec4(s * s0, w + c.x, float(a + b), 1.0);
+    int second;
+    float weight;
+    int first = sk_cascade_pick(v_view_depth, u_split_near, u_split_far, u_count, 0.1, second, weight);
+    // sk_cascade_shadow_filtered / sk_cascade_sample_filtered exist only after glsl/pcf.glsl
+    // (tests/test_glsl_snippets.cpp compiles pcf.glsl + cascades.glsl with a driver calling them)
+    frag_color = vec4(s * s0, w + c.x + weight, float(a + b + first + second), 1.0);
 }

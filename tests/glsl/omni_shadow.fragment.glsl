@@ -19,9 +19,9 @@ void main() {
     float b = sk_omni_bias(d, cos_t, sk_omni_cube_texel_angle(u_size), 1.4143, 1.4835, u_storage);
     vec4 c = sk_dp_coord(u_dp_view, v_world);
     float bd = sk_omni_bias(d, cos_t, sk_dp_texel_angle(u_size, c.w), 2.8286, 1.4835, u_storage);
-    float a0 = sk_omni_cube_shadow(u_cube, u_light_position, v_world, u_range, b);
-    float a1 = sk_omni_cube_shadow_manual(u_cube_distance, u_light_position, v_world, u_range, b);
-    float a2 = sk_omni_cube_pcf(u_cube, u_light_position, v_world, u_range, b, u_size, 1);
+    float a0 = sk_cube_visibility_distance(u_cube, u_light_position, v_world, u_range, b);
+    float a1 = sk_cube_visibility_distance_manual(u_cube_distance, u_light_position, v_world, u_range, b);
+    float a2 = sk_cube_visibility_distance_pcf(u_cube, u_light_position, v_world, u_range, b, u_size, 1);
     float a3 = sk_dp_shadow(u_dp, u_dp_view, v_world, u_range, bd);
     float a4 = sk_dp_shadow_pcf(u_dp, u_dp_view, v_world, u_range, bd, u_size, 1);
     vec3 ts, tt;

@@ -23,9 +23,9 @@ void main() {
     float b = sk_omni_bias(2.0, 0.5, sk_omni_cube_texel_angle(512.0), 1.4143, 1.4835, vec2(0.0, 2.4e-7));
     float b2 = sk_dp_texel_angle(724.0, c.w);
     v_checks = sk_omni_linear_depth(a_position, u_light_position, u_range) + b + b2 + major + ts.x + tt.y + d.z + c.x
-             + sk_omni_cube_shadow(u_cube, u_light_position, a_position, u_range, b)
-             + sk_omni_cube_shadow_manual(u_cube_distance, u_light_position, a_position, u_range, b)
-             + sk_omni_cube_pcf(u_cube, u_light_position, a_position, u_range, b, 512.0, 1)
+             + sk_cube_visibility_distance(u_cube, u_light_position, a_position, u_range, b)
+             + sk_cube_visibility_distance_manual(u_cube_distance, u_light_position, a_position, u_range, b)
+             + sk_cube_visibility_distance_pcf(u_cube, u_light_position, a_position, u_range, b, 512.0, 1)
              + sk_dp_shadow(u_dp, u_dp_view, a_position, u_range, b)
              + sk_dp_shadow_pcf(u_dp, u_dp_view, a_position, u_range, b, 724.0, 1);
 }

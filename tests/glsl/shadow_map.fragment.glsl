@@ -12,7 +12,7 @@ out vec4 o_color;
 void main() {
     vec4 c = sk_shadow_coord(u_light_vp, v_world, false);
     float a = sk_shadow_map_visibility(u_sm, u_light_vp, v_world, true, u_bias, 1.0);
-    float b = sk_cube_shadow_visibility(u_cube, u_light_position, v_world, 0.05, 20.0, u_bias);
+    float b = sk_cube_visibility_hardware_depth(u_cube, u_light_position, v_world, 0.05, 20.0, u_bias);
     float d = sk_shadow_map_visibility_auto(u_sm, u_light_vp, v_world, v_normal, false, u_depth_step, 1.0);
     float e = sk_shadow_map_visibility_auto(u_sm_array, 2.0, u_light_vp, v_world, v_normal, true, u_depth_step, 1.0);
     vec4 g = sk_plane_depth_gradient(u_light_vp, v_world, v_normal, false);

@@ -2,6 +2,7 @@
 // References: closed-form split schemes, closed-form frustum corners, brute-force selection.
 #include <shadowkit/cascades.hpp>
 #include <shadowkit/infinite_projection.hpp>
+#include <shadowkit/shadow_cache.hpp>  // issue 25: the stable fit -> cache contract
 
 #include <doctest/doctest.h>
 
@@ -608,4 +609,158 @@ TEST_CASE("cascades: far from the origin every Ok cascade holds its float receiv
     MESSAGE(fits << " far fits: " << ok_cascades << " Ok cascades, " << overflow << " Overflow; receivers outside by "
                  << worst << " NDC at worst; " << outside << " cascades with a receiver outside");
     CHECK(outside == 0);
+}
+
+// Issue 25 ("Must hold": the stable-fit -> cache contract). A cascade's default depth range follows the
+// camera (the slice's sphere), so a camera move with any component along the light moved the depth
+// planes and shadow_cache_plan rendered the whole map (DepthMoved). With stable_world_depth the range
+// comes from the scene box: a move of n whole texels of cascade j along the light frame's x axis plus
+// any distance along the rays must be a Scroll by -n texels in cascade j (expected from the move itself;
+// the light frame's x axis is the direction of the matrix's x row), and no camera move (translations
+// from sub-texel to 40 texels, rotations) may give a full render in any cascade. The plan's matrices
+// are the float results in double with the x/y translation rebuilt from texel_anchor (closed form:
+// the world origin lies at window -texel_anchor). Control: the default range renders most such moves.
+namespace {
+
+ShadowCacheMapState cascade_state(const Cascade& c, unsigned S) {
+    ShadowCacheMapState st;
+    st.view_proj = glm::dmat4(c.view_proj);
+    st.view_proj[3][0] = -2.0 * c.texel_anchor.x / double(S) - 1.0;
+    st.view_proj[3][1] = -2.0 * c.texel_anchor.y / double(S) - 1.0;
+    st.width = st.height = int(S);
+    st.has_content = true;
+    return st;
+}
+
+}  // namespace
+
+TEST_CASE("cascades: stable_world_depth makes camera moves whole-texel scrolls for shadow_cache_plan, never a full render") {
+    std::mt19937 rng(2525);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const unsigned S = 1024;
+    int plans = 0, renders = 0, scrolls = 0, exact = 0, near_exact = 0, whole_moves = 0, default_renders = 0;
+    for (int it = 0; it < 60; ++it) {
+        CascadeInput in;
+        in.camera_proj = glm::perspective(0.6f + u(rng), 1.0f + u(rng), 0.1f + 0.5f * u(rng), 40.0f + 80.0f * u(rng));
+        glm::vec3 to_sun = rdir(rng);
+        if (to_sun.y < 0.1f) to_sun.y = 0.1f + u(rng);  // a sun above the horizon
+        in.light_position = glm::vec4(glm::normalize(to_sun), 0.0f);
+        in.shadow_map_size = S;
+        in.has_scene_bounds = true;
+        in.scene_min = glm::vec3(-150.0f, -2.0f, -150.0f) + glm::vec3(u(rng), u(rng), u(rng));
+        in.scene_max = glm::vec3(150.0f, 12.0f, 150.0f) - glm::vec3(u(rng), u(rng), u(rng));
+        in.has_caster_bounds = true;
+        in.caster_min = glm::vec3(-100.0f, 0.0f, -100.0f);
+        in.caster_max = glm::vec3(100.0f, 30.0f, 100.0f);  // taller than the scene box: it counts too
+        in.stable_world_depth = true;
+        const glm::vec3 pos = glm::vec3(u(rng) - 0.5f, 0.1f * u(rng), u(rng) - 0.5f) * 40.0f + glm::vec3(0.0f, 2.0f, 0.0f);
+        const glm::vec3 fwd = glm::normalize(glm::vec3(u(rng) - 0.5f, -0.2f * u(rng), u(rng) - 0.5f));
+        auto fit = [&](const glm::vec3& p, const glm::vec3& f, Cascade* out) {
+            in.camera_view = look(p, f);
+            return cascade_fit(in, 0.7f, 4, out, 4);
+        };
+        Cascade a[4];
+        REQUIRE(fit(pos, fwd, a).status == Status::Ok);
+        const glm::dvec3 d = -glm::normalize(glm::dvec3(in.light_position));  // the rays' direction
+        for (int i = 0; i < 4; ++i) {
+            // closed form: the world origin at window -texel_anchor, whole numbers (S even)
+            CHECK(a[i].texel_anchor.x == std::round(a[i].texel_anchor.x));
+            CHECK(a[i].texel_anchor.y == std::round(a[i].texel_anchor.y));
+            CHECK(std::fabs(origin_texel(a[i].view_proj, S).x + a[i].texel_anchor.x) < 1e-2);
+            CHECK(std::fabs(origin_texel(a[i].view_proj, S).y + a[i].texel_anchor.y) < 1e-2);
+            // the depth range holds the scene box and the caster box (brute force over their corners)
+            for (int c = 0; c < 16; ++c) {
+                const glm::vec3 lo = c < 8 ? in.scene_min : in.caster_min, hi = c < 8 ? in.scene_max : in.caster_max;
+                const glm::dvec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+                const glm::dvec4 h = glm::dmat4(a[i].view_proj) * glm::dvec4(p, 1.0);
+                CHECK(std::fabs(h.z / h.w) <= 1.0 + 1e-5);
+            }
+        }
+        for (int k = 0; k < 12; ++k) {
+            glm::vec3 p = pos, f = fwd;
+            const int j = k % 4;
+            int n = 0;
+            // the light frame's x axis of cascade j: the direction of its matrix's x row
+            const glm::dvec3 sx = glm::normalize(glm::dvec3(a[j].view_proj[0][0], a[j].view_proj[1][0], a[j].view_proj[2][0]));
+            if (k < 8) {  // n whole texels of cascade j along x, plus up to 3 units along the rays
+                n = int(rng() % 61) - 30;
+                if (n == 0) n = 7;
+                p = glm::vec3(glm::dvec3(pos) + double(n) * double(a[j].texel_world_size) * sx + (6.0 * u(rng) - 3.0) * d);
+                ++whole_moves;
+            } else if (k < 10) {  // any translation, sub-texel to 40 texels of cascade 0
+                p = pos + rdir(rng) * (k == 8 ? 0.3f : 40.0f) * a[0].texel_world_size;
+            } else {  // a rotation
+                f = glm::normalize(fwd + rdir(rng) * 0.4f);
+            }
+            Cascade b[4];
+            REQUIRE(fit(p, f, b).status == Status::Ok);
+            for (int i = 0; i < 4; ++i) {
+                ShadowCacheRect rects[4];
+                const ShadowCachePlan plan = shadow_cache_plan(cascade_state(a[i], S), cascade_state(b[i], S), nullptr, 0, rects, 4);
+                REQUIRE(plan.status == Status::Ok);
+                ++plans;
+                if (plan.action == ShadowCacheAction::Render) ++renders;
+                CHECK_MESSAGE(plan.action != ShadowCacheAction::Render,
+                              "cascade " << i << " reason " << std::string(shadow_cache_reason_name(plan.reason)));
+                if (plan.action == ShadowCacheAction::Scroll) {
+                    ++scrolls;
+                    // the plan's certified offset is the fit's anchor change
+                    CHECK(plan.offset_x == int(a[i].texel_anchor.x - b[i].texel_anchor.x));
+                    CHECK(plan.offset_y == int(a[i].texel_anchor.y - b[i].texel_anchor.y));
+                }
+                if (k < 8 && i == j) {
+                    // the map follows the camera by the whole texels it moved: a world point lands n
+                    // texels back; the float camera can put the snap one texel off when the sphere's
+                    // center sits within round-off of a texel edge (counted, rare)
+                    const bool hit = plan.action == ShadowCacheAction::Scroll && plan.offset_x == -n && plan.offset_y == 0;
+                    exact += hit ? 1 : 0;
+                    near_exact += plan.action == ShadowCacheAction::Scroll && std::abs(plan.offset_x + n) <= 1 &&
+                                  std::abs(plan.offset_y) <= 1;
+                }
+            }
+            if (k < 8) {  // control: the same move with the default depth range (the slice's sphere)
+                in.stable_world_depth = false;
+                Cascade a0[4], b0[4];
+                REQUIRE(fit(pos, fwd, a0).status == Status::Ok);
+                REQUIRE(fit(p, f, b0).status == Status::Ok);
+                in.stable_world_depth = true;
+                ShadowCacheRect rects[4];
+                const ShadowCachePlan p0 = shadow_cache_plan(cascade_state(a0[j], S), cascade_state(b0[j], S), nullptr, 0, rects, 4);
+                if (p0.action == ShadowCacheAction::Render) ++default_renders;
+            }
+        }
+    }
+    MESSAGE("stable_world_depth cascades: " << plans << " plans, " << renders << " full renders, " << scrolls << " scrolls; "
+                                            << whole_moves << " whole-texel moves: " << exact << " scrolled by exactly -n, "
+                                            << near_exact << " within one texel; the default depth range rendered "
+                                            << default_renders);
+    CHECK(renders == 0);
+    CHECK(near_exact == whole_moves);
+    CHECK(exact >= whole_moves * 98 / 100);
+    CHECK(default_renders > whole_moves * 3 / 4);  // what the option is for
+}
+
+TEST_CASE("cascades: stable_world_depth needs scene bounds; bad scene bounds are rejected") {
+    CascadeInput in = base_input();
+    Cascade c[4];
+    in.stable_world_depth = true;
+    CHECK(cascade_fit(in, 0.7f, 4, c, 4).status == Status::InvalidArgument);  // no scene bounds
+    in.has_scene_bounds = true;
+    in.scene_min = glm::vec3(-50.0f, -1.0f, -50.0f);
+    in.scene_max = glm::vec3(50.0f, 5.0f, 50.0f);
+    CHECK(cascade_fit(in, 0.7f, 4, c, 4).status == Status::Ok);
+    in.scene_min.x = 60.0f;  // min > max
+    CHECK(cascade_fit(in, 0.7f, 4, c, 4).status == Status::InvalidArgument);
+    in.scene_min.x = std::numeric_limits<float>::quiet_NaN();
+    CHECK(cascade_fit(in, 0.7f, 4, c, 4).status == Status::NonFinite);
+    // without the option the scene bounds change nothing (the default range, bit for bit)
+    in.scene_min.x = -50.0f;
+    in.stable_world_depth = false;
+    Cascade with[4], without[4];
+    REQUIRE(cascade_fit(in, 0.7f, 4, with, 4).status == Status::Ok);
+    in.has_scene_bounds = false;
+    REQUIRE(cascade_fit(in, 0.7f, 4, without, 4).status == Status::Ok);
+    for (int i = 0; i < 4; ++i)
+        for (int col = 0; col < 4; ++col)
+            for (int row = 0; row < 4; ++row) CHECK(with[i].view_proj[col][row] == without[i].view_proj[col][row]);
 }
