@@ -117,6 +117,7 @@ def check_points(driver, rows):
 
 
 TOPMOST_POINT = """
+document.getElementById('viewer').hidden = true;
 for (const c of document.querySelectorAll('svg.plot circle.pt')) {
   if (c.closest('svg').dataset.scene !== arguments[0]) continue;
   c.scrollIntoView({block: 'center'});

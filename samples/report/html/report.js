@@ -265,6 +265,10 @@ function buildViewer() {
   document.addEventListener("keydown", e => { if (e.key === "Escape") document.getElementById("viewer").hidden = true; });
   for (const s of document.querySelectorAll("#v-panes .scroll")) s.addEventListener("scroll", () => syncScroll(s));
   setMode("side");
+  // small images (--quick: 256x192) start at 2x
+  const zoom = REPORT.info.width <= 320 ? 2 : 1;
+  document.getElementById("v-zoom").value = String(zoom);
+  viewer.zoom = zoom;
   // the images are there before the first click: the first scene's most accurate row
   const first = scenes.map(sc => bestOf(okRows(sc.name))).find(r => r);
   if (first) openRow(first.index, false);
