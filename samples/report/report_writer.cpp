@@ -376,7 +376,9 @@ static void write_best_per_family(std::ofstream& f, const std::vector<SceneInfo>
             const Row* best = nullptr;
             for (const auto& r : rows)
                 if (r.scene == sc->name && r.family == fam && !r.failed && (!best || r.m.rmse < best->m.rmse)) best = &r;
-            f << " " << (best ? fmt("%.4f ", best->m.rmse) + best->technique + fmt(" %.2g ms", row_ms(*best)) : "-") << " |";
+            const double ms = best ? row_ms(*best) : 0.0;
+            f << " " << (best ? fmt("%.4f ", best->m.rmse) + best->technique + fmt(ms < 10.0 ? " %.1f ms" : " %.0f ms", ms) : "-")
+              << " |";
         }
         f << "\n";
     }

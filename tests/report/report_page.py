@@ -232,7 +232,9 @@ def main():
         best_switched = check_best_button(driver, rows, first)
         check_images_loaded(driver)
         check_console(driver)
-        driver.execute_script("document.getElementById('scenes').scrollIntoView()")
+        # the screenshot: the first scene's plot above the viewer on its clicked row
+        driver.set_window_size(1400, 1150)
+        driver.execute_script("document.querySelector('#scenes .scene').scrollIntoView()")
         driver.save_screenshot(os.path.join(work, "index.png"))
     finally:
         driver.quit()
