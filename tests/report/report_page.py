@@ -3,8 +3,9 @@
 opens it from file:// (selenium + chromedriver) and checks that the page works: no console errors, every
 <img> loaded, each scene's plot has exactly one point per scored row of report.json for that scene (failed
 rows have no RMSE and are listed under the plot), hovering a point shows its numbers, clicking it shows
-that row's three images (reference, technique, signed error), the default / best buttons switch rows,
-a family filter hides the other families' points; index.html stays under 2 MB. Writes WORK/index.png
+that row's three images (reference, technique, signed error), the best button switches rows, the
+slider and the pixel zoom work, #family-ID opens a family, a family filter hides the other families'
+points; index.html stays under 2 MB. Writes WORK/index.png
 (the screenshot of docs/report.md).
 
 usage: report_page.py REPORT WORK
@@ -185,6 +186,34 @@ def check_best_button(driver, rows, row):
     return True
 
 
+def check_viewer_modes(driver):
+    """The slider shows technique under reference; zoom 8 draws 8 screen pixels per image pixel; back to side by side."""
+    width = driver.execute_script("return REPORT.info.width")
+    state = driver.execute_script("""
+document.querySelector('#v-modes [data-mode=slider]').click();
+const zoom = document.getElementById('v-zoom');
+zoom.value = '8';
+zoom.dispatchEvent(new Event('change'));
+const shown = k => !document.querySelector(`#v-panes figure[data-kind=${k}]`).hidden;
+const r = {slider: shown('slider'), side: shown('technique'),
+           width: document.getElementById('slide-technique').getBoundingClientRect().width,
+           pixelated: getComputedStyle(document.getElementById('img-error')).imageRendering};
+zoom.value = '1';
+zoom.dispatchEvent(new Event('change'));
+document.querySelector('#v-modes [data-mode=side]').click();
+return r;""")
+    if not state["slider"] or state["side"] or abs(state["width"] - 8 * width) > 1 or state["pixelated"] != "pixelated":
+        fail(f"viewer modes: {state} (expected the slider alone, {8 * width} px wide, pixelated)")
+
+
+def check_family_link(driver, rows):
+    """index.html#family-ID (the README's links) opens that family's section."""
+    family = rows[-1]["family"]
+    driver.execute_script("location.hash = '#family-' + arguments[0]", family)
+    wait_for(driver, "const d = document.getElementById('family-' + arguments[0]); return d && d.open",
+             f"#family-{family} to open", family)
+
+
 def check_family_filter(driver, rows):
     """Unticking every family but one leaves only that family's points visible."""
     family = rows[0]["family"]
@@ -230,6 +259,8 @@ def main():
         first = topmost_point(driver, rows[0]["scene"])
         check_click(driver, first, rows[first])
         best_switched = check_best_button(driver, rows, first)
+        check_viewer_modes(driver)
+        check_family_link(driver, rows)
         check_images_loaded(driver)
         check_console(driver)
         # the screenshot: the first scene's plot above the viewer on its clicked row
