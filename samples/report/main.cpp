@@ -23,8 +23,9 @@
 // N / 4 on the scanned meshes; off: none) at 128x96: report.json's "light_sweep", report.md's
 // "## light sweep".
 //
-// Writes DIR/report.md, DIR/report.json, DIR/error_vs_time.svg and DIR/images/. Bad input gets a
-// one-line error and exit status 2; a technique that fails on a scene becomes a failed row.
+// Writes DIR/index.html (the page: plots, images side by side; html_writer.hpp), DIR/report.md, DIR/report.json,
+// DIR/error_vs_time.svg and DIR/images/. Bad input gets a one-line error and exit status 2; a technique that fails
+// on a scene becomes a failed row.
 // Scanned meshes (docs/report.md): `bunny`, `bunny_sun`, `dragon`, `dragon_sun` (in the default set) load
 // npm packages from sk::mesh_dir() ($SHADOWKIT_MESH_DIR, else /usr/local/share/shadowkit/meshes; installed by
 // cmake/install-deps.sh). When a package is missing, one line names it and its scenes are skipped (the exit
@@ -51,6 +52,7 @@
 #include <glm/glm.hpp>
 
 #include "gl.hpp"
+#include "html_writer.hpp"
 #include "light_sweep.hpp"
 #include "metrics.hpp"
 #include "prt_section.hpp"
@@ -495,6 +497,8 @@ int main(int argc, char** argv) {
                 r.named_params = ps.named;
                 r.params_label = ps.label();
                 r.scene = scene.name;
+                r.family = t->family();
+                r.hard = t->hard();
                 r.width = o.width;
                 r.height = o.height;
                 std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
@@ -566,6 +570,7 @@ int main(int argc, char** argv) {
             skr::Row& r = p.row;
             r.ref_samples = ref.samples_per_pixel;
             r.ref_stderr = ref.stderr_rms;
+            r.image_ref = si.reference_image;
             if (!r.failed) {
                 const std::string base = "images/" + stem + "__" + sanitize(r.technique) + "__" + sanitize(r.params_label);
                 r.image_v = base + "_V.png";
@@ -618,8 +623,9 @@ int main(int argc, char** argv) {
     ok = skr::write_svg((out / "error_vs_time.svg").string(), infos, rows) && ok;
     ok = skr::write_light_size_svg((out / "error_vs_light_size.svg").string(), infos, rows) && ok;
     ok = skr::write_flicker_svg((out / "flicker_vs_error.svg").string(), infos, rows) && ok;
+    ok = skr::write_html((out / "index.html").string(), info, infos, rows, &sweep) && ok;
     if (!ok) return fail("cannot write the report files in '" + o.out + "'");
-    std::fprintf(stderr, "shadowkit-report: wrote %s/report.md, report.json, error_vs_time.svg (%zu rows)\n",
+    std::fprintf(stderr, "shadowkit-report: wrote %s/index.html, report.md, report.json, error_vs_time.svg (%zu rows)\n",
                  o.out.c_str(), rows.size());
     return infos.size() == scenes.size() && !prt.failed ? 0 : 1;
 }

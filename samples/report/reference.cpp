@@ -13,6 +13,8 @@
 #include <fstream>
 #include <thread>
 
+#include <unistd.h>  // isatty
+
 namespace sk {
 
 namespace {
@@ -208,10 +210,12 @@ bool compute_reference(const Scene& s, const GBuffer& g, const ReferenceOptions&
     std::vector<std::thread> pool;
     for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
     bool shown = false;
+    // a bar redrawn with carriage returns on a terminal; in a log (not a terminal) one line when done
+    const bool redraw = opt.progress && isatty(fileno(stderr)) != 0;
     while (rows_done.load() < g.height) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
         const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (opt.progress && el > 1.0) {
+        if (redraw && el > 1.0) {
             const int done = rows_done.load();
             const int bar = 30 * done / g.height;
             std::fprintf(stderr, "\r  reference %-9s [%.*s%*s] %3d%% %5.1fs", s.name.c_str(), bar,
@@ -220,7 +224,11 @@ bool compute_reference(const Scene& s, const GBuffer& g, const ReferenceOptions&
         }
     }
     for (auto& t : pool) t.join();
-    if (shown) std::fprintf(stderr, "\n");
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (shown)
+        std::fprintf(stderr, "\n");
+    else if (opt.progress && !redraw && total > 1.0)
+        std::fprintf(stderr, "  reference %-9s %d rays per pixel, %.1fs\n", s.name.c_str(), out.samples_per_pixel, total);
     if (area) {
         double sum = 0.0;
         std::size_t cnt = 0;

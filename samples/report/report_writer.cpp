@@ -13,6 +13,8 @@
 
 namespace skr {
 
+bool is_default_row(const Row& r) { return r.params_label.find("settings=default") != std::string::npos; }
+
 void mark_pareto(std::vector<Row>& rows) {
     for (auto& r : rows) {
         if (r.failed) continue;
@@ -142,7 +144,8 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
             f << (i || !r.params.empty() ? ", " : "") << "\"" << json_escape(r.named_params[i].first)
               << "\": " << (number ? num(x) : "\"" + json_escape(v) + "\"");
         }
-        f << "}, \"scene\": \"" << json_escape(r.scene) << "\", \"width\": " << r.width << ", \"height\": " << r.height;
+        f << "}, \"scene\": \"" << json_escape(r.scene) << "\", \"family\": \"" << json_escape(r.family)
+          << "\", \"hard\": " << (r.hard ? "true" : "false") << ", \"width\": " << r.width << ", \"height\": " << r.height;
         if (r.failed) {
             f << ", \"failed\": \"" << json_escape(r.error) << "\"";
             f << ", \"rmse\": null, \"mean_abs\": null, \"p99_abs\": null, \"penumbra_rmse\": null, \"misclassified\": null"
@@ -164,7 +167,9 @@ bool write_json(const std::string& path, const ReportInfo& info, const std::vect
             for (std::size_t i = 0; i < r.quality.size(); ++i)
                 f << (i ? ", " : "") << "\"" << json_escape(r.quality[i].first) << "\": " << num(r.quality[i].second);
             f << "}, \"pixels\": " << r.m.pixels << ", \"penumbra_pixels\": " << r.m.penumbra_pixels
-              << ", \"pareto\": " << (r.pareto ? "true" : "false");
+              << ", \"pareto\": " << (r.pareto ? "true" : "false") << ", \"images\": {\"reference\": \""
+              << json_escape(r.image_ref) << "\", \"technique\": \"" << json_escape(r.image_v) << "\", \"error\": \""
+              << json_escape(r.image_err) << "\"}";
             write_temporal_json(f, r);
         }
         f << ", \"ref_samples\": " << r.ref_samples << ", \"ref_stderr\": " << num(r.ref_stderr) << "}";
@@ -321,11 +326,81 @@ static void write_temporal_markdown(std::ofstream& f, const std::vector<const Ro
     f << "\n";
 }
 
+// The time a row is plotted and ranked by: GPU + CPU ms per frame.
+static double row_ms(const Row& r) { return r.gpu_ms + r.cpu_ms; }
+
+// "technique setting (RMSE, ms)".
+static std::string row_text(const Row& r) {
+    return r.technique + (r.params_label.empty() ? "" : " " + r.params_label) + " (" + fmt("%.4f", r.m.rmse) + ", " +
+           fmt("%.2f ms", row_ms(r)) + ")";
+}
+
+// Summary, best per scene: the most accurate row and the scene's Pareto front, fastest first.
+static void write_best_per_scene(std::ofstream& f, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    f << "Best per scene: the most accurate row, and the Pareto front (no other row both faster and more accurate), "
+         "fastest first; RMSE and GPU + CPU ms per frame.\n\n| scene | most accurate | Pareto front |\n|---|---|---|\n";
+    for (const auto& sc : scenes) {
+        const Row* best = nullptr;
+        std::vector<const Row*> front;
+        for (const auto& r : rows) {
+            if (r.scene != sc.name || r.failed) continue;
+            if (!best || r.m.rmse < best->m.rmse) best = &r;
+            if (r.pareto) front.push_back(&r);
+        }
+        if (!best) continue;
+        std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return row_ms(*a) < row_ms(*b); });
+        std::string list;
+        for (const Row* r : front) list += (list.empty() ? "" : "; ") + row_text(*r);
+        f << "| " << sc.name << " | " << row_text(*best) << " | " << list << " |\n";
+    }
+    f << "\n";
+}
+
+// Summary, best per family: each family's lowest RMSE on each scene (not the light-size variants).
+static void write_best_per_family(std::ofstream& f, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    std::vector<std::string> families;
+    for (const auto& r : rows)
+        if (std::find(families.begin(), families.end(), r.family) == families.end()) families.push_back(r.family);
+    std::vector<const SceneInfo*> base;
+    for (const auto& sc : scenes)
+        if (sc.base.empty()) base.push_back(&sc);
+    f << "Best per family (the families of samples/report/techniques/): its lowest RMSE on each scene, the technique "
+         "and ms.\n\n| family |";
+    for (const SceneInfo* sc : base) f << " " << sc->name << " |";
+    f << "\n|---|";
+    for (std::size_t i = 0; i < base.size(); ++i) f << "---|";
+    f << "\n";
+    for (const auto& fam : families) {
+        f << "| " << fam << " |";
+        for (const SceneInfo* sc : base) {
+            const Row* best = nullptr;
+            for (const auto& r : rows)
+                if (r.scene == sc->name && r.family == fam && !r.failed && (!best || r.m.rmse < best->m.rmse)) best = &r;
+            const double ms = best ? row_ms(*best) : 0.0;
+            f << " " << (best ? fmt("%.4f ", best->m.rmse) + best->technique + fmt(ms < 10.0 ? " %.1f ms" : " %.0f ms", ms) : "-")
+              << " |";
+        }
+        f << "\n";
+    }
+    f << "\n";
+}
+
+// report.md's opening: the summary before the full record.
+static void write_summary_markdown(std::ofstream& f, const std::vector<SceneInfo>& scenes, const std::vector<Row>& rows) {
+    f << "## summary\n\n";
+    write_best_per_scene(f, scenes, rows);
+    write_best_per_family(f, scenes, rows);
+    f << "The full record follows: the run, the plots, a table per scene (every row, over time), the light sweep. "
+         "`index.html` shows the same with the images.\n\n";
+}
+
 bool write_markdown(const std::string& path, const ReportInfo& info, const std::vector<SceneInfo>& scenes,
                     const std::vector<Row>& rows, const PrtReport* prt, const LightSweep* sweep) {
     std::ofstream f(path);
     if (!f) return false;
     f << "# shadowkit report: error against run time\n\n";
+    write_summary_markdown(f, scenes, rows);
+    f << "## the run\n\n";
     f << "- renderer: `" << info.renderer << "` (" << info.gl_version << ")\n";
     f << "- CPU: " << info.cpu << "\n- date: " << info.date << "\n";
     f << "- image: " << info.width << "x" << info.height << " camera pixels; GPU time = median of " << info.frames

@@ -25,6 +25,8 @@ struct TemporalRow {
 
 struct Row {
     std::string technique, params_label, scene;
+    std::string family;  // Technique::family(): "shadow_map", "soft", ...
+    bool hard = false;   // Technique::hard(): 0/1 visibility
     std::vector<std::pair<std::string, double>> params;              // old drivers: numbers
     std::vector<std::pair<std::string, std::string>> named_params;   // ported techniques: settings by name
     int width = 0, height = 0;
@@ -39,7 +41,7 @@ struct Row {
     int ref_samples = 0;
     double ref_stderr = 0.0;
     bool pareto = false;
-    std::string image_v, image_err;
+    std::string image_v, image_err, image_ref;  // paths relative to the output folder: V, signed error, the scene's reference
     std::vector<TemporalRow> temporal;  // empty when the row was not chosen (or --temporal off)
     std::string temporal_choice;        // why it was chosen: "best", "best method=lispsm"
 };
@@ -105,6 +107,9 @@ struct PrtReport {
 };
 
 struct LightSweep;  // light_sweep.hpp
+
+// True for a technique's `settings=default` row.
+bool is_default_row(const Row& r);
 
 // Marks rows on each scene's Pareto front (no other row of the scene is both faster and lower RMSE).
 void mark_pareto(std::vector<Row>& rows);

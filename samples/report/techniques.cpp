@@ -130,18 +130,25 @@ public:
 
 std::vector<std::unique_ptr<Technique>> make_techniques() {
     std::vector<std::unique_ptr<Technique>> t;
-    add_shadow_map_techniques(t);
-    add_warp_techniques(t);
-    add_soft_techniques(t);
-    add_volume_techniques(t);
-    add_smoothie_techniques(t);
-    add_wedge_techniques(t);
-    add_omni_techniques(t);
-    add_silmap_techniques(t);
-    add_linear_techniques(t);
-    add_prefilter_techniques(t);
-    add_cached_shadow_map_techniques(t);
+    // each family's techniques, marked with the family's id (report.json's "family", index.html's filters)
+    auto add = [&t](const char* family, void (*add_family)(std::vector<std::unique_ptr<Technique>>&)) {
+        const std::size_t first = t.size();
+        add_family(t);
+        for (std::size_t i = first; i < t.size(); ++i) t[i]->set_family(family);
+    };
+    add("shadow_map", add_shadow_map_techniques);
+    add("warp", add_warp_techniques);
+    add("soft", add_soft_techniques);
+    add("volume", add_volume_techniques);
+    add("smoothie", add_smoothie_techniques);
+    add("wedge", add_wedge_techniques);
+    add("omni", add_omni_techniques);
+    add("silmap", add_silmap_techniques);
+    add("linear", add_linear_techniques);
+    add("prefilter", add_prefilter_techniques);
+    add("cache", add_cached_shadow_map_techniques);
     t.push_back(std::make_unique<Unshadowed>());
+    t.back()->set_family("check");
     return t;
 }
 

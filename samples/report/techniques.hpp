@@ -134,6 +134,12 @@ public:
     // (samples/report/temporal.cpp): run() once per frame (frames 1, warmup 0, no CPU G-buffer);
     // ReportTechnique initializes once and updates and renders per frame.
     virtual SequenceResult run_sequence(const RunContext& ctx, const ParamSet& params, const std::vector<TemporalFrame>& frames);
+    // The family: the registration function that added it (make_techniques): "shadow_map", "warp", "soft", ...
+    const std::string& family() const { return family_; }
+    void set_family(std::string family) { family_ = std::move(family); }
+
+private:
+    std::string family_;
 };
 
 std::vector<std::unique_ptr<Technique>> make_techniques();

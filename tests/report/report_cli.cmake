@@ -166,8 +166,26 @@ file(WRITE ${WORK}/tet.ply "ply\nformat ascii 1.0\nelement vertex 4\nproperty fl
 
 report_ok("report run" --quick --scenes square,stack --mesh ${WORK}/tet.obj --mesh ${WORK}/tet.ply
           --techniques shadow_map,unshadowed --size 96x72 --frames 2 --out ${WORK}/out)
-expect_files(${WORK}/out report.md report.json error_vs_time.svg images/square__reference.png)
+expect_files(${WORK}/out index.html report.md report.json error_vs_time.svg images/square__reference.png)
+# report.md opens with the summary (issue 28): best per scene, then per family, before the run's details
+file(READ ${WORK}/out/report.md md)
+string(FIND "${md}" "# shadowkit report: error against run time\n\n## summary\n\nBest per scene" at_summary)
+string(FIND "${md}" "\nBest per family" at_family)
+string(FIND "${md}" "\n## the run\n" at_run)
+if(NOT at_summary EQUAL 0 OR at_family LESS 0 OR NOT at_family LESS at_run)
+  message(FATAL_ERROR "report.md does not open with the summary (at ${at_summary}, family ${at_family}, run ${at_run})")
+endif()
 file(READ ${WORK}/out/report.json json)
+# each row names its family and its three images, which exist
+string(JSON fam0 GET "${json}" rows 0 family)
+string(JSON hard0 GET "${json}" rows 0 hard)
+if(NOT fam0 STREQUAL "shadow_map" OR NOT hard0)
+  message(FATAL_ERROR "rows[0]: family '${fam0}', hard ${hard0}: expected shadow_map, true")
+endif()
+foreach(kind reference technique error)
+  string(JSON img GET "${json}" rows 0 images ${kind})
+  expect_files(${WORK}/out ${img})
+endforeach()
 string(JSON renderer GET "${json}" renderer)
 string(JSON nrows LENGTH "${json}" rows)
 # 4 scenes x (4 shadow-map rows of --quick: 512, 2048 (the default), polygon offset, contact + unshadowed)
