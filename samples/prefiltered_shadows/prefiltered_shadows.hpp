@@ -40,7 +40,10 @@ struct PrefilteredShadowSettings {
     int size = 1024;                ///< texels per side of the moment map
     shadowkit::PrefilterBlur blur = shadowkit::PrefilterBlur::Gaussian;
     float blur_texels = 3.f;        ///< the blur's full width (1: none)
-    bool blur_from_light = true;    ///< instead: the light's penumbra (a blocker halfway down the casters, on the far receiver)
+    /// Instead: the light's penumbra (a blocker halfway down the casters, on the far receiver). Off by
+    /// default: a blur that wide bleeds light into the umbra at every contact (umbra leak on the scanned
+    /// meshes 10 to 36% against 0.4 to 2.6% with 3 texels); soft=on is the soft lookup that follows the penumbra.
+    bool blur_from_light = false;
     double exponent_fraction = 0.99;  ///< ESM c, EVSM c+: this fraction of prefilter_exponent_limit (above 1: Overflow)
     float exponent_negative = 5.f;  ///< EVSM4 c-
     float bleed_reduction = 0.f;    ///< VSM, EVSM, MSM: light-bleeding reduction (linstep), [0, 1)

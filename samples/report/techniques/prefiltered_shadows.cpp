@@ -7,7 +7,7 @@
 // Sweep (the old driver's rows as named settings): map size x blur width: 1024 with a 3-texel blur and
 // with the width of the light's penumbra (blur_from_light); 2048 with a 3-texel blur for VSM and MSM, one
 // per family (a penumbra-wide blur of 2048^2 texels takes ~2 s a frame on llvmpipe); --quick: the
-// penumbra row. The methods other than MSM run with depth_bias=0 (the class's default, 0.002, is MSM's);
+// 3-texel row (the class default). The methods other than MSM run with depth_bias=0 (the class's default, 0.002, is MSM's);
 // format=auto (MSM: 16-bit unorm, quantized; the others float32). Spot, area and directional lights, not
 // the line light's scene.
 // Work, from what the class exposes: shadow_map_texels, blur_taps_per_texel (two passes of 2r + 1),
@@ -84,11 +84,12 @@ void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         spec.sweep.push_back(head + "size=1024 blur_from_light=off blur_texels=3" + tail);
         if (name == "vsm" || name == "msm") spec.sweep.push_back(head + "size=2048 blur_from_light=off blur_texels=3" + tail);
         spec.sweep.push_back(head + "size=1024 blur_from_light=on" + tail);
-        spec.quick = {head + "size=1024 blur_from_light=on" + tail};
+        spec.quick = {head + "size=1024 blur_from_light=off blur_texels=3" + tail};
         spec.identity = "method=" + name + tail;
-        // scanned meshes: the defaults (their settings=default row); VSM and MSM also the 3-texel blur
+        // scanned meshes: the defaults (their settings=default row: the 3-texel blur); VSM and MSM also
+        // the blur from the light's penumbra
         spec.mesh_sweep = {spec.identity};
-        if (name == "vsm" || name == "msm") spec.mesh_sweep.push_back(head + "size=1024 blur_from_light=off blur_texels=3" + tail);
+        if (name == "vsm" || name == "msm") spec.mesh_sweep.push_back(head + "size=1024 blur_from_light=on" + tail);
         spec.measure = measure;
         spec.frame_budget_ms = 400.0;
         add_technique(out, std::move(spec));
