@@ -253,8 +253,35 @@ void contact_gap(std::vector<GapPixel>& px, double& texels, double& world) {
     }
 }
 
+// Whether nothing occludes p's tangent plane within the 2x2 filter's reach in the map: the light rays
+// through a 7x7 grid half a texel apart over +-1.5 texels around p, across the light (in the map's
+// plane, not on the receiver), each first meet the scene no nearer to the light than p's plane (less
+// `tol`), or miss it. Then a lit p that the map shadows is acne: the map holds p's own plane there. A
+// ray nearly parallel to the plane (an edge-on receiver, the terminator of a curved mesh) fails: the
+// map cannot tell that plane from what bends in front of it within a texel.
+bool plane_clear_within_filter_reach(const sk::EmbreeScene& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel,
+                                     float tol, float far) {
+    const bool sun = L.type == sk::LightType::Directional;
+    const glm::vec3 d = sun ? -glm::normalize(L.direction) : glm::normalize(L.position - p);  // towards the light
+    const glm::vec3 b1 = glm::normalize(glm::cross(d, std::abs(d.x) < 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
+    const glm::vec3 b2 = glm::cross(d, b1);
+    for (int i = 0; i < 49; ++i) {
+        const float u = 0.5f * float(i % 7 - 3), w = 0.5f * float(i / 7 - 3);
+        const glm::vec3 q = p + texel * (u * b1 + w * b2);
+        const glm::vec3 org = sun ? q + far * d : L.position;
+        const glm::vec3 dir = sun ? -d : glm::normalize(q - L.position);
+        const float dn = glm::dot(dir, n);
+        if (!(dn < -1e-3f)) return false;  // the ray runs along the plane, or meets its back
+        const float t_plane = glm::dot(p - org, n) / dn;
+        const float t_hit = first_hit(e.scene, org, dir, INFINITY);
+        if (t_hit < t_plane - tol) return false;
+    }
+    return true;
+}
+
 LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size, const sk::EmbreeScene& e,
                  const sk::Light& L, float eps) {
+    const float far = 2e5f * eps;  // twice the scene's diagonal (eps: 1e-5 of it): a sun's rays start there
     LightScore s;
     const int w = g.width, h = g.height;
     std::size_t lit = 0, acne = 0, acne_texel = 0, umbra = 0, leak = 0, leak_texel = 0;
@@ -283,7 +310,7 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                     ++acne;
                     const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
                     const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-                    if (uniform_within_filter_reach(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), eps, false, false))
+                    if (plane_clear_within_filter_reach(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), 4.f * eps, far))
                         ++acne_texel;
                 }
             } else {

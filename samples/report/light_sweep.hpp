@@ -34,8 +34,9 @@ struct LightSweepRow {
     int map_size = 0;
     double acne_fraction_max = 0.0, gap_texels_max = 0.0, gap_world_max = 0.0, leak_fraction_max = 0.0;
     glm::vec3 acne_worst_light{0.f}, gap_worst_light{0.f}, leak_worst_light{0.f};
-    // acne away from the map's resolution: acne pixels whose neighbourhood in the map within the 2x2
-    // filter's reach (+-1.5 texels on their tangent plane) the reference lights entirely, over the same lit pixels
+    // acne away from the map's resolution: acne pixels whose tangent plane nothing occludes within the
+    // 2x2 filter's reach in the map (the light rays over +-1.5 texels around them meet the scene no
+    // nearer than that plane), over the same lit pixels: the map holds the receiver's own plane there
     double acne_beyond_filter_max = 0.0;
     glm::vec3 acne_beyond_filter_worst_light{0.f};
     // likewise leaks whose whole neighbourhood within the filter's reach the reference shadows
