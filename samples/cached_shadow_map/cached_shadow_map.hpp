@@ -106,6 +106,7 @@ public:
     const shadowkit::ShadowCachePlan& plan() const { return plan_; }
     GLuint map() const { return tex_[cur_]; }  ///< the depth texture that holds the map
     int size() const { return size_; }
+    const glm::mat4& light_view_proj() const { return light_vp_f_; }  ///< the map's this frame (float)
     std::size_t casters_drawn() const;          ///< casters the caster pass may draw this frame (culling)
     const std::vector<std::uint8_t>& drawn() const { return drawn_; }  ///< per caster mesh: 1 drawn, 0 culled
 

@@ -114,6 +114,7 @@ public:
     app::DebugImage debug_depth() const { return {map_, app::DebugImage::Show::Depth}; }
     GLuint map() const { return map_; }
     int size() const { return size_; }                  ///< of the map as rendered last
+    glm::mat4 light_view_proj() const { return light_proj_ * light_view_; }  ///< the map's, as rendered last
     float radius_texels() const { return radius_texels_; }  ///< the PCF radius update() chose
 
 private:

@@ -279,8 +279,48 @@ bool plane_clear_within_filter_reach(const sk::EmbreeScene& e, const sk::Light& 
     return true;
 }
 
-LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, int map_size, const sk::EmbreeScene& e,
-                 const sk::Light& L, float eps) {
+// The world size of one texel at p of the map `m` (size^2 texels) across the light direction d (towards
+// the light): the longest world extent of a texel there, (2 / size) / the smallest singular value of
+// d(ndc.xy)/d(world) on the plane across d; 0 when p is outside the map (or behind its light).
+float texel_of_matrix(const glm::mat4& m, glm::vec3 p, glm::vec3 d, int size) {
+    const glm::vec4 c = m * glm::vec4(p, 1.f);
+    if (!(c.w > 0.f)) return 0.f;
+    const glm::vec3 ndc = glm::vec3(c) / c.w;
+    if (std::abs(ndc.x) > 1.f || std::abs(ndc.y) > 1.f || std::abs(ndc.z) > 1.f) return 0.f;
+    const glm::vec3 rw(m[0][3], m[1][3], m[2][3]);
+    const glm::vec3 jx = (glm::vec3(m[0][0], m[1][0], m[2][0]) - ndc.x * rw) / c.w;  // quotient rule
+    const glm::vec3 jy = (glm::vec3(m[0][1], m[1][1], m[2][1]) - ndc.y * rw) / c.w;
+    const glm::vec3 b1 = glm::normalize(glm::cross(d, std::abs(d.x) < 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
+    const glm::vec3 b2 = glm::cross(d, b1);
+    const double a11 = glm::dot(jx, b1), a12 = glm::dot(jx, b2), a21 = glm::dot(jy, b1), a22 = glm::dot(jy, b2);
+    const double f = a11 * a11 + a12 * a12 + a21 * a21 + a22 * a22, det = a11 * a22 - a12 * a21;
+    const double smin2 = 0.5 * (f - std::sqrt(std::max(0.0, f * f - 4.0 * det * det)));
+    if (!(smin2 > 0.0)) return 0.f;
+    return static_cast<float>(2.0 / double(size) / std::sqrt(smin2));
+}
+
+// The technique's texel at each scored pixel: from the matrices it reported for the frame (cascades:
+// the first cascade whose map holds p, and the next one if it does too, the larger: the blend band reads
+// both), else (or outside them all) the scene frustum's texel at its map size.
+std::vector<float> pixel_texels(const sk::GBuffer& g, const LightRef& r, const std::vector<glm::mat4>& mats, int map_size,
+                                const sk::Light& L) {
+    std::vector<float> out(r.cls.size(), 0.f);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        if (r.cls[k] == 0) continue;
+        const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
+        const glm::vec3 d = L.type == sk::LightType::Directional ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
+        float t = 0.f;
+        for (std::size_t i = 0; i < mats.size() && t == 0.f; ++i) {
+            t = texel_of_matrix(mats[i], p, d, map_size);
+            if (t > 0.f && i + 1 < mats.size()) t = std::max(t, texel_of_matrix(mats[i + 1], p, d, map_size));
+        }
+        out[k] = t > 0.f ? t : r.texel[k] / static_cast<float>(map_size);
+    }
+    return out;
+}
+
+LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, const std::vector<float>& texels,
+                 const sk::EmbreeScene& e, const sk::Light& L, float eps) {
     const float far = 2e5f * eps;  // twice the scene's diagonal (eps: 1e-5 of it): a sun's rays start there
     LightScore s;
     const int w = g.width, h = g.height;
@@ -310,13 +350,13 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                     ++acne;
                     const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
                     const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-                    if (plane_clear_within_filter_reach(e, L, p, nn, r.texel[k] / static_cast<float>(map_size), 4.f * eps, far))
+                    if (plane_clear_within_filter_reach(e, L, p, nn, texels[k], 4.f * eps, far))
                         ++acne_texel;
                 }
             } else {
                 ++umbra;
                 const bool l = v[k] > 0.5f;
-                const float texel = r.texel[k] / static_cast<float>(map_size);
+                const float texel = texels[k];
                 // a leak at a shadow's side edge (hidden from the screen-space edge test behind its
                 // occluder) is no contact gap
                 bool side = false;
@@ -363,13 +403,16 @@ sk::SequenceResult run_one_by_one(sk::Technique& t, const sk::RunContext& ctx, c
                                   const std::vector<sk::TemporalFrame>& frames, std::vector<std::uint8_t>& frame_ok) {
     sk::SequenceResult out;
     out.visibility.resize(frames.size());
+    out.light_matrices.resize(frames.size());
     for (std::size_t f = 0; f < frames.size(); ++f) {
         sk::SequenceResult one = run_frames(t, ctx, params, {frames[f]});
         frame_ok[f] = one.ok ? 1 : 0;
-        if (one.ok)
+        if (one.ok) {
             out.visibility[f] = std::move(one.visibility[0]);
-        else if (out.error.empty())
+            if (!one.light_matrices.empty()) out.light_matrices[f] = std::move(one.light_matrices[0]);
+        } else if (out.error.empty()) {
             out.error = one.error;
+        }
     }
     return out;
 }
@@ -469,7 +512,11 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                     if (!frame_ok[l - c0]) continue;
                     const std::vector<float>& v = res.visibility[l - c0];
                     if (v.size() != g.kind.size()) continue;
-                    const LightScore s = score(g, refs[l - c0], v, row.map_size, e, sl.lights[l], eps);
+                    const std::vector<glm::mat4> none;
+                    const std::vector<glm::mat4>& mats = l - c0 < res.light_matrices.size() ? res.light_matrices[l - c0] : none;
+                    if (!mats.empty()) row.texels_from_technique = true;
+                    const LightScore s =
+                        score(g, refs[l - c0], v, pixel_texels(g, refs[l - c0], mats, row.map_size, sl.lights[l]), e, sl.lights[l], eps);
                     const glm::vec3 wl = sl.towards[l];
                     if (s.acne > 0.0) ++row.lights_with_acne;
                     if (s.leak > 0.0) ++row.lights_with_leak;
@@ -532,7 +579,8 @@ void write_light_sweep_json(std::ostream& f, const LightSweep& s) {
         f << (first ? "\n" : ",\n") << "    {\"scene\": \"" << json_escape(r.scene) << "\", \"technique\": \""
           << json_escape(r.technique) << "\", \"settings\": \"" << json_escape(r.settings) << "\", \"light\": \""
           << r.light << "\", \"lights\": " << r.lights << ", \"grazing_lights\": " << r.grazing_lights
-          << ", \"width\": " << r.width << ", \"height\": " << r.height << ", \"map_size\": " << r.map_size;
+          << ", \"width\": " << r.width << ", \"height\": " << r.height << ", \"map_size\": " << r.map_size
+          << ", \"texels_from_technique\": " << (r.texels_from_technique ? "true" : "false");
         first = false;
         if (r.failed) {
             f << ", \"failed\": \"" << json_escape(r.error) << "\", \"acne_fraction_max\": null, \"gap_texels_max\": null"

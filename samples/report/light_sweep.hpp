@@ -32,6 +32,9 @@ struct LightSweepRow {
     std::string scene, technique, settings, light;  // light: "directional" or "spot"
     int lights = 0, grazing_lights = 0, width = 0, height = 0;
     int map_size = 0;
+    // the texel at each pixel from the technique's own map matrices (ReportSpec::light_matrices), not
+    // the scene frustum's at map_size
+    bool texels_from_technique = false;
     double acne_fraction_max = 0.0, gap_texels_max = 0.0, gap_world_max = 0.0, leak_fraction_max = 0.0;
     glm::vec3 acne_worst_light{0.f}, gap_worst_light{0.f}, leak_worst_light{0.f};
     // acne away from the map's resolution: acne pixels whose tangent plane nothing occludes within the

@@ -59,6 +59,9 @@ struct ReportSpec {
     std::function<bool(T&, const S&, const app::View&, const RunContext&, RunResult&)> measure;
     /// The class's failure after update() ("" when fine), for classes that report one.
     std::function<std::string(const T&)> error;
+    /// The matrices of the map(s) V read this frame (world -> clip; cascades: one per cascade, near to
+    /// far), for the light sweep's texel at each pixel; empty: the sweep uses the scene's frustum.
+    std::function<std::vector<glm::mat4>(const T&)> light_matrices;
     /// > 0: a slow row times fewer frames: after the warm-up (at least two frames; one slower than 100 ms
     /// ends it) the timed frames stay within about this many ms, never fewer than 3 (llvmpipe: the median
     /// of a few long frames is stable, and the full report keeps its run time).
@@ -174,6 +177,7 @@ public:
             if (spec_.error && !spec_.error(t).empty()) return SequenceResult::failure(spec_.error(t));
             t.render(view, s);
             out.visibility.push_back(read_r32f(t.visibility(), view.width, view.height));
+            if (spec_.light_matrices) out.light_matrices.push_back(spec_.light_matrices(t));
         }
         const std::string err = skgl::gl_error_string();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -104,6 +104,8 @@ struct SequenceResult {
     std::string error;
     std::vector<std::vector<float>> visibility;        // per frame: width * height, bottom-up rows
     std::vector<std::pair<std::string, double>> work;  // the sequence's own counters (cached maps: texels re-rendered...)
+    // per frame, when the technique says: its maps' world -> clip matrices (ReportSpec::light_matrices)
+    std::vector<std::vector<glm::mat4>> light_matrices;
     static SequenceResult failure(std::string why) {
         SequenceResult r;
         r.ok = false;

@@ -73,6 +73,7 @@ public:
     app::DebugImage debug_depth() const { return {cube_ ? 0u : map_, app::DebugImage::Show::Depth}; }
     bool cube() const { return cube_; }
     int size() const { return size_; }  ///< texels per side of the map (per face) as rendered last
+    const glm::mat4& light_view_proj() const { return light_vp_[0]; }  ///< the 2D map's (a cube map: face 0's)
 
 private:
     void make_map(int size);

@@ -83,6 +83,7 @@ SequenceResult sequence(const RunContext& ctx, const CachedShadowMapSettings& s,
         const double ms = timed_map(cached, v, s);
         cached.render_visibility(v, s);
         out.visibility.push_back(read_r32f(cached.visibility(), v.width, v.height));
+        out.light_matrices.push_back({cached.light_view_proj()});
         const shadowkit::ShadowCachePlan& plan = cached.plan();
         if (t > 0 && cached.drawn() != drawn) culling_changes += 1.0;
         drawn = cached.drawn();

@@ -10,6 +10,7 @@ namespace sk {
 
 void add_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     ReportSpec<ShadowMap, ShadowMapSettings> spec;
+    spec.light_matrices = [](const ShadowMap& m) { return std::vector<glm::mat4>{m.light_view_proj()}; };
     spec.name = "shadow_map";
     spec.description = "plain shadow map, 2x2 PCF; bias=auto (default: each texel compared with the receiver plane, nothing to tune) or polygon_offset (slope-scaled glPolygonOffset(2, 2))";
     spec.sweep = {"size=512", "size=1024", "size=2048", "size=4096", "size=2048 fit_casters=off", "size=2048 bias=polygon_offset fit_casters=off", "size=2048 contact=on"};

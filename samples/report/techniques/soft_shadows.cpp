@@ -177,6 +177,7 @@ bool measure_pcss(Pcss& t, const PcssSettings& s, const app::View& v, const RunC
 
 ReportSpec<Pcss, PcssSettings> pcss_spec(const char* name, const char* description) {
     ReportSpec<Pcss, PcssSettings> spec;
+    spec.light_matrices = [](const Pcss& m) { return std::vector<glm::mat4>{m.light_view_proj()}; };
     spec.name = name;
     spec.description = description;
     spec.hard = false;

@@ -107,6 +107,7 @@ bool measure_cascades(CascadedShadowMaps& c, const CascadedShadowMapSettings&, c
 
 void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     ReportSpec<WarpedShadowMaps, WarpedShadowMapSettings> warped;
+    warped.light_matrices = [](const WarpedShadowMaps& m) { return std::vector<glm::mat4>{m.light_view_proj()}; };
     warped.name = "warped_sm";
     warped.description = "fitted (light_frustum, caster culling) / uniform / PSM / LiSPSM / TSM shadow maps, "
                          "with the perspective aliasing metric";
@@ -123,6 +124,11 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
     add_technique(out, std::move(warped));
 
     ReportSpec<CascadedShadowMaps, CascadedShadowMapSettings> cascades;
+    cascades.light_matrices = [](const CascadedShadowMaps& m) {
+        std::vector<glm::mat4> mats;
+        for (int i = 0; i < m.count(); ++i) mats.push_back(m.cascade(i).view_proj);
+        return mats;
+    };
     cascades.name = "cascades";
     cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band";
     cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
