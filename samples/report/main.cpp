@@ -19,7 +19,7 @@
 // Light sweep (samples/report/light_sweep.hpp, docs/report.md): after the scenes, the hard shadow-map
 // techniques of the run at their defaults (shadow_map; pcf filter=hard; cached_shadow_map, warped_sm,
 // cascades) on every built-in visibility scene and scanned mesh of the run (not the light-size
-// variants, --mesh scenes or prt) under N random lights (--light-sweep N, default 1000, --quick 100;
+// variants, --mesh scenes or prt) under N random lights (--light-sweep N, default 1000, --quick 48;
 // N / 4 on the scanned meshes; off: none) at 128x96: report.json's "light_sweep", report.md's
 // "## light sweep".
 //
@@ -307,7 +307,7 @@ int main(int argc, char** argv) {
         if (!o.frames_set) o.frames = 5;  // a preview: medians of 5 frames after 2 warm-up frames
         if (!o.light_sizes_set) o.light_sizes.clear();
         if (!o.temporal_set) o.temporal = 4;
-        if (!o.light_sweep_set) o.light_sweep = 100;
+        if (!o.light_sweep_set) o.light_sweep = 48;
     }
     // what to run
     std::vector<sk::Scene> scenes;
