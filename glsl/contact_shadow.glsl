@@ -79,6 +79,45 @@ float sk_contact_depth_bilinear(sampler2D camera_depth, ivec2 size, vec2 uv) {
     return lo + (hi - lo) * fy;
 }
 
+// The march's ray clipped to what the camera sees: from view_pos toward the light for
+// min(length_world, distance to a point light), cut at the near plane, w = 0 and the screen edges.
+// c0, c1: its clip-space ends; z1: the view z of its end. False (nothing to march: lit) for the bad
+// inputs listed in the header comment (the length is checked by the caller) and a receiver behind
+// the near plane or off screen.
+bool sk_contact_clip_ray(mat4 proj, vec3 view_pos, vec4 light_position, float length_world, bool zero_to_one,
+                         out vec4 c0, out vec4 c1, out float z1) {
+    c0 = vec4(0.0);
+    c1 = vec4(0.0);
+    z1 = 0.0;
+    vec4 L = light_position;
+    if (!(sk_contact_finite(L.x) && sk_contact_finite(L.y) && sk_contact_finite(L.z) && sk_contact_finite(L.w)) ||
+        L.w < 0.0 || all(equal(L, vec4(0.0))))
+        return false;
+    if (!(sk_contact_finite(view_pos.x) && sk_contact_finite(view_pos.y) && sk_contact_finite(view_pos.z))) return false;
+    vec3 to_light = L.xyz;
+    if (L.w > 0.0) to_light = L.xyz / L.w - view_pos;
+    float m = max(abs(to_light.x), max(abs(to_light.y), abs(to_light.z)));
+    if (!(m > 0.0) || !sk_contact_finite(m)) return false;
+    vec3 scaled = to_light / m;
+    float sl = sqrt(scaled.x * scaled.x + scaled.y * scaled.y + scaled.z * scaled.z);
+    vec3 dir = scaled / sl;
+    float len = length_world;
+    if (L.w > 0.0) len = min(len, m * sl);
+    vec3 p1 = view_pos + dir * len;
+    c0 = proj * vec4(view_pos, 1.0);
+    c1 = proj * vec4(p1, 1.0);
+    float f0[6] = float[6](sk_contact_near(c0, zero_to_one), c0.w, c0.w - c0.x, c0.w + c0.x, c0.w - c0.y, c0.w + c0.y);
+    float f1[6] = float[6](sk_contact_near(c1, zero_to_one), c1.w, c1.w - c1.x, c1.w + c1.x, c1.w - c1.y, c1.w + c1.y);
+    if (!(f0[0] > 0.0) || !(f0[1] > 0.0) || !(f0[2] >= 0.0) || !(f0[3] >= 0.0) || !(f0[4] >= 0.0) || !(f0[5] >= 0.0))
+        return false;  // the receiver is behind the near plane or off screen
+    float t_end = 1.0;
+    for (int k = 0; k < 6; ++k)
+        if (f1[k] < 0.0) t_end = min(t_end, f0[k] / (f0[k] - f1[k]));
+    c1 = c0 + (c1 - c0) * t_end;
+    z1 = view_pos.z + (p1.z - view_pos.z) * t_end;
+    return true;
+}
+
 // Contact-shadow visibility (1 lit, 0 occluded) of the receiver at view_pos: one sample per pixel of
 // the projected ray (up to max_steps), from one pixel past the receiver to the end of the ray
 // clipped to the near plane and the screen; a sample is occluded when the depth buffer's surface is
@@ -98,33 +137,10 @@ float sk_contact_shadow(sampler2D camera_depth, mat4 proj, vec3 view_pos, vec4 l
     if (!sk_contact_finite(det) || det == 0.0) return 1.0;
     float inv_sdet = 1.0 / ((zero_to_one ? 1.0 : 0.5) * abs(det));
     if (!sk_contact_finite(inv_sdet)) return 1.0;
-    vec4 L = light_position;
-    if (!(sk_contact_finite(L.x) && sk_contact_finite(L.y) && sk_contact_finite(L.z) && sk_contact_finite(L.w)) ||
-        L.w < 0.0 || all(equal(L, vec4(0.0))))
-        return 1.0;
-    if (!(sk_contact_finite(view_pos.x) && sk_contact_finite(view_pos.y) && sk_contact_finite(view_pos.z))) return 1.0;
-    vec3 to_light = L.xyz;
-    if (L.w > 0.0) to_light = L.xyz / L.w - view_pos;
-    float m = max(abs(to_light.x), max(abs(to_light.y), abs(to_light.z)));
-    if (!(m > 0.0) || !sk_contact_finite(m)) return 1.0;
-    vec3 scaled = to_light / m;
-    float sl = sqrt(scaled.x * scaled.x + scaled.y * scaled.y + scaled.z * scaled.z);
-    vec3 dir = scaled / sl;
-    float len = length_world;
-    if (L.w > 0.0) len = min(len, m * sl);
-    vec3 p1 = view_pos + dir * len;
-    vec4 c0 = proj * vec4(view_pos, 1.0);
-    vec4 c1 = proj * vec4(p1, 1.0);
-    float f0[6] = float[6](sk_contact_near(c0, zero_to_one), c0.w, c0.w - c0.x, c0.w + c0.x, c0.w - c0.y, c0.w + c0.y);
-    float f1[6] = float[6](sk_contact_near(c1, zero_to_one), c1.w, c1.w - c1.x, c1.w + c1.x, c1.w - c1.y, c1.w + c1.y);
-    if (!(f0[0] > 0.0) || !(f0[1] > 0.0) || !(f0[2] >= 0.0) || !(f0[3] >= 0.0) || !(f0[4] >= 0.0) || !(f0[5] >= 0.0))
-        return 1.0;  // the receiver is behind the near plane or off screen
-    float t_end = 1.0;
-    for (int k = 0; k < 6; ++k)
-        if (f1[k] < 0.0) t_end = min(t_end, f0[k] / (f0[k] - f1[k]));
-    c1 = c0 + (c1 - c0) * t_end;
+    vec4 c0, c1;
+    float z1;
+    if (!sk_contact_clip_ray(proj, view_pos, light_position, length_world, zero_to_one, c0, c1, z1)) return 1.0;
     float z0 = view_pos.z;
-    float z1 = view_pos.z + (p1.z - view_pos.z) * t_end;
     vec2 uv0 = vec2(c0.x / c0.w, c0.y / c0.w) * 0.5 + 0.5;
     vec2 uv1 = vec2(c1.x / c1.w, c1.y / c1.w) * 0.5 + 0.5;
     ivec2 size = textureSize(camera_depth, 0);
@@ -157,3 +173,231 @@ vec3 sk_contact_view_position(mat4 inv_proj, ivec2 size, ivec2 pixel, float win,
     vec4 v = inv_proj * vec4(ndc_xy, ndc_z, 1.0);
     return v.xyz / v.w;
 }
+
+// ---- The pixel-aligned march (sk_contact_shadow_aligned): the same ray, sampled on pixel centers.
+// Samples sit on whole pixels of the ray's major screen axis (x where |dx| >= |dy|, else y), every
+// `stride` pixels, stride = ceil(major length / max_steps); each reads the two texels of that pixel
+// column (row) around the ray and interpolates along the minor axis (exact on a plane: window depth
+// is affine in screen space), and compares in window depth: the ray's window depth and 1/w are
+// affine in screen space along the ray, so sample k's are a start plus k steps (no division per
+// sample); the bias is 4 depth steps at the buffer's texel (sk_contact_shadow's 4 steps, not
+// converted to view units) and the thickness is thickness_world * d(window)/dz at the ray's depth
+// (s |a d - b c| / w^2).
+
+// The aligned march's state for one receiver (sk_contact_aligned_setup fills it). Sample k (0 ..
+// count - 1) is at texel-index position p + k dp (pixel (i, j)'s center at (i, j)).
+struct SkContactAligned {
+    vec2 p;          // the first sample: a whole pixel along the major axis, fractional along the minor
+    vec2 dp;         // one step: +-stride along the major axis, the ray's change along the minor
+    float win;       // the ray's window depth at the first sample
+    float dwin;      // its change per step
+    float iw;        // the ray's 1 / clip w at the first sample
+    float diw;       // its change per step
+    float thick_k;   // thickness * s |a d - b c|: the thickness in window depth is thick_k * (1/w)^2
+    float depth_step;
+    ivec2 minor;     // the minor axis: (0, 1) when x is the major axis, else (1, 0)
+    int count;       // samples
+};
+
+// Fills the aligned march's state; false when there is nothing to march (lit): the bad inputs of the
+// header comment, and a ray shorter than one pixel along its major axis. The first sample is the
+// first pixel past the receiver's along the major axis, moved back by int(jitter * stride) pixels.
+bool sk_contact_aligned_setup(ivec2 size, mat4 proj, vec3 view_pos, vec4 light_position, float length_world,
+                              int max_steps, float thickness_world, float depth_step, bool zero_to_one,
+                              float jitter, out SkContactAligned r) {
+    r = SkContactAligned(vec2(0.0), vec2(0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, ivec2(0, 1), 0);
+    if (!(length_world > 0.0) || !sk_contact_finite(length_world)) return false;
+    int steps_max = clamp(max_steps, 1, 256);
+    float thickness = (thickness_world > 0.0) ? thickness_world : length_world;
+    float jit = (jitter >= 0.0) ? min(jitter, 0.999) : 0.0;
+    float det = proj[2][2] * proj[3][3] - proj[3][2] * proj[2][3];
+    if (!sk_contact_finite(det) || det == 0.0) return false;
+    vec4 c0, c1;
+    float z1;
+    if (!sk_contact_clip_ray(proj, view_pos, light_position, length_world, zero_to_one, c0, c1, z1)) return false;
+    vec2 fs = vec2(size);
+    vec2 q0 = (vec2(c0.x / c0.w, c0.y / c0.w) * 0.5 + 0.5) * fs - 0.5;
+    vec2 dq = (vec2(c1.x / c1.w, c1.y / c1.w) * 0.5 + 0.5) * fs - 0.5 - q0;
+    float n0 = c0.z / c0.w;
+    float n1 = c1.z / c1.w;
+    float win0 = zero_to_one ? n0 : n0 * 0.5 + 0.5;
+    float dwin = (zero_to_one ? n1 : n1 * 0.5 + 0.5) - win0;
+    float iw0 = 1.0 / c0.w;
+    float diw = 1.0 / c1.w - iw0;
+    bool xmajor = abs(dq.x) >= abs(dq.y);
+    float qm = xmajor ? q0.x : q0.y;
+    float dm = xmajor ? dq.x : dq.y;
+    float n = abs(dm);
+    if (!(n >= 1.0) || !sk_contact_finite(n) || !sk_contact_finite(dq.x + dq.y) || !sk_contact_finite(dwin) ||
+        !sk_contact_finite(diw))
+        return false;  // the ray stays within a pixel of its receiver (or w -> 0 at its clipped end)
+    float base = floor(qm + 0.5);                // the receiver's pixel along the major axis
+    float sgn = dm > 0.0 ? 1.0 : -1.0;
+    float e = (qm - base) * sgn;                 // the receiver past its pixel's center, [-0.5, 0.5]
+    float stride = max(ceil(n / float(steps_max)), 1.0);
+    float shift = min(floor(jit * stride), stride - 1.0);
+    r.count = min(int(floor((n + e + shift) / stride)), steps_max);
+    float u1 = (base + sgn * (stride - shift) - qm) / dm;  // the first sample's fraction of the ray
+    float du = sgn * stride / dm;                          // one step's
+    r.p = q0 + dq * u1;
+    if (xmajor) r.p.x = base + sgn * (stride - shift);     // exactly on the pixel's center
+    else r.p.y = base + sgn * (stride - shift);
+    r.dp = xmajor ? vec2(sgn * stride, dq.y * du) : vec2(dq.x * du, sgn * stride);
+    r.minor = xmajor ? ivec2(0, 1) : ivec2(1, 0);
+    r.win = win0 + dwin * u1;
+    r.dwin = dwin * du;
+    r.iw = iw0 + diw * u1;
+    r.diw = diw * du;
+    r.thick_k = thickness * ((zero_to_one ? 1.0 : 0.5) * abs(det));
+    r.depth_step = depth_step;
+    return r.count > 0;
+}
+
+// Window depth at texel-index position p (whole along the major axis) of a depth buffer of `size`:
+// the two texels of that column (row) around p, interpolated along the minor axis; -1.0 (no surface)
+// outside the pixel centers, for texels outside [0, 1] and at the clear value.
+float sk_contact_depth_pair(sampler2D camera_depth, ivec2 size, ivec2 minor, vec2 p) {
+    if (any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(size - 1)))) return -1.0;
+    vec2 fl = floor(p);
+    ivec2 t0 = ivec2(fl);
+    ivec2 t1 = min(t0 + minor, size - 1);
+    float f = minor.y == 1 ? p.y - fl.y : p.x - fl.x;
+    float d0 = texelFetch(camera_depth, t0, 0).r;
+    float d1 = texelFetch(camera_depth, t1, 0).r;
+#ifdef SK_REVERSED_Z
+    if (!(d0 > 0.0 && d0 <= 1.0 && d1 > 0.0 && d1 <= 1.0)) return -1.0;  // no surface, background (0)
+#else
+    if (!(d0 >= 0.0 && d0 < 1.0 && d1 >= 0.0 && d1 < 1.0)) return -1.0;  // no surface, background (1)
+#endif
+    return d0 + (d1 - d0) * f;
+}
+
+// Sample k's hit test, given the buffer's window depth there (< 0: no surface): the buffer in front
+// of the ray by more than 4 depth steps and less than the thickness.
+bool sk_contact_aligned_hit(SkContactAligned r, float k, float win_buf) {
+    float win_ray = r.win + r.dwin * k;
+    float iw = r.iw + r.diw * k;
+#ifdef SK_REVERSED_Z
+    float diff = win_buf - win_ray;
+#else
+    float diff = win_ray - win_buf;
+#endif
+    float bias = 4.0 * (r.depth_step + 2.38418579e-7 * abs(win_buf));
+    return win_buf >= 0.0 && diff > bias && diff < r.thick_k * (iw * iw);
+}
+
+// Contact-shadow visibility (1 lit, 0 occluded) with the pixel-aligned march: the inputs, outputs and
+// clamps of sk_contact_shadow; at most max_steps samples, two texel reads each.
+float sk_contact_shadow_aligned(sampler2D camera_depth, mat4 proj, vec3 view_pos, vec4 light_position,
+                                float length_world, int max_steps, float thickness_world, float depth_step,
+                                bool zero_to_one, float jitter) {
+    ivec2 size = textureSize(camera_depth, 0);
+    SkContactAligned r;
+    if (!sk_contact_aligned_setup(size, proj, view_pos, light_position, length_world, max_steps, thickness_world,
+                                  depth_step, zero_to_one, jitter, r))
+        return 1.0;
+    for (int k = 0; k < r.count; ++k) {
+        float fk = float(k);
+        if (sk_contact_aligned_hit(r, fk, sk_contact_depth_pair(camera_depth, size, r.minor, r.p + r.dp * fk))) return 0.0;
+    }
+    return 1.0;
+}
+
+#ifdef SK_CONTACT_TILE_SIZE
+// ---- The aligned march in a compute shader, from shared memory (sk_contact_shadow_tile).
+// Compute stage only (GLSL 430+): #define SK_CONTACT_TILE_SIZE (the group's side, e.g. 16) before
+// this snippet and declare layout(local_size_x = SK_CONTACT_TILE_SIZE, local_size_y =
+// SK_CONTACT_TILE_SIZE) in; one invocation per pixel. Shared memory: SK_CONTACT_TILE_TEXELS floats
+// (default 2560: 10 KiB) for the group's depth footprint (the box around every texel its marches
+// read) and 4 ints. The group loads the footprint once (each texel one texelFetch), then every
+// invocation marches in shared memory; a footprint larger than the array (long rays, rays fanning
+// out around the light's vanishing point) falls back to texelFetch for that group. Same samples,
+// same arithmetic as sk_contact_shadow_aligned: the same answer.
+#ifndef SK_CONTACT_TILE_TEXELS
+#define SK_CONTACT_TILE_TEXELS 2560
+#endif
+shared float sk_contact_tile[SK_CONTACT_TILE_TEXELS];
+shared int sk_contact_tile_box[4];  // min x, min y, max x, max y of the group's footprint
+
+// Window depth at texel-index position p: sk_contact_depth_pair's answer, its texels read from the
+// tile (the box lo .. hi) when `tiled` and inside it, else from the texture.
+float sk_contact_tile_pair(sampler2D camera_depth, ivec2 size, ivec2 minor, vec2 p, bool tiled, ivec2 lo, ivec2 hi) {
+    if (any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(size - 1)))) return -1.0;
+    vec2 fl = floor(p);
+    ivec2 t0 = ivec2(fl);
+    ivec2 t1 = min(t0 + minor, size - 1);
+    float f = minor.y == 1 ? p.y - fl.y : p.x - fl.x;
+    float d0, d1;
+    if (tiled && all(greaterThanEqual(t0, lo)) && all(lessThanEqual(t1, hi))) {
+        int tw = hi.x - lo.x + 1;
+        d0 = sk_contact_tile[(t0.y - lo.y) * tw + (t0.x - lo.x)];
+        d1 = sk_contact_tile[(t1.y - lo.y) * tw + (t1.x - lo.x)];
+    } else {
+        d0 = texelFetch(camera_depth, t0, 0).r;
+        d1 = texelFetch(camera_depth, t1, 0).r;
+    }
+#ifdef SK_REVERSED_Z
+    if (!(d0 > 0.0 && d0 <= 1.0 && d1 > 0.0 && d1 <= 1.0)) return -1.0;  // no surface, background (0)
+#else
+    if (!(d0 >= 0.0 && d0 < 1.0 && d1 >= 0.0 && d1 < 1.0)) return -1.0;  // no surface, background (1)
+#endif
+    return d0 + (d1 - d0) * f;
+}
+
+// Loads the group's footprint into sk_contact_tile: `marching` invocations add the box of the texels
+// their march reads (r from sk_contact_aligned_setup). Call from every invocation of the group
+// (uniform control flow: it has barriers). Returns the box in lo / hi; true when it fits the tile.
+bool sk_contact_tile_load(sampler2D camera_depth, ivec2 size, SkContactAligned r, bool marching, out ivec2 lo, out ivec2 hi) {
+    if (gl_LocalInvocationIndex == 0u) {
+        sk_contact_tile_box[0] = size.x;
+        sk_contact_tile_box[1] = size.y;
+        sk_contact_tile_box[2] = -1;
+        sk_contact_tile_box[3] = -1;
+    }
+    barrier();
+    if (marching) {
+        vec2 pa = r.p;
+        vec2 pb = r.p + r.dp * float(r.count - 1);
+        ivec2 blo = max(ivec2(floor(min(pa, pb))), ivec2(0));
+        ivec2 bhi = min(ivec2(floor(max(pa, pb))) + r.minor, size - 1);
+        atomicMin(sk_contact_tile_box[0], blo.x);
+        atomicMin(sk_contact_tile_box[1], blo.y);
+        atomicMax(sk_contact_tile_box[2], bhi.x);
+        atomicMax(sk_contact_tile_box[3], bhi.y);
+    }
+    barrier();
+    lo = ivec2(sk_contact_tile_box[0], sk_contact_tile_box[1]);
+    hi = ivec2(sk_contact_tile_box[2], sk_contact_tile_box[3]);
+    ivec2 extent = max(hi - lo + 1, ivec2(0));
+    int texels = extent.x * extent.y;
+    bool fits = texels > 0 && texels <= SK_CONTACT_TILE_TEXELS;
+    if (fits) {
+        int n = SK_CONTACT_TILE_SIZE * SK_CONTACT_TILE_SIZE;  // the group's invocations
+        for (int i = int(gl_LocalInvocationIndex); i < texels; i += n)
+            sk_contact_tile[i] = texelFetch(camera_depth, lo + ivec2(i % extent.x, i / extent.x), 0).r;
+    }
+    barrier();
+    return fits;
+}
+
+// Contact-shadow visibility (1 lit, 0 occluded), sk_contact_shadow_aligned's answer, marched in the
+// group's shared tile. Call from every invocation of the group (it has barriers); `receiver` false for
+// invocations without one (outside the image, background): they help load and return 1.0.
+float sk_contact_shadow_tile(sampler2D camera_depth, mat4 proj, vec3 view_pos, vec4 light_position,
+                             float length_world, int max_steps, float thickness_world, float depth_step,
+                             bool zero_to_one, float jitter, bool receiver) {
+    ivec2 size = textureSize(camera_depth, 0);
+    SkContactAligned r;
+    bool marching = receiver && sk_contact_aligned_setup(size, proj, view_pos, light_position, length_world, max_steps,
+                                                         thickness_world, depth_step, zero_to_one, jitter, r);
+    ivec2 lo, hi;
+    bool tiled = sk_contact_tile_load(camera_depth, size, r, marching, lo, hi);
+    if (!marching) return 1.0;
+    for (int k = 0; k < r.count; ++k) {
+        float fk = float(k);
+        if (sk_contact_aligned_hit(r, fk, sk_contact_tile_pair(camera_depth, size, r.minor, r.p + r.dp * fk, tiled, lo, hi)))
+            return 0.0;
+    }
+    return 1.0;
+}
+#endif  // SK_CONTACT_TILE_SIZE
