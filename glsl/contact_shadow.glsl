@@ -178,11 +178,11 @@ vec3 sk_contact_view_position(mat4 inv_proj, ivec2 size, ivec2 pixel, float win,
 // Samples sit on whole pixels of the ray's major screen axis (x where |dx| >= |dy|, else y), every
 // `stride` pixels, stride = ceil(major length / max_steps); each reads the two texels of that pixel
 // column (row) around the ray and interpolates along the minor axis (exact on a plane: window depth
-// is affine in screen space), and compares in window depth: the ray's window depth and 1/w are
-// affine in screen space along the ray, so sample k's are a start plus k steps (no division per
-// sample); the bias is 4 depth steps at the buffer's texel (sk_contact_shadow's 4 steps, not
-// converted to view units) and the thickness is thickness_world * d(window)/dz at the ray's depth
-// (s |a d - b c| / w^2).
+// is affine in screen space), and compares in window depth: the ray's window depth and 1/w are affine
+// in screen space along the ray, so sample k's are a start plus k steps (no division per sample); the
+// bias is 4 depth steps at the buffer's texels (sk_contact_shadow's 4 steps, not converted to view
+// units) and the thickness is thickness_world * d(window)/dz at the ray's depth (s |a d - b c| / w^2).
+// The ray is clipped at the near plane and w = 0 only: samples off screen read no surface.
 
 // The aligned march's state for one receiver (sk_contact_aligned_setup fills it). Sample k (0 ..
 // count - 1) is at texel-index position p + k dp (pixel (i, j)'s center at (i, j)).
@@ -194,10 +194,39 @@ struct SkContactAligned {
     float iw;        // the ray's 1 / clip w at the first sample
     float diw;       // its change per step
     float thick_k;   // thickness * s |a d - b c|: the thickness in window depth is thick_k * (1/w)^2
-    float depth_step;
+    float bias_k;    // 4 depth_step: the bias is bias_k + 2^-20 |window|
     ivec2 minor;     // the minor axis: (0, 1) when x is the major axis, else (1, 0)
     int count;       // samples
 };
+
+// The aligned march's ray in clip space: c0 at the receiver, c1 its end, clipped at the near plane
+// and w = 0 only. False (lit) for the bad inputs of the header comment and a receiver behind the near
+// plane or off screen.
+bool sk_contact_aligned_ray(mat4 proj, vec3 view_pos, vec4 light_position, float length_world, bool zero_to_one,
+                            out vec4 c0, out vec4 c1) {
+    c0 = proj * vec4(view_pos, 1.0);
+    c1 = c0;
+    vec4 L = light_position;
+    if (!(sk_contact_finite(L.x) && sk_contact_finite(L.y) && sk_contact_finite(L.z) && sk_contact_finite(L.w)) ||
+        L.w < 0.0 || all(equal(L, vec4(0.0))))
+        return false;
+    if (!(sk_contact_finite(view_pos.x) && sk_contact_finite(view_pos.y) && sk_contact_finite(view_pos.z))) return false;
+    vec3 to_light = L.w > 0.0 ? L.xyz * (1.0 / L.w) - view_pos : L.xyz;
+    float m = max(abs(to_light.x), max(abs(to_light.y), abs(to_light.z)));
+    if (!(m > 0.0) || !sk_contact_finite(m)) return false;
+    vec3 scaled = to_light * (1.0 / m);
+    float sl = sqrt(dot(scaled, scaled));
+    float len = L.w > 0.0 ? min(length_world, m * sl) : length_world;
+    c1 = c0 + proj * vec4(scaled * (len / sl), 0.0);
+    float f0 = sk_contact_near(c0, zero_to_one);
+    float f1 = sk_contact_near(c1, zero_to_one);
+    if (!(f0 > 0.0) || !(c0.w > 0.0) || !(abs(c0.x) <= c0.w) || !(abs(c0.y) <= c0.w))
+        return false;  // the receiver is behind the near plane or off screen
+    float t_end = f1 < 0.0 ? f0 / (f0 - f1) : 1.0;
+    if (c1.w < 0.0) t_end = min(t_end, c0.w / (c0.w - c1.w));
+    c1 = c0 + (c1 - c0) * t_end;
+    return true;
+}
 
 // Fills the aligned march's state; false when there is nothing to march (lit): the bad inputs of the
 // header comment, and a ray shorter than one pixel along its major axis. The first sample is the
@@ -207,23 +236,18 @@ bool sk_contact_aligned_setup(ivec2 size, mat4 proj, vec3 view_pos, vec4 light_p
                               float jitter, out SkContactAligned r) {
     r = SkContactAligned(vec2(0.0), vec2(0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, ivec2(0, 1), 0);
     if (!(length_world > 0.0) || !sk_contact_finite(length_world)) return false;
-    int steps_max = clamp(max_steps, 1, 256);
-    float thickness = (thickness_world > 0.0) ? thickness_world : length_world;
-    float jit = (jitter >= 0.0) ? min(jitter, 0.999) : 0.0;
     float det = proj[2][2] * proj[3][3] - proj[3][2] * proj[2][3];
     if (!sk_contact_finite(det) || det == 0.0) return false;
     vec4 c0, c1;
-    float z1;
-    if (!sk_contact_clip_ray(proj, view_pos, light_position, length_world, zero_to_one, c0, c1, z1)) return false;
-    vec2 fs = vec2(size);
-    vec2 q0 = (vec2(c0.x / c0.w, c0.y / c0.w) * 0.5 + 0.5) * fs - 0.5;
-    vec2 dq = (vec2(c1.x / c1.w, c1.y / c1.w) * 0.5 + 0.5) * fs - 0.5 - q0;
-    float n0 = c0.z / c0.w;
-    float n1 = c1.z / c1.w;
-    float win0 = zero_to_one ? n0 : n0 * 0.5 + 0.5;
-    float dwin = (zero_to_one ? n1 : n1 * 0.5 + 0.5) - win0;
+    if (!sk_contact_aligned_ray(proj, view_pos, light_position, length_world, zero_to_one, c0, c1)) return false;
     float iw0 = 1.0 / c0.w;
-    float diw = 1.0 / c1.w - iw0;
+    float iw1 = 1.0 / c1.w;
+    vec2 fs = vec2(size);
+    vec2 q0 = (c0.xy * iw0 * 0.5 + 0.5) * fs - 0.5;
+    vec2 dq = (c1.xy * iw1 * 0.5 + 0.5) * fs - 0.5 - q0;
+    float win0 = zero_to_one ? c0.z * iw0 : c0.z * iw0 * 0.5 + 0.5;
+    float dwin = (zero_to_one ? c1.z * iw1 : c1.z * iw1 * 0.5 + 0.5) - win0;
+    float diw = iw1 - iw0;
     bool xmajor = abs(dq.x) >= abs(dq.y);
     float qm = xmajor ? q0.x : q0.y;
     float dm = xmajor ? dq.x : dq.y;
@@ -231,59 +255,54 @@ bool sk_contact_aligned_setup(ivec2 size, mat4 proj, vec3 view_pos, vec4 light_p
     if (!(n >= 1.0) || !sk_contact_finite(n) || !sk_contact_finite(dq.x + dq.y) || !sk_contact_finite(dwin) ||
         !sk_contact_finite(diw))
         return false;  // the ray stays within a pixel of its receiver (or w -> 0 at its clipped end)
-    float base = floor(qm + 0.5);                // the receiver's pixel along the major axis
+    int steps_max = clamp(max_steps, 1, 256);
+    float base = floor(qm + 0.5);             // the receiver's pixel along the major axis
     float sgn = dm > 0.0 ? 1.0 : -1.0;
-    float e = (qm - base) * sgn;                 // the receiver past its pixel's center, [-0.5, 0.5]
+    float e = (qm - base) * sgn;              // the receiver past its pixel's center, [-0.5, 0.5]
     float stride = max(ceil(n / float(steps_max)), 1.0);
+    float jit = (jitter >= 0.0) ? min(jitter, 0.999) : 0.0;
     float shift = min(floor(jit * stride), stride - 1.0);
     r.count = min(int(floor((n + e + shift) / stride)), steps_max);
-    float u1 = (base + sgn * (stride - shift) - qm) / dm;  // the first sample's fraction of the ray
-    float du = sgn * stride / dm;                          // one step's
-    r.p = q0 + dq * u1;
-    if (xmajor) r.p.x = base + sgn * (stride - shift);     // exactly on the pixel's center
-    else r.p.y = base + sgn * (stride - shift);
+    float inv_dm = 1.0 / dm;
+    float j1 = base + sgn * (stride - shift);  // the first sample's pixel along the major axis
+    float u1 = (j1 - qm) * inv_dm;             // its fraction of the ray
+    float du = sgn * stride * inv_dm;          // one step's
+    r.p = xmajor ? vec2(j1, q0.y + dq.y * u1) : vec2(q0.x + dq.x * u1, j1);
     r.dp = xmajor ? vec2(sgn * stride, dq.y * du) : vec2(dq.x * du, sgn * stride);
-    r.minor = xmajor ? ivec2(0, 1) : ivec2(1, 0);
     r.win = win0 + dwin * u1;
     r.dwin = dwin * du;
     r.iw = iw0 + diw * u1;
     r.diw = diw * du;
+    float thickness = (thickness_world > 0.0) ? thickness_world : length_world;
     r.thick_k = thickness * ((zero_to_one ? 1.0 : 0.5) * abs(det));
-    r.depth_step = depth_step;
+    r.bias_k = 4.0 * depth_step;
+    r.minor = xmajor ? ivec2(0, 1) : ivec2(1, 0);
     return r.count > 0;
 }
 
-// Window depth at texel-index position p (whole along the major axis) of a depth buffer of `size`:
-// the two texels of that column (row) around p, interpolated along the minor axis; -1.0 (no surface)
-// outside the pixel centers, for texels outside [0, 1] and at the clear value.
-float sk_contact_depth_pair(sampler2D camera_depth, ivec2 size, ivec2 minor, vec2 p) {
-    if (any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(size - 1)))) return -1.0;
+// Sample k: the window depth of the two texels of its column (row) around the ray, interpolated
+// along the minor axis, is in front of the ray by more than 4 depth steps and less than the
+// thickness. No hit outside the pixel centers, for texels outside [0, 1] and at the clear value.
+bool sk_contact_aligned_sample(sampler2D camera_depth, ivec2 size, SkContactAligned r, float k) {
+    vec2 p = r.p + r.dp * k;
+    if (!(p.x >= 0.0 && p.y >= 0.0 && p.x <= float(size.x - 1) && p.y <= float(size.y - 1))) return false;
     vec2 fl = floor(p);
     ivec2 t0 = ivec2(fl);
-    ivec2 t1 = min(t0 + minor, size - 1);
-    float f = minor.y == 1 ? p.y - fl.y : p.x - fl.x;
+    ivec2 t1 = min(t0 + r.minor, size - 1);
+    float f = r.minor.y == 1 ? p.y - fl.y : p.x - fl.x;
     float d0 = texelFetch(camera_depth, t0, 0).r;
     float d1 = texelFetch(camera_depth, t1, 0).r;
-#ifdef SK_REVERSED_Z
-    if (!(d0 > 0.0 && d0 <= 1.0 && d1 > 0.0 && d1 <= 1.0)) return -1.0;  // no surface, background (0)
-#else
-    if (!(d0 >= 0.0 && d0 < 1.0 && d1 >= 0.0 && d1 < 1.0)) return -1.0;  // no surface, background (1)
-#endif
-    return d0 + (d1 - d0) * f;
-}
-
-// Sample k's hit test, given the buffer's window depth there (< 0: no surface): the buffer in front
-// of the ray by more than 4 depth steps and less than the thickness.
-bool sk_contact_aligned_hit(SkContactAligned r, float k, float win_buf) {
+    float win_buf = d0 + (d1 - d0) * f;
     float win_ray = r.win + r.dwin * k;
     float iw = r.iw + r.diw * k;
 #ifdef SK_REVERSED_Z
     float diff = win_buf - win_ray;
+    bool surface = d0 > 0.0 && d0 <= 1.0 && d1 > 0.0 && d1 <= 1.0;  // not the background (0), not NaN
 #else
     float diff = win_ray - win_buf;
+    bool surface = d0 >= 0.0 && d0 < 1.0 && d1 >= 0.0 && d1 < 1.0;  // not the background (1), not NaN
 #endif
-    float bias = 4.0 * (r.depth_step + 2.38418579e-7 * abs(win_buf));
-    return win_buf >= 0.0 && diff > bias && diff < r.thick_k * (iw * iw);
+    return surface && diff > r.bias_k + 9.53674316e-7 * win_buf && diff < r.thick_k * (iw * iw);
 }
 
 // Contact-shadow visibility (1 lit, 0 occluded) with the pixel-aligned march: the inputs, outputs and
@@ -296,108 +315,7 @@ float sk_contact_shadow_aligned(sampler2D camera_depth, mat4 proj, vec3 view_pos
     if (!sk_contact_aligned_setup(size, proj, view_pos, light_position, length_world, max_steps, thickness_world,
                                   depth_step, zero_to_one, jitter, r))
         return 1.0;
-    for (int k = 0; k < r.count; ++k) {
-        float fk = float(k);
-        if (sk_contact_aligned_hit(r, fk, sk_contact_depth_pair(camera_depth, size, r.minor, r.p + r.dp * fk))) return 0.0;
-    }
+    for (int k = 0; k < r.count; ++k)
+        if (sk_contact_aligned_sample(camera_depth, size, r, float(k))) return 0.0;
     return 1.0;
 }
-
-#ifdef SK_CONTACT_TILE_SIZE
-// ---- The aligned march in a compute shader, from shared memory (sk_contact_shadow_tile).
-// Compute stage only (GLSL 430+): #define SK_CONTACT_TILE_SIZE (the group's side, e.g. 16) before
-// this snippet and declare layout(local_size_x = SK_CONTACT_TILE_SIZE, local_size_y =
-// SK_CONTACT_TILE_SIZE) in; one invocation per pixel. Shared memory: SK_CONTACT_TILE_TEXELS floats
-// (default 2560: 10 KiB) for the group's depth footprint (the box around every texel its marches
-// read) and 4 ints. The group loads the footprint once (each texel one texelFetch), then every
-// invocation marches in shared memory; a footprint larger than the array (long rays, rays fanning
-// out around the light's vanishing point) falls back to texelFetch for that group. Same samples,
-// same arithmetic as sk_contact_shadow_aligned: the same answer.
-#ifndef SK_CONTACT_TILE_TEXELS
-#define SK_CONTACT_TILE_TEXELS 2560
-#endif
-shared float sk_contact_tile[SK_CONTACT_TILE_TEXELS];
-shared int sk_contact_tile_box[4];  // min x, min y, max x, max y of the group's footprint
-
-// Window depth at texel-index position p: sk_contact_depth_pair's answer, its texels read from the
-// tile (the box lo .. hi) when `tiled` and inside it, else from the texture.
-float sk_contact_tile_pair(sampler2D camera_depth, ivec2 size, ivec2 minor, vec2 p, bool tiled, ivec2 lo, ivec2 hi) {
-    if (any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(size - 1)))) return -1.0;
-    vec2 fl = floor(p);
-    ivec2 t0 = ivec2(fl);
-    ivec2 t1 = min(t0 + minor, size - 1);
-    float f = minor.y == 1 ? p.y - fl.y : p.x - fl.x;
-    float d0, d1;
-    if (tiled && all(greaterThanEqual(t0, lo)) && all(lessThanEqual(t1, hi))) {
-        int tw = hi.x - lo.x + 1;
-        d0 = sk_contact_tile[(t0.y - lo.y) * tw + (t0.x - lo.x)];
-        d1 = sk_contact_tile[(t1.y - lo.y) * tw + (t1.x - lo.x)];
-    } else {
-        d0 = texelFetch(camera_depth, t0, 0).r;
-        d1 = texelFetch(camera_depth, t1, 0).r;
-    }
-#ifdef SK_REVERSED_Z
-    if (!(d0 > 0.0 && d0 <= 1.0 && d1 > 0.0 && d1 <= 1.0)) return -1.0;  // no surface, background (0)
-#else
-    if (!(d0 >= 0.0 && d0 < 1.0 && d1 >= 0.0 && d1 < 1.0)) return -1.0;  // no surface, background (1)
-#endif
-    return d0 + (d1 - d0) * f;
-}
-
-// Loads the group's footprint into sk_contact_tile: `marching` invocations add the box of the texels
-// their march reads (r from sk_contact_aligned_setup). Call from every invocation of the group
-// (uniform control flow: it has barriers). Returns the box in lo / hi; true when it fits the tile.
-bool sk_contact_tile_load(sampler2D camera_depth, ivec2 size, SkContactAligned r, bool marching, out ivec2 lo, out ivec2 hi) {
-    if (gl_LocalInvocationIndex == 0u) {
-        sk_contact_tile_box[0] = size.x;
-        sk_contact_tile_box[1] = size.y;
-        sk_contact_tile_box[2] = -1;
-        sk_contact_tile_box[3] = -1;
-    }
-    barrier();
-    if (marching) {
-        vec2 pa = r.p;
-        vec2 pb = r.p + r.dp * float(r.count - 1);
-        ivec2 blo = max(ivec2(floor(min(pa, pb))), ivec2(0));
-        ivec2 bhi = min(ivec2(floor(max(pa, pb))) + r.minor, size - 1);
-        atomicMin(sk_contact_tile_box[0], blo.x);
-        atomicMin(sk_contact_tile_box[1], blo.y);
-        atomicMax(sk_contact_tile_box[2], bhi.x);
-        atomicMax(sk_contact_tile_box[3], bhi.y);
-    }
-    barrier();
-    lo = ivec2(sk_contact_tile_box[0], sk_contact_tile_box[1]);
-    hi = ivec2(sk_contact_tile_box[2], sk_contact_tile_box[3]);
-    ivec2 extent = max(hi - lo + 1, ivec2(0));
-    int texels = extent.x * extent.y;
-    bool fits = texels > 0 && texels <= SK_CONTACT_TILE_TEXELS;
-    if (fits) {
-        int n = SK_CONTACT_TILE_SIZE * SK_CONTACT_TILE_SIZE;  // the group's invocations
-        for (int i = int(gl_LocalInvocationIndex); i < texels; i += n)
-            sk_contact_tile[i] = texelFetch(camera_depth, lo + ivec2(i % extent.x, i / extent.x), 0).r;
-    }
-    barrier();
-    return fits;
-}
-
-// Contact-shadow visibility (1 lit, 0 occluded), sk_contact_shadow_aligned's answer, marched in the
-// group's shared tile. Call from every invocation of the group (it has barriers); `receiver` false for
-// invocations without one (outside the image, background): they help load and return 1.0.
-float sk_contact_shadow_tile(sampler2D camera_depth, mat4 proj, vec3 view_pos, vec4 light_position,
-                             float length_world, int max_steps, float thickness_world, float depth_step,
-                             bool zero_to_one, float jitter, bool receiver) {
-    ivec2 size = textureSize(camera_depth, 0);
-    SkContactAligned r;
-    bool marching = receiver && sk_contact_aligned_setup(size, proj, view_pos, light_position, length_world, max_steps,
-                                                         thickness_world, depth_step, zero_to_one, jitter, r);
-    ivec2 lo, hi;
-    bool tiled = sk_contact_tile_load(camera_depth, size, r, marching, lo, hi);
-    if (!marching) return 1.0;
-    for (int k = 0; k < r.count; ++k) {
-        float fk = float(k);
-        if (sk_contact_aligned_hit(r, fk, sk_contact_tile_pair(camera_depth, size, r.minor, r.p + r.dp * fk, tiled, lo, hi)))
-            return 0.0;
-    }
-    return 1.0;
-}
-#endif  // SK_CONTACT_TILE_SIZE

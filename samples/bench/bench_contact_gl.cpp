@@ -15,13 +15,11 @@
 //             pixels at the receiver, max_steps 32, thickness a tenth of the length, depth_step 0
 //             (float32), interleaved-gradient jitter
 //   aligned N sk_contact_shadow_aligned, the same length / thickness / jitter, max_steps N
-//   tile N    sk_contact_shadow_tile in a compute shader (SK_CONTACT_TILE_SIZE x
-//             SK_CONTACT_TILE_SIZE groups, the group's depth footprint in shared memory), max_steps N
 // Timing: every frame is one pass closed by glFinish and timed with steady_clock (on llvmpipe GL
 // timer queries mean nothing); 3 warm-up frames per pass, then --frames rounds (default 15) in which
 // every pass runs once, in a rotating order (the machine is shared: within a round all passes see
 // the same load); the median per pass. Before timing, every variant's image is compared with `old`
-// (pixels with the same visibility) and the tile passes with their aligned twin (must be equal).
+// (pixels with the same visibility).
 #include <shadowkit/contact_shadow.hpp>
 
 #include "gl.hpp"
@@ -36,6 +34,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <functional>
 #include <string>
 #include <vector>
@@ -112,41 +111,6 @@ void main() {
 )";
 
 
-const char* kExpFS = R"(
-out float o_v;
-float exp_march(vec3 vp, float len) {
-    ivec2 size = textureSize(u_depth, 0);
-    SkContactAligned r;
-    if (!sk_contact_aligned_setup(size, u_proj, vp, u_view_light, len, u_steps, 0.1 * len, 0.0, false, sk_contact_noise(gl_FragCoord.xy), r))
-        return 1.0;
-    EXP_BODY
-    return 1.0;
-}
-void main() {
-    ivec2 px = ivec2(gl_FragCoord.xy);
-    float win = texelFetch(u_depth, px, 0).r;
-    vec3 vp = sk_contact_view_position(u_inv_proj, textureSize(u_depth, 0), px, win, false);
-    float len = u_pixels * pixel_world(vp);
-    o_v = exp_march(vp, len);
-}
-)";
-const char* kTileCS = R"(
-layout(local_size_x = SK_CONTACT_TILE_SIZE, local_size_y = SK_CONTACT_TILE_SIZE) in;
-layout(r32f, binding = 0) writeonly uniform image2D u_out;
-void main() {
-    ivec2 size = textureSize(u_depth, 0);
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    bool inside = all(lessThan(px, size));
-    ivec2 pc = min(px, size - 1);
-    float win = texelFetch(u_depth, pc, 0).r;
-    vec3 vp = sk_contact_view_position(u_inv_proj, size, pc, win, false);
-    float len = u_pixels * pixel_world(vp);
-    float v = sk_contact_shadow_tile(u_depth, u_proj, vp, u_view_light, len, u_steps, 0.1 * len, 0.0, false,
-                                     sk_contact_noise(vec2(pc) + 0.5), inside && win != 1.0);
-    if (inside) imageStore(u_out, px, vec4(v));
-}
-)";
-
 struct Mesh {
     std::vector<float> pos;
     std::vector<std::uint32_t> idx;
@@ -170,8 +134,15 @@ struct Pass {
     bool compute = false;
     int steps = 0;
     std::vector<float> image;
-    std::vector<double> ms;
+    std::vector<double> ms;   // wall (steady_clock)
+    std::vector<double> cpu;  // the process's CPU time (llvmpipe's threads are ours)
 };
+
+double cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -227,20 +198,10 @@ int main(int argc, char** argv) {
     const std::string head = std::string("#version 450 core\n") + contact + pcf + kCommon;
     auto fragment = [&](const char* body) { return skgl::compile_program({{GL_VERTEX_SHADER, kPassVS}, {GL_FRAGMENT_SHADER, head + body}}, log); };
     std::vector<Pass> passes;
-    passes.push_back({"empty", fragment(kEmptyFS), false, 0, {}, {}});
-    passes.push_back({"pcf16", fragment(kPcfFS), false, 0, {}, {}});
-    passes.push_back({"old 32", fragment(kOldFS), false, 32, {}, {}});
-    for (int n : {16, 8}) passes.push_back({"aligned " + std::to_string(n), fragment(kAlignedFS), false, n, {}, {}});
-    auto expfs = [&](const char* body) {
-        return skgl::compile_program({{GL_VERTEX_SHADER, kPassVS}, {GL_FRAGMENT_SHADER, head + "#define EXP_BODY " + body + "\n" + kExpFS}}, log);
-    };
-    passes.push_back({"exp setup", expfs("if (r.count > 300) return 0.0;"), false, 8, {}, {}});
-    passes.push_back({"exp 8 nofetch", expfs("for (int k = 0; k < r.count; ++k) { float fk = float(k); vec2 p = r.p + r.dp * fk; if (sk_contact_aligned_hit(r, fk, p.x * 1e-4 + p.y * 1e-5)) return 0.0; }"), false, 8, {}, {}});
-    passes.push_back({"exp 8 1fetch", expfs("for (int k = 0; k < r.count; ++k) { float fk = float(k); vec2 p = r.p + r.dp * fk; if (sk_contact_aligned_hit(r, fk, texelFetch(u_depth, ivec2(p + 0.5), 0).r)) return 0.0; }"), false, 8, {}, {}});
-    passes.push_back({"exp 8 fetchonly", expfs("float acc = 0.0; for (int k = 0; k < r.count; ++k) { vec2 p = r.p + r.dp * float(k); acc += texelFetch(u_depth, ivec2(p), 0).r; } if (acc < 0.5) return 0.0;"), false, 8, {}, {}});
-    passes.push_back({"exp 8 fixed", expfs("bool h = false; for (int k = 0; k < 8; ++k) { float fk = float(k); vec2 p = r.p + r.dp * fk; h = h || (k < r.count && sk_contact_aligned_hit(r, fk, sk_contact_depth_pair(u_depth, size, r.minor, p))); } if (h) return 0.0;"), false, 8, {}, {}});
-    const GLuint tile_prog = skgl::compile_program({{GL_COMPUTE_SHADER, std::string("#version 450 core\n#define SK_CONTACT_TILE_SIZE 16\n") + contact + kCommon + kTileCS}}, log);
-    for (int n : {16, 8}) passes.push_back({"tile " + std::to_string(n), tile_prog, true, n, {}, {}});
+    passes.push_back({"empty", fragment(kEmptyFS), false, 0, {}, {}, {}});
+    passes.push_back({"pcf16", fragment(kPcfFS), false, 0, {}, {}, {}});
+    passes.push_back({"old 32", fragment(kOldFS), false, 32, {}, {}, {}});
+    for (int n : {16, 8}) passes.push_back({"aligned " + std::to_string(n), fragment(kAlignedFS), false, n, {}, {}, {}});
     for (const Pass& p : passes)
         if (!p.prog) {
             std::fprintf(stderr, "%s: %s\n", p.name.c_str(), log.c_str());
@@ -345,6 +306,7 @@ int main(int argc, char** argv) {
                 p.image = skgl::read_color_float(out, 0, 1);
             }
             p.ms.clear();
+            p.cpu.clear();
             for (int w = 0; w < 2; ++w) {
                 run(p);
                 glFinish();
@@ -358,14 +320,16 @@ int main(int argc, char** argv) {
         for (int r = 0; r < frames; ++r)
             for (std::size_t q = 0; q < passes.size(); ++q) {
                 Pass& p = passes[(q + std::size_t(r)) % passes.size()];
+                const double c0 = cpu_ms();
                 const auto t0 = std::chrono::steady_clock::now();
                 run(p);
                 glFinish();
                 p.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                p.cpu.push_back(cpu_ms() - c0);
             }
-        const double pcf_ms = median(passes[1].ms), empty_ms = median(passes[0].ms);
+        const double pcf_ms = median(passes[1].ms), empty_ms = median(passes[0].ms), pcf_cpu = median(passes[1].cpu);
         std::printf("\n%dx%d (%zu background pixels), contact length 16 pixels:\n", W, H, background);
-        std::printf("| pass | median ms | / pcf16 | (ms - empty) / (pcf16 - empty) | occluded | = old |\n|---|---:|---:|---:|---:|---:|\n");
+        std::printf("| pass | median ms | / pcf16 | (ms - empty) / (pcf16 - empty) | CPU ms | CPU / pcf16 | occluded | = old |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
         const std::vector<float>& old = passes[2].image;
         for (const Pass& p : passes) {
             const double ms = median(p.ms);
@@ -374,8 +338,9 @@ int main(int argc, char** argv) {
                 occ += p.image[k] == 0.0f;
                 same += p.image[k] == old[k];
             }
-            std::printf("| %s | %.2f | %.3f | %.3f | %zu | %.2f%% |\n", p.name.c_str(), ms, ms / pcf_ms,
-                        (ms - empty_ms) / (pcf_ms - empty_ms), occ, 100.0 * double(same) / double(old.size()));
+            const double cpu = median(p.cpu);
+            std::printf("| %s | %.2f | %.3f | %.3f | %.2f | %.3f | %zu | %.2f%% |\n", p.name.c_str(), ms, ms / pcf_ms,
+                        (ms - empty_ms) / (pcf_ms - empty_ms), cpu, cpu / pcf_cpu, occ, 100.0 * double(same) / double(old.size()));
         }
         for (const Pass& p : passes)
             if (p.compute)
