@@ -11,10 +11,16 @@
 //   pcf16     the world position into a 2048^2 GL_DEPTH_COMPONENT32F map (hardware compare,
 //             GL_LINEAR: every tap a 2x2 bilinear compare), sk_pcf_poisson with 16 taps of radius 3
 //             texels rotated by interleaved gradient noise
-//   old       sk_contact_shadow as samples/shadow_map runs it with contact=on: length 16 camera
+//   old       sk_contact_shadow as samples/shadow_map ran it with contact=on before the aligned march (which
+//             it now runs with max_steps 8): length 16 camera
 //             pixels at the receiver, max_steps 32, thickness a tenth of the length, depth_step 0
 //             (float32), interleaved-gradient jitter
 //   aligned N sk_contact_shadow_aligned, the same length / thickness / jitter, max_steps N
+//   half 8    an experiment, not a shipped function: aligned 8 at half resolution (one march per 2 x 2
+//             block, from its lower-left pixel; (W/2) x (H/2) pass) ...
+//   up 8      ... and its depth-aware upsample at full resolution: the block's result where the pixel's
+//             window depth is within 1% of view depth of the block pixel's, else aligned 8 at the pixel
+//             itself; the half-resolution cost is half 8 + up 8
 // Timing: every frame is one pass closed by glFinish and timed with steady_clock (on llvmpipe GL
 // timer queries mean nothing); 3 warm-up frames per pass, then --frames rounds (default 15) in which
 // every pass runs once, in a rotating order (the machine is shared: within a round all passes see
@@ -111,6 +117,35 @@ void main() {
 )";
 
 
+
+const char* kHalfFS = R"(
+out float o_v;
+void main() {
+    ivec2 rep = ivec2(gl_FragCoord.xy) * 2;
+    float win = texelFetch(u_depth, rep, 0).r;
+    vec3 vp = sk_contact_view_position(u_inv_proj, textureSize(u_depth, 0), rep, win, false);
+    float len = u_pixels * pixel_world(vp);
+    o_v = sk_contact_shadow_aligned(u_depth, u_proj, vp, u_view_light, len, u_steps, 0.1 * len, 0.0, false, sk_contact_noise(vec2(rep) + 0.5));
+}
+)";
+const char* kUpFS = R"(
+layout(binding = 2) uniform sampler2D u_half;
+out float o_v;
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    ivec2 rep = (px / 2) * 2;
+    float win = texelFetch(u_depth, px, 0).r;
+    float win_rep = texelFetch(u_depth, rep, 0).r;
+    float v = texelFetch(u_half, px / 2, 0).r;
+    vec3 vp = sk_contact_view_position(u_inv_proj, textureSize(u_depth, 0), px, win, false);
+    float tol = 0.01 * 0.5 * abs(u_proj[2][2] * u_proj[3][3] - u_proj[3][2] * u_proj[2][3]) / (-vp.z);
+    if (!(abs(win_rep - win) <= tol)) {
+        float len = u_pixels * pixel_world(vp);
+        v = sk_contact_shadow_aligned(u_depth, u_proj, vp, u_view_light, len, u_steps, 0.1 * len, 0.0, false, sk_contact_noise(gl_FragCoord.xy));
+    }
+    o_v = v;
+}
+)";
 struct Mesh {
     std::vector<float> pos;
     std::vector<std::uint32_t> idx;
@@ -202,6 +237,8 @@ int main(int argc, char** argv) {
     passes.push_back({"pcf16", fragment(kPcfFS), false, 0, {}, {}, {}});
     passes.push_back({"old 32", fragment(kOldFS), false, 32, {}, {}, {}});
     for (int n : {16, 8}) passes.push_back({"aligned " + std::to_string(n), fragment(kAlignedFS), false, n, {}, {}, {}});
+    passes.push_back({"half 8", fragment(kHalfFS), false, 8, {}, {}, {}});
+    passes.push_back({"up 8", fragment(kUpFS), false, 8, {}, {}, {}});
     for (const Pass& p : passes)
         if (!p.prog) {
             std::fprintf(stderr, "%s: %s\n", p.name.c_str(), log.c_str());
@@ -253,6 +290,8 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "target: %s\n", why.c_str());
             return 1;
         }
+        skgl::Target half;
+        if (!skgl::make_target(half, (W + 1) / 2, (H + 1) / 2, {GL_R32F}, 0, why)) return 1;
         GLuint out_tex = 0;
         glGenTextures(1, &out_tex);
         glBindTexture(GL_TEXTURE_2D, out_tex);
@@ -285,8 +324,10 @@ int main(int argc, char** argv) {
                 glDispatchCompute(GLuint((W + 15) / 16), GLuint((H + 15) / 16), 1);
                 glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             } else {
-                glBindFramebuffer(GL_FRAMEBUFFER, out.fbo);
-                glViewport(0, 0, W, H);
+                const bool h = p.name.rfind("half", 0) == 0;
+                glBindFramebuffer(GL_FRAMEBUFFER, h ? half.fbo : out.fbo);
+                glViewport(0, 0, h ? (W + 1) / 2 : W, h ? (H + 1) / 2 : H);
+                glBindTextureUnit(2, half.color[0]);
                 glDisable(GL_DEPTH_TEST);
                 glDepthMask(GL_FALSE);
                 glBindVertexArray(vao);
@@ -303,7 +344,7 @@ int main(int argc, char** argv) {
                 glPixelStorei(GL_PACK_ALIGNMENT, 1);
                 glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, p.image.data());
             } else {
-                p.image = skgl::read_color_float(out, 0, 1);
+                p.image = p.name.rfind("half", 0) == 0 ? std::vector<float>(std::size_t(W) * H, 0.0f) : skgl::read_color_float(out, 0, 1);
             }
             p.ms.clear();
             p.cpu.clear();
@@ -339,8 +380,12 @@ int main(int argc, char** argv) {
                 same += p.image[k] == old[k];
             }
             const double cpu = median(p.cpu);
-            std::printf("| %s | %.2f | %.3f | %.3f | %.2f | %.3f | %zu | %.2f%% |\n", p.name.c_str(), ms, ms / pcf_ms,
-                        (ms - empty_ms) / (pcf_ms - empty_ms), cpu, cpu / pcf_cpu, occ, 100.0 * double(same) / double(old.size()));
+            std::printf("| %s | %.2f | %.3f | %.3f | %.2f | %.3f | ", p.name.c_str(), ms, ms / pcf_ms, (ms - empty_ms) / (pcf_ms - empty_ms),
+                        cpu, cpu / pcf_cpu);
+            if (p.name.rfind("half", 0) == 0)
+                std::printf("- | - |\n");  // a half-resolution image: compared through `up 8`
+            else
+                std::printf("%zu | %.2f%% |\n", occ, 100.0 * double(same) / double(old.size()));
         }
         for (const Pass& p : passes)
             if (p.compute)
