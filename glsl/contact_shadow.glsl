@@ -262,7 +262,8 @@ bool sk_contact_aligned_setup(ivec2 size, mat4 proj, vec3 view_pos, vec4 light_p
     float stride = max(ceil(n / float(steps_max)), 1.0);
     float jit = (jitter >= 0.0) ? min(jitter, 0.999) : 0.0;
     float shift = min(floor(jit * stride), stride - 1.0);
-    r.count = min(int(floor((n + e + shift) / stride)), steps_max);
+    float q = (n + e + shift) / stride;  // in [0.5, steps_max + 1) but for overflow (inf: steps_max)
+    r.count = q < float(steps_max) ? int(floor(q)) : steps_max;
     float inv_dm = 1.0 / dm;
     float j1 = base + sgn * (stride - shift);  // the first sample's pixel along the major axis
     float u1 = (j1 - qm) * inv_dm;             // its fraction of the ray

@@ -434,7 +434,8 @@ inline CtsAligned cts_aligned_setup(int width, int height, const glm::mat4& proj
     const float stride = std::fmax(std::ceil(n / static_cast<float>(p.max_steps)), 1.0f);
     const float jit = std::fmin(p.jitter, 0.999f);
     const float shift = std::fmin(std::floor(jit * stride), stride - 1.0f);
-    r.count = std::min(static_cast<int>(std::floor((n + e + shift) / stride)), p.max_steps);
+    const float q = (n + e + shift) / stride;  // in [0.5, max_steps + 1) but for overflow (inf: max_steps)
+    r.count = q < static_cast<float>(p.max_steps) ? static_cast<int>(std::floor(q)) : p.max_steps;
     const float inv_dm = 1.0f / dm;
     const float j1 = base + sgn * (stride - shift);
     r.u1 = (j1 - qm) * inv_dm;
