@@ -9,6 +9,9 @@
 //   sk::ContactShadowResult c = sk::contact_shadow_march(depth, depth_capacity, width, height,
 //                                                        proj, view_pos, view * light_world, p);
 //   if (c.status == sk::Status::Ok) v = v_shadow_map * c.visibility;   // compose with any shadow map
+//   // the pixel-aligned march (the GLSL's sk_contact_shadow_aligned, 2.2-3.4x cheaper on llvmpipe):
+//   sk::ContactShadowResult a = sk::contact_shadow_march_aligned(depth, depth_capacity, width, height,
+//                                                                proj, view_pos, view * light_world, p);
 //   sk::ContactShadowDerived d = sk::contact_shadow_derive(width, height, proj, view_pos, light_view, p);
 //   // d.steps, d.bias_world, d.thickness_world, d.depth_step_window: what the march uses here
 //
