@@ -9,6 +9,9 @@
 //   sk::ContactShadowResult c = sk::contact_shadow_march(depth, depth_capacity, width, height,
 //                                                        proj, view_pos, view * light_world, p);
 //   if (c.status == sk::Status::Ok) v = v_shadow_map * c.visibility;   // compose with any shadow map
+//   // the pixel-aligned march (the GLSL's sk_contact_shadow_aligned, 2.2-3.4x cheaper on llvmpipe):
+//   sk::ContactShadowResult a = sk::contact_shadow_march_aligned(depth, depth_capacity, width, height,
+//                                                                proj, view_pos, view * light_world, p);
 //   sk::ContactShadowDerived d = sk::contact_shadow_derive(width, height, proj, view_pos, light_view, p);
 //   // d.steps, d.bias_world, d.thickness_world, d.depth_step_window: what the march uses here
 //
@@ -377,6 +380,135 @@ inline ContactShadowResult contact_shadow_march(const float* depth, std::size_t 
     r.steps = s.steps;
     r.status = Status::Ok;
     return r;
+}
+
+namespace detail {
+// The pixel-aligned march's state (sk_contact_aligned_setup in the GLSL; the same float arithmetic,
+// operation for operation). Sample k (0 .. count - 1) is at texel-index position p + k dp.
+struct CtsAligned {
+    Status status = Status::NotRun;
+    glm::vec2 p{0.0f}, dp{0.0f};      // first sample (whole pixel along the major axis), one step
+    float win = 0.0f, dwin = 0.0f;    // the ray's window depth at the first sample, per step
+    float iw = 0.0f, diw = 0.0f;      // the ray's 1 / clip w at the first sample, per step
+    float thick_k = 0.0f;             // thickness * s |a d - b c|
+    float bias_k = 0.0f;              // 4 depth steps
+    bool xmajor = true;               // x is the major axis (the minor axis is y)
+    int count = 0;                    // samples (0: nothing to march)
+    float u1 = 0.0f, du = 0.0f;       // screen fraction of the first sample, of one step
+    float w0 = 0.0f, w1 = 0.0f, length = 0.0f;  // clip w at the ends, the clipped 3D length
+};
+inline CtsAligned cts_aligned_setup(int width, int height, const glm::mat4& proj, glm::vec3 view_pos,
+                                    glm::vec4 light_position, const ContactShadowParams& p) {
+    CtsAligned r;
+    const CtsSetup s = cts_setup(width, height, proj, view_pos, light_position, p);  // validation, statuses
+    r.status = s.status;
+    if (s.status != Status::Ok) return r;
+    const bool zo = p.clip_depth == ClipDepth::ZeroToOne;
+    const float det = proj[2][2] * proj[3][3] - proj[3][2] * proj[2][3];
+    const glm::vec4 L = light_position;
+    const glm::vec3 to_light = L.w > 0.0f ? glm::vec3(L) * (1.0f / L.w) - view_pos : glm::vec3(L);
+    const float m = std::fmax(std::fabs(to_light.x), std::fmax(std::fabs(to_light.y), std::fabs(to_light.z)));
+    const glm::vec3 scaled = to_light * (1.0f / m);
+    const float sl = std::sqrt(scaled.x * scaled.x + scaled.y * scaled.y + scaled.z * scaled.z);
+    const float len = L.w > 0.0f ? std::fmin(p.length_world, m * sl) : p.length_world;
+    const glm::vec4 c0 = proj * glm::vec4(view_pos, 1.0f);
+    glm::vec4 c1 = c0 + proj * glm::vec4(scaled * (len / sl), 0.0f);
+    const float f0 = cts_near(c0, zo, p.reversed_z), f1 = cts_near(c1, zo, p.reversed_z);
+    float t_end = f1 < 0.0f ? f0 / (f0 - f1) : 1.0f;  // near plane and w = 0 only
+    if (c1.w < 0.0f) t_end = std::fmin(t_end, c0.w / (c0.w - c1.w));
+    c1 = c0 + (c1 - c0) * t_end;
+    const float iw0 = 1.0f / c0.w, iw1 = 1.0f / c1.w;
+    const glm::vec2 fs(static_cast<float>(width), static_cast<float>(height));
+    const glm::vec2 q0 = (glm::vec2(c0.x, c0.y) * iw0 * 0.5f + 0.5f) * fs - 0.5f;
+    const glm::vec2 dq = (glm::vec2(c1.x, c1.y) * iw1 * 0.5f + 0.5f) * fs - 0.5f - q0;
+    const float win0 = zo ? c0.z * iw0 : c0.z * iw0 * 0.5f + 0.5f;
+    const float dwin = (zo ? c1.z * iw1 : c1.z * iw1 * 0.5f + 0.5f) - win0;
+    const float diw = iw1 - iw0;
+    r.xmajor = std::fabs(dq.x) >= std::fabs(dq.y);
+    const float qm = r.xmajor ? q0.x : q0.y, dm = r.xmajor ? dq.x : dq.y, n = std::fabs(dm);
+    r.w0 = c0.w;
+    r.w1 = c1.w;
+    r.length = len * t_end;
+    if (!(n >= 1.0f) || !std::isfinite(n) || !std::isfinite(dq.x + dq.y) || !std::isfinite(dwin) || !std::isfinite(diw))
+        return r;  // the ray stays within a pixel of its receiver: no samples (Ok, lit)
+    const float base = std::floor(qm + 0.5f);
+    const float sgn = dm > 0.0f ? 1.0f : -1.0f;
+    const float e = (qm - base) * sgn;
+    const float stride = std::fmax(std::ceil(n / static_cast<float>(p.max_steps)), 1.0f);
+    const float jit = std::fmin(p.jitter, 0.999f);
+    const float shift = std::fmin(std::floor(jit * stride), stride - 1.0f);
+    const float q = (n + e + shift) / stride;  // in [0.5, max_steps + 1) but for overflow (inf: max_steps)
+    r.count = q < static_cast<float>(p.max_steps) ? static_cast<int>(std::floor(q)) : p.max_steps;
+    const float inv_dm = 1.0f / dm;
+    const float j1 = base + sgn * (stride - shift);
+    r.u1 = (j1 - qm) * inv_dm;
+    r.du = sgn * stride * inv_dm;
+    r.p = r.xmajor ? glm::vec2(j1, q0.y + dq.y * r.u1) : glm::vec2(q0.x + dq.x * r.u1, j1);
+    r.dp = r.xmajor ? glm::vec2(sgn * stride, dq.y * r.du) : glm::vec2(dq.x * r.du, sgn * stride);
+    r.win = win0 + dwin * r.u1;
+    r.dwin = dwin * r.du;
+    r.iw = iw0 + diw * r.u1;
+    r.diw = diw * r.du;
+    const float thickness = p.thickness_world > 0.0f ? p.thickness_world : p.length_world;
+    r.thick_k = thickness * ((zo ? 1.0f : 0.5f) * std::fabs(det));
+    r.bias_k = 4.0f * s.depth_step;
+    return r;
+}
+// Sample k of the aligned march (sk_contact_aligned_sample): true on a hit.
+inline bool cts_aligned_sample(const float* depth, int width, int height, const CtsAligned& r, float k, bool reversed_z) {
+    const glm::vec2 p = r.p + r.dp * k;
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x <= static_cast<float>(width - 1) && p.y <= static_cast<float>(height - 1)))
+        return false;
+    const float flx = std::floor(p.x), fly = std::floor(p.y);
+    const int x0 = static_cast<int>(flx), y0 = static_cast<int>(fly);
+    const int x1 = r.xmajor ? x0 : std::min(x0 + 1, width - 1);
+    const int y1 = r.xmajor ? std::min(y0 + 1, height - 1) : y0;
+    const float f = r.xmajor ? p.y - fly : p.x - flx;
+    const std::size_t w = static_cast<std::size_t>(width);
+    const float d0 = depth[static_cast<std::size_t>(y0) * w + static_cast<std::size_t>(x0)];
+    const float d1 = depth[static_cast<std::size_t>(y1) * w + static_cast<std::size_t>(x1)];
+    const float win_buf = d0 + (d1 - d0) * f;
+    const float win_ray = r.win + r.dwin * k;
+    const float iw = r.iw + r.diw * k;
+    const float diff = reversed_z ? win_buf - win_ray : win_ray - win_buf;
+    const bool surface = reversed_z ? (d0 > 0.0f && d0 <= 1.0f && d1 > 0.0f && d1 <= 1.0f)
+                                    : (d0 >= 0.0f && d0 < 1.0f && d1 >= 0.0f && d1 < 1.0f);
+    return surface && diff > r.bias_k + 9.53674316e-7f * win_buf && diff < r.thick_k * (iw * iw);
+}
+} // namespace detail
+
+/// Contact-shadow visibility with the pixel-aligned march, the CPU mirror of
+/// sk_contact_shadow_aligned (glsl/contact_shadow.glsl; docs/contact_shadow.md measures it against
+/// contact_shadow_march). Same inputs, statuses and result as contact_shadow_march; what differs is
+/// where it samples and how it compares (the GLSL's comment derives it): samples on whole pixels of
+/// the ray's major screen axis, every stride = ceil(major pixels / max_steps) pixels, starting at the
+/// first pixel past the receiver's (moved back int(jitter * stride) pixels); the depth of the two
+/// texels around the ray in that column (row), interpolated along the minor axis (exact on planes);
+/// a hit when bias < window_ray - window_buffer < thickness * d(window)/dz at the ray's depth, bias =
+/// 4 depth steps + 2^-20 window (reversed-Z: the difference the other way). The ray is clipped at the
+/// near plane and w = 0 only; samples off screen find no surface. `steps` = the samples it takes,
+/// `hit_distance_world` the hit sample's distance along the 3D ray. No allocation.
+inline ContactShadowResult contact_shadow_march_aligned(const float* depth, std::size_t depth_capacity, int width, int height,
+                                                        const glm::mat4& proj, glm::vec3 view_pos, glm::vec4 light_position,
+                                                        const ContactShadowParams& params) {
+    ContactShadowResult res;
+    const detail::CtsAligned r = detail::cts_aligned_setup(width, height, proj, view_pos, light_position, params);
+    if (r.status != Status::Ok) { res.status = r.status; return res; }
+    res.needed = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    if (depth == nullptr) { res.status = Status::InvalidArgument; return res; }
+    if (depth_capacity < res.needed) { res.status = Status::BufferTooSmall; return res; }
+    for (int k = 0; k < r.count; ++k) {
+        if (!detail::cts_aligned_sample(depth, width, height, r, static_cast<float>(k), params.reversed_z)) continue;
+        const float u = r.u1 + r.du * static_cast<float>(k);  // screen fraction -> 3D fraction (1/w affine)
+        const float t = u * r.w0 / ((1.0f - u) * r.w1 + u * r.w0);
+        res.hit = true;
+        res.visibility = 0.0f;
+        res.hit_distance_world = std::isfinite(t) ? std::fmax(r.length * t, 0.0f) : 0.0f;
+        break;
+    }
+    res.steps = r.count;
+    res.status = Status::Ok;
+    return res;
 }
 
 } // namespace shadowkit

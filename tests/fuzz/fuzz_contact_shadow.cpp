@@ -1,5 +1,6 @@
-// libFuzzer target for include/shadowkit/contact_shadow.hpp: contact_shadow_derive and
-// contact_shadow_march with a fuzzer-chosen depth buffer (raw floats: NaN, Inf, outside [0, 1]),
+// libFuzzer target for include/shadowkit/contact_shadow.hpp: contact_shadow_derive,
+// contact_shadow_march and contact_shadow_march_aligned (the same status, the same invariants but the
+// step count, which derive describes for contact_shadow_march only) with a fuzzer-chosen depth buffer (raw floats: NaN, Inf, outside [0, 1]),
 // sizes and capacities (the buffer is never smaller than the capacity claimed), projections (a
 // GL/zero-to-one, reversed, infinite or raw matrix), receivers, lights and params (raw bits or
 // mostly-sane values, invalid enums). Invariants trap on violation: no result says NotRun; Ok only
@@ -81,6 +82,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     } else {
         check(m.visibility == 1.0f && !m.hit);
         if (m.status == Status::BufferTooSmall) check(m.needed == cells && capacity < cells);
+    }
+    const ContactShadowResult a =
+        contact_shadow_march_aligned(null_depth ? nullptr : depth.data(), capacity, width, height, proj, vp, light, p);
+    check(a.status == m.status);
+    if (a.status == Status::Ok) {
+        check(a.visibility == 0.0f || a.visibility == 1.0f);
+        check(a.hit == (a.visibility == 0.0f));
+        check(std::isfinite(a.hit_distance_world) && a.hit_distance_world >= 0.0f);
+        check(a.hit_distance_world <= p.length_world * 1.001f);
+        check(a.steps >= 0 && a.steps <= p.max_steps);
+        check(a.needed == cells);
+    } else {
+        check(a.visibility == 1.0f && !a.hit);
     }
     return 0;
 }

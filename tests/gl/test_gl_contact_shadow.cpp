@@ -9,7 +9,10 @@
 //      on the analytic box, shrunk by a margin) are occluded on the GPU, and floor pixels whose ray
 //      the camera sees clear of the box (grown by a margin) everywhere are lit;
 //  (c) the same function in a compute shader (8 x 8 groups, imageStore) gives the same image; the
-//      fragment and compute passes are timed (glFinish + steady_clock medians; printed, not asserted).
+//      fragment and compute passes are timed (glFinish + steady_clock medians; printed, not asserted);
+//  (d) the pixel-aligned march (sk_contact_shadow_aligned), at 48 steps and at 8 with jitter 0.5,
+//      equals its CPU mirror contact_shadow_march_aligned on >= 99.9% of the pixels and passes (b)'s
+//      box checks (its cost: samples/bench/bench_contact_gl.cpp, docs/contact_shadow.md).
 #include <doctest/doctest.h>
 
 #include <shadowkit/contact_shadow.hpp>
@@ -54,12 +57,16 @@ uniform vec4 u_view_light;
 uniform float u_length;
 uniform int u_steps;
 uniform float u_depth_step;
+uniform bool u_aligned;
+uniform float u_jitter;
 float contact_at(ivec2 px) {
     ivec2 size = textureSize(u_depth, 0);
     float win = texelFetch(u_depth, px, 0).r;
     if (win == 1.0) return -1.0;  // background
     vec3 view_pos = sk_contact_view_position(u_inv_proj, size, px, win, false);
-    return sk_contact_shadow(u_depth, u_proj, view_pos, u_view_light, u_length, u_steps, 0.0, u_depth_step, false, 0.0);
+    if (u_aligned)
+        return sk_contact_shadow_aligned(u_depth, u_proj, view_pos, u_view_light, u_length, u_steps, 0.0, u_depth_step, false, u_jitter);
+    return sk_contact_shadow(u_depth, u_proj, view_pos, u_view_light, u_length, u_steps, 0.0, u_depth_step, false, u_jitter);
 }
 )";
 const char* kPassFS = R"(
@@ -102,6 +109,60 @@ void add_quad(std::vector<float>& pos, std::vector<std::uint32_t>& idx, glm::vec
 }
 
 GLint U(GLuint p, const char* n) { return glGetUniformLocation(p, n); }
+
+using MarchFn = shadowkit::ContactShadowResult (*)(const float*, std::size_t, int, int, const glm::mat4&, glm::vec3, glm::vec4,
+                                                   const shadowkit::ContactShadowParams&);
+
+// What one GPU image says against the CPU mirror `cpu` on the same read-back depth and, independent of
+// both, against the analytic box (floor receivers only).
+struct Verdict {
+    std::size_t fg = 0, agree = 0, occluded = 0, background_ok = 0, background = 0;
+    std::size_t ref_occ = 0, ref_occ_ok = 0, ref_lit = 0, ref_lit_ok = 0;
+};
+Verdict verify(const std::vector<float>& gpu, const std::vector<float>& depth, MarchFn cpu, const shadowkit::ContactShadowParams& prm,
+               const glm::mat4& proj, const glm::mat4& view, glm::vec4 view_light, const Box& box, glm::dvec3 eye, glm::dvec3 sun_dir) {
+    Verdict v;
+    const glm::mat4 inv_proj = glm::inverse(proj), inv_view = glm::inverse(view);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const std::size_t k = std::size_t(y) * kW + std::size_t(x);
+            const float win = depth[k];
+            if (win == 1.0f) {
+                ++v.background;
+                v.background_ok += gpu[k] == -1.0f;
+                continue;
+            }
+            ++v.fg;
+            const glm::vec2 ndc_xy = (glm::vec2(float(x), float(y)) + 0.5f) / glm::vec2(float(kW), float(kH)) * 2.0f - 1.0f;
+            const glm::vec4 c = inv_proj * glm::vec4(ndc_xy, win * 2.0f - 1.0f, 1.0f);
+            const glm::vec3 vp = glm::vec3(c) / c.w;
+            const shadowkit::ContactShadowResult m = cpu(depth.data(), depth.size(), kW, kH, proj, vp, view_light, prm);
+            if (m.status != shadowkit::Status::Ok) continue;  // counted as a disagreement
+            v.agree += m.visibility == gpu[k];
+            v.occluded += gpu[k] == 0.0f;
+            const glm::dvec3 w(glm::vec3(inv_view * glm::vec4(vp, 1.0f)));
+            if (std::fabs(w.y) > 1e-3) continue;
+            const double margin = 0.06, L = prm.length_world;
+            const Box small{box.lo + margin, box.hi - margin}, big{box.lo - margin, box.hi + margin};
+            const double t_in = hit_box(small, w, sun_dir);
+            if (t_in > 0.08 && t_in < L - 0.05) {
+                ++v.ref_occ;
+                v.ref_occ_ok += gpu[k] == 0.0f;
+                continue;
+            }
+            bool near = false;
+            for (int i = 0; i <= 200 && !near; ++i) {
+                const glm::dvec3 q = w + (L * i / 200.0) * sun_dir;
+                near = hit_box(big, eye, q - eye) < 1.0;
+            }
+            if (!near) {
+                ++v.ref_lit;
+                v.ref_lit_ok += gpu[k] == 1.0f;
+            }
+        }
+    return v;
+}
+
 
 }  // namespace
 
@@ -163,6 +224,8 @@ TEST_CASE("contact shadows: the GLSL pass equals the CPU mirror on the read-back
         shadowkit::contact_shadow_derive(kW, kH, proj, glm::vec3(0, 0, -3), view_light, prm);
     REQUIRE(dv.status == shadowkit::Status::Ok);
 
+    bool aligned = false;
+    float jitter = 0.0f;
     auto set_uniforms = [&](GLuint p) {
         glUseProgram(p);
         glActiveTexture(GL_TEXTURE0);
@@ -174,6 +237,8 @@ TEST_CASE("contact shadows: the GLSL pass equals the CPU mirror on the read-back
         glUniform1f(U(p, "u_length"), prm.length_world);
         glUniform1i(U(p, "u_steps"), prm.max_steps);
         glUniform1f(U(p, "u_depth_step"), dv.depth_step_window);
+        glUniform1i(U(p, "u_aligned"), aligned ? 1 : 0);
+        glUniform1f(U(p, "u_jitter"), jitter);
     };
     auto fragment_pass = [&]() {
         glBindFramebuffer(GL_FRAMEBUFFER, out_t.fbo);
@@ -191,57 +256,49 @@ TEST_CASE("contact shadows: the GLSL pass equals the CPU mirror on the read-back
     const std::vector<float> gpu = skgl::read_color_float(out_t, 0, 1);
     REQUIRE(skgl::gl_error_string().empty());
 
-    // (a) the CPU mirror on the read-back buffer, view position rebuilt as the GLSL does
-    std::size_t fg = 0, agree = 0, occluded = 0;
-    const glm::mat4 inv_view = glm::inverse(view);
-    std::size_t ref_occ = 0, ref_occ_ok = 0, ref_lit = 0, ref_lit_ok = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            const std::size_t k = std::size_t(y) * kW + std::size_t(x);
-            const float win = depth[k];
-            if (win == 1.0f) {
-                CHECK(gpu[k] == -1.0f);
-                continue;
-            }
-            ++fg;
-            const glm::vec2 ndc_xy = (glm::vec2(float(x), float(y)) + 0.5f) / glm::vec2(float(kW), float(kH)) * 2.0f - 1.0f;
-            const glm::vec4 v = inv_proj * glm::vec4(ndc_xy, win * 2.0f - 1.0f, 1.0f);
-            const glm::vec3 vp = glm::vec3(v) / v.w;
-            const shadowkit::ContactShadowResult c =
-                shadowkit::contact_shadow_march(depth.data(), depth.size(), kW, kH, proj, vp, view_light, prm);
-            REQUIRE(c.status == shadowkit::Status::Ok);
-            agree += c.visibility == gpu[k];
-            occluded += gpu[k] == 0.0f;
-            // (b) floor receivers against the analytic box
-            const glm::dvec3 w(glm::vec3(inv_view * glm::vec4(vp, 1.0f)));
-            if (std::fabs(w.y) > 1e-3) continue;
-            const double margin = 0.06, L = prm.length_world;
-            const Box small{box.lo + margin, box.hi - margin}, big{box.lo - margin, box.hi + margin};
-            const double t_in = hit_box(small, w, sun_dir);
-            if (t_in > 0.08 && t_in < L - 0.05) {
-                ++ref_occ;
-                ref_occ_ok += gpu[k] == 0.0f;
-                continue;
-            }
-            bool near = false;
-            for (int i = 0; i <= 200 && !near; ++i) {
-                const glm::dvec3 q = w + (L * i / 200.0) * sun_dir;
-                near = hit_box(big, eye, q - eye) < 1.0;
-            }
-            if (!near) {
-                ++ref_lit;
-                ref_lit_ok += gpu[k] == 1.0f;
-            }
-        }
-    MESSAGE("pixels with a surface " << fg << ", GPU == CPU mirror on " << agree << " (" << 100.0 * double(agree) / double(fg)
-                                     << "%), occluded " << occluded << "; floor through the box: " << ref_occ_ok << " of "
-                                     << ref_occ << " occluded; floor clear of it: " << ref_lit_ok << " of " << ref_lit << " lit");
-    CHECK(fg > std::size_t(kW * kH / 2));
-    CHECK(double(agree) >= 0.999 * double(fg));
-    CHECK(ref_occ > 300);
-    CHECK(ref_occ_ok == ref_occ);
-    CHECK(ref_lit > 10000);
-    CHECK(ref_lit_ok == ref_lit);
+    // (a) the CPU mirror on the read-back buffer, view position rebuilt as the GLSL does; (b) the box
+    const Verdict v = verify(gpu, depth, shadowkit::contact_shadow_march, prm, proj, view, view_light, box, eye, sun_dir);
+    MESSAGE("pixels with a surface " << v.fg << ", GPU == CPU mirror on " << v.agree << " (" << 100.0 * double(v.agree) / double(v.fg)
+                                     << "%), occluded " << v.occluded << "; floor through the box: " << v.ref_occ_ok << " of "
+                                     << v.ref_occ << " occluded; floor clear of it: " << v.ref_lit_ok << " of " << v.ref_lit << " lit");
+    CHECK(v.background_ok == v.background);
+    CHECK(v.fg > std::size_t(kW * kH / 2));
+    CHECK(double(v.agree) >= 0.999 * double(v.fg));
+    CHECK(v.ref_occ > 300);
+    CHECK(v.ref_occ_ok == v.ref_occ);
+    CHECK(v.ref_lit > 10000);
+    CHECK(v.ref_lit_ok == v.ref_lit);
+
+    // (d) the pixel-aligned march (sk_contact_shadow_aligned) against its CPU mirror and the box, one
+    //     sample per pixel (48 steps) and every 4th pixel or so (8 steps, jitter 0.5: stride > 1)
+    aligned = true;
+    for (int steps : {48, 8}) {
+        shadowkit::ContactShadowParams pa = prm;
+        pa.max_steps = steps;
+        pa.jitter = jitter = steps == 8 ? 0.5f : 0.0f;
+        glUseProgram(pass_prog);
+        glUniform1i(U(pass_prog, "u_steps"), steps);
+        const int saved = prm.max_steps;
+        prm.max_steps = steps;
+        fragment_pass();
+        prm.max_steps = saved;
+        const std::vector<float> ga = skgl::read_color_float(out_t, 0, 1);
+        const Verdict va = verify(ga, depth, shadowkit::contact_shadow_march_aligned, pa, proj, view, view_light, box, eye, sun_dir);
+        std::size_t same_as_old = 0;
+        for (std::size_t k = 0; k < ga.size(); ++k) same_as_old += ga[k] == gpu[k];
+        MESSAGE("aligned, max_steps " << steps << ": GPU == CPU mirror on " << va.agree << " of " << va.fg << ", occluded " << va.occluded
+                                      << "; floor through the box: " << va.ref_occ_ok << " of " << va.ref_occ
+                                      << " occluded; floor clear of it: " << va.ref_lit_ok << " of " << va.ref_lit
+                                      << " lit; same as sk_contact_shadow (48 steps) on " << same_as_old << " of " << ga.size());
+        CHECK(va.background_ok == va.background);
+        CHECK(double(va.agree) >= 0.999 * double(va.fg));
+        CHECK(va.ref_occ > 300);
+        CHECK(va.ref_occ_ok == va.ref_occ);
+        CHECK(va.ref_lit > 10000);
+        CHECK(va.ref_lit_ok == va.ref_lit);
+    }
+    aligned = false;
+    jitter = 0.0f;
 
     // (c) the compute version: the same image; timings
     GLuint out_tex = 0;

@@ -14,5 +14,7 @@ void main() {
     vec3 view_pos = sk_contact_view_position(u_inv_proj, size, px, win, false);
     float vc = sk_contact_shadow(u_depth, u_proj, view_pos, u_view_light, u_length, u_steps, 0.0, u_depth_step,
                                  false, sk_contact_noise(gl_FragCoord.xy));
-    o_color = vec4(vc, vc, vc, 1.0);
+    float va = sk_contact_shadow_aligned(u_depth, u_proj, view_pos, u_view_light, u_length, u_steps, 0.0, u_depth_step,
+                                         false, sk_contact_noise(gl_FragCoord.xy));
+    o_color = vec4(vc, va, vc, 1.0);
 }
