@@ -35,7 +35,8 @@
 //   Precision: whole-texel motion is certified in double; a float matrix carries 2^-24 relative
 //   round-off, which at N texels from the world origin is N * 2^-24 texels (0.38 texel at 1e5
 //   world units with 1/64-unit texels): build stable fits in double (see shadow_cache_plan).
-//   Per-frame functions never allocate.
+//   Per-frame functions never allocate, except shadow_cache_plan when a caster moved or the map
+//   scrolled (the sweep's scratch, O(moved casters); none for Keep, Render or a plain scroll).
 //
 // Based on:
 //   A. Moschig, "Apelles" master's thesis, TU Graz, sec. 4.1.2 (a shadow map is invalidated only
@@ -51,10 +52,13 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace shadowkit {
 
@@ -169,8 +173,12 @@ struct ShadowCachePlan {
     ShadowCacheCopy copy;            ///< Scroll: the region to copy (what stays on the map); zero otherwise
     std::size_t count = 0;           ///< rectangles written to `rects` (a valid prefix)
     std::size_t needed = 0;          ///< rectangles the plan needs: count when Ok; 1 with BufferTooSmall
-    std::size_t unmerged = 0;        ///< rectangles before merging to fit rect_capacity (the capacity that merges nothing)
-    std::uint64_t texels = 0;        ///< sum of the rectangles' areas: the texels re-rendered (0 for Keep)
+    std::size_t unmerged = 0;        ///< footprint rectangles (border strips, old and new footprints) before the cover was built
+    /// The rectangles are pairwise disjoint. merged false: their union is exactly the union of the
+    /// footprints; true: rect_capacity was too small for that, and footprints were merged into a
+    /// larger cover (more texels re-rendered, still disjoint).
+    bool merged = false;
+    std::uint64_t texels = 0;        ///< sum of the rectangles' areas (= the area of their union): the texels re-rendered (0 for Keep)
     /// Largest departure from a whole-texel translation of last frame's map over the map's volume, in
     /// texels (0 when the matrices are identical; a diagnostic of the motion test).
     double residual_texels = 0.0;
@@ -295,47 +303,169 @@ inline bool sc_footprint(const glm::dmat4& m, int w, int h, const float* b, Shad
     return true;
 }
 
-/// Rectangle list in the caller's buffer: adds r, merging to stay within cap (cap >= 1). Two
-/// rectangles merge for free when their bounding rectangle is no larger than both together; when
-/// the buffer is full, r merges with the rectangle whose bounding rectangle grows least.
-struct sc_rect_list {
-    ShadowCacheRect* rects;
-    std::size_t cap;
-    std::size_t count;
-    std::size_t unmerged;
-    void add(ShadowCacheRect r) {
-        if (r.width <= 0 || r.height <= 0) return;
-        ++unmerged;
-        for (;;) {
-            bool merged = false;
-            for (std::size_t i = 0; i < count; ++i) {
-                const ShadowCacheRect u = sc_union(rects[i], r);
-                if (sc_area(u) <= sc_area(rects[i]) + sc_area(r)) {
-                    r = u;
-                    rects[i] = rects[--count];
-                    merged = true;
-                    break;
-                }
-            }
-            if (merged) continue;
-            if (count < cap) {
-                rects[count++] = r;
-                return;
-            }
-            std::size_t best = 0;
-            std::uint64_t best_cost = std::numeric_limits<std::uint64_t>::max();
-            for (std::size_t i = 0; i < count; ++i) {
-                const std::uint64_t cost = sc_area(sc_union(rects[i], r)) - sc_area(rects[i]);
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best = i;
-                }
-            }
-            r = sc_union(rects[best], r);
-            rects[best] = rects[--count];
+/// Disjoint cover of a set of texel rectangles: a sweep in y over the union's cross-section (a set
+/// of x runs, kept in a segment tree over the rectangles' distinct x edges). A run that does not
+/// change is one output rectangle from the y it appeared to the y it changed (maximal vertical
+/// extension), so the output is the union exactly, as pairwise disjoint rectangles; disjoint inputs
+/// come out unchanged. O((m + k) log m) for m inputs and k outputs; stops (false) as soon as more
+/// than `cap` rectangles would be needed. Scratch: O(m) elements, kept between calls.
+struct sc_sweep {
+    struct Event {
+        int y, v, l, r;  // v = +1 (start) / -1 (end); [l, r): elementary x intervals
+    };
+    std::vector<int> xs, mn, mx, lz, open_y;
+    std::vector<Event> events;
+    std::vector<std::pair<int, int>> old_runs, new_runs;
+    int elems = 0;  // elementary intervals: [xs[e], xs[e + 1]), e < elems
+
+    void apply(int node, int lo, int hi, int l, int r, int v) {
+        if (r <= lo || hi <= l) return;
+        if (l <= lo && hi <= r) {
+            mn[node] += v;
+            mx[node] += v;
+            lz[node] += v;
+            return;
+        }
+        push(node);
+        const int mid = (lo + hi) / 2;
+        apply(2 * node, lo, mid, l, r, v);
+        apply(2 * node + 1, mid, hi, l, r, v);
+        mn[node] = std::min(mn[2 * node], mn[2 * node + 1]);
+        mx[node] = std::max(mx[2 * node], mx[2 * node + 1]);
+    }
+    void push(int node) {
+        for (int c = 2 * node; c <= 2 * node + 1; ++c) {
+            mn[c] += lz[node];
+            mx[c] += lz[node];
+            lz[c] += lz[node];
+        }
+        lz[node] = 0;
+    }
+    /// First e >= p whose count is zero (covered == false) or positive (covered == true); elems if none.
+    int next(int node, int lo, int hi, int p, bool covered) {
+        if (hi <= p || (covered ? mx[node] <= 0 : mn[node] > 0)) return elems;
+        if (hi - lo == 1) return lo;
+        push(node);
+        const int mid = (lo + hi) / 2;
+        const int a = next(2 * node, lo, mid, p, covered);
+        return a != elems ? a : next(2 * node + 1, mid, hi, p, covered);
+    }
+    /// Last e < p whose count is zero; -1 if none.
+    int prev_zero(int node, int lo, int hi, int p) {
+        if (lo >= p || mn[node] > 0) return -1;
+        if (hi - lo == 1) return lo;
+        push(node);
+        const int mid = (lo + hi) / 2;
+        const int b = prev_zero(2 * node + 1, mid, hi, p);
+        return b != -1 ? b : prev_zero(2 * node, lo, mid, p);
+    }
+    bool covered(int e) { return next(1, 0, elems, e, true) == e; }
+    /// The runs [s, e) (maximal covered elementary ranges) that meet [a, b).
+    void runs(int a, int b, std::vector<std::pair<int, int>>& out) {
+        out.clear();
+        int s = covered(a) ? prev_zero(1, 0, elems, a) + 1 : next(1, 0, elems, a, true);
+        while (s < b) {
+            const int e = next(1, 0, elems, s, false);
+            out.emplace_back(s, e);
+            s = next(1, 0, elems, e, true);
         }
     }
+    bool emit(int s, int e, int y, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
+        if (y > open_y[s]) {
+            if (count == cap) return false;
+            out[count++] = ShadowCacheRect{xs[s], open_y[s], xs[e] - xs[s], y - open_y[s]};
+        }
+        return true;
+    }
+    /// One event: close the runs near [l, r) that it changes, open the new ones.
+    bool event(const Event& ev, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
+        const int a = ev.l > 0 ? ev.l - 1 : 0, b = ev.r < elems ? ev.r + 1 : elems;
+        runs(a, b, old_runs);
+        apply(1, 0, elems, ev.l, ev.r, ev.v);
+        runs(a, b, new_runs);
+        std::size_t i = 0, j = 0;
+        while (i < old_runs.size() || j < new_runs.size()) {
+            if (i < old_runs.size() && j < new_runs.size() && old_runs[i] == new_runs[j]) {
+                ++i, ++j;  // unchanged: stays open
+            } else if (j == new_runs.size() || (i < old_runs.size() && old_runs[i].first <= new_runs[j].first)) {
+                if (!emit(old_runs[i].first, old_runs[i].second, ev.y, out, cap, count)) return false;
+                ++i;
+            } else {
+                open_y[std::size_t(new_runs[j].first)] = ev.y;
+                ++j;
+            }
+        }
+        return true;
+    }
+    /// The disjoint cover of in[0, m) into out[0, count); false if it needs more than cap.
+    bool run(const ShadowCacheRect* in, std::size_t m, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
+        count = 0;
+        xs.clear();
+        events.clear();
+        for (std::size_t i = 0; i < m; ++i) {
+            xs.push_back(in[i].x);
+            xs.push_back(in[i].x + in[i].width);
+        }
+        std::sort(xs.begin(), xs.end());
+        xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+        elems = static_cast<int>(xs.size()) - 1;
+        if (elems < 1) return true;
+        for (std::size_t i = 0; i < m; ++i) {
+            const int l = int(std::lower_bound(xs.begin(), xs.end(), in[i].x) - xs.begin());
+            const int r = int(std::lower_bound(xs.begin(), xs.end(), in[i].x + in[i].width) - xs.begin());
+            events.push_back(Event{in[i].y, +1, l, r});
+            events.push_back(Event{in[i].y + in[i].height, -1, l, r});
+        }
+        // by y, starts before ends (a run that only grows and shrinks back within one y is not split)
+        std::sort(events.begin(), events.end(), [](const Event& p, const Event& q) {
+            return p.y != q.y ? p.y < q.y : (p.v != q.v ? p.v > q.v : p.l < q.l);
+        });
+        const std::size_t nodes = 4 * std::size_t(elems);
+        mn.assign(nodes, 0);
+        mx.assign(nodes, 0);
+        lz.assign(nodes, 0);
+        open_y.assign(xs.size(), 0);
+        for (const Event& ev : events)
+            if (!event(ev, out, cap, count)) return false;
+        return true;
+    }
 };
+
+/// Morton key of a rectangle's center (16 bits per axis): neighbours on the map, neighbours in the key.
+inline std::uint32_t sc_morton(const ShadowCacheRect& r) {
+    std::uint32_t key = 0;
+    const std::uint32_t x = std::uint32_t(r.x + r.width / 2) & 0xffffu, y = std::uint32_t(r.y + r.height / 2) & 0xffffu;
+    for (int b = 0; b < 16; ++b) key |= (((x >> b) & 1u) << (2 * b)) | (((y >> b) & 1u) << (2 * b + 1));
+    return key;
+}
+
+/// Halves a rectangle list: sorted in Morton order of the centers, each pair becomes its bounding
+/// rectangle (a conservative cover of the pair).
+inline void sc_merge_pairs(std::vector<ShadowCacheRect>& v) {
+    std::sort(v.begin(), v.end(), [](const ShadowCacheRect& a, const ShadowCacheRect& b) { return sc_morton(a) < sc_morton(b); });
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < v.size(); i += 2) v[n++] = i + 1 < v.size() ? sc_union(v[i], v[i + 1]) : v[i];
+    v.resize(n);
+}
+
+/// The cover of the footprints `fp` in out[0, count) (cap >= 1): their union as disjoint rectangles
+/// when that fits in cap (merged false); else the footprints are merged pairwise by proximity and
+/// the union of the merged list is tried again, until it fits (merged true: a larger cover, still
+/// disjoint). O(m log^2 m) for m footprints.
+inline void sc_cover(std::vector<ShadowCacheRect>& fp, ShadowCacheRect* out, std::size_t cap, std::size_t& count,
+                     bool& merged) {
+    merged = false;
+    count = 0;
+    if (fp.size() == 1) {
+        out[count++] = fp[0];
+        return;
+    }
+    sc_sweep sweep;
+    while (!sweep.run(fp.data(), fp.size(), out, cap, count)) {
+        merged = true;
+        sc_merge_pairs(fp);
+    }
+}
 
 /// The 8 corners of an affine map's volume (NDC cube [-1, 1]^3) in world space; false if the map's
 /// 3x3 part is singular or the corners are not finite.
@@ -360,6 +490,96 @@ inline double sc_row_magnitude(const glm::dmat4& m, int r, const glm::dvec3& p) 
 
 inline double sc_row(const glm::dmat4& m, int r, const glm::dvec3& p) {
     return m[0][r] * p.x + m[1][r] * p.y + m[2][r] * p.z + m[3][r];
+}
+
+/// Motion of an affine map between two frames (shadow_cache_plan's whole-texel test): Ok with
+/// reason None and the offset in (ox, oy) when `cur` is `prev` moved by whole texels in x/y (0, 0
+/// when identical); a reason to render whole otherwise; InvalidArgument / Overflow for a singular
+/// matrix or a difference beyond double. Fills res.residual_texels and res.tolerance_texels.
+inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCacheMapState& current, ShadowCachePlan& res,
+                            ShadowCacheReason& reason, int& ox, int& oy) {
+    const glm::dmat4& A = previous.view_proj;
+    const glm::dmat4& B = current.view_proj;
+    const int W = current.width, H = current.height;
+    reason = ShadowCacheReason::None;
+    ox = oy = 0;
+    if (sc_identical(A, B)) return Status::Ok;
+    if (!sc_affine(A) || !sc_affine(B)) {
+        reason = ShadowCacheReason::ProjectionChanged;
+        return Status::Ok;
+    }
+    const glm::dmat4 An = A / A[3][3], Bn = B / B[3][3];  // clip w = 1 everywhere
+    glm::dvec3 corner[8];
+    if (!sc_volume_corners(Bn, corner)) return Status::InvalidArgument;  // singular 3x3: no map volume
+    const double u = (previous.float_matrices || current.float_matrices) ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
+    // per row (x, y, z): the difference at the corners and its round-off scale
+    double dmin[3], dmax[3], scale[3];
+    for (int r = 0; r < 3; ++r) {
+        dmin[r] = std::numeric_limits<double>::infinity();
+        dmax[r] = -std::numeric_limits<double>::infinity();
+        double sa = 0.0, sb = 0.0;
+        for (int k = 0; k < 8; ++k) {
+            const double d = sc_row(Bn, r, corner[k]) - sc_row(An, r, corner[k]);
+            dmin[r] = std::fmin(dmin[r], d);
+            dmax[r] = std::fmax(dmax[r], d);
+            sa = std::fmax(sa, sc_row_magnitude(An, r, corner[k]));
+            sb = std::fmax(sb, sc_row_magnitude(Bn, r, corner[k]));
+        }
+        scale[r] = 8.0 * u * (sa + sb);
+        if (!std::isfinite(dmin[r]) || !std::isfinite(dmax[r]) || !std::isfinite(scale[r])) return Status::Overflow;
+    }
+    // NDC -> texels (x, y); depth stays in NDC
+    const double half[2] = {0.5 * double(W), 0.5 * double(H)};
+    const double tol_x = scale[0] * half[0], tol_y = scale[1] * half[1];
+    res.tolerance_texels = std::fmax(tol_x, tol_y);
+    const double cx = 0.5 * (dmin[0] + dmax[0]) * half[0], cy = 0.5 * (dmin[1] + dmax[1]) * half[1];
+    const double rx = std::round(cx), ry = std::round(cy);
+    const double res_x = std::fmax(std::fabs(dmin[0] * half[0] - rx), std::fabs(dmax[0] * half[0] - rx));
+    const double res_y = std::fmax(std::fabs(dmin[1] * half[1] - ry), std::fabs(dmax[1] * half[1] - ry));
+    res.residual_texels = std::fmax(res_x, res_y);
+    if (!std::isfinite(res.residual_texels)) return Status::Overflow;
+    // linear parts: the spread of the difference over the volume (a rotation or scale)
+    const double spread_x = (dmax[0] - dmin[0]) * half[0], spread_y = (dmax[1] - dmin[1]) * half[1];
+    if (res.tolerance_texels > kShadowCacheMaxResidualTexels) reason = ShadowCacheReason::PrecisionTooLow;
+    else if (spread_x > 2.0 * tol_x || spread_y > 2.0 * tol_y || dmax[2] - dmin[2] > 2.0 * scale[2])
+        reason = ShadowCacheReason::ProjectionChanged;
+    else if (std::fmax(std::fabs(dmin[2]), std::fabs(dmax[2])) > scale[2]) reason = ShadowCacheReason::DepthMoved;
+    else if (res_x > tol_x || res_y > tol_y) reason = ShadowCacheReason::SubTexelMotion;
+    else if (std::fabs(rx) >= double(W) || std::fabs(ry) >= double(H)) reason = ShadowCacheReason::MovedOffMap;
+    else {
+        ox = static_cast<int>(rx);
+        oy = static_cast<int>(ry);
+    }
+    return Status::Ok;
+}
+
+/// The rectangles to re-render on a W x H map scrolled by (ox, oy) (0, 0: in place): the exposed
+/// border (at most two strips) and the footprints (this frame's matrix B) of the old and new bounds
+/// of every caster that moved, into `fp`; fills res.copy and the offsets. False: a footprint overflowed.
+inline bool sc_footprints(const glm::dmat4& B, int W, int H, int ox, int oy, const ShadowCacheCaster* casters,
+                          std::size_t caster_count, ShadowCachePlan& res, std::vector<ShadowCacheRect>& fp) {
+    if (ox != 0 || oy != 0) {
+        const int ax = ox < 0 ? -ox : ox, ay = oy < 0 ? -oy : oy;
+        const int sx = ox > 0 ? 0 : W - ax;  // exposed columns [sx, sx + ax)
+        const int sy = oy > 0 ? 0 : H - ay;  // exposed rows [sy, sy + ay)
+        if (ax > 0) fp.push_back(ShadowCacheRect{sx, 0, ax, H});
+        if (ay > 0 && W - ax > 0) fp.push_back(ShadowCacheRect{ox > 0 ? ax : 0, sy, W - ax, ay});
+        res.copy = ShadowCacheCopy{ox > 0 ? 0 : ax, oy > 0 ? 0 : ay, ox > 0 ? ax : 0, oy > 0 ? ay : 0, W - ax, H - ay};
+        res.offset_x = ox;
+        res.offset_y = oy;
+    }
+    for (std::size_t i = 0; i < caster_count; ++i) {
+        const ShadowCacheCaster& c = casters[i];
+        if (sc_box_same(c.bounds, c.previous_bounds)) continue;
+        for (const float* b : {c.previous_bounds, c.bounds}) {
+            if (sc_box_empty(b)) continue;
+            ShadowCacheRect r;
+            bool overflow = false;
+            if (sc_footprint(B, W, H, b, r, overflow)) fp.push_back(r);
+            if (overflow) return false;
+        }
+    }
+    return true;
 }
 
 }  // namespace detail
@@ -439,12 +659,15 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
 /// Perspective maps (spot lights, cube faces) never scroll: any change of the matrix renders.
 ///
 /// `casters`: caster_count entries (null allowed when 0); only those whose bounds changed count.
-/// `rects` holds rect_capacity ShadowCacheRect elements; the plan needs at most
-/// shadow_cache_rect_capacity(caster_count) before merging (`unmerged`) and merges rectangles (a
-/// conservative cover: more texels) to fit any capacity >= 1. Keep writes none, Render one. The
-/// rectangles do not overlap after merging when merging is free; they may overlap otherwise (a
-/// texel re-rendered twice is still right). When they would cover the whole map's area the plan
-/// is Render (DirtyCoversMap). Cost: O(moved casters x count).
+/// `rects` holds rect_capacity ShadowCacheRect elements. The footprints (`unmerged`, at most
+/// shadow_cache_rect_capacity(caster_count)) may overlap; the plan writes their union as pairwise
+/// disjoint rectangles (no texel re-rendered twice; `texels` is the union's area): disjoint
+/// footprints come out as they are, overlapping ones split (two crossing bars give three). When that
+/// needs more than rect_capacity, footprints are merged pairwise by proximity into their bounding
+/// rectangles until the union of the merged set fits (`merged`: a conservative cover, still
+/// disjoint); any capacity >= 1 works. Keep writes none, Render one. When the rectangles would cover
+/// the whole map the plan is Render (DirtyCoversMap). Cost: O((m + count) log m) for m footprints (a
+/// sweep in y over the union's x runs), times log m rounds when merging; scratch O(m), allocated.
 /// Errors: InvalidArgument (current.view_proj zero, a size outside 1..kShadowCacheMaxSize, null
 /// casters with a count, null rects with a capacity, the same for previous when has_content),
 /// NonFinite (NaN/Inf in a matrix or bounds), BufferTooSmall (rect_capacity 0 and a rectangle to
@@ -499,99 +722,47 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
     if (previous.settings != current.settings) return render(ShadowCacheReason::SettingsChanged);
 
     // ---- motion of the map
-    const glm::dmat4& A = previous.view_proj;
-    const glm::dmat4& B = current.view_proj;
+    ShadowCacheReason why = ShadowCacheReason::None;
     int ox = 0, oy = 0;
-    if (!sc_identical(A, B)) {
-        if (!sc_affine(A) || !sc_affine(B)) return render(ShadowCacheReason::ProjectionChanged);
-        const glm::dmat4 An = A / A[3][3], Bn = B / B[3][3];  // clip w = 1 everywhere
-        glm::dvec3 corner[8];
-        if (!sc_volume_corners(Bn, corner)) return fail(Status::InvalidArgument);  // singular 3x3: no map volume
-        const double u = (previous.float_matrices || current.float_matrices) ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
-        // per row (x, y, z): the difference at the corners and its round-off scale
-        double dmin[3], dmax[3], scale[3];
-        for (int r = 0; r < 3; ++r) {
-            dmin[r] = std::numeric_limits<double>::infinity();
-            dmax[r] = -std::numeric_limits<double>::infinity();
-            double sa = 0.0, sb = 0.0;
-            for (int k = 0; k < 8; ++k) {
-                const double d = sc_row(Bn, r, corner[k]) - sc_row(An, r, corner[k]);
-                dmin[r] = std::fmin(dmin[r], d);
-                dmax[r] = std::fmax(dmax[r], d);
-                sa = std::fmax(sa, sc_row_magnitude(An, r, corner[k]));
-                sb = std::fmax(sb, sc_row_magnitude(Bn, r, corner[k]));
-            }
-            scale[r] = 8.0 * u * (sa + sb);
-            if (!std::isfinite(dmin[r]) || !std::isfinite(dmax[r]) || !std::isfinite(scale[r])) return fail(Status::Overflow);
-        }
-        // NDC -> texels (x, y); depth stays in NDC
-        const double half[2] = {0.5 * double(W), 0.5 * double(H)};
-        const double tol_x = scale[0] * half[0], tol_y = scale[1] * half[1];
-        res.tolerance_texels = std::fmax(tol_x, tol_y);
-        const double cx = 0.5 * (dmin[0] + dmax[0]) * half[0], cy = 0.5 * (dmin[1] + dmax[1]) * half[1];
-        const double rx = std::round(cx), ry = std::round(cy);
-        const double res_x = std::fmax(std::fabs(dmin[0] * half[0] - rx), std::fabs(dmax[0] * half[0] - rx));
-        const double res_y = std::fmax(std::fabs(dmin[1] * half[1] - ry), std::fabs(dmax[1] * half[1] - ry));
-        res.residual_texels = std::fmax(res_x, res_y);
-        if (!std::isfinite(res.residual_texels)) return fail(Status::Overflow);
-        if (res.tolerance_texels > kShadowCacheMaxResidualTexels) return render(ShadowCacheReason::PrecisionTooLow);
-        // linear parts: the spread of the difference over the volume (a rotation or scale)
-        const double spread_x = (dmax[0] - dmin[0]) * half[0], spread_y = (dmax[1] - dmin[1]) * half[1];
-        if (spread_x > 2.0 * tol_x || spread_y > 2.0 * tol_y || dmax[2] - dmin[2] > 2.0 * scale[2])
-            return render(ShadowCacheReason::ProjectionChanged);
-        if (std::fmax(std::fabs(dmin[2]), std::fabs(dmax[2])) > scale[2]) return render(ShadowCacheReason::DepthMoved);
-        if (res_x > tol_x || res_y > tol_y) return render(ShadowCacheReason::SubTexelMotion);
-        if (std::fabs(rx) >= double(W) || std::fabs(ry) >= double(H)) return render(ShadowCacheReason::MovedOffMap);
-        ox = static_cast<int>(rx);
-        oy = static_cast<int>(ry);
-    }
+    const Status motion = sc_map_motion(previous, current, res, why, ox, oy);
+    if (motion != Status::Ok) return fail(motion);
+    if (why != ShadowCacheReason::None) return render(why);
 
-    // ---- rectangles
-    const std::size_t cap = rect_capacity;
-    ShadowCacheRect scratch[1];
-    // capacity 0: count into a one-element scratch to learn whether anything is needed
-    sc_rect_list list{cap == 0 ? scratch : rects, cap == 0 ? 1 : cap, 0, 0};
-    if (ox != 0 || oy != 0) {
-        const int ax = ox < 0 ? -ox : ox, ay = oy < 0 ? -oy : oy;
-        const int sx = ox > 0 ? 0 : W - ax;  // exposed columns [sx, sx + ax)
-        const int sy = oy > 0 ? 0 : H - ay;  // exposed rows [sy, sy + ay)
-        if (ax > 0) list.add(ShadowCacheRect{sx, 0, ax, H});
-        if (ay > 0) list.add(ShadowCacheRect{ox > 0 ? ax : 0, sy, W - ax, ay});
-        res.copy = ShadowCacheCopy{ox > 0 ? 0 : ax, oy > 0 ? 0 : ay, ox > 0 ? ax : 0, oy > 0 ? ay : 0, W - ax, H - ay};
-        res.offset_x = ox;
-        res.offset_y = oy;
-    }
-    for (std::size_t i = 0; i < caster_count; ++i) {
-        const ShadowCacheCaster& c = casters[i];
-        if (sc_box_same(c.bounds, c.previous_bounds)) continue;
-        for (int which = 0; which < 2; ++which) {
-            const float* b = which == 0 ? c.previous_bounds : c.bounds;
-            if (sc_box_empty(b)) continue;
-            ShadowCacheRect r;
-            bool overflow = false;
-            if (sc_footprint(B, W, H, b, r, overflow)) list.add(r);
-            if (overflow) return fail(Status::Overflow);
-        }
-    }
-    std::uint64_t texels = 0;
-    for (std::size_t i = 0; i < list.count; ++i) texels += sc_area(list.rects[i]);
-    if (texels >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
+    // ---- rectangles: the footprints (none when no caster moved: no allocation), then their disjoint cover
+    std::vector<ShadowCacheRect> fp;
+    if (!sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow);
+    std::uint64_t fp_area = 0;
+    for (const ShadowCacheRect& r : fp) fp_area += sc_area(r);
+    res.unmerged = fp.size();
     const bool scroll = ox != 0 || oy != 0;
-    res.action = scroll ? ShadowCacheAction::Scroll : (list.count == 0 ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
+    res.action = scroll ? ShadowCacheAction::Scroll : (fp.empty() ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
     res.reason = ShadowCacheReason::None;
-    res.unmerged = list.unmerged;
-    if (cap == 0 && list.count != 0) {
+    if (fp.empty()) {
+        res.status = Status::Ok;
+        return res;
+    }
+    if (rect_capacity == 0) {
+        // the cover covers the whole map only if the footprints' areas reach it
+        if (fp_area >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
         const double resid = res.residual_texels, tol = res.tolerance_texels;
+        const std::size_t unmerged = res.unmerged;
         res = ShadowCachePlan{};
         res.status = Status::BufferTooSmall;
         res.needed = 1;
-        res.unmerged = list.unmerged;
+        res.unmerged = unmerged;
         res.residual_texels = resid;
         res.tolerance_texels = tol;
         return res;
     }
-    res.count = list.count;
-    res.needed = list.count;
+    std::size_t count = 0;
+    bool merged = false;
+    sc_cover(fp, rects, rect_capacity, count, merged);
+    std::uint64_t texels = 0;
+    for (std::size_t i = 0; i < count; ++i) texels += sc_area(rects[i]);
+    if (texels >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
+    res.merged = merged;
+    res.count = count;
+    res.needed = count;
     res.texels = texels;
     res.status = Status::Ok;
     return res;
