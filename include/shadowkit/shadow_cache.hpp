@@ -245,6 +245,17 @@ inline ShadowCacheRect sc_union(const ShadowCacheRect& a, const ShadowCacheRect&
     return ShadowCacheRect{x0, y0, x1 - x0, y1 - y0};
 }
 
+/// The union of a and b is exactly their bounding rectangle: one contains the other, or they share
+/// their extent in one axis and overlap or touch in the other.
+inline bool sc_union_is_rect(const ShadowCacheRect& a, const ShadowCacheRect& b) {
+    const ShadowCacheRect u = sc_union(a, b);
+    const bool same_x = a.x == b.x && a.width == b.width, same_y = a.y == b.y && a.height == b.height;
+    const bool touch_x = a.x <= b.x + b.width && b.x <= a.x + a.width;
+    const bool touch_y = a.y <= b.y + b.height && b.y <= a.y + a.height;
+    const bool contains = sc_area(u) == sc_area(a) || sc_area(u) == sc_area(b);
+    return contains || (same_y && touch_x) || (same_x && touch_y);
+}
+
 /// Clamps a window coordinate (double, maybe huge) to [lo, hi] and converts it.
 inline int sc_clamp_int(double v, int lo, int hi) {
     if (!(v > double(lo))) return lo;  // NaN -> lo (never reached: inputs are finite)
@@ -313,61 +324,64 @@ struct sc_sweep {
     struct Event {
         int y, v, l, r;  // v = +1 (start) / -1 (end); [l, r): elementary x intervals
     };
-    std::vector<int> xs, mn, mx, lz, open_y;
+    std::vector<int> xs, rank, slot, cnt, open_y;
+    std::vector<unsigned char> any, all;  // per node: some / every elementary interval below is covered
     std::vector<Event> events;
     std::vector<std::pair<int, int>> old_runs, new_runs;
     int elems = 0;  // elementary intervals: [xs[e], xs[e + 1]), e < elems
 
+    // A cover-count segment tree (the area-of-union tree): cnt[node] counts the rectangles covering
+    // the node's whole range, never pushed down; an interval is covered when a node on its path is.
     void apply(int node, int lo, int hi, int l, int r, int v) {
         if (r <= lo || hi <= l) return;
+        const int mid = (lo + hi) / 2;
         if (l <= lo && hi <= r) {
-            mn[node] += v;
-            mx[node] += v;
-            lz[node] += v;
-            return;
+            cnt[std::size_t(node)] += v;
+        } else {
+            apply(2 * node, lo, mid, l, r, v);
+            apply(2 * node + 1, mid, hi, l, r, v);
         }
-        push(node);
-        const int mid = (lo + hi) / 2;
-        apply(2 * node, lo, mid, l, r, v);
-        apply(2 * node + 1, mid, hi, l, r, v);
-        mn[node] = std::min(mn[2 * node], mn[2 * node + 1]);
-        mx[node] = std::max(mx[2 * node], mx[2 * node + 1]);
-    }
-    void push(int node) {
-        for (int c = 2 * node; c <= 2 * node + 1; ++c) {
-            mn[c] += lz[node];
-            mx[c] += lz[node];
-            lz[c] += lz[node];
+        const std::size_t n = std::size_t(node);
+        if (cnt[n] > 0) any[n] = all[n] = 1;
+        else if (hi - lo == 1) any[n] = all[n] = 0;
+        else {
+            any[n] = any[2 * n] | any[2 * n + 1];
+            all[n] = all[2 * n] & all[2 * n + 1];
         }
-        lz[node] = 0;
     }
-    /// First e >= p whose count is zero (covered == false) or positive (covered == true); elems if none.
-    int next(int node, int lo, int hi, int p, bool covered) {
-        if (hi <= p || (covered ? mx[node] <= 0 : mn[node] > 0)) return elems;
-        if (hi - lo == 1) return lo;
-        push(node);
+    /// First covered e in [p, lim); elems if none.
+    int next_covered(int node, int lo, int hi, int p, int lim) const {
+        if (hi <= p || lo >= lim || !any[std::size_t(node)]) return elems;
+        if (cnt[std::size_t(node)] > 0) return lo > p ? lo : p;
         const int mid = (lo + hi) / 2;
-        const int a = next(2 * node, lo, mid, p, covered);
-        return a != elems ? a : next(2 * node + 1, mid, hi, p, covered);
+        const int a = next_covered(2 * node, lo, mid, p, lim);
+        return a != elems ? a : next_covered(2 * node + 1, mid, hi, p, lim);
     }
-    /// Last e < p whose count is zero; -1 if none.
-    int prev_zero(int node, int lo, int hi, int p) {
-        if (lo >= p || mn[node] > 0) return -1;
+    /// First uncovered e >= p; elems if none.
+    int next_uncovered(int node, int lo, int hi, int p) const {
+        if (hi <= p || all[std::size_t(node)]) return elems;
         if (hi - lo == 1) return lo;
-        push(node);
         const int mid = (lo + hi) / 2;
-        const int b = prev_zero(2 * node + 1, mid, hi, p);
-        return b != -1 ? b : prev_zero(2 * node, lo, mid, p);
+        const int a = next_uncovered(2 * node, lo, mid, p);
+        return a != elems ? a : next_uncovered(2 * node + 1, mid, hi, p);
     }
-    bool covered(int e) { return next(1, 0, elems, e, true) == e; }
+    /// Last uncovered e < p; -1 if none.
+    int prev_uncovered(int node, int lo, int hi, int p) const {
+        if (lo >= p || all[std::size_t(node)]) return -1;
+        if (hi - lo == 1) return lo;
+        const int mid = (lo + hi) / 2;
+        const int b = prev_uncovered(2 * node + 1, mid, hi, p);
+        return b != -1 ? b : prev_uncovered(2 * node, lo, mid, p);
+    }
     /// The runs [s, e) (maximal covered elementary ranges) that meet [a, b).
-    void runs(int a, int b, std::vector<std::pair<int, int>>& out) {
+    void runs(int a, int b, std::vector<std::pair<int, int>>& out) const {
         out.clear();
-        int s = covered(a) ? prev_zero(1, 0, elems, a) + 1 : next(1, 0, elems, a, true);
+        const int z = prev_uncovered(1, 0, elems, a + 1);  // a itself uncovered: z == a
+        int s = z == a ? next_covered(1, 0, elems, a, b) : z + 1;
         while (s < b) {
-            const int e = next(1, 0, elems, s, false);
+            const int e = next_uncovered(1, 0, elems, s);
             out.emplace_back(s, e);
-            s = next(1, 0, elems, e, true);
+            s = e < b ? next_covered(1, 0, elems, e, b) : elems;
         }
     }
     bool emit(int s, int e, int y, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
@@ -380,9 +394,23 @@ struct sc_sweep {
     /// One event: close the runs near [l, r) that it changes, open the new ones.
     bool event(const Event& ev, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
         const int a = ev.l > 0 ? ev.l - 1 : 0, b = ev.r < elems ? ev.r + 1 : elems;
+        if (ev.v > 0) {
+            if (next_covered(1, 0, elems, a, b) == elems) {
+                // a start in empty surroundings (disjoint footprints): one new run, nothing closes
+                apply(1, 0, elems, ev.l, ev.r, ev.v);
+                open_y[std::size_t(ev.l)] = ev.y;
+                return true;
+            }
+            if (next_uncovered(1, 0, elems, a) >= b) {
+                apply(1, 0, elems, ev.l, ev.r, ev.v);  // inside a run (piled footprints): nothing changes
+                return true;
+            }
+        }
         runs(a, b, old_runs);
         apply(1, 0, elems, ev.l, ev.r, ev.v);
-        runs(a, b, new_runs);
+        if (ev.v < 0 && old_runs.size() == 1 && next_uncovered(1, 0, elems, a) >= b) return true;  // still inside it
+        if (next_covered(1, 0, elems, a, b) == elems) new_runs.clear();  // an end that empties its surroundings
+        else runs(a, b, new_runs);
         std::size_t i = 0, j = 0;
         while (i < old_runs.size() || j < new_runs.size()) {
             if (i < old_runs.size() && j < new_runs.size() && old_runs[i] == new_runs[j]) {
@@ -397,33 +425,45 @@ struct sc_sweep {
         }
         return true;
     }
-    /// The disjoint cover of in[0, m) into out[0, count); false if it needs more than cap.
+    /// The disjoint cover of in[0, m) into out[0, count); false if it needs more than cap. The x
+    /// edges are compressed and the events ordered by counting (coordinates lie in [0, 65536]).
     bool run(const ShadowCacheRect* in, std::size_t m, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
         count = 0;
-        xs.clear();
-        events.clear();
+        int max_x = 0, max_y = 0;
         for (std::size_t i = 0; i < m; ++i) {
-            xs.push_back(in[i].x);
-            xs.push_back(in[i].x + in[i].width);
+            max_x = std::max(max_x, in[i].x + in[i].width);
+            max_y = std::max(max_y, in[i].y + in[i].height);
         }
-        std::sort(xs.begin(), xs.end());
-        xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
-        elems = static_cast<int>(xs.size()) - 1;
+        xs.assign(std::size_t(max_x) + 1, 0);  // first a mark per x edge, then its rank
+        for (std::size_t i = 0; i < m; ++i) xs[std::size_t(in[i].x)] = xs[std::size_t(in[i].x + in[i].width)] = 1;
+        rank.assign(xs.size(), 0);
+        int k = 0;
+        for (std::size_t x = 0; x < xs.size(); ++x)
+            if (xs[x] != 0) {
+                rank[x] = k;
+                xs[std::size_t(k++)] = int(x);
+            }
+        xs.resize(std::size_t(k));
+        elems = k - 1;
         if (elems < 1) return true;
+        // events by y, starts before ends at the same y (a run that only grows and shrinks back
+        // within one y is not split); a counting sort on 2 y + (end), stable
+        slot.assign(2 * std::size_t(max_y) + 3, 0);
         for (std::size_t i = 0; i < m; ++i) {
-            const int l = int(std::lower_bound(xs.begin(), xs.end(), in[i].x) - xs.begin());
-            const int r = int(std::lower_bound(xs.begin(), xs.end(), in[i].x + in[i].width) - xs.begin());
-            events.push_back(Event{in[i].y, +1, l, r});
-            events.push_back(Event{in[i].y + in[i].height, -1, l, r});
+            ++slot[2 * std::size_t(in[i].y) + 1];
+            ++slot[2 * std::size_t(in[i].y + in[i].height) + 2];
         }
-        // by y, starts before ends (a run that only grows and shrinks back within one y is not split)
-        std::sort(events.begin(), events.end(), [](const Event& p, const Event& q) {
-            return p.y != q.y ? p.y < q.y : (p.v != q.v ? p.v > q.v : p.l < q.l);
-        });
+        for (std::size_t j = 1; j < slot.size(); ++j) slot[j] += slot[j - 1];
+        events.resize(2 * m);
+        for (std::size_t i = 0; i < m; ++i) {
+            const int l = rank[std::size_t(in[i].x)], r = rank[std::size_t(in[i].x + in[i].width)];
+            events[std::size_t(slot[2 * std::size_t(in[i].y)]++)] = Event{in[i].y, +1, l, r};
+            events[std::size_t(slot[2 * std::size_t(in[i].y + in[i].height) + 1]++)] = Event{in[i].y + in[i].height, -1, l, r};
+        }
         const std::size_t nodes = 4 * std::size_t(elems);
-        mn.assign(nodes, 0);
-        mx.assign(nodes, 0);
-        lz.assign(nodes, 0);
+        cnt.assign(nodes, 0);
+        any.assign(nodes, 0);
+        all.assign(nodes, 0);
         open_y.assign(xs.size(), 0);
         for (const Event& ev : events)
             if (!event(ev, out, cap, count)) return false;
@@ -439,19 +479,32 @@ inline std::uint32_t sc_morton(const ShadowCacheRect& r) {
     return key;
 }
 
-/// Halves a rectangle list: sorted in Morton order of the centers, each pair becomes its bounding
-/// rectangle (a conservative cover of the pair).
-inline void sc_merge_pairs(std::vector<ShadowCacheRect>& v) {
+/// Shrinks a rectangle list for a capacity its disjoint cover overflowed: sorted in Morton order of
+/// the centers, each consecutive pair whose bounding rectangle is no larger than the two together
+/// (a free merge: no more texels than drawing both) becomes that rectangle; when that shortens the
+/// list by less than a quarter, every pair does (the list halves). O(m log m).
+inline void sc_merge_pairs(std::vector<ShadowCacheRect>& v, std::vector<ShadowCacheRect>& tmp) {
     std::sort(v.begin(), v.end(), [](const ShadowCacheRect& a, const ShadowCacheRect& b) { return sc_morton(a) < sc_morton(b); });
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < v.size(); i += 2) v[n++] = i + 1 < v.size() ? sc_union(v[i], v[i + 1]) : v[i];
-    v.resize(n);
+    for (int forced = 0; forced < 2; ++forced) {
+        tmp.clear();
+        for (std::size_t i = 0; i < v.size();) {
+            const ShadowCacheRect u = i + 1 < v.size() ? sc_union(v[i], v[i + 1]) : v[i];
+            if (i + 1 < v.size() && (forced != 0 || sc_area(u) <= sc_area(v[i]) + sc_area(v[i + 1]))) {
+                tmp.push_back(u);
+                i += 2;
+            } else {
+                tmp.push_back(v[i++]);
+            }
+        }
+        if (forced != 0 || 4 * tmp.size() <= 3 * v.size()) break;
+    }
+    v.swap(tmp);
 }
 
 /// The cover of the footprints `fp` in out[0, count) (cap >= 1): their union as disjoint rectangles
-/// when that fits in cap (merged false); else the footprints are merged pairwise by proximity and
-/// the union of the merged list is tried again, until it fits (merged true: a larger cover, still
-/// disjoint). O(m log^2 m) for m footprints.
+/// when that fits in cap (merged false); else neighbouring footprints are merged (sc_merge_pairs)
+/// and the union of the merged list is tried again, until it fits (merged true: a larger cover,
+/// still disjoint). O(m log m) per round; each round shortens the list by a quarter or more.
 inline void sc_cover(std::vector<ShadowCacheRect>& fp, ShadowCacheRect* out, std::size_t cap, std::size_t& count,
                      bool& merged) {
     merged = false;
@@ -461,9 +514,10 @@ inline void sc_cover(std::vector<ShadowCacheRect>& fp, ShadowCacheRect* out, std
         return;
     }
     sc_sweep sweep;
+    std::vector<ShadowCacheRect> tmp;
     while (!sweep.run(fp.data(), fp.size(), out, cap, count)) {
         merged = true;
-        sc_merge_pairs(fp);
+        sc_merge_pairs(fp, tmp);
     }
 }
 
@@ -555,7 +609,8 @@ inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCac
 
 /// The rectangles to re-render on a W x H map scrolled by (ox, oy) (0, 0: in place): the exposed
 /// border (at most two strips) and the footprints (this frame's matrix B) of the old and new bounds
-/// of every caster that moved, into `fp`; fills res.copy and the offsets. False: a footprint overflowed.
+/// of every caster that moved, into `fp` (a caster's two as one when their union is a rectangle);
+/// fills res.copy, the offsets and res.unmerged (all of them). False: a footprint overflowed.
 inline bool sc_footprints(const glm::dmat4& B, int W, int H, int ox, int oy, const ShadowCacheCaster* casters,
                           std::size_t caster_count, ShadowCachePlan& res, std::vector<ShadowCacheRect>& fp) {
     if (ox != 0 || oy != 0) {
@@ -568,15 +623,26 @@ inline bool sc_footprints(const glm::dmat4& B, int W, int H, int ox, int oy, con
         res.offset_x = ox;
         res.offset_y = oy;
     }
+    res.unmerged = fp.size();
     for (std::size_t i = 0; i < caster_count; ++i) {
         const ShadowCacheCaster& c = casters[i];
         if (sc_box_same(c.bounds, c.previous_bounds)) continue;
+        const std::size_t first = fp.size();
         for (const float* b : {c.previous_bounds, c.bounds}) {
             if (sc_box_empty(b)) continue;
             ShadowCacheRect r;
             bool overflow = false;
-            if (sc_footprint(B, W, H, b, r, overflow)) fp.push_back(r);
+            if (sc_footprint(B, W, H, b, r, overflow)) {
+                fp.push_back(r);
+                ++res.unmerged;
+            }
             if (overflow) return false;
+        }
+        // old and new footprint whose union is one rectangle (a move along one map axis, or one
+        // inside the other): that rectangle, exactly (half the sweep's events for such casters)
+        if (fp.size() == first + 2 && sc_union_is_rect(fp[first], fp[first + 1])) {
+            fp[first] = sc_union(fp[first], fp[first + 1]);
+            fp.pop_back();
         }
     }
     return true;
@@ -663,11 +729,12 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
 /// shadow_cache_rect_capacity(caster_count)) may overlap; the plan writes their union as pairwise
 /// disjoint rectangles (no texel re-rendered twice; `texels` is the union's area): disjoint
 /// footprints come out as they are, overlapping ones split (two crossing bars give three). When that
-/// needs more than rect_capacity, footprints are merged pairwise by proximity into their bounding
-/// rectangles until the union of the merged set fits (`merged`: a conservative cover, still
-/// disjoint); any capacity >= 1 works. Keep writes none, Render one. When the rectangles would cover
+/// needs more than rect_capacity (shadow_cache_rect_capacity(caster_count) holds the footprints,
+/// not always their split), neighbouring footprints are merged into their bounding rectangles, the
+/// free merges first (no larger than the pair), until the union of the merged set fits (`merged`: a
+/// conservative cover, still disjoint); any capacity >= 1 works. Keep writes none, Render one. When the rectangles would cover
 /// the whole map the plan is Render (DirtyCoversMap). Cost: O((m + count) log m) for m footprints (a
-/// sweep in y over the union's x runs), times log m rounds when merging; scratch O(m), allocated.
+/// sweep in y over the union's x runs), times O(log m) rounds when merging; scratch O(m), allocated.
 /// Errors: InvalidArgument (current.view_proj zero, a size outside 1..kShadowCacheMaxSize, null
 /// casters with a count, null rects with a capacity, the same for previous when has_content),
 /// NonFinite (NaN/Inf in a matrix or bounds), BufferTooSmall (rect_capacity 0 and a rectangle to
@@ -733,7 +800,6 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
     if (!sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow);
     std::uint64_t fp_area = 0;
     for (const ShadowCacheRect& r : fp) fp_area += sc_area(r);
-    res.unmerged = fp.size();
     const bool scroll = ox != 0 || oy != 0;
     res.action = scroll ? ShadowCacheAction::Scroll : (fp.empty() ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
     res.reason = ShadowCacheReason::None;
