@@ -35,8 +35,8 @@
 //   Precision: whole-texel motion is certified in double; a float matrix carries 2^-24 relative
 //   round-off, which at N texels from the world origin is N * 2^-24 texels (0.38 texel at 1e5
 //   world units with 1/64-unit texels): build stable fits in double (see shadow_cache_plan).
-//   Per-frame functions never allocate, except shadow_cache_plan when a caster moved or the map
-//   scrolled (the sweep's scratch, O(moved casters); none for Keep, Render or a plain scroll).
+//   Per-frame functions never allocate, except shadow_cache_plan when a caster moved (the sweep's
+//   scratch, O(moved casters)); Keep, Render and a scroll with no moved caster allocate nothing.
 //
 // Based on:
 //   A. Moschig, "Apelles" master's thesis, TU Graz, sec. 4.1.2 (a shadow map is invalidated only
@@ -607,23 +607,31 @@ inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCac
     return Status::Ok;
 }
 
+/// The exposed border of a W x H map scrolled by (ox, oy): at most two disjoint strips into out
+/// (their count returned); fills res.copy and the offsets when the map moved.
+inline std::size_t sc_strips(int W, int H, int ox, int oy, ShadowCachePlan& res, ShadowCacheRect out[2]) {
+    if (ox == 0 && oy == 0) return 0;
+    std::size_t n = 0;
+    const int ax = ox < 0 ? -ox : ox, ay = oy < 0 ? -oy : oy;
+    const int sx = ox > 0 ? 0 : W - ax;  // exposed columns [sx, sx + ax)
+    const int sy = oy > 0 ? 0 : H - ay;  // exposed rows [sy, sy + ay)
+    if (ax > 0) out[n++] = ShadowCacheRect{sx, 0, ax, H};
+    if (ay > 0 && W - ax > 0) out[n++] = ShadowCacheRect{ox > 0 ? ax : 0, sy, W - ax, ay};
+    res.copy = ShadowCacheCopy{ox > 0 ? 0 : ax, oy > 0 ? 0 : ay, ox > 0 ? ax : 0, oy > 0 ? ay : 0, W - ax, H - ay};
+    res.offset_x = ox;
+    res.offset_y = oy;
+    return n;
+}
+
 /// The rectangles to re-render on a W x H map scrolled by (ox, oy) (0, 0: in place): the exposed
 /// border (at most two strips) and the footprints (this frame's matrix B) of the old and new bounds
 /// of every caster that moved, into `fp` (a caster's two as one when their union is a rectangle);
 /// fills res.copy, the offsets and res.unmerged (all of them). False: a footprint overflowed.
 inline bool sc_footprints(const glm::dmat4& B, int W, int H, int ox, int oy, const ShadowCacheCaster* casters,
                           std::size_t caster_count, ShadowCachePlan& res, std::vector<ShadowCacheRect>& fp) {
-    if (ox != 0 || oy != 0) {
-        const int ax = ox < 0 ? -ox : ox, ay = oy < 0 ? -oy : oy;
-        const int sx = ox > 0 ? 0 : W - ax;  // exposed columns [sx, sx + ax)
-        const int sy = oy > 0 ? 0 : H - ay;  // exposed rows [sy, sy + ay)
-        if (ax > 0) fp.push_back(ShadowCacheRect{sx, 0, ax, H});
-        if (ay > 0 && W - ax > 0) fp.push_back(ShadowCacheRect{ox > 0 ? ax : 0, sy, W - ax, ay});
-        res.copy = ShadowCacheCopy{ox > 0 ? 0 : ax, oy > 0 ? 0 : ay, ox > 0 ? ax : 0, oy > 0 ? ay : 0, W - ax, H - ay};
-        res.offset_x = ox;
-        res.offset_y = oy;
-    }
-    res.unmerged = fp.size();
+    ShadowCacheRect strips[2];
+    res.unmerged = sc_strips(W, H, ox, oy, res, strips);
+    fp.assign(strips, strips + res.unmerged);
     for (std::size_t i = 0; i < caster_count; ++i) {
         const ShadowCacheCaster& c = casters[i];
         if (sc_box_same(c.bounds, c.previous_bounds)) continue;
@@ -795,42 +803,43 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
     if (motion != Status::Ok) return fail(motion);
     if (why != ShadowCacheReason::None) return render(why);
 
-    // ---- rectangles: the footprints (none when no caster moved: no allocation), then their disjoint cover
+    // ---- rectangles: the footprints, then their disjoint cover (no allocation when no caster moved:
+    // the border strips are disjoint already)
     std::vector<ShadowCacheRect> fp;
-    if (!sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow);
-    std::uint64_t fp_area = 0;
-    for (const ShadowCacheRect& r : fp) fp_area += sc_area(r);
+    bool moved = false;
+    for (std::size_t i = 0; i < caster_count && !moved; ++i) moved = !sc_box_same(casters[i].bounds, casters[i].previous_bounds);
+    ShadowCacheRect strips[2];
+    const std::size_t strip_count = moved ? 0 : sc_strips(W, H, ox, oy, res, strips);
+    if (moved && !sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow);
+    if (!moved) res.unmerged = strip_count;
+    const std::size_t m = moved ? fp.size() : strip_count;
     const bool scroll = ox != 0 || oy != 0;
-    res.action = scroll ? ShadowCacheAction::Scroll : (fp.empty() ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
+    res.action = scroll ? ShadowCacheAction::Scroll : (m == 0 ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
     res.reason = ShadowCacheReason::None;
-    if (fp.empty()) {
-        res.status = Status::Ok;
-        return res;
-    }
-    if (rect_capacity == 0) {
-        // the cover covers the whole map only if the footprints' areas reach it
-        if (fp_area >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
-        const double resid = res.residual_texels, tol = res.tolerance_texels;
-        const std::size_t unmerged = res.unmerged;
-        res = ShadowCachePlan{};
-        res.status = Status::BufferTooSmall;
-        res.needed = 1;
-        res.unmerged = unmerged;
-        res.residual_texels = resid;
-        res.tolerance_texels = tol;
-        return res;
-    }
-    std::size_t count = 0;
-    bool merged = false;
-    sc_cover(fp, rects, rect_capacity, count, merged);
-    std::uint64_t texels = 0;
-    for (std::size_t i = 0; i < count; ++i) texels += sc_area(rects[i]);
-    if (texels >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
-    res.merged = merged;
-    res.count = count;
-    res.needed = count;
-    res.texels = texels;
     res.status = Status::Ok;
+    if (m == 0) return res;
+    if (rect_capacity == 0) {  // BufferTooSmall, unless the footprints alone cover the map's area
+        std::uint64_t fp_area = 0;
+        for (std::size_t i = 0; i < m; ++i) fp_area += sc_area(moved ? fp[i] : strips[i]);
+        if (fp_area >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
+        res.status = Status::BufferTooSmall;
+        res.action = ShadowCacheAction::Render;
+        res.copy = ShadowCacheCopy{};
+        res.offset_x = res.offset_y = 0;
+        res.needed = 1;
+        return res;
+    }
+    if (moved) {
+        sc_cover(fp, rects, rect_capacity, res.count, res.merged);
+    } else {  // the strips are disjoint: as they are, or their bounding rectangle in a capacity of 1
+        res.merged = m > rect_capacity;
+        if (res.merged) rects[0] = sc_union(strips[0], strips[1]);
+        else std::copy(strips, strips + m, rects);
+        res.count = res.merged ? 1 : m;
+    }
+    for (std::size_t i = 0; i < res.count; ++i) res.texels += sc_area(rects[i]);
+    if (res.texels >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
+    res.needed = res.count;
     return res;
 }
 
