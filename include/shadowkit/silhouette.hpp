@@ -399,9 +399,84 @@ constexpr int kSilNonFinite = 2;
 // 2^-447 (all floats are multiples of 2^-149); no overflow: |d| < 4e155.
 constexpr double kSilFilterBound = 10.0 * 1.1102230246251565e-16; // 10 * 2^-53
 
+// Error-free transformations (Knuth's TwoSum; the product by FMA where the hardware has it, else
+// Dekker's split, exact without underflow: every value here is a multiple of 2^-447, far above it).
+// Additions and multiplications are separate statements, so FMA contraction cannot fuse them in a
+// way that changes a result (a fused a * b + c only arises from an expression that has both).
+inline void sil_two_sum(double a, double b, double& s, double& err) {
+    s = a + b;
+    const double bv = s - a;
+    const double av = s - bv;
+    err = (a - av) + (b - bv);
+}
+inline void sil_two_product(double a, double b, double& p, double& err) {
+    p = a * b;
+#if defined(__FMA__) || defined(__aarch64__) || defined(_M_ARM64)
+    err = std::fma(a, b, -p);
+#else
+    const double split = 134217729.0;  // 2^27 + 1
+    const double ca = split * a, cb = split * b;
+    const double ah = ca - (ca - a), bh = cb - (cb - b);
+    const double al = a - ah, bl = b - bh;
+    err = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+#endif
+}
+
+/// The adaptive stage between the filter and the integer path: d = n . q exactly in double
+/// expansions when e1 = B - A, e2 = C - A, q = l - w A, the six products of n = e1 x e2 and n itself
+/// are exact doubles - each difference and product is checked error-free, which holds unless the
+/// coordinates span extreme ranges - then each n_i q_i as two doubles (an exact product) and their
+/// sum as a non-overlapping expansion (Shewchuk 1997, Grow-Expansion): the sign of its largest
+/// component. False: something was not exact (the integer path decides). About 150 flops: a light
+/// in the faces' plane (d == 0 for every face) costs a few times the filter, not the integer path.
+/// Finite inputs only.
+inline bool sil_face_sign_expansion(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L, int& sign) {
+    const double A[3] = {a.x, a.y, a.z}, B[3] = {b.x, b.y, b.z}, C[3] = {c.x, c.y, c.z}, l[3] = {L.x, L.y, L.z};
+    const double w = L.w;
+    double e1[3], e2[3], q[3], err = 0.0, bad = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        sil_two_sum(B[i], -A[i], e1[i], err);
+        bad += std::fabs(err);
+        sil_two_sum(C[i], -A[i], e2[i], err);
+        bad += std::fabs(err);
+        sil_two_sum(l[i], -(w * A[i]), q[i], err);  // w * A[i]: float * float, exact in double
+        bad += std::fabs(err);
+    }
+    if (bad != 0.0) return false;
+    static const int J[3] = {1, 2, 0}, K[3] = {2, 0, 1};
+    double n[3];
+    for (int i = 0; i < 3; ++i) {
+        double p1, p2, err1, err2;
+        sil_two_product(e1[J[i]], e2[K[i]], p1, err1);
+        sil_two_product(e1[K[i]], e2[J[i]], p2, err2);
+        sil_two_sum(p1, -p2, n[i], err);
+        if (err1 != 0.0 || err2 != 0.0 || err != 0.0) return false;
+    }
+    double e[6];  // the expansion of n . q, non-overlapping, increasing magnitude, no zeros
+    int len = 0;
+    for (int i = 0; i < 3; ++i) {
+        double parts[2];
+        sil_two_product(n[i], q[i], parts[1], parts[0]);
+        for (double part : parts) {  // Grow-Expansion with zero elimination: e + part, exactly
+            double Q = part;
+            int out = 0;
+            for (int k = 0; k < len; ++k) {
+                double sum = 0.0;
+                sil_two_sum(Q, e[k], sum, err);
+                Q = sum;
+                if (err != 0.0) e[out++] = err;
+            }
+            if (Q != 0.0) e[out++] = Q;
+            len = out;
+        }
+    }
+    sign = len == 0 ? 0 : (e[len - 1] > 0.0 ? 1 : -1);
+    return true;
+}
+
 /// Exact sign of d (header comment) for finite inputs: a double-precision evaluation whose proven
-/// error bound decides almost every face, the exact integer evaluation for the rest; kSilNonFinite
-/// for NaN/Inf inputs.
+/// error bound decides almost every face, then the exact expansion stage (sil_face_sign_expansion),
+/// the exact integer evaluation for the rest; kSilNonFinite for NaN/Inf inputs.
 inline int sil_face_sign(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L) {
     const double ax = a.x, ay = a.y, az = a.z, lw = L.w;
     const double e1x = static_cast<double>(b.x) - ax, e1y = static_cast<double>(b.y) - ay, e1z = static_cast<double>(b.z) - az;
@@ -420,6 +495,8 @@ inline int sil_face_sign(const glm::vec3& a, const glm::vec3& b, const glm::vec3
     if (!(sil_finite(a) && sil_finite(b) && sil_finite(c) && std::isfinite(L.x) && std::isfinite(L.y) &&
           std::isfinite(L.z) && std::isfinite(L.w)))
         return kSilNonFinite;
+    int sign = 0;
+    if (sil_face_sign_expansion(a, b, c, L, sign)) return sign;
     return sil_face_sign_exact(a, b, c, L);
 }
 
