@@ -17,7 +17,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -34,19 +33,73 @@ std::string read_source(const std::string& rel) {
     return ss.str();
 }
 
+// (Hand-written scanners, not std::regex: GCC 12's <regex> trips -Wmaybe-uninitialized under the
+// sanitizer preset's -O1.)
+bool ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
 std::string strip_comments(const std::string& s) {
-    return std::regex_replace(std::regex_replace(s, std::regex(R"(/\*[\s\S]*?\*/)"), " "), std::regex(R"(//[^\n]*)"), " ");
+    std::string out;
+    for (std::size_t i = 0; i < s.size();) {
+        if (s.compare(i, 2, "//") == 0) {
+            while (i < s.size() && s[i] != '\n') ++i;
+        } else if (s.compare(i, 2, "/*") == 0) {
+            const std::size_t e = s.find("*/", i + 2);
+            i = e == std::string::npos ? s.size() : e + 2;
+            out += ' ';
+        } else {
+            out += s[i++];
+        }
+    }
+    return out;
 }
 
-// Numeric literals (decimal, optional exponent, optional f/u suffix), not parts of identifiers.
-const std::regex& literal_re() {
-    static const std::regex re(R"((^|[^\w.])((\d+\.\d*|\.\d+|\d+)([eE][+-]?\d+)?)[fFuU]?(?![\w.]))");
-    return re;
+// The numeric literal starting at i (digits, '.', exponent; an f/u suffix skipped), its text without
+// the suffix in `lit`; the position after it. 0 length: no literal (part of an identifier, or none).
+std::size_t scan_literal(const std::string& s, std::size_t i, std::string& lit) {
+    lit.clear();
+    if (i > 0 && (ident_char(s[i - 1]) || s[i - 1] == '.')) return i;
+    std::size_t j = i;
+    bool digits = false;
+    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j, digits = true;
+    if (j < s.size() && s[j] == '.') {
+        ++j;
+        while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j, digits = true;
+    }
+    if (!digits) return i;
+    if (j < s.size() && (s[j] == 'e' || s[j] == 'E')) {
+        std::size_t k = j + 1;
+        if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
+        if (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k]))) {
+            while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k]))) ++k;
+            j = k;
+        }
+    }
+    const std::size_t end_number = j;
+    if (j < s.size() && (s[j] == 'f' || s[j] == 'F' || s[j] == 'u' || s[j] == 'U')) ++j;
+    if (j < s.size() && (ident_char(s[j]) || s[j] == '.')) return i;
+    lit = s.substr(i, end_number - i);
+    return j;
+}
+
+std::vector<std::pair<std::size_t, std::string>> literal_positions(const std::string& code) {
+    std::vector<std::pair<std::size_t, std::string>> out;
+    std::string lit;
+    for (std::size_t i = 0; i < code.size();) {
+        const std::size_t j = scan_literal(code, i, lit);
+        if (!lit.empty()) {
+            out.emplace_back(i, lit);
+            i = j;
+        } else {
+            ++i;
+            while (i < code.size() && ident_char(code[i]) && ident_char(code[i - 1])) ++i;  // skip identifiers whole
+        }
+    }
+    return out;
 }
 
 std::vector<std::string> literals(const std::string& code) {
     std::vector<std::string> out;
-    for (std::sregex_iterator it(code.begin(), code.end(), literal_re()), end; it != end; ++it) out.push_back((*it)[2].str());
+    for (const auto& pl : literal_positions(code)) out.push_back(pl.second);
     return out;
 }
 
@@ -54,8 +107,8 @@ std::vector<std::string> literals(const std::string& code) {
 // sign or an operation that drifts shows even when the value does not.
 std::string operators(const std::string& code) {
     std::string out;
-    for (std::sregex_iterator it(code.begin(), code.end(), literal_re()), end; it != end; ++it) {
-        std::size_t i = std::size_t(it->position(2));
+    for (const auto& pl : literal_positions(code)) {
+        std::size_t i = pl.first;
         while (i > 0 && std::isspace(static_cast<unsigned char>(code[i - 1]))) --i;
         const char c = i > 0 ? code[i - 1] : ' ';
         out += (c == '+' || c == '-' || c == '*' || c == '/') ? c : ' ';
@@ -75,28 +128,66 @@ std::string join(const std::vector<std::string>& v) {
     return out;
 }
 
-// Named constants: `constexpr T NAME = LITERAL;` (header), `#define NAME LITERAL` and
+std::string trim(const std::string& s) {
+    const std::size_t a = s.find_first_not_of(" \t\r");
+    if (a == std::string::npos) return std::string();
+    return s.substr(a, s.find_last_not_of(" \t\r") + 1 - a);
+}
+
+// Named constants, one per line: `constexpr T NAME = LITERAL;` (header), `#define NAME LITERAL` and
 // `const float NAME = LITERAL;` (snippet).
 std::map<std::string, std::string> named_constants(const std::string& code) {
     std::map<std::string, std::string> out;
-    const std::regex re(R"((?:constexpr\s+[\w:]+|const\s+(?:float|int|uint))\s+(\w+)\s*=\s*([\d.eE+-]+)[fFuU]?\s*;|#define\s+(\w+)\s+([\d.eE+-]+)[fFuU]?\s*\n)");
-    for (std::sregex_iterator it(code.begin(), code.end(), re), end; it != end; ++it) {
-        if ((*it)[1].matched) out[(*it)[1].str()] = (*it)[2].str();
-        else out[(*it)[3].str()] = (*it)[4].str();
+    std::istringstream in(code);
+    std::string line, lit;
+    while (std::getline(in, line)) {
+        line = trim(line);
+        std::string name, value;
+        if (line.compare(0, 8, "#define ") == 0) {
+            std::istringstream w(line.substr(8));
+            w >> name >> value;
+        } else if (line.compare(0, 10, "constexpr ") == 0 || line.compare(0, 12, "const float ") == 0 ||
+                   line.compare(0, 10, "const int ") == 0) {
+            const std::size_t eq = line.find('='), semi = line.find(';');
+            if (eq == std::string::npos || semi == std::string::npos || semi < eq) continue;
+            const std::string lhs = trim(line.substr(0, eq));
+            name = lhs.substr(lhs.find_last_of(" \t") + 1);
+            value = trim(line.substr(eq + 1, semi - eq - 1));
+        } else {
+            continue;
+        }
+        if (name.empty() || value.empty()) continue;
+        if (scan_literal(value, 0, lit) == value.size() && !lit.empty()) out[name] = lit;
     }
     return out;
 }
 
-std::string substitute(std::string code, const std::map<std::string, std::string>& names) {
-    for (const auto& kv : names) code = std::regex_replace(code, std::regex("\\b" + kv.first + "\\b"), kv.second);
-    return code;
+// Whole-word identifiers replaced by their constants' literals.
+std::string substitute(const std::string& code, const std::map<std::string, std::string>& names) {
+    std::string out;
+    for (std::size_t i = 0; i < code.size();) {
+        if (ident_char(code[i]) && (i == 0 || !ident_char(code[i - 1]))) {
+            std::size_t j = i;
+            while (j < code.size() && ident_char(code[j])) ++j;
+            const std::string word = code.substr(i, j - i);
+            const auto it = names.find(word);
+            out += it != names.end() ? it->second : word;
+            i = j;
+        } else {
+            out += code[i++];
+        }
+    }
+    return out;
 }
 
 // The body ({...}) of the definition of function `name` (the first occurrence followed by a body).
 std::string function_body(const std::string& code, const std::string& name) {
-    const std::regex re("\\b" + name + "\\s*\\(");
-    for (std::sregex_iterator it(code.begin(), code.end(), re), end; it != end; ++it) {
-        std::size_t i = std::size_t(it->position(0) + it->length(0));
+    for (std::size_t at = code.find(name); at != std::string::npos; at = code.find(name, at + 1)) {
+        if ((at > 0 && ident_char(code[at - 1])) || (at + name.size() < code.size() && ident_char(code[at + name.size()]))) continue;
+        std::size_t i = at + name.size();
+        while (i < code.size() && std::isspace(static_cast<unsigned char>(code[i]))) ++i;
+        if (i >= code.size() || code[i] != '(') continue;
+        ++i;
         for (int depth = 1; i < code.size() && depth > 0; ++i) depth += code[i] == '(' ? 1 : code[i] == ')' ? -1 : 0;
         while (i < code.size() && (std::isspace(static_cast<unsigned char>(code[i])) || code.compare(i, 5, "const") == 0))
             i += code.compare(i, 5, "const") == 0 ? 5 : 1;
