@@ -7,7 +7,9 @@
 #      selected;
 #   2. when qemu-aarch64 is present: the unit tests of the cached planes (tests/unit/
 #      test_silhouette_planes.cpp: facing bits identical to the exact path and to a big-integer
-#      reference, the filter's error bound) cross-compiled and run under it.
+#      reference, the filter's error bound) and of the exact facing (test_silhouette.cpp: its
+#      expansion stage takes its products by FMA there, by Dekker's split on x86-64 without FMA)
+#      cross-compiled and run under it.
 # Without the cross compiler: skipped (exit 77), unless SHADOWKIT_REQUIRE_AARCH64 is set (.ci/run
 # sets it: there it must run). Usage: aarch64_neon.sh SOURCE_DIR WORK_DIR
 set -euo pipefail
@@ -47,9 +49,13 @@ CPP
 echo "aarch64_neon: every header compiles for AArch64 with the NEON branch selected ($("$cxx" -dumpfullversion))"
 if ! command -v qemu-aarch64 >/dev/null 2>&1; then
   echo "aarch64_neon: qemu-aarch64 not found: the NEON tests are compiled only"
-  "$cxx" "${flags[@]}" -Wno-error -c "$src/tests/unit/test_silhouette_planes.cpp" -o "$work/planes.o"
+  for t in test_silhouette_planes test_silhouette; do
+    "$cxx" "${flags[@]}" -c "$src/tests/unit/$t.cpp" -o "$work/$t.o"
+  done
   exit 0
 fi
-"$cxx" "${flags[@]}" -static "$src/tests/doctest_main.cpp" "$src/tests/unit/test_silhouette_planes.cpp" -o "$work/planes" -pthread
-qemu-aarch64 "$work/planes"
-echo "aarch64_neon: test_silhouette_planes passed on AArch64 (NEON) under qemu"
+for t in test_silhouette_planes test_silhouette; do
+  "$cxx" "${flags[@]}" -static "$src/tests/doctest_main.cpp" "$src/tests/unit/$t.cpp" -o "$work/$t" -pthread
+  qemu-aarch64 "$work/$t"
+  echo "aarch64_neon: $t passed on AArch64 (NEON; the exact stages' FMA products) under qemu"
+done
