@@ -444,11 +444,18 @@ inline bool sil_face_sign_expansion(const glm::vec3& a, const glm::vec3& b, cons
     }
     if (bad != 0.0) return false;
     static const int J[3] = {1, 2, 0}, K[3] = {2, 0, 1};
+    // e1 and e2 with at most 24 significant bits each (they round-trip through float, the usual case):
+    // their products have at most 48 and are exact, no error term needed
+    bool narrow = true;
+    for (int i = 0; i < 3; ++i)
+        narrow = narrow && double(static_cast<float>(e1[i])) == e1[i] && double(static_cast<float>(e2[i])) == e2[i];
     double n[3];
     for (int i = 0; i < 3; ++i) {
-        double p1, p2, err1, err2;
-        sil_two_product(e1[J[i]], e2[K[i]], p1, err1);
-        sil_two_product(e1[K[i]], e2[J[i]], p2, err2);
+        double p1 = e1[J[i]] * e2[K[i]], p2 = e1[K[i]] * e2[J[i]], err1 = 0.0, err2 = 0.0;
+        if (!narrow) {
+            sil_two_product(e1[J[i]], e2[K[i]], p1, err1);
+            sil_two_product(e1[K[i]], e2[J[i]], p2, err2);
+        }
         sil_two_sum(p1, -p2, n[i], err);
         if (err1 != 0.0 || err2 != 0.0 || err != 0.0) return false;
     }
