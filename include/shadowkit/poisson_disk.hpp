@@ -48,6 +48,10 @@ namespace shadowkit {
 
 #ifndef SHADOWKIT_STATUS_DEFINED
 #define SHADOWKIT_STATUS_DEFINED
+/// shadowkit's release, major * 10000 + minor * 100 + patch (0.1.0), the same in every header. Whichever
+/// header comes first defines this block; a header of another release included with it stops the
+/// build (the #error after the block) instead of mixing two definitions silently.
+#define SHADOWKIT_VERSION 100
 /// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
 /// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
 /// visible, an edge to skip) is a field of its result, never a status.
@@ -77,6 +81,9 @@ inline const char* status_name(Status s) {
     }
     return "?";
 }
+#endif
+#if !defined(SHADOWKIT_VERSION) || SHADOWKIT_VERSION != 100
+#error "shadowkit: headers of two releases included together (this one is 0.1.0, SHADOWKIT_VERSION 100); vendor the headers of one release"
 #endif
 
 /// Shape of the sampling domain.

@@ -35,7 +35,8 @@
 //   Precision: whole-texel motion is certified in double; a float matrix carries 2^-24 relative
 //   round-off, which at N texels from the world origin is N * 2^-24 texels (0.38 texel at 1e5
 //   world units with 1/64-unit texels): build stable fits in double (see shadow_cache_plan).
-//   Per-frame functions never allocate.
+//   Per-frame functions never allocate, except shadow_cache_plan when a caster moved (the sweep's
+//   scratch, O(moved casters)); Keep, Render and a scroll with no moved caster allocate nothing.
 //
 // Based on:
 //   A. Moschig, "Apelles" master's thesis, TU Graz, sec. 4.1.2 (a shadow map is invalidated only
@@ -51,15 +52,22 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace shadowkit {
 
 #ifndef SHADOWKIT_STATUS_DEFINED
 #define SHADOWKIT_STATUS_DEFINED
+/// shadowkit's release, major * 10000 + minor * 100 + patch (0.1.0), the same in every header. Whichever
+/// header comes first defines this block; a header of another release included with it stops the
+/// build (the #error after the block) instead of mixing two definitions silently.
+#define SHADOWKIT_VERSION 100
 /// Outcome of a shadowkit call: one set for every header. `Ok` is the only success. A result that no
 /// call has filled says `NotRun`. What a successful call found (no blocker, a fallback, nothing
 /// visible, an edge to skip) is a field of its result, never a status.
@@ -89,6 +97,9 @@ inline const char* status_name(Status s) {
     }
     return "?";
 }
+#endif
+#if !defined(SHADOWKIT_VERSION) || SHADOWKIT_VERSION != 100
+#error "shadowkit: headers of two releases included together (this one is 0.1.0, SHADOWKIT_VERSION 100); vendor the headers of one release"
 #endif
 
 /// Largest map side shadow_cache_plan accepts, in texels (beyond any GL_MAX_TEXTURE_SIZE).
@@ -169,8 +180,12 @@ struct ShadowCachePlan {
     ShadowCacheCopy copy;            ///< Scroll: the region to copy (what stays on the map); zero otherwise
     std::size_t count = 0;           ///< rectangles written to `rects` (a valid prefix)
     std::size_t needed = 0;          ///< rectangles the plan needs: count when Ok; 1 with BufferTooSmall
-    std::size_t unmerged = 0;        ///< rectangles before merging to fit rect_capacity (the capacity that merges nothing)
-    std::uint64_t texels = 0;        ///< sum of the rectangles' areas: the texels re-rendered (0 for Keep)
+    std::size_t unmerged = 0;        ///< footprint rectangles (border strips, old and new footprints) before the cover was built
+    /// The rectangles are pairwise disjoint. merged false: their union is exactly the union of the
+    /// footprints; true: rect_capacity was too small for that, and footprints were merged into a
+    /// larger cover (more texels re-rendered, still disjoint).
+    bool merged = false;
+    std::uint64_t texels = 0;        ///< sum of the rectangles' areas (= the area of their union): the texels re-rendered (0 for Keep)
     /// Largest departure from a whole-texel translation of last frame's map over the map's volume, in
     /// texels (0 when the matrices are identical; a diagnostic of the motion test).
     double residual_texels = 0.0;
@@ -237,6 +252,17 @@ inline ShadowCacheRect sc_union(const ShadowCacheRect& a, const ShadowCacheRect&
     return ShadowCacheRect{x0, y0, x1 - x0, y1 - y0};
 }
 
+/// The union of a and b is exactly their bounding rectangle: one contains the other, or they share
+/// their extent in one axis and overlap or touch in the other.
+inline bool sc_union_is_rect(const ShadowCacheRect& a, const ShadowCacheRect& b) {
+    const ShadowCacheRect u = sc_union(a, b);
+    const bool same_x = a.x == b.x && a.width == b.width, same_y = a.y == b.y && a.height == b.height;
+    const bool touch_x = a.x <= b.x + b.width && b.x <= a.x + a.width;
+    const bool touch_y = a.y <= b.y + b.height && b.y <= a.y + a.height;
+    const bool contains = sc_area(u) == sc_area(a) || sc_area(u) == sc_area(b);
+    return contains || (same_y && touch_x) || (same_x && touch_y);
+}
+
 /// Clamps a window coordinate (double, maybe huge) to [lo, hi] and converts it.
 inline int sc_clamp_int(double v, int lo, int hi) {
     if (!(v > double(lo))) return lo;  // NaN -> lo (never reached: inputs are finite)
@@ -295,47 +321,212 @@ inline bool sc_footprint(const glm::dmat4& m, int w, int h, const float* b, Shad
     return true;
 }
 
-/// Rectangle list in the caller's buffer: adds r, merging to stay within cap (cap >= 1). Two
-/// rectangles merge for free when their bounding rectangle is no larger than both together; when
-/// the buffer is full, r merges with the rectangle whose bounding rectangle grows least.
-struct sc_rect_list {
-    ShadowCacheRect* rects;
-    std::size_t cap;
-    std::size_t count;
-    std::size_t unmerged;
-    void add(ShadowCacheRect r) {
-        if (r.width <= 0 || r.height <= 0) return;
-        ++unmerged;
-        for (;;) {
-            bool merged = false;
-            for (std::size_t i = 0; i < count; ++i) {
-                const ShadowCacheRect u = sc_union(rects[i], r);
-                if (sc_area(u) <= sc_area(rects[i]) + sc_area(r)) {
-                    r = u;
-                    rects[i] = rects[--count];
-                    merged = true;
-                    break;
-                }
-            }
-            if (merged) continue;
-            if (count < cap) {
-                rects[count++] = r;
-                return;
-            }
-            std::size_t best = 0;
-            std::uint64_t best_cost = std::numeric_limits<std::uint64_t>::max();
-            for (std::size_t i = 0; i < count; ++i) {
-                const std::uint64_t cost = sc_area(sc_union(rects[i], r)) - sc_area(rects[i]);
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best = i;
-                }
-            }
-            r = sc_union(rects[best], r);
-            rects[best] = rects[--count];
+/// Disjoint cover of a set of texel rectangles: a sweep in y over the union's cross-section (a set
+/// of x runs, kept in a segment tree over the rectangles' distinct x edges). A run that does not
+/// change is one output rectangle from the y it appeared to the y it changed (maximal vertical
+/// extension), so the output is the union exactly, as pairwise disjoint rectangles; disjoint inputs
+/// come out unchanged. O((m + k) log m) for m inputs and k outputs; stops (false) as soon as more
+/// than `cap` rectangles would be needed. Scratch: O(m) elements, kept between calls.
+struct sc_sweep {
+    struct Event {
+        int y, v, l, r;  // v = +1 (start) / -1 (end); [l, r): elementary x intervals
+    };
+    std::vector<int> xs, rank, slot, cnt, open_y;
+    std::vector<unsigned char> any, all;  // per node: some / every elementary interval below is covered
+    std::vector<Event> events;
+    std::vector<std::pair<int, int>> old_runs, new_runs;
+    int elems = 0;  // elementary intervals: [xs[e], xs[e + 1]), e < elems
+
+    // A cover-count segment tree (the area-of-union tree): cnt[node] counts the rectangles covering
+    // the node's whole range, never pushed down; an interval is covered when a node on its path is.
+    void apply(int node, int lo, int hi, int l, int r, int v) {
+        if (r <= lo || hi <= l) return;
+        const int mid = (lo + hi) / 2;
+        if (l <= lo && hi <= r) {
+            cnt[std::size_t(node)] += v;
+        } else {
+            apply(2 * node, lo, mid, l, r, v);
+            apply(2 * node + 1, mid, hi, l, r, v);
+        }
+        const std::size_t n = std::size_t(node);
+        if (cnt[n] > 0) any[n] = all[n] = 1;
+        else if (hi - lo == 1) any[n] = all[n] = 0;
+        else {
+            any[n] = any[2 * n] | any[2 * n + 1];
+            all[n] = all[2 * n] & all[2 * n + 1];
         }
     }
+    /// First covered e in [p, lim); elems if none.
+    int next_covered(int node, int lo, int hi, int p, int lim) const {
+        if (hi <= p || lo >= lim || !any[std::size_t(node)]) return elems;
+        if (cnt[std::size_t(node)] > 0) return lo > p ? lo : p;
+        const int mid = (lo + hi) / 2;
+        const int a = next_covered(2 * node, lo, mid, p, lim);
+        return a != elems ? a : next_covered(2 * node + 1, mid, hi, p, lim);
+    }
+    /// First uncovered e >= p; elems if none.
+    int next_uncovered(int node, int lo, int hi, int p) const {
+        if (hi <= p || all[std::size_t(node)]) return elems;
+        if (hi - lo == 1) return lo;
+        const int mid = (lo + hi) / 2;
+        const int a = next_uncovered(2 * node, lo, mid, p);
+        return a != elems ? a : next_uncovered(2 * node + 1, mid, hi, p);
+    }
+    /// Last uncovered e < p; -1 if none.
+    int prev_uncovered(int node, int lo, int hi, int p) const {
+        if (lo >= p || all[std::size_t(node)]) return -1;
+        if (hi - lo == 1) return lo;
+        const int mid = (lo + hi) / 2;
+        const int b = prev_uncovered(2 * node + 1, mid, hi, p);
+        return b != -1 ? b : prev_uncovered(2 * node, lo, mid, p);
+    }
+    /// The runs [s, e) (maximal covered elementary ranges) that meet [a, b).
+    void runs(int a, int b, std::vector<std::pair<int, int>>& out) const {
+        out.clear();
+        const int z = prev_uncovered(1, 0, elems, a + 1);  // a itself uncovered: z == a
+        int s = z == a ? next_covered(1, 0, elems, a, b) : z + 1;
+        while (s < b) {
+            const int e = next_uncovered(1, 0, elems, s);
+            out.emplace_back(s, e);
+            s = e < b ? next_covered(1, 0, elems, e, b) : elems;
+        }
+    }
+    bool emit(int s, int e, int y, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
+        if (y > open_y[s]) {
+            if (count == cap) return false;
+            out[count++] = ShadowCacheRect{xs[s], open_y[s], xs[e] - xs[s], y - open_y[s]};
+        }
+        return true;
+    }
+    /// One event: close the runs near [l, r) that it changes, open the new ones.
+    bool event(const Event& ev, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
+        const int a = ev.l > 0 ? ev.l - 1 : 0, b = ev.r < elems ? ev.r + 1 : elems;
+        if (ev.v > 0) {
+            if (next_covered(1, 0, elems, a, b) == elems) {
+                // a start in empty surroundings (disjoint footprints): one new run, nothing closes
+                apply(1, 0, elems, ev.l, ev.r, ev.v);
+                open_y[std::size_t(ev.l)] = ev.y;
+                return true;
+            }
+            if (next_uncovered(1, 0, elems, a) >= b) {
+                apply(1, 0, elems, ev.l, ev.r, ev.v);  // inside a run (piled footprints): nothing changes
+                return true;
+            }
+        }
+        runs(a, b, old_runs);
+        apply(1, 0, elems, ev.l, ev.r, ev.v);
+        if (ev.v < 0 && old_runs.size() == 1 && next_uncovered(1, 0, elems, a) >= b) return true;  // still inside it
+        if (next_covered(1, 0, elems, a, b) == elems) new_runs.clear();  // an end that empties its surroundings
+        else runs(a, b, new_runs);
+        std::size_t i = 0, j = 0;
+        while (i < old_runs.size() || j < new_runs.size()) {
+            if (i < old_runs.size() && j < new_runs.size() && old_runs[i] == new_runs[j]) {
+                ++i, ++j;  // unchanged: stays open
+            } else if (j == new_runs.size() || (i < old_runs.size() && old_runs[i].first <= new_runs[j].first)) {
+                if (!emit(old_runs[i].first, old_runs[i].second, ev.y, out, cap, count)) return false;
+                ++i;
+            } else {
+                open_y[std::size_t(new_runs[j].first)] = ev.y;
+                ++j;
+            }
+        }
+        return true;
+    }
+    /// The disjoint cover of in[0, m) into out[0, count); false if it needs more than cap. The x
+    /// edges are compressed and the events ordered by counting (coordinates lie in [0, 65536]).
+    bool run(const ShadowCacheRect* in, std::size_t m, ShadowCacheRect* out, std::size_t cap, std::size_t& count) {
+        count = 0;
+        int max_x = 0, max_y = 0;
+        for (std::size_t i = 0; i < m; ++i) {
+            max_x = std::max(max_x, in[i].x + in[i].width);
+            max_y = std::max(max_y, in[i].y + in[i].height);
+        }
+        xs.assign(std::size_t(max_x) + 1, 0);  // first a mark per x edge, then its rank
+        for (std::size_t i = 0; i < m; ++i) xs[std::size_t(in[i].x)] = xs[std::size_t(in[i].x + in[i].width)] = 1;
+        rank.assign(xs.size(), 0);
+        int k = 0;
+        for (std::size_t x = 0; x < xs.size(); ++x)
+            if (xs[x] != 0) {
+                rank[x] = k;
+                xs[std::size_t(k++)] = int(x);
+            }
+        xs.resize(std::size_t(k));
+        elems = k - 1;
+        if (elems < 1) return true;
+        // events by y, starts before ends at the same y (a run that only grows and shrinks back
+        // within one y is not split); a counting sort on 2 y + (end), stable
+        slot.assign(2 * std::size_t(max_y) + 3, 0);
+        for (std::size_t i = 0; i < m; ++i) {
+            ++slot[2 * std::size_t(in[i].y) + 1];
+            ++slot[2 * std::size_t(in[i].y + in[i].height) + 2];
+        }
+        for (std::size_t j = 1; j < slot.size(); ++j) slot[j] += slot[j - 1];
+        events.resize(2 * m);
+        for (std::size_t i = 0; i < m; ++i) {
+            const int l = rank[std::size_t(in[i].x)], r = rank[std::size_t(in[i].x + in[i].width)];
+            events[std::size_t(slot[2 * std::size_t(in[i].y)]++)] = Event{in[i].y, +1, l, r};
+            events[std::size_t(slot[2 * std::size_t(in[i].y + in[i].height) + 1]++)] = Event{in[i].y + in[i].height, -1, l, r};
+        }
+        const std::size_t nodes = 4 * std::size_t(elems);
+        cnt.assign(nodes, 0);
+        any.assign(nodes, 0);
+        all.assign(nodes, 0);
+        open_y.assign(xs.size(), 0);
+        for (const Event& ev : events)
+            if (!event(ev, out, cap, count)) return false;
+        return true;
+    }
 };
+
+/// Morton key of a rectangle's center (16 bits per axis): neighbours on the map, neighbours in the key.
+inline std::uint32_t sc_morton(const ShadowCacheRect& r) {
+    std::uint32_t key = 0;
+    const std::uint32_t x = std::uint32_t(r.x + r.width / 2) & 0xffffu, y = std::uint32_t(r.y + r.height / 2) & 0xffffu;
+    for (int b = 0; b < 16; ++b) key |= (((x >> b) & 1u) << (2 * b)) | (((y >> b) & 1u) << (2 * b + 1));
+    return key;
+}
+
+/// Shrinks a rectangle list for a capacity its disjoint cover overflowed: sorted in Morton order of
+/// the centers, each consecutive pair whose bounding rectangle is no larger than the two together
+/// (a free merge: no more texels than drawing both) becomes that rectangle; when that shortens the
+/// list by less than a quarter, every pair does (the list halves). O(m log m).
+inline void sc_merge_pairs(std::vector<ShadowCacheRect>& v, std::vector<ShadowCacheRect>& tmp) {
+    std::sort(v.begin(), v.end(), [](const ShadowCacheRect& a, const ShadowCacheRect& b) { return sc_morton(a) < sc_morton(b); });
+    for (int forced = 0; forced < 2; ++forced) {
+        tmp.clear();
+        for (std::size_t i = 0; i < v.size();) {
+            const ShadowCacheRect u = i + 1 < v.size() ? sc_union(v[i], v[i + 1]) : v[i];
+            if (i + 1 < v.size() && (forced != 0 || sc_area(u) <= sc_area(v[i]) + sc_area(v[i + 1]))) {
+                tmp.push_back(u);
+                i += 2;
+            } else {
+                tmp.push_back(v[i++]);
+            }
+        }
+        if (forced != 0 || 4 * tmp.size() <= 3 * v.size()) break;
+    }
+    v.swap(tmp);
+}
+
+/// The cover of the footprints `fp` in out[0, count) (cap >= 1): their union as disjoint rectangles
+/// when that fits in cap (merged false); else neighbouring footprints are merged (sc_merge_pairs)
+/// and the union of the merged list is tried again, until it fits (merged true: a larger cover,
+/// still disjoint). O(m log m) per round; each round shortens the list by a quarter or more.
+inline void sc_cover(std::vector<ShadowCacheRect>& fp, ShadowCacheRect* out, std::size_t cap, std::size_t& count,
+                     bool& merged) {
+    merged = false;
+    count = 0;
+    if (fp.size() == 1) {
+        out[count++] = fp[0];
+        return;
+    }
+    sc_sweep sweep;
+    std::vector<ShadowCacheRect> tmp;
+    while (!sweep.run(fp.data(), fp.size(), out, cap, count)) {
+        merged = true;
+        sc_merge_pairs(fp, tmp);
+    }
+}
 
 /// The 8 corners of an affine map's volume (NDC cube [-1, 1]^3) in world space; false if the map's
 /// 3x3 part is singular or the corners are not finite.
@@ -360,6 +551,116 @@ inline double sc_row_magnitude(const glm::dmat4& m, int r, const glm::dvec3& p) 
 
 inline double sc_row(const glm::dmat4& m, int r, const glm::dvec3& p) {
     return m[0][r] * p.x + m[1][r] * p.y + m[2][r] * p.z + m[3][r];
+}
+
+/// Motion of an affine map between two frames (shadow_cache_plan's whole-texel test): Ok with
+/// reason None and the offset in (ox, oy) when `cur` is `prev` moved by whole texels in x/y (0, 0
+/// when identical); a reason to render whole otherwise; InvalidArgument / Overflow for a singular
+/// matrix or a difference beyond double. Fills res.residual_texels and res.tolerance_texels.
+inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCacheMapState& current, ShadowCachePlan& res,
+                            ShadowCacheReason& reason, int& ox, int& oy) {
+    const glm::dmat4& A = previous.view_proj;
+    const glm::dmat4& B = current.view_proj;
+    const int W = current.width, H = current.height;
+    reason = ShadowCacheReason::None;
+    ox = oy = 0;
+    if (sc_identical(A, B)) return Status::Ok;
+    if (!sc_affine(A) || !sc_affine(B)) {
+        reason = ShadowCacheReason::ProjectionChanged;
+        return Status::Ok;
+    }
+    const glm::dmat4 An = A / A[3][3], Bn = B / B[3][3];  // clip w = 1 everywhere
+    glm::dvec3 corner[8];
+    if (!sc_volume_corners(Bn, corner)) return Status::InvalidArgument;  // singular 3x3: no map volume
+    const double u = (previous.float_matrices || current.float_matrices) ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
+    // per row (x, y, z): the difference at the corners and its round-off scale
+    double dmin[3], dmax[3], scale[3];
+    for (int r = 0; r < 3; ++r) {
+        dmin[r] = std::numeric_limits<double>::infinity();
+        dmax[r] = -std::numeric_limits<double>::infinity();
+        double sa = 0.0, sb = 0.0;
+        for (int k = 0; k < 8; ++k) {
+            const double d = sc_row(Bn, r, corner[k]) - sc_row(An, r, corner[k]);
+            dmin[r] = std::fmin(dmin[r], d);
+            dmax[r] = std::fmax(dmax[r], d);
+            sa = std::fmax(sa, sc_row_magnitude(An, r, corner[k]));
+            sb = std::fmax(sb, sc_row_magnitude(Bn, r, corner[k]));
+        }
+        scale[r] = 8.0 * u * (sa + sb);
+        if (!std::isfinite(dmin[r]) || !std::isfinite(dmax[r]) || !std::isfinite(scale[r])) return Status::Overflow;
+    }
+    // NDC -> texels (x, y); depth stays in NDC
+    const double half[2] = {0.5 * double(W), 0.5 * double(H)};
+    const double tol_x = scale[0] * half[0], tol_y = scale[1] * half[1];
+    res.tolerance_texels = std::fmax(tol_x, tol_y);
+    const double cx = 0.5 * (dmin[0] + dmax[0]) * half[0], cy = 0.5 * (dmin[1] + dmax[1]) * half[1];
+    const double rx = std::round(cx), ry = std::round(cy);
+    const double res_x = std::fmax(std::fabs(dmin[0] * half[0] - rx), std::fabs(dmax[0] * half[0] - rx));
+    const double res_y = std::fmax(std::fabs(dmin[1] * half[1] - ry), std::fabs(dmax[1] * half[1] - ry));
+    res.residual_texels = std::fmax(res_x, res_y);
+    if (!std::isfinite(res.residual_texels)) return Status::Overflow;
+    // linear parts: the spread of the difference over the volume (a rotation or scale)
+    const double spread_x = (dmax[0] - dmin[0]) * half[0], spread_y = (dmax[1] - dmin[1]) * half[1];
+    if (res.tolerance_texels > kShadowCacheMaxResidualTexels) reason = ShadowCacheReason::PrecisionTooLow;
+    else if (spread_x > 2.0 * tol_x || spread_y > 2.0 * tol_y || dmax[2] - dmin[2] > 2.0 * scale[2])
+        reason = ShadowCacheReason::ProjectionChanged;
+    else if (std::fmax(std::fabs(dmin[2]), std::fabs(dmax[2])) > scale[2]) reason = ShadowCacheReason::DepthMoved;
+    else if (res_x > tol_x || res_y > tol_y) reason = ShadowCacheReason::SubTexelMotion;
+    else if (std::fabs(rx) >= double(W) || std::fabs(ry) >= double(H)) reason = ShadowCacheReason::MovedOffMap;
+    else {
+        ox = static_cast<int>(rx);
+        oy = static_cast<int>(ry);
+    }
+    return Status::Ok;
+}
+
+/// The exposed border of a W x H map scrolled by (ox, oy): at most two disjoint strips into out
+/// (their count returned); fills res.copy and the offsets when the map moved.
+inline std::size_t sc_strips(int W, int H, int ox, int oy, ShadowCachePlan& res, ShadowCacheRect out[2]) {
+    if (ox == 0 && oy == 0) return 0;
+    std::size_t n = 0;
+    const int ax = ox < 0 ? -ox : ox, ay = oy < 0 ? -oy : oy;
+    const int sx = ox > 0 ? 0 : W - ax;  // exposed columns [sx, sx + ax)
+    const int sy = oy > 0 ? 0 : H - ay;  // exposed rows [sy, sy + ay)
+    if (ax > 0) out[n++] = ShadowCacheRect{sx, 0, ax, H};
+    if (ay > 0 && W - ax > 0) out[n++] = ShadowCacheRect{ox > 0 ? ax : 0, sy, W - ax, ay};
+    res.copy = ShadowCacheCopy{ox > 0 ? 0 : ax, oy > 0 ? 0 : ay, ox > 0 ? ax : 0, oy > 0 ? ay : 0, W - ax, H - ay};
+    res.offset_x = ox;
+    res.offset_y = oy;
+    return n;
+}
+
+/// The rectangles to re-render on a W x H map scrolled by (ox, oy) (0, 0: in place): the exposed
+/// border (at most two strips) and the footprints (this frame's matrix B) of the old and new bounds
+/// of every caster that moved, into `fp` (a caster's two as one when their union is a rectangle);
+/// fills res.copy, the offsets and res.unmerged (all of them). False: a footprint overflowed.
+inline bool sc_footprints(const glm::dmat4& B, int W, int H, int ox, int oy, const ShadowCacheCaster* casters,
+                          std::size_t caster_count, ShadowCachePlan& res, std::vector<ShadowCacheRect>& fp) {
+    ShadowCacheRect strips[2];
+    res.unmerged = sc_strips(W, H, ox, oy, res, strips);
+    fp.assign(strips, strips + res.unmerged);
+    for (std::size_t i = 0; i < caster_count; ++i) {
+        const ShadowCacheCaster& c = casters[i];
+        if (sc_box_same(c.bounds, c.previous_bounds)) continue;
+        const std::size_t first = fp.size();
+        for (const float* b : {c.previous_bounds, c.bounds}) {
+            if (sc_box_empty(b)) continue;
+            ShadowCacheRect r;
+            bool overflow = false;
+            if (sc_footprint(B, W, H, b, r, overflow)) {
+                fp.push_back(r);
+                ++res.unmerged;
+            }
+            if (overflow) return false;
+        }
+        // old and new footprint whose union is one rectangle (a move along one map axis, or one
+        // inside the other): that rectangle, exactly (half the sweep's events for such casters)
+        if (fp.size() == first + 2 && sc_union_is_rect(fp[first], fp[first + 1])) {
+            fp[first] = sc_union(fp[first], fp[first + 1]);
+            fp.pop_back();
+        }
+    }
+    return true;
 }
 
 }  // namespace detail
@@ -440,12 +741,16 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
 /// Perspective maps (spot lights, cube faces) never scroll: any change of the matrix renders.
 ///
 /// `casters`: caster_count entries (null allowed when 0); only those whose bounds changed count.
-/// `rects` holds rect_capacity ShadowCacheRect elements; the plan needs at most
-/// shadow_cache_rect_capacity(caster_count) before merging (`unmerged`) and merges rectangles (a
-/// conservative cover: more texels) to fit any capacity >= 1. Keep writes none, Render one. The
-/// rectangles do not overlap after merging when merging is free; they may overlap otherwise (a
-/// texel re-rendered twice is still right). When they would cover the whole map's area the plan
-/// is Render (DirtyCoversMap). Cost: O(moved casters x count).
+/// `rects` holds rect_capacity ShadowCacheRect elements. The footprints (`unmerged`, at most
+/// shadow_cache_rect_capacity(caster_count)) may overlap; the plan writes their union as pairwise
+/// disjoint rectangles (no texel re-rendered twice; `texels` is the union's area): disjoint
+/// footprints come out as they are, overlapping ones split (two crossing bars give three). When that
+/// needs more than rect_capacity (shadow_cache_rect_capacity(caster_count) holds the footprints,
+/// not always their split), neighbouring footprints are merged into their bounding rectangles, the
+/// free merges first (no larger than the pair), until the union of the merged set fits (`merged`: a
+/// conservative cover, still disjoint); any capacity >= 1 works. Keep writes none, Render one. When the rectangles would cover
+/// the whole map the plan is Render (DirtyCoversMap). Cost: O((m + count) log m) for m footprints (a
+/// sweep in y over the union's x runs), times O(log m) rounds when merging; scratch O(m), allocated.
 /// Errors: InvalidArgument (current.view_proj zero, a size outside 1..kShadowCacheMaxSize, null
 /// casters with a count, null rects with a capacity, the same for previous when has_content),
 /// NonFinite (NaN/Inf in a matrix or bounds), BufferTooSmall (rect_capacity 0 and a rectangle to
@@ -500,101 +805,49 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
     if (previous.settings != current.settings) return render(ShadowCacheReason::SettingsChanged);
 
     // ---- motion of the map
-    const glm::dmat4& A = previous.view_proj;
-    const glm::dmat4& B = current.view_proj;
+    ShadowCacheReason why = ShadowCacheReason::None;
     int ox = 0, oy = 0;
-    if (!sc_identical(A, B)) {
-        if (!sc_affine(A) || !sc_affine(B)) return render(ShadowCacheReason::ProjectionChanged);
-        const glm::dmat4 An = A / A[3][3], Bn = B / B[3][3];  // clip w = 1 everywhere
-        glm::dvec3 corner[8];
-        if (!sc_volume_corners(Bn, corner)) return fail(Status::InvalidArgument);  // singular 3x3: no map volume
-        const double u = (previous.float_matrices || current.float_matrices) ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
-        // per row (x, y, z): the difference at the corners and its round-off scale
-        double dmin[3], dmax[3], scale[3];
-        for (int r = 0; r < 3; ++r) {
-            dmin[r] = std::numeric_limits<double>::infinity();
-            dmax[r] = -std::numeric_limits<double>::infinity();
-            double sa = 0.0, sb = 0.0;
-            for (int k = 0; k < 8; ++k) {
-                const double d = sc_row(Bn, r, corner[k]) - sc_row(An, r, corner[k]);
-                dmin[r] = std::fmin(dmin[r], d);
-                dmax[r] = std::fmax(dmax[r], d);
-                sa = std::fmax(sa, sc_row_magnitude(An, r, corner[k]));
-                sb = std::fmax(sb, sc_row_magnitude(Bn, r, corner[k]));
-            }
-            scale[r] = 8.0 * u * (sa + sb);
-            if (!std::isfinite(dmin[r]) || !std::isfinite(dmax[r]) || !std::isfinite(scale[r])) return fail(Status::Overflow);
-        }
-        // NDC -> texels (x, y); depth stays in NDC
-        const double half[2] = {0.5 * double(W), 0.5 * double(H)};
-        const double tol_x = scale[0] * half[0], tol_y = scale[1] * half[1];
-        res.tolerance_texels = std::fmax(tol_x, tol_y);
-        const double cx = 0.5 * (dmin[0] + dmax[0]) * half[0], cy = 0.5 * (dmin[1] + dmax[1]) * half[1];
-        const double rx = std::round(cx), ry = std::round(cy);
-        const double res_x = std::fmax(std::fabs(dmin[0] * half[0] - rx), std::fabs(dmax[0] * half[0] - rx));
-        const double res_y = std::fmax(std::fabs(dmin[1] * half[1] - ry), std::fabs(dmax[1] * half[1] - ry));
-        res.residual_texels = std::fmax(res_x, res_y);
-        if (!std::isfinite(res.residual_texels)) return fail(Status::Overflow);
-        if (res.tolerance_texels > kShadowCacheMaxResidualTexels) return render(ShadowCacheReason::PrecisionTooLow);
-        // linear parts: the spread of the difference over the volume (a rotation or scale)
-        const double spread_x = (dmax[0] - dmin[0]) * half[0], spread_y = (dmax[1] - dmin[1]) * half[1];
-        if (spread_x > 2.0 * tol_x || spread_y > 2.0 * tol_y || dmax[2] - dmin[2] > 2.0 * scale[2])
-            return render(ShadowCacheReason::ProjectionChanged);
-        if (std::fmax(std::fabs(dmin[2]), std::fabs(dmax[2])) > scale[2]) return render(ShadowCacheReason::DepthMoved);
-        if (res_x > tol_x || res_y > tol_y) return render(ShadowCacheReason::SubTexelMotion);
-        if (std::fabs(rx) >= double(W) || std::fabs(ry) >= double(H)) return render(ShadowCacheReason::MovedOffMap);
-        ox = static_cast<int>(rx);
-        oy = static_cast<int>(ry);
-    }
+    const Status motion = sc_map_motion(previous, current, res, why, ox, oy);
+    if (motion != Status::Ok) return fail(motion);
+    if (why != ShadowCacheReason::None) return render(why);
 
-    // ---- rectangles
-    const std::size_t cap = rect_capacity;
-    ShadowCacheRect scratch[1];
-    // capacity 0: count into a one-element scratch to learn whether anything is needed
-    sc_rect_list list{cap == 0 ? scratch : rects, cap == 0 ? 1 : cap, 0, 0};
-    if (ox != 0 || oy != 0) {
-        const int ax = ox < 0 ? -ox : ox, ay = oy < 0 ? -oy : oy;
-        const int sx = ox > 0 ? 0 : W - ax;  // exposed columns [sx, sx + ax)
-        const int sy = oy > 0 ? 0 : H - ay;  // exposed rows [sy, sy + ay)
-        if (ax > 0) list.add(ShadowCacheRect{sx, 0, ax, H});
-        if (ay > 0) list.add(ShadowCacheRect{ox > 0 ? ax : 0, sy, W - ax, ay});
-        res.copy = ShadowCacheCopy{ox > 0 ? 0 : ax, oy > 0 ? 0 : ay, ox > 0 ? ax : 0, oy > 0 ? ay : 0, W - ax, H - ay};
-        res.offset_x = ox;
-        res.offset_y = oy;
-    }
-    for (std::size_t i = 0; i < caster_count; ++i) {
-        const ShadowCacheCaster& c = casters[i];
-        if (sc_box_same(c.bounds, c.previous_bounds)) continue;
-        for (int which = 0; which < 2; ++which) {
-            const float* b = which == 0 ? c.previous_bounds : c.bounds;
-            if (sc_box_empty(b)) continue;
-            ShadowCacheRect r;
-            bool overflow = false;
-            if (sc_footprint(B, W, H, b, r, overflow)) list.add(r);
-            if (overflow) return fail(Status::Overflow);
-        }
-    }
-    std::uint64_t texels = 0;
-    for (std::size_t i = 0; i < list.count; ++i) texels += sc_area(list.rects[i]);
-    if (texels >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
+    // ---- rectangles: the footprints, then their disjoint cover (no allocation when no caster moved:
+    // the border strips are disjoint already)
+    std::vector<ShadowCacheRect> fp;
+    bool moved = false;
+    for (std::size_t i = 0; i < caster_count && !moved; ++i) moved = !sc_box_same(casters[i].bounds, casters[i].previous_bounds);
+    ShadowCacheRect strips[2];
+    const std::size_t strip_count = moved ? 0 : sc_strips(W, H, ox, oy, res, strips);
+    if (moved && !sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow);
+    if (!moved) res.unmerged = strip_count;
+    const std::size_t m = moved ? fp.size() : strip_count;
     const bool scroll = ox != 0 || oy != 0;
-    res.action = scroll ? ShadowCacheAction::Scroll : (list.count == 0 ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
+    res.action = scroll ? ShadowCacheAction::Scroll : (m == 0 ? ShadowCacheAction::Keep : ShadowCacheAction::Update);
     res.reason = ShadowCacheReason::None;
-    res.unmerged = list.unmerged;
-    if (cap == 0 && list.count != 0) {
-        const double resid = res.residual_texels, tol = res.tolerance_texels;
-        res = ShadowCachePlan{};
+    res.status = Status::Ok;
+    if (m == 0) return res;
+    if (rect_capacity == 0) {  // BufferTooSmall, unless the footprints alone cover the map's area
+        std::uint64_t fp_area = 0;
+        for (std::size_t i = 0; i < m; ++i) fp_area += sc_area(moved ? fp[i] : strips[i]);
+        if (fp_area >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
         res.status = Status::BufferTooSmall;
+        res.action = ShadowCacheAction::Render;
+        res.copy = ShadowCacheCopy{};
+        res.offset_x = res.offset_y = 0;
         res.needed = 1;
-        res.unmerged = list.unmerged;
-        res.residual_texels = resid;
-        res.tolerance_texels = tol;
         return res;
     }
-    res.count = list.count;
-    res.needed = list.count;
-    res.texels = texels;
-    res.status = Status::Ok;
+    if (moved) {
+        sc_cover(fp, rects, rect_capacity, res.count, res.merged);
+    } else {  // the strips are disjoint: as they are, or their bounding rectangle in a capacity of 1
+        res.merged = m > rect_capacity;
+        if (res.merged) rects[0] = sc_union(strips[0], strips[1]);
+        else std::copy(strips, strips + m, rects);
+        res.count = res.merged ? 1 : m;
+    }
+    for (std::size_t i = 0; i < res.count; ++i) res.texels += sc_area(rects[i]);
+    if (res.texels >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
+    res.needed = res.count;
     return res;
 }
 

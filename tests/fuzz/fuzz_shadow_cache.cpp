@@ -2,7 +2,8 @@
 // map states, casters and capacities decoded from raw bytes (raw doubles with NaN/Inf and huge values,
 // or stable-fit-like matrices moved by integer / fractional texels so the scroll path is reached).
 // Traps on: Ok with a non-finite output, count > capacity, count != needed with Ok, a rectangle or a
-// copy region outside the map, texels that are not the rectangles' area, an action whose outputs
+// copy region outside the map, texels that are not the rectangles' area, two rectangles that overlap,
+// a moved caster's footprint an Update leaves uncovered, an action whose outputs
 // contradict it (Keep with rectangles, Render without the whole map, offsets without Scroll).
 #include <shadowkit/shadow_cache.hpp>
 
@@ -64,6 +65,22 @@ void decode_box(FuzzInput& r, bool raw, float* b) {
     for (int i = 0; i < 6; ++i) b[i] = raw ? r.f32() : r.quantized(0.25f);
 }
 
+std::int64_t intersection(const shadowkit::ShadowCacheRect& a, const shadowkit::ShadowCacheRect& b) {
+    const std::int64_t x0 = a.x > b.x ? a.x : b.x, y0 = a.y > b.y ? a.y : b.y;
+    const std::int64_t x1 = std::int64_t(a.x) + a.width < std::int64_t(b.x) + b.width ? std::int64_t(a.x) + a.width : std::int64_t(b.x) + b.width;
+    const std::int64_t y1 = std::int64_t(a.y) + a.height < std::int64_t(b.y) + b.height ? std::int64_t(a.y) + a.height : std::int64_t(b.y) + b.height;
+    return x1 > x0 && y1 > y0 ? (x1 - x0) * (y1 - y0) : 0;
+}
+
+bool overlap(const shadowkit::ShadowCacheRect& a, const shadowkit::ShadowCacheRect& b) { return intersection(a, b) > 0; }
+
+// q lies inside the union of disjoint rectangles: the areas of its intersections add up to its own.
+bool covered(const shadowkit::ShadowCacheRect& q, const shadowkit::ShadowCacheRect* rects, std::size_t count) {
+    std::int64_t sum = 0;
+    for (std::size_t i = 0; i < count; ++i) sum += intersection(q, rects[i]);
+    return sum == std::int64_t(q.width) * q.height;
+}
+
 bool inside(const shadowkit::ShadowCacheRect& q, int w, int h) {
     return q.width > 0 && q.height > 0 && q.x >= 0 && q.y >= 0 && q.x <= w - q.width && q.y <= h - q.height;
 }
@@ -119,6 +136,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             area += std::uint64_t(rects[i].width) * std::uint64_t(rects[i].height);
         }
         check(area == p.texels);
+        // the rectangles are pairwise disjoint (no texel re-rendered twice; texels = their union's area)
+        for (std::size_t i = 0; i < p.count; ++i)
+            for (std::size_t j = i + 1; j < p.count; ++j) check(!overlap(rects[i], rects[j]));
+        // Update: every moved caster's old and new footprint is covered (contained in the union)
+        if (p.action == shadowkit::ShadowCacheAction::Update && !null_casters)
+            for (std::size_t i = 0; i < caster_count; ++i)
+                for (const float* b : {casters[i].previous_bounds, casters[i].bounds}) {
+                    bool same = true;
+                    for (int k = 0; k < 6; ++k) same = same && casters[i].bounds[k] == casters[i].previous_bounds[k];
+                    if (same) continue;
+                    const shadowkit::ShadowCacheFootprint fp = shadowkit::shadow_cache_footprint(cur.view_proj, w, h, b);
+                    if (fp.status == shadowkit::Status::Ok && fp.visible) check(covered(fp.rect, rects, p.count));
+                }
         const std::uint64_t map = std::uint64_t(w) * std::uint64_t(h);
         switch (p.action) {
         case shadowkit::ShadowCacheAction::Keep:

@@ -115,6 +115,12 @@ void apply_plan(const ShadowCachePlan& p, const ShadowCacheRect* rects, const Fi
         cached.swap(next);
     }
     for (std::size_t r = 0; r < p.count; ++r) render_rect(f, boxes, rects[r], cached);
+    // the rectangles are pairwise disjoint: no texel is re-rendered twice
+    std::vector<int> hits(cached.size(), 0);
+    for (std::size_t r = 0; r < p.count; ++r)
+        for (int j = rects[r].y; j < rects[r].y + rects[r].height; ++j)
+            for (int i = rects[r].x; i < rects[r].x + rects[r].width; ++i) ++hits[std::size_t(j) * std::size_t(f.w) + std::size_t(i)];
+    CHECK(std::count_if(hits.begin(), hits.end(), [](int h) { return h > 1; }) == 0);
 }
 
 std::vector<ShadowCacheCaster> casters_of(const std::vector<Box>& prev, const std::vector<Box>& cur) {
@@ -945,4 +951,162 @@ TEST_CASE("shadow_cache: property: a spot light's map with moving casters (Updat
     CHECK(mismatched == 0);
     CHECK(updates > 300);
     CHECK(keeps > 5);
+}
+
+// ------------------------------------------------------------------ the cover: disjoint, exact union
+namespace {
+
+// Brute force over the texel grid: the footprints' union (fp), the plan's rectangles (hits per
+// texel). Checks: rectangles inside the map and pairwise disjoint (no texel hit twice), every
+// footprint texel covered, texels = the number of texels the rectangles cover; not merged: the
+// rectangles cover exactly the footprints' union. Returns the union's area of the footprints.
+std::uint64_t check_cover(const ShadowCachePlan& p, const ShadowCacheRect* rects, const std::vector<ShadowCacheRect>& fps,
+                          int w, int h) {
+    std::vector<unsigned char> in_fp(std::size_t(w) * std::size_t(h), 0);
+    std::vector<int> hits(in_fp.size(), 0);
+    for (const ShadowCacheRect& r : fps)
+        for (int j = r.y; j < r.y + r.height; ++j)
+            for (int i = r.x; i < r.x + r.width; ++i) in_fp[std::size_t(j) * std::size_t(w) + std::size_t(i)] = 1;
+    for (std::size_t k = 0; k < p.count; ++k) {
+        REQUIRE(rect_inside(rects[k], w, h));
+        for (int j = rects[k].y; j < rects[k].y + rects[k].height; ++j)
+            for (int i = rects[k].x; i < rects[k].x + rects[k].width; ++i) ++hits[std::size_t(j) * std::size_t(w) + std::size_t(i)];
+    }
+    std::uint64_t union_fp = 0, covered = 0;
+    int twice = 0, missed = 0, extra = 0;
+    for (std::size_t t = 0; t < in_fp.size(); ++t) {
+        union_fp += in_fp[t];
+        covered += hits[t] > 0 ? 1u : 0u;
+        twice += hits[t] > 1 ? 1 : 0;
+        missed += in_fp[t] && hits[t] == 0 ? 1 : 0;
+        extra += !in_fp[t] && hits[t] > 0 ? 1 : 0;
+    }
+    CHECK(twice == 0);
+    CHECK(missed == 0);
+    CHECK(p.texels == covered);
+    if (!p.merged) CHECK(extra == 0);
+    return union_fp;
+}
+
+// A box on the y = 0 ground of a top-down 64 x 64 fit (texel 0.25, centered on the origin).
+Fit top_down(int size) {
+    Fit f;
+    basis(glm::dvec3(0, -1, 0), f);
+    f.w = f.h = size;
+    f.t = 0.25;
+    f.kx = f.ky = -size / 2;
+    return f;
+}
+
+Box flat_box(float x0, float z0, float x1, float z1) { return Box{{x0, -1.0f, z0, x1, 1.0f, z1}}; }
+
+std::vector<ShadowCacheRect> footprints_of(const Fit& f, const std::vector<ShadowCacheCaster>& cs) {
+    std::vector<ShadowCacheRect> out;
+    const glm::dmat4 m = fit_matrix(f);
+    for (const ShadowCacheCaster& c : cs) {
+        if (std::memcmp(c.bounds, c.previous_bounds, sizeof c.bounds) == 0) continue;
+        for (const float* b : {c.previous_bounds, c.bounds}) {
+            const ShadowCacheFootprint fp = shadow_cache_footprint(m, f.w, f.h, b);
+            REQUIRE(fp.status == Status::Ok);
+            if (fp.visible) out.push_back(fp.rect);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("shadow_cache: two crossing casters give disjoint rectangles, texels = the area of their union") {
+    // Two casters appear (previous bounds empty): a long bar along one map axis and one along the
+    // other, crossing in the middle (the issue's (15, 30, 34, 4) and (30, 15, 4, 34) shape).
+    const Fit f = top_down(64);
+    const Box none{{1.0f, 1.0f, 1.0f, 0.0f, 0.0f, 0.0f}};  // min > max: absent last frame
+    const std::vector<Box> prev{none, none}, cur{flat_box(-4.0f, -0.4f, 4.0f, 0.4f), flat_box(-0.4f, -4.0f, 0.4f, 4.0f)};
+    const std::vector<ShadowCacheCaster> cs = casters_of(prev, cur);
+    const std::vector<ShadowCacheRect> fps = footprints_of(f, cs);
+    REQUIRE(fps.size() == 2);
+    const ShadowCacheRect& a = fps[0];
+    const ShadowCacheRect& b = fps[1];
+    // they cross: each spans the other's extent in one axis and lies within it in the other
+    const bool a_wide = a.width > a.height;
+    const ShadowCacheRect& wide = a_wide ? a : b;
+    const ShadowCacheRect& tall = a_wide ? b : a;
+    REQUIRE(wide.x < tall.x);
+    REQUIRE(wide.x + wide.width > tall.x + tall.width);
+    REQUIRE(tall.y < wide.y);
+    REQUIRE(tall.y + tall.height > wide.y + wide.height);
+    // closed form: the area of the union of a cross
+    const std::uint64_t cross = std::uint64_t(wide.width) * wide.height + std::uint64_t(tall.width) * tall.height -
+                                std::uint64_t(tall.width) * wide.height;
+    const ShadowCacheMapState s = state_of(f, true);
+    std::vector<ShadowCacheRect> rects(shadow_cache_rect_capacity(2));
+    const ShadowCachePlan p = shadow_cache_plan(s, s, cs.data(), cs.size(), rects.data(), rects.size());
+    REQUIRE(p.status == Status::Ok);
+    CHECK(p.action == ShadowCacheAction::Update);
+    CHECK_FALSE(p.merged);
+    CHECK(p.count == 3);  // the bar across, the other bar's two arms
+    CHECK(p.unmerged == 2);
+    CHECK(p.texels == cross);
+    CHECK(check_cover(p, rects.data(), fps, f.w, f.h) == cross);
+    // a capacity of 2 cannot hold the cross: one bounding rectangle (merged), still a cover
+    const ShadowCachePlan q = shadow_cache_plan(s, s, cs.data(), cs.size(), rects.data(), 2);
+    REQUIRE(q.status == Status::Ok);
+    CHECK(q.merged);
+    CHECK(q.count == 1);
+    CHECK(q.texels == std::uint64_t(wide.width) * tall.height);
+    check_cover(q, rects.data(), fps, f.w, f.h);
+}
+
+TEST_CASE("shadow_cache: property: the cover is disjoint, covers every moved caster, texels = brute-force union area") {
+    // 3000 seeded configurations: 1..40 casters on maps of 16..96 texels (boxes, long bars across
+    // the map, absent / appearing / unmoved casters), capacities from 1 to one that never merges.
+    std::mt19937 rng(2727);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    int exact = 0, merged = 0, renders = 0;
+    for (int it = 0; it < 3000; ++it) {
+        const Fit f = top_down(16 + int(rng() % 81));
+        const float half = float(f.w) * float(f.t) * 0.6f;
+        const std::size_t n = 1 + rng() % 40;
+        std::vector<Box> prev(n), cur(n);
+        auto random_box = [&](Box& b) {
+            const float kind = u01(rng);
+            const float x = (2.0f * u01(rng) - 1.0f) * half, z = (2.0f * u01(rng) - 1.0f) * half;
+            float ex = 0.05f + 0.75f * u01(rng), ez = 0.05f + 0.75f * u01(rng);
+            if (kind < 0.15f) ex = half;       // a bar across the map in x
+            else if (kind < 0.3f) ez = half;   // in z
+            b = flat_box(x - ex, z - ez, x + ex, z + ez);
+            if (kind > 0.95f) b = Box{{1.0f, 1.0f, 1.0f, 0.0f, 0.0f, 0.0f}};  // absent
+        };
+        for (std::size_t i = 0; i < n; ++i) {
+            random_box(prev[i]);
+            if (u01(rng) < 0.2f) cur[i] = prev[i];  // did not move
+            else random_box(cur[i]);
+        }
+        const std::vector<ShadowCacheCaster> cs = casters_of(prev, cur);
+        const std::vector<ShadowCacheRect> fps = footprints_of(f, cs);
+        const std::size_t never_merges = (2 * fps.size() + 1) * (2 * fps.size() + 1);  // cells of the edges' grid
+        const std::size_t caps[5] = {1, 1 + rng() % 4, 1 + rng() % 16, shadow_cache_rect_capacity(n), never_merges};
+        const std::size_t cap = caps[rng() % 5];
+        std::vector<ShadowCacheRect> rects(cap);
+        const ShadowCacheMapState s = state_of(f, true);
+        const ShadowCachePlan p = shadow_cache_plan(s, s, cs.data(), n, rects.data(), cap);
+        REQUIRE(p.status == Status::Ok);
+        CHECK(p.count <= cap);
+        if (p.action == ShadowCacheAction::Render) {
+            ++renders;
+            CHECK(p.reason == ShadowCacheReason::DirtyCoversMap);
+            CHECK(p.texels == std::uint64_t(f.w) * std::uint64_t(f.h));
+            continue;
+        }
+        CHECK(p.action == (fps.empty() ? ShadowCacheAction::Keep : ShadowCacheAction::Update));
+        CHECK(p.unmerged == fps.size());
+        if (cap == never_merges) CHECK_FALSE(p.merged);
+        (p.merged ? merged : exact) += 1;
+        const std::uint64_t union_fp = check_cover(p, rects.data(), fps, f.w, f.h);
+        if (!p.merged) CHECK(p.texels == union_fp);
+        else CHECK(p.texels >= union_fp);
+    }
+    MESSAGE("configurations: exact ", exact, ", merged to fit ", merged, ", whole map ", renders);
+    CHECK(exact > 1000);
+    CHECK(merged > 300);
 }

@@ -675,11 +675,16 @@ TEST_CASE("property: exact facing equals an independent big-integer evaluation (
     std::mt19937 rng(1931);
     std::uniform_int_distribution<int> gi(-1000, 1000), small(-3, 3);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    int checked = 0, zero_expected = 0, old_wrong = 0, old_wrong_zero = 0;
+    int checked = 0, zero_expected = 0, old_wrong = 0, old_wrong_zero = 0, by_expansion = 0;
     auto check = [&](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& L, bool must_be_zero) {
         const int ref = exact_ref::facing_sign(a, b, c, L);
         CHECK(header_sign(a, b, c, L) == ref);
         CHECK(sk::detail::sil_face_sign_exact(a, b, c, L) == ref);  // the fallback alone, too
+        int expansion = 7;  // the adaptive expansion stage alone, where it applies (issue 27 item 7)
+        if (sk::detail::sil_face_sign_expansion(a, b, c, L, expansion)) {
+            CHECK(expansion == ref);
+            ++by_expansion;
+        }
         if (must_be_zero) {
             CHECK(ref == 0);  // the construction is exact
             ++zero_expected;
@@ -726,8 +731,10 @@ TEST_CASE("property: exact facing equals an independent big-integer evaluation (
         check(A, B, A + 2.0f * e1, glm::vec4(u(rng), u(rng), u(rng), 1.0f), true);
     }
     MESSAGE("exact facing: " << checked << " triangle/light pairs, " << zero_expected << " exactly in the plane; the old double "
-                             << "evaluation got " << old_wrong << " signs wrong (" << old_wrong_zero << " of the in-plane ones)");
+                             << "evaluation got " << old_wrong << " signs wrong (" << old_wrong_zero << " of the in-plane ones); "
+                             << by_expansion << " decided by the expansion stage alone");
     CHECK(checked > 20000);
+    CHECK(by_expansion > checked / 2);  // the stage applies to most of these stiff inputs
     CHECK(old_wrong_zero > 100);  // the suite is stiff enough to catch the old evaluation
 }
 

@@ -465,3 +465,92 @@ TEST_CASE("cached planes: statuses (mismatched adjacency, failed build, bad ligh
     CHECK(eq.status == sk::Status::Ok);
     CHECK(eq.count == 0);
 }
+
+TEST_CASE("cached planes: the float filter's error bound (2^-20 ||L_f||_1) holds for every face, both summation orders") {
+    // The fast path (SSE2, NEON or scalar) decides a face by d_float = P_f . L_f against
+    // bound = 2^-20 ||L_f||_1 (silhouette.hpp, "cached face planes": proven |d_float - s d| <
+    // 12.2 * 2^-24 ||L_f||_1 + 2^-121, with s > 0 the two power-of-two scalings). Checked here against d
+    // evaluated in long double from the positions: d = n . (l - w A), n = (B - A) x (C - A), which is
+    // P . L* of the derivation; s from the stored P_f and L_f. Both summation orders of the 4-term dot
+    // product (the scalar tail's left to right, the SIMD paths' pairwise) are checked.
+    std::mt19937 rng(1919);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const float kProven = 12.2f;  // in units of 2^-24 ||L_f||_1
+    double worst = 0.0;           // the largest error seen, same units
+    std::size_t faces_checked = 0;
+    for (int it = 0; it < 60; ++it) {
+        const float scale = std::pow(10.0f, float(int(rng() % 9)) - 4.0f);  // 1e-4 .. 1e4
+        const glm::vec3 offset = glm::vec3(u(rng), u(rng), u(rng)) * (it % 3 == 0 ? 1e5f : 10.0f);
+        // tori (closed) and slivers (open: random triangles, some nearly flat), coordinates within a
+        // few binades of each other so that the long double reference is exact to far below 2^-24
+        Mesh m = torus(12, 10, rng, 0.1f, offset, scale);
+        if (it % 2 == 1) {
+            m = Mesh{};
+            for (int t = 0; t < 80; ++t) {
+                const glm::vec3 a = offset + glm::vec3(u(rng), u(rng), u(rng)) * scale;
+                const glm::vec3 d1 = glm::vec3(u(rng), u(rng), u(rng)) * scale, d2 = glm::vec3(u(rng), u(rng), u(rng)) * scale;
+                const float flat = t % 4 == 0 ? 1e-4f : 1.0f;
+                for (const glm::vec3& q : {a, a + d1, a + d1 * 0.5f + d2 * flat}) m.p.push_back(q);
+                for (int c = 0; c < 3; ++c) m.i.push_back(static_cast<std::uint32_t>(3 * t + c));
+            }
+        }
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+        REQUIRE(adj.status == sk::Status::Ok);
+        const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+        REQUIRE(pl.status == sk::Status::Ok);
+        for (int k = 0; k < 8; ++k) {
+            glm::vec4 L(offset + glm::vec3(u(rng), u(rng), u(rng)) * scale * 3.0f, 1.0f);
+            if (k == 1) L = glm::vec4(u(rng), u(rng), u(rng), 0.0f);                   // directional
+            if (k == 2) L = glm::vec4(m.p[rng() % m.p.size()], 1.0f);                 // on a vertex
+            if (k == 3) L = glm::vec4(offset + glm::vec3(1e3f, -2e3f, 5e2f) * scale, 1.0f);  // far
+            float Lf[4], bound = 0.0f;
+            sk::detail::sil_planes_light(pl, L, Lf, &bound);
+            const long double Ls[4] = {(long double)L.x - (long double)L.w * pl.origin.x, (long double)L.y - (long double)L.w * pl.origin.y,
+                                       (long double)L.z - (long double)L.w * pl.origin.z, (long double)L.w * pl.scale};
+            long double lmax = 0.0L, lfmax = 0.0L;
+            float l1 = 0.0f;
+            for (int c = 0; c < 4; ++c) {
+                lmax = std::max(lmax, std::fabs(Ls[c]));
+                lfmax = std::max(lfmax, (long double)std::fabs(Lf[c]));
+                l1 += std::fabs(Lf[c]);
+            }
+            const double unit = std::ldexp(double(l1), -24);
+            // the bound the code uses exceeds the proven error
+            CHECK(double(bound) >= 16.0 * unit);
+            CHECK(double(bound) > double(kProven) * unit + std::ldexp(1.0, -121));
+            const long double sL = std::exp2(std::round(std::log2(lfmax / lmax)));
+            for (std::size_t f = 0; f < pl.face_count(); ++f) {
+                const float P[4] = {pl.plane_x[f], pl.plane_y[f], pl.plane_z[f], pl.plane_w[f]};
+                if (P[0] == 0.0f && P[1] == 0.0f && P[2] == 0.0f && P[3] == 0.0f) continue;  // always exact
+                const glm::vec3& A = m.p[adj.faces[3 * f]];
+                const glm::vec3& B = m.p[adj.faces[3 * f + 1]];
+                const glm::vec3& C = m.p[adj.faces[3 * f + 2]];
+                const long double e1[3] = {(long double)B.x - A.x, (long double)B.y - A.y, (long double)B.z - A.z};
+                const long double e2[3] = {(long double)C.x - A.x, (long double)C.y - A.y, (long double)C.z - A.z};
+                const long double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+                const long double O[3] = {pl.origin.x, pl.origin.y, pl.origin.z};
+                const long double c = n[0] * (O[0] - A.x) + n[1] * (O[1] - A.y) + n[2] * (O[2] - A.z);
+                const long double Pe[4] = {n[0], n[1], n[2], c / (long double)pl.scale};
+                long double pmax = 0.0L, pfmax = 0.0L;
+                for (int q = 0; q < 4; ++q) {
+                    pmax = std::max(pmax, std::fabs(Pe[q]));
+                    pfmax = std::max(pfmax, (long double)std::fabs(P[q]));
+                }
+                if (pmax == 0.0L) continue;
+                const long double sP = std::exp2(std::round(std::log2(pfmax / pmax)));
+                const long double d = Pe[0] * Ls[0] + Pe[1] * Ls[1] + Pe[2] * Ls[2] + Pe[3] * Ls[3];
+                volatile float t0 = P[0] * Lf[0], t1 = P[1] * Lf[1], t2 = P[2] * Lf[2], t3 = P[3] * Lf[3];  // no contraction
+                const float left = ((t0 + t1) + t2) + t3, pairwise = (t0 + t1) + (t2 + t3);
+                for (float df : {left, pairwise}) {
+                    const double err = double(std::fabs((long double)df - sP * sL * d));
+                    worst = std::max(worst, err / unit);
+                    CHECK(err <= double(kProven) * unit + std::ldexp(1.0, -121));
+                }
+                ++faces_checked;
+            }
+        }
+    }
+    MESSAGE(faces_checked, " face-light pairs: the largest filter error was ", worst,
+            " x 2^-24 ||L_f||_1 (proven < 12.2, the code's bound 16)");
+    CHECK(faces_checked > 20000);
+}
