@@ -483,6 +483,50 @@ inline std::size_t vsm_table_index(const VsmState& s, std::uint32_t level, std::
     return detail::vsm_entry_abs(s, l, s.origin_x[l] + std::int64_t(x), s.origin_y[l] + std::int64_t(y));
 }
 
+/// Result of vsm_requests_from_bitmask.
+struct VsmRequestList {
+    Status status = Status::NotRun;
+    std::size_t count = 0;           ///< requests written (a valid prefix)
+    std::size_t needed = 0;          ///< set bits: requests the whole mask needs (count when Ok)
+};
+
+/// uint32 words of a request bitmask: level_count * pages_per_side^2 bits, ceil(bits / 32). total:
+/// 0 for an uninitialized state.
+inline std::size_t vsm_bitmask_words(const VsmState& s) {
+    if (!s.initialized) return 0;
+    return (std::size_t(s.layout.level_count) * std::size_t(s.pages_per_side) * std::size_t(s.pages_per_side) + 31) / 32;
+}
+
+/// Turns a request bitmask (what a marking pass writes with atomicOr: bit (level * n + y) * n + x of
+/// the window, word = bit / 32, bit within the word = bit % 32, n = pages_per_side) into a request
+/// list for vsm_plan. `mask` holds `word_count` uint32 (vsm_bitmask_words); `out` holds
+/// `out_capacity` VsmPageRequest elements; it needs one per set bit (`needed`; BufferTooSmall writes
+/// the first out_capacity). Bits past the last page are ignored. Cost O(words + set bits).
+inline VsmRequestList vsm_requests_from_bitmask(const VsmState& s, const std::uint32_t* mask, std::size_t word_count,
+                                                VsmPageRequest* out, std::size_t out_capacity) {
+    VsmRequestList r;
+    if (!s.initialized || mask == nullptr || word_count != vsm_bitmask_words(s) || (out == nullptr && out_capacity != 0)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const std::size_t n = std::size_t(s.pages_per_side), bits = std::size_t(s.layout.level_count) * n * n;
+    for (std::size_t w = 0; w < word_count; ++w) {
+        std::uint32_t m = mask[w];
+        while (m != 0u) {
+            std::size_t b = 0;
+            while (((m >> b) & 1u) == 0u) ++b;
+            m &= m - 1u;
+            const std::size_t bit = w * 32 + b;
+            if (bit >= bits) break;
+            if (r.count < out_capacity)
+                out[r.count++] = VsmPageRequest{std::uint32_t(bit / (n * n)), std::uint32_t(bit % n), std::uint32_t((bit / n) % n)};
+            ++r.needed;
+        }
+    }
+    r.status = r.count == r.needed ? Status::Ok : Status::BufferTooSmall;
+    return r;
+}
+
 /// A float matrix for vertices given relative to `anchor` (world position minus anchor): m *
 /// translate(anchor), computed in double, then rounded to float. Keeps whole-texel accuracy far from
 /// the origin when anchor is near the camera. NonFinite for a non-finite input, Overflow when an

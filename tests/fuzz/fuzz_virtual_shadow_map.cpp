@@ -1,7 +1,8 @@
 // libFuzzer target for shadowkit/virtual_shadow_map.hpp: vsm_state_init on a decoded layout, then a
 // few frames of vsm_plan with requests (in and out of range, duplicated), moved casters (raw or
 // quantized boxes, empty ones), camera moves (sub-page, whole pages, jumps, raw doubles) and lights
-// (directional, spot, raw) from the fuzzer, then vsm_page_casters on the frame's pages.
+// (directional, spot, raw) from the fuzzer, then vsm_page_casters on the frame's pages; and
+// vsm_requests_from_bitmask on a fuzzed mask.
 // Traps on: a plan that is Ok or BufferTooSmall whose table maps two virtual pages to one physical
 // page, an entry whose slot does not hold that page, a requested page neither mapped nor reported
 // (no fallback and no unmapped count), count > pool pages, a non-finite page matrix, BufferTooSmall
@@ -66,6 +67,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     VsmState s;
     if (vsm_state_init(L, s).status != Status::Ok) return 0;
     const std::uint32_t n = std::uint32_t(s.pages_per_side), levels = std::uint32_t(s.layout.level_count);
+    {  // a request bitmask from the fuzzer
+        std::vector<std::uint32_t> mask(vsm_bitmask_words(s));
+        for (std::uint32_t& w : mask) w = r.u8() % 4 == 0 ? r.u32() : 0u;
+        std::vector<VsmPageRequest> out(r.range<std::size_t>(0, 40));
+        const VsmRequestList rl = vsm_requests_from_bitmask(s, mask.data(), mask.size(), out.empty() ? nullptr : out.data(), out.size());
+        check(rl.count <= out.size() && rl.count <= rl.needed);
+        check(rl.status == (rl.count == rl.needed ? Status::Ok : Status::BufferTooSmall));
+        for (std::size_t i = 0; i < rl.count; ++i)
+            check(out[i].level < std::uint32_t(s.layout.level_count) && out[i].x < std::uint32_t(s.pages_per_side) &&
+                  out[i].y < std::uint32_t(s.pages_per_side));
+    }
     std::vector<VsmPageRender> pages(std::size_t(s.layout.pool_pages) + 1);
     glm::dvec3 cam(0.0);
     glm::vec4 light(0.3f, 1.0f, 0.2f, 0.0f);

@@ -800,3 +800,30 @@ TEST_CASE("property: thousands of seeded frames against a brute-force model") {
     CHECK(invalidations > 50);
     CHECK(scrolls > 50);
 }
+
+TEST_CASE("vsm_requests_from_bitmask: one request per set bit, in the window's page order") {
+    VsmState s;
+    const VsmLayout L = small_layout(3, 8);
+    REQUIRE(vsm_state_init(L, s).status == Status::Ok);
+    REQUIRE(vsm_bitmask_words(s) == 6u);  // 3 * 64 bits
+    std::vector<std::uint32_t> mask(6, 0u);
+    std::mt19937 rng(9);
+    std::set<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> want;
+    for (int i = 0; i < 40; ++i) {
+        const std::uint32_t l = std::uint32_t(rng()) % 3u, x = std::uint32_t(rng()) % 8u, y = std::uint32_t(rng()) % 8u;
+        const std::uint32_t bit = (l * 8u + y) * 8u + x;
+        mask[bit / 32u] |= 1u << (bit % 32u);
+        want.insert(std::make_tuple(l, x, y));
+    }
+    std::vector<VsmPageRequest> out(want.size());
+    VsmRequestList r = vsm_requests_from_bitmask(s, mask.data(), mask.size(), out.data(), 3);
+    CHECK(r.status == Status::BufferTooSmall);
+    CHECK(r.needed == want.size());
+    CHECK(r.count == 3u);
+    r = vsm_requests_from_bitmask(s, mask.data(), mask.size(), out.data(), out.size());
+    REQUIRE(r.status == Status::Ok);
+    std::set<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> got;
+    for (const VsmPageRequest& q : out) got.insert(std::make_tuple(q.level, q.x, q.y));
+    CHECK(got == want);
+    CHECK(vsm_requests_from_bitmask(s, mask.data(), 5, out.data(), out.size()).status == Status::InvalidArgument);
+}
