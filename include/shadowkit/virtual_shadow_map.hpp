@@ -187,14 +187,16 @@ struct VsmPlan {
     std::size_t evicted = 0;         ///< least-recently-requested pages evicted for them
     std::size_t invalidated = 0;     ///< resident pages a moved caster's old or new bounds overlap (made stale)
     std::size_t scrolled_out = 0;    ///< resident pages freed because their level's window moved past them
-    /// Pool too small (BufferTooSmall): requested pages of the finest levels not mapped at their own
-    /// level: their level's requests were replaced by their parents on the next coarser level (the
-    /// lookup falls back to it), finest level first, until the requests fit.
+    /// Pool too small (BufferTooSmall): requested pages not mapped at their own level: replaced by
+    /// their parents on the next coarser level (the lookup falls back to it), finest level first,
+    /// page by page, until the requests fit.
     std::size_t fallback = 0;
     /// Requested pages whose page and every coarser page is missing: only when even the coarsest
     /// level's requests exceed the pool. 0 when the pool holds them: never a hole.
     std::size_t unmapped = 0;
-    int finest_level = 0;            ///< finest level whose requests were mapped (level_count when nothing was requested)
+    /// Finest level whose requests were mapped, in whole or in part: requests of finer levels fell back
+    /// to it or to the next coarser level (level_count when nothing was requested).
+    int finest_level = 0;
     bool everything_invalidated = false; ///< the light changed or the depth center stepped: all resident pages were stale
 };
 
@@ -719,40 +721,45 @@ inline void vsm_collect(VsmState& s, const VsmFrame& f, std::size_t per_level[kV
     }
 }
 
-/// Pool too small: replaces the finest level's requests by their parents (one level coarser),
-/// level by level, until the distinct pages fit or only the coarsest level is left. Returns the
-/// finest level kept; p.fallback counts the replaced original requests.
+/// Pool too small: replaces requests of the finest level by their parents (one level coarser), page
+/// by page (first the pages whose parent is requested anyway: each saves a page; then the others, in
+/// request order), then the next level, until the distinct pages fit or only the coarsest level is
+/// left. Returns the finest level still holding requests; p.fallback counts the replaced original
+/// requests.
 inline int vsm_coarsen(VsmState& s, std::size_t per_level[kVsmMaxLevels], std::size_t total, VsmPlan& p) {
-    const std::size_t pool = std::size_t(s.layout.pool_pages);
+    const std::size_t pool = std::size_t(s.layout.pool_pages), originals = s.work_count;
     const int levels = s.layout.level_count;
-    std::size_t original[kVsmMaxLevels];
-    for (int l = 0; l < levels; ++l) original[l] = per_level[l];
     int finest = 0;
     while (finest < levels && per_level[finest] == 0) ++finest;
     while (total > pool && finest < levels - 1) {
         const int f = finest;
-        const std::size_t end = s.work_count;
-        for (std::size_t i = 0; i < end; ++i) {
-            const std::uint32_t w = s.work[i];
-            if (w == kVsmTombstone || int(vsm_unpack_level(w)) != f) continue;
-            s.work[i] = kVsmTombstone;
-            const std::int64_t ax = s.origin_x[f] + std::int64_t(vsm_unpack_x(w));
-            const std::int64_t ay = s.origin_y[f] + std::int64_t(vsm_unpack_y(w));
-            // the parent: the coarser page grid is the finer one halved (same world anchor);
-            // it lies on the coarser window (which holds the finer one)
-            const std::int64_t px = vsm_floor_div(ax, 2) - s.origin_x[f + 1];
-            const std::int64_t py = vsm_floor_div(ay, 2) - s.origin_y[f + 1];
-            const std::size_t e = vsm_table_index(s, std::uint32_t(f + 1), std::uint32_t(px), std::uint32_t(py));
-            if (s.request_stamp[e] != s.frame) {
-                s.request_stamp[e] = s.frame;
-                s.work[s.work_count++] = vsm_pack(std::uint32_t(f + 1), std::uint32_t(px), std::uint32_t(py));
-                ++per_level[f + 1];
-                ++total;
+        for (int pass = 0; pass < 2 && total > pool; ++pass) {
+            const std::size_t end = s.work_count;
+            for (std::size_t i = 0; i < end && total > pool; ++i) {
+                const std::uint32_t w = s.work[i];
+                if (w == kVsmTombstone || int(vsm_unpack_level(w)) != f) continue;
+                const std::int64_t ax = s.origin_x[f] + std::int64_t(vsm_unpack_x(w));
+                const std::int64_t ay = s.origin_y[f] + std::int64_t(vsm_unpack_y(w));
+                // the parent: the coarser page grid is the finer one halved (same world anchor);
+                // it lies on the coarser window (which holds the finer one)
+                const std::int64_t px = vsm_floor_div(ax, 2) - s.origin_x[f + 1];
+                const std::int64_t py = vsm_floor_div(ay, 2) - s.origin_y[f + 1];
+                const std::size_t e = vsm_table_index(s, std::uint32_t(f + 1), std::uint32_t(px), std::uint32_t(py));
+                const bool present = s.request_stamp[e] == s.frame;
+                if (pass == 0 && !present) continue;
+                s.work[i] = kVsmTombstone;
+                --per_level[f];
+                if (i < originals) ++p.fallback;
+                if (present) {
+                    --total;
+                } else {
+                    s.request_stamp[e] = s.frame;
+                    s.work[s.work_count++] = vsm_pack(std::uint32_t(f + 1), std::uint32_t(px), std::uint32_t(py));
+                    ++per_level[f + 1];
+                }
             }
-            --total;
         }
-        p.fallback += original[f];
-        per_level[f] = 0;
+        if (per_level[f] != 0) break;  // level f is mapped in part
         ++finest;
     }
     return finest;
