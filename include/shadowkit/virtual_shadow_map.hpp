@@ -791,7 +791,8 @@ inline void vsm_emit(VsmState& s, std::uint32_t i, std::uint32_t level, std::uin
 /// then the least recently requested page's), and lists the pages to render in `pages`.
 /// `pages` holds `capacity` elements; it needs layout.pool_pages (checked: InvalidArgument).
 /// Cost: O(requests + pages the moved casters' boxes overlap + pages that scrolled out); a light
-/// change or a depth step costs O(resident pages). Never allocates.
+/// change or a depth step costs O(resident pages); a too-small pool two scans of the requests per
+/// level that falls back. Never allocates.
 /// Status: Ok; BufferTooSmall when the distinct requested pages exceed the pool (`needed` says how
 /// many): the plan is applied anyway, finest levels falling back to coarser ones (VsmPlan::fallback,
 /// unmapped); on any other status the state is unchanged.
