@@ -243,6 +243,8 @@ struct VsmState {
     std::size_t free_count = 0;
     std::uint32_t lru_head = kVsmNone, lru_tail = kVsmNone;
     std::vector<std::uint32_t> work;          ///< distinct requests this frame (packed)
+    std::vector<std::uint32_t> work_next;     ///< next work item of the same level (per-level lists)
+    std::uint32_t level_head[kVsmMaxLevels] = {}, level_tail[kVsmMaxLevels] = {};
     std::size_t work_count = 0;
 };
 
@@ -585,9 +587,10 @@ inline VsmInit vsm_state_init(const VsmLayout& layout, VsmState& state) {
         state.free_slots[i] = std::uint32_t(state.free_slots.size() - 1 - i);
     state.free_count = state.free_slots.size();
     state.work.assign(entries, 0u);
+    state.work_next.assign(entries, kVsmNone);
     state.initialized = true;
     r.table_entries = entries;
-    r.bytes = sizeof(VsmState) + entries * 3 * sizeof(std::uint32_t) +
+    r.bytes = sizeof(VsmState) + entries * 4 * sizeof(std::uint32_t) +
               std::size_t(L.pool_pages) * (sizeof(VsmSlot) + sizeof(std::uint32_t));
     r.status = Status::Ok;
     return r;
@@ -708,15 +711,25 @@ inline void vsm_place_levels(VsmState& s, const VsmFrame& f, VsmPlan& p) {
     s.has_light = true;
 }
 
+/// Appends a packed page to the work list and to its level's list.
+inline void vsm_work_append(VsmState& s, std::uint32_t packed) {
+    const std::uint32_t i = std::uint32_t(s.work_count++), l = vsm_unpack_level(packed);
+    s.work[i] = packed;
+    s.work_next[i] = kVsmNone;
+    if (s.level_tail[l] == kVsmNone) s.level_head[l] = i; else s.work_next[s.level_tail[l]] = i;
+    s.level_tail[l] = i;
+}
+
 /// Distinct requests into s.work (packed), stamped in request_stamp; returns the per-level counts.
 inline void vsm_collect(VsmState& s, const VsmFrame& f, std::size_t per_level[kVsmMaxLevels]) {
     s.work_count = 0;
+    for (int l = 0; l < kVsmMaxLevels; ++l) s.level_head[l] = s.level_tail[l] = kVsmNone;
     for (std::size_t i = 0; i < f.request_count; ++i) {
         const VsmPageRequest& q = f.requests[i];
         const std::size_t e = vsm_table_index(s, q.level, q.x, q.y);
         if (s.request_stamp[e] == s.frame) continue;
         s.request_stamp[e] = s.frame;
-        s.work[s.work_count++] = vsm_pack(q.level, q.x, q.y);
+        vsm_work_append(s, vsm_pack(q.level, q.x, q.y));
         ++per_level[q.level];
     }
 }
@@ -734,10 +747,9 @@ inline int vsm_coarsen(VsmState& s, std::size_t per_level[kVsmMaxLevels], std::s
     while (total > pool && finest < levels - 1) {
         const int f = finest;
         for (int pass = 0; pass < 2 && total > pool; ++pass) {
-            const std::size_t end = s.work_count;
-            for (std::size_t i = 0; i < end && total > pool; ++i) {
+            for (std::uint32_t i = s.level_head[f]; i != kVsmNone && total > pool; i = s.work_next[i]) {
                 const std::uint32_t w = s.work[i];
-                if (w == kVsmTombstone || int(vsm_unpack_level(w)) != f) continue;
+                if (w == kVsmTombstone) continue;
                 const std::int64_t ax = s.origin_x[f] + std::int64_t(vsm_unpack_x(w));
                 const std::int64_t ay = s.origin_y[f] + std::int64_t(vsm_unpack_y(w));
                 // the parent: the coarser page grid is the finer one halved (same world anchor);
@@ -754,7 +766,7 @@ inline int vsm_coarsen(VsmState& s, std::size_t per_level[kVsmMaxLevels], std::s
                     --total;
                 } else {
                     s.request_stamp[e] = s.frame;
-                    s.work[s.work_count++] = vsm_pack(std::uint32_t(f + 1), std::uint32_t(px), std::uint32_t(py));
+                    vsm_work_append(s, vsm_pack(std::uint32_t(f + 1), std::uint32_t(px), std::uint32_t(py)));
                     ++per_level[f + 1];
                 }
             }
@@ -791,8 +803,7 @@ inline void vsm_emit(VsmState& s, std::uint32_t i, std::uint32_t level, std::uin
 /// then the least recently requested page's), and lists the pages to render in `pages`.
 /// `pages` holds `capacity` elements; it needs layout.pool_pages (checked: InvalidArgument).
 /// Cost: O(requests + pages the moved casters' boxes overlap + pages that scrolled out); a light
-/// change or a depth step costs O(resident pages); a too-small pool two scans of the requests per
-/// level that falls back. Never allocates.
+/// change or a depth step costs O(resident pages). Never allocates.
 /// Status: Ok; BufferTooSmall when the distinct requested pages exceed the pool (`needed` says how
 /// many): the plan is applied anyway, finest levels falling back to coarser ones (VsmPlan::fallback,
 /// unmapped); on any other status the state is unchanged.
