@@ -114,8 +114,8 @@ struct VsmLayout {
     int level_count = 16;              ///< clipmap levels (directional light) [Limit: 1 .. kVsmMaxLevels]; a spot light uses 1
     int pool_pages = 4096;             ///< physical pages in the pool [Limit: 1 .. kVsmMaxPoolPages]
     int pool_columns = 0;              ///< pages per row of the physical atlas; 0: ceil(sqrt(pool_pages))
-    double level0_extent_world = 0.0;  ///< side of level 0 (the finest) in world units; level k covers 2^k times it (required, directional)
-    double depth_range_world = 1000.0; ///< directional: the pages' depth covers camera depth +- 3/4 of this along the light (see VsmPageRender::view_proj)
+    double level0_extent_world = 0.0;  ///< side of level 0 (the finest) in world units; level k covers 2^k times it (required, directional) [Limit: 1e-30 .. 1e30]
+    double depth_range_world = 1000.0; ///< directional: the pages' depth covers camera depth +- 3/4 of this along the light (see VsmPageRender::view_proj) [Limit: 1e-30 .. 1e30]
     double spot_near_world = 0.1;      ///< spot: near plane distance
     double spot_far_world = 1000.0;    ///< spot: far plane distance (> near)
     ClipDepth clip_depth = ClipDepth::NegativeOneToOne;
@@ -563,8 +563,8 @@ inline VsmInit vsm_state_init(const VsmLayout& layout, VsmState& state) {
     const bool sizes_ok = L.page_texels >= 8 && L.page_texels <= 4096 && L.virtual_texels >= 2 * L.page_texels &&
                           L.virtual_texels % L.page_texels == 0 && L.virtual_texels / L.page_texels <= 4096;
     if (!sizes_ok || L.level_count < 1 || L.level_count > kVsmMaxLevels || L.pool_pages < 1 ||
-        L.pool_pages > kVsmMaxPoolPages || L.pool_columns < 0 || L.level0_extent_world <= 0.0 ||
-        L.depth_range_world <= 0.0 || L.spot_near_world <= 0.0 || L.spot_far_world <= L.spot_near_world) {
+        L.pool_pages > kVsmMaxPoolPages || L.pool_columns < 0 || !(L.level0_extent_world >= 1e-30) ||
+        !(L.level0_extent_world <= 1e30) || !(L.depth_range_world >= 1e-30) || !(L.depth_range_world <= 1e30) || L.spot_near_world <= 0.0 || L.spot_far_world <= L.spot_near_world) {
         r.status = Status::InvalidArgument;
         return r;
     }
@@ -632,7 +632,9 @@ inline Status vsm_check_frame(const VsmState& s, const VsmFrame& f, const VsmPag
         const double top = s.layout.level0_extent_world * std::ldexp(1.0, s.layout.level_count - 1) / double(n);
         const double fine = s.layout.level0_extent_world / double(n);
         const double span = std::fabs(glm::dot(f.camera_position, ax)) + std::fabs(glm::dot(f.camera_position, ay));
-        if (!(span / fine < 4e15) || !std::isfinite(top) || !(std::fabs(glm::dot(f.camera_position, az)) < 1e300))
+        // the page grid and the depth center in units of a page / of the depth range stay exact
+        if (!(span / fine < 4e15) || !std::isfinite(top) ||
+            !(std::fabs(glm::dot(f.camera_position, az)) / s.layout.depth_range_world < 1e15))
             return Status::Overflow;
     }
     return Status::Ok;
@@ -804,7 +806,8 @@ inline void vsm_emit(VsmState& s, std::uint32_t i, std::uint32_t level, std::uin
 /// `pages` holds `capacity` elements; it needs layout.pool_pages (checked: InvalidArgument).
 /// Cost: O(requests + pages the moved casters' boxes overlap + pages that scrolled out); a light
 /// change or a depth step costs O(resident pages). Never allocates.
-/// Status: Ok; BufferTooSmall when the distinct requested pages exceed the pool (`needed` says how
+/// Status: Ok; Overflow when the camera is 4e15 level-0 pages or 1e15 depth ranges from the origin;
+/// BufferTooSmall when the distinct requested pages exceed the pool (`needed` says how
 /// many): the plan is applied anyway, finest levels falling back to coarser ones (VsmPlan::fallback,
 /// unmapped); on any other status the state is unchanged.
 inline VsmPlan vsm_plan(VsmState& s, const VsmFrame& f, VsmPageRender* pages, std::size_t capacity) {

@@ -137,6 +137,10 @@ TEST_CASE("vsm_state_init validates the layout") {
     CHECK(vsm_state_init(bad, s).status == Status::InvalidArgument);
     bad = L; bad.pool_pages = 0;
     CHECK(vsm_state_init(bad, s).status == Status::InvalidArgument);
+    bad = L; bad.level0_extent_world = 1e-300;  // its page matrices would overflow double
+    CHECK(vsm_state_init(bad, s).status == Status::InvalidArgument);
+    bad = L; bad.depth_range_world = 1e31;
+    CHECK(vsm_state_init(bad, s).status == Status::InvalidArgument);
     bad = L; bad.level0_extent_world = std::nan("");
     CHECK(vsm_state_init(bad, s).status == Status::NonFinite);
     bad = L; bad.virtual_texels = 8;  // one page per side: no clipmap nesting
@@ -172,6 +176,10 @@ TEST_CASE("vsm_plan rejects bad frames and leaves the state unchanged") {
     g = f; g.requests = &lvl;
     CHECK(vsm_plan(s, g, pages.data(), pages.size()).status == Status::IndexOutOfRange);
     CHECK(vsm_plan(s, f, pages.data(), 3).status == Status::InvalidArgument);  // needs pool_pages
+    g = f; g.camera_position = glm::dvec3(0.0, 1e19, 0.0);  // 1e16 depth ranges along the light: not exact
+    CHECK(vsm_plan(s, g, pages.data(), pages.size()).status == Status::Overflow);
+    g = f; g.camera_position = glm::dvec3(1e17, 0.0, 0.0);  // 5e16 level-0 pages from the origin
+    CHECK(vsm_plan(s, g, pages.data(), pages.size()).status == Status::Overflow);
     g = f; g.requests = nullptr;
     CHECK(vsm_plan(s, g, pages.data(), pages.size()).status == Status::InvalidArgument);
     g = f; g.light_position = glm::vec4(0, 5, 0, 1);  // a spot needs a direction, a cone and 1 level
