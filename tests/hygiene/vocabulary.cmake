@@ -23,6 +23,7 @@ set(prefix_prt prt_)
 set(prefix_prefiltered_shadow prefilter_)
 set(prefix_shadow_cache shadow_cache_)
 set(prefix_contact_shadow contact_)
+set(prefix_virtual_shadow_map vsm_)
 
 set(lights_paragraph
 "// Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
