@@ -90,9 +90,9 @@ bool PenumbraWedges::init(const app::View& v, std::string& why) {
     if (!volumes_.init(v, why)) return false;
     // one wedge per silhouette edge at most; scratch for the silhouette of a caster the volumes cull
     for (const ShadowVolumes::Caster& c : volumes_.casters()) {
-        capacity_ += c.adj.max_silhouette_edges();
+        capacity_ += c.sil.size() / 2;  // the volumes' silhouette capacity (twice as many edges if two-sided)
         facing_.resize(std::max(facing_.size(), c.adj.face_count()));
-        sil_.resize(std::max(sil_.size(), shadowkit::silhouette_indices_capacity(c.adj)));
+        sil_.resize(std::max(sil_.size(), c.sil.size()));
     }
     wedges_.reserve(capacity_);
     gpu_wedges_.reserve(7 * capacity_);
@@ -179,8 +179,11 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
             const glm::vec4 light(v.light().position, 1.f);
             const shadowkit::SilhouetteFacing fr =
                 shadowkit::silhouette_compute_facing_planes(c.adj, c.planes, light, facing_.data(), c.adj.face_count());
-            const shadowkit::SilhouetteResult sr = shadowkit::silhouette_extract_planes(
-                c.adj, c.planes, facing_.data(), c.adj.face_count(), sil_.data(), sil_.size(), nullptr, 0);
+            const shadowkit::SilhouetteResult sr =  // the volumes' rule: two-sided on an open caster
+                c.two_sided ? shadowkit::silhouette_extract_two_sided(c.adj, facing_.data(), c.adj.face_count(), sil_.data(),
+                                                                       sil_.size(), nullptr, 0)
+                            : shadowkit::silhouette_extract_planes(c.adj, c.planes, facing_.data(), c.adj.face_count(),
+                                                                   sil_.data(), sil_.size(), nullptr, 0);
             if (fr.status != shadowkit::Status::Ok || sr.status != shadowkit::Status::Ok) {
                 error_ = std::string("silhouette of a culled caster: ") +
                          shadowkit::status_name(fr.status != shadowkit::Status::Ok ? fr.status : sr.status);
