@@ -150,6 +150,7 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
     volume_settings_.depth_bounds = s.depth_bounds;
     volume_settings_.projection =
         s.projection == PenumbraWedgeSettings::Projection::Finite ? V::Projection::Finite : V::Projection::Infinite;
+    volume_settings_.open_meshes = s.open_meshes;
     volumes_.update(v, volume_settings_);
     if (!volumes_.error().empty()) {
         if (error_.empty()) error_ = volumes_.error();

@@ -56,6 +56,9 @@ struct PenumbraWedgeSettings {
     enum class Faces { Auto, Back, Front };
     Faces faces = Faces::Auto;
     float light_scale = 1.f;  ///< multiplies the wedges' light radius (0: the hard shadow alone)
+    /// Open casters (ShadowVolumeSettings::OpenMeshes): the hard volume and the wedges' silhouette from
+    /// every face (two_sided) or from the lit faces only (lit_only: light leaks through holes).
+    ShadowVolumeSettings::OpenMeshes open_meshes = ShadowVolumeSettings::OpenMeshes::TwoSided;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -69,6 +72,8 @@ inline void bind_settings(app::Params& p, PenumbraWedgeSettings& s) {
     p.choice("method", &s.method, {{"zfail", S::Method::ZFail}, {"auto", S::Method::Auto}});
     p.choice("faces", &s.faces, {{"auto", S::Faces::Auto}, {"back", S::Faces::Back}, {"front", S::Faces::Front}});
     p.number("light_scale", &s.light_scale, 0.0, 4.0);
+    p.choice("open_meshes", &s.open_meshes,
+             {{"two_sided", ShadowVolumeSettings::OpenMeshes::TwoSided}, {"lit_only", ShadowVolumeSettings::OpenMeshes::LitOnly}});
 }
 
 class PenumbraWedges {
