@@ -131,6 +131,7 @@ private:
     std::size_t capacity_ = 0;            // wedges: every caster's most silhouette edges
     std::vector<std::uint8_t> facing_;    // a culled caster's facing and silhouette (the volumes skip it)
     std::vector<std::uint32_t> sil_;
+    bool any_two_sided_ = false;  ///< this frame: a caster's hard volume and silhouette are two-sided
     // this frame
     shadowkit::PenumbraSphereLight sphere_;
     glm::mat4 cam_vp_{1.f}, cam_view_{1.f};  // the G-buffer's camera
