@@ -57,7 +57,9 @@ struct PenumbraWedgeSettings {
     Faces faces = Faces::Auto;
     float light_scale = 1.f;  ///< multiplies the wedges' light radius (0: the hard shadow alone)
     /// Open casters (ShadowVolumeSettings::OpenMeshes): the hard volume and the wedges' silhouette from
-    /// every face (two_sided) or from the lit faces only (lit_only: light leaks through holes).
+    /// every face (two_sided: one wedge per edge even where the silhouette has it twice, the hard count
+    /// capped at 1 in the combine pass; docs/penumbra_wedge.md) or from the lit faces only (lit_only:
+    /// light leaks through holes).
     ShadowVolumeSettings::OpenMeshes open_meshes = ShadowVolumeSettings::OpenMeshes::TwoSided;
 };
 
