@@ -489,6 +489,27 @@ inline VolumeBuffer sv_build_caps_two_sided(const std::uint32_t* indices, const 
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
     return r;
 }
+// volume_build_caps' last triangles [t, tris) (a buffer near its end): whole triangles while they fit,
+// then only counted in k. Returns true if an index is out of range.
+inline bool sv_caps_rest(const std::uint32_t* indices, const std::uint8_t* lit, std::size_t tris, std::uint32_t n, bool lit_only,
+                         bool dark_cap, std::uint32_t* out, std::size_t out_capacity, std::size_t t, std::size_t& k) {
+    bool bad = false;
+    auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        if (k + 3 <= out_capacity) { out[k] = a; out[k + 1] = b; out[k + 2] = c; }
+        k += 3;
+    };
+    for (; t < tris; ++t) {
+        const std::uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+        bad |= (a >= n) | (b >= n) | (c >= n);
+        if (lit[t]) {
+            put(a, b, c);
+            if (dark_cap && lit_only) put(a + n, c + n, b + n);
+        } else if (dark_cap && !lit_only) {
+            put(a + n, b + n, c + n);
+        }
+    }
+    return bad;
+}
 }  // namespace detail
 
 /// Light cap (lit triangles, as given) and, if dark_cap, the dark cap (VolumeCapMode) for z-fail.
@@ -593,21 +614,7 @@ inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t 
             k += dark_step + ((lit_step - dark_step) & l);
         }
     }
-    // the rest (a buffer near its end): whole triangles while they fit, then only counted
-    auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        if (k + 3 <= out_capacity) { out[k] = a; out[k + 1] = b; out[k + 2] = c; }
-        k += 3;
-    };
-    for (; t < lit_count; ++t) {
-        const std::uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
-        bad |= (a >= n) | (b >= n) | (c >= n);
-        if (lit[t]) {
-            put(a, b, c);
-            if (dark_cap && lit_only) put(a + n, c + n, b + n);
-        } else if (dark_cap && !lit_only) {
-            put(a + n, b + n, c + n);
-        }
-    }
+    bad |= detail::sv_caps_rest(indices, lit, lit_count, n, lit_only, dark_cap, out, out_capacity, t, k);
     if (bad) { r.status = Status::IndexOutOfRange; return r; }
     r.needed = k;
     r.count = k <= out_capacity ? k : (out_capacity / 3) * 3;

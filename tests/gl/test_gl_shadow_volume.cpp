@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
+#include <shadowkit/silhouette.hpp>
 
 #include <glm/glm.hpp>
 
@@ -549,9 +550,10 @@ bool segment_hits(const glm::dvec3& o, const glm::dvec3& d, double tmax, const g
 }
 
 // The CPU ray count per pixel: the number of caster triangles that face the light (Everitt-Kilgard
-// 3.2.2 facing) and that the segment from the surface point (lifted along its normal) to the
-// light crosses. With LitOnly caps every lit triangle bounds one prism of shadow, so this is the
-// number of shadow volumes around the point: what z-fail leaves in the stencil buffer. -1 for
+// 3.2.2 facing; every triangle of an open caster, whose volume is two-sided) and that the segment
+// from the surface point (lifted along its normal) to the light crosses. With LitOnly caps every lit
+// triangle bounds one prism of shadow (TwoSided: every triangle), so this is the number of shadow
+// volumes around the point: what z-fail leaves in the stencil buffer. -1 for
 // pixels that are not receivers or face away from the light (as the metrics leave them out).
 // Directional lights: the ray runs 1e3 scene diagonals.
 std::vector<int> cpu_ray_counts(const sk::Scene& s, const sk::GBuffer& g) {
@@ -569,11 +571,14 @@ std::vector<int> cpu_ray_counts(const sk::Scene& s, const sk::GBuffer& g) {
     for (const sk::Mesh& m : s.meshes) {
         if (!m.caster) continue;
         Caster c{glm::dvec3(1e300), glm::dvec3(-1e300), {}};
+        // an open caster (boundary or non-manifold edges) has the two-sided volume: every triangle counts
+        const bool open = !shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(),
+                                                                 m.indices.size()).closed();
         for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
             const glm::dvec3 a(m.positions[m.indices[i]]), b(m.positions[m.indices[i + 1]]), d(m.positions[m.indices[i + 2]]);
             const glm::dvec3 n = glm::cross(b - a, d - a);
             const double facing = dir ? glm::dot(n, to_light_dir) : glm::dot(n, L - a);
-            if (!(facing > 0.0)) continue;
+            if (!(facing > 0.0) && !(open && facing < 0.0)) continue;
             c.lit.push_back({a, b, d});
             c.lo = glm::min(c.lo, glm::min(a, glm::min(b, d)));
             c.hi = glm::max(c.hi, glm::max(a, glm::max(b, d)));
