@@ -70,6 +70,17 @@
 //     consistently oriented for ANY mesh (open, non-manifold, badly wound) and ANY facing bits.
 //     The Everitt-Kilgard dark cap (unlit faces extruded) gives the same chain whenever
 //     sum over ALL faces of s_i = 0 on every edge (closed, consistently wound meshes).
+//   * Two-sided rule (silhouette_extract_two_sided, for OPEN meshes). A lit-faces-only volume counts,
+//     at a point X, the lit faces crossed by the segment from X to the light; a ray that enters an open
+//     mesh through a hole and leaves through back faces crosses none, so X is lit although the mesh
+//     blocks it. Two-sided treats every face as an occluder: an unlit face counts as its reverse
+//     (which faces the light), k = sum over lit faces of s_i - sum over unlit faces of s_i, emitted as
+//     above. The volume (with shadow_volume.hpp's VolumeCapMode::TwoSided caps) is the sum of one closed
+//     prism per face, so it is closed for any mesh, and its count at X is the number of faces the
+//     segment crosses: X is inside iff the mesh blocks the segment, the test a ray tracer does. A
+//     manifold silhouette edge is then emitted twice (once per side), a boundary edge always once, an
+//     edge between two unlit faces not at all. Use it when the adjacency has boundary or non-manifold
+//     edges (!adj.closed()); on a closed mesh it draws twice the quads for the same shadow.
 //   * Welding (SilhouetteAdjacencyOptions::weld_tolerance):
 //     < 0 : no welding, vertices are identified by index only;
 //     = 0 : (default) vertices with bit-identical positions (+0 == -0) are welded - UV / normal seams;
@@ -888,6 +899,61 @@ inline SilhouetteResult silhouette_extract(const SilhouetteAdjacency& adj, const
     std::size_t room = edge_indices_capacity / 2;
     if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
     const std::size_t n = detail::sil_extract_range(adj, facing, edge_indices, edge_flags, room, 0, adj.edges.size(), true, r);
+    r.count = 2 * (n < room ? n : room);
+    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    return r;
+}
+
+/// uint32 elements silhouette_extract_two_sided may need for any facing: 2 per edge, each manifold edge
+/// at most twice, each boundary edge once, each non-manifold edge at most its face count.
+inline std::size_t silhouette_two_sided_indices_capacity(const SilhouetteAdjacency& adj) {
+    std::size_t n = 2 * adj.manifold_edges + adj.boundary_edges;
+    for (const SilhouetteNonManifoldEdge& e : adj.nonmanifold_edges) n += e.count;
+    return 2 * n;
+}
+
+/// The two-sided silhouette (header comment, "Two-sided rule"): every face an occluder, an unlit one
+/// taken reversed. Same buffers, flags, checks and results as silhouette_extract; edge_indices needs
+/// at most silhouette_two_sided_indices_capacity(adj). Feed it to volume_build_side_quads and build
+/// the caps with VolumeCapMode::TwoSided from the same facing. Single pass, scalar.
+inline SilhouetteResult silhouette_extract_two_sided(const SilhouetteAdjacency& adj, const std::uint8_t* facing,
+                                                     std::size_t facing_count, std::uint32_t* edge_indices,
+                                                     std::size_t edge_indices_capacity, std::uint8_t* edge_flags,
+                                                     std::size_t edge_flags_capacity) {
+    SilhouetteResult r;
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
+                                              edge_flags_capacity);
+    if (r.status != Status::Ok) return r;
+    std::size_t room = edge_indices_capacity / 2, n = 0;
+    if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
+    auto emit = [&](std::uint32_t a, std::uint32_t b, long k, std::uint8_t flags) {  // |k| times, u -> v if k > 0
+        for (long m = 0; m < (k < 0 ? -k : k); ++m, ++n) {
+            if (n >= room) continue;
+            edge_indices[2 * n] = k > 0 ? a : b;
+            edge_indices[2 * n + 1] = k > 0 ? b : a;
+            if (edge_flags) edge_flags[n] = flags;
+        }
+    };
+    for (const SilhouetteEdge& E : adj.edges) {  // f0 traverses v0 -> v1 (s = +1), f1 v1 -> v0 (s = -1)
+        const long k0 = facing[E.f0] ? 1 : -1;
+        if (E.f1 == kSilhouetteNoFace) {
+            emit(E.v0, E.v1, k0, SilhouetteBoundary);
+            ++r.boundary_edges;
+            continue;
+        }
+        emit(E.v0, E.v1, k0 - (facing[E.f1] ? 1 : -1), 0);
+    }
+    for (const SilhouetteNonManifoldEdge& E : adj.nonmanifold_edges) {
+        long k = 0;
+        for (std::uint32_t j = 0; j < E.count; ++j) {
+            const std::uint32_t fd = adj.nonmanifold_faces[E.first + j];
+            const long s = (fd & 0x80000000u) ? -1 : 1;
+            k += facing[fd & 0x7FFFFFFFu] ? s : -s;
+        }
+        emit(E.v0, E.v1, k, SilhouetteNonManifold);
+        r.nonmanifold_edges += static_cast<std::size_t>(k < 0 ? -k : k);
+    }
+    r.needed = 2 * n;
     r.count = 2 * (n < room ? n : room);
     if (r.count < r.needed) r.status = Status::BufferTooSmall;
     return r;

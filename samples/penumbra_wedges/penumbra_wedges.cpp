@@ -57,10 +57,13 @@ void main() {
 const char* kCombine = R"(
 layout(binding = 3) uniform sampler2D u_coverage;
 layout(binding = 4) uniform usampler2D u_stencil;
+// 1 when a caster's volume is two-sided (an open caster: its two layers count once, so the inner half-wedges
+// still lighten its umbra; it also lets them lighten another layer's or caster's umbra there), else no cap
+uniform float u_hard_max;
 float technique_visibility(vec3 p, vec3 n) {
     ivec2 px = ivec2(gl_FragCoord.xy);
     uint s = texelFetch(u_stencil, px, 0).r & 255u;
-    float hard = float(int(s) - (s >= 128u ? 256 : 0));
+    float hard = min(float(int(s) - (s >= 128u ? 256 : 0)), u_hard_max);
     return sk_wedge_visibility(hard, texelFetch(u_coverage, px, 0).r) * sk_emitter_horizon(p, n);
 }
 )";
@@ -90,9 +93,9 @@ bool PenumbraWedges::init(const app::View& v, std::string& why) {
     if (!volumes_.init(v, why)) return false;
     // one wedge per silhouette edge at most; scratch for the silhouette of a caster the volumes cull
     for (const ShadowVolumes::Caster& c : volumes_.casters()) {
-        capacity_ += c.adj.max_silhouette_edges();
+        capacity_ += c.sil.size() / 2;  // the volumes' silhouette capacity (twice as many edges if two-sided)
         facing_.resize(std::max(facing_.size(), c.adj.face_count()));
-        sil_.resize(std::max(sil_.size(), shadowkit::silhouette_indices_capacity(c.adj)));
+        sil_.resize(std::max(sil_.size(), c.sil.size()));
     }
     wedges_.reserve(capacity_);
     gpu_wedges_.reserve(7 * capacity_);
@@ -150,6 +153,7 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
     volume_settings_.depth_bounds = s.depth_bounds;
     volume_settings_.projection =
         s.projection == PenumbraWedgeSettings::Projection::Finite ? V::Projection::Finite : V::Projection::Infinite;
+    volume_settings_.open_meshes = s.open_meshes;
     volumes_.update(v, volume_settings_);
     if (!volumes_.error().empty()) {
         if (error_.empty()) error_ = volumes_.error();
@@ -171,6 +175,7 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
     hull_ids_.clear();
     hull_local_.clear();
     skipped_ = silhouette_edges_ = 0;
+    any_two_sided_ = false;
     for (const ShadowVolumes::Caster& c : volumes_.casters()) {
         if (!(sphere_.radius > 0.f)) break;  // no radius: no wedges
         const std::uint32_t* sil = c.sil.data();
@@ -179,8 +184,11 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
             const glm::vec4 light(v.light().position, 1.f);
             const shadowkit::SilhouetteFacing fr =
                 shadowkit::silhouette_compute_facing_planes(c.adj, c.planes, light, facing_.data(), c.adj.face_count());
-            const shadowkit::SilhouetteResult sr = shadowkit::silhouette_extract_planes(
-                c.adj, c.planes, facing_.data(), c.adj.face_count(), sil_.data(), sil_.size(), nullptr, 0);
+            const shadowkit::SilhouetteResult sr =  // the volumes' rule: two-sided on an open caster
+                c.two_sided ? shadowkit::silhouette_extract_two_sided(c.adj, facing_.data(), c.adj.face_count(), sil_.data(),
+                                                                       sil_.size(), nullptr, 0)
+                            : shadowkit::silhouette_extract_planes(c.adj, c.planes, facing_.data(), c.adj.face_count(),
+                                                                   sil_.data(), sil_.size(), nullptr, 0);
             if (fr.status != shadowkit::Status::Ok || sr.status != shadowkit::Status::Ok) {
                 error_ = std::string("silhouette of a culled caster: ") +
                          shadowkit::status_name(fr.status != shadowkit::Status::Ok ? fr.status : sr.status);
@@ -190,8 +198,14 @@ void PenumbraWedges::update(const app::View& v, const PenumbraWedgeSettings& s) 
             edges = sr.count / 2;
         }
         silhouette_edges_ += edges;
+        any_two_sided_ = any_two_sided_ || c.two_sided;
         const sk::Mesh& m = scene.meshes[c.mesh];
-        for (std::size_t e = 0; e < edges; ++e) add_wedge(m.positions[sil[2 * e]], m.positions[sil[2 * e + 1]], s);
+        for (std::size_t e = 0; e < edges; ++e) {
+            // two-sided: an edge between a lit and an unlit face comes twice (once per layer, in a row);
+            // the light it hides is counted once
+            if (c.two_sided && e > 0 && sil[2 * e] == sil[2 * e - 2] && sil[2 * e + 1] == sil[2 * e - 1]) continue;
+            add_wedge(m.positions[sil[2 * e]], m.positions[sil[2 * e + 1]], s);
+        }
     }
 
     // 3. The draw order: the wedges drawn with their front faces, then those with their back faces, then the
@@ -291,6 +305,7 @@ void PenumbraWedges::render(const app::View& v, const PenumbraWedgeSettings& s) 
     glUseProgram(combine_prog_);
     app::set_light_uniforms(combine_prog_, L);
     app::set_emitter_uniforms(combine_prog_, L, s.horizon && sphere_.radius > 0.f && L.is_area());
+    glUniform1f(glGetUniformLocation(combine_prog_, "u_hard_max"), any_two_sided_ ? 1.f : 1e9f);
     glTextureParameteri(depth_stencil, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
     glBindTextureUnit(3, coverage_.color[0]);
     glBindTextureUnit(4, depth_stencil);

@@ -56,6 +56,11 @@ struct PenumbraWedgeSettings {
     enum class Faces { Auto, Back, Front };
     Faces faces = Faces::Auto;
     float light_scale = 1.f;  ///< multiplies the wedges' light radius (0: the hard shadow alone)
+    /// Open casters (ShadowVolumeSettings::OpenMeshes): the hard volume and the wedges' silhouette from
+    /// every face (two_sided: one wedge per edge even where the silhouette has it twice, the hard count
+    /// capped at 1 in the combine pass; docs/penumbra_wedge.md) or from the lit faces only (lit_only:
+    /// light leaks through holes).
+    ShadowVolumeSettings::OpenMeshes open_meshes = ShadowVolumeSettings::OpenMeshes::TwoSided;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -69,6 +74,8 @@ inline void bind_settings(app::Params& p, PenumbraWedgeSettings& s) {
     p.choice("method", &s.method, {{"zfail", S::Method::ZFail}, {"auto", S::Method::Auto}});
     p.choice("faces", &s.faces, {{"auto", S::Faces::Auto}, {"back", S::Faces::Back}, {"front", S::Faces::Front}});
     p.number("light_scale", &s.light_scale, 0.0, 4.0);
+    p.choice("open_meshes", &s.open_meshes,
+             {{"two_sided", ShadowVolumeSettings::OpenMeshes::TwoSided}, {"lit_only", ShadowVolumeSettings::OpenMeshes::LitOnly}});
 }
 
 class PenumbraWedges {
@@ -126,6 +133,7 @@ private:
     std::size_t capacity_ = 0;            // wedges: every caster's most silhouette edges
     std::vector<std::uint8_t> facing_;    // a culled caster's facing and silhouette (the volumes skip it)
     std::vector<std::uint32_t> sil_;
+    bool any_two_sided_ = false;  ///< this frame: a caster's hard volume and silhouette are two-sided
     // this frame
     shadowkit::PenumbraSphereLight sphere_;
     glm::mat4 cam_vp_{1.f}, cam_view_{1.f};  // the G-buffer's camera

@@ -1,6 +1,8 @@
 // samples/report/report_technique.cpp - the measuring helpers of the technique wrappers.
 #include "report_technique.hpp"
 
+#include <shadowkit/silhouette.hpp>
+
 namespace sk {
 
 std::vector<float> read_r32f(GLuint texture, int w, int h) {
@@ -26,6 +28,16 @@ void count_fragments(bool has_stats, const std::function<void()>& draw, double& 
         invocations = double(v);
     }
     glDeleteQueries(has_stats ? 2 : 1, q);
+}
+
+bool scene_has_open_caster(const Scene& scene) {
+    for (const Mesh& m : scene.meshes) {
+        if (!m.caster || m.indices.empty()) continue;
+        const shadowkit::SilhouetteAdjacency adj =
+            shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+        if (adj.status == shadowkit::Status::Ok && !adj.closed()) return true;
+    }
+    return false;
 }
 
 }  // namespace sk

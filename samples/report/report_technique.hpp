@@ -34,6 +34,9 @@ std::vector<float> read_r32f(GLuint texture, int w, int h);
 /// Runs draw() inside a GL_SAMPLES_PASSED query (and GL_FRAGMENT_SHADER_INVOCATIONS_ARB when
 /// has_stats); fragments = the samples, invocations = the shader runs (left unchanged without stats).
 void count_fragments(bool has_stats, const std::function<void()>& draw, double& fragments, double& invocations);
+/// True if a caster of `scene` has boundary or non-manifold edges (silhouette.hpp's adjacency, no weld
+/// tolerance): the volume families add an `open_meshes=lit_only` row there (the one-sided volume).
+bool scene_has_open_caster(const Scene& scene);
 
 /// How the report shows a wrapped technique.
 template <class T, class S>

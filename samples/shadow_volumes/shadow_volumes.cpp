@@ -77,8 +77,10 @@ bool ShadowVolumes::init(const app::View& v, std::string& why) {
         c.base_vertex = static_cast<GLint>(vertices);
         vertices += 2 * m.positions.size();
         c.facing.assign(c.adj.face_count(), 0);
-        c.sil.assign(shadowkit::silhouette_indices_capacity(c.adj), 0);
-        c.index_capacity = 6 * c.adj.max_silhouette_edges() + 6 * c.adj.face_count();  // sides + both caps
+        // an open caster may draw the two-sided volume: up to twice the silhouette edges
+        c.sil.assign(c.adj.closed() ? shadowkit::silhouette_indices_capacity(c.adj)
+                                    : shadowkit::silhouette_two_sided_indices_capacity(c.adj), 0);
+        c.index_capacity = 3 * c.sil.size() + 6 * c.adj.face_count();  // sides + both caps
         c.index_offset = indices;
         indices += c.index_capacity;
         casters_.push_back(std::move(c));
@@ -187,6 +189,9 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
         const sk::Mesh& m = scene.meshes[c.mesh];
         c.visible = true;
         c.zfail = true;
+        // an open caster: every face an occluder (light entering through a hole and leaving through
+        // back faces crosses no lit face), its unlit faces reversed (silhouette.hpp's two-sided rule)
+        c.two_sided = !c.adj.closed() && s.open_meshes == ShadowVolumeSettings::OpenMeshes::TwoSided;
         c.sil_edges = c.side_count = c.cap_count = 0;
         c.sc = shadowkit::ScissorRect{};
         if (culling) {  // Lengyel: the rectangle and depth range the volume can touch; empty: skip it
@@ -199,9 +204,12 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
         const shadowkit::SilhouetteFacing fr =
             shadowkit::silhouette_compute_facing_planes(c.adj, c.planes, light_, c.facing.data(), c.facing.size());
         if (failed(fr.status, "silhouette_compute_facing_planes", error_)) return;
-        const shadowkit::SilhouetteResult sr = shadowkit::silhouette_extract_planes(
-            c.adj, c.planes, c.facing.data(), c.facing.size(), c.sil.data(), c.sil.size(), nullptr, 0);
-        if (failed(sr.status, "silhouette_extract_planes", error_)) return;
+        const shadowkit::SilhouetteResult sr =
+            c.two_sided ? shadowkit::silhouette_extract_two_sided(c.adj, c.facing.data(), c.facing.size(), c.sil.data(),
+                                                                   c.sil.size(), nullptr, 0)
+                        : shadowkit::silhouette_extract_planes(c.adj, c.planes, c.facing.data(), c.facing.size(),
+                                                               c.sil.data(), c.sil.size(), nullptr, 0);
+        if (failed(sr.status, "silhouette_extract", error_)) return;
         c.sil_edges = sr.count / 2;
         // z-pass only where the near plane cannot be inside this caster's volume
         if (s.method == ShadowVolumeSettings::Method::Auto) {
@@ -222,7 +230,8 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
         if (c.zfail) {
             const shadowkit::VolumeBuffer cp = shadowkit::volume_build_caps(
                 c.adj.faces.data(), c.adj.faces.size(), c.facing.data(), c.facing.size(), m.positions.size(),
-                shadowkit::VolumeCapMode::LitOnly, light_.w > 0.f, out + sq.count, c.index_capacity - sq.count);
+                c.two_sided ? shadowkit::VolumeCapMode::TwoSided : shadowkit::VolumeCapMode::LitOnly, light_.w > 0.f,
+                out + sq.count, c.index_capacity - sq.count);
             if (failed(cp.status, "volume_build_caps", error_)) return;
             c.cap_count = cp.count;
         }

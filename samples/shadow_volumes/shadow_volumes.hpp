@@ -40,6 +40,12 @@ struct ShadowVolumeSettings {
     /// float32 precision at a near plane of 1e-5.
     enum class Projection { Finite, Infinite, Reversed };
     Projection projection = Projection::Finite;
+    /// Casters with boundary or non-manifold edges (SilhouetteAdjacency::closed() false): every face
+    /// an occluder (two_sided: silhouette_extract_two_sided + VolumeCapMode::TwoSided, what a ray
+    /// tracer tests), or lit faces only (lit_only: light entering through a hole and leaving through
+    /// back faces is not stopped). Closed casters always use the lit faces (the same shadow, cheaper).
+    enum class OpenMeshes { TwoSided, LitOnly };
+    OpenMeshes open_meshes = OpenMeshes::TwoSided;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -50,6 +56,8 @@ inline void bind_settings(app::Params& p, ShadowVolumeSettings& s) {
     p.toggle("scissor", &s.scissor);
     p.toggle("depth_bounds", &s.depth_bounds);
     p.choice("projection", &s.projection, {{"finite", P::Finite}, {"infinite", P::Infinite}, {"reversed", P::Reversed}});
+    p.choice("open_meshes", &s.open_meshes,
+             {{"two_sided", ShadowVolumeSettings::OpenMeshes::TwoSided}, {"lit_only", ShadowVolumeSettings::OpenMeshes::LitOnly}});
 }
 
 class ShadowVolumes {
@@ -67,6 +75,7 @@ public:
         // this frame
         bool visible = true;                    ///< false: its scissor rectangle is empty, not drawn
         bool zfail = true;
+        bool two_sided = false;                 ///< this update's volume: every face (open caster, open_meshes two_sided)
         std::size_t sil_edges = 0, side_count = 0, cap_count = 0;  ///< edges; indices of sides and caps
         shadowkit::ScissorRect sc;              ///< scissor rectangle and depth bounds (scissor or depth_bounds on)
     };

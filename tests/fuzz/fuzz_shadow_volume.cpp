@@ -50,8 +50,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (ne > 0 && sk::volume_build_side_quads(nullptr, ne, nv, ib.data(), cap).status != sk::Status::InvalidArgument) __builtin_trap();
     std::fill(ib.begin(), ib.end(), 0xDEADBEEFu);
     const std::uint8_t cm_byte = in.u8();
-    const sk::VolumeCapMode cm = (cm_byte & 3) == 3 ? static_cast<sk::VolumeCapMode>(2 + (cm_byte >> 2))
-                                                    : ((mode & 2) ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly);
+    const sk::VolumeCapMode cm = (cm_byte & 3) == 3 ? static_cast<sk::VolumeCapMode>(3 + (cm_byte >> 2))  // past TwoSided
+                                 : (cm_byte & 3) == 2 ? sk::VolumeCapMode::TwoSided
+                                                      : ((mode & 2) ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly);
     const std::size_t lit_count = (cm_byte & 4) ? in.size(nt + 1) : nt;
     const sk::VolumeBuffer rc = sk::volume_build_caps(nt ? tris.data() : nullptr, 3 * nt, lit_count ? lit.data() : nullptr, lit_count,
                                                       nv, cm, (mode & 4) != 0, ib.data(), cap);
@@ -85,12 +86,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (next() % 29 == 0) run = !run;
             l = static_cast<std::uint8_t>((style & 2) ? (run ? 1u : 0u) : next() % 3);
         }
-        const bool ek = (style & 4) != 0, dark = (style & 8) != 0;
+        const bool ek = (style & 4) != 0, dark = (style & 8) != 0, two = (style & 32) != 0;
         bool bad = false;
         for (std::uint32_t t : t2) bad |= t >= nv2;
         std::vector<std::uint32_t> ref;
         for (std::size_t t = 0; t < nt2; ++t) {
             const std::uint32_t a = t2[3 * t], b = t2[3 * t + 1], c = t2[3 * t + 2];
+            if (two) {  // every triangle, an unlit one reversed; its extrusion reversed again
+                const std::uint32_t p = l2[t] ? b : c, q = l2[t] ? c : b;
+                ref.insert(ref.end(), {a, p, q});
+                if (dark) ref.insert(ref.end(), {a + nv2, q + nv2, p + nv2});
+                continue;
+            }
             if (l2[t]) {
                 ref.insert(ref.end(), {a, b, c});
                 if (dark && !ek) ref.insert(ref.end(), {a + nv2, c + nv2, b + nv2});
@@ -101,8 +108,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const std::size_t cap2 = (style & 16) ? in.size(2 * t2.size() + 8) : 2 * t2.size() + 8;
         std::vector<std::uint32_t> o2(cap2 + 1, 0xDEADBEEFu);
         const sk::VolumeBuffer r2 = sk::volume_build_caps(t2.data(), t2.size(), l2.data(), nt2, nv2,
-                                                          ek ? sk::VolumeCapMode::EverittKilgard : sk::VolumeCapMode::LitOnly, dark,
-                                                          o2.data(), cap2);
+                                                          two  ? sk::VolumeCapMode::TwoSided
+                                                          : ek ? sk::VolumeCapMode::EverittKilgard
+                                                               : sk::VolumeCapMode::LitOnly,
+                                                          dark, o2.data(), cap2);
         if (o2[cap2] != 0xDEADBEEFu) __builtin_trap();
         if (bad) {
             if (r2.status != sk::Status::IndexOutOfRange) __builtin_trap();

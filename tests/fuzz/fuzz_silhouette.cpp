@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -106,6 +108,31 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (out[cap] != 0xDEADBEEFu || flags[fcap] != 0xEE) __builtin_trap();
     for (std::size_t k = 0; k < r.count; ++k)
         if (out[k] >= nv) __builtin_trap();
+    // the two-sided silhouette (open meshes): within its capacity; every boundary edge once; each
+    // directed edge's net count over the output equals the face sum with unlit faces reversed
+    {
+        const std::size_t tcap = sk::silhouette_two_sided_indices_capacity(adj);
+        std::vector<std::uint32_t> t2(tcap + 1, 0xDEADBEEFu);
+        const std::size_t tc = std::min(cap, tcap);
+        const sk::SilhouetteResult rt = sk::silhouette_extract_two_sided(adj, facing.data(), fc, t2.data(), tc, nullptr, 0);
+        if (rt.needed > tcap || rt.count > tc || rt.count % 2 != 0 || rt.boundary_edges != adj.boundary_edges) __builtin_trap();
+        if ((rt.count < rt.needed) != (rt.status == sk::Status::BufferTooSmall)) __builtin_trap();
+        if (rt.status != sk::Status::Ok && rt.status != sk::Status::BufferTooSmall) __builtin_trap();
+        if (t2[tc] != 0xDEADBEEFu) __builtin_trap();
+        if (rt.status == sk::Status::Ok && fc < 400) {
+            std::map<std::pair<std::uint32_t, std::uint32_t>, long> net;  // (min, max) -> signed count
+            auto add = [&](std::uint32_t a, std::uint32_t b, long w) {
+                if (a < b) net[{a, b}] += w;
+                else net[{b, a}] -= w;
+            };
+            for (std::size_t f = 0; f < fc; ++f)
+                for (int j = 0; j < 3; ++j)
+                    add(adj.faces[3 * f + std::size_t(j)], adj.faces[3 * f + std::size_t((j + 1) % 3)], facing[f] ? 1 : -1);
+            for (std::size_t k = 0; k < rt.count; k += 2) add(t2[k], t2[k + 1], -1);
+            for (const auto& e : net)
+                if (e.second != 0) __builtin_trap();
+        }
+    }
     // Closed meshes: silhouette loops are balanced.
     const sk::Silhouette s = sk::silhouette_compute(adj, pos.data(), nv, L);
     if (s.status != sk::Status::Ok || s.indices.size() != r.needed || s.flags.size() != r.needed / 2) __builtin_trap();

@@ -434,3 +434,34 @@ TEST_CASE("(g) epsilon-tweaked P_inf (own depth pass) gives the finite + depth c
         CHECK(big <= 20);
     }
 }
+
+TEST_CASE("(h) open mesh (issue 27.5): a one-sided cup facing the area light: two_sided leaks far less than lit_only") {
+    // contact's floor and square light, its casters replaced by a box without its lid (outward-wound, one
+    // face per side), the opening towards the light: light entering through the opening leaves through
+    // back faces, which a volume of the lit faces misses
+    sk::Scene s = contact_scene();
+    s.meshes.erase(std::remove_if(s.meshes.begin(), s.meshes.end(), [](const sk::Mesh& m) { return m.caster; }), s.meshes.end());
+    sk::Mesh cup = sk::make_box("cup", {0.f, 0.51f, 0.f}, {0.6f, 0.5f, 0.5f});
+    const std::size_t before = cup.indices.size();
+    // make_box's quads: drop the +y one (the lid), found by its normal
+    for (std::size_t t = 0; t < cup.indices.size(); t += 3) {
+        const glm::vec3 a = cup.positions[cup.indices[t]], b = cup.positions[cup.indices[t + 1]], c = cup.positions[cup.indices[t + 2]];
+        if (glm::normalize(glm::cross(b - a, c - a)).y > 0.9f) {
+            cup.indices.erase(cup.indices.begin() + std::ptrdiff_t(t), cup.indices.begin() + std::ptrdiff_t(t + 3));
+            t -= 3;
+        }
+    }
+    REQUIRE(cup.indices.size() + 6 == before);
+    s.meshes.push_back(cup);
+    Prepared p;
+    prepare(s, p);
+    const Run two = run("penumbra_wedges", s, p, P(""));
+    const Run one = run("penumbra_wedges", s, p, P("open_meshes=lit_only"));
+    MESSAGE("open cup under contact's square light: umbra pixels " << two.m.umbra_pixels << "; two_sided RMSE " << two.m.rmse
+                                                                  << ", leak " << two.m.leak_fraction << "; lit_only RMSE "
+                                                                  << one.m.rmse << ", leak " << one.m.leak_fraction);
+    CHECK(two.m.umbra_pixels > 100);
+    CHECK(one.m.leak_fraction > 0.2);
+    CHECK(two.m.leak_fraction < 0.5 * one.m.leak_fraction);
+    CHECK(two.m.rmse < 0.5 * one.m.rmse);
+}

@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
+#include <shadowkit/silhouette.hpp>
 
 #include <glm/glm.hpp>
 
@@ -290,6 +291,50 @@ TEST_CASE("open mesh: a box without its bottom face, and a two-sided box without
     }
 }
 
+TEST_CASE("open mesh (issue 27.5): a one-sided cup opening towards the light: two_sided (the default) is right, lit_only leaks") {
+    // Outward-wound walls and bottom, no top. From the light above, only the +x wall's outside is lit;
+    // light entering through the opening leaves through the bottom and the other walls from their back
+    // (unlit faces), so the one-sided volume (lit faces only) misses most of the floor's shadow. The
+    // two-sided volume counts every face crossed: the Embree reference's test.
+    sk::Scene s = floor_scene("open_cup_one_sided");
+    s.light.position = {1.2f, 3.5f, 0.4f};
+    s.camera.eye = {-1.5f, 3.6f, 3.2f};
+    s.camera.target = {0.f, 0.4f, 0.f};
+    sk::Mesh cup;
+    cup.name = "cup";
+    const glm::vec3 lo(-0.7f, 0.f, -0.6f), hi(0.7f, 1.f, 0.6f);
+    const glm::vec3 p0(lo.x, lo.y, lo.z), p1(hi.x, lo.y, lo.z), p2(hi.x, hi.y, lo.z), p3(lo.x, hi.y, lo.z);
+    const glm::vec3 p4(lo.x, lo.y, hi.z), p5(hi.x, lo.y, hi.z), p6(hi.x, hi.y, hi.z), p7(lo.x, hi.y, hi.z);
+    add_quad(cup, p4, p5, p6, p7, false);  // +z
+    add_quad(cup, p1, p0, p3, p2, false);  // -z
+    add_quad(cup, p5, p1, p2, p6, false);  // +x
+    add_quad(cup, p0, p4, p7, p3, false);  // -x
+    add_quad(cup, p0, p1, p5, p4, false);  // -y (bottom)
+    for (auto& q : cup.positions) q.y += 0.01f;
+    s.meshes.push_back(cup);
+    Prepared p;
+    prepare(s, p);
+    const std::size_t shadowed = count_shadowed(p);
+    for (int method : {0, 1}) {
+        sk::ParamSet two = settings(method, 1, 1), one = settings(method, 1, 1);
+        one.named.emplace_back("open_meshes", "lit_only");
+        sk::RunContext ctx{s, p.gpu, 1, 0, &p.g, false};
+        const sk::RunResult rt = volume_technique().run(ctx, two), ro = volume_technique().run(ctx, one);
+        REQUIRE_MESSAGE(rt.ok, rt.error);
+        REQUIRE_MESSAGE(ro.ok, ro.error);
+        const sk::Metrics mt = sk::compute_metrics(p.g, p.ref, rt.visibility, true);
+        const sk::Metrics mo = sk::compute_metrics(p.g, p.ref, ro.visibility, true);
+        MESSAGE("one-sided open cup, method " << method << ": shadowed (ref) " << shadowed << " of " << mt.pixels
+                                              << "; two_sided misclassified " << mt.misclassified << ", umbra leak "
+                                              << mt.leak_fraction << "; lit_only misclassified " << mo.misclassified
+                                              << ", umbra leak " << mo.leak_fraction);
+        CHECK(count_shadowed(p) > mt.pixels / 50);
+        CHECK(mt.misclassified <= 0.005);
+        CHECK(mt.leak_fraction <= 0.005);
+        CHECK(mo.leak_fraction > 0.2);  // the defect: light through the opening is not stopped
+    }
+}
+
 TEST_CASE("non-manifold mesh: three quads sharing an edge cast correct shadows (one- and two-sided)") {
     const glm::vec3 a(-0.7f, 1.3f, 0.f), b(0.7f, 1.3f, 0.f);
     const glm::vec3 dirs[3] = {{0.f, 0.f, 0.6f}, {0.f, 0.f, -0.6f}, {0.f, -0.45f, 0.45f}};
@@ -505,9 +550,10 @@ bool segment_hits(const glm::dvec3& o, const glm::dvec3& d, double tmax, const g
 }
 
 // The CPU ray count per pixel: the number of caster triangles that face the light (Everitt-Kilgard
-// 3.2.2 facing) and that the segment from the surface point (lifted along its normal) to the
-// light crosses. With LitOnly caps every lit triangle bounds one prism of shadow, so this is the
-// number of shadow volumes around the point: what z-fail leaves in the stencil buffer. -1 for
+// 3.2.2 facing; every triangle of an open caster, whose volume is two-sided) and that the segment
+// from the surface point (lifted along its normal) to the light crosses. With LitOnly caps every lit
+// triangle bounds one prism of shadow (TwoSided: every triangle), so this is the number of shadow
+// volumes around the point: what z-fail leaves in the stencil buffer. -1 for
 // pixels that are not receivers or face away from the light (as the metrics leave them out).
 // Directional lights: the ray runs 1e3 scene diagonals.
 std::vector<int> cpu_ray_counts(const sk::Scene& s, const sk::GBuffer& g) {
@@ -525,11 +571,14 @@ std::vector<int> cpu_ray_counts(const sk::Scene& s, const sk::GBuffer& g) {
     for (const sk::Mesh& m : s.meshes) {
         if (!m.caster) continue;
         Caster c{glm::dvec3(1e300), glm::dvec3(-1e300), {}};
+        // an open caster (boundary or non-manifold edges) has the two-sided volume: every triangle counts
+        const bool open = !shadowkit::silhouette_build_adjacency(m.positions.data(), m.positions.size(), m.indices.data(),
+                                                                 m.indices.size()).closed();
         for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
             const glm::dvec3 a(m.positions[m.indices[i]]), b(m.positions[m.indices[i + 1]]), d(m.positions[m.indices[i + 2]]);
             const glm::dvec3 n = glm::cross(b - a, d - a);
             const double facing = dir ? glm::dot(n, to_light_dir) : glm::dot(n, L - a);
-            if (!(facing > 0.0)) continue;
+            if (!(facing > 0.0) && !(open && facing < 0.0)) continue;
             c.lit.push_back({a, b, d});
             c.lo = glm::min(c.lo, glm::min(a, glm::min(b, d)));
             c.hi = glm::max(c.hi, glm::max(a, glm::max(b, d)));

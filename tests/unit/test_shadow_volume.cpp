@@ -18,6 +18,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 #include <vector>
 
 namespace sk = shadowkit;
@@ -46,6 +47,27 @@ Mesh torus(int R, int S, float r0, float r1, std::mt19937& rng, float noise) {
     return m;
 }
 
+// An OPEN mesh: a hemispherical bowl (radius 1, `seg` segments, `rings` rings, a pole vertex; outward
+// winding; seg boundary edges on the rim) opening towards +y, then tilted by `tilt` radians about z.
+Mesh bowl(int seg, int rings, float tilt) {
+    Mesh m;
+    auto put = [&](double x, double y, double z) {
+        m.p.emplace_back(static_cast<float>(x * std::cos(tilt) - y * std::sin(tilt)), static_cast<float>(x * std::sin(tilt) + y * std::cos(tilt)),
+                         static_cast<float>(z));
+    };
+    put(0.0, -1.0, 0.0);
+    for (int i = 1; i <= rings; ++i)
+        for (int j = 0; j < seg; ++j) {
+            const double th = 1.5707963267948966 * i / rings, ph = 6.283185307179586 * j / seg;
+            put(std::sin(th) * std::cos(ph), -std::cos(th), std::sin(th) * std::sin(ph));
+        }
+    auto v = [&](int i, int j) { return i == 0 ? 0u : static_cast<std::uint32_t>(1 + (i - 1) * seg + (j % seg)); };
+    for (int j = 0; j < seg; ++j) m.i.insert(m.i.end(), {v(0, 0), v(1, j), v(1, j + 1)});
+    for (int i = 1; i < rings; ++i)
+        for (int j = 0; j < seg; ++j) m.i.insert(m.i.end(), {v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    return m;
+}
+
 Mesh random_soup(std::mt19937& rng, int nv, int nt, float scale) {
     Mesh m;
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -70,8 +92,16 @@ Volume make_volume(const Mesh& m, const glm::vec4& L, sk::VolumeCapMode mode, bo
     v.lit = s.facing;
     v.verts.resize(2 * m.p.size());
     REQUIRE(sk::volume_build_vertices(m.p.data(), m.p.size(), v.verts.data(), v.verts.size()).status == sk::Status::Ok);
-    std::vector<std::uint32_t> side(3 * s.indices.size());
-    const sk::VolumeBuffer sc = sk::volume_build_side_quads(s.indices.data(), s.indices.size(), m.p.size(), side.data(), side.size());
+    std::vector<std::uint32_t> edges = s.indices;  // LitOnly / EverittKilgard: the lit-face silhouette
+    if (mode == sk::VolumeCapMode::TwoSided) {       // every face, an unlit one reversed
+        edges.assign(sk::silhouette_two_sided_indices_capacity(v.adj), 0u);
+        const sk::SilhouetteResult t =
+            sk::silhouette_extract_two_sided(v.adj, v.lit.data(), v.lit.size(), edges.data(), edges.size(), nullptr, 0);
+        REQUIRE(t.status == sk::Status::Ok);
+        edges.resize(t.count);
+    }
+    std::vector<std::uint32_t> side(3 * edges.size());
+    const sk::VolumeBuffer sc = sk::volume_build_side_quads(edges.data(), edges.size(), m.p.size(), side.data(), side.size());
     REQUIRE(sc.status == sk::Status::Ok);
     REQUIRE(sc.count == side.size());
     REQUIRE(sc.needed == side.size());
@@ -168,14 +198,14 @@ long zfail_count(const Volume& v, const glm::vec4& L, const glm::dvec3& E, const
 
 // Brute force: lit triangles crossed by the segment X -> light (ray for w = 0); lit by the
 // independent exact facing reference (and the header's facing must agree).
-long lit_crossings(const Mesh& m, const Volume& v, const glm::vec4& L, const glm::dvec3& X, bool& ambiguous) {
+long lit_crossings(const Mesh& m, const Volume& v, const glm::vec4& L, const glm::dvec3& X, bool& ambiguous, bool any_facing = false) {
     const bool point = L.w > 0.0f;
     const glm::dvec3 target = point ? glm::dvec3(L) / static_cast<double>(L.w) : glm::dvec3(L);
     long c = 0;
     for (std::size_t f = 0; f < v.adj.face_count(); ++f) {
         const bool lit = exact_ref::facing_sign(m.p[v.adj.faces[3 * f]], m.p[v.adj.faces[3 * f + 1]], m.p[v.adj.faces[3 * f + 2]], L) > 0;
         CHECK(lit == (v.lit[f] != 0));
-        if (!lit) continue;
+        if (!lit && !any_facing) continue;  // any_facing: every triangle blocks (what a ray tracer tests)
         const glm::dvec3 A(m.p[v.adj.faces[3 * f]]), B(m.p[v.adj.faces[3 * f + 1]]), C(m.p[v.adj.faces[3 * f + 2]]);
         const glm::dvec3 d = point ? target - X : target; // X + s d, s in [0, 1] (point) or [0, inf)
         const glm::dvec3 e1 = B - A, e2 = C - A, pv = glm::cross(d, e2);
@@ -289,6 +319,101 @@ TEST_CASE("property: z-fail stencil count equals brute-force lit-triangle crossi
     MESSAGE("z-fail count vs brute force: " << checked << " rays checked, " << skipped << " grazing rays skipped (" << skip_z << " volume, " << skip_b << " brute)");
     CHECK(checked > 3000);
     CHECK(skipped < checked / 20);
+}
+
+TEST_CASE("property (issue 27.5): open meshes: the TwoSided volume holds exactly the points the mesh blocks; LitOnly misses some") {
+    // Brute force: a point X is shadowed iff the segment X -> light (the ray for w = 0) crosses ANY
+    // triangle (lit_crossings with any_facing). The volume holds X iff the z-fail count of an eye ray
+    // ending at X is > 0. On an open bowl LitOnly counts only lit triangles: a segment entering through
+    // the rim and leaving through back faces crosses none, and X is lit (the leak of issue 27.5).
+    std::mt19937 rng(2705);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int checked = 0, skipped = 0, blocked = 0, lit_only_leaks = 0, closed_checked = 0;
+    for (int it = 0; it < 240; ++it) {
+        const int kind = it % 3;  // 0: bowl, 1: open soup, 2: closed torus
+        const int seg = 5 + static_cast<int>(rng() % 8);
+        const Mesh m = kind == 0 ? bowl(seg, 2 + static_cast<int>(rng() % 3), static_cast<float>(u(rng)))
+                       : kind == 1 ? random_soup(rng, 8, 2 + static_cast<int>(rng() % 12), 1.2f)
+                                   : torus(4 + static_cast<int>(rng() % 5), 4 + static_cast<int>(rng() % 5), 1.5f, 0.6f, rng, 0.2f);
+        glm::vec4 L = random_light(rng, 5.0f);
+        if (L.w > 0.0f && glm::length(glm::vec3(L)) < 2.5f) L = glm::vec4(glm::normalize(glm::vec3(L) + 1e-3f) * 4.0f, 1.0f);  // outside the torus
+        const Volume two = make_volume(m, L, sk::VolumeCapMode::TwoSided);
+        const Volume lit = make_volume(m, L, sk::VolumeCapMode::LitOnly);
+        if (kind == 1 && two.adj.closed()) continue;  // a soup whose triangles were all degenerate
+        REQUIRE(two.adj.closed() == (kind == 2));
+        if (kind == 0) REQUIRE(two.adj.boundary_edges == static_cast<std::size_t>(seg));  // the rim
+        CHECK(watertight(two, m.p.size(), L.w == 0.0f));
+        for (int r = 0; r < 16; ++r) {
+            const glm::dvec3 E(u(rng) * 8.0, u(rng) * 8.0, u(rng) * 8.0);
+            glm::dvec3 X(u(rng) * 2.5, u(rng) * 2.5, u(rng) * 2.5);
+            if (r % 2 == 1) {  // every other point just behind a random triangle, seen from the light
+                const std::size_t f = rng() % two.adj.face_count();
+                const glm::dvec3 c = (glm::dvec3(m.p[two.adj.faces[3 * f]]) + glm::dvec3(m.p[two.adj.faces[3 * f + 1]]) +
+                                      glm::dvec3(m.p[two.adj.faces[3 * f + 2]])) / 3.0;
+                const glm::dvec3 away = L.w > 0.0f ? c - glm::dvec3(L) : -glm::dvec3(L);
+                X = c + glm::normalize(away) * (0.05 + 1.5 * (u(rng) + 1.0));
+            }
+            const glm::dvec3 dir = X - E;
+            const double len = glm::length(dir);
+            bool a1 = false, a2 = false, a3 = false;
+            const long z2 = zfail_count(two, L, E, dir / len, len, a1);
+            const long z1 = zfail_count(lit, L, E, dir / len, len, a2);
+            const long all = lit_crossings(m, two, L, X, a3, true);
+            if (a1 || a2 || a3) { ++skipped; continue; }
+            CHECK(z2 == all);  // the count is the number of triangles crossed, any facing
+            if (all > 0) ++blocked;
+            if (all > 0 && z1 == 0) ++lit_only_leaks;
+            if (kind == 2) {  // closed meshes: LitOnly already shadows exactly the blocked points
+                CHECK((z1 > 0) == (all > 0));
+                ++closed_checked;
+            }
+            ++checked;
+        }
+    }
+    MESSAGE("open meshes: " << checked << " points, " << blocked << " blocked, " << lit_only_leaks << " lit by LitOnly, "
+                            << skipped << " grazing skipped");
+    CHECK(checked > 3000);
+    CHECK(closed_checked > 1000);
+    CHECK(skipped < checked / 20);
+    CHECK(blocked > 1500);
+    CHECK(lit_only_leaks > 200);  // the defect TwoSided fixes is real on these meshes
+}
+
+TEST_CASE("TwoSided caps and silhouette: hand case of one lit and one unlit triangle") {
+    // Square 0 1 2 3 in z = 0 split along 0-2; light above (+z). Triangle A (0, 1, 2) faces +z (lit),
+    // triangle B (0, 3, 2) faces -z (unlit: the mesh is badly wound, or a fold seen from its back).
+    const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const std::vector<std::uint32_t> tris = {0, 1, 2, 0, 3, 2};
+    const std::uint8_t lit[2] = {1, 0};
+    std::vector<std::uint32_t> out(12, 99u);
+    const sk::VolumeBuffer r = sk::volume_build_caps(tris.data(), 6, lit, 2, 4, sk::VolumeCapMode::TwoSided, true, out.data(), out.size());
+    CHECK(r.status == sk::Status::Ok);
+    CHECK(r.needed == 12);
+    // A as given and extruded reversed; B reversed to (0, 2, 3) (faces +z, the light) and extruded reversed
+    CHECK(out == std::vector<std::uint32_t>{0, 1, 2, 4, 6, 5, 0, 2, 3, 4, 7, 6});
+    const sk::VolumeBuffer lc = sk::volume_build_caps(tris.data(), 6, lit, 2, 4, sk::VolumeCapMode::TwoSided, false, out.data(), out.size());
+    CHECK(lc.needed == 6);
+    CHECK(std::vector<std::uint32_t>(out.begin(), out.begin() + 6) == std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3});
+    std::vector<std::uint32_t> small(7, 99u);  // room for two whole triangles
+    const sk::VolumeBuffer sr = sk::volume_build_caps(tris.data(), 6, lit, 2, 4, sk::VolumeCapMode::TwoSided, true, small.data(), small.size());
+    CHECK(sr.status == sk::Status::BufferTooSmall);
+    CHECK(sr.count == 6);
+    CHECK(sr.needed == 12);
+    CHECK(small[6] == 99u);
+    const std::uint32_t bad[6] = {0, 1, 2, 0, 3, 4};
+    CHECK(sk::volume_build_caps(bad, 6, lit, 2, 4, sk::VolumeCapMode::TwoSided, true, out.data(), out.size()).status == sk::Status::IndexOutOfRange);
+    // the same soup's two-sided silhouette: both triangles face the light once B is reversed, so the
+    // square's outline counter-clockwise from +z; on the diagonal A traverses 2 -> 0 and reversed B
+    // 0 -> 2: they cancel
+    const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(p.data(), p.size(), tris.data(), tris.size());
+    REQUIRE(adj.status == sk::Status::Ok);
+    std::vector<std::uint32_t> e(sk::silhouette_two_sided_indices_capacity(adj));
+    const sk::SilhouetteResult t = sk::silhouette_extract_two_sided(adj, lit, 2, e.data(), e.size(), nullptr, 0);
+    REQUIRE(t.status == sk::Status::Ok);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> got;
+    for (std::size_t k = 0; k < t.count; k += 2) got.insert({e[k], e[k + 1]});
+    CHECK(t.count == 8);
+    CHECK(got == std::set<std::pair<std::uint32_t, std::uint32_t>>{{0, 1}, {1, 2}, {2, 3}, {3, 0}});
 }
 
 TEST_CASE("Everitt-Kilgard caps equal LitOnly for closed meshes with the light outside") {

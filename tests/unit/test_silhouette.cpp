@@ -81,7 +81,9 @@ bool ref_zero_area(const glm::vec3& A, const glm::vec3& B, const glm::vec3& C) {
            exact_ref::facing_sign(A, B, C, glm::vec4(0, 0, 1, 0)) == 0;
 }
 
-std::vector<Edge> brute_silhouette(const Mesh& m, const glm::vec4& L, std::vector<std::uint8_t>* lit_out = nullptr) {
+// two_sided: every face counts, an unlit one with its edges reversed (the two-sided rule)
+std::vector<Edge> brute_silhouette(const Mesh& m, const glm::vec4& L, std::vector<std::uint8_t>* lit_out = nullptr,
+                                   bool two_sided = false) {
     std::vector<std::array<std::uint32_t, 3>> faces;
     for (std::size_t t = 0; t + 2 < m.i.size(); t += 3) {
         std::array<std::uint32_t, 3> f = {m.i[t], m.i[t + 1], m.i[t + 2]};
@@ -108,9 +110,10 @@ std::vector<Edge> brute_silhouette(const Mesh& m, const glm::vec4& L, std::vecto
             for (std::size_t g = 0; g < faces.size(); ++g)
                 for (std::size_t jj = 0; jj < 3; ++jj) {
                     const std::uint32_t a = faces[g][jj], b = faces[g][(jj + 1) % 3];
-                    if (!lit[g]) continue;
-                    if (a == key.first && b == key.second) ++k;
-                    if (a == key.second && b == key.first) --k;
+                    if (!lit[g] && !two_sided) continue;
+                    const long w = lit[g] ? 1 : -1;
+                    if (a == key.first && b == key.second) k += w;
+                    if (a == key.second && b == key.first) k -= w;
                 }
             for (long c = 0; c < std::labs(k); ++c) out.push_back(k > 0 ? key : Edge(key.second, key.first));
         }
@@ -195,6 +198,75 @@ TEST_CASE("property: silhouette equals brute force on random (open, non-manifold
         }
     }
     CHECK(cases == 10000);
+}
+
+TEST_CASE("property (issue 27.5): two-sided silhouette equals brute force; on closed meshes it is the silhouette twice") {
+    std::mt19937 rng(2705);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int cases = 0, boundary = 0;
+    for (int it = 0; it < 1500; ++it) {
+        Mesh m;
+        const int nv = 4 + static_cast<int>(rng() % 12);
+        for (int k = 0; k < nv; ++k) m.p.emplace_back(u(rng), u(rng), u(rng));
+        const int nt = 1 + static_cast<int>(rng() % 24);
+        for (int t = 0; t < 3 * nt; ++t) m.i.push_back(static_cast<std::uint32_t>(rng() % static_cast<unsigned>(nv)));
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size(), no_weld());
+        REQUIRE(adj.status == sk::Status::Ok);
+        const glm::vec4 L = random_light(rng, 3.0f);
+        std::vector<std::uint8_t> blit;
+        const std::vector<Edge> ref = brute_silhouette(m, L, &blit, true);
+        const sk::Silhouette s = sk::silhouette_compute(adj, m.p.data(), m.p.size(), L);
+        REQUIRE(s.status == sk::Status::Ok);
+        const std::size_t cap = sk::silhouette_two_sided_indices_capacity(adj);
+        std::vector<std::uint32_t> e(cap + 1, 0xABCDu);
+        std::vector<std::uint8_t> fl(cap / 2 + 1, 0xEEu);
+        const sk::SilhouetteResult r = sk::silhouette_extract_two_sided(adj, s.facing.data(), s.facing.size(), e.data(), cap, fl.data(), cap / 2);
+        REQUIRE(r.status == sk::Status::Ok);
+        CHECK(e[cap] == 0xABCDu);
+        CHECK(r.needed == r.count);
+        e.resize(r.count);
+        CHECK(to_edges(e) == ref);
+        std::size_t nb = 0, nn = 0;
+        for (std::size_t k = 0; k < r.count / 2; ++k) {
+            nb += fl[k] == sk::SilhouetteBoundary;
+            nn += fl[k] == sk::SilhouetteNonManifold;
+        }
+        CHECK(nb == r.boundary_edges);
+        CHECK(nn == r.nonmanifold_edges);
+        CHECK(r.boundary_edges == adj.boundary_edges);  // every boundary edge, once, whatever its face's facing
+        boundary += static_cast<int>(r.boundary_edges);
+        if (r.count >= 4) {  // a short buffer: the first whole edges, BufferTooSmall, needed unchanged
+            std::vector<std::uint32_t> sm(3, 0xABCDu);
+            const sk::SilhouetteResult q = sk::silhouette_extract_two_sided(adj, s.facing.data(), s.facing.size(), sm.data(), 3, nullptr, 0);
+            CHECK(q.status == sk::Status::BufferTooSmall);
+            CHECK(q.count == 2);
+            CHECK(q.needed == r.needed);
+            CHECK(sm[0] == e[0]);
+            CHECK(sm[1] == e[1]);
+            CHECK(sm[2] == 0xABCDu);
+        }
+        ++cases;
+    }
+    CHECK(cases == 1500);
+    CHECK(boundary > 1000);
+    // closed torus: each lit-face silhouette edge twice, the same orientation
+    std::mt19937 r2(7);
+    for (int it = 0; it < 50; ++it) {
+        const Mesh t = torus(5 + it % 7, 4 + it % 5, 2.0f, 0.7f, &r2, 0.2f);
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(t.p.data(), t.p.size(), t.i.data(), t.i.size());
+        REQUIRE(adj.closed());
+        const sk::Silhouette s = sk::silhouette_compute(adj, t.p.data(), t.p.size(), random_light(r2, 6.0f));
+        std::vector<std::uint32_t> e(sk::silhouette_two_sided_indices_capacity(adj));
+        const sk::SilhouetteResult r = sk::silhouette_extract_two_sided(adj, s.facing.data(), s.facing.size(), e.data(), e.size(), nullptr, 0);
+        REQUIRE(r.status == sk::Status::Ok);
+        e.resize(r.count);
+        std::vector<std::uint32_t> twice = s.indices;
+        twice.insert(twice.end(), s.indices.begin(), s.indices.end());
+        CHECK(to_edges(e) == to_edges(twice));
+    }
+    // invalid arguments: as silhouette_extract
+    const sk::SilhouetteAdjacency none;
+    CHECK(sk::silhouette_extract_two_sided(none, nullptr, 0, nullptr, 0, nullptr, 0).status == sk::Status::InvalidArgument);
 }
 
 TEST_CASE("property: closed random meshes -> silhouette loops are balanced (in-degree == out-degree)") {

@@ -162,13 +162,19 @@ void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         return (L.type == LightType::Rect || L.type == LightType::Disk || L.type == LightType::Sphere) && L.size > 0.f;
     };
     spec.sweep_for = [](const Scene& scene, bool quick) -> std::vector<std::string> {
-        if (quick) return {"scissor=off depth_bounds=off", "scissor=on depth_bounds=on"};
-        if (scene.light.type == LightType::Rect)
-            return {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off",
+        std::vector<std::string> rows;
+        if (quick)
+            rows = {"scissor=off depth_bounds=off", "scissor=on depth_bounds=on"};
+        else if (scene.light.type == LightType::Rect)
+            rows = {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off",
                     "scissor=off depth_bounds=on",  "scissor=on depth_bounds=on",
                     "scissor=on depth_bounds=on projection=infinite", "scissor=on depth_bounds=on rect_radius=bounding"};
-        return {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off", "scissor=on depth_bounds=on",
-                "scissor=off depth_bounds=on", "scissor=on depth_bounds=on projection=infinite"};
+        else
+            rows = {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off", "scissor=on depth_bounds=on",
+                    "scissor=off depth_bounds=on", "scissor=on depth_bounds=on projection=infinite"};
+        // an open caster: the defaults with the one-sided hard volume under the wedges (before two-sided volumes)
+        if (scene_has_open_caster(scene)) rows.push_back("scissor=on depth_bounds=on open_meshes=lit_only");
+        return rows;
     };
     spec.mesh_sweep = {"scissor=on depth_bounds=on"};  // scanned meshes: the defaults (the others are speed settings)
     spec.measure = measure;

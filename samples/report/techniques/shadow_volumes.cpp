@@ -118,6 +118,13 @@ void add_volume_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                   "method=zpass scissor=off depth_bounds=off", "method=zfail scissor=on depth_bounds=on",
                   "method=auto scissor=on depth_bounds=on",    "method=zpass scissor=on depth_bounds=on",
                   "method=auto scissor=on depth_bounds=off",   "method=auto scissor=off depth_bounds=on"};
+    // a scene with an open caster (a --mesh bowl, a built-in scene with a hole): the default row again with
+    // the one-sided volume (open_meshes=lit_only, the sample's behaviour before two-sided volumes)
+    spec.sweep_for = [sweep = spec.sweep, quick = spec.quick](const Scene& scene, bool q) {
+        std::vector<std::string> rows = q ? quick : sweep;
+        if (scene_has_open_caster(scene)) rows.push_back("method=auto scissor=on depth_bounds=on open_meshes=lit_only");
+        return rows;
+    };
     // scanned meshes (open, with holes): the defaults, and z-fail for every caster
     spec.mesh_sweep = {"method=auto scissor=on depth_bounds=on", "method=zfail scissor=on depth_bounds=on"};
     spec.measure = measure;
