@@ -86,7 +86,7 @@ QUAL = re.compile(r"(\s*(const|noexcept(\s*\([^()]*\))?|override|final|mutable|&
 
 def function_name(s, brace):
     """Name of the function whose body opens at s[brace], or None."""
-    head = s[:brace]
+    head = s[max(0, brace - 4000):brace]  # a bounded window: the regexes stay linear
     # constructor initializer list: ') : a(x), b{y}' -> strip back to ')' before ':'
     stripped = head.rstrip()
     m = QUAL.search(stripped)
@@ -111,11 +111,12 @@ def function_name(s, brace):
         return None
     # a macro-like call followed by a block, or a declaration with braces init
     prev = before[:mname.start()].rstrip()
+    offset = brace - len(head)
     if prev.endswith("]"):
         return None  # lambda with name? unlikely
     if prev.endswith("=") or prev.endswith("(") or prev.endswith(","):
         return None
-    return name, mname.start()
+    return name, offset + mname.start()
 
 
 def scan(path, limit):
