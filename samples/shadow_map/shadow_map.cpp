@@ -1,12 +1,13 @@
 // samples/shadow_map/shadow_map.cpp - the plain shadow map, top to bottom:
 //   init    the programs: a depth-only pass, and V = the map's compare at each G-buffer point
 //           (glsl/shadow_map.glsl); the V target
-//   update  CPU, every frame: spot and area lights: the kit's fit (shadowkit::light_frustum_fit,
+//   update  CPU, every frame: a spot or area light: the kit's fit (shadowkit::light_frustum_fit,
 //           include/shadowkit/light_frustum.hpp), a perspective from the light's center around the
-//           receivers in the camera's view and the casters that can shadow them; a directional light:
-//           an orthographic box around the casters (sk::fit_light_to_casters: tighter than the kit's
-//           fit of every receiver in view); the whole scene's (sk::fit_light) with fit_casters=off; a
-//           point light: the six 90-degree faces of a cube map
+//           receivers in the camera's view and the casters that can shadow them, when its window is
+//           under half that of the shell's frustum around the casters (sk::fit_light_to_casters,
+//           used otherwise and for line and directional lights: the kit's windows, which hold every
+//           receiver in view, measured worse there); the whole scene's (sk::fit_light) with
+//           fit_casters=off; a point light: the six 90-degree faces of a cube map
 //           contact=on: V times contact_shadow.glsl's pixel-aligned march in the G-buffer's depth
 //           (contact_pixels camera pixels long, a sample every 2nd pixel)
 //   render  GPU, every frame: 1 the casters' depth from the light (bias=polygon_offset: with a
@@ -128,7 +129,8 @@ void ShadowMap::update(const app::View& v, const ShadowMapSettings& s) {
     const sk::Scene& scene = *v.scene;
     if (!cube_) {
         const sk::Light& L = v.light();
-        if (s.fit_casters && L.type != sk::LightType::Directional) {
+        // (a line light keeps the caster fit: on `linear` the kit's narrower window measured 1-5% worse)
+        if (s.fit_casters && L.type != sk::LightType::Directional && L.type != sk::LightType::Linear) {
             // spot and area lights: the kit's fit (include/shadowkit/light_frustum.hpp), a perspective
             // from the light's center around the receivers in the camera's view (within the scene's
             // bounds) and the casters that can shadow them
@@ -146,22 +148,23 @@ void ShadowMap::update(const app::View& v, const ShadowMapSettings& s) {
             // BufferTooSmall: the matrices are valid, only the kept casters' indices were not asked for
             if ((r.status == shadowkit::Status::Ok || r.status == shadowkit::Status::BufferTooSmall) && r.visible) {
                 // The kit's window holds every receiver in view; the shell's sk::fit_light_to_casters
-                // aims at the casters alone, which on a wide floor under a small caster is narrower
-                // (finer texels: the quick report's duel, fence, grazing and stack lose 30-100% RMSE
-                // with the kit's window there). Both are perspectives from the light's center: keep
-                // the one with the smaller window, (2 / P[0][0]) x (2 / P[1][1]) at unit distance.
+                // aims at the casters alone, which on a wide floor under small casters is narrower
+                // (finer texels: with the kit's window alone the quick report's duel, fence, grazing
+                // and stack lose 30-100% RMSE). Both are perspectives from the light's
+                // center: the kit's only when its window, (2 / P[0][0]) x (2 / P[1][1]) at unit
+                // distance, is under half the caster fit's (the camera sees a small part of the scene).
                 const sk::LightMatrices lm = sk::fit_light_to_casters(scene);
                 auto window = [](const glm::mat4& P) { return 1.0 / (double(P[0][0]) * double(P[1][1])); };
                 const bool perspective = lm.proj[3][3] == 0.f && lm.proj[2][3] != 0.f;
-                light_vp_[0] = perspective && window(lm.proj) < window(r.proj) ? lm.proj * lm.view : r.view_proj;
+                light_vp_[0] = !perspective || window(r.proj) < 0.5 * window(lm.proj) ? r.view_proj : lm.proj * lm.view;
                 return;
             }
             // nothing in view, or a light the fit refuses (inside the receivers): the whole scene's frustum
         } else if (s.fit_casters) {
             // a directional light: an orthographic box around the casters across the light (the shell's
             // sk::fit_light_to_casters). light_frustum_fit's box holds every receiver in view, and its
-            // texels are larger: the quick report's directional scenes lose 0.005 to 0.04 RMSE with it
-            // (duel 0.017 -> 0.035, outdoor 0.057 -> 0.095 at size 2048; docs/samples.md)
+            // texels are larger: outdoor 0.057 -> 0.095 RMSE, dragon_sun 0.014 -> 0.023 at size 2048
+            // in the quick report (docs/samples.md)
             const sk::LightMatrices lm = sk::fit_light_to_casters(scene);
             light_vp_[0] = lm.proj * lm.view;
             return;

@@ -32,7 +32,7 @@ struct ShadowMapSettings {
     /// point light's cube map keeps the polygon offset). polygon_offset: glPolygonOffset(offset_factor,
     /// offset_units) in the depth pass, the classic slope-scaled bias with hand-picked constants.
     Bias bias = Bias::Auto;
-    bool fit_casters = true;    ///< spot, area: shadowkit::light_frustum_fit (receivers in view, casters that shadow them); directional: sk::fit_light_to_casters; off: the whole scene (sk::fit_light)
+    bool fit_casters = true;    ///< spot, area: shadowkit::light_frustum_fit (receivers in view, casters that shadow them) when its window is under half sk::fit_light_to_casters'; directional: sk::fit_light_to_casters; off: the whole scene (sk::fit_light)
     float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass (bias=polygon_offset, cube maps)
     float offset_units = 2.f;
     /// Contact shadows (glsl/contact_shadow.glsl): V times a march toward the light in the camera's depth
