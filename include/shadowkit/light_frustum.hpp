@@ -661,6 +661,309 @@ inline bool lf_maps_inside(const glm::mat4& m, const glm::dvec3* pts, int n, Cli
     return true;
 }
 
+// Step 1 of light_frustum_fit: the arguments. Ok or the status to return.
+inline Status lf_fit_check_inputs(const LightFrustumInput& in, const std::uint32_t* kept_indices, std::size_t capacity) {
+    if ((!in.casters && in.caster_count > 0) || (!in.caster_spheres && in.caster_sphere_count > 0) ||
+        (!kept_indices && capacity > 0))
+        return Status::InvalidArgument;
+    constexpr std::size_t kMaxCasters = 0xFFFFFFFFu;  // indices are uint32
+    if (in.caster_count > kMaxCasters || in.caster_sphere_count > kMaxCasters - in.caster_count)
+        return Status::InvalidArgument;
+    if (!lf_finite(in.camera_view) || !lf_finite(in.camera_proj)) return Status::NonFinite;
+    const Status ls = lf_check_light(in.light_position);
+    if (ls != Status::Ok) return ls;
+    if (in.has_scene_bounds) {
+        if (!lf_finite(in.scene_min) || !lf_finite(in.scene_max)) return Status::NonFinite;
+        if (in.scene_min.x > in.scene_max.x || in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z)
+            return Status::InvalidArgument;
+    }
+    if (!std::isfinite(in.radius_quantum) || !std::isfinite(in.point_min_near_ratio)) return Status::NonFinite;
+    if (in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f) || !(in.point_min_near_ratio > 0.0f) ||
+        !(in.point_min_near_ratio < 1.0f))
+        return Status::InvalidArgument;
+    const bool directional = in.light_position.w == 0.0f;
+    if (in.stable && !directional) return Status::InvalidLight;  // stable fit: directional lights only
+    if (in.stable && in.stable_world_depth && !in.has_scene_bounds) return Status::InvalidArgument;
+    return Status::Ok;
+}
+
+// The receiver volume of light_frustum_fit: the camera slice (view and world space), clipped by the
+// scene box when there is one, as planes and vertices.
+struct LfReceivers {
+    glm::dmat4 iv;           // camera view -> world
+    glm::dvec3 cv[8], cw[8]; // slice corners in view and world space
+    glm::dvec3 cam_fwd, cam_up;
+    glm::dvec4 planes[12];
+    int np = 6;
+    double scale = 1.0;
+    glm::dvec3 verts[64];
+    int nv = 0;
+};
+
+// Step 2 of light_frustum_fit: the receiver volume. Ok with visible = false when it is empty.
+inline Status lf_receiver_volume(const LightFrustumInput& in, LfReceivers& R, bool& visible) {
+    double d0 = 0, d1 = 0;
+    visible = false;
+    const Status ss = lf_slice_view(in, R.cv, d0, d1, visible);
+    if (ss != Status::Ok || !visible) return ss;
+    for (int i = 0; i < 8; ++i) {
+        R.cw[i] = glm::dvec3(R.iv * glm::dvec4(R.cv[i], 1.0));
+        if (!lf_finite(R.cw[i])) return Status::Overflow;
+    }
+    // camera axes in world space (for the tight fits' orientation)
+    R.cam_fwd = glm::dvec3(R.iv * glm::dvec4(0.0, 0.0, -1.0, 0.0));
+    R.cam_up = glm::dvec3(R.iv * glm::dvec4(0.0, 1.0, 0.0, 0.0));
+    R.cam_fwd = glm::length(R.cam_fwd) > 0.0 ? glm::normalize(R.cam_fwd) : glm::dvec3(0.0);
+    R.cam_up = glm::length(R.cam_up) > 0.0 ? glm::normalize(R.cam_up) : glm::dvec3(0.0);
+    lf_hexahedron_planes(R.cw, R.planes);
+    R.np = 6;
+    R.scale = 1.0;
+    for (int i = 0; i < 8; ++i) R.scale = std::fmax(R.scale, glm::length(R.cw[i]));
+    if (in.has_scene_bounds) {
+        lf_box_planes(glm::dvec3(in.scene_min), glm::dvec3(in.scene_max), R.planes + 6);
+        R.np = 12;
+        R.scale = std::fmax(R.scale, std::fmax(glm::length(glm::dvec3(in.scene_min)), glm::length(glm::dvec3(in.scene_max))));
+    }
+    R.nv = 0;
+    if (R.np == 6) {
+        for (int i = 0; i < 8; ++i) R.verts[R.nv++] = R.cw[i];
+    } else {
+        R.nv = lf_intersect_vertices(R.planes, R.np, R.scale, R.verts, 64);
+        if (R.nv == 0) visible = false;
+    }
+    return Status::Ok;
+}
+
+// The casters against the receiver volume extruded towards the light (`hull`).
+struct LfCasterCull {
+    const LightFrustumInput& in;
+    LightFrustumPlanes hull;
+    double ctol;
+    bool directional;
+
+    bool box_kept(std::size_t i) const {
+        const float* b = in.casters + 6 * i;
+        return lf_box_may_intersect(hull, glm::vec3(b[0], b[1], b[2]), glm::vec3(b[3], b[4], b[5]), ctol);
+    }
+    bool sphere_kept(std::size_t i) const {
+        const float* s = in.caster_spheres + 4 * i;
+        return lf_sphere_may_intersect(hull, glm::vec3(s[0], s[1], s[2]), s[3], ctol);
+    }
+    // depth (along the light's view axis) of the nearest kept caster / the scene bounds
+    double min_depth(const glm::dmat4& lv) const {
+        const std::size_t nb = in.caster_count, ns = in.caster_sphere_count;
+        double m = std::numeric_limits<double>::infinity();
+        auto box_depth = [&](const glm::dvec3& mn, const glm::dvec3& mx) {
+            for (int c = 0; c < 8; ++c) {
+                const glm::dvec3 p((c & 1) ? mx.x : mn.x, (c & 2) ? mx.y : mn.y, (c & 4) ? mx.z : mn.z);
+                m = std::fmin(m, -(lv * glm::dvec4(p, 1.0)).z);
+            }
+        };
+        if (nb + ns > 0) {
+            for (std::size_t i = 0; i < nb; ++i) {
+                const float* b = in.casters + 6 * i;
+                if (!lf_valid_box(b) || !box_kept(i)) continue;
+                box_depth(glm::dvec3(b[0], b[1], b[2]), glm::dvec3(b[3], b[4], b[5]));
+            }
+            for (std::size_t i = 0; i < ns; ++i) {
+                const float* s = in.caster_spheres + 4 * i;
+                if (!lf_valid_sphere(s) || !sphere_kept(i)) continue;
+                const glm::dvec3 c(s[0], s[1], s[2]);
+                if (directional) m = std::fmin(m, -(lv * glm::dvec4(c, 1.0)).z - double(s[3]));
+                else box_depth(c - double(s[3]), c + double(s[3]));
+            }
+        } else if (in.has_scene_bounds) {
+            box_depth(glm::dvec3(in.scene_min), glm::dvec3(in.scene_max));
+        }
+        return m;
+    }
+};
+
+// Step 3 of light_frustum_fit: cull the casters, write the kept indices (up to capacity), count the
+// culled and invalid ones in res. Returns the number kept.
+inline std::size_t lf_cull_casters(const LfCasterCull& cull, std::uint32_t* kept_indices, std::size_t capacity,
+                                   LightFrustumResult& res) {
+    const LightFrustumInput& in = cull.in;
+    const std::size_t nb = in.caster_count, ns = in.caster_sphere_count;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < nb; ++i) {
+        if (!lf_valid_box(in.casters + 6 * i)) { ++res.invalid_count; ++res.culled_count; continue; }
+        if (cull.box_kept(i)) {
+            if (kept < capacity) kept_indices[kept] = static_cast<std::uint32_t>(i);
+            ++kept;
+        } else {
+            ++res.culled_count;
+        }
+    }
+    for (std::size_t i = 0; i < ns; ++i) {
+        if (!lf_valid_sphere(in.caster_spheres + 4 * i)) { ++res.invalid_count; ++res.culled_count; continue; }
+        if (cull.sphere_kept(i)) {
+            if (kept < capacity) kept_indices[kept] = static_cast<std::uint32_t>(nb + i);
+            ++kept;
+        } else {
+            ++res.culled_count;
+        }
+    }
+    return kept;
+}
+
+// The light's fitted view, projection (before the depth convention) and depth range.
+struct LfLightFit {
+    glm::dmat4 view{1.0}, proj{1.0};
+    double nearp = 0, farp = 0;
+};
+
+// Light depth range [near, far] of the scene box and every valid caster (kept or not), none of which
+// depends on the camera: the stable fit's world-fixed depth.
+inline glm::dvec2 lf_world_depth_range(const LightFrustumInput& in, const glm::dmat4& lview) {
+    glm::dvec2 zr = lf_box_light_depths(lview, glm::dvec3(in.scene_min), glm::dvec3(in.scene_max));
+    for (std::size_t i = 0; i < in.caster_count; ++i) {
+        const float* b = in.casters + 6 * i;
+        if (!lf_valid_box(b)) continue;
+        const glm::dvec2 z = lf_box_light_depths(lview, glm::dvec3(b[0], b[1], b[2]), glm::dvec3(b[3], b[4], b[5]));
+        zr = glm::dvec2(std::fmin(zr.x, z.x), std::fmax(zr.y, z.y));
+    }
+    for (std::size_t i = 0; i < in.caster_sphere_count; ++i) {
+        const float* sp = in.caster_spheres + 4 * i;
+        if (!lf_valid_sphere(sp)) continue;
+        const double z = -(lview * glm::dvec4(double(sp[0]), double(sp[1]), double(sp[2]), 1.0)).z;
+        zr = glm::dvec2(std::fmin(zr.x, z - double(sp[3])), std::fmax(zr.y, z + double(sp[3])));
+    }
+    return zr;
+}
+
+// Step 4a of light_frustum_fit, directional stable: a sphere around the slice with a quantized
+// radius, an origin-anchored light view and a window snapped to whole texels.
+inline Status lf_fit_directional_stable(const LightFrustumInput& in, const LfReceivers& R, const LfCasterCull& cull,
+                                        const glm::dvec3& d, LfLightFit& F, LightFrustumResult& res) {
+    const glm::dvec3* cv = R.cv;
+    // sphere of the slice computed in view space: bitwise invariant to camera rotation/translation
+    const glm::dvec3 nc = (cv[0] + cv[1] + cv[2] + cv[3]) * 0.25, fc = (cv[4] + cv[5] + cv[6] + cv[7]) * 0.25;
+    double a2 = 0, b2 = 0;
+    for (int i = 0; i < 4; ++i) {
+        a2 = std::fmax(a2, glm::dot(cv[i] - nc, cv[i] - nc));
+        b2 = std::fmax(b2, glm::dot(cv[i + 4] - fc, cv[i + 4] - fc));
+    }
+    const double L2 = glm::dot(fc - nc, fc - nc);
+    const double t = L2 > 0.0 ? glm::clamp(0.5 + (b2 - a2) / (2.0 * L2), 0.0, 1.0) : 0.5;
+    const glm::dvec3 center_v = nc + t * (fc - nc);
+    double r = 0.0;
+    for (int i = 0; i < 8; ++i) r = std::fmax(r, glm::length(cv[i] - center_v));
+    const double q = in.radius_quantum;
+    r = std::ceil(r / q) * q;  // MJP/Valient: rounded radius -> constant texel size
+    if (!(r > 0.0) || !lf_finite(r)) return Status::Overflow;
+    const glm::dmat4 lview = lf_look_dir(glm::dvec3(0.0), d, lf_stable_up(d));  // origin-anchored, fixed per light
+    const glm::dvec3 cl = glm::dvec3(lview * R.iv * glm::dvec4(center_v, 1.0));
+    // window side W: the sphere's diameter, or the scene box's light-space extent if smaller
+    double W = 2.0 * r;
+    if (in.has_scene_bounds) {
+        glm::dvec3 bmn(std::numeric_limits<double>::infinity()), bmx(-std::numeric_limits<double>::infinity());
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1) ? in.scene_max.x : in.scene_min.x, (c & 2) ? in.scene_max.y : in.scene_min.y,
+                               (c & 4) ? in.scene_max.z : in.scene_min.z);
+            const glm::dvec3 pl = glm::dvec3(lview * glm::dvec4(p, 1.0));
+            bmn = glm::min(bmn, pl);
+            bmx = glm::max(bmx, pl);
+        }
+        W = std::fmin(W, std::fmax(std::fmax(bmx.x - bmn.x, bmx.y - bmn.y), 2.0 * r * 1e-6));
+    }
+    // the receivers' light-space rectangle: the window must cover it (it does: W >= its extent)
+    glm::dvec3 rmn(std::numeric_limits<double>::infinity()), rmx(-std::numeric_limits<double>::infinity());
+    for (int i = 0; i < R.nv; ++i) {
+        const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(R.verts[i], 1.0));
+        rmn = glm::min(rmn, p);
+        rmx = glm::max(rmx, p);
+    }
+    // the sphere's center, moved the least that makes the window cover [lo, hi] (continuous
+    // in the light direction and the camera)
+    auto place = [&](double p, double lo, double hi) {
+        const double a = hi - 0.5 * W, b = lo + 0.5 * W;  // centers whose window covers [lo, hi]
+        return a <= b ? glm::clamp(p, a, b) : 0.5 * (a + b);
+    };
+    const double S = double(in.shadow_map_size);
+    const double texel = W / (S - 2.0);  // one texel of border on each side
+    const double half = 0.5 * W + texel;
+    const double kx = std::floor(place(cl.x, rmn.x, rmx.x) / texel);  // the snap: whole texels
+    const double ky = std::floor(place(cl.y, rmn.y, rmx.y) / texel);
+    const double cx = kx * texel, cy = ky * texel;
+    double nearp = 0, farp = 0;
+    if (in.has_scene_bounds && in.stable_world_depth) {
+        const glm::dvec2 zr = lf_world_depth_range(in, lview);
+        nearp = zr.x;
+        farp = zr.y;
+    } else if (in.has_scene_bounds) {  // depth: the bounded receivers
+        farp = -rmn.z;
+        nearp = std::fmin(-rmx.z, cull.min_depth(lview));
+    } else {
+        farp = -cl.z + r;
+        nearp = std::fmin(-cl.z - r, cull.min_depth(lview));
+    }
+    const double pad = 1e-6 * std::fmax(1.0, std::fabs(farp) + std::fabs(nearp));
+    nearp -= pad;
+    farp += pad;
+    F.view = lview;
+    lf_eye_behind(F.view, nearp, farp);
+    F.proj = lf_ortho(cx - half, cx + half, cy - half, cy + half, nearp, farp);
+    F.nearp = nearp;
+    F.farp = farp;
+    res.texel_world_size = static_cast<float>(texel);
+    res.texel_anchor = glm::dvec2(kx - 0.5 * S, ky - 0.5 * S);  // (cx - half) / texel
+    res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(R.iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
+    if (!(res.texel_world_size > 0.0f) || !lf_finite(res.bounding_sphere)) return Status::Overflow;
+    return Status::Ok;
+}
+
+// Step 4b of light_frustum_fit, directional tight: the receiver volume's light-space box, the view
+// oriented by the camera.
+inline void lf_fit_directional_tight(const LfReceivers& R, const LfCasterCull& cull, const glm::dvec3& d, LfLightFit& F) {
+    glm::dvec3 c(0.0);
+    for (int i = 0; i < R.nv; ++i) c += R.verts[i];
+    c /= double(R.nv);
+    F.view = lf_look_dir(c, d, lf_view_up(d, R.cam_fwd, R.cam_up));
+    glm::dvec3 mn(std::numeric_limits<double>::infinity()), mx(-std::numeric_limits<double>::infinity());
+    for (int i = 0; i < R.nv; ++i) {
+        const glm::dvec3 p = glm::dvec3(F.view * glm::dvec4(R.verts[i], 1.0));
+        mn = glm::min(mn, p);
+        mx = glm::max(mx, p);
+    }
+    F.farp = -mn.z;
+    F.nearp = std::fmin(-mx.z, cull.min_depth(F.view));
+    const double pad = 1e-6 * std::fmax(R.scale, 1e-30);
+    F.nearp -= pad;
+    F.farp += pad;
+    lf_eye_behind(F.view, F.nearp, F.farp);
+    F.proj = lf_ortho(mn.x - pad, mx.x + pad, mn.y - pad, mx.y + pad, F.nearp, F.farp);
+}
+
+// Step 4c of light_frustum_fit, point and spot lights: the narrowest cone around the light holding
+// the receiver volume's vertices (a mean of the vertices put near receivers beyond 89.4 degrees for a
+// light just above wide receivers) and the perspective window around them.
+inline Status lf_fit_point(const LightFrustumInput& in, const LfReceivers& R, const LfCasterCull& cull,
+                           const glm::dvec3& L, LfLightFit& F) {
+    const glm::dvec3 f = cone_axis(R.verts, R.nv, L);
+    if (!(glm::length(f) > 0.0)) return Status::LightInsideVolume;
+    F.view = lf_look_dir(L, f, lf_view_up(f, R.cam_fwd, R.cam_up));
+    double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dmin = 1e300, dmax = 0;
+    for (int i = 0; i < R.nv; ++i) {
+        const glm::dvec3 p = glm::dvec3(F.view * glm::dvec4(R.verts[i], 1.0));
+        const double dep = -p.z;
+        const double lat = std::fmax(std::fabs(p.x), std::fabs(p.y));
+        if (!(dep > 1e-9 * R.scale) || lat > 100.0 * dep) return Status::LightInsideVolume;  // > ~89.4 deg
+        xl = std::fmin(xl, p.x / dep); xr = std::fmax(xr, p.x / dep);
+        yb = std::fmin(yb, p.y / dep); yt = std::fmax(yt, p.y / dep);
+        dmin = std::fmin(dmin, dep); dmax = std::fmax(dmax, dep);
+    }
+    double farp = dmax * (1.0 + 1e-6);
+    double nearp = std::fmin(dmin, cull.min_depth(F.view)) * (1.0 - 1e-6);
+    nearp = std::fmax(nearp, farp * double(in.point_min_near_ratio));
+    if (!(farp > nearp)) farp = nearp * 2.0;
+    const double pad = 1e-6 * std::fmax(1.0, xr - xl + yt - yb);
+    F.proj = lf_frustum((xl - pad) * nearp, (xr + pad) * nearp, (yb - pad) * nearp, (yt + pad) * nearp, nearp, farp);
+    F.nearp = nearp;
+    F.farp = farp;
+    return Status::Ok;
+}
+
 }  // namespace detail
 
 /// World-space corners of the camera slice between view depths [max(near, receiver_min_depth),
@@ -778,28 +1081,9 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
         res.status = s;
         return res;
     };
-    // --- validation
-    if ((!in.casters && in.caster_count > 0) || (!in.caster_spheres && in.caster_sphere_count > 0) ||
-        (!kept_indices && capacity > 0))
-        return fail(Status::InvalidArgument);
-    constexpr std::size_t kMaxCasters = 0xFFFFFFFFu;  // indices are uint32
-    if (in.caster_count > kMaxCasters || in.caster_sphere_count > kMaxCasters - in.caster_count)
-        return fail(Status::InvalidArgument);
-    if (!lf_finite(in.camera_view) || !lf_finite(in.camera_proj)) return fail(Status::NonFinite);
-    const Status ls = lf_check_light(in.light_position);
-    if (ls != Status::Ok) return fail(ls);
-    if (in.has_scene_bounds) {
-        if (!lf_finite(in.scene_min) || !lf_finite(in.scene_max)) return fail(Status::NonFinite);
-        if (in.scene_min.x > in.scene_max.x || in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z)
-            return fail(Status::InvalidArgument);
-    }
-    if (!std::isfinite(in.radius_quantum) || !std::isfinite(in.point_min_near_ratio)) return fail(Status::NonFinite);
-    if (in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f) || !(in.point_min_near_ratio > 0.0f) ||
-        !(in.point_min_near_ratio < 1.0f))
-        return fail(Status::InvalidArgument);
+    const Status vs = lf_fit_check_inputs(in, kept_indices, capacity);
+    if (vs != Status::Ok) return fail(vs);
     const bool directional = in.light_position.w == 0.0f;
-    if (in.stable && !directional) return fail(Status::InvalidLight);  // stable fit: directional lights only
-    if (in.stable && in.stable_world_depth && !in.has_scene_bounds) return fail(Status::InvalidArgument);
     const glm::dvec3 lxyz(in.light_position);
     const glm::dvec3 toward = directional ? glm::normalize(lxyz) : glm::dvec3(0.0);
     const glm::dvec3 Lpos = directional ? glm::dvec3(0.0) : lxyz / double(in.light_position.w);
@@ -807,257 +1091,53 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
     const glm::dmat4 V(in.camera_view);
     const double vdet = glm::determinant(V);
     if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument);
-    const glm::dmat4 iv = glm::inverse(V);
-    if (!lf_finite(iv)) return fail(Status::InvalidArgument);
+    LfReceivers R;
+    R.iv = glm::inverse(V);
+    if (!lf_finite(R.iv)) return fail(Status::InvalidArgument);
 
     // --- receiver volume: camera slice (view space -> world), optionally clipped by the scene box
-    glm::dvec3 cv[8];
-    double d0 = 0, d1 = 0;
     bool visible = false;
-    const Status ss = lf_slice_view(in, cv, d0, d1, visible);
-    if (ss != Status::Ok) return fail(ss);
-    const std::size_t total = in.caster_count + in.caster_sphere_count;
-    auto not_visible = [&]() {
+    const Status rs = lf_receiver_volume(in, R, visible);
+    if (rs != Status::Ok) return fail(rs);
+    if (!visible) {  // nothing to draw: every caster culled
         res.status = Status::Ok;
         res.visible = false;
-        res.culled_count = total;
+        res.culled_count = in.caster_count + in.caster_sphere_count;
         for (std::size_t i = 0; i < in.caster_count; ++i)
             if (!lf_valid_box(in.casters + 6 * i)) ++res.invalid_count;
         for (std::size_t i = 0; i < in.caster_sphere_count; ++i)
             if (!lf_valid_sphere(in.caster_spheres + 4 * i)) ++res.invalid_count;
         return res;
-    };
-    if (!visible) return not_visible();
-    glm::dvec3 cw[8];
-    for (int i = 0; i < 8; ++i) {
-        cw[i] = glm::dvec3(iv * glm::dvec4(cv[i], 1.0));
-        if (!lf_finite(cw[i])) return fail(Status::Overflow);
-    }
-    // camera axes in world space (for the tight fits' orientation)
-    glm::dvec3 cam_fwd = glm::dvec3(iv * glm::dvec4(0.0, 0.0, -1.0, 0.0));
-    glm::dvec3 cam_up = glm::dvec3(iv * glm::dvec4(0.0, 1.0, 0.0, 0.0));
-    cam_fwd = glm::length(cam_fwd) > 0.0 ? glm::normalize(cam_fwd) : glm::dvec3(0.0);
-    cam_up = glm::length(cam_up) > 0.0 ? glm::normalize(cam_up) : glm::dvec3(0.0);
-    glm::dvec4 planes[12];
-    lf_hexahedron_planes(cw, planes);
-    int np = 6;
-    double scale = 1.0;
-    for (int i = 0; i < 8; ++i) scale = std::fmax(scale, glm::length(cw[i]));
-    if (in.has_scene_bounds) {
-        lf_box_planes(glm::dvec3(in.scene_min), glm::dvec3(in.scene_max), planes + 6);
-        np = 12;
-        scale = std::fmax(scale, std::fmax(glm::length(glm::dvec3(in.scene_min)), glm::length(glm::dvec3(in.scene_max))));
-    }
-    glm::dvec3 verts[64];
-    int nv = 0;
-    if (np == 6) {
-        for (int i = 0; i < 8; ++i) verts[nv++] = cw[i];
-    } else {
-        nv = lf_intersect_vertices(planes, np, scale, verts, 64);
-        if (nv == 0) return not_visible();
     }
 
     // --- caster culling against the receiver volume extruded towards the light
-    const LightFrustumPlanes hull = lf_extruded_planes(verts, nv, planes, np, directional, toward, Lpos);
-    const double ctol = 1e-7 * scale;
-    std::size_t kept = 0;
-    const std::size_t nb = in.caster_count, ns = in.caster_sphere_count;
-    auto box_kept = [&](std::size_t i) {
-        const float* b = in.casters + 6 * i;
-        return lf_box_may_intersect(hull, glm::vec3(b[0], b[1], b[2]), glm::vec3(b[3], b[4], b[5]), ctol);
-    };
-    auto sphere_kept = [&](std::size_t i) {
-        const float* s = in.caster_spheres + 4 * i;
-        return lf_sphere_may_intersect(hull, glm::vec3(s[0], s[1], s[2]), s[3], ctol);
-    };
-    for (std::size_t i = 0; i < nb; ++i) {
-        if (!lf_valid_box(in.casters + 6 * i)) { ++res.invalid_count; ++res.culled_count; continue; }
-        if (box_kept(i)) {
-            if (kept < capacity) kept_indices[kept] = static_cast<std::uint32_t>(i);
-            ++kept;
-        } else {
-            ++res.culled_count;
-        }
-    }
-    for (std::size_t i = 0; i < ns; ++i) {
-        if (!lf_valid_sphere(in.caster_spheres + 4 * i)) { ++res.invalid_count; ++res.culled_count; continue; }
-        if (sphere_kept(i)) {
-            if (kept < capacity) kept_indices[kept] = static_cast<std::uint32_t>(nb + i);
-            ++kept;
-        } else {
-            ++res.culled_count;
-        }
-    }
+    const LfCasterCull cull{in, lf_extruded_planes(R.verts, R.nv, R.planes, R.np, directional, toward, Lpos),
+                            1e-7 * R.scale, directional};
+    const std::size_t kept = lf_cull_casters(cull, kept_indices, capacity, res);
 
-    // depth (along the light's view axis) of the nearest kept caster / the scene bounds
-    auto caster_min_depth = [&](const glm::dmat4& lv) {
-        double m = std::numeric_limits<double>::infinity();
-        auto box_depth = [&](const glm::dvec3& mn, const glm::dvec3& mx) {
-            for (int c = 0; c < 8; ++c) {
-                const glm::dvec3 p((c & 1) ? mx.x : mn.x, (c & 2) ? mx.y : mn.y, (c & 4) ? mx.z : mn.z);
-                m = std::fmin(m, -(lv * glm::dvec4(p, 1.0)).z);
-            }
-        };
-        if (nb + ns > 0) {
-            for (std::size_t i = 0; i < nb; ++i) {
-                const float* b = in.casters + 6 * i;
-                if (!lf_valid_box(b) || !box_kept(i)) continue;
-                box_depth(glm::dvec3(b[0], b[1], b[2]), glm::dvec3(b[3], b[4], b[5]));
-            }
-            for (std::size_t i = 0; i < ns; ++i) {
-                const float* s = in.caster_spheres + 4 * i;
-                if (!lf_valid_sphere(s) || !sphere_kept(i)) continue;
-                const glm::dvec3 c(s[0], s[1], s[2]);
-                if (directional) m = std::fmin(m, -(lv * glm::dvec4(c, 1.0)).z - double(s[3]));
-                else box_depth(c - double(s[3]), c + double(s[3]));
-            }
-        } else if (in.has_scene_bounds) {
-            box_depth(glm::dvec3(in.scene_min), glm::dvec3(in.scene_max));
-        }
-        return m;
-    };
+    // --- the light's view and projection
+    LfLightFit F;
+    Status fs = Status::Ok;
+    if (directional && in.stable)
+        fs = lf_fit_directional_stable(in, R, cull, -toward, F, res);  // -toward: the light view's forward axis
+    else if (directional)
+        lf_fit_directional_tight(R, cull, -toward, F);
+    else
+        fs = lf_fit_point(in, R, cull, Lpos, F);
+    if (fs != Status::Ok) return fail(fs);
 
-    glm::dmat4 lview(1.0), lproj(1.0);
-    double nearp = 0, farp = 0;
-    if (directional) {
-        const glm::dvec3 d = -toward;  // travel direction = the light view's forward axis
-        if (in.stable) {
-            // sphere of the slice computed in view space: bitwise invariant to camera rotation/translation
-            const glm::dvec3 nc = (cv[0] + cv[1] + cv[2] + cv[3]) * 0.25, fc = (cv[4] + cv[5] + cv[6] + cv[7]) * 0.25;
-            double a2 = 0, b2 = 0;
-            for (int i = 0; i < 4; ++i) {
-                a2 = std::fmax(a2, glm::dot(cv[i] - nc, cv[i] - nc));
-                b2 = std::fmax(b2, glm::dot(cv[i + 4] - fc, cv[i + 4] - fc));
-            }
-            const double L2 = glm::dot(fc - nc, fc - nc);
-            const double t = L2 > 0.0 ? glm::clamp(0.5 + (b2 - a2) / (2.0 * L2), 0.0, 1.0) : 0.5;
-            const glm::dvec3 center_v = nc + t * (fc - nc);
-            double r = 0.0;
-            for (int i = 0; i < 8; ++i) r = std::fmax(r, glm::length(cv[i] - center_v));
-            const double q = in.radius_quantum;
-            r = std::ceil(r / q) * q;  // MJP/Valient: rounded radius -> constant texel size
-            if (!(r > 0.0) || !lf_finite(r)) return fail(Status::Overflow);
-            lview = lf_look_dir(glm::dvec3(0.0), d, lf_stable_up(d));  // origin-anchored, fixed per light
-            const glm::dvec3 cl = glm::dvec3(lview * iv * glm::dvec4(center_v, 1.0));
-            // window side W: the sphere's diameter, or the scene box's light-space extent if smaller
-            double W = 2.0 * r;
-            if (in.has_scene_bounds) {
-                glm::dvec3 bmn(std::numeric_limits<double>::infinity()), bmx(-std::numeric_limits<double>::infinity());
-                for (int c = 0; c < 8; ++c) {
-                    const glm::dvec3 p((c & 1) ? in.scene_max.x : in.scene_min.x, (c & 2) ? in.scene_max.y : in.scene_min.y,
-                                       (c & 4) ? in.scene_max.z : in.scene_min.z);
-                    const glm::dvec3 pl = glm::dvec3(lview * glm::dvec4(p, 1.0));
-                    bmn = glm::min(bmn, pl);
-                    bmx = glm::max(bmx, pl);
-                }
-                W = std::fmin(W, std::fmax(std::fmax(bmx.x - bmn.x, bmx.y - bmn.y), 2.0 * r * 1e-6));
-            }
-            // the receivers' light-space rectangle: the window must cover it (it does: W >= its extent)
-            glm::dvec3 rmn(std::numeric_limits<double>::infinity()), rmx(-std::numeric_limits<double>::infinity());
-            for (int i = 0; i < nv; ++i) {
-                const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(verts[i], 1.0));
-                rmn = glm::min(rmn, p);
-                rmx = glm::max(rmx, p);
-            }
-            // the sphere's center, moved the least that makes the window cover [lo, hi] (continuous
-            // in the light direction and the camera)
-            auto place = [&](double p, double lo, double hi) {
-                const double a = hi - 0.5 * W, b = lo + 0.5 * W;  // centers whose window covers [lo, hi]
-                return a <= b ? glm::clamp(p, a, b) : 0.5 * (a + b);
-            };
-            const double S = double(in.shadow_map_size);
-            const double texel = W / (S - 2.0);  // one texel of border on each side
-            const double half = 0.5 * W + texel;
-            const double kx = std::floor(place(cl.x, rmn.x, rmx.x) / texel);  // the snap: whole texels
-            const double ky = std::floor(place(cl.y, rmn.y, rmx.y) / texel);
-            const double cx = kx * texel, cy = ky * texel;
-            if (in.has_scene_bounds && in.stable_world_depth) {
-                // depth fixed in the world: the scene box and every valid caster (kept or not), none of
-                // which depends on the camera
-                glm::dvec2 zr = lf_box_light_depths(lview, glm::dvec3(in.scene_min), glm::dvec3(in.scene_max));
-                for (std::size_t i = 0; i < nb; ++i) {
-                    const float* b = in.casters + 6 * i;
-                    if (!lf_valid_box(b)) continue;
-                    const glm::dvec2 z = lf_box_light_depths(lview, glm::dvec3(b[0], b[1], b[2]), glm::dvec3(b[3], b[4], b[5]));
-                    zr = glm::dvec2(std::fmin(zr.x, z.x), std::fmax(zr.y, z.y));
-                }
-                for (std::size_t i = 0; i < ns; ++i) {
-                    const float* sp = in.caster_spheres + 4 * i;
-                    if (!lf_valid_sphere(sp)) continue;
-                    const double z = -(lview * glm::dvec4(double(sp[0]), double(sp[1]), double(sp[2]), 1.0)).z;
-                    zr = glm::dvec2(std::fmin(zr.x, z - double(sp[3])), std::fmax(zr.y, z + double(sp[3])));
-                }
-                nearp = zr.x;
-                farp = zr.y;
-            } else if (in.has_scene_bounds) {  // depth: the bounded receivers
-                farp = -rmn.z;
-                nearp = std::fmin(-rmx.z, caster_min_depth(lview));
-            } else {
-                farp = -cl.z + r;
-                nearp = std::fmin(-cl.z - r, caster_min_depth(lview));
-            }
-            const double pad = 1e-6 * std::fmax(1.0, std::fabs(farp) + std::fabs(nearp));
-            nearp -= pad;
-            farp += pad;
-            lf_eye_behind(lview, nearp, farp);
-            lproj = lf_ortho(cx - half, cx + half, cy - half, cy + half, nearp, farp);
-            res.texel_world_size = static_cast<float>(texel);
-            res.texel_anchor = glm::dvec2(kx - 0.5 * S, ky - 0.5 * S);  // (cx - half) / texel
-            res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
-            if (!(res.texel_world_size > 0.0f) || !lf_finite(res.bounding_sphere)) return fail(Status::Overflow);
-        } else {
-            glm::dvec3 c(0.0);
-            for (int i = 0; i < nv; ++i) c += verts[i];
-            c /= double(nv);
-            lview = lf_look_dir(c, d, lf_view_up(d, cam_fwd, cam_up));
-            glm::dvec3 mn(std::numeric_limits<double>::infinity()), mx(-std::numeric_limits<double>::infinity());
-            for (int i = 0; i < nv; ++i) {
-                const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(verts[i], 1.0));
-                mn = glm::min(mn, p);
-                mx = glm::max(mx, p);
-            }
-            farp = -mn.z;
-            nearp = std::fmin(-mx.z, caster_min_depth(lview));
-            const double pad = 1e-6 * std::fmax(scale, 1e-30);
-            nearp -= pad;
-            farp += pad;
-            lf_eye_behind(lview, nearp, farp);
-            lproj = lf_ortho(mn.x - pad, mx.x + pad, mn.y - pad, mx.y + pad, nearp, farp);
-        }
-    } else {
-        const glm::dvec3 L = Lpos;
-        // the narrowest cone around the light holding the receiver volume's vertices (a mean of the
-        // vertices put near receivers beyond 89.4 degrees for a light just above wide receivers)
-        const glm::dvec3 f = cone_axis(verts, nv, L);
-        if (!(glm::length(f) > 0.0)) return fail(Status::LightInsideVolume);
-        lview = lf_look_dir(L, f, lf_view_up(f, cam_fwd, cam_up));
-        double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dmin = 1e300, dmax = 0;
-        for (int i = 0; i < nv; ++i) {
-            const glm::dvec3 p = glm::dvec3(lview * glm::dvec4(verts[i], 1.0));
-            const double dep = -p.z;
-            const double lat = std::fmax(std::fabs(p.x), std::fabs(p.y));
-            if (!(dep > 1e-9 * scale) || lat > 100.0 * dep) return fail(Status::LightInsideVolume);  // > ~89.4 deg
-            xl = std::fmin(xl, p.x / dep); xr = std::fmax(xr, p.x / dep);
-            yb = std::fmin(yb, p.y / dep); yt = std::fmax(yt, p.y / dep);
-            dmin = std::fmin(dmin, dep); dmax = std::fmax(dmax, dep);
-        }
-        farp = dmax * (1.0 + 1e-6);
-        nearp = std::fmin(dmin, caster_min_depth(lview)) * (1.0 - 1e-6);
-        nearp = std::fmax(nearp, farp * double(in.point_min_near_ratio));
-        if (!(farp > nearp)) farp = nearp * 2.0;
-        const double pad = 1e-6 * std::fmax(1.0, xr - xl + yt - yb);
-        lproj = lf_frustum((xl - pad) * nearp, (xr + pad) * nearp, (yb - pad) * nearp, (yt + pad) * nearp, nearp, farp);
-    }
-    lproj = lf_depth_convention(in.light_depth, in.light_reversed_z) * lproj;
+    // --- the depth convention, and the float matrices checked against the receivers
+    const glm::dmat4 lview = F.view;
+    const glm::dmat4 lproj = lf_depth_convention(in.light_depth, in.light_reversed_z) * F.proj;
     const glm::dmat4 vp = lproj * lview;
     if (!lf_finite(vp) || !lf_finite(lview) || !lf_finite(lproj)) return fail(Status::Overflow);
     res.view = glm::mat4(lview);
     res.proj = glm::mat4(lproj);
     res.view_proj = glm::mat4(vp);
-    res.near_plane = static_cast<float>(nearp);
-    res.far_plane = static_cast<float>(farp);
+    res.near_plane = static_cast<float>(F.nearp);
+    res.far_plane = static_cast<float>(F.farp);
     if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_plane) ||
-        !std::isfinite(res.far_plane) || !lf_maps_inside(res.view_proj, verts, nv, in.light_depth, 1e-2)) {
+        !std::isfinite(res.far_plane) || !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2)) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
         return bad;

@@ -357,8 +357,9 @@ inline bool wp_options_ok(const WarpOptions& o) {
            o.psm_max_half_angle_deg > 1.0f && o.psm_max_half_angle_deg < 89.0f;
 }
 
-inline wp_Setup wp_prepare(const WarpInput& in) {
-    wp_Setup s;
+// Step 1 of wp_prepare: finite inputs, the light, the options and the boxes. False when the
+// preparation ends here (s.status says why; InvalidArgument is left set for the next steps).
+inline bool wp_check_inputs(const WarpInput& in, wp_Setup& s) {
     const WarpOptions& o = in.options;
     auto ff = [](float v) { return std::isfinite(v); };
     const bool opts_finite = ff(o.lispsm_n_scale) && ff(o.lispsm_min_sin_gamma) && ff(o.tsm_max_abs_cos_gamma) &&
@@ -368,193 +369,234 @@ inline wp_Setup wp_prepare(const WarpInput& in) {
         !ff(in.receiver_max_depth) || !opts_finite || (in.has_scene_bounds && !(wp_fin(in.scene_min) && wp_fin(in.scene_max))) ||
         (in.has_caster_bounds && !(wp_fin(in.caster_min) && wp_fin(in.caster_max)))) {
         s.status = Status::NonFinite;
-        return s;
+        return false;
     }
     // the light
     const glm::vec4 lp = in.light_position;
     if (!wp_fin(lp) || lp.w < 0.0f || (lp.x == 0.0f && lp.y == 0.0f && lp.z == 0.0f && lp.w == 0.0f)) {
         s.status = Status::InvalidLight;
-        return s;
+        return false;
     }
     s.directional = lp.w == 0.0f;
     if (s.directional) {
         const glm::dvec3 t(lp);
         const double tl = glm::length(t);
-        if (!(tl > 0.0) || !wp_fin(tl)) { s.status = Status::InvalidLight; return s; }
+        if (!(tl > 0.0) || !wp_fin(tl)) { s.status = Status::InvalidLight; return false; }
         s.d = -(t / tl);
     } else {
         s.L = glm::dvec3(lp) / double(lp.w);
-        if (!wp_fin(glm::vec3(s.L))) { s.status = Status::InvalidLight; return s; }  // xyz / w beyond float
+        if (!wp_fin(glm::vec3(s.L))) { s.status = Status::InvalidLight; return false; }  // xyz / w beyond float
     }
     s.status = Status::InvalidArgument;
-    if (!wp_options_ok(o) || !(in.max_distance >= 0.0f)) return s;
+    if (!wp_options_ok(o) || !(in.max_distance >= 0.0f)) return false;
     auto box_ok = [](const glm::vec3& a, const glm::vec3& b) { return a.x <= b.x && a.y <= b.y && a.z <= b.z; };
-    if (in.has_scene_bounds && !box_ok(in.scene_min, in.scene_max)) return s;
-    if (in.has_caster_bounds && !box_ok(in.caster_min, in.caster_max)) return s;
+    if (in.has_scene_bounds && !box_ok(in.scene_min, in.scene_max)) return false;
+    if (in.has_caster_bounds && !box_ok(in.caster_min, in.caster_max)) return false;
+    return true;
+}
 
-    // the camera: un-project the near plane, a point a quarter of the NDC depth range further (in
-    // front of the eye for every projection this header accepts, P_inf with epsilon <= 0.5 included)
-    // and the far plane, which counts as infinite when it un-projects to infinity or behind the eye.
-    const glm::dmat4 P(in.camera_proj), V(in.camera_view);
-    const double pdet = glm::determinant(P), vdet = glm::determinant(V);
-    if (!wp_fin(pdet) || !(std::fabs(pdet) > 1e-300) || !wp_fin(vdet) || !(std::fabs(vdet) > 1e-300)) return s;
-    const glm::dmat4 ip = glm::inverse(P), iv = glm::inverse(V);
-    if (!wp_fin(ip) || !wp_fin(iv)) return s;
+// The camera as wp_prepare sees it: the near-plane corners pn (view space), the corner rays dir, their
+// view depths dn, the slice's depth range [d0, d1], and view <-> world.
+struct wp_Camera {
+    glm::dmat4 V{1.0}, iv{1.0};
+    glm::dvec3 pn[4], dir[4];
+    double dn[4] = {0, 0, 0, 0};
+    double d0 = 0, d1 = 0;
+    glm::dvec3 corner_at(int i, double dep) const { return pn[i] + ((dep - dn[i]) / -dir[i].z) * dir[i]; }
+    glm::dvec3 to_world(const glm::dvec3& p) const { return glm::dvec3(iv * glm::dvec4(p, 1.0)); }
+};
+
+// Step 2 of wp_prepare: un-project the near plane, a point a quarter of the NDC depth range further (in
+// front of the eye for every projection this header accepts, P_inf with epsilon <= 0.5 included)
+// and the far plane, which counts as infinite when it un-projects to infinity or behind the eye; clamp
+// the depth range by max_distance and the receiver range. False when the preparation ends here
+// (s.status InvalidArgument, or Ok with visible = false for an empty range).
+inline bool wp_camera_slice(const WarpInput& in, wp_Camera& C, wp_Setup& s) {
+    const glm::dmat4 P(in.camera_proj);
+    C.V = glm::dmat4(in.camera_view);
+    const double pdet = glm::determinant(P), vdet = glm::determinant(C.V);
+    if (!wp_fin(pdet) || !(std::fabs(pdet) > 1e-300) || !wp_fin(vdet) || !(std::fabs(vdet) > 1e-300)) return false;
+    const glm::dmat4 ip = glm::inverse(P);
+    C.iv = glm::inverse(C.V);
+    if (!wp_fin(ip) || !wp_fin(C.iv)) return false;
     const double lo = in.camera_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
     const double zn = in.camera_reversed_z ? 1.0 : lo, zf = in.camera_reversed_z ? lo : 1.0;
     const double zq = zn + 0.25 * (zf - zn);
-    glm::dvec3 pn[4], dir[4];
-    double dn[4], dfar[4];
+    double dfar[4];
     bool infinite = false;
     for (int i = 0; i < 4; ++i) {
         const double x = (i & 1) ? 1.0 : -1.0, y = (i & 2) ? 1.0 : -1.0;
         const glm::dvec4 hn = ip * glm::dvec4(x, y, zn, 1.0), hq = ip * glm::dvec4(x, y, zq, 1.0),
                          hf = ip * glm::dvec4(x, y, zf, 1.0);
         auto mag = [](const glm::dvec4& h) { return std::fabs(h.x) + std::fabs(h.y) + std::fabs(h.z); };
-        if (!(std::fabs(hn.w) > 1e-12 * mag(hn)) || !(std::fabs(hq.w) > 1e-12 * mag(hq)) || hn.w * hq.w <= 0.0) return s;
-        pn[i] = glm::dvec3(hn) / hn.w;
+        if (!(std::fabs(hn.w) > 1e-12 * mag(hn)) || !(std::fabs(hq.w) > 1e-12 * mag(hq)) || hn.w * hq.w <= 0.0) return false;
+        C.pn[i] = glm::dvec3(hn) / hn.w;
         const glm::dvec3 pq = glm::dvec3(hq) / hq.w;
-        dir[i] = pq - pn[i];
-        dn[i] = -pn[i].z;
-        if (!wp_fin(pn[i]) || !wp_fin(dir[i]) || !(dir[i].z < 0.0) || !(dn[i] > 0.0)) return s;  // near plane at/behind the eye
+        C.dir[i] = pq - C.pn[i];
+        C.dn[i] = -C.pn[i].z;
+        if (!wp_fin(C.pn[i]) || !wp_fin(C.dir[i]) || !(C.dir[i].z < 0.0) || !(C.dn[i] > 0.0)) return false;  // near plane at/behind the eye
         dfar[i] = std::numeric_limits<double>::infinity();
         if (hf.w * hn.w > 0.0 && std::fabs(hf.w) > 1e-12 * mag(hf)) {
             const glm::dvec3 pf = glm::dvec3(hf) / hf.w;
-            if (wp_fin(pf) && glm::dot(pf - pn[i], dir[i]) > glm::dot(dir[i], dir[i])) dfar[i] = -pf.z;
+            if (wp_fin(pf) && glm::dot(pf - C.pn[i], C.dir[i]) > glm::dot(C.dir[i], C.dir[i])) dfar[i] = -pf.z;
         }
         if (!wp_fin(dfar[i])) infinite = true;
     }
-    double d0 = dn[0], d1 = dfar[0];
+    double d0 = C.dn[0], d1 = dfar[0];
     for (int i = 1; i < 4; ++i) {
-        d0 = std::fmax(d0, dn[i]);
+        d0 = std::fmax(d0, C.dn[i]);
         d1 = std::fmin(d1, dfar[i]);
     }
     if (in.max_distance > 0.0f) d1 = std::fmin(d1, double(in.max_distance));
-    else if (infinite) return s;  // infinite far plane needs max_distance
-    if (!(d1 > d0) || !wp_fin(d1)) return s;  // near >= far (or the clamp in front of the near plane)
+    else if (infinite) return false;  // infinite far plane needs max_distance
+    if (!(d1 > d0) || !wp_fin(d1)) return false;  // near >= far (or the clamp in front of the near plane)
     if (in.receiver_max_depth > in.receiver_min_depth && in.receiver_min_depth > 0.0f) {
         d0 = std::fmax(d0, double(in.receiver_min_depth));
         d1 = std::fmin(d1, double(in.receiver_max_depth));
     }
+    C.d0 = d0;
+    C.d1 = d1;
     s.status = Status::Ok;
-    if (!(d1 > d0)) return s;  // visible = false
-    auto corner_at = [&](int i, double dep) { return pn[i] + ((dep - dn[i]) / -dir[i].z) * dir[i]; };
-    auto to_world = [&](const glm::dvec3& p) { return glm::dvec3(iv * glm::dvec4(p, 1.0)); };
-    glm::dvec3 cw[8];
+    return d1 > d0;  // else visible = false
+}
+
+// Step 3 of wp_prepare: the slice's world corners cw, the view's center line (the corner rays'
+// average: world point at view depth t is c_org + t c_dir), the eye and the camera's up. False with
+// s.status Overflow when they leave double range.
+inline bool wp_center_line(const wp_Camera& C, glm::dvec3 cw[8], wp_Setup& s) {
     for (int i = 0; i < 4; ++i) {
-        cw[i] = to_world(corner_at(i, d0));
-        cw[i + 4] = to_world(corner_at(i, d1));
+        cw[i] = C.to_world(C.corner_at(i, C.d0));
+        cw[i + 4] = C.to_world(C.corner_at(i, C.d1));
     }
     for (int i = 0; i < 8; ++i)
-        if (!wp_fin(cw[i])) { s.status = Status::Overflow; return s; }
-    // the view's center line (the corner rays' average): world point at view depth t is c_org + t c_dir
+        if (!wp_fin(cw[i])) { s.status = Status::Overflow; return false; }
     {
         const glm::dvec3 a = (cw[0] + cw[1] + cw[2] + cw[3]) * 0.25, b = (cw[4] + cw[5] + cw[6] + cw[7]) * 0.25;
-        s.c_dir = (b - a) / (d1 - d0);
-        s.c_org = a - d0 * s.c_dir;
-        if (!(glm::length(s.c_dir) > 0.0) || !wp_fin(s.c_dir) || !wp_fin(s.c_org)) { s.status = Status::Overflow; return s; }
+        s.c_dir = (b - a) / (C.d1 - C.d0);
+        s.c_org = a - C.d0 * s.c_dir;
+        if (!(glm::length(s.c_dir) > 0.0) || !wp_fin(s.c_dir) || !wp_fin(s.c_org)) { s.status = Status::Overflow; return false; }
         s.vdir = glm::normalize(s.c_dir);
     }
-    s.eye = glm::dvec3(iv[3]);
+    s.eye = glm::dvec3(C.iv[3]);
     {
-        glm::dvec3 up = glm::dvec3(iv[1]);
+        glm::dvec3 up = glm::dvec3(C.iv[1]);
         up -= glm::dot(up, s.vdir) * s.vdir;
-        s.cam_up = glm::length(up) > 1e-9 * glm::length(glm::dvec3(iv[1])) ? glm::normalize(up) : wp_perp(s.vdir);
+        s.cam_up = glm::length(up) > 1e-9 * glm::length(glm::dvec3(C.iv[1])) ? glm::normalize(up) : wp_perp(s.vdir);
     }
-    if (!wp_fin(s.eye) || !wp_fin(s.cam_up)) { s.status = Status::Overflow; return s; }
+    if (!wp_fin(s.eye) || !wp_fin(s.cam_up)) { s.status = Status::Overflow; return false; }
     for (int i = 0; i < 8; ++i) s.scale = std::fmax(s.scale, glm::length(cw[i]));
+    return true;
+}
 
-    // receiver volume: slice, intersected with the scene box (vertices from plane triples)
+// Step 4 of wp_prepare: the receiver volume's vertices s.recv: the slice, intersected with the scene
+// box (vertices from plane triples).
+inline void wp_receiver_vertices(const WarpInput& in, const glm::dvec3 cw[8], wp_Setup& s) {
     if (!in.has_scene_bounds) {
         for (int i = 0; i < 8; ++i) s.recv[s.nrecv++] = cw[i];
-    } else {
-        glm::dvec4 pl[12];
-        constexpr int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}};
-        const glm::dvec3 ctr = (cw[0] + cw[7]) * 0.5;
-        for (int f = 0; f < 6; ++f) {
-            const glm::dvec3 a = cw[faces[f][0]], b = cw[faces[f][1]], c = cw[faces[f][2]], e = cw[faces[f][3]];
-            glm::dvec3 n = glm::cross(c - a, e - b);
-            if (glm::dot(n, n) == 0.0) n = glm::dvec3(0, 0, 1);
-            n = glm::normalize(n);
-            glm::dvec4 p(n, -glm::dot(n, (a + b + c + e) * 0.25));
-            if (glm::dot(glm::dvec3(p), ctr) + p.w < 0.0) p = -p;
-            pl[f] = p;
-        }
-        const glm::dvec3 mn(in.scene_min), mx(in.scene_max);
-        pl[6] = glm::dvec4(1, 0, 0, -mn.x); pl[7] = glm::dvec4(-1, 0, 0, mx.x);
-        pl[8] = glm::dvec4(0, 1, 0, -mn.y); pl[9] = glm::dvec4(0, -1, 0, mx.y);
-        pl[10] = glm::dvec4(0, 0, 1, -mn.z); pl[11] = glm::dvec4(0, 0, -1, mx.z);
-        s.scale = std::fmax(s.scale, std::fmax(glm::length(mn), glm::length(mx)));
-        const double tol = 1e-9 * s.scale;
-        for (int i = 0; i < 12; ++i)
-            for (int j = i + 1; j < 12; ++j)
-                for (int k = j + 1; k < 12; ++k) {
-                    const glm::dvec3 a(pl[i]), b(pl[j]), c(pl[k]);
-                    const glm::dvec3 bc = glm::cross(b, c);
-                    const double det = glm::dot(a, bc);
-                    if (std::fabs(det) < 1e-12) continue;
-                    const glm::dvec3 p = (-pl[i].w * bc - pl[j].w * glm::cross(c, a) - pl[k].w * glm::cross(a, b)) / det;
-                    if (!wp_fin(p)) continue;
-                    bool inside = true;
-                    for (int m = 0; m < 12 && inside; ++m) inside = glm::dot(glm::dvec3(pl[m]), p) + pl[m].w >= -tol;
-                    if (!inside) continue;
-                    bool dup = false;
-                    for (int m = 0; m < s.nrecv && !dup; ++m) dup = glm::length(s.recv[m] - p) <= tol;
-                    if (!dup && s.nrecv < wp_kMaxRecv) s.recv[s.nrecv++] = p;
-                }
-        if (s.nrecv == 0) return s;  // Ok, visible = false
+        return;
     }
-    // the receivers' own view-depth range (the TSM paper's focused frustum)
-    {
-        double r0 = 1e300, r1 = -1e300;
-        for (int i = 0; i < s.nrecv; ++i) {
-            const double dep = -(V * glm::dvec4(s.recv[i], 1.0)).z;
-            r0 = std::fmin(r0, dep);
-            r1 = std::fmax(r1, dep);
-        }
-        s.d0 = glm::clamp(r0, d0, d1);
-        s.d1 = glm::clamp(r1, s.d0, d1);
+    glm::dvec4 pl[12];
+    constexpr int faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}};
+    const glm::dvec3 ctr = (cw[0] + cw[7]) * 0.5;
+    for (int f = 0; f < 6; ++f) {
+        const glm::dvec3 a = cw[faces[f][0]], b = cw[faces[f][1]], c = cw[faces[f][2]], e = cw[faces[f][3]];
+        glm::dvec3 n = glm::cross(c - a, e - b);
+        if (glm::dot(n, n) == 0.0) n = glm::dvec3(0, 0, 1);
+        n = glm::normalize(n);
+        glm::dvec4 p(n, -glm::dot(n, (a + b + c + e) * 0.25));
+        if (glm::dot(glm::dvec3(p), ctr) + p.w < 0.0) p = -p;
+        pl[f] = p;
     }
+    const glm::dvec3 mn(in.scene_min), mx(in.scene_max);
+    pl[6] = glm::dvec4(1, 0, 0, -mn.x); pl[7] = glm::dvec4(-1, 0, 0, mx.x);
+    pl[8] = glm::dvec4(0, 1, 0, -mn.y); pl[9] = glm::dvec4(0, -1, 0, mx.y);
+    pl[10] = glm::dvec4(0, 0, 1, -mn.z); pl[11] = glm::dvec4(0, 0, -1, mx.z);
+    s.scale = std::fmax(s.scale, std::fmax(glm::length(mn), glm::length(mx)));
+    const double tol = 1e-9 * s.scale;
+    for (int i = 0; i < 12; ++i)
+        for (int j = i + 1; j < 12; ++j)
+            for (int k = j + 1; k < 12; ++k) {
+                const glm::dvec3 a(pl[i]), b(pl[j]), c(pl[k]);
+                const glm::dvec3 bc = glm::cross(b, c);
+                const double det = glm::dot(a, bc);
+                if (std::fabs(det) < 1e-12) continue;
+                const glm::dvec3 p = (-pl[i].w * bc - pl[j].w * glm::cross(c, a) - pl[k].w * glm::cross(a, b)) / det;
+                if (!wp_fin(p)) continue;
+                bool inside = true;
+                for (int m = 0; m < 12 && inside; ++m) inside = glm::dot(glm::dvec3(pl[m]), p) + pl[m].w >= -tol;
+                if (!inside) continue;
+                bool dup = false;
+                for (int m = 0; m < s.nrecv && !dup; ++m) dup = glm::length(s.recv[m] - p) <= tol;
+                if (!dup && s.nrecv < wp_kMaxRecv) s.recv[s.nrecv++] = p;
+            }
+}
+
+// Step 5 of wp_prepare: the receivers' own view-depth range (the TSM paper's focused frustum) and the
+// slice between those depths (s.cw, s.nc, s.fc, s.mc).
+inline void wp_focus_slice(const wp_Camera& C, wp_Setup& s) {
+    double r0 = 1e300, r1 = -1e300;
+    for (int i = 0; i < s.nrecv; ++i) {
+        const double dep = -(C.V * glm::dvec4(s.recv[i], 1.0)).z;
+        r0 = std::fmin(r0, dep);
+        r1 = std::fmax(r1, dep);
+    }
+    s.d0 = glm::clamp(r0, C.d0, C.d1);
+    s.d1 = glm::clamp(r1, s.d0, C.d1);
     for (int i = 0; i < 4; ++i) {
-        s.cw[i] = to_world(corner_at(i, s.d0));
-        s.cw[i + 4] = to_world(corner_at(i, s.d1));
+        s.cw[i] = C.to_world(C.corner_at(i, s.d0));
+        s.cw[i + 4] = C.to_world(C.corner_at(i, s.d1));
     }
     s.nc = s.c_org + s.d0 * s.c_dir;
     s.fc = s.c_org + s.d1 * s.c_dir;
     s.mc = (s.nc + s.fc) * 0.5;
+}
 
-    // body: receivers plus their extension towards the light up to the caster bounds
+// Step 6 of wp_prepare: the body s.body: the receivers plus their extension towards the light up to
+// the caster bounds (or the scene bounds).
+inline void wp_body(const WarpInput& in, wp_Setup& s) {
     for (int i = 0; i < s.nrecv; ++i) s.body[s.nbody++] = s.recv[i];
     const bool hc = in.has_caster_bounds || in.has_scene_bounds;
     const glm::dvec3 cmn = in.has_caster_bounds ? glm::dvec3(in.caster_min) : glm::dvec3(in.scene_min);
     const glm::dvec3 cmx = in.has_caster_bounds ? glm::dvec3(in.caster_max) : glm::dvec3(in.scene_max);
-    if (hc) {
-        s.scale = std::fmax(s.scale, std::fmax(glm::length(cmn), glm::length(cmx)));
-        if (s.directional) {
-            const glm::dvec3 t = -s.d;
-            double top = -1e300, low = 1e300;
-            for (int c = 0; c < 8; ++c) {
-                const glm::dvec3 p((c & 1) ? cmx.x : cmn.x, (c & 2) ? cmx.y : cmn.y, (c & 4) ? cmx.z : cmn.z);
-                top = std::fmax(top, glm::dot(p, t));
-            }
-            for (int i = 0; i < s.nrecv; ++i) low = std::fmin(low, glm::dot(s.recv[i], t));
-            const double h = top - low;
-            if (h > 0.0)
-                for (int i = 0; i < s.nrecv; ++i) s.body[s.nbody++] = s.recv[i] + h * t;
-        } else {
-            // nearest distance from the light to the caster box
-            const glm::dvec3 q = glm::clamp(s.L, cmn, cmx);
-            const double dmin = glm::length(q - s.L);
-            double dmax = 0.0;
-            for (int i = 0; i < s.nrecv; ++i) dmax = std::fmax(dmax, glm::length(s.recv[i] - s.L));
-            const double dd = std::fmax(dmin, 1e-4 * dmax);
-            for (int i = 0; i < s.nrecv; ++i) {
-                const glm::dvec3 r = s.recv[i] - s.L;
-                const double l = glm::length(r);
-                if (l > dd) s.body[s.nbody++] = s.L + r * (dd / l);
-            }
+    if (!hc) return;
+    s.scale = std::fmax(s.scale, std::fmax(glm::length(cmn), glm::length(cmx)));
+    if (s.directional) {
+        const glm::dvec3 t = -s.d;
+        double top = -1e300, low = 1e300;
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1) ? cmx.x : cmn.x, (c & 2) ? cmx.y : cmn.y, (c & 4) ? cmx.z : cmn.z);
+            top = std::fmax(top, glm::dot(p, t));
+        }
+        for (int i = 0; i < s.nrecv; ++i) low = std::fmin(low, glm::dot(s.recv[i], t));
+        const double h = top - low;
+        if (h > 0.0)
+            for (int i = 0; i < s.nrecv; ++i) s.body[s.nbody++] = s.recv[i] + h * t;
+    } else {
+        // nearest distance from the light to the caster box
+        const glm::dvec3 q = glm::clamp(s.L, cmn, cmx);
+        const double dmin = glm::length(q - s.L);
+        double dmax = 0.0;
+        for (int i = 0; i < s.nrecv; ++i) dmax = std::fmax(dmax, glm::length(s.recv[i] - s.L));
+        const double dd = std::fmax(dmin, 1e-4 * dmax);
+        for (int i = 0; i < s.nrecv; ++i) {
+            const glm::dvec3 r = s.recv[i] - s.L;
+            const double l = glm::length(r);
+            if (l > dd) s.body[s.nbody++] = s.L + r * (dd / l);
         }
     }
+}
+
+inline wp_Setup wp_prepare(const WarpInput& in) {
+    wp_Setup s;
+    if (!wp_check_inputs(in, s)) return s;     // finite inputs, the light, the options
+    wp_Camera C;
+    if (!wp_camera_slice(in, C, s)) return s;  // the camera's depth range (visible = false when empty)
+    glm::dvec3 cw[8];
+    if (!wp_center_line(C, cw, s)) return s;   // the slice's corners, center line, eye, up
+    wp_receiver_vertices(in, cw, s);           // the slice within the scene box
+    if (s.nrecv == 0) return s;                // Ok, visible = false
+    wp_focus_slice(C, s);                      // the receivers' own depth range
+    wp_body(in, s);                            // the receivers swept towards the light
     for (int i = 0; i < s.nbody; ++i)
         if (!wp_fin(s.body[i])) { s.status = Status::Overflow; return s; }
     s.visible = true;

@@ -779,140 +779,166 @@ inline VolumeMethod volume_choose_stencil_method_sphere(const VolumeNearRect& ne
     return m;
 }
 
-/// Per-occluder scissor rectangle and depth bounds (Lengyel), see the header comment.
-/// box_min/max: occluder bounds; light_min/max: the light's bounding box (finite; everything that can
-/// receive this light's shadows lies inside). params: every field required (a zero or singular
-/// view_proj, or a viewport without width / height, is InvalidArgument).
-inline ScissorRect volume_scissor(const glm::vec4& light_position, const glm::vec3& box_min, const glm::vec3& box_max,
-                                  const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params) {
-    using namespace detail;
-    ScissorRect res;
-    const glm::vec4& light = light_position;
-    if (!sv_valid_light(light)) { res.status = Status::InvalidLight; return res; }
+namespace detail {
+
+// Step 1 of volume_scissor: the arguments. Ok or the status to return.
+inline Status sv_scissor_check(const glm::vec4& light, const glm::vec3& box_min, const glm::vec3& box_max,
+                               const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params) {
+    if (!sv_valid_light(light)) return Status::InvalidLight;
     if (!sv_finite3(box_min) || !sv_finite3(box_max) || !sv_finite3(light_min) || !sv_finite3(light_max) ||
-        !sv_finite_mat(params.view_proj)) {
-        res.status = Status::NonFinite;
-        return res;
-    }
+        !sv_finite_mat(params.view_proj))
+        return Status::NonFinite;
     const int* vp = params.viewport;
     if (!(box_min.x <= box_max.x && box_min.y <= box_max.y && box_min.z <= box_max.z) ||
         !(light_min.x <= light_max.x && light_min.y <= light_max.y && light_min.z <= light_max.z) || vp[2] <= 0 ||
         vp[3] <= 0 || vp[0] > std::numeric_limits<int>::max() - vp[2] || vp[1] > std::numeric_limits<int>::max() - vp[3] ||
         (params.clip_depth != ClipDepth::NegativeOneToOne && params.clip_depth != ClipDepth::ZeroToOne) ||
-        sv_det4(params.view_proj) == 0.0) {
-        res.status = Status::InvalidArgument;
-        return res;
-    }
-    res.status = Status::Ok;
-    // Half-spaces n . X <= d.
+        sv_det4(params.view_proj) == 0.0)
+        return Status::InvalidArgument;
+    return Status::Ok;
+}
+
+// The occluder's shadow region as half-spaces n . X <= d (at most 16) and the coordinates' scale.
+struct SvRegion {
     struct Plane { SvVec n; double d; };
     Plane pl[6 + 1 + 3 + 6];
     int np = 0;
+    double scale = 1.0;
+};
+
+// Step 2a: the box faces facing the light and the planes through its silhouette edges and the light
+// (the light outside the box); appended to R.
+inline void sv_box_shadow_planes(const SvVec& bmin, const SvVec& bmax, const SvVec& L, bool point, SvRegion& R) {
+    const SvVec bc = (bmin + bmax) * 0.5;
+    // Box faces: index 2*axis + (0: min side, 1: max side); outward normal +-e_axis.
+    bool facing[6];
+    for (int f = 0; f < 6; ++f) {
+        const int ax = f / 2;
+        const double sgn = (f & 1) ? 1.0 : -1.0;
+        const double off = (f & 1) ? sv_get(bmax, ax) : sv_get(bmin, ax);
+        const double lc = sv_get(L, ax);
+        facing[f] = point ? sgn * (lc - off) > 0.0 : sgn * lc > 0.0;
+        if (facing[f] && R.np < 16) {
+            SvVec n{0, 0, 0};
+            sv_set(n, ax, sgn);
+            R.pl[R.np++] = {n, sgn * off};
+        }
+    }
+    // Silhouette edges: 12 box edges, each between two faces (axes a != b) along axis c.
+    SvRegion::Plane sil[12];
+    int ns = 0;
+    for (int c = 0; c < 3; ++c) {
+        const int a = (c + 1) % 3, b = (c + 2) % 3;
+        for (int sa = 0; sa < 2; ++sa)
+            for (int sb = 0; sb < 2; ++sb) {
+                if (facing[2 * a + sa] == facing[2 * b + sb]) continue;
+                SvVec p0 = bmin, p1;
+                sv_set(p0, a, sa ? sv_get(bmax, a) : sv_get(bmin, a));
+                sv_set(p0, b, sb ? sv_get(bmax, b) : sv_get(bmin, b));
+                p1 = p0;
+                sv_set(p0, c, sv_get(bmin, c));
+                sv_set(p1, c, sv_get(bmax, c));
+                const SvVec e = p1 - p0;
+                SvVec n = point ? sv_cross(e, L - p0) : sv_cross(e, L);
+                const double nl = std::sqrt(sv_len2(n));
+                if (!(nl > 0.0) || sv_len2(e) == 0.0) continue;
+                n = n * (1.0 / nl);
+                double d = sv_dot(n, p0);
+                if (sv_dot(n, bc) > d) { n = n * -1.0; d = -d; }
+                // keep only if every box corner is inside (guards against rounding)
+                bool ok = true;
+                for (int k = 0; k < 8 && ok; ++k) {
+                    const SvVec q{(k & 1) ? bmax.x : bmin.x, (k & 2) ? bmax.y : bmin.y, (k & 4) ? bmax.z : bmin.z};
+                    ok = sv_dot(n, q) <= d + 1e-12 * R.scale;
+                }
+                if (ok) sil[ns++] = {n, d};
+            }
+    }
+    for (int s = 0; s < ns && R.np < 16; ++s) R.pl[R.np++] = sil[s];
+}
+
+// Step 2 of volume_scissor: the shadow region: the light's box, in front of the camera's near plane,
+// and (the light outside the occluder box) behind the box's lit faces, within its silhouette planes.
+inline SvRegion sv_shadow_region(const glm::vec4& light, const glm::vec3& box_min, const glm::vec3& box_max,
+                                 const glm::vec3& light_min, const glm::vec3& light_max, const glm::dmat4& M,
+                                 const ScissorParams& params) {
+    SvRegion R;
     const SvVec lmin = sv_of(light_min), lmax = sv_of(light_max);
-    pl[np++] = {SvVec{1, 0, 0}, lmax.x};
-    pl[np++] = {SvVec{-1, 0, 0}, -lmin.x};
-    pl[np++] = {SvVec{0, 1, 0}, lmax.y};
-    pl[np++] = {SvVec{0, -1, 0}, -lmin.y};
-    pl[np++] = {SvVec{0, 0, 1}, lmax.z};
-    pl[np++] = {SvVec{0, 0, -1}, -lmin.z};
+    R.pl[R.np++] = {SvVec{1, 0, 0}, lmax.x};
+    R.pl[R.np++] = {SvVec{-1, 0, 0}, -lmin.x};
+    R.pl[R.np++] = {SvVec{0, 1, 0}, lmax.y};
+    R.pl[R.np++] = {SvVec{0, -1, 0}, -lmin.y};
+    R.pl[R.np++] = {SvVec{0, 0, 1}, lmax.z};
+    R.pl[R.np++] = {SvVec{0, 0, -1}, -lmin.z};
     // Camera near plane from the clip-space rows of view_proj: in front of it <=> g . (X, 1) >= 0.
-    const glm::dmat4 M(params.view_proj);
     auto row = [&](int r) { return glm::dvec4(M[0][r], M[1][r], M[2][r], M[3][r]); };
     glm::dvec4 g;
     if (params.reversed_z) g = row(3) - row(2);
     else if (params.clip_depth == ClipDepth::NegativeOneToOne) g = row(3) + row(2);
     else g = row(2);
-    pl[np++] = {SvVec{-g.x, -g.y, -g.z}, g.w};
+    R.pl[R.np++] = {SvVec{-g.x, -g.y, -g.z}, g.w};
     // Shadow region of the occluder box.
-    const SvVec bmin = sv_of(box_min), bmax = sv_of(box_max), bc = (bmin + bmax) * 0.5;
+    const SvVec bmin = sv_of(box_min), bmax = sv_of(box_max);
     const bool point = light.w > 0.0f;
     const SvVec L = point ? SvVec{static_cast<double>(light.x) / light.w, static_cast<double>(light.y) / light.w,
                                   static_cast<double>(light.z) / light.w}
                           : SvVec{light.x, light.y, light.z};
     const bool light_inside = point && L.x >= bmin.x && L.x <= bmax.x && L.y >= bmin.y && L.y <= bmax.y &&
                               L.z >= bmin.z && L.z <= bmax.z;
-    double scale = 1.0;
     for (double v : {lmin.x, lmin.y, lmin.z, lmax.x, lmax.y, lmax.z, bmin.x, bmin.y, bmin.z, bmax.x, bmax.y, bmax.z})
-        scale = std::fmax(scale, std::fabs(v));
-    if (point) scale = std::fmax(scale, std::fmax(std::fabs(L.x), std::fmax(std::fabs(L.y), std::fabs(L.z))));
-    if (!light_inside) {
-        // Box faces: index 2*axis + (0: min side, 1: max side); outward normal +-e_axis.
-        bool facing[6];
-        for (int f = 0; f < 6; ++f) {
-            const int ax = f / 2;
-            const double sgn = (f & 1) ? 1.0 : -1.0;
-            const double off = (f & 1) ? sv_get(bmax, ax) : sv_get(bmin, ax);
-            const double lc = sv_get(L, ax);
-            facing[f] = point ? sgn * (lc - off) > 0.0 : sgn * lc > 0.0;
-            if (facing[f] && np < 16) {
-                SvVec n{0, 0, 0};
-                sv_set(n, ax, sgn);
-                pl[np++] = {n, sgn * off};
-            }
-        }
-        // Silhouette edges: 12 box edges, each between two faces (axes a != b) along axis c.
-        Plane sil[12];
-        int ns = 0;
-        for (int c = 0; c < 3; ++c) {
-            const int a = (c + 1) % 3, b = (c + 2) % 3;
-            for (int sa = 0; sa < 2; ++sa)
-                for (int sb = 0; sb < 2; ++sb) {
-                    if (facing[2 * a + sa] == facing[2 * b + sb]) continue;
-                    SvVec p0 = bmin, p1;
-                    sv_set(p0, a, sa ? sv_get(bmax, a) : sv_get(bmin, a));
-                    sv_set(p0, b, sb ? sv_get(bmax, b) : sv_get(bmin, b));
-                    p1 = p0;
-                    sv_set(p0, c, sv_get(bmin, c));
-                    sv_set(p1, c, sv_get(bmax, c));
-                    const SvVec e = p1 - p0;
-                    SvVec n = point ? sv_cross(e, L - p0) : sv_cross(e, L);
-                    const double nl = std::sqrt(sv_len2(n));
-                    if (!(nl > 0.0) || sv_len2(e) == 0.0) continue;
-                    n = n * (1.0 / nl);
-                    double d = sv_dot(n, p0);
-                    if (sv_dot(n, bc) > d) { n = n * -1.0; d = -d; }
-                    // keep only if every box corner is inside (guards against rounding)
-                    bool ok = true;
-                    for (int k = 0; k < 8 && ok; ++k) {
-                        const SvVec q{(k & 1) ? bmax.x : bmin.x, (k & 2) ? bmax.y : bmin.y, (k & 4) ? bmax.z : bmin.z};
-                        ok = sv_dot(n, q) <= d + 1e-12 * scale;
-                    }
-                    if (ok) sil[ns++] = {n, d};
-                }
-        }
-        for (int s = 0; s < ns && np < 16; ++s) pl[np++] = sil[s];
-    }
-    // Vertex enumeration: all plane triples, keep points satisfying every half-space.
-    const double tol = 1e-9 * scale;
+        R.scale = std::fmax(R.scale, std::fabs(v));
+    if (point) R.scale = std::fmax(R.scale, std::fmax(std::fabs(L.x), std::fmax(std::fabs(L.y), std::fabs(L.z))));
+    if (!light_inside) sv_box_shadow_planes(bmin, bmax, L, point, R);
+    return R;
+}
+
+// The NDC bounds of a region's vertices in front of the eye.
+struct SvNdcBox {
     bool any = false;
-    double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin, zmin = xmin, zmax = -xmin;
+    double xmin = std::numeric_limits<double>::infinity(), xmax = -std::numeric_limits<double>::infinity();
+    double ymin = std::numeric_limits<double>::infinity(), ymax = -std::numeric_limits<double>::infinity();
+    double zmin = std::numeric_limits<double>::infinity(), zmax = -std::numeric_limits<double>::infinity();
+};
+
+// Step 3 of volume_scissor: vertex enumeration: all plane triples, keep points satisfying every
+// half-space, and bound their NDC.
+inline SvNdcBox sv_region_ndc_bounds(const SvRegion& R, const glm::dmat4& M) {
+    SvNdcBox b;
+    const double tol = 1e-9 * R.scale;
+    const SvRegion::Plane* pl = R.pl;
+    const int np = R.np;
     for (int i = 0; i < np; ++i)
         for (int j = i + 1; j < np; ++j)
             for (int k = j + 1; k < np; ++k) {
-                const SvVec a = pl[i].n, b = pl[j].n, c = pl[k].n;
-                const SvVec bxc = sv_cross(b, c);
+                const SvVec a = pl[i].n, bb = pl[j].n, c = pl[k].n;
+                const SvVec bxc = sv_cross(bb, c);
                 const double det = sv_dot(a, bxc);
                 if (std::fabs(det) < 1e-12) continue;
-                const SvVec X = (bxc * pl[i].d + sv_cross(c, a) * pl[j].d + sv_cross(a, b) * pl[k].d) * (1.0 / det);
+                const SvVec X = (bxc * pl[i].d + sv_cross(c, a) * pl[j].d + sv_cross(a, bb) * pl[k].d) * (1.0 / det);
                 if (!(std::isfinite(X.x) && std::isfinite(X.y) && std::isfinite(X.z))) continue;
                 bool in = true;
                 for (int q = 0; q < np && in; ++q) in = sv_dot(pl[q].n, X) <= pl[q].d + tol;
                 if (!in) continue;
                 const glm::dvec4 clip = M * glm::dvec4(X.x, X.y, X.z, 1.0);
                 if (!(clip.w > 0.0)) continue; // on/behind the eye plane: only possible within tol
-                any = true;
+                b.any = true;
                 const double nx = clip.x / clip.w, ny = clip.y / clip.w, nz = clip.z / clip.w;
-                xmin = std::fmin(xmin, nx); xmax = std::fmax(xmax, nx);
-                ymin = std::fmin(ymin, ny); ymax = std::fmax(ymax, ny);
-                zmin = std::fmin(zmin, nz); zmax = std::fmax(zmax, nz);
+                b.xmin = std::fmin(b.xmin, nx); b.xmax = std::fmax(b.xmax, nx);
+                b.ymin = std::fmin(b.ymin, ny); b.ymax = std::fmax(b.ymax, ny);
+                b.zmin = std::fmin(b.zmin, nz); b.zmax = std::fmax(b.zmax, nz);
             }
-    if (!any) { res.visible = false; res.width = res.height = 0; return res; }
+    return b;
+}
+
+// Step 4 of volume_scissor: the NDC bounds to whole viewport pixels and padded depth bounds.
+inline void sv_scissor_from_ndc(const SvNdcBox& b, const ScissorParams& params, ScissorRect& res) {
+    const int* vp = params.viewport;
     auto clampd = [](double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); };
-    const double px0 = vp[0] + (clampd(xmin, -1.0, 1.0) + 1.0) * 0.5 * vp[2];
-    const double px1 = vp[0] + (clampd(xmax, -1.0, 1.0) + 1.0) * 0.5 * vp[2];
-    const double py0 = vp[1] + (clampd(ymin, -1.0, 1.0) + 1.0) * 0.5 * vp[3];
-    const double py1 = vp[1] + (clampd(ymax, -1.0, 1.0) + 1.0) * 0.5 * vp[3];
-    if (xmin > 1.0 || xmax < -1.0 || ymin > 1.0 || ymax < -1.0) { res.visible = false; return res; }
+    const double px0 = vp[0] + (clampd(b.xmin, -1.0, 1.0) + 1.0) * 0.5 * vp[2];
+    const double px1 = vp[0] + (clampd(b.xmax, -1.0, 1.0) + 1.0) * 0.5 * vp[2];
+    const double py0 = vp[1] + (clampd(b.ymin, -1.0, 1.0) + 1.0) * 0.5 * vp[3];
+    const double py1 = vp[1] + (clampd(b.ymax, -1.0, 1.0) + 1.0) * 0.5 * vp[3];
+    if (b.xmin > 1.0 || b.xmax < -1.0 || b.ymin > 1.0 || b.ymax < -1.0) { res.visible = false; return; }
     const int ix0 = static_cast<int>(std::floor(px0)), ix1 = static_cast<int>(std::ceil(px1));
     const int iy0 = static_cast<int>(std::floor(py0)), iy1 = static_cast<int>(std::ceil(py1));
     res.x = ix0;
@@ -925,13 +951,32 @@ inline ScissorRect volume_scissor(const glm::vec4& light_position, const glm::ve
         if (res.height <= 0) { res.height = 1; if (res.y >= vp[1] + vp[3]) res.y = vp[1] + vp[3] - 1; }
     }
     const bool gl = params.clip_depth == ClipDepth::NegativeOneToOne;
-    const double w0 = gl ? 0.5 * zmin + 0.5 : zmin, w1 = gl ? 0.5 * zmax + 0.5 : zmax;
+    const double w0 = gl ? 0.5 * b.zmin + 0.5 : b.zmin, w1 = gl ? 0.5 * b.zmax + 0.5 : b.zmax;
     float dmin = static_cast<float>(clampd(w0, 0.0, 1.0)), dmax = static_cast<float>(clampd(w1, 0.0, 1.0));
     dmin = std::nextafter(dmin, -1.0f);
     dmax = std::nextafter(dmax, 2.0f);
     res.depth_min = dmin < 0.0f ? 0.0f : dmin;
     res.depth_max = dmax > 1.0f ? 1.0f : dmax;
     res.visible = true;
+}
+
+} // namespace detail
+
+/// Per-occluder scissor rectangle and depth bounds (Lengyel), see the header comment.
+/// box_min/max: occluder bounds; light_min/max: the light's bounding box (finite; everything that can
+/// receive this light's shadows lies inside). params: every field required (a zero or singular
+/// view_proj, or a viewport without width / height, is InvalidArgument).
+inline ScissorRect volume_scissor(const glm::vec4& light_position, const glm::vec3& box_min, const glm::vec3& box_max,
+                                  const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params) {
+    using namespace detail;
+    ScissorRect res;
+    res.status = sv_scissor_check(light_position, box_min, box_max, light_min, light_max, params);
+    if (res.status != Status::Ok) return res;
+    const glm::dmat4 M(params.view_proj);
+    const SvRegion R = sv_shadow_region(light_position, box_min, box_max, light_min, light_max, M, params);
+    const SvNdcBox b = sv_region_ndc_bounds(R, M);
+    if (!b.any) { res.visible = false; res.width = res.height = 0; return res; }
+    sv_scissor_from_ndc(b, params, res);
     return res;
 }
 

@@ -582,6 +582,352 @@ inline int smoothie_winding_sign(const glm::dmat4& M, ClipDepth cd, bool reverse
     return toward > 0.0 ? 1 : -1;
 }
 
+// Step 1 of smoothie_build: check the arguments and take the light matrix and its inverse in
+// double. Returns false with res.status set when the build ends here (an error, or nothing to draw).
+inline bool smoothie_check_inputs(const SmoothieEdges& in, const glm::mat4& light_view_proj,
+                                  const SmoothieParams& params, const SmoothieScratch* scratch,
+                                  std::size_t scratch_capacity, const SmoothieVertex* out, std::size_t capacity,
+                                  glm::dmat4& M, glm::dmat4& inv, SmoothieResult& res) {
+    if ((in.positions == nullptr && in.position_count != 0) || (in.edges == nullptr && in.edge_count != 0) ||
+        (out == nullptr && capacity != 0) || (scratch == nullptr && scratch_capacity != 0)) {
+        res.status = Status::InvalidArgument;
+        return false;
+    }
+    if (!std::isfinite(params.t)) {
+        res.status = Status::NonFinite;
+        return false;
+    }
+    if (params.t < 0.0f) {
+        res.status = Status::InvalidArgument;
+        return false;
+    }
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            const float v = light_view_proj[c][r];
+            if (!std::isfinite(v)) {
+                res.status = Status::NonFinite;
+                return false;
+            }
+            M[c][r] = static_cast<double>(v);
+        }
+    const double det = glm::determinant(M);
+    inv = glm::inverse(M);
+    bool inv_ok = std::isfinite(det) && det != 0.0;
+    for (int c = 0; c < 4 && inv_ok; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(inv[c][r])) inv_ok = false;
+    if (!inv_ok) {
+        res.status = Status::InvalidArgument;
+        return false;
+    }
+    if (params.t == 0.0f || in.edge_count == 0) {  // t = 0: no geometry (hard shadows), nothing counted
+        res.status = Status::Ok;
+        return false;
+    }
+    res.scratch_needed = smoothie_scratch_capacity(in.edge_count);
+    if (scratch_capacity < res.scratch_needed) {
+        res.status = Status::BufferTooSmall;
+        return false;
+    }
+    return true;
+}
+
+// The outward side (+1 / -1 along perp, 0 when unknown) of edge e, whose ends are E.clip in light
+// clip space: from the edge's outward direction, else its face normals, else the winding.
+inline double smoothie_outward_sign(const SmoothieEdges& in, std::size_t e, const glm::dmat4& M,
+                                    const SmoothieScratch& E, const glm::dvec2& perp, int winding) {
+    // Outward side: sign of the light-NDC image of a world direction h at the edge midpoint.
+    const glm::dvec4 Cm = 0.5 * (E.clip[0] + E.clip[1]);
+    auto side = [&](const glm::dvec3& h) -> double {
+        const glm::dvec4 dc = M[0] * h.x + M[1] * h.y + M[2] * h.z;  // M (h, 0)
+        const glm::dvec2 j(dc.x * Cm.w - Cm.x * dc.w, dc.y * Cm.w - Cm.y * dc.w);
+        const double jl = smoothie_len(j);
+        if (!std::isfinite(jl) || !(jl > 0.0)) return 0.0;
+        const double sd = (perp.x * j.x + perp.y * j.y) / jl;
+        return std::fabs(sd) > 1e-9 ? sd : 0.0;
+    };
+    auto unit3 = [](const glm::vec3& v, glm::dvec3& u) -> bool {
+        if (!smoothie_finite3(v)) return false;
+        const glm::dvec3 d = smoothie_d(v);
+        const double l = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+        if (!(l > 0.0) || !std::isfinite(l)) return false;
+        u = d / l;
+        return true;
+    };
+    double sgn = 0.0;
+    glm::dvec3 h(0.0), n0(0.0), n1(0.0);
+    if (in.outward != nullptr && unit3(in.outward[e], h)) sgn = side(h);
+    if (sgn == 0.0 && in.face_normals != nullptr) {
+        const bool has0 = unit3(in.face_normals[2 * e], n0);
+        const bool has1 = unit3(in.face_normals[2 * e + 1], n1);
+        if (has0 && has1) sgn = side(n0 + n1);
+        if (sgn == 0.0 && has0) {
+            const std::uint32_t i0 = in.edges[2 * e], i1 = in.edges[2 * e + 1];
+            const glm::dvec3 ev = smoothie_d(in.positions[i1]) - smoothie_d(in.positions[i0]);
+            sgn = -side(glm::cross(n0, ev));  // interior of face 0 lies along cross(n0, v1 - v0)
+        }
+    }
+    // the edge's own orientation: the lit face's interior is left of v0 -> v1 when lit faces
+    // appear counter-clockwise in light NDC (winding > 0), so outward is right (-perp)
+    if (sgn == 0.0) sgn = -static_cast<double>(winding);
+    return sgn;
+}
+
+// Step 2 of smoothie_build, one edge: validate, clip to the near plane, find its outward normal in
+// light NDC and emit its quad. Fills E and whole[] (ends not moved by clipping); false (counted
+// in res) when the edge is skipped.
+inline bool smoothie_edge_quad(const SmoothieEdges& in, std::size_t e, const glm::dmat4& M,
+                               const SmoothieParams& params, int winding, SmoothieBuilder& B, SmoothieScratch& E,
+                               bool whole[2], SmoothieResult& res) {
+    const std::uint32_t i0 = in.edges[2 * e], i1 = in.edges[2 * e + 1];
+    if (i0 >= in.position_count || i1 >= in.position_count || i0 == i1) {
+        ++res.skipped_invalid;
+        return false;
+    }
+    const glm::vec3 f0 = in.positions[i0], f1 = in.positions[i1];
+    if (!smoothie_finite3(f0) || !smoothie_finite3(f1) || f0 == f1) {
+        ++res.skipped_invalid;
+        return false;
+    }
+    E.world[0] = smoothie_d(f0);
+    E.world[1] = smoothie_d(f1);
+    E.clip[0] = smoothie_mul(M, E.world[0]);
+    E.clip[1] = smoothie_mul(M, E.world[1]);
+    whole[0] = whole[1] = true;
+    {  // near-plane clipping
+        const double d0 = smoothie_near_dist(E.clip[0], params.clip_depth, params.reversed_z);
+        const double d1 = smoothie_near_dist(E.clip[1], params.clip_depth, params.reversed_z);
+        if (!(d0 >= 0.0) && !(d1 >= 0.0)) {
+            ++res.skipped_behind;
+            return false;
+        }
+        if (!(d0 >= 0.0) || !(d1 >= 0.0)) {
+            const int k = d0 >= 0.0 ? 1 : 0;  // the end to move
+            const double sp = d0 / (d0 - d1);  // in (0, 1)
+            E.world[k] = E.world[0] + sp * (E.world[1] - E.world[0]);
+            E.clip[k] = E.clip[0] + sp * (E.clip[1] - E.clip[0]);
+            whole[k] = false;
+            ++res.clipped_edges;
+        }
+    }
+    if (!(E.clip[0].w > 0.0) || !(E.clip[1].w > 0.0) || !smoothie_finite3d(E.world[0]) || !smoothie_finite3d(E.world[1])) {
+        ++res.skipped_behind;
+        return false;
+    }
+    E.ndc[0] = glm::dvec2(E.clip[0]) / E.clip[0].w;
+    E.ndc[1] = glm::dvec2(E.clip[1]) / E.clip[1].w;
+    const glm::dvec2 ed = E.ndc[1] - E.ndc[0];
+    const double L = smoothie_len(ed);
+    const double scale = std::max({1.0, std::fabs(E.ndc[0].x), std::fabs(E.ndc[0].y), std::fabs(E.ndc[1].x), std::fabs(E.ndc[1].y)});
+    if (!std::isfinite(L) || !(L > 1e-12 * scale)) {
+        ++res.skipped_end_on;
+        return false;
+    }
+    const glm::dvec2 perp(-ed.y / L, ed.x / L);  // left of v0 -> v1 in light NDC
+    const double sgn = smoothie_outward_sign(in, e, M, E, perp, winding);
+    if (sgn == 0.0) {
+        ++res.skipped_no_outward;
+        return false;
+    }
+    E.normal = sgn > 0.0 ? perp : -perp;
+    glm::dvec3 O[2];
+    if (!B.unproject(E.world[0], E.clip[0], B.t * E.normal, O[0]) || !B.unproject(E.world[1], E.clip[1], B.t * E.normal, O[1])) {
+        ++res.skipped_unprojectable;
+        return false;
+    }
+    SmoothieV vi[2], vo[2];
+    for (int k = 0; k < 2; ++k) {
+        vi[k] = SmoothieV{E.world[k], E.ndc[k], 0.0, E.world[k], E.normal, 0.0f};
+        vo[k] = SmoothieV{O[k], E.ndc[k] + B.t * E.normal, 1.0, E.world[k], E.normal, 0.0f};
+    }
+    B.tri(vi[0], vi[1], vo[1]);
+    B.tri(vi[0], vo[1], vo[0]);
+    ++res.edge_quads;
+    E.vertex[0] = i0;
+    E.vertex[1] = i1;
+    return true;
+}
+
+// The kept edges' ends in the scratch: end id = 2 * kept edge + end; the sort area holds ids.
+struct SmoothieEnds {
+    SmoothieScratch* scratch;
+    std::uint32_t& at(std::size_t j) const { return scratch[j / 2].sorted_end[j % 2]; }
+    std::uint32_t vertex_of(std::uint32_t id) const { return scratch[id / 2].vertex[id % 2]; }
+    const SmoothieScratch& edge_of(std::uint32_t id) const { return scratch[id / 2]; }
+    glm::dvec2 away(std::uint32_t id) const {  // unit NDC direction from v along the edge of end id
+        const SmoothieScratch& E = edge_of(id);
+        return smoothie_unit(E.ndc[1 - id % 2] - E.ndc[id % 2]);
+    }
+    glm::dvec2 normal(std::uint32_t id) const { return edge_of(id).normal; }
+    double angle(std::uint32_t id) const { return scratch[id / 2].angle[id % 2]; }
+};
+
+// Step 2 of smoothie_build: one quad per usable edge; the kept edges go to scratch[0, kept) and
+// their unclipped ends to the sort area (n_ends of them). Returns kept.
+inline std::size_t smoothie_edge_quads(const SmoothieEdges& in, const glm::dmat4& M, const SmoothieParams& params,
+                                       int winding, SmoothieBuilder& B, const SmoothieEnds& ends,
+                                       std::size_t& n_ends, SmoothieResult& res) {
+    std::size_t kept = 0;
+    n_ends = 0;
+    for (std::size_t e = 0; e < in.edge_count; ++e) {
+        bool whole[2];
+        if (!smoothie_edge_quad(in, e, M, params, winding, B, ends.scratch[kept], whole, res)) continue;
+        const std::uint32_t idx = static_cast<std::uint32_t>(kept);
+        ++kept;
+        for (std::uint32_t k = 0; k < 2; ++k)
+            if (whole[k]) {
+                ends.at(n_ends) = 2u * idx + k;
+                ++n_ends;
+            }
+    }
+    return kept;
+}
+
+// Step 3 of smoothie_build: ends grouped by vertex, then by (edge, end).
+inline void smoothie_sort_ends(const SmoothieEnds& ends, std::size_t n_ends) {
+    smoothie_heapsort(
+        n_ends,
+        [&](std::size_t a, std::size_t b) {
+            const std::uint32_t ia = ends.at(a), ib = ends.at(b);
+            const std::uint32_t va = ends.vertex_of(ia), vb = ends.vertex_of(ib);
+            return va != vb ? va < vb : ia < ib;
+        },
+        [&](std::size_t a, std::size_t b) { std::swap(ends.at(a), ends.at(b)); });
+}
+
+// Where the ends [g, h) of one silhouette vertex meet: the vertex's world position, clip position and NDC.
+struct SmoothieJoint {
+    std::size_t g, h;
+    glm::dvec3 P;
+    glm::dvec4 C;
+    glm::dvec2 V;
+};
+
+// Step 4a: the exterior sectors around a vertex whose edges are consistent. Sector j (from u_j to
+// u_j+1, counter-clockwise in light NDC) is exterior if n_j turns counter-clockwise from u_j into it
+// and n_j+1 turns clockwise from u_j+1 into it, interior if neither. An exterior sector wider than
+// 180 degrees leaves a gap of (angle - 180) between the two quads' outer edges: fill it from n_j
+// through the sector's middle direction to n_j+1. `order(j)` is the j-th end by angle.
+template <class Order>
+void smoothie_fill_sectors(const SmoothieEnds& ends, const SmoothieJoint& J, Order&& order, SmoothieBuilder& B,
+                           SmoothieResult& res) {
+    const std::size_t k = J.h - J.g;
+    SmoothieV q[4], q2[4];
+    bool ok = true;
+    std::size_t fills = 0, turns = 0;
+    for (int pass = 0; pass < 2 && ok; ++pass) {  // pass 0: check, pass 1: emit
+        for (std::size_t j = 0; j < k; ++j) {
+            const std::uint32_t i0s = order(j), i1s = order((j + 1) % k);
+            const glm::dvec2 u0 = ends.away(i0s);
+            if (!(smoothie_cross(u0, ends.normal(i0s)) > 0.0)) continue;  // interior sector
+            double theta = ends.angle(i1s) - ends.angle(i0s);
+            if (j + 1 == k) theta += 6.283185307179586;
+            if (!(theta > 3.141592653589793 + 1e-12)) {
+                if (pass == 0) ++turns;
+                continue;
+            }
+            const double hth = 0.5 * theta;
+            const glm::dvec2 mid(u0.x * std::cos(hth) - u0.y * std::sin(hth), u0.x * std::sin(hth) + u0.y * std::cos(hth));
+            const glm::dvec2 bm = smoothie_unit(mid);
+            if (!B.wedge(J.P, J.C, J.V, ends.normal(i0s), bm, q) || !B.wedge(J.P, J.C, J.V, bm, ends.normal(i1s), q2)) {
+                ok = false;
+                break;
+            }
+            if (pass == 1) {
+                B.emit_wedge(q);
+                B.emit_wedge(q2);
+            } else {
+                ++fills;
+            }
+        }
+    }
+    if (ok) {
+        res.corners += fills;
+        res.concave_turns += turns;
+    } else {
+        ++res.skipped_corners;
+    }
+}
+
+// Step 4b, the paper's special case for inconsistent vertices: the unit average n_a of the outward
+// normals, and a fan from each v + t n_i to v + t n_a (split at the middle direction), in (edge, end) order.
+inline void smoothie_paper_fan(const SmoothieEnds& ends, const SmoothieJoint& J, const glm::dvec2& fallback,
+                               SmoothieBuilder& B, SmoothieResult& res) {
+    const std::size_t g = J.g, h = J.h, k = h - g;
+    SmoothieV q[4], q2[4];
+    smoothie_heapsort(
+        k, [&](std::size_t a, std::size_t b) { return ends.at(g + a) < ends.at(g + b); },
+        [&](std::size_t a, std::size_t b) { std::swap(ends.at(g + a), ends.at(g + b)); });
+    glm::dvec2 sum(0.0);
+    for (std::size_t i = g; i < h; ++i) sum += ends.normal(ends.at(i));
+    const glm::dvec2 na = smoothie_len(sum) > 1e-9 * static_cast<double>(k) ? smoothie_unit(sum) : fallback;
+    bool ok = true;
+    for (std::size_t i = g; i < h && ok; ++i) {
+        const glm::dvec2 mid = smoothie_mid(ends.normal(ends.at(i)), na);
+        ok = B.wedge(J.P, J.C, J.V, ends.normal(ends.at(i)), mid, q) && B.wedge(J.P, J.C, J.V, mid, na, q2);
+    }
+    if (ok) {
+        for (std::size_t i = g; i < h; ++i) {
+            const glm::dvec2 mid = smoothie_mid(ends.normal(ends.at(i)), na);
+            B.wedge(J.P, J.C, J.V, ends.normal(ends.at(i)), mid, q);
+            B.wedge(J.P, J.C, J.V, mid, na, q2);
+            B.emit_wedge(q);
+            B.emit_wedge(q2);
+        }
+        ++res.fans;
+    } else {
+        ++res.skipped_corners;
+    }
+}
+
+// Step 4 of smoothie_build, one vertex (the ends [g, h) of the sorted area): a cap for a lone end,
+// else sector fills when the edges' outward sides are consistent, else the paper's fan.
+inline void smoothie_join_vertex(const SmoothieEnds& ends, std::size_t g, std::size_t h, const SmoothieParams& params,
+                                 SmoothieBuilder& B, SmoothieResult& res) {
+    const std::size_t k = h - g;
+    const std::uint32_t id0 = ends.at(g);
+    const SmoothieScratch& E0 = ends.edge_of(id0);
+    const unsigned j0 = id0 % 2;
+    const SmoothieJoint J{g, h, E0.world[j0], E0.clip[j0], E0.ndc[j0]};
+    if (k > 2) ++res.multi_vertices;
+    if (k == 1) {
+        SmoothieV q[4];
+        if (B.wedge(J.P, J.C, J.V, E0.normal, smoothie_unit(-ends.away(id0)), q)) {
+            B.emit_wedge(q);
+            ++res.caps;
+        } else {
+            ++res.skipped_corners;
+        }
+        return;
+    }
+    for (std::size_t i = g; i < h; ++i) {
+        const std::uint32_t id = ends.at(i);
+        const glm::dvec2 u = ends.away(id);
+        ends.scratch[id / 2].angle[id % 2] = std::atan2(u.y, u.x);
+    }
+    // this group's ids sorted by (angle, id): order[j] = at(g + j)
+    smoothie_heapsort(
+        k,
+        [&](std::size_t a, std::size_t b) {
+            const std::uint32_t ia = ends.at(g + a), ib = ends.at(g + b);
+            const double aa = ends.angle(ia), ab = ends.angle(ib);
+            return aa != ab ? aa < ab : ia < ib;
+        },
+        [&](std::size_t a, std::size_t b) { std::swap(ends.at(g + a), ends.at(g + b)); });
+    auto order = [&](std::size_t j) { return ends.at(g + j); };
+    bool consistent = !params.paper_fans || k == 2;
+    for (std::size_t j = 0; j < k && consistent; ++j) {
+        const std::uint32_t i0s = order(j), i1s = order((j + 1) % k);
+        const bool a = smoothie_cross(ends.away(i0s), ends.normal(i0s)) > 0.0;
+        const bool c = smoothie_cross(ends.away(i1s), ends.normal(i1s)) < 0.0;
+        if (a != c) consistent = false;
+    }
+    if (consistent)
+        smoothie_fill_sectors(ends, J, order, B, res);
+    else
+        smoothie_paper_fan(ends, J, E0.normal, B, res);
+}
+
 }  // namespace detail
 
 /// Builds the smoothie triangle list (see the header comment for the construction and units).
@@ -596,300 +942,26 @@ inline SmoothieResult smoothie_build(const SmoothieEdges& in, const glm::mat4& l
                                      std::size_t scratch_capacity, SmoothieVertex* out, std::size_t capacity) {
     using namespace detail;
     SmoothieResult res;
-    if ((in.positions == nullptr && in.position_count != 0) || (in.edges == nullptr && in.edge_count != 0) ||
-        (out == nullptr && capacity != 0) || (scratch == nullptr && scratch_capacity != 0)) {
-        res.status = Status::InvalidArgument;
-        return res;
-    }
-    if (!std::isfinite(params.t)) {
-        res.status = Status::NonFinite;
-        return res;
-    }
-    if (params.t < 0.0f) {
-        res.status = Status::InvalidArgument;
-        return res;
-    }
     glm::dmat4 M;
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) {
-            const float v = light_view_proj[c][r];
-            if (!std::isfinite(v)) {
-                res.status = Status::NonFinite;
-                return res;
-            }
-            M[c][r] = static_cast<double>(v);
-        }
-    const double det = glm::determinant(M);
     SmoothieBuilder B;
-    B.inv = glm::inverse(M);
-    bool inv_ok = std::isfinite(det) && det != 0.0;
-    for (int c = 0; c < 4 && inv_ok; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(B.inv[c][r])) inv_ok = false;
-    if (!inv_ok) {
-        res.status = Status::InvalidArgument;
+    if (!smoothie_check_inputs(in, light_view_proj, params, scratch, scratch_capacity, out, capacity, M, B.inv, res))
         return res;
-    }
-    if (params.t == 0.0f || in.edge_count == 0) {  // t = 0: no geometry (hard shadows), nothing counted
-        res.status = Status::Ok;
-        return res;
-    }
-    res.scratch_needed = smoothie_scratch_capacity(in.edge_count);
-    if (scratch_capacity < res.scratch_needed) {
-        res.status = Status::BufferTooSmall;
-        return res;
-    }
     const int winding = smoothie_winding_sign(M, params.clip_depth, params.reversed_z);
-
     B.t = static_cast<double>(params.t);
     B.inv_t = 1.0f / params.t;
     if (!std::isfinite(B.inv_t)) B.inv_t = 3.0e38f;  // subnormal t
     B.out = out;
     B.capacity = capacity;
 
-    // kept edges in scratch[0, kept); their ends (id = 2 * edge + end) in the strided sort area
-    std::size_t kept = 0, n_ends = 0;
-    auto end_at = [&](std::size_t j) -> std::uint32_t& { return scratch[j / 2].sorted_end[j % 2]; };
-
-    for (std::size_t e = 0; e < in.edge_count; ++e) {
-        const std::uint32_t i0 = in.edges[2 * e], i1 = in.edges[2 * e + 1];
-        if (i0 >= in.position_count || i1 >= in.position_count || i0 == i1) {
-            ++res.skipped_invalid;
-            continue;
-        }
-        const glm::vec3 f0 = in.positions[i0], f1 = in.positions[i1];
-        if (!smoothie_finite3(f0) || !smoothie_finite3(f1) || f0 == f1) {
-            ++res.skipped_invalid;
-            continue;
-        }
-        SmoothieScratch& E = scratch[kept];
-        E.world[0] = smoothie_d(f0);
-        E.world[1] = smoothie_d(f1);
-        E.clip[0] = smoothie_mul(M, E.world[0]);
-        E.clip[1] = smoothie_mul(M, E.world[1]);
-        bool whole[2] = {true, true};
-        {  // near-plane clipping
-            const double d0 = smoothie_near_dist(E.clip[0], params.clip_depth, params.reversed_z);
-            const double d1 = smoothie_near_dist(E.clip[1], params.clip_depth, params.reversed_z);
-            if (!(d0 >= 0.0) && !(d1 >= 0.0)) {
-                ++res.skipped_behind;
-                continue;
-            }
-            if (!(d0 >= 0.0) || !(d1 >= 0.0)) {
-                const int k = d0 >= 0.0 ? 1 : 0;  // the end to move
-                const double sp = d0 / (d0 - d1);  // in (0, 1)
-                E.world[k] = E.world[0] + sp * (E.world[1] - E.world[0]);
-                E.clip[k] = E.clip[0] + sp * (E.clip[1] - E.clip[0]);
-                whole[k] = false;
-                ++res.clipped_edges;
-            }
-        }
-        if (!(E.clip[0].w > 0.0) || !(E.clip[1].w > 0.0) || !smoothie_finite3d(E.world[0]) || !smoothie_finite3d(E.world[1])) {
-            ++res.skipped_behind;
-            continue;
-        }
-        E.ndc[0] = glm::dvec2(E.clip[0]) / E.clip[0].w;
-        E.ndc[1] = glm::dvec2(E.clip[1]) / E.clip[1].w;
-        const glm::dvec2 ed = E.ndc[1] - E.ndc[0];
-        const double L = smoothie_len(ed);
-        const double scale = std::max({1.0, std::fabs(E.ndc[0].x), std::fabs(E.ndc[0].y), std::fabs(E.ndc[1].x), std::fabs(E.ndc[1].y)});
-        if (!std::isfinite(L) || !(L > 1e-12 * scale)) {
-            ++res.skipped_end_on;
-            continue;
-        }
-        const glm::dvec2 perp(-ed.y / L, ed.x / L);  // left of v0 -> v1 in light NDC
-        // Outward side: sign of the light-NDC image of a world direction h at the edge midpoint.
-        const glm::dvec4 Cm = 0.5 * (E.clip[0] + E.clip[1]);
-        auto side = [&](const glm::dvec3& h) -> double {
-            const glm::dvec4 dc = M[0] * h.x + M[1] * h.y + M[2] * h.z;  // M (h, 0)
-            const glm::dvec2 j(dc.x * Cm.w - Cm.x * dc.w, dc.y * Cm.w - Cm.y * dc.w);
-            const double jl = smoothie_len(j);
-            if (!std::isfinite(jl) || !(jl > 0.0)) return 0.0;
-            const double sd = (perp.x * j.x + perp.y * j.y) / jl;
-            return std::fabs(sd) > 1e-9 ? sd : 0.0;
-        };
-        auto unit3 = [](const glm::vec3& v, glm::dvec3& u) -> bool {
-            if (!smoothie_finite3(v)) return false;
-            const glm::dvec3 d = smoothie_d(v);
-            const double l = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-            if (!(l > 0.0) || !std::isfinite(l)) return false;
-            u = d / l;
-            return true;
-        };
-        double sgn = 0.0;
-        glm::dvec3 h, n0, n1;
-        if (in.outward != nullptr && unit3(in.outward[e], h)) sgn = side(h);
-        if (sgn == 0.0 && in.face_normals != nullptr) {
-            const bool has0 = unit3(in.face_normals[2 * e], n0);
-            const bool has1 = unit3(in.face_normals[2 * e + 1], n1);
-            if (has0 && has1) sgn = side(n0 + n1);
-            if (sgn == 0.0 && has0) {
-                const glm::dvec3 ev = smoothie_d(f1) - smoothie_d(f0);
-                sgn = -side(glm::cross(n0, ev));  // interior of face 0 lies along cross(n0, v1 - v0)
-            }
-        }
-        // the edge's own orientation: the lit face's interior is left of v0 -> v1 when lit faces
-        // appear counter-clockwise in light NDC (winding > 0), so outward is right (-perp)
-        if (sgn == 0.0) sgn = -static_cast<double>(winding);
-        if (sgn == 0.0) {
-            ++res.skipped_no_outward;
-            continue;
-        }
-        E.normal = sgn > 0.0 ? perp : -perp;
-        glm::dvec3 O[2];
-        if (!B.unproject(E.world[0], E.clip[0], B.t * E.normal, O[0]) || !B.unproject(E.world[1], E.clip[1], B.t * E.normal, O[1])) {
-            ++res.skipped_unprojectable;
-            continue;
-        }
-        SmoothieV vi[2], vo[2];
-        for (int k = 0; k < 2; ++k) {
-            vi[k] = SmoothieV{E.world[k], E.ndc[k], 0.0, E.world[k], E.normal, 0.0f};
-            vo[k] = SmoothieV{O[k], E.ndc[k] + B.t * E.normal, 1.0, E.world[k], E.normal, 0.0f};
-        }
-        B.tri(vi[0], vi[1], vo[1]);
-        B.tri(vi[0], vo[1], vo[0]);
-        ++res.edge_quads;
-        E.vertex[0] = i0;
-        E.vertex[1] = i1;
-        const std::uint32_t idx = static_cast<std::uint32_t>(kept);
-        ++kept;
-        for (std::uint32_t k = 0; k < 2; ++k)
-            if (whole[k]) {
-                end_at(n_ends) = 2u * idx + k;
-                ++n_ends;
-            }
-    }
-
-    auto vertex_of = [&](std::uint32_t id) { return scratch[id / 2].vertex[id % 2]; };
-    // ends grouped by vertex, then by (edge, end)
-    smoothie_heapsort(
-        n_ends,
-        [&](std::size_t a, std::size_t b) {
-            const std::uint32_t ia = end_at(a), ib = end_at(b);
-            const std::uint32_t va = vertex_of(ia), vb = vertex_of(ib);
-            return va != vb ? va < vb : ia < ib;
-        },
-        [&](std::size_t a, std::size_t b) { std::swap(end_at(a), end_at(b)); });
-
-    SmoothieV q[4], q2[4];
-    auto edge_of = [&](std::uint32_t id) -> const SmoothieScratch& { return scratch[id / 2]; };
-    auto away = [&](std::uint32_t id) {  // unit NDC direction from v along the edge of end id
-        const SmoothieScratch& E = edge_of(id);
-        return smoothie_unit(E.ndc[1 - id % 2] - E.ndc[id % 2]);
-    };
-    auto normal = [&](std::uint32_t id) { return edge_of(id).normal; };
-    auto angle = [&](std::uint32_t id) { return scratch[id / 2].angle[id % 2]; };
-    for (std::size_t g = 0; g < n_ends;) {
+    const SmoothieEnds ends{scratch};
+    std::size_t n_ends = 0;
+    smoothie_edge_quads(in, M, params, winding, B, ends, n_ends, res);  // one quad per edge
+    smoothie_sort_ends(ends, n_ends);                                    // ends grouped by vertex
+    for (std::size_t g = 0; g < n_ends;) {                               // caps, corner fills, fans
         std::size_t h = g;
-        const std::uint32_t vg = vertex_of(end_at(g));
-        while (h < n_ends && vertex_of(end_at(h)) == vg) ++h;
-        const std::size_t k = h - g;
-        const std::uint32_t id0 = end_at(g);
-        const SmoothieScratch& E0 = edge_of(id0);
-        const unsigned j0 = id0 % 2;
-        const glm::dvec3 P = E0.world[j0];
-        const glm::dvec4 C = E0.clip[j0];
-        const glm::dvec2 V = E0.ndc[j0];
-        if (k > 2) ++res.multi_vertices;
-        if (k == 1) {
-            if (B.wedge(P, C, V, E0.normal, smoothie_unit(-away(id0)), q)) {
-                B.emit_wedge(q);
-                ++res.caps;
-            } else {
-                ++res.skipped_corners;
-            }
-            g = h;
-            continue;
-        }
-        // Sectors around v between angularly consecutive edges (counter-clockwise in light NDC).
-        // Sector j (from u_j to u_j+1) is exterior if n_j turns counter-clockwise from u_j into it and
-        // n_j+1 turns clockwise from u_j+1 into it, interior if neither, inconsistent otherwise.
-        // An exterior sector wider than 180 degrees leaves a gap of (angle - 180) between the two
-        // quads' outer edges: fill it from n_j through the sector's middle direction to n_j+1.
-        for (std::size_t i = g; i < h; ++i) {
-            const std::uint32_t id = end_at(i);
-            const glm::dvec2 u = away(id);
-            scratch[id / 2].angle[id % 2] = std::atan2(u.y, u.x);
-        }
-        // this group's ids sorted by (angle, id): order[j] = end_at(g + j)
-        smoothie_heapsort(
-            k,
-            [&](std::size_t a, std::size_t b) {
-                const std::uint32_t ia = end_at(g + a), ib = end_at(g + b);
-                const double aa = angle(ia), ab = angle(ib);
-                return aa != ab ? aa < ab : ia < ib;
-            },
-            [&](std::size_t a, std::size_t b) { std::swap(end_at(g + a), end_at(g + b)); });
-        auto order = [&](std::size_t j) { return end_at(g + j); };
-        bool consistent = !params.paper_fans || k == 2;
-        for (std::size_t j = 0; j < k && consistent; ++j) {
-            const std::uint32_t i0s = order(j), i1s = order((j + 1) % k);
-            const bool a = smoothie_cross(away(i0s), normal(i0s)) > 0.0;
-            const bool c = smoothie_cross(away(i1s), normal(i1s)) < 0.0;
-            if (a != c) consistent = false;
-        }
-        if (consistent) {
-            bool ok = true;
-            std::size_t fills = 0, turns = 0;
-            for (int pass = 0; pass < 2 && ok; ++pass) {  // pass 0: check, pass 1: emit
-                for (std::size_t j = 0; j < k; ++j) {
-                    const std::uint32_t i0s = order(j), i1s = order((j + 1) % k);
-                    const glm::dvec2 u0 = away(i0s);
-                    if (!(smoothie_cross(u0, normal(i0s)) > 0.0)) continue;  // interior sector
-                    double theta = angle(i1s) - angle(i0s);
-                    if (j + 1 == k) theta += 6.283185307179586;
-                    if (!(theta > 3.141592653589793 + 1e-12)) {
-                        if (pass == 0) ++turns;
-                        continue;
-                    }
-                    const double hth = 0.5 * theta;
-                    const glm::dvec2 mid(u0.x * std::cos(hth) - u0.y * std::sin(hth), u0.x * std::sin(hth) + u0.y * std::cos(hth));
-                    const glm::dvec2 bm = smoothie_unit(mid);
-                    if (!B.wedge(P, C, V, normal(i0s), bm, q) || !B.wedge(P, C, V, bm, normal(i1s), q2)) {
-                        ok = false;
-                        break;
-                    }
-                    if (pass == 1) {
-                        B.emit_wedge(q);
-                        B.emit_wedge(q2);
-                    } else {
-                        ++fills;
-                    }
-                }
-            }
-            if (ok) {
-                res.corners += fills;
-                res.concave_turns += turns;
-            } else {
-                ++res.skipped_corners;
-            }
-        } else {
-            // Paper's special case: the unit average n_a of the outward normals, and a fan from each
-            // v + t n_i to v + t n_a (split at the middle direction), in (edge, end) order.
-            smoothie_heapsort(
-                k, [&](std::size_t a, std::size_t b) { return end_at(g + a) < end_at(g + b); },
-                [&](std::size_t a, std::size_t b) { std::swap(end_at(g + a), end_at(g + b)); });
-            glm::dvec2 sum(0.0);
-            for (std::size_t i = g; i < h; ++i) sum += normal(end_at(i));
-            const glm::dvec2 na = smoothie_len(sum) > 1e-9 * static_cast<double>(k) ? smoothie_unit(sum) : E0.normal;
-            bool ok = true;
-            for (std::size_t i = g; i < h && ok; ++i) {
-                const glm::dvec2 mid = smoothie_mid(normal(end_at(i)), na);
-                ok = B.wedge(P, C, V, normal(end_at(i)), mid, q) && B.wedge(P, C, V, mid, na, q2);
-            }
-            if (ok) {
-                for (std::size_t i = g; i < h; ++i) {
-                    const glm::dvec2 mid = smoothie_mid(normal(end_at(i)), na);
-                    B.wedge(P, C, V, normal(end_at(i)), mid, q);
-                    B.wedge(P, C, V, mid, na, q2);
-                    B.emit_wedge(q);
-                    B.emit_wedge(q2);
-                }
-                ++res.fans;
-            } else {
-                ++res.skipped_corners;
-            }
-        }
+        const std::uint32_t vg = ends.vertex_of(ends.at(g));
+        while (h < n_ends && ends.vertex_of(ends.at(h)) == vg) ++h;
+        smoothie_join_vertex(ends, g, h, params, B, res);
         g = h;
     }
 

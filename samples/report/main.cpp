@@ -195,12 +195,8 @@ void write_error_png(const std::string& path, const sk::GBuffer& g, const sk::Re
     skgl::write_png(path, g.width, g.height, 3, px.data());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    Options o;
-    std::string command = "shadowkit-report";
-    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+// Step 1: the command line into `o`. Returns -1 to go on, else the exit status (--help: 0).
+int parse_options(int argc, char** argv, Options& o) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&](const char* name) -> const char* {
@@ -278,27 +274,6 @@ int main(int argc, char** argv) {
             return fail("unknown argument '" + a + "'\n" + kUsage);
         }
     }
-    auto techniques = sk::make_techniques();
-    const auto scene_names = sk::builtin_scene_names();
-    if (o.list) {
-        std::printf("scenes:\n");
-        for (const auto& n : scene_names) {
-            sk::Scene s;
-            sk::make_builtin_scene(n, s);
-            std::printf("  %-10s %s\n", n.c_str(), s.description.c_str());
-        }
-        for (const auto& n : sk::scanned_scene_names())
-            std::printf("  %-10s %s%s\n", n.c_str(), sk::scanned_scene_description(n).c_str(),
-                        sk::scanned_scene_present(n) ? ""
-                                                     : (" [not installed: npm " + sk::scanned_scene_package(n) +
-                                                        ", bash cmake/install-deps.sh]").c_str());
-        std::printf("  %-10s %s\n", "prt", skr::prt_description());
-        std::printf("techniques:\n");
-        for (const auto& t : techniques)
-            std::printf("  %-12s %s%s\n", t->name().c_str(), t->description().c_str(),
-                        t->listed_by_default() ? "" : " [only when named]");
-        return 0;
-    }
     if (o.quick) {
         if (!o.size_set) {
             o.width = 256;
@@ -309,10 +284,35 @@ int main(int argc, char** argv) {
         if (!o.temporal_set) o.temporal = 4;
         if (!o.light_sweep_set) o.light_sweep = 48;
     }
-    // what to run
-    std::vector<sk::Scene> scenes;
+    return -1;
+}
+
+// --list: the scenes and techniques.
+void print_list(const std::vector<std::unique_ptr<sk::Technique>>& techniques, const std::vector<std::string>& scene_names) {
+    std::printf("scenes:\n");
+    for (const auto& n : scene_names) {
+        sk::Scene s;
+        sk::make_builtin_scene(n, s);
+        std::printf("  %-10s %s\n", n.c_str(), s.description.c_str());
+    }
+    for (const auto& n : sk::scanned_scene_names())
+        std::printf("  %-10s %s%s\n", n.c_str(), sk::scanned_scene_description(n).c_str(),
+                    sk::scanned_scene_present(n) ? ""
+                                                 : (" [not installed: npm " + sk::scanned_scene_package(n) +
+                                                    ", bash cmake/install-deps.sh]").c_str());
+    std::printf("  %-10s %s\n", "prt", skr::prt_description());
+    std::printf("techniques:\n");
+    for (const auto& t : techniques)
+        std::printf("  %-12s %s%s\n", t->name().c_str(), t->description().c_str(),
+                    t->listed_by_default() ? "" : " [only when named]");
+}
+
+// Step 2a: the scene names to run (the default set unless named; `default` among the names stands for
+// it, e.g. beside --mesh); run_prt for the `prt` pseudo-scene (not an sk::Scene, run after the
+// visibility scenes).
+std::vector<std::string> wanted_scene_names(const Options& o, const std::vector<std::string>& scene_names, bool& run_prt) {
     std::vector<std::string> wanted = o.scenes;
-    bool run_prt = false;  // the `prt` pseudo-scene: not an sk::Scene, run after the visibility scenes
+    run_prt = false;
     if (wanted.empty() && o.meshes.empty()) {
         for (const auto& n : scene_names)
             if (n != "square") wanted.push_back(n);
@@ -320,7 +320,6 @@ int main(int argc, char** argv) {
             if (!o.quick || kQuickScannedScenes.count(n)) wanted.push_back(n);
         run_prt = true;
     }
-    // `--scenes default` (alone or with others) stands for the default set, e.g. beside --mesh
     if (std::find(wanted.begin(), wanted.end(), "default") != wanted.end()) {
         std::vector<std::string> expanded;
         for (const auto& n : wanted) {
@@ -336,6 +335,13 @@ int main(int argc, char** argv) {
         }
         wanted = std::move(expanded);
     }
+    return wanted;
+}
+
+// Step 2b: the scenes themselves (built-in, scanned meshes that are installed, --mesh files).
+// False with `error` set for an unknown scene or a mesh that does not load.
+bool load_scenes(const Options& o, const std::vector<std::string>& wanted, std::vector<sk::Scene>& scenes,
+                 bool& run_prt, std::string& error) {
     std::vector<std::string> missing_scenes, missing_packages;  // scanned meshes not installed: skipped
     for (const auto& n : wanted) {
         if (n == "prt") {
@@ -352,9 +358,13 @@ int main(int argc, char** argv) {
                 continue;
             }
             std::string why;
-            if (!sk::make_scanned_scene(n, s, why)) return fail("scene " + n + ": " + why);
+            if (!sk::make_scanned_scene(n, s, why)) {
+                error = "scene " + n + ": " + why;
+                return false;
+            }
         } else if (!sk::make_builtin_scene(n, s)) {
-            return fail("unknown scene '" + n + "' (see --list)");
+            error = "unknown scene '" + n + "' (see --list)";
+            return false;
         }
         scenes.push_back(std::move(s));
     }
@@ -372,56 +382,62 @@ int main(int argc, char** argv) {
     }
     for (const auto& m : o.meshes) {
         sk::Scene s;
-        std::string why;
-        if (!sk::load_mesh_scene(m, s, why)) return fail(why);
+        if (!sk::load_mesh_scene(m, s, error)) return false;
         scenes.push_back(std::move(s));
     }
-    // light-size variants, right after the scenes they resize
-    std::vector<std::string> variant_base;  // per scene: the scene it resizes ("" for none)
-    {
-        const std::size_t mesh_first = scenes.size() - o.meshes.size();
-        std::vector<sk::Scene> all;
-        for (std::size_t i = 0; i < scenes.size(); ++i) {
-            all.push_back(scenes[i]);
-            variant_base.push_back("");
-            if (!kLightSizeScenes.count(scenes[i].name) && i < mesh_first) continue;
-            std::vector<double> ks = o.light_sizes;
-            const bool point = scenes[i].light.type == sk::LightType::Point || scenes[i].light.type == sk::LightType::Spot;
-            if (point && !ks.empty() && std::find(ks.begin(), ks.end(), 1.0) == ks.end()) ks.push_back(1.0);
-            std::sort(ks.begin(), ks.end());
-            for (double k : ks) {
-                sk::Scene v;
-                if (!resize_light(scenes[i], k, v)) continue;
-                all.push_back(std::move(v));
-                variant_base.push_back(scenes[i].name);
-            }
+    return true;
+}
+
+// Step 2c: the light-size variants, right after the scenes they resize. Returns, per scene, the scene
+// it resizes ("" for none).
+std::vector<std::string> add_light_size_variants(const Options& o, std::vector<sk::Scene>& scenes) {
+    std::vector<std::string> variant_base;
+    const std::size_t mesh_first = scenes.size() - o.meshes.size();
+    std::vector<sk::Scene> all;
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        all.push_back(scenes[i]);
+        variant_base.push_back("");
+        if (!kLightSizeScenes.count(scenes[i].name) && i < mesh_first) continue;
+        std::vector<double> ks = o.light_sizes;
+        const bool point = scenes[i].light.type == sk::LightType::Point || scenes[i].light.type == sk::LightType::Spot;
+        if (point && !ks.empty() && std::find(ks.begin(), ks.end(), 1.0) == ks.end()) ks.push_back(1.0);
+        std::sort(ks.begin(), ks.end());
+        for (double k : ks) {
+            sk::Scene v;
+            if (!resize_light(scenes[i], k, v)) continue;
+            all.push_back(std::move(v));
+            variant_base.push_back(scenes[i].name);
         }
-        scenes = std::move(all);
     }
-    std::vector<sk::Technique*> chosen;
+    scenes = std::move(all);
+    return variant_base;
+}
+
+// Step 3: the techniques to run (the listed ones unless named). False with `error` for an unknown name.
+bool choose_techniques(const Options& o, const std::vector<std::unique_ptr<sk::Technique>>& techniques,
+                       std::vector<sk::Technique*>& chosen, std::string& error) {
     if (o.techniques.empty()) {
         for (auto& t : techniques)
             if (t->listed_by_default()) chosen.push_back(t.get());
-    } else {
-        for (const auto& n : o.techniques) {
-            auto it = std::find_if(techniques.begin(), techniques.end(), [&](const auto& t) { return t->name() == n; });
-            if (it == techniques.end()) return fail("unknown technique '" + n + "' (see --list)");
-            chosen.push_back(it->get());
-        }
+        return true;
     }
-    std::error_code ec;
-    fs::create_directories(fs::path(o.out) / "images", ec);
-    if (ec) return fail("cannot create output directory '" + o.out + "': " + ec.message());
+    for (const auto& n : o.techniques) {
+        auto it = std::find_if(techniques.begin(), techniques.end(), [&](const auto& t) { return t->name() == n; });
+        if (it == techniques.end()) {
+            error = "unknown technique '" + n + "' (see --list)";
+            return false;
+        }
+        chosen.push_back(it->get());
+    }
+    return true;
+}
 
-    std::string why;
-    auto gl = skgl::create_context(why);
-    if (!gl) return fail("no OpenGL 4.5 context: " + why);
-    std::fprintf(stderr, "shadowkit-report: %s, %zu scenes x %zu techniques at %dx%d%s\n", gl->renderer.c_str(),
-                 scenes.size(), chosen.size(), o.width, o.height, run_prt ? ", and prt" : "");
-
+// The report's header: machine, date, command and run settings.
+skr::ReportInfo report_info(const Options& o, const std::string& renderer, const std::string& gl_version,
+                            const std::string& command, const skr::TemporalOptions& temporal) {
     skr::ReportInfo info;
-    info.renderer = gl->renderer;
-    info.gl_version = gl->version;
+    info.renderer = renderer;
+    info.gl_version = gl_version;
     info.cpu = cpu_name() + " (" + std::to_string(std::max(1u, std::thread::hardware_concurrency())) + " threads)";
     {
         const std::time_t now = std::time(nullptr);
@@ -435,187 +451,203 @@ int main(int argc, char** argv) {
     info.frames = o.frames;
     info.quick = o.quick;
     info.timer_queries = skgl::timer_queries_in_use();
-    skr::TemporalOptions temporal;
-    temporal.frames = o.temporal;
-    temporal.max_ms = o.quick ? 20.0 : 40.0;
-    temporal.cache_dir = (fs::path(o.out) / "cache").string();
     info.temporal_frames = o.temporal;
     info.temporal_max_ms = temporal.max_ms;
+    return info;
+}
 
-    std::vector<skr::Row> rows;
-    std::vector<skr::SceneInfo> infos;
-    for (std::size_t scene_index = 0; scene_index < scenes.size(); ++scene_index) {
-        const sk::Scene& scene = scenes[scene_index];
-        sk::SceneGpu gpu;
-        sk::GBuffer g;
-        skr::SceneInfo si;
-        si.name = scene.name;
-        si.base = variant_base[scene_index];
-        si.light = light_text(scene.light);
-        si.light_size = scene.light.is_area() ? double(scene.light.size) : 0.0;
-        si.description = scene.description;
-        si.triangles = scene.triangle_count();
-        const bool scanned = sk::is_scanned_scene(scene.name);
-        if (!sk::prepare_scene_gpu(scene, o.width, o.height, gpu, g, why)) {
-            std::fprintf(stderr, "shadowkit-report: scene %s: %s\n", scene.name.c_str(), why.c_str());
-            continue;
-        }
-        sk::ReferenceOptions ro;
-        // stratified area-light samples per pixel: 48^2 = 2304 (quick: 32^2 = 1024), enough that the
-        // reference's standard error stays below 1/10 of the smallest error it judges (checked in report.md)
-        ro.strata = o.quick ? 32 : 48;
-        sk::Reference ref;
-        if (!sk::cached_reference(scene, g, ro, (fs::path(o.out) / "cache").string(), ref, why)) {
-            std::fprintf(stderr, "shadowkit-report: reference for %s: %s\n", scene.name.c_str(), why.c_str());
-            continue;
-        }
-        si.ref_samples = ref.samples_per_pixel;
-        si.ref_stderr = ref.stderr_rms;
-        si.ref_seconds = ref.seconds;
-        si.ref_cached = ref.from_cache;
-        const std::string stem = sanitize(scene.name);
-        si.reference_image = "images/" + stem + "__reference.png";
-        infos.push_back(si);
-        // Run every technique first, keep its visibility, then judge: the reference is refined
-        // (more strata, cached) until its standard error is below 1/10 of the smallest error it
-        // judges on this scene, or 128^2 samples per pixel.
-        struct Pending {
-            skr::Row row;
-            std::vector<float> v;
-            bool hard = false;
-        };
-        std::vector<Pending> pending;
-        for (sk::Technique* t : chosen) {
-            if (!si.base.empty() && std::find(std::begin(skr::kLightSizeTechniques), std::end(skr::kLightSizeTechniques),
-                                              t->name()) == std::end(skr::kLightSizeTechniques))
-                continue;  // a light-size variant runs only the soft techniques compared across sizes
-            for (const auto& ps : t->sweep(scene, o.quick)) {
-                Pending p;
-                skr::Row& r = p.row;
-                r.technique = t->name();
-                r.params = ps.values;
-                r.named_params = ps.named;
-                r.params_label = ps.label();
-                r.scene = scene.name;
-                r.family = t->family();
-                r.hard = t->hard();
-                r.width = o.width;
-                r.height = o.height;
-                std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
-                sk::RunContext ctx{scene, gpu, o.frames, o.quick ? 2 : 3, &g};
-                if (o.quick && scanned && !o.frames_set) {  // a preview of the scanned meshes: the time budget
-                    ctx.frames = std::min(ctx.frames, 3);
-                    ctx.warmup = 1;
-                }
-                sk::RunResult res;
-                try {  // a driver that throws (bad_alloc, ...) becomes a failed row, not a crash
-                    res = t->run(ctx, ps);
-                } catch (const std::exception& e) {
-                    res = sk::RunResult::failure(std::string("exception: ") + e.what());
-                } catch (...) {
-                    res = sk::RunResult::failure("exception of unknown type");
-                }
-                if (res.ok && res.visibility.size() != g.kind.size()) {
-                    res.ok = false;
-                    res.error = "technique returned a visibility image of the wrong size";
-                }
-                if (!res.ok) {
-                    r.failed = true;
-                    r.error = res.error.substr(0, res.error.find('\n'));
-                    std::fprintf(stderr, " failed: %s\n", r.error.c_str());
-                    pending.push_back(std::move(p));
-                    continue;
-                }
-                r.gpu_ms = res.gpu_ms;
-                r.cpu_ms = res.cpu_ms;
-                r.frames = res.frames;
-                r.gpu_bytes = res.gpu_bytes;
-                r.work = res.work;
-                r.quality = res.quality;
-                p.hard = t->hard();
-                p.v = std::move(res.visibility);
-                std::fprintf(stderr, " rmse %.4f  %.2f ms\n", sk::compute_metrics(g, ref, p.v, p.hard).rmse, r.gpu_ms);
-                pending.push_back(std::move(p));
-            }
-        }
-        auto judge = [&]() {
-            double min_rmse = INFINITY;
-            for (auto& p : pending) {
-                if (p.row.failed) continue;
-                p.row.m = sk::compute_metrics(g, ref, p.v, p.hard);
-                if (p.row.m.rmse > 0.0) min_rmse = std::min(min_rmse, p.row.m.rmse);
-            }
-            return min_rmse;
-        };
-        double min_rmse = judge();
-        while (ref.samples_per_pixel > 1 && std::isfinite(min_rmse) && ref.stderr_rms > 0.1 * min_rmse &&
-               ro.strata < 128) {
-            ro.strata = std::min(128, ro.strata * 3 / 2);
-            std::fprintf(stderr, "  %-9s reference stderr %.5f > 1/10 of RMSE %.5f: refining to %d^2 rays per pixel\n",
-                         scene.name.c_str(), ref.stderr_rms, min_rmse, ro.strata);
-            if (!sk::cached_reference(scene, g, ro, (fs::path(o.out) / "cache").string(), ref, why)) break;
-            min_rmse = judge();
-        }
-        infos.back().ref_samples = ref.samples_per_pixel;
-        infos.back().ref_stderr = ref.stderr_rms;
-        infos.back().ref_seconds = ref.seconds;
-        infos.back().ref_cached = ref.from_cache;
-        write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
-        if (si.base.empty() && o.temporal > 0 && !scanned) {  // the chosen rows over time (not on scanned meshes: time budget)
-            std::vector<skr::Row*> scene_rows;
-            for (auto& p : pending) scene_rows.push_back(&p.row);
-            skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);
-        }
+// A row run but not judged yet: its visibility is kept until the reference is final.
+struct Pending {
+    skr::Row row;
+    std::vector<float> v;
+    bool hard = false;
+};
+
+// Step 4a, one row: run technique t with parameter set ps on the scene (a driver that throws becomes
+// a failed row, not a crash).
+Pending run_row(const Options& o, const sk::Scene& scene, sk::SceneGpu& gpu, const sk::GBuffer& g,
+                const sk::Reference& ref, sk::Technique* t, const sk::ParamSet& ps) {
+    Pending p;
+    skr::Row& r = p.row;
+    r.technique = t->name();
+    r.params = ps.values;
+    r.named_params = ps.named;
+    r.params_label = ps.label();
+    r.scene = scene.name;
+    r.family = t->family();
+    r.hard = t->hard();
+    r.width = o.width;
+    r.height = o.height;
+    std::fprintf(stderr, "  %-9s %-12s %-24s", scene.name.c_str(), t->name().c_str(), r.params_label.c_str());
+    sk::RunContext ctx{scene, gpu, o.frames, o.quick ? 2 : 3, &g};
+    if (o.quick && sk::is_scanned_scene(scene.name) && !o.frames_set) {  // a preview of the scanned meshes: the time budget
+        ctx.frames = std::min(ctx.frames, 3);
+        ctx.warmup = 1;
+    }
+    sk::RunResult res;
+    try {
+        res = t->run(ctx, ps);
+    } catch (const std::exception& e) {
+        res = sk::RunResult::failure(std::string("exception: ") + e.what());
+    } catch (...) {
+        res = sk::RunResult::failure("exception of unknown type");
+    }
+    if (res.ok && res.visibility.size() != g.kind.size()) {
+        res.ok = false;
+        res.error = "technique returned a visibility image of the wrong size";
+    }
+    if (!res.ok) {
+        r.failed = true;
+        r.error = res.error.substr(0, res.error.find('\n'));
+        std::fprintf(stderr, " failed: %s\n", r.error.c_str());
+        return p;
+    }
+    r.gpu_ms = res.gpu_ms;
+    r.cpu_ms = res.cpu_ms;
+    r.frames = res.frames;
+    r.gpu_bytes = res.gpu_bytes;
+    r.work = res.work;
+    r.quality = res.quality;
+    p.hard = t->hard();
+    p.v = std::move(res.visibility);
+    std::fprintf(stderr, " rmse %.4f  %.2f ms\n", sk::compute_metrics(g, ref, p.v, p.hard).rmse, r.gpu_ms);
+    return p;
+}
+
+// Step 4b: judge the rows against the reference, refining it (more strata, cached) until its standard
+// error is below 1/10 of the smallest error it judges on this scene, or 128^2 samples per pixel.
+void judge_rows(const Options& o, const sk::Scene& scene, const sk::GBuffer& g, sk::ReferenceOptions& ro,
+                sk::Reference& ref, std::vector<Pending>& pending) {
+    auto judge = [&]() {
+        double min_rmse = INFINITY;
         for (auto& p : pending) {
-            skr::Row& r = p.row;
-            r.ref_samples = ref.samples_per_pixel;
-            r.ref_stderr = ref.stderr_rms;
-            r.image_ref = si.reference_image;
-            if (!r.failed) {
-                const std::string base = "images/" + stem + "__" + sanitize(r.technique) + "__" + sanitize(r.params_label);
-                r.image_v = base + "_V.png";
-                r.image_err = base + "_err.png";
-                write_visibility_png((fs::path(o.out) / r.image_v).string(), g, p.v);
-                write_error_png((fs::path(o.out) / r.image_err).string(), g, ref, p.v);
-            }
-            rows.push_back(std::move(r));
+            if (p.row.failed) continue;
+            p.row.m = sk::compute_metrics(g, ref, p.v, p.hard);
+            if (p.row.m.rmse > 0.0) min_rmse = std::min(min_rmse, p.row.m.rmse);
         }
+        return min_rmse;
+    };
+    std::string why;
+    double min_rmse = judge();
+    while (ref.samples_per_pixel > 1 && std::isfinite(min_rmse) && ref.stderr_rms > 0.1 * min_rmse && ro.strata < 128) {
+        ro.strata = std::min(128, ro.strata * 3 / 2);
+        std::fprintf(stderr, "  %-9s reference stderr %.5f > 1/10 of RMSE %.5f: refining to %d^2 rays per pixel\n",
+                     scene.name.c_str(), ref.stderr_rms, min_rmse, ro.strata);
+        if (!sk::cached_reference(scene, g, ro, (fs::path(o.out) / "cache").string(), ref, why)) break;
+        min_rmse = judge();
     }
-    skr::PrtReport prt;
-    if (run_prt) {
-        std::fprintf(stderr, "  prt       PRT error vs SH order against a Monte Carlo reference (CPU, Embree)\n");
-        if (!skr::run_prt(o.quick, prt, why)) {
-            prt = skr::PrtReport{};
-            prt.requested = true;
-            prt.failed = true;
-            prt.error = why;
-            std::fprintf(stderr, "shadowkit-report: prt: %s\n", why.c_str());
-        } else {
-            for (const auto& r : prt.orders)
-                std::fprintf(stderr, "  prt       order %-26s RMS %.2f%%  p95 %.2f%%  bias %+.2f%%  shade %.3f ms\n",
-                             r.label.c_str(), 100.0 * r.rms, 100.0 * r.p95, 100.0 * r.bias, r.shade_ms);
-            std::fprintf(stderr, "  prt       precompute %.2f s, reference %.2f s (stderr %.2f%%)\n",
-                         prt.transfer_seconds, prt.ref_seconds, 100.0 * prt.ref_stderr);
+}
+
+// Step 4: one scene: its reference, every chosen technique's rows, the temporal rows, the images.
+// Appends to rows and infos; false (the scene skipped) when it cannot be prepared.
+bool run_scene(const Options& o, const sk::Scene& scene, const std::string& base,
+               const std::vector<sk::Technique*>& chosen, const skr::TemporalOptions& temporal,
+               std::vector<skr::Row>& rows, std::vector<skr::SceneInfo>& infos) {
+    sk::SceneGpu gpu;
+    sk::GBuffer g;
+    skr::SceneInfo si;
+    si.name = scene.name;
+    si.base = base;
+    si.light = light_text(scene.light);
+    si.light_size = scene.light.is_area() ? double(scene.light.size) : 0.0;
+    si.description = scene.description;
+    si.triangles = scene.triangle_count();
+    const bool scanned = sk::is_scanned_scene(scene.name);
+    std::string why;
+    if (!sk::prepare_scene_gpu(scene, o.width, o.height, gpu, g, why)) {
+        std::fprintf(stderr, "shadowkit-report: scene %s: %s\n", scene.name.c_str(), why.c_str());
+        return false;
+    }
+    sk::ReferenceOptions ro;
+    // stratified area-light samples per pixel: 48^2 = 2304 (quick: 32^2 = 1024), enough that the
+    // reference's standard error stays below 1/10 of the smallest error it judges (checked in report.md)
+    ro.strata = o.quick ? 32 : 48;
+    sk::Reference ref;
+    if (!sk::cached_reference(scene, g, ro, (fs::path(o.out) / "cache").string(), ref, why)) {
+        std::fprintf(stderr, "shadowkit-report: reference for %s: %s\n", scene.name.c_str(), why.c_str());
+        return false;
+    }
+    const std::string stem = sanitize(scene.name);
+    si.reference_image = "images/" + stem + "__reference.png";
+    // Run every technique first, keep its visibility, then judge (the reference may be refined).
+    std::vector<Pending> pending;
+    for (sk::Technique* t : chosen) {
+        if (!si.base.empty() && std::find(std::begin(skr::kLightSizeTechniques), std::end(skr::kLightSizeTechniques),
+                                          t->name()) == std::end(skr::kLightSizeTechniques))
+            continue;  // a light-size variant runs only the soft techniques compared across sizes
+        for (const auto& ps : t->sweep(scene, o.quick)) pending.push_back(run_row(o, scene, gpu, g, ref, t, ps));
+    }
+    judge_rows(o, scene, g, ro, ref, pending);
+    si.ref_samples = ref.samples_per_pixel;
+    si.ref_stderr = ref.stderr_rms;
+    si.ref_seconds = ref.seconds;
+    si.ref_cached = ref.from_cache;
+    infos.push_back(si);
+    write_visibility_png((fs::path(o.out) / si.reference_image).string(), g, ref.visibility);
+    if (si.base.empty() && o.temporal > 0 && !scanned) {  // the chosen rows over time (not on scanned meshes: time budget)
+        std::vector<skr::Row*> scene_rows;
+        for (auto& p : pending) scene_rows.push_back(&p.row);
+        skr::run_temporal_rows(scene, gpu, g, ref, temporal, chosen, scene_rows);
+    }
+    for (auto& p : pending) {
+        skr::Row& r = p.row;
+        r.ref_samples = ref.samples_per_pixel;
+        r.ref_stderr = ref.stderr_rms;
+        r.image_ref = si.reference_image;
+        if (!r.failed) {
+            const std::string img = "images/" + stem + "__" + sanitize(r.technique) + "__" + sanitize(r.params_label);
+            r.image_v = img + "_V.png";
+            r.image_err = img + "_err.png";
+            write_visibility_png((fs::path(o.out) / r.image_v).string(), g, p.v);
+            write_error_png((fs::path(o.out) / r.image_err).string(), g, ref, p.v);
         }
+        rows.push_back(std::move(r));
     }
-    skr::LightSweep sweep;
-    if (o.light_sweep > 0) {
-        // the built-in visibility scenes and scanned meshes of the run (no light-size variants, no --mesh
-        // scene, no prt)
-        std::vector<sk::Scene> sweep_scenes;
-        for (std::size_t i = 0; i < scenes.size(); ++i) {
-            sk::Scene b;
-            if (variant_base[i].empty() && (sk::is_scanned_scene(scenes[i].name) || sk::make_builtin_scene(scenes[i].name, b)))
-                sweep_scenes.push_back(scenes[i]);
-        }
-        skr::LightSweepOptions so;
-        so.lights = o.light_sweep;
-        so.mesh_lights = std::max(1, o.light_sweep / 4);  // scanned meshes: a quarter (their frames cost 5 to 20x)
-        std::fprintf(stderr, "  sweep     %d lights per scene (%d per scanned mesh) at %dx%d, %zu scenes\n", so.lights,
-                     so.mesh_lights, so.width, so.height, sweep_scenes.size());
-        skr::run_light_sweep(sweep_scenes, chosen, so, sweep);
-        std::fprintf(stderr, "  sweep     %.1f s\n", sweep.seconds);
+    return true;
+}
+
+// Step 5a: the PRT section (CPU, Embree).
+void run_prt_section(const Options& o, skr::PrtReport& prt) {
+    std::string why;
+    std::fprintf(stderr, "  prt       PRT error vs SH order against a Monte Carlo reference (CPU, Embree)\n");
+    if (!skr::run_prt(o.quick, prt, why)) {
+        prt = skr::PrtReport{};
+        prt.requested = true;
+        prt.failed = true;
+        prt.error = why;
+        std::fprintf(stderr, "shadowkit-report: prt: %s\n", why.c_str());
+        return;
     }
+    for (const auto& r : prt.orders)
+        std::fprintf(stderr, "  prt       order %-26s RMS %.2f%%  p95 %.2f%%  bias %+.2f%%  shade %.3f ms\n",
+                     r.label.c_str(), 100.0 * r.rms, 100.0 * r.p95, 100.0 * r.bias, r.shade_ms);
+    std::fprintf(stderr, "  prt       precompute %.2f s, reference %.2f s (stderr %.2f%%)\n", prt.transfer_seconds,
+                 prt.ref_seconds, 100.0 * prt.ref_stderr);
+}
+
+// Step 5b: the light sweep over the built-in visibility scenes and scanned meshes of the run (no
+// light-size variants, no --mesh scene, no prt).
+void run_light_sweep_section(const Options& o, const std::vector<sk::Scene>& scenes,
+                             const std::vector<std::string>& variant_base, const std::vector<sk::Technique*>& chosen,
+                             skr::LightSweep& sweep) {
+    std::vector<sk::Scene> sweep_scenes;
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        sk::Scene b;
+        if (variant_base[i].empty() && (sk::is_scanned_scene(scenes[i].name) || sk::make_builtin_scene(scenes[i].name, b)))
+            sweep_scenes.push_back(scenes[i]);
+    }
+    skr::LightSweepOptions so;
+    so.lights = o.light_sweep;
+    so.mesh_lights = std::max(1, o.light_sweep / 4);  // scanned meshes: a quarter (their frames cost 5 to 20x)
+    std::fprintf(stderr, "  sweep     %d lights per scene (%d per scanned mesh) at %dx%d, %zu scenes\n", so.lights,
+                 so.mesh_lights, so.width, so.height, sweep_scenes.size());
+    skr::run_light_sweep(sweep_scenes, chosen, so, sweep);
+    std::fprintf(stderr, "  sweep     %.1f s\n", sweep.seconds);
+}
+
+// Step 6: report.json, report.md, the plots and index.html. False when a file cannot be written.
+bool write_outputs(const Options& o, const skr::ReportInfo& info, const std::vector<skr::SceneInfo>& infos,
+                   std::vector<skr::Row>& rows, const skr::PrtReport& prt, const skr::LightSweep& sweep) {
     skr::mark_pareto(rows);
     const fs::path out(o.out);
     bool ok = skr::write_json((out / "report.json").string(), info, rows, &prt, &sweep);
@@ -624,7 +656,57 @@ int main(int argc, char** argv) {
     ok = skr::write_light_size_svg((out / "error_vs_light_size.svg").string(), infos, rows) && ok;
     ok = skr::write_flicker_svg((out / "flicker_vs_error.svg").string(), infos, rows) && ok;
     ok = skr::write_html((out / "index.html").string(), info, infos, rows, &sweep) && ok;
-    if (!ok) return fail("cannot write the report files in '" + o.out + "'");
+    return ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    std::string command = "shadowkit-report";
+    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    const int parsed = parse_options(argc, argv, o);  // 1. options
+    if (parsed >= 0) return parsed;
+    auto techniques = sk::make_techniques();
+    const auto scene_names = sk::builtin_scene_names();
+    if (o.list) {
+        print_list(techniques, scene_names);
+        return 0;
+    }
+    // 2. scenes: the names, the scenes, their light-size variants
+    bool run_prt = false;
+    const std::vector<std::string> wanted = wanted_scene_names(o, scene_names, run_prt);
+    std::vector<sk::Scene> scenes;
+    std::string error;
+    if (!load_scenes(o, wanted, scenes, run_prt, error)) return fail(error);
+    const std::vector<std::string> variant_base = add_light_size_variants(o, scenes);
+    // 3. techniques, output directory, GL context
+    std::vector<sk::Technique*> chosen;
+    if (!choose_techniques(o, techniques, chosen, error)) return fail(error);
+    std::error_code ec;
+    fs::create_directories(fs::path(o.out) / "images", ec);
+    if (ec) return fail("cannot create output directory '" + o.out + "': " + ec.message());
+    std::string why;
+    auto gl = skgl::create_context(why);
+    if (!gl) return fail("no OpenGL 4.5 context: " + why);
+    std::fprintf(stderr, "shadowkit-report: %s, %zu scenes x %zu techniques at %dx%d%s\n", gl->renderer.c_str(),
+                 scenes.size(), chosen.size(), o.width, o.height, run_prt ? ", and prt" : "");
+    skr::TemporalOptions temporal;
+    temporal.frames = o.temporal;
+    temporal.max_ms = o.quick ? 20.0 : 40.0;
+    temporal.cache_dir = (fs::path(o.out) / "cache").string();
+    const skr::ReportInfo info = report_info(o, gl->renderer, gl->version, command, temporal);
+    // 4. rows, scene by scene
+    std::vector<skr::Row> rows;
+    std::vector<skr::SceneInfo> infos;
+    for (std::size_t i = 0; i < scenes.size(); ++i) run_scene(o, scenes[i], variant_base[i], chosen, temporal, rows, infos);
+    // 5. sections: PRT, light sweep
+    skr::PrtReport prt;
+    if (run_prt) run_prt_section(o, prt);
+    skr::LightSweep sweep;
+    if (o.light_sweep > 0) run_light_sweep_section(o, scenes, variant_base, chosen, sweep);
+    // 6. outputs
+    if (!write_outputs(o, info, infos, rows, prt, sweep)) return fail("cannot write the report files in '" + o.out + "'");
     std::fprintf(stderr, "shadowkit-report: wrote %s/index.html, report.md, report.json, error_vs_time.svg (%zu rows)\n",
                  o.out.c_str(), rows.size());
     return infos.size() == scenes.size() && !prt.failed ? 0 : 1;
