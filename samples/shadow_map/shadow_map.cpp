@@ -1,13 +1,9 @@
 // samples/shadow_map/shadow_map.cpp - the plain shadow map, top to bottom:
 //   init    the programs: a depth-only pass, and V = the map's compare at each G-buffer point
 //           (glsl/shadow_map.glsl); the V target
-//   update  CPU, every frame: a spot or area light: the kit's fit (shadowkit::light_frustum_fit,
-//           include/shadowkit/light_frustum.hpp), a perspective from the light's center around the
-//           receivers in the camera's view and the casters that can shadow them, when its window is
-//           under half that of the shell's frustum around the casters (sk::fit_light_to_casters,
-//           used otherwise and for line and directional lights: the kit's windows, which hold every
-//           receiver in view, measured worse there); the whole scene's (sk::fit_light) with
-//           fit_casters=off; a point light: the six 90-degree faces of a cube map
+//   update  CPU, every frame: the light's frustum around the casters (sk::fit_light_to_casters: a
+//           perspective from spot and area lights, an orthographic box for a directional light; the
+//           scene's with fit_casters=off), or for a point light the six 90-degree faces of a cube map
 //           contact=on: V times contact_shadow.glsl's pixel-aligned march in the G-buffer's depth
 //           (contact_pixels camera pixels long, a sample every 2nd pixel)
 //   render  GPU, every frame: 1 the casters' depth from the light (bias=polygon_offset: with a
@@ -16,8 +12,6 @@
 //           against the receiver plane's own depth (from the G-buffer's normal); polygon_offset: one
 //           hardware compare (2x2 PCF with GL_LINEAR)
 #include "shadow_map.hpp"
-
-#include <shadowkit/light_frustum.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -95,13 +89,6 @@ float technique_visibility(vec3 p, vec3 n) {
 bool ShadowMap::init(const app::View& v, std::string& why) {
     release();
     cube_ = v.light().type == sk::LightType::Point;
-    caster_boxes_.clear();  // the casters' boxes, for light_frustum_fit
-    for (const sk::Mesh& m : v.scene->meshes) {
-        if (!m.caster) continue;
-        glm::vec3 lo(INFINITY), hi(-INFINITY);
-        for (const glm::vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-        caster_boxes_.insert(caster_boxes_.end(), {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z});
-    }
     snippet_ = app::load_snippet("shadow_map", why);
     if (snippet_.empty()) return false;
     const std::string contact = app::load_snippet("contact_shadow", why);
@@ -128,48 +115,7 @@ bool ShadowMap::make_visibility_program(const ShadowMapSettings& s, std::string&
 void ShadowMap::update(const app::View& v, const ShadowMapSettings& s) {
     const sk::Scene& scene = *v.scene;
     if (!cube_) {
-        const sk::Light& L = v.light();
-        // (a line light keeps the caster fit: on `linear` the kit's narrower window measured 1-5% worse)
-        if (s.fit_casters && L.type != sk::LightType::Directional && L.type != sk::LightType::Linear) {
-            // spot and area lights: the kit's fit (include/shadowkit/light_frustum.hpp), a perspective
-            // from the light's center around the receivers in the camera's view (within the scene's
-            // bounds) and the casters that can shadow them
-            shadowkit::LightFrustumInput in;
-            in.camera_view = v.view;
-            in.camera_proj = v.proj;
-            in.has_scene_bounds = true;
-            in.scene_min = scene.bounds_min();
-            in.scene_max = scene.bounds_max();
-            in.light_position = glm::vec4(L.position, 1.f);
-            in.casters = caster_boxes_.data();
-            in.caster_count = caster_boxes_.size() / 6;
-            in.shadow_map_size = static_cast<std::uint32_t>(std::max(s.size, 4));
-            const shadowkit::LightFrustumResult r = shadowkit::light_frustum_fit(in, nullptr, 0);
-            // BufferTooSmall: the matrices are valid, only the kept casters' indices were not asked for
-            if ((r.status == shadowkit::Status::Ok || r.status == shadowkit::Status::BufferTooSmall) && r.visible) {
-                // The kit's window holds every receiver in view; the shell's sk::fit_light_to_casters
-                // aims at the casters alone, which on a wide floor under small casters is narrower
-                // (finer texels: with the kit's window alone the quick report's duel, fence, grazing
-                // and stack lose 30-100% RMSE). Both are perspectives from the light's
-                // center: the kit's only when its window, (2 / P[0][0]) x (2 / P[1][1]) at unit
-                // distance, is under half the caster fit's (the camera sees a small part of the scene).
-                const sk::LightMatrices lm = sk::fit_light_to_casters(scene);
-                auto window = [](const glm::mat4& P) { return 1.0 / (double(P[0][0]) * double(P[1][1])); };
-                const bool perspective = lm.proj[3][3] == 0.f && lm.proj[2][3] != 0.f;
-                light_vp_[0] = !perspective || window(r.proj) < 0.5 * window(lm.proj) ? r.view_proj : lm.proj * lm.view;
-                return;
-            }
-            // nothing in view, or a light the fit refuses (inside the receivers): the whole scene's frustum
-        } else if (s.fit_casters) {
-            // a directional light: an orthographic box around the casters across the light (the shell's
-            // sk::fit_light_to_casters). light_frustum_fit's box holds every receiver in view, and its
-            // texels are larger: outdoor 0.057 -> 0.095 RMSE, dragon_sun 0.014 -> 0.023 at size 2048
-            // in the quick report (docs/samples.md)
-            const sk::LightMatrices lm = sk::fit_light_to_casters(scene);
-            light_vp_[0] = lm.proj * lm.view;
-            return;
-        }
-        const sk::LightMatrices lm = sk::fit_light(scene);
+        const sk::LightMatrices lm = s.fit_casters ? sk::fit_light_to_casters(scene) : sk::fit_light(scene);
         light_vp_[0] = lm.proj * lm.view;
         return;
     }

@@ -16,7 +16,6 @@
 #include <glm/glm.hpp>
 
 #include <string>
-#include <vector>
 
 #include "app.hpp"
 #include "gbuffer.hpp"
@@ -32,7 +31,7 @@ struct ShadowMapSettings {
     /// point light's cube map keeps the polygon offset). polygon_offset: glPolygonOffset(offset_factor,
     /// offset_units) in the depth pass, the classic slope-scaled bias with hand-picked constants.
     Bias bias = Bias::Auto;
-    bool fit_casters = true;    ///< spot, area: shadowkit::light_frustum_fit (receivers in view, casters that shadow them) when its window is under half sk::fit_light_to_casters'; directional: sk::fit_light_to_casters; off: the whole scene (sk::fit_light)
+    bool fit_casters = true;    ///< the map fits the casters (sk::fit_light_to_casters); off: the whole scene (sk::fit_light)
     float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass (bias=polygon_offset, cube maps)
     float offset_units = 2.f;
     /// Contact shadows (glsl/contact_shadow.glsl): V times a march toward the light in the camera's depth
@@ -86,7 +85,6 @@ private:
     float near_ = 0.f, far_ = 0.f;  // the cube faces' depth range
     GLuint map_ = 0, fbo_[6] = {0, 0, 0, 0, 0, 0};
     GLuint depth_prog_ = 0, vis_prog_ = 0;
-    std::vector<float> caster_boxes_;  // per caster mesh: min xyz, max xyz (light_frustum_fit's casters)
     int vis_variant_ = -1;  // the bias and contact setting the V program was compiled for (its lookup differs)
     std::string snippet_;
     app::VisibilityPass pass_;

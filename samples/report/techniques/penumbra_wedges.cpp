@@ -172,11 +172,12 @@ void add_wedge_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         else
             rows = {"scissor=off depth_bounds=off", "scissor=on depth_bounds=off", "scissor=on depth_bounds=on",
                     "scissor=off depth_bounds=on", "scissor=on depth_bounds=on projection=infinite"};
-        // an open caster: the defaults with the one-sided hard volume under the wedges (before two-sided volumes)
-        if (scene_has_open_caster(scene)) rows.push_back("scissor=on depth_bounds=on open_meshes=lit_only");
+        // an open caster: the defaults with the two-sided volume and silhouette (the default is lit_only)
+        if (scene_has_open_caster(scene)) rows.push_back("scissor=on depth_bounds=on open_meshes=two_sided");
         return rows;
     };
-    spec.mesh_sweep = {"scissor=on depth_bounds=on"};  // scanned meshes: the defaults (the others are speed settings)
+    // scanned meshes: the defaults (the others are speed settings) and the two-sided open-mesh mode
+    spec.mesh_sweep = {"scissor=on depth_bounds=on", "scissor=on depth_bounds=on open_meshes=two_sided"};
     spec.measure = measure;
     add_technique(out, std::move(spec));
 }
