@@ -253,6 +253,13 @@ void contact_gap(std::vector<GapPixel>& px, double& texels, double& world) {
     }
 }
 
+// An orthonormal basis b1, b2 of the plane across the unit direction d (the map's plane for a light
+// along d).
+void basis_across(glm::vec3 d, glm::vec3& b1, glm::vec3& b2) {
+    b1 = glm::normalize(glm::cross(d, std::abs(d.x) < 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
+    b2 = glm::cross(d, b1);
+}
+
 // Whether nothing occludes p's tangent plane within the 2x2 filter's reach in the map: the light rays
 // through a 7x7 grid half a texel apart over +-1.5 texels around p, across the light (in the map's
 // plane, not on the receiver), each first meet the scene no nearer to the light than p's plane (less
@@ -263,8 +270,8 @@ bool plane_clear_within_filter_reach(const sk::EmbreeScene& e, const sk::Light& 
                                      float tol, float far) {
     const bool sun = L.type == sk::LightType::Directional;
     const glm::vec3 d = sun ? -glm::normalize(L.direction) : glm::normalize(L.position - p);  // towards the light
-    const glm::vec3 b1 = glm::normalize(glm::cross(d, std::abs(d.x) < 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
-    const glm::vec3 b2 = glm::cross(d, b1);
+    glm::vec3 b1, b2;
+    basis_across(d, b1, b2);
     for (int i = 0; i < 49; ++i) {
         const float u = 0.5f * float(i % 7 - 3), w = 0.5f * float(i / 7 - 3);
         const glm::vec3 q = p + texel * (u * b1 + w * b2);
@@ -290,8 +297,8 @@ float texel_of_matrix(const glm::mat4& m, glm::vec3 p, glm::vec3 d, int size) {
     const glm::vec3 rw(m[0][3], m[1][3], m[2][3]);
     const glm::vec3 jx = (glm::vec3(m[0][0], m[1][0], m[2][0]) - ndc.x * rw) / c.w;  // quotient rule
     const glm::vec3 jy = (glm::vec3(m[0][1], m[1][1], m[2][1]) - ndc.y * rw) / c.w;
-    const glm::vec3 b1 = glm::normalize(glm::cross(d, std::abs(d.x) < 0.9f ? glm::vec3(1.f, 0.f, 0.f) : glm::vec3(0.f, 1.f, 0.f)));
-    const glm::vec3 b2 = glm::cross(d, b1);
+    glm::vec3 b1, b2;
+    basis_across(d, b1, b2);
     const double a11 = glm::dot(jx, b1), a12 = glm::dot(jx, b2), a21 = glm::dot(jy, b1), a22 = glm::dot(jy, b2);
     const double f = a11 * a11 + a12 * a12 + a21 * a21 + a22 * a22, det = a11 * a22 - a12 * a21;
     const double smin2 = 0.5 * (f - std::sqrt(std::max(0.0, f * f - 4.0 * det * det)));
