@@ -240,6 +240,9 @@ struct SilhouetteFacing {
     std::size_t count = 0;     ///< uint8 facing elements written (a chunk: this chunk's faces)
     std::size_t needed = 0;    ///< uint8 elements the facing buffer needs: adj.face_count()
     std::size_t lit_faces = 0; ///< faces with d > 0 among those written
+    /// Cached-plane functions only (0 elsewhere): runs of the exact predicate for the faces the float
+    /// filter left undecided, at most one per plane class in a row (SilhouettePlanes::plane_class).
+    std::size_t exact_evaluations = 0;
 };
 
 /// Silhouette edges (silhouette_extract and the chunked functions).
@@ -1154,6 +1157,12 @@ struct SilhouettePlanes {
     std::vector<std::uint8_t> edge_boundary;   ///< per 8 adjacency edges: bit j set if edge 8 k + j is a boundary edge
     std::vector<std::uint32_t> edge_vertices;  ///< 2 per adjacency edge: v0, v1
     std::size_t exact_faces = 0;               ///< faces stored as P_f = 0: always decided by the exact path
+    /// Per kept face: the smallest index of a face in exactly the same plane, reached through edges
+    /// whose two faces are exactly coplanar (the face itself when none), | 1u << 31 when that face's
+    /// normal points the other way. Faces of one plane have d of one sign (opposite when flipped),
+    /// so the exact stage runs once per plane, not once per face, when the filter leaves a whole
+    /// plane undecided (a light in a flat region's plane).
+    std::vector<std::uint32_t> plane_class;
 
     /// Kept faces (= the adjacency's face_count()).
     std::size_t face_count() const { return plane_x.size(); }
@@ -1189,9 +1198,12 @@ inline void sil_planes_light(const SilhouettePlanes& pl, const glm::vec4& L, flo
     *bound = sum * 0x1p-20f;
 }
 
-// facing[f] for kept faces f in [begin, end) from the cached planes; returns the lit count.
+// facing[f] for kept faces f in [begin, end) from the cached planes; returns the lit count and
+// adds the exact predicate's runs to *exact_runs (when not null).
 inline std::size_t sil_planes_facing_range(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const glm::vec4& light,
-                                           std::uint8_t* facing, std::size_t begin, std::size_t end) {
+                                           std::uint8_t* facing, std::size_t begin, std::size_t end,
+                                           std::size_t* exact_runs_out = nullptr) {
+    std::size_t exact_runs = 0;
     float Lf[4], bound = 0.0f;
     sil_planes_light(pl, light, Lf, &bound);
     const float* px = pl.plane_x.data();
@@ -1200,8 +1212,17 @@ inline std::size_t sil_planes_facing_range(const SilhouetteAdjacency& adj, const
     const float* pw = pl.plane_w.data();
     const std::uint32_t* fi = adj.faces.data();
     const glm::vec3* pos = pl.positions.data();
+    const std::uint32_t* cls = pl.plane_class.data();
+    std::uint32_t memo_class = 0xFFFFFFFFu;  // the last plane class decided exactly, and its d's sign
+    int memo_sign = 0;
     auto exact = [&](std::size_t f) -> std::uint8_t {
-        return sil_face_sign(pos[fi[3 * f]], pos[fi[3 * f + 1]], pos[fi[3 * f + 2]], light) == 1 ? 1u : 0u;
+        const std::uint32_t c = cls[f] & 0x7FFFFFFFu;
+        if (c != memo_class) {  // faces of one plane class share d's sign (flipped: the opposite)
+            memo_sign = sil_face_sign(pos[fi[3 * std::size_t(c)]], pos[fi[3 * std::size_t(c) + 1]], pos[fi[3 * std::size_t(c) + 2]], light);
+            memo_class = c;
+            ++exact_runs;
+        }
+        return (cls[f] & 0x80000000u ? -memo_sign : memo_sign) == 1 ? 1u : 0u;
     };
     std::size_t lit = 0, i = begin;
 #if defined(SHADOWKIT_SIL_SSE2)
@@ -1276,6 +1297,7 @@ inline std::size_t sil_planes_facing_range(const SilhouetteAdjacency& adj, const
         facing[i] = v;
         lit += v;
     }
+    if (exact_runs_out) *exact_runs_out += exact_runs;
     return lit;
 }
 
@@ -1284,7 +1306,8 @@ inline Status sil_check_planes(const SilhouetteAdjacency& adj, const SilhouetteP
         pl.face_count() != adj.face_count() || pl.edge_faces.size() != adj.edges.size() ||
         pl.edge_boundary.size() != (adj.edges.size() + 7) / 8 ||
         pl.edge_vertices.size() != 2 * adj.edges.size() || pl.positions.size() != adj.vertex_count ||
-        pl.plane_y.size() != pl.face_count() || pl.plane_z.size() != pl.face_count() || pl.plane_w.size() != pl.face_count())
+        pl.plane_y.size() != pl.face_count() || pl.plane_z.size() != pl.face_count() || pl.plane_w.size() != pl.face_count() ||
+        pl.plane_class.size() != pl.face_count())
         return Status::InvalidArgument;
     return Status::Ok;
 }
@@ -1483,6 +1506,52 @@ inline std::size_t sil_planes_extract_range(const SilhouetteAdjacency& adj, cons
     return sil_planes_extract_impl<false>(adj, pl, facing, edge_indices, edge_flags, room, begin, end, nonmanifold, 0u, r);
 }
 
+// Union-find root with path halving (build time only).
+inline std::uint32_t sil_class_root(std::vector<std::uint32_t>& parent, std::uint32_t f) {
+    while (parent[f] != f) {
+        parent[f] = parent[parent[f]];
+        f = parent[f];
+    }
+    return f;
+}
+
+// SilhouettePlanes::plane_class: faces joined across every manifold edge whose two faces are exactly
+// coplanar (the far vertex of f1 exactly on f0's plane: sil_face_sign == 0), each class's root its
+// smallest face; flipped when the normals (relative 2^-30, exactly parallel: the sign is safe) oppose.
+inline void sil_planes_classes(const SilhouetteAdjacency& adj, const glm::vec3* positions, SilhouettePlanes& pl) {
+    const std::size_t fc = adj.face_count();
+    std::vector<std::uint32_t> parent(fc);
+    for (std::size_t f = 0; f < fc; ++f) parent[f] = static_cast<std::uint32_t>(f);
+    const std::uint32_t* fi = adj.faces.data();
+    for (const SilhouetteEdge& e : adj.edges) {
+        if (e.f1 == kSilhouetteNoFace || e.f0 == e.f1) continue;
+        std::uint32_t far = fi[3 * std::size_t(e.f1)];
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t v = fi[3 * std::size_t(e.f1) + std::size_t(k)];
+            if (far == e.v0 || far == e.v1) far = v;
+        }
+        const glm::vec3* A = positions;
+        if (sil_face_sign(A[fi[3 * std::size_t(e.f0)]], A[fi[3 * std::size_t(e.f0) + 1]], A[fi[3 * std::size_t(e.f0) + 2]],
+                          glm::vec4(A[far], 1.0f)) != 0)
+            continue;
+        const std::uint32_t r0 = sil_class_root(parent, e.f0), r1 = sil_class_root(parent, e.f1);
+        if (r0 < r1) parent[r1] = r0;
+        else if (r1 < r0) parent[r0] = r1;
+    }
+    pl.plane_class.resize(fc);
+    const glm::vec4 axes[3] = {glm::vec4(1.0f, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)};
+    auto normal = [&](std::uint32_t f) {
+        const glm::vec3 &a = positions[fi[3 * std::size_t(f)]], &b = positions[fi[3 * std::size_t(f) + 1]],
+                        &c = positions[fi[3 * std::size_t(f) + 2]];
+        return glm::dvec3(sil_face_value(a, b, c, axes[0]), sil_face_value(a, b, c, axes[1]), sil_face_value(a, b, c, axes[2]));
+    };
+    for (std::size_t f = 0; f < fc; ++f) {
+        const std::uint32_t r = sil_class_root(parent, static_cast<std::uint32_t>(f));
+        const bool flip = r != f && [&] { const glm::dvec3 a = normal(static_cast<std::uint32_t>(f)), b = normal(r); return a.x * b.x + a.y * b.y + a.z * b.z < 0.0; }();
+        pl.plane_class[f] = r | (flip ? 0x80000000u : 0u);
+    }
+}
+
 } // namespace detail
 
 /// Once per rigid mesh (allocates): the cached face planes of `adj`'s kept faces for the fast exact
@@ -1552,6 +1621,7 @@ inline SilhouettePlanes silhouette_build_planes(const SilhouetteAdjacency& adj, 
         pl.plane_z[f] = out[2];
         pl.plane_w[f] = out[3];
     }
+    detail::sil_planes_classes(adj, positions, pl);
     pl.edge_faces.resize(adj.edges.size());
     pl.edge_boundary.assign((adj.edges.size() + 7) / 8, 0);
     pl.edge_vertices.resize(2 * adj.edges.size());
@@ -1578,7 +1648,7 @@ inline SilhouetteFacing silhouette_compute_facing_planes(const SilhouetteAdjacen
     r.needed = adj.face_count();
     r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
     if (r.status != Status::Ok) return r;
-    r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, 0, r.needed);
+    r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, 0, r.needed, &r.exact_evaluations);
     r.count = r.needed;
     return r;
 }
@@ -1596,7 +1666,7 @@ inline SilhouetteFacing silhouette_compute_facing_planes_chunk(const SilhouetteA
     if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
     const std::size_t b = detail::sil_chunk_begin(fc, chunk, chunk_count), e = detail::sil_chunk_begin(fc, chunk + 1, chunk_count);
-    r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, b, e);
+    r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, b, e, &r.exact_evaluations);
     r.count = e - b;
     return r;
 }

@@ -15,6 +15,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -553,4 +554,166 @@ TEST_CASE("cached planes: the float filter's error bound (2^-20 ||L_f||_1) holds
     MESSAGE(faces_checked, " face-light pairs: the largest filter error was ", worst,
             " x 2^-24 ||L_f||_1 (proven < 12.2, the code's bound 16)");
     CHECK(faces_checked > 20000);
+}
+
+namespace {
+
+// An open box of five flat grids (k x k quads a side, every vertex on an integer lattice: each side
+// one exact plane, the top open) plus `folds` folded-back triangles on rim edges: on a rim edge
+// (a, b) of face (a, b, c) the face (b, a, d), d = (a + c) / 2 (exactly in the side's axis-aligned
+// plane, on c's side of the edge): the same plane, the opposite normal (a flipped class member).
+Mesh lattice_box(int k, int folds, std::mt19937& rng, float scale, glm::vec3 offset) {
+    Mesh m;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            if (axis == 1 && side == 1) continue;  // open top
+            const std::uint32_t base = static_cast<std::uint32_t>(m.p.size());
+            for (int i = 0; i <= k; ++i)
+                for (int j = 0; j <= k; ++j) {
+                    glm::vec3 p(0.0f);
+                    p[axis] = static_cast<float>(side * k);
+                    p[(axis + 1) % 3] = static_cast<float>(i);
+                    p[(axis + 2) % 3] = static_cast<float>(j);
+                    m.p.push_back(p * scale + offset);
+                }
+            auto id = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (k + 1) + j); };
+            for (int i = 0; i < k; ++i)
+                for (int j = 0; j < k; ++j) {
+                    const std::uint32_t a = id(i, j), b = id(i, j + 1), c = id(i + 1, j), d = id(i + 1, j + 1);
+                    if (side) m.i.insert(m.i.end(), {a, b, d, a, d, c});
+                    else m.i.insert(m.i.end(), {a, d, b, a, c, d});
+                }
+        }
+    // rim edges: directed edges (a, b) of a face whose reverse no face has, with the face's third vertex
+    std::vector<std::array<std::uint32_t, 3>> rim;
+    const std::size_t faces = m.i.size() / 3;
+    for (std::size_t t = 0; t < faces; ++t)
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = m.i[3 * t + std::size_t(e)], b = m.i[3 * t + std::size_t((e + 1) % 3)],
+                                c = m.i[3 * t + std::size_t((e + 2) % 3)];
+            bool shared = false;
+            for (std::size_t u = 0; u < faces && !shared; ++u)
+                for (int g = 0; g < 3; ++g)
+                    if (m.i[3 * u + std::size_t(g)] == b && m.i[3 * u + std::size_t((g + 1) % 3)] == a) shared = true;
+            if (!shared) rim.push_back({a, b, c});
+        }
+    std::shuffle(rim.begin(), rim.end(), rng);
+    for (int f = 0; f < folds && f < static_cast<int>(rim.size()); ++f) {
+        const auto& r = rim[std::size_t(f)];
+        m.p.push_back(0.5f * (m.p[r[0]] + m.p[r[2]]));
+        m.i.insert(m.i.end(), {r[1], r[0], static_cast<std::uint32_t>(m.p.size() - 1)});
+    }
+    return m;
+}
+
+} // namespace
+
+TEST_CASE("cached planes: the exact stage runs once per plane, not per face, when a light is in a flat region's plane (issue #27 item 7)") {
+    // The worst case of the issue: 51,200 faces on the plane y = 3x + 5z with the light in it took the
+    // exact stage for every face (130x the generic case). Faces joined by exactly coplanar edges form
+    // one plane class; the exact predicate runs once per class in a row.
+    Mesh g;
+    const int n = 160;
+    for (int i = 0; i <= n; ++i)
+        for (int k = 0; k <= n; ++k) g.p.emplace_back(float(i), float(3 * i + 5 * k), float(k));
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < n; ++k) {
+            const std::uint32_t a = std::uint32_t(i * (n + 1) + k), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
+            g.i.insert(g.i.end(), {a, b, c, b, d, c});
+        }
+    const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(g.p.data(), g.p.size(), g.i.data(), g.i.size());
+    const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, g.p.data(), g.p.size());
+    REQUIRE(pl.status == sk::Status::Ok);
+    REQUIRE(adj.face_count() == 51200);
+    // one class: every face's root is face 0, none flipped (a consistently wound flat grid)
+    CHECK(std::all_of(pl.plane_class.begin(), pl.plane_class.end(), [](std::uint32_t c) { return c == 0u; }));
+    std::vector<std::uint8_t> fast(adj.face_count()), ref(adj.face_count());
+    const glm::vec4 lights[] = {glm::vec4(-7.0f, 3.0f * -7.0f + 5.0f * 3.0f, 3.0f, 1.0f),  // in the plane
+                                glm::vec4(1.0f, 3.0f, 0.0f, 0.0f),                        // parallel to it
+                                glm::vec4(80.0f, 940.0f, 80.0f, 1.0f)};                   // above it
+    for (const glm::vec4& L : lights) {
+        const sk::SilhouetteFacing rf = sk::silhouette_compute_facing_planes(adj, pl, L, fast.data(), fast.size());
+        const sk::SilhouetteFacing rr = sk::silhouette_compute_facing(adj, g.p.data(), g.p.size(), L, ref.data(), ref.size());
+        REQUIRE(rf.status == sk::Status::Ok);
+        REQUIRE(rr.status == sk::Status::Ok);
+        CHECK(fast == ref);
+        CHECK(rf.lit_faces == rr.lit_faces);
+        INFO("light " << L.x << " " << L.y << " " << L.z << " " << L.w);
+        CHECK(rf.exact_evaluations <= 1u);  // was one per face: 51,200
+    }
+    REQUIRE(sk::silhouette_compute_facing_planes(adj, pl, lights[0], fast.data(), fast.size()).lit_faces == 0u);  // d == 0: unlit
+}
+
+TEST_CASE("property: plane classes (lattice boxes with folded-back faces, lights in their planes) keep the exact bits") {
+    // Six exact planes per box, folds in them with the opposite normal (flipped class members), lights
+    // on lattice points (in one, two or three of the planes), directional lights parallel to sides,
+    // and random ones; every bit equals the independent big-integer sign and the per-face exact path,
+    // serial and chunked, and the exact stage runs at most once per class met in a row.
+    std::mt19937 rng(2707);
+    std::size_t compared = 0, zero = 0, flipped = 0, evaluations = 0, undecided_faces = 0;
+    const float scales[] = {1e-6f, 1.0f, 1e6f};
+    for (int it = 0; it < 300; ++it) {
+        const int k = 1 + static_cast<int>(rng() % 6);
+        const float scale = scales[rng() % 3];
+        const glm::vec3 offset = (rng() % 2) ? glm::vec3(float(rng() % 64), -float(rng() % 64), float(rng() % 64)) * scale : glm::vec3(0.0f);
+        const Mesh m = lattice_box(k, static_cast<int>(rng() % 6), rng, scale, offset);
+        const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(m.p.data(), m.p.size(), m.i.data(), m.i.size());
+        REQUIRE(adj.status == sk::Status::Ok);
+        const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, m.p.data(), m.p.size());
+        REQUIRE(pl.status == sk::Status::Ok);
+        for (std::uint32_t c : pl.plane_class) flipped += (c >> 31);
+        const std::size_t fc = adj.face_count();
+        std::vector<std::uint8_t> fast(fc), ref(fc), chunked(fc);
+        for (int l = 0; l < 12; ++l) {
+            glm::vec4 L;
+            const int kind = static_cast<int>(rng() % 5);
+            if (kind == 0) L = glm::vec4(m.p[rng() % m.p.size()], 1.0f);  // on a lattice point: in up to three planes
+            else if (kind == 4) {  // one ulp off a lattice point across an axis: d tiny, not 0 (the filter cannot tell)
+                glm::vec3 p = m.p[rng() % m.p.size()];
+                const int a = static_cast<int>(rng() % 3);
+                p[a] = std::nextafter(p[a], (rng() & 1) ? INFINITY : -INFINITY);
+                L = glm::vec4(p, 1.0f);
+            }
+            else if (kind == 1) {                                        // parallel to a side
+                glm::vec3 d(0.0f);
+                d[static_cast<int>(rng() % 3)] = (rng() & 1) ? 1.0f : -1.0f;
+                d[static_cast<int>(rng() % 3)] += 0.5f;
+                L = glm::vec4(d, 0.0f);
+            } else if (kind == 2) {  // in a side's plane, off the box
+                glm::vec3 p = glm::vec3(float(rng() % 9) - 1.0f, float(rng() % 9) - 1.0f, float(rng() % 9) - 1.0f);
+                p[static_cast<int>(rng() % 3)] = float((rng() & 1) * static_cast<unsigned>(k));
+                L = glm::vec4(p * scale + offset, 1.0f);
+            } else {
+                std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+                L = glm::vec4(glm::vec3(u(rng), u(rng), u(rng)) * float(k) * scale + offset, 1.0f);
+            }
+            const sk::SilhouetteFacing rf = sk::silhouette_compute_facing_planes(adj, pl, L, fast.data(), fc);
+            REQUIRE(rf.status == sk::Status::Ok);
+            REQUIRE(sk::silhouette_compute_facing(adj, m.p.data(), m.p.size(), L, ref.data(), fc).status == sk::Status::Ok);
+            CHECK(fast == ref);
+            const std::size_t chunks = 1 + rng() % 5;
+            for (std::size_t c = 0; c < chunks; ++c)
+                REQUIRE(sk::silhouette_compute_facing_planes_chunk(adj, pl, L, chunked.data(), fc, c, chunks).status == sk::Status::Ok);
+            CHECK(chunked == ref);
+            std::size_t classes_undecided = 0, last = 0xFFFFFFFFu;
+            for (std::size_t f = 0; f < fc; ++f) {
+                const int s = exact_ref::facing_sign(m.p[adj.faces[3 * f]], m.p[adj.faces[3 * f + 1]], m.p[adj.faces[3 * f + 2]], L);
+                zero += s == 0;
+                CHECK((fast[f] != 0) == (s > 0));
+                ++compared;
+                if (s == 0) {  // surely undecided by the filter: one run per change of class
+                    ++undecided_faces;
+                    if ((pl.plane_class[f] & 0x7FFFFFFFu) != last) ++classes_undecided;
+                    last = pl.plane_class[f] & 0x7FFFFFFFu;
+                }
+            }
+            evaluations += rf.exact_evaluations;
+            CHECK(rf.exact_evaluations <= fc);
+        }
+    }
+    MESSAGE(compared << " facings compared, " << zero << " with d == 0 (light in the face's plane), " << flipped
+                     << " flipped class members, " << evaluations << " exact runs for " << undecided_faces << " faces with d == 0");
+    CHECK(zero > 10000);
+    CHECK(flipped > 100);
+    CHECK(evaluations * 4 < undecided_faces);  // the classes share the exact stage
 }
