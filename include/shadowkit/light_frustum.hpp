@@ -1149,4 +1149,163 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
     return res;
 }
 
+/// Inputs of light_frustum_fit_casters. Fields marked (required) default to a value the fit rejects.
+struct LightCasterFitInput {
+    /// The light, see "Lights:" above (required: the default (0, 0, 0, 0) gives Status::InvalidLight).
+    glm::vec4 light_position{0.0f};
+    /// The casters' bounding box (the union of every caster), world units (required: min <= max).
+    glm::vec3 caster_min{0.0f};
+    glm::vec3 caster_max{-1.0f};
+    /// Every receiver (the scene's bounding box): the map's depth range reaches its farthest point
+    /// (required: min <= max).
+    glm::vec3 receiver_min{0.0f};
+    glm::vec3 receiver_max{-1.0f};
+    /// [Units: wu] [Limit: >= 0] A point light's emitter radius (an area light around light_position):
+    /// the cone widens by the penumbra it throws past the casters. 0: a hard shadow's cone.
+    float emitter_radius_world = 0.0f;
+    /// [Units: rad] [Limit: (0, 1.5]] The widest perspective half angle; casters that need a wider
+    /// cone (or surround the light) give LightInsideVolume: use a cube map or the light's own cone.
+    float max_half_angle_radians = 1.4f;
+    /// Point lights: near plane never closer than min_near_ratio * far. [Limit: (0, 1)]
+    float min_near_ratio = 2e-3f;
+    /// Depth convention of the matrix built for the light.
+    ClipDepth light_depth = ClipDepth::NegativeOneToOne;
+    bool light_reversed_z = false;
+};
+
+namespace detail {
+
+inline bool lf_box_ok(const glm::vec3& mn, const glm::vec3& mx) {
+    return lf_finite(mn) && lf_finite(mx) && mn.x <= mx.x && mn.y <= mx.y && mn.z <= mx.z;
+}
+
+inline Status lf_caster_fit_check(const LightCasterFitInput& in) {
+    if (!lf_finite(in.caster_min) || !lf_finite(in.caster_max) || !lf_finite(in.receiver_min) || !lf_finite(in.receiver_max) ||
+        !std::isfinite(in.emitter_radius_world) || !std::isfinite(in.max_half_angle_radians) || !std::isfinite(in.min_near_ratio))
+        return Status::NonFinite;
+    if (!lf_box_ok(in.caster_min, in.caster_max) || !lf_box_ok(in.receiver_min, in.receiver_max) ||
+        !(in.emitter_radius_world >= 0.0f) || !(in.max_half_angle_radians > 0.0f && in.max_half_angle_radians <= 1.5f) ||
+        !(in.min_near_ratio > 0.0f && in.min_near_ratio < 1.0f) ||
+        (in.light_depth != ClipDepth::NegativeOneToOne && in.light_depth != ClipDepth::ZeroToOne))
+        return Status::InvalidArgument;
+    return lf_check_light(in.light_position);
+}
+
+// Directional: the view along the light, an orthographic box whose x/y is the casters' light-space
+// rectangle and whose depth spans the receivers' box (a caster outside it still writes its depth).
+inline void lf_caster_fit_directional(const LightCasterFitInput& in, const glm::dvec3& f, LfLightFit& F) {
+    const glm::dvec3 rmn(in.receiver_min), rmx(in.receiver_max), cmn(in.caster_min), cmx(in.caster_max);
+    F.view = lf_look_dir(0.5 * (rmn + rmx), f, lf_stable_up(f));
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec4 v = F.view * glm::dvec4((c & 1) ? cmx.x : cmn.x, (c & 2) ? cmx.y : cmn.y, (c & 4) ? cmx.z : cmn.z, 1.0);
+        lo = glm::min(lo, glm::dvec2(v)), hi = glm::max(hi, glm::dvec2(v));
+    }
+    const glm::dvec2 dr = lf_box_light_depths(F.view, rmn, rmx), dc = lf_box_light_depths(F.view, cmn, cmx);
+    const double pad = 1e-3 * std::fmax(glm::length(rmx - rmn), 1e-30);
+    F.nearp = std::fmin(dr.x, dc.x) - pad;
+    F.farp = std::fmax(dr.y, dc.y) + pad;
+    for (int k = 0; k < 2; ++k)  // a caster box edge-on to the light keeps a window of at least `pad`
+        if (!(hi[k] - lo[k] >= pad)) {
+            const double m = 0.5 * (lo[k] + hi[k]);
+            lo[k] = m - 0.5 * pad;
+            hi[k] = m + 0.5 * pad;
+        }
+    // the float matrix's rounding (a box far from the origin): 1e-4 of the window plus 64 float ulps
+    // of the largest coordinate, so the casters' corners map inside [-1, 1] through the float matrix
+    double big = 0.0;
+    for (int k = 0; k < 3; ++k)
+        big = std::fmax(big, std::fmax(std::fmax(std::fabs(rmn[k]), std::fabs(rmx[k])), std::fmax(std::fabs(cmn[k]), std::fabs(cmx[k]))));
+    for (int k = 0; k < 2; ++k) {
+        const double m = 1e-4 * (hi[k] - lo[k]) + 64.0 * 5.9604644775390625e-8 * big;
+        lo[k] -= m;
+        hi[k] += m;
+    }
+    lf_eye_behind(F.view, F.nearp, F.farp);
+    F.proj = lf_ortho(lo.x, hi.x, lo.y, hi.y, F.nearp, F.farp);
+}
+
+// Point: the view from the light toward the casters' box center, the cone just wide enough for its
+// corners (2% margin) plus the emitter's penumbra seen from the nearest corner (atan(r / z_min)); near
+// 0.9 of the nearest caster corner, far 1.01 of the farthest receiver corner.
+inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec3& L, LfLightFit& F) {
+    const glm::dvec3 rmn(in.receiver_min), rmx(in.receiver_max), cmn(in.caster_min), cmx(in.caster_max);
+    const glm::dvec3 axis = 0.5 * (cmn + cmx) - L;
+    const double len = glm::length(axis);
+    if (!(len > 0.0) || !std::isfinite(len)) return Status::LightInsideVolume;
+    const glm::dvec3 f = axis / len;
+    F.view = lf_look_dir(L, f, lf_stable_up(f));
+    double tan_max = 0.0, zmin = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec4 v = F.view * glm::dvec4((c & 1) ? cmx.x : cmn.x, (c & 2) ? cmx.y : cmn.y, (c & 4) ? cmx.z : cmn.z, 1.0);
+        if (!(-v.z > 1e-9 * len)) return Status::LightInsideVolume;  // a corner beside or behind the light
+        tan_max = std::fmax(tan_max, std::fmax(std::fabs(v.x), std::fabs(v.y)) / -v.z);
+        zmin = std::fmin(zmin, -v.z);
+    }
+    // + 64 float ulps of the largest coordinate over z_min: the float matrix's rounding (a tiny box far away)
+    double big = glm::length(L);
+    for (int k = 0; k < 3; ++k) big = std::fmax(big, std::fmax(std::fabs(cmn[k]), std::fabs(cmx[k])));
+    const double half = std::atan(1.02 * tan_max + double(in.emitter_radius_world) / zmin + 64.0 * 5.9604644775390625e-8 * big / zmin);
+    if (!(half <= double(in.max_half_angle_radians))) return Status::LightInsideVolume;
+    const glm::dvec2 dr = lf_box_light_depths(F.view, rmn, rmx);
+    F.farp = 1.01 * std::fmax(dr.y, zmin);
+    F.nearp = std::fmax(0.9 * zmin, double(in.min_near_ratio) * F.farp);
+    if (!(F.nearp < F.farp)) return Status::Overflow;
+    const double t = F.nearp * std::tan(half);
+    F.proj = lf_frustum(-t, t, -t, t, F.nearp, F.farp);
+    return Status::Ok;
+}
+
+}  // namespace detail
+
+/// A light's map around its casters, deep enough for every receiver: what a scene needs when the
+/// casters cover less than the light sees (a spot or area light over a few objects, a sun over a
+/// small scene), with no camera involved (Brabec, Annen & Seidel 2002, sec. 3: fit the light frustum
+/// to the objects that can cast; a receiver outside the casters' cone is lit, so the map need not
+/// hold it). Directional light: an orthographic box along the light, its x/y the casters' box
+/// across the light, its depth the receivers' and casters' range. Point light: a perspective cone
+/// from the light toward the casters' box center, just wide enough for the box (+2%) and, with
+/// emitter_radius_world > 0, the penumbra an emitter of that radius throws past them; near plane at
+/// 0.9 of the nearest caster corner (never closer than min_near_ratio * far), far plane 1.01 of the
+/// farthest receiver corner. The roll about the light axis is the stable fit's (a function of the
+/// direction alone). Result: view, proj, view_proj, near_plane, far_plane, visible = true (no caster
+/// culling: count, needed stay 0). Statuses: InvalidLight; NonFinite / InvalidArgument (a box with min
+/// > max, a limit outside its range); LightInsideVolume: a point light inside or beside the casters'
+/// box (a corner at or behind its position) or a cone wider than max_half_angle_radians (use a cube
+/// map, or the light's own cone); Overflow: a matrix that is not finite in float.
+inline LightFrustumResult light_frustum_fit_casters(const LightCasterFitInput& in) {
+    using namespace detail;
+    LightFrustumResult res;
+    res.status = lf_caster_fit_check(in);
+    if (res.status != Status::Ok) return res;
+    const bool directional = in.light_position.w == 0.0f;
+    const glm::dvec3 lxyz(in.light_position);
+    LfLightFit F;
+    if (directional) {
+        const glm::dvec3 f = -glm::normalize(lxyz);  // the light view's forward axis: where the rays travel
+        if (!lf_finite(f)) return res.status = Status::Overflow, res;
+        lf_caster_fit_directional(in, f, F);
+    } else {
+        const glm::dvec3 L = lxyz / double(in.light_position.w);
+        if (!lf_finite(L)) return res.status = Status::Overflow, res;
+        const Status s = lf_caster_fit_point(in, L, F);
+        if (s != Status::Ok) return res.status = s, res;
+    }
+    const glm::dmat4 lproj = lf_depth_convention(in.light_depth, in.light_reversed_z) * F.proj;
+    res.view = glm::mat4(F.view);
+    res.proj = glm::mat4(lproj);
+    res.view_proj = glm::mat4(lproj * F.view);
+    res.near_plane = static_cast<float>(F.nearp);
+    res.far_plane = static_cast<float>(F.farp);
+    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_plane) ||
+        !std::isfinite(res.far_plane) || !(res.near_plane < res.far_plane)) {
+        LightFrustumResult bad;
+        bad.status = Status::Overflow;
+        return bad;
+    }
+    res.visible = true;
+    res.status = Status::Ok;
+    return res;
+}
+
 }  // namespace shadowkit

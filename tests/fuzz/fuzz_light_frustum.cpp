@@ -1,4 +1,4 @@
-// libFuzzer target for shadowkit/light_frustum.hpp: light_frustum_fit and light_frustum_slice_corners
+// libFuzzer target for shadowkit/light_frustum.hpp: light_frustum_fit, light_frustum_fit_casters and light_frustum_slice_corners
 // on matrices, light, bounds, casters from raw bytes (NaN/Inf, huge counts clamped by the data size,
 // null pointers with counts, cameras with a near plane at or behind the eye, epsilon-tweaked infinite
 // projections); traps on Ok with a non-finite output, count > capacity, a write past capacity, Ok for a
@@ -181,6 +181,44 @@ glm::mat4 camera_projection(shadowkit_fuzz::FuzzInput& r, uint8_t mode, shadowki
 
 }  // namespace
 
+// light_frustum_fit_casters: raw or well-formed boxes, lights and limits; Ok means finite matrices,
+// 0 < near < far, and every caster box corner inside the clip volume through the float view_proj
+// (for boxes the fuzzer keeps within 1e4 of the origin; the float rounding is the fit's own margin).
+void caster_fit(shadowkit_fuzz::FuzzInput& r) {
+    const uint8_t f = r.u8();
+    const bool raw = (f & 1) != 0;
+    shadowkit::LightCasterFitInput in;
+    in.caster_min = r.vec3(raw, 8.0f);
+    in.caster_max = in.caster_min + ((f & 2) ? r.vec3(raw, 4.0f) : glm::abs(r.vec3(raw, 4.0f)));
+    in.receiver_min = glm::min(in.caster_min, r.vec3(raw, 16.0f));
+    in.receiver_max = glm::max(in.caster_max, r.vec3(raw, 16.0f));
+    in.light_position = (f & 4) ? glm::vec4(r.vec3(raw, 32.0f), 1.0f) : glm::vec4(r.vec3(raw, 1.0f), (f & 8) ? r.f32() : 0.0f);
+    in.emitter_radius_world = (f & 16) ? r.f32() : std::fabs(r.value(false, 1.0f));
+    if (f & 32) in.max_half_angle_radians = r.f32();
+    if (f & 64) in.min_near_ratio = r.f32();
+    in.light_depth = (f & 128) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
+    in.light_reversed_z = r.boolean();
+    const shadowkit::LightFrustumResult res = shadowkit::light_frustum_fit_casters(in);
+    const glm::vec4 L = in.light_position;
+    const bool light_bad = !all_finite(L) || L.w < 0.0f || (L.w == 0.0f && L.x == 0.0f && L.y == 0.0f && L.z == 0.0f);
+    if (res.status != shadowkit::Status::Ok) return;
+    if (light_bad) __builtin_trap();
+    if (!all_finite(res.view_proj) || !all_finite(res.view) || !all_finite(res.proj)) __builtin_trap();
+    if (!(res.near_plane > 0.0f && res.near_plane < res.far_plane) || !res.visible) __builtin_trap();
+    if (!(in.caster_min.x <= in.caster_max.x && in.caster_min.y <= in.caster_max.y && in.caster_min.z <= in.caster_max.z))
+        __builtin_trap();
+    float big = 0.0f;
+    for (int k = 0; k < 3; ++k) big = std::fmax(big, std::fmax(std::fabs(in.caster_min[k]), std::fabs(in.caster_max[k])));
+    if (!(big < 1e4f)) return;
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec4 p((c & 1) ? in.caster_max.x : in.caster_min.x, (c & 2) ? in.caster_max.y : in.caster_min.y,
+                          (c & 4) ? in.caster_max.z : in.caster_min.z, 1.0f);
+        const glm::vec4 q = res.view_proj * p;
+        if (!(q.w > 0.0f)) __builtin_trap();
+        if (!(std::fabs(q.x) <= q.w * 1.0001f && std::fabs(q.y) <= q.w * 1.0001f)) __builtin_trap();
+    }
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     shadowkit_fuzz::FuzzInput r(data, size);
     const uint8_t flags = r.u8();
@@ -268,5 +306,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         !corners.visible)
         __builtin_trap();
     extruded_volume_and_culling(r);
+    caster_fit(r);
     return 0;
 }

@@ -1386,3 +1386,170 @@ TEST_CASE("light_frustum: directional fits keep every receiver and caster in fro
     MESSAGE("directional eye placement: " << fits << " fits, " << points << " receiver points");
     CHECK(fits > 300);
 }
+
+// ------------------------------------------------------------------ light_frustum_fit_casters
+namespace {
+
+// Clip position of p through the float matrix a vertex shader uses, and whether it lies in the
+// clip volume of depth convention cd within a relative tolerance.
+bool caster_fit_inside(const glm::mat4& vp, const glm::vec3& p, ClipDepth cd, float tol, float* depth01 = nullptr) {
+    const glm::vec4 c = vp * glm::vec4(p, 1.0f);
+    if (!(c.w > 0.0f)) return false;
+    const float x = c.x / c.w, y = c.y / c.w, z = c.z / c.w;
+    const float zlo = cd == ClipDepth::ZeroToOne ? 0.0f : -1.0f;
+    if (depth01) *depth01 = cd == ClipDepth::ZeroToOne ? z : 0.5f * z + 0.5f;
+    return std::fabs(x) <= 1.0f + tol && std::fabs(y) <= 1.0f + tol && z >= zlo - tol && z <= 1.0f + tol;
+}
+
+}  // namespace
+
+TEST_CASE("light_frustum_fit_casters: closed form (a point light above a box, a sun)") {
+    LightCasterFitInput in;
+    in.light_position = glm::vec4(0.0f, 5.0f, 0.0f, 1.0f);
+    in.caster_min = glm::vec3(-1.0f, 0.0f, -1.0f);
+    in.caster_max = glm::vec3(1.0f, 1.0f, 1.0f);
+    in.receiver_min = glm::vec3(-4.0f, 0.0f, -4.0f);
+    in.receiver_max = glm::vec3(4.0f, 1.0f, 4.0f);
+    LightFrustumResult r = light_frustum_fit_casters(in);
+    REQUIRE(r.status == Status::Ok);
+    // straight down at the box's center (0, 0.5, 0); nearest corner depth 4, widest tan 1/4
+    CHECK(r.near_plane == doctest::Approx(0.9 * 4.0));
+    CHECK(r.far_plane == doctest::Approx(1.01 * 5.0));
+    CHECK(r.proj[0][0] == doctest::Approx(1.0 / (1.02 * 0.25)).epsilon(3e-5));  // cot(half) = 1 / (1.02 tan_max) (+ 64 ulps of 5 / 4)
+    // the floor right under a caster corner's silhouette lies at x = 1 * 5 / 4 = 1.25: inside; 1.4 is outside
+    CHECK(caster_fit_inside(r.view_proj, glm::vec3(1.25f, 0.0f, 0.0f), in.light_depth, 0.0f));
+    CHECK(!caster_fit_inside(r.view_proj, glm::vec3(1.4f, 0.0f, 0.0f), in.light_depth, 0.0f));
+    // an emitter of radius 1 widens the cone by atan(1 / 4) at the nearest corner
+    in.emitter_radius_world = 1.0f;
+    r = light_frustum_fit_casters(in);
+    REQUIRE(r.status == Status::Ok);
+    CHECK(r.proj[0][0] == doctest::Approx(1.0 / (1.02 * 0.25 + 0.25)).epsilon(3e-5));
+    // a sun: the window is the box across the light, the depth spans the receivers
+    in = LightCasterFitInput{};
+    in.light_position = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+    in.caster_min = glm::vec3(-1.0f, 0.0f, -2.0f);
+    in.caster_max = glm::vec3(1.0f, 1.0f, 2.0f);
+    in.receiver_min = glm::vec3(-10.0f, -3.0f, -10.0f);
+    in.receiver_max = glm::vec3(10.0f, 1.0f, 10.0f);
+    r = light_frustum_fit_casters(in);
+    REQUIRE(r.status == Status::Ok);
+    CHECK(2.0 / double(r.proj[0][0]) == doctest::Approx(2.0).epsilon(3e-4));  // x extent: the box's 2 units (+ 1e-4 a side)
+    CHECK(2.0 / double(r.proj[1][1]) == doctest::Approx(4.0).epsilon(3e-4));  // y extent: its 4 units (light down: map y = -z)
+    CHECK(r.far_plane - r.near_plane == doctest::Approx(4.0).epsilon(0.02));  // receivers from y = 1 down to -3 (+ 1e-3 of the diagonal)
+    CHECK(r.near_plane > 0.0f);                                                  // the eye before every receiver
+}
+
+TEST_CASE("property: light_frustum_fit_casters holds every caster and every shadow it throws (thousands of lights, scales, conventions)") {
+    // Independent check by sampling: each caster box corner maps inside the clip volume through the
+    // float view_proj; for point lights, points on the shadows' rays (from the light, or from a point of
+    // an emitter of radius r, through a random caster point, on to the receivers' box) map inside too;
+    // every receiver corner's depth is within the map's range (no receiver clipped away by far).
+    std::mt19937 rng(2027);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int ok = 0, inside_volume = 0, points = 0;
+    const float scales[] = {1e-6f, 1e-3f, 1.0f, 1e3f, 1e6f};
+    for (int it = 0; it < 4000; ++it) {
+        const float s = scales[rng() % 5];
+        const glm::vec3 off = (rng() % 2) ? glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 100.0f * s : glm::vec3(0.0f);
+        LightCasterFitInput in;
+        const glm::vec3 c0 = (glm::vec3(u(rng), u(rng), u(rng)) * 4.0f - 2.0f) * s + off;
+        const glm::vec3 c1 = c0 + glm::vec3(u(rng), u(rng), u(rng)) * 2.0f * s;
+        in.caster_min = c0;
+        in.caster_max = c1;
+        in.receiver_min = glm::min(c0, glm::vec3(-5.0f, -1.0f, -5.0f) * s + off);
+        in.receiver_max = glm::max(c1, glm::vec3(5.0f, 3.0f, 5.0f) * s + off);
+        const bool directional = rng() % 3 == 0;
+        const glm::vec3 dir = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) + 0.02f, u(rng) - 0.5f));
+        const float dist = (2.0f + 20.0f * u(rng)) * s;
+        in.light_position = directional ? glm::vec4(dir, 0.0f) : glm::vec4(0.5f * (c0 + c1) + dir * dist, 1.0f);
+        in.emitter_radius_world = directional || rng() % 2 ? 0.0f : u(rng) * 0.5f * s;
+        in.light_depth = rng() % 2 ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
+        in.light_reversed_z = rng() % 2 == 0;
+        const LightFrustumResult r = light_frustum_fit_casters(in);
+        if (r.status == Status::LightInsideVolume) {
+            ++inside_volume;
+            CHECK(!directional);
+            continue;
+        }
+        REQUIRE(r.status == Status::Ok);
+        ++ok;
+        CHECK(r.visible);
+        CHECK((r.near_plane > 0.0f && r.near_plane < r.far_plane));
+        const float tol = 1e-4f;
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 p((c & 1) ? c1.x : c0.x, (c & 2) ? c1.y : c0.y, (c & 4) ? c1.z : c0.z);
+            INFO("scale " << s << " offset " << off.x << " light " << in.light_position.x << " " << in.light_position.y << " "
+                          << in.light_position.z << " " << in.light_position.w << " corner " << p.x << " " << p.y << " " << p.z);
+            CHECK(caster_fit_inside(r.view_proj, p, in.light_depth, 0.0f));  // in float, no tolerance
+            const glm::vec3 q((c & 1) ? in.receiver_max.x : in.receiver_min.x, (c & 2) ? in.receiver_max.y : in.receiver_min.y,
+                              (c & 4) ? in.receiver_max.z : in.receiver_min.z);
+            const float d = -(r.view * glm::vec4(q, 1.0f)).z;  // light-view distance
+            if (directional) CHECK((d >= r.near_plane * (1.0f - tol) && d <= r.far_plane * (1.0f + tol)));
+            else if (d > 0.0f) CHECK(d <= r.far_plane * (1.0f + tol));
+        }
+        if (directional) continue;
+        const glm::vec3 L = glm::vec3(in.light_position);
+        for (int k = 0; k < 16; ++k) {
+            const glm::vec3 cp = c0 + glm::vec3(u(rng), u(rng), u(rng)) * (c1 - c0);
+            glm::vec3 e(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f);
+            e = glm::length(e) > 0.0f ? glm::normalize(e) * in.emitter_radius_world * u(rng) : glm::vec3(0.0f);
+            const glm::vec3 from = L + e;  // a point of the emitter
+            const glm::vec3 ray = cp - from;
+            // past the caster point, up to the receivers' farthest depth from the light
+            const float t = 1.0f + u(rng) * 0.9f * (r.far_plane / 1.01f - glm::length(cp - L)) / glm::length(ray);
+            const glm::vec3 p = from + ray * std::max(t, 1.0f);
+            if (glm::length(p - L) > r.far_plane * 0.99f) continue;
+            ++points;
+            INFO("scale " << s << " emitter " << in.emitter_radius_world);
+            CHECK(caster_fit_inside(r.view_proj, p, in.light_depth, 1e-3f));
+        }
+    }
+    MESSAGE(ok << " fits, " << inside_volume << " lights beside or inside their casters (LightInsideVolume), " << points
+               << " shadow points checked");
+    CHECK(ok > 3000);
+    CHECK(points > 20000);
+}
+
+TEST_CASE("light_frustum_fit_casters: statuses (bad boxes, NaN, limits, the light among its casters, a cone too wide)") {
+    LightCasterFitInput in;
+    CHECK(light_frustum_fit_casters(in).status == Status::InvalidArgument);  // defaults: empty boxes
+    in.caster_min = glm::vec3(-1.0f);
+    in.caster_max = glm::vec3(1.0f);
+    in.receiver_min = glm::vec3(-5.0f);
+    in.receiver_max = glm::vec3(5.0f);
+    CHECK(light_frustum_fit_casters(in).status == Status::InvalidLight);  // (0, 0, 0, 0)
+    in.light_position = glm::vec4(0.0f, 10.0f, 0.0f, -1.0f);
+    CHECK(light_frustum_fit_casters(in).status == Status::InvalidLight);
+    in.light_position = glm::vec4(0.0f, 10.0f, 0.0f, 1.0f);
+    CHECK(light_frustum_fit_casters(in).status == Status::Ok);
+    LightCasterFitInput b = in;
+    b.caster_max.x = std::numeric_limits<float>::quiet_NaN();
+    CHECK(light_frustum_fit_casters(b).status == Status::NonFinite);
+    b = in;
+    b.emitter_radius_world = -1.0f;
+    CHECK(light_frustum_fit_casters(b).status == Status::InvalidArgument);
+    b = in;
+    b.max_half_angle_radians = 1.6f;
+    CHECK(light_frustum_fit_casters(b).status == Status::InvalidArgument);
+    b = in;
+    b.min_near_ratio = 0.0f;
+    CHECK(light_frustum_fit_casters(b).status == Status::InvalidArgument);
+    b = in;
+    b.light_position = glm::vec4(0.0f, 0.5f, 0.0f, 1.0f);  // inside the casters' box
+    CHECK(light_frustum_fit_casters(b).status == Status::LightInsideVolume);
+    b.light_position = glm::vec4(0.0f, 1.0f, 0.0f, 1.0f);  // on its top face: corners beside the light
+    CHECK(light_frustum_fit_casters(b).status == Status::LightInsideVolume);
+    b.light_position = glm::vec4(0.0f, 1.12f, 0.0f, 1.0f);  // just above: a half angle of atan(1.02 / 0.12) = 1.454
+    CHECK(light_frustum_fit_casters(b).status == Status::LightInsideVolume);
+    b.max_half_angle_radians = 1.5f;
+    CHECK(light_frustum_fit_casters(b).status == Status::Ok);
+    // reversed-Z, zero-to-one: the near plane maps to 1, the far plane to 0
+    b = in;
+    b.light_depth = ClipDepth::ZeroToOne;
+    b.light_reversed_z = true;
+    const LightFrustumResult r = light_frustum_fit_casters(b);
+    REQUIRE(r.status == Status::Ok);
+    const glm::vec4 n = r.proj * glm::vec4(0.0f, 0.0f, -r.near_plane, 1.0f), f = r.proj * glm::vec4(0.0f, 0.0f, -r.far_plane, 1.0f);
+    CHECK(n.z / n.w == doctest::Approx(1.0).epsilon(1e-5));
+    CHECK(f.z / f.w == doctest::Approx(0.0).epsilon(1e-5));
+}
