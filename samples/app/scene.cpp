@@ -1,5 +1,7 @@
 #include "scene.hpp"
 
+#include <shadowkit/light_frustum.hpp>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -356,38 +358,25 @@ bool caster_bounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
 LightMatrices fit_light_to_casters(const Scene& s, bool penumbra_margin) {
     const LightMatrices scene_fit = fit_light(s);
     const Light& L = s.light;
-    glm::vec3 lo, hi;
-    if (!caster_bounds(s, lo, hi)) return scene_fit;  // no casters
-    if (L.type == LightType::Directional) {  // the box across the light: the casters' extent
-        LightMatrices m = scene_fit;
-        glm::vec3 a(INFINITY), b(-INFINITY);
-        for (int i = 0; i < 8; ++i) {
-            const glm::vec3 v = glm::vec3(m.view * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.f));
-            a = glm::min(a, v), b = glm::max(b, v);
-        }
-        m.proj = glm::ortho(a.x, b.x, a.y, b.y, m.znear, m.zfar);
-        return m;
-    }
-    if (L.type != LightType::Spot && L.type != LightType::Rect && L.type != LightType::Disk) return scene_fit;
-    const glm::vec3 center = 0.5f * (lo + hi);
-    const glm::vec3 dir = glm::normalize(center - L.position);
-    const glm::vec3 up = std::abs(dir.y) > 0.9f ? glm::vec3(0.f, 0.f, 1.f) : glm::vec3(0.f, 1.f, 0.f);
-    LightMatrices m;
-    m.view = glm::lookAt(L.position, L.position + dir, up);
-    float cnear = 0.f, cfar = 0.f, tan_max = 0.f;
-    fit_box_depth(m.view, lo, hi, cnear, cfar, tan_max);  // the casters: their widest angle, their nearest depth
-    float zmin = INFINITY;
-    for (int i = 0; i < 8; ++i)
-        zmin = std::min(zmin, -glm::vec3(m.view * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.f)).z);
+    if (L.type != LightType::Directional && L.type != LightType::Spot && L.type != LightType::Rect && L.type != LightType::Disk)
+        return scene_fit;
+    shadowkit::LightCasterFitInput in;
+    if (!caster_bounds(s, in.caster_min, in.caster_max)) return scene_fit;  // no casters
+    in.receiver_min = s.bounds_min();
+    in.receiver_max = s.bounds_max();
+    in.light_position = L.type == LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f) : glm::vec4(L.position, 1.f);
     // a receiver whose ray to some point of the emitter crosses the casters lies within the emitter's
     // radius, seen from the nearest caster, of their cone from the centre
-    const float radius = !penumbra_margin || !L.is_area() ? 0.f : (L.type == LightType::Rect ? 0.7072f * L.size : L.size);
-    const float half = std::atan(tan_max * 1.02f + radius / std::max(zmin, 1e-6f));
-    if (!(zmin > 0.f) || !(half < std::min(L.spot_half_angle, 1.4f))) return scene_fit;
-    float tan_scene = 0.f;
-    fit_box_depth(m.view, s.bounds_min(), s.bounds_max(), m.znear, m.zfar, tan_scene);  // far: the farthest receiver
-    m.znear = std::max(0.9f * zmin, m.zfar * 2e-3f);
-    m.proj = glm::perspective(2.f * half, 1.f, m.znear, m.zfar);
+    in.emitter_radius_world = !penumbra_margin || !L.is_area() ? 0.f : (L.type == LightType::Rect ? 0.7072f * L.size : L.size);
+    in.max_half_angle_radians = L.type == LightType::Directional ? 1.4f : std::min(L.spot_half_angle, 1.4f);
+    const shadowkit::LightFrustumResult fit = shadowkit::light_frustum_fit_casters(in);
+    if (fit.status != shadowkit::Status::Ok) return scene_fit;  // the light among its casters, a cone wider than the spot's
+    LightMatrices m;
+    m.view = fit.view;
+    m.proj = fit.proj;
+    m.znear = fit.near_plane;
+    m.zfar = fit.far_plane;
+    m.perspective = L.type != LightType::Directional;
     return m;
 }
 

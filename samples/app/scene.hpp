@@ -116,6 +116,8 @@ bool caster_bounds(const Scene& scene, glm::vec3& lo, glm::vec3& hi);
 /// (the light inside their box, wider than the spot's cone) and for point, sphere and line lights.
 /// penumbra_margin: soft shadows from the map of the light's center reach beyond that frustum by up to
 /// the emitter's radius seen from the nearest caster; true widens it by that (PCSS, pre-filtered maps).
+/// The fit itself is the kit's shadowkit::light_frustum_fit_casters (light_frustum.hpp), fed with the
+/// scene's light, caster bounds and bounds; samples/shadow_map calls it directly.
 LightMatrices fit_light_to_casters(const Scene& scene, bool penumbra_margin = false);
 // Perspective depth range of the box lo..hi seen through view (zfar 1.01 x the farthest corner, znear the
 // larger of 0.9 x the nearest and 2e-3 zfar) and the largest tangent max(|x|, |y|) / -z of its corners.

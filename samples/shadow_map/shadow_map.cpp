@@ -1,8 +1,8 @@
 // samples/shadow_map/shadow_map.cpp - the plain shadow map, top to bottom:
 //   init    the programs: a depth-only pass, and V = the map's compare at each G-buffer point
 //           (glsl/shadow_map.glsl); the V target
-//   update  CPU, every frame: the light's frustum around the casters (sk::fit_light_to_casters: a
-//           perspective from spot and area lights, an orthographic box for a directional light; the
+//   update  CPU, every frame: the light's frustum around the casters (shadowkit::light_frustum_fit_casters:
+//           a perspective from spot and area lights, an orthographic box for a directional light; the
 //           scene's with fit_casters=off), or for a point light the six 90-degree faces of a cube map
 //           contact=on: V times contact_shadow.glsl's pixel-aligned march in the G-buffer's depth
 //           (contact_pixels camera pixels long, a sample every 2nd pixel)
@@ -12,6 +12,8 @@
 //           against the receiver plane's own depth (from the G-buffer's normal); polygon_offset: one
 //           hardware compare (2x2 PCF with GL_LINEAR)
 #include "shadow_map.hpp"
+
+#include <shadowkit/light_frustum.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -115,7 +117,25 @@ bool ShadowMap::make_visibility_program(const ShadowMapSettings& s, std::string&
 void ShadowMap::update(const app::View& v, const ShadowMapSettings& s) {
     const sk::Scene& scene = *v.scene;
     if (!cube_) {
-        const sk::LightMatrices lm = s.fit_casters ? sk::fit_light_to_casters(scene) : sk::fit_light(scene);
+        // the map around the casters, deep enough for every receiver (light_frustum.hpp); the scene's
+        // frustum (the app shell's sk::fit_light: the spot's own cone, or the whole scene) when the
+        // light sits among its casters, needs a cone wider than its own, or fit_casters is off
+        const sk::Light& L = scene.light;
+        shadowkit::LightCasterFitInput in;
+        in.light_position = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)  // toward the light
+                                                                 : glm::vec4(L.position, 1.f);
+        in.receiver_min = scene.bounds_min();
+        in.receiver_max = scene.bounds_max();
+        in.max_half_angle_radians = L.type == sk::LightType::Directional ? 1.4f : std::min(L.spot_half_angle, 1.4f);
+        const bool has_casters = sk::caster_bounds(scene, in.caster_min, in.caster_max);
+        const bool one_frustum = L.type == sk::LightType::Directional || L.type == sk::LightType::Spot ||
+                                 L.type == sk::LightType::Rect || L.type == sk::LightType::Disk;
+        const shadowkit::LightFrustumResult fit = shadowkit::light_frustum_fit_casters(in);
+        if (s.fit_casters && has_casters && one_frustum && fit.status == shadowkit::Status::Ok) {
+            light_vp_[0] = fit.view_proj;
+            return;
+        }
+        const sk::LightMatrices lm = sk::fit_light(scene);
         light_vp_[0] = lm.proj * lm.view;
         return;
     }

@@ -7,9 +7,9 @@
 //                   update (CPU, every frame), render (the GPU passes, each with its GL state)
 //   main.cpp        the calls: the app shell (samples/app) does the window, the camera G-buffer,
 //                   the panel, the timing and the picture
-// It uses only glsl/shadow_map.glsl (its automatic bias: sk_shadow_map_visibility_auto),
-// glsl/contact_shadow.glsl (contact=on) and the app shell's scene (sk::fit_light_to_casters: the
-// light's frustum around the casters), G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
+// It uses only include/shadowkit/light_frustum.hpp (light_frustum_fit_casters: the light's frustum
+// around the casters), glsl/shadow_map.glsl (its automatic bias: sk_shadow_map_visibility_auto),
+// glsl/contact_shadow.glsl (contact=on) and the app shell's scene, G-buffer (app/gbuffer.hpp) and GL helpers (app/gl.hpp). shadowkit-report wraps
 // this same class (samples/report/techniques/shadow_map.cpp).
 #pragma once
 
@@ -31,7 +31,7 @@ struct ShadowMapSettings {
     /// point light's cube map keeps the polygon offset). polygon_offset: glPolygonOffset(offset_factor,
     /// offset_units) in the depth pass, the classic slope-scaled bias with hand-picked constants.
     Bias bias = Bias::Auto;
-    bool fit_casters = true;    ///< the map fits the casters (sk::fit_light_to_casters); off: the whole scene (sk::fit_light)
+    bool fit_casters = true;    ///< the map fits the casters (shadowkit::light_frustum_fit_casters); off: the whole scene (sk::fit_light)
     float offset_factor = 2.f;  ///< glPolygonOffset(factor, units) of the depth pass (bias=polygon_offset, cube maps)
     float offset_units = 2.f;
     /// Contact shadows (glsl/contact_shadow.glsl): V times a march toward the light in the camera's depth
