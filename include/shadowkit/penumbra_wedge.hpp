@@ -638,6 +638,49 @@ inline PenumbraBoundingSphere penumbra_rect_bounding_sphere(const glm::vec4& lig
     return R;
 }
 
+namespace detail {
+
+// The edge (E0, E1) meets the light's ball, within float input precision (1e-7 of the coordinates'
+// size); the closest point is parametrised from the nearer endpoint (no cancellation for a huge far one).
+inline bool pw_edge_touches_light(const glm::dvec3& E0, const glm::dvec3& E1, const glm::dvec3& c, double r) {
+    const glm::dvec3 ed = E1 - E0;
+    const bool zero_near = pw_len(E0 - c) <= pw_len(E1 - c);
+    const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
+    const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / pw_dot(ed, ed)));
+    const glm::dvec3 closest = En + t * dn;
+    const double slack = 1e-7 * std::max({pw_len(c), pw_len(E0), pw_len(E1), r});
+    return pw_len(c - closest) <= r + slack || pw_len(E0 - c) <= r + slack || pw_len(E1 - c) <= r + slack;
+}
+
+// The wedge's numerical last resort: the half-space beyond the ball's tangent plane at the direction
+// of the edge's closest point; it contains P(E) for any edge outside the ball. `padding` moves every
+// bounding plane outward, here too.
+inline PenumbraWedge pw_half_space_wedge(const glm::dvec3& E0, const glm::dvec3& E1, const glm::dvec3& c, double r,
+                                         const glm::dvec3& nhat, float padding) {
+    PenumbraWedge W;
+    const glm::dvec3 ed = E1 - E0;
+    const bool zero_near = pw_len(E0 - c) <= pw_len(E1 - c);
+    const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
+    const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / pw_dot(ed, ed)));
+    glm::dvec3 u = En + t * dn - c;
+    u /= pw_len(u);
+    const glm::dvec3 through = c + r * u;
+    W.shape = PenumbraWedgeShape::HalfSpace;
+    W.outer_bound = W.inner_bound = W.side[0] = W.side[1] = pw_plane_f(u, through);
+    W.outer_bound.w += padding;
+    W.inner_bound.w += padding;
+    W.side[0].w += padding;
+    W.side[1].w += padding;
+    W.hard_plane = pw_plane_f(nhat, c);
+    W.apex[0] = W.apex[1] = glm::vec3(through);
+    W.ray_outer[0] = W.ray_outer[1] = W.ray_inner[0] = W.ray_inner[1] = glm::vec3(u);
+    W.axis = glm::vec3(u);
+    W.status = Status::Ok;
+    return pw_check_finite(W);
+}
+
+}  // namespace detail
+
 /// Penumbra wedge of the silhouette edge (e0, e1) for a sphere light (A&AM 2003, steps A-C).
 /// `padding` [world, >= 0] moves every bounding plane outward (absorbs float rounding of far geometry).
 /// Skipped edges (Ok, `skip` != None) and errors: see the header comment.
@@ -666,19 +709,10 @@ inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSp
         W.skip = PenumbraWedgeSkip::DegenerateEdge;
         return W;
     }
-    {
-        // closest point parametrised from the nearer endpoint (no cancellation for huge far endpoints)
-        const bool zero_near = pw_len(E0 - c) <= pw_len(E1 - c);
-        const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
-        const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / el2));
-        const glm::dvec3 closest = En + t * dn;
-        // within float input precision of the ball counts as touching (1e-7 of the coordinates' size)
-        const double slack = 1e-7 * std::max({pw_len(c), pw_len(E0), pw_len(E1), r});
-        if (pw_len(c - closest) <= r + slack || pw_len(E0 - c) <= r + slack || pw_len(E1 - c) <= r + slack) {
-            W.status = Status::Ok;
-            W.skip = PenumbraWedgeSkip::EdgeTouchesLight;
-            return W;
-        }
+    if (pw_edge_touches_light(E0, E1, c, r)) {
+        W.status = Status::Ok;
+        W.skip = PenumbraWedgeSkip::EdgeTouchesLight;
+        return W;
     }
     // = cross(e0 - c, e1 - c), but e1 - c cancels against e0 - c for an edge far shorter than its
     // distance to the light (the plane then missed the edge; found by fuzz_penumbra_wedge)
@@ -711,26 +745,7 @@ inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSp
     } else if (hE < r && pw_build_cone(R0 <= R1 ? E0 : E1, ed, c, r, nhat, b)) {
         W.shape = PenumbraWedgeShape::Cone;
     } else {
-        // Numerical last resort (not met in the tests): the half-space beyond the ball's tangent plane
-        // at the direction of the edge's closest point; it contains P(E) for any edge outside the ball.
-        const bool zero_near = R0 <= R1;
-        const glm::dvec3 En = zero_near ? E0 : E1, dn = zero_near ? ed : -ed;
-        const double t = std::min(1.0, std::max(0.0, pw_dot(c - En, dn) / el2));
-        glm::dvec3 u = En + t * dn - c;
-        u /= pw_len(u);
-        const glm::dvec3 through = c + r * u;
-        W.shape = PenumbraWedgeShape::HalfSpace;
-        W.outer_bound = W.inner_bound = W.side[0] = W.side[1] = pw_plane_f(u, through);
-        W.outer_bound.w += padding;  // padding moves every bounding plane outward, here too
-        W.inner_bound.w += padding;
-        W.side[0].w += padding;
-        W.side[1].w += padding;
-        W.hard_plane = pw_plane_f(nhat, c);
-        W.apex[0] = W.apex[1] = glm::vec3(through);
-        W.ray_outer[0] = W.ray_outer[1] = W.ray_inner[0] = W.ray_inner[1] = glm::vec3(u);
-        W.axis = glm::vec3(u);
-        W.status = Status::Ok;
-        return pw_check_finite(W);
+        return pw_half_space_wedge(E0, E1, c, r, nhat, padding);  // numerical last resort (not met in the tests)
     }
     const float pad = padding;
     W.outer_bound = pw_plane_f(b.n_outer, b.a[0]);

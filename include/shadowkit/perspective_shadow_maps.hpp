@@ -1066,6 +1066,136 @@ inline WarpResult warp_tsm_matrix(const WarpInput& in) {
     return wp_finish(in, N * U, U, warps, !warps, fade, sg, warps ? 1.0 / kappa : 0.0);
 }
 
+namespace detail {
+
+struct WpPsmEval {
+    bool ok = false;
+    double tan_used = 1e300;
+    glm::dmat4 M{1.0};
+};
+
+// The virtual camera's rotation: -z along the center line, y the camera's up.
+inline glm::dmat4 wp_psm_rotation(const wp_Setup& s) {
+    const glm::dvec3 zax = -s.vdir, yax = s.cam_up, xax = glm::cross(yax, zax);
+    glm::dmat4 R(1.0);
+    for (int c = 0; c < 3; ++c) {
+        R[c][0] = xax[c];
+        R[c][1] = yax[c];
+        R[c][2] = zax[c];
+    }
+    return R;
+}
+
+// One PSM for slide-back `slide` of the virtual camera (rotation R, light Lw): the matrix, and the
+// largest tangent the light frustum needs (ok = false: no frustum within max_tan holds the body).
+inline WpPsmEval wp_psm_eval(const wp_Setup& s, const glm::dmat4& R, const glm::dvec4& Lw, double slide, double max_tan) {
+    WpPsmEval e;
+    const glm::dvec3 veye = s.eye - slide * s.vdir;
+    glm::dmat4 Vv = R;
+    Vv[3] = glm::dvec4(-glm::dvec3(R * glm::dvec4(veye, 0.0)), 1.0);
+    double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dn = 1e300, df = 0.0;
+    for (int i = 0; i < s.nbody; ++i) {
+        const glm::dvec3 p = glm::dvec3(Vv * glm::dvec4(s.body[i], 1.0));
+        const double dep = -p.z;
+        if (!(dep > 0.0)) return e;
+        xl = std::fmin(xl, p.x / dep); xr = std::fmax(xr, p.x / dep);
+        yb = std::fmin(yb, p.y / dep); yt = std::fmax(yt, p.y / dep);
+        dn = std::fmin(dn, dep); df = std::fmax(df, dep);
+    }
+    glm::dvec3 mn(xl, yb, 0.0), mx(xr, yt, 0.0);
+    wp_pad_box(mn, mx, 1e-7, 1e-6);  // tangents
+    dn *= 1.0 - 1e-7;
+    df = std::fmax(df * (1.0 + 1e-7), dn * (1.0 + 1e-6));
+    // world -> virtual post-perspective space, z negated (right-handed: near at +1, far at -1)
+    const glm::dmat4 PP = wp_flip_z() * wp_frustum(mn.x * dn, mx.x * dn, mn.y * dn, mx.y * dn, dn, df) * Vv;
+    if (!wp_fin(PP)) return e;
+    glm::dvec3 pts[2 * wp_kMaxRecv] = {};
+    for (int i = 0; i < s.nbody; ++i) {
+        pts[i] = wp_project(PP, s.body[i]);
+        if (!wp_fin(pts[i])) return e;
+    }
+    const glm::dvec3 c = wp_center(pts, s.nbody);
+    double rad = 0.0;
+    for (int i = 0; i < s.nbody; ++i) rad = std::fmax(rad, glm::length(pts[i] - c));
+    rad = std::fmax(rad, 1e-12);
+    // the center line there: the line through m along v (x, y constant: it is the camera axis)
+    const glm::dvec3 m = wp_project(PP, s.eye + s.vdir * (0.5 * (dn + df) - slide));
+    const glm::dvec3 v(0.0, 0.0, -1.0);
+    const glm::dvec4 Lh = PP * Lw;
+    const double lxyz = glm::length(glm::dvec3(Lh));
+    if (std::fabs(Lh.w) * 1e4 * rad <= lxyz) {
+        // post-perspective light (nearly) at infinity: an orthographic fit along its direction
+        const glm::dvec3 p0 = s.body[0];
+        const double eps = 1e-4 * std::fmax(s.d1 - s.d0, 1e-12);
+        const glm::dvec3 tdir = wp_project(PP, p0 + wp_toward_light(s, p0) * eps) - wp_project(PP, p0);
+        if (!(glm::length(tdir) > 0.0) || !wp_fin(tdir)) return e;
+        const glm::dvec3 travel = -glm::normalize(tdir);
+        e.M = wp_ortho_fit(pts, s.nbody, travel, wp_up(travel, travel, v, glm::dvec3(0, 1, 0)), 1.0) * PP;
+        e.tan_used = 0.0;
+        e.ok = wp_fin(e.M);
+        return e;
+    }
+    const glm::dvec3 S = glm::dvec3(Lh) / Lh.w;
+    const bool sink = Lh.w < 0.0;
+    // the axis of the narrowest cone around S holding the body, refined (as the world-space point fits)
+    const glm::dvec3 f0 = cone_axis(pts, s.nbody, S);
+    if (!(glm::length(f0) > 0.0)) return e;
+    const glm::dvec3 ms = m - S;
+    const glm::dvec3 to_line = glm::length(ms) > 0.0 ? glm::normalize(ms) : f0;
+    const glm::dvec3 f = wp_persp_axis(pts, s.nbody, S, to_line, v, glm::dvec3(0, 1, 0));
+    glm::dmat4 LF;
+    if (!wp_persp_fit(pts, s.nbody, S, f, wp_up(f, to_line, v, glm::dvec3(0, 1, 0)), max_tan, sink, LF, &e.tan_used))
+        return e;
+    e.M = LF * PP;
+    e.ok = wp_fin(e.M);
+    return e;
+}
+
+// The slide-back: s_min when the light frustum fits there within tan_t, else the smallest that fits
+// (s_min + range 4^k, then bisected on the last octave), else the farthest with a frustum up to
+// ~89.4 degrees. `slide` gets the slide-back used.
+inline WpPsmEval wp_psm_slide(const wp_Setup& s, const glm::dmat4& R, const glm::dvec4& Lw, double s_min, double range,
+                              double tan_t, double& slide) {
+    slide = s_min;
+    WpPsmEval best = wp_psm_eval(s, R, Lw, s_min, tan_t);
+    if (!best.ok) {
+        // slide back until the light frustum fits: s = s_min + range * 4^k, then bisect on the last octave
+        const int kmax = 7;  // up to 4^7 = 16384 body depths: still a well-conditioned float matrix
+        double lo = s_min, hi = -1.0;
+        WpPsmEval ehi;
+        for (int k = 0; k <= kmax; ++k) {
+            const double sk = s_min + range * std::pow(4.0, double(k));
+            ehi = wp_psm_eval(s, R, Lw, sk, tan_t);
+            if (ehi.ok) {
+                hi = sk;
+                break;
+            }
+            lo = sk;
+        }
+        if (hi > 0.0) {
+            for (int it = 0; it < 30; ++it) {
+                const double mid = lo == s_min ? 0.5 * (lo + hi) : std::sqrt(lo * hi);
+                const WpPsmEval em = wp_psm_eval(s, R, Lw, mid, tan_t);
+                if (em.ok) {
+                    hi = mid;
+                    ehi = em;
+                } else {
+                    lo = mid;
+                }
+            }
+            slide = hi;
+            best = ehi;
+        } else {
+            // even the farthest virtual camera needs a wider frustum: keep it, up to ~89.4 degrees
+            slide = s_min + range * std::pow(4.0, double(kmax));
+            best = wp_psm_eval(s, R, Lw, slide, 100.0);
+        }
+    }
+    return best;
+}
+
+}  // namespace detail
+
 /// Perspective Shadow Maps (Stamminger & Drettakis 2002) in the post-perspective space of a virtual
 /// camera (the view's center line, slid back until every body point is in front of it). A light
 /// whose post-perspective image has w < 0 (behind the viewer) is a light sink: inverted depth (Kozlov
@@ -1079,14 +1209,7 @@ inline WarpResult warp_psm_matrix(const WarpInput& in) {
     if (!s.visible) return wp_not_visible();
     double sg, cg;
     wp_gamma(s, sg, cg);
-    // the virtual camera's rotation: -z along the center line, y the camera's up
-    const glm::dvec3 zax = -s.vdir, yax = s.cam_up, xax = glm::cross(yax, zax);
-    glm::dmat4 R(1.0);
-    for (int c = 0; c < 3; ++c) {
-        R[c][0] = xax[c];
-        R[c][1] = yax[c];
-        R[c][2] = zax[c];
-    }
+    const glm::dmat4 R = wp_psm_rotation(s);
     double zmin = 1e300, zmax = -1e300;
     for (int i = 0; i < s.nbody; ++i) {
         const double z = glm::dot(s.body[i] - s.eye, s.vdir);
@@ -1097,110 +1220,9 @@ inline WarpResult warp_psm_matrix(const WarpInput& in) {
     const double nv = std::fmax(std::fmax(s.d0, double(in.options.psm_min_near_fraction) * range), 1e-12 * s.scale);
     const double s_min = std::fmax(0.0, nv - zmin) + double(in.options.psm_slide_back);
     const glm::dvec4 Lw = s.directional ? glm::dvec4(-s.d, 0.0) : glm::dvec4(s.L, 1.0);
-    // One PSM for slide-back `slide`: the matrix, and the largest tangent the light frustum needs.
-    struct Eval {
-        bool ok = false;
-        double tan_used = 1e300;
-        glm::dmat4 M{1.0};
-    };
-    auto eval = [&](double slide, double max_tan) {
-        Eval e;
-        const glm::dvec3 veye = s.eye - slide * s.vdir;
-        glm::dmat4 Vv = R;
-        Vv[3] = glm::dvec4(-glm::dvec3(R * glm::dvec4(veye, 0.0)), 1.0);
-        double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dn = 1e300, df = 0.0;
-        for (int i = 0; i < s.nbody; ++i) {
-            const glm::dvec3 p = glm::dvec3(Vv * glm::dvec4(s.body[i], 1.0));
-            const double dep = -p.z;
-            if (!(dep > 0.0)) return e;
-            xl = std::fmin(xl, p.x / dep); xr = std::fmax(xr, p.x / dep);
-            yb = std::fmin(yb, p.y / dep); yt = std::fmax(yt, p.y / dep);
-            dn = std::fmin(dn, dep); df = std::fmax(df, dep);
-        }
-        glm::dvec3 mn(xl, yb, 0.0), mx(xr, yt, 0.0);
-        wp_pad_box(mn, mx, 1e-7, 1e-6);  // tangents
-        dn *= 1.0 - 1e-7;
-        df = std::fmax(df * (1.0 + 1e-7), dn * (1.0 + 1e-6));
-        // world -> virtual post-perspective space, z negated (right-handed: near at +1, far at -1)
-        const glm::dmat4 PP = wp_flip_z() * wp_frustum(mn.x * dn, mx.x * dn, mn.y * dn, mx.y * dn, dn, df) * Vv;
-        if (!wp_fin(PP)) return e;
-        glm::dvec3 pts[2 * wp_kMaxRecv] = {};
-        for (int i = 0; i < s.nbody; ++i) {
-            pts[i] = wp_project(PP, s.body[i]);
-            if (!wp_fin(pts[i])) return e;
-        }
-        const glm::dvec3 c = wp_center(pts, s.nbody);
-        double rad = 0.0;
-        for (int i = 0; i < s.nbody; ++i) rad = std::fmax(rad, glm::length(pts[i] - c));
-        rad = std::fmax(rad, 1e-12);
-        // the center line there: the line through m along v (x, y constant: it is the camera axis)
-        const glm::dvec3 m = wp_project(PP, s.eye + s.vdir * (0.5 * (dn + df) - slide));
-        const glm::dvec3 v(0.0, 0.0, -1.0);
-        const glm::dvec4 Lh = PP * Lw;
-        const double lxyz = glm::length(glm::dvec3(Lh));
-        if (std::fabs(Lh.w) * 1e4 * rad <= lxyz) {
-            // post-perspective light (nearly) at infinity: an orthographic fit along its direction
-            const glm::dvec3 p0 = s.body[0];
-            const double eps = 1e-4 * std::fmax(s.d1 - s.d0, 1e-12);
-            const glm::dvec3 tdir = wp_project(PP, p0 + wp_toward_light(s, p0) * eps) - wp_project(PP, p0);
-            if (!(glm::length(tdir) > 0.0) || !wp_fin(tdir)) return e;
-            const glm::dvec3 travel = -glm::normalize(tdir);
-            e.M = wp_ortho_fit(pts, s.nbody, travel, wp_up(travel, travel, v, glm::dvec3(0, 1, 0)), 1.0) * PP;
-            e.tan_used = 0.0;
-            e.ok = wp_fin(e.M);
-            return e;
-        }
-        const glm::dvec3 S = glm::dvec3(Lh) / Lh.w;
-        const bool sink = Lh.w < 0.0;
-        // the axis of the narrowest cone around S holding the body, refined (as the world-space point fits)
-        const glm::dvec3 f0 = cone_axis(pts, s.nbody, S);
-        if (!(glm::length(f0) > 0.0)) return e;
-        const glm::dvec3 ms = m - S;
-        const glm::dvec3 to_line = glm::length(ms) > 0.0 ? glm::normalize(ms) : f0;
-        const glm::dvec3 f = wp_persp_axis(pts, s.nbody, S, to_line, v, glm::dvec3(0, 1, 0));
-        glm::dmat4 LF;
-        if (!wp_persp_fit(pts, s.nbody, S, f, wp_up(f, to_line, v, glm::dvec3(0, 1, 0)), max_tan, sink, LF, &e.tan_used))
-            return e;
-        e.M = LF * PP;
-        e.ok = wp_fin(e.M);
-        return e;
-    };
     const double tan_t = std::tan(double(in.options.psm_max_half_angle_deg) * wp_kPi / 180.0);
     double slide = s_min;
-    Eval best = eval(s_min, tan_t);
-    if (!best.ok) {
-        // slide back until the light frustum fits: s = s_min + range * 4^k, then bisect on the last octave
-        const int kmax = 7;  // up to 4^7 = 16384 body depths: still a well-conditioned float matrix
-        double lo = s_min, hi = -1.0;
-        Eval ehi;
-        for (int k = 0; k <= kmax; ++k) {
-            const double sk = s_min + range * std::pow(4.0, double(k));
-            ehi = eval(sk, tan_t);
-            if (ehi.ok) {
-                hi = sk;
-                break;
-            }
-            lo = sk;
-        }
-        if (hi > 0.0) {
-            for (int it = 0; it < 30; ++it) {
-                const double mid = lo == s_min ? 0.5 * (lo + hi) : std::sqrt(lo * hi);
-                const Eval em = eval(mid, tan_t);
-                if (em.ok) {
-                    hi = mid;
-                    ehi = em;
-                } else {
-                    lo = mid;
-                }
-            }
-            slide = hi;
-            best = ehi;
-        } else {
-            // even the farthest virtual camera needs a wider frustum: keep it, up to ~89.4 degrees
-            slide = s_min + range * std::pow(4.0, double(kmax));
-            best = eval(slide, 100.0);
-        }
-    }
+    const WpPsmEval best = wp_psm_slide(s, R, Lw, s_min, range, tan_t, slide);
     if (!best.ok) {
         glm::dmat4 U;
         if (!wp_uniform_world(s, U)) return wp_fail(Status::LightInsideVolume);

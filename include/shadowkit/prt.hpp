@@ -669,55 +669,42 @@ inline double prt_dist2(const float* a, const double* b, std::size_t n) {
 
 }  // namespace detail
 
-/// Compresses vertex_count transfer vectors (stride floats apart, the first order^2 used) by
-/// clustered PCA: k-means on the vectors (VQ), then per cluster the mean and the `components`
-/// leading principal directions of the covariance (Sloan et al. 2003, course notes "VQ + PCA").
-/// `transfers` holds (vertex_count - 1) * stride + order^2 floats, each finite with magnitude
-/// <= 1e30. Allocates. Errors (the returned compression's status, empty): InvalidArgument (invalid
-/// order, stride < order^2, vertex_count 0, transfers null, clusters 0, components outside
-/// 0 .. order^2, iterations < 0, a value with magnitude > 1e30), NonFinite (NaN/Inf in a transfer
-/// vector).
-inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t stride, std::size_t vertex_count,
-                                 const PrtCpcaOptions& opt) {
-    PrtCpca out;
-    const std::size_t n = prt_coefficient_count(order);
-    if (n == 0 || stride < n || opt.clusters == 0 || opt.components < 0 ||
-        static_cast<std::size_t>(opt.components) > n || opt.iterations < 0 || vertex_count == 0 || !transfers ||
-        vertex_count > std::numeric_limits<std::size_t>::max() / stride) {
-        out.status = Status::InvalidArgument;
-        return out;
-    }
+namespace detail {
+
+// Every used value finite (else NonFinite) with magnitude <= 1e30 (else InvalidArgument).
+inline Status prt_cpca_check_values(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count) {
     for (std::size_t v = 0; v < vertex_count; ++v)
         for (std::size_t i = 0; i < n; ++i) {
             const float x = transfers[v * stride + i];
             if (!std::isfinite(x)) {
-                out.status = Status::NonFinite;
-                return out;
+                return Status::NonFinite;
             }
             if (!(std::fabs(x) <= 1e30f)) {
-                out.status = Status::InvalidArgument;
-                return out;
+                return Status::InvalidArgument;
             }
         }
-    const std::size_t K = opt.clusters < vertex_count ? opt.clusters : vertex_count;
-    const std::size_t C = static_cast<std::size_t>(opt.components);
-    auto vec = [&](std::size_t v) { return transfers + v * stride; };
+    return Status::Ok;
+}
 
-    // VQ: farthest-point initialization from a seeded first center, then Lloyd iterations.
-    std::vector<double> center(K * n, 0.0);
+// VQ (Sloan et al. 2003): farthest-point initialization from a seeded first center, then Lloyd
+// iterations; an empty cluster restarts at the worst-represented vertex. K centers of n doubles.
+inline void prt_cpca_vq(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count, std::size_t K,
+                        const PrtCpcaOptions& opt, std::vector<double>& center, std::vector<std::uint32_t>& assign) {
+    auto vec = [&](std::size_t v) { return transfers + v * stride; };
+    center.assign(K * n, 0.0);
     std::vector<double> best(vertex_count, 0.0);
-    std::vector<std::uint32_t> assign(vertex_count, 0u);
+    assign.assign(vertex_count, 0u);
     {
-        std::size_t first = detail::prt_hash(opt.seed) % vertex_count;
+        std::size_t first = prt_hash(opt.seed) % vertex_count;
         for (std::size_t i = 0; i < n; ++i) center[i] = static_cast<double>(vec(first)[i]);
-        for (std::size_t v = 0; v < vertex_count; ++v) best[v] = detail::prt_dist2(vec(v), center.data(), n);
+        for (std::size_t v = 0; v < vertex_count; ++v) best[v] = prt_dist2(vec(v), center.data(), n);
         for (std::size_t k = 1; k < K; ++k) {
             std::size_t far = 0;
             for (std::size_t v = 1; v < vertex_count; ++v)
                 if (best[v] > best[far]) far = v;
             for (std::size_t i = 0; i < n; ++i) center[k * n + i] = static_cast<double>(vec(far)[i]);
             for (std::size_t v = 0; v < vertex_count; ++v) {
-                const double d = detail::prt_dist2(vec(v), &center[k * n], n);
+                const double d = prt_dist2(vec(v), &center[k * n], n);
                 if (d < best[v]) {
                     best[v] = d;
                     assign[v] = static_cast<std::uint32_t>(k);
@@ -731,9 +718,9 @@ inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t 
             bool changed = false;
             for (std::size_t v = 0; v < vertex_count; ++v) {
                 std::uint32_t arg = assign[v];
-                double bd = detail::prt_dist2(vec(v), &center[arg * n], n);
+                double bd = prt_dist2(vec(v), &center[arg * n], n);
                 for (std::size_t k = 0; k < K; ++k) {
-                    const double d = detail::prt_dist2(vec(v), &center[k * n], n);
+                    const double d = prt_dist2(vec(v), &center[k * n], n);
                     if (d < bd) {
                         bd = d;
                         arg = static_cast<std::uint32_t>(k);
@@ -764,14 +751,13 @@ inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t 
         }
     }
 
-    // PCA per cluster: leading eigenvectors of the covariance about the mean.
-    out.order = order;
-    out.components = opt.components;
-    out.clusters = K;
-    out.means.assign(K * n, 0.0f);
-    out.bases.assign(K * C * n, 0.0f);
-    out.cluster_of = assign;
-    out.weights.assign(vertex_count * C, 0.0f);
+}
+
+// PCA per cluster: the mean and the C leading eigenvectors of the covariance about it (out.means, out.bases).
+inline void prt_cpca_cluster_pca(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count, std::size_t K,
+                                 std::size_t C, const std::vector<double>& center, const std::vector<std::uint32_t>& assign,
+                                 PrtCpca& out) {
+    auto vec = [&](std::size_t v) { return transfers + v * stride; };
     std::vector<double> cov(n * n), evec(n * n), eval(n);
     std::vector<std::size_t> order_idx(n);
     for (std::size_t k = 0; k < K; ++k) {
@@ -787,7 +773,7 @@ inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t 
         }
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = 0; j < i; ++j) cov[i * n + j] = cov[j * n + i];
-        detail::prt_jacobi_eigen(static_cast<int>(n), cov.data(), eval.data(), evec.data());
+        prt_jacobi_eigen(static_cast<int>(n), cov.data(), eval.data(), evec.data());
         for (std::size_t i = 0; i < n; ++i) order_idx[i] = i;
         for (std::size_t i = 0; i < n; ++i)  // selection sort, descending eigenvalue
             for (std::size_t j = i + 1; j < n; ++j)
@@ -800,11 +786,16 @@ inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t 
             for (std::size_t i = 0; i < n; ++i)
                 out.bases[(k * C + c) * n + i] = static_cast<float>(evec[i * n + order_idx[c]]);
     }
-    // weights and the reconstruction error
+}
+
+// Each vertex's weights on its cluster's basis; returns the summed squared reconstruction error.
+inline double prt_cpca_weights(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count, std::size_t C,
+                               PrtCpca& out) {
+    auto vec = [&](std::size_t v) { return transfers + v * stride; };
     double se = 0.0;
     std::vector<double> rec(n);
     for (std::size_t v = 0; v < vertex_count; ++v) {
-        const std::size_t k = assign[v];
+        const std::size_t k = out.cluster_of[v];
         for (std::size_t i = 0; i < n; ++i) rec[i] = static_cast<double>(out.means[k * n + i]);
         for (std::size_t c = 0; c < C; ++c) {
             const float* b = &out.bases[(k * C + c) * n];
@@ -816,6 +807,48 @@ inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t 
         }
         for (std::size_t i = 0; i < n; ++i) se += (rec[i] - static_cast<double>(vec(v)[i])) * (rec[i] - static_cast<double>(vec(v)[i]));
     }
+    return se;
+}
+
+}  // namespace detail
+
+/// Compresses vertex_count transfer vectors (stride floats apart, the first order^2 used) by
+/// clustered PCA: k-means on the vectors (VQ), then per cluster the mean and the `components`
+/// leading principal directions of the covariance (Sloan et al. 2003, course notes "VQ + PCA").
+/// `transfers` holds (vertex_count - 1) * stride + order^2 floats, each finite with magnitude
+/// <= 1e30. Allocates. Errors (the returned compression's status, empty): InvalidArgument (invalid
+/// order, stride < order^2, vertex_count 0, transfers null, clusters 0, components outside
+/// 0 .. order^2, iterations < 0, a value with magnitude > 1e30), NonFinite (NaN/Inf in a transfer
+/// vector).
+inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t stride, std::size_t vertex_count,
+                                 const PrtCpcaOptions& opt) {
+    PrtCpca out;
+    const std::size_t n = prt_coefficient_count(order);
+    if (n == 0 || stride < n || opt.clusters == 0 || opt.components < 0 ||
+        static_cast<std::size_t>(opt.components) > n || opt.iterations < 0 || vertex_count == 0 || !transfers ||
+        vertex_count > std::numeric_limits<std::size_t>::max() / stride) {
+        out.status = Status::InvalidArgument;
+        return out;
+    }
+    const Status vs = detail::prt_cpca_check_values(transfers, stride, n, vertex_count);
+    if (vs != Status::Ok) {
+        out.status = vs;
+        return out;
+    }
+    const std::size_t K = opt.clusters < vertex_count ? opt.clusters : vertex_count;
+    const std::size_t C = static_cast<std::size_t>(opt.components);
+    std::vector<double> center;
+    std::vector<std::uint32_t> assign;
+    detail::prt_cpca_vq(transfers, stride, n, vertex_count, K, opt, center, assign);
+    out.order = order;
+    out.components = opt.components;
+    out.clusters = K;
+    out.means.assign(K * n, 0.0f);
+    out.bases.assign(K * C * n, 0.0f);
+    out.cluster_of = assign;
+    out.weights.assign(vertex_count * C, 0.0f);
+    detail::prt_cpca_cluster_pca(transfers, stride, n, vertex_count, K, C, center, assign, out);
+    const double se = detail::prt_cpca_weights(transfers, stride, n, vertex_count, C, out);
     out.rms_error = std::sqrt(se / static_cast<double>(vertex_count));
     out.status = Status::Ok;
     return out;

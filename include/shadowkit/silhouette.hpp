@@ -640,6 +640,53 @@ inline std::size_t sil_weld(const glm::vec3* p, std::uint32_t n, float tol, std:
 
 } // namespace detail
 
+namespace detail {
+
+// The edges of adj.faces: half-edges sorted by undirected key, then each key's run is a boundary edge
+// (one face), a manifold edge (two faces of opposite directions) or a non-manifold edge (the rest).
+inline void sil_build_edges(SilhouetteAdjacency& adj) {
+    struct Half { std::uint64_t key; std::uint32_t face_dir; };
+    const std::size_t fc = adj.face_source.size();
+    std::vector<Half> half;
+    half.reserve(3 * fc);
+    for (std::size_t f = 0; f < fc; ++f)
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = adj.faces[3 * f + static_cast<std::size_t>(j)];
+            const std::uint32_t v = adj.faces[3 * f + static_cast<std::size_t>((j + 1) % 3)];
+            const std::uint32_t lo = u < v ? u : v, hi = u < v ? v : u;
+            half.push_back(Half{(static_cast<std::uint64_t>(lo) << 32) | hi,
+                                static_cast<std::uint32_t>(f) | (u > v ? 0x80000000u : 0u)});
+        }
+    std::sort(half.begin(), half.end(), [](const Half& x, const Half& y) {
+        return x.key != y.key ? x.key < y.key : x.face_dir < y.face_dir;
+    });
+    adj.edges.reserve(half.size() / 2 + 1);
+    for (std::size_t i = 0; i < half.size();) {
+        std::size_t j = i + 1;
+        while (j < half.size() && half[j].key == half[i].key) ++j;
+        const std::uint32_t lo = static_cast<std::uint32_t>(half[i].key >> 32);
+        const std::uint32_t hi = static_cast<std::uint32_t>(half[i].key & 0xFFFFFFFFu);
+        const std::size_t cnt = j - i;
+        if (cnt == 1) {
+            const bool rev = (half[i].face_dir & 0x80000000u) != 0;
+            const std::uint32_t f = half[i].face_dir & 0x7FFFFFFFu;
+            adj.edges.push_back(rev ? SilhouetteEdge{hi, lo, f, kSilhouetteNoFace} : SilhouetteEdge{lo, hi, f, kSilhouetteNoFace});
+            ++adj.boundary_edges;
+        } else if (cnt == 2 && ((half[i].face_dir ^ half[i + 1].face_dir) & 0x80000000u)) {
+            // sorted by face_dir: the forward (lo -> hi) face comes first
+            adj.edges.push_back(SilhouetteEdge{lo, hi, half[i].face_dir & 0x7FFFFFFFu, half[i + 1].face_dir & 0x7FFFFFFFu});
+            ++adj.manifold_edges;
+        } else {
+            SilhouetteNonManifoldEdge e{lo, hi, static_cast<std::uint32_t>(adj.nonmanifold_faces.size()), static_cast<std::uint32_t>(cnt)};
+            for (std::size_t k = i; k < j; ++k) adj.nonmanifold_faces.push_back(half[k].face_dir);
+            adj.nonmanifold_edges.push_back(e);
+        }
+        i = j;
+    }
+}
+
+} // namespace detail
+
 /// Builds the edge adjacency of a triangle list (allocates; once per mesh / topology change).
 /// `positions` holds vertex_count glm::vec3; `indices` holds index_count uint32 (3 per triangle).
 /// Statuses: header comment. Empty input is Ok.
@@ -706,45 +753,7 @@ inline SilhouetteAdjacency silhouette_build_adjacency(const glm::vec3* positions
         adj.face_source.push_back(t);
     }
 
-    // Half-edges sorted by undirected key.
-    struct Half { std::uint64_t key; std::uint32_t face_dir; };
-    const std::size_t fc = adj.face_source.size();
-    std::vector<Half> half;
-    half.reserve(3 * fc);
-    for (std::size_t f = 0; f < fc; ++f)
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = adj.faces[3 * f + static_cast<std::size_t>(j)];
-            const std::uint32_t v = adj.faces[3 * f + static_cast<std::size_t>((j + 1) % 3)];
-            const std::uint32_t lo = u < v ? u : v, hi = u < v ? v : u;
-            half.push_back(Half{(static_cast<std::uint64_t>(lo) << 32) | hi,
-                                static_cast<std::uint32_t>(f) | (u > v ? 0x80000000u : 0u)});
-        }
-    std::sort(half.begin(), half.end(), [](const Half& x, const Half& y) {
-        return x.key != y.key ? x.key < y.key : x.face_dir < y.face_dir;
-    });
-    adj.edges.reserve(half.size() / 2 + 1);
-    for (std::size_t i = 0; i < half.size();) {
-        std::size_t j = i + 1;
-        while (j < half.size() && half[j].key == half[i].key) ++j;
-        const std::uint32_t lo = static_cast<std::uint32_t>(half[i].key >> 32);
-        const std::uint32_t hi = static_cast<std::uint32_t>(half[i].key & 0xFFFFFFFFu);
-        const std::size_t cnt = j - i;
-        if (cnt == 1) {
-            const bool rev = (half[i].face_dir & 0x80000000u) != 0;
-            const std::uint32_t f = half[i].face_dir & 0x7FFFFFFFu;
-            adj.edges.push_back(rev ? SilhouetteEdge{hi, lo, f, kSilhouetteNoFace} : SilhouetteEdge{lo, hi, f, kSilhouetteNoFace});
-            ++adj.boundary_edges;
-        } else if (cnt == 2 && ((half[i].face_dir ^ half[i + 1].face_dir) & 0x80000000u)) {
-            // sorted by face_dir: the forward (lo -> hi) face comes first
-            adj.edges.push_back(SilhouetteEdge{lo, hi, half[i].face_dir & 0x7FFFFFFFu, half[i + 1].face_dir & 0x7FFFFFFFu});
-            ++adj.manifold_edges;
-        } else {
-            SilhouetteNonManifoldEdge e{lo, hi, static_cast<std::uint32_t>(adj.nonmanifold_faces.size()), static_cast<std::uint32_t>(cnt)};
-            for (std::size_t k = i; k < j; ++k) adj.nonmanifold_faces.push_back(half[k].face_dir);
-            adj.nonmanifold_edges.push_back(e);
-        }
-        i = j;
-    }
+    detail::sil_build_edges(adj);
     adj.status = Status::Ok;
     return adj;
 }
