@@ -1,4 +1,4 @@
-// shadowkit/glsl/cascades.glsl - cascaded shadow maps: cascade selection, blend band, lookup.
+// shadowkit/glsl/cascades.glsl - cascaded shadow maps: cascade selection, blend band, lookup, SDSM reduction.
 // versions: 330, 450
 // stages: fragment
 //
@@ -31,6 +31,16 @@
 // plane, the automatic bias) composes through sk_cascade_pick: it returns the cascade, the next one
 // inside the band and the blend weight; read each with the kernel and mix (docs/cascades.md).
 // Points outside the selected cascade's map (uv outside [0,1]) and beyond the last split are lit.
+// SDSM reduction (sample distribution shadow maps, Lauritzen et al. 2011): the min and max window
+// depth of the camera depth buffer's non-background pixels, in full-screen passes into RG32F levels
+// (no compute stage needed: GLSL 3.30 too). Pass 1 draws a ceil(W / block) x ceil(H / block) RG32F
+// target with sk_sdsm_reduce_depth(depth, ivec2(gl_FragCoord.xy), block, background) (depth: the
+// camera's depth texture as sampler2D, compare mode off, GL_NEAREST; background: its clear value,
+// 1.0, or 0.0 for reversed-Z); each next pass draws a level block times smaller with
+// sk_sdsm_reduce_minmax(previous level, ivec2(gl_FragCoord.xy), block) until it is 1x1; read that
+// texel back (or bind it). .x = min, .y = max window depth; (SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX)
+// when no pixel was a receiver. cascades.hpp's cascade_sdsm_view_range turns it into view depths and
+// cascade_sdsm_fit fits the cascades to it. GL state: depth test and blending off, viewport = target.
 // MIT License. Copyright (c) shadowkit contributors.
 
 // The first cascade whose far split is >= view_depth; -1 beyond the last one.
@@ -105,6 +115,44 @@ float sk_cascade_shadow(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_
     float s = sk_cascade_sample(maps, light_vp[i], i, world_pos, bias, zero_to_one);
     if (j >= 0) s = mix(s, sk_cascade_sample(maps, light_vp[j], j, world_pos, bias, zero_to_one), w);
     return s;
+}
+
+// ---- SDSM depth reduction ---------------------------------------------------------------------
+const float SK_SDSM_EMPTY_MIN = 2.0;   // a level texel that saw no receiver: (2, -1), outside [0, 1]
+const float SK_SDSM_EMPTY_MAX = -1.0;
+
+// First level: (min, max) window depth over the block x block texels of `depth` starting at
+// dst_texel * block (texels past the edge skipped), ignoring texels equal to background_depth.
+vec2 sk_sdsm_reduce_depth(sampler2D depth, ivec2 dst_texel, int block, float background_depth)
+{
+    ivec2 size = textureSize(depth, 0);
+    vec2 r = vec2(SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            ivec2 p = dst_texel * block + ivec2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float d = texelFetch(depth, p, 0).r;
+            if (d == background_depth) continue;
+            r = vec2(min(r.x, d), max(r.y, d));
+        }
+    }
+    return r;
+}
+
+// Next levels: (min of .x, max of .y) over the block x block texels of an RG32F level.
+vec2 sk_sdsm_reduce_minmax(sampler2D level, ivec2 dst_texel, int block)
+{
+    ivec2 size = textureSize(level, 0);
+    vec2 r = vec2(SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            ivec2 p = dst_texel * block + ivec2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            vec2 m = texelFetch(level, p, 0).xy;
+            r = vec2(min(r.x, m.x), max(r.y, m.y));
+        }
+    }
+    return r;
 }
 
 #ifdef SK_PCF_GLSL
