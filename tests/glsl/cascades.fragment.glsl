@@ -26,5 +26,9 @@ void main()
     // (tests/test_glsl_snippets.cpp compiles pcf.glsl + cascades.glsl with a driver calling them)
     vec2 r0 = sk_sdsm_reduce_depth(u_depth, ivec2(gl_FragCoord.xy), 8, 1.0);
     vec2 r1 = sk_sdsm_reduce_minmax(u_level, ivec2(gl_FragCoord.xy), 8);
-    frag_color = vec4(s * s0 + r0.x, w + c.x + weight + r1.y, float(a + b + first + second), 1.0);
+    vec4 bounds[4];
+    sk_sdsm_reduce_bounds(u_depth, ivec2(gl_FragCoord.xy), 8, 1.0, u_light_vp[0], u_light_vp[1], u_light_vp[2], u_split_far,
+                          u_count, false, bounds);
+    vec4 b1 = sk_sdsm_reduce_bounds_level(u_level, ivec2(gl_FragCoord.xy), 8);
+    frag_color = vec4(s * s0 + r0.x + bounds[0].x, w + c.x + weight + r1.y + b1.z, float(a + b + first + second), 1.0);
 }

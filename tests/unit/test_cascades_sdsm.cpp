@@ -76,7 +76,7 @@ Config random_config(std::mt19937& rng, double pos_scale) {
     c.in.view_max = static_cast<float>(std::fmax(a, b));
     c.in.cascade_count = 1 + static_cast<std::uint32_t>(rng() % 8);
     c.in.lambda = u(rng) < 0.5 ? 1.0f : static_cast<float>(u(rng));
-    c.in.margin = static_cast<float>(0.25 * u(rng));
+    c.in.margin = rng() % 4 == 0 ? 0.0f : static_cast<float>(0.25 * u(rng));  // 0: the texel border alone
     return c;
 }
 
@@ -142,6 +142,7 @@ TEST_CASE("sdsm: closed form under a light shining straight down") {
     in.camera.shadow_map_size = 1024;
     in.view_min = 2.0f;
     in.view_max = 32.0f;
+    in.margin = 1.0f / 16.0f;
     Cascade cs[4];
     const CascadeSdsmResult r = cascade_sdsm_fit(in, nullptr, cs, 4);
     REQUIRE(r.status == Status::Ok);
@@ -149,17 +150,18 @@ TEST_CASE("sdsm: closed form under a light shining straight down") {
     // whole octaves are on the 2^(1/8) grid: the log partition of [2, 32] is 2, 4, 8, 16, 32
     const float want[5] = {2, 4, 8, 16, 32};
     for (int i = 0; i < 5; ++i) CHECK(r.splits[i] == doctest::Approx(want[i]).epsilon(1e-6));
-    // cascade 0, slice [2, 4]: extent 8 (1 + 2/16) * 1024 / 1022 = 9.018 -> a multiple of 1 (2^3 / 8): 10
+    // cascade 0, slice [2, 4]: x extent 8 (1 + 2/16) * 1024 / 1022 = 9.018 -> a multiple of 1 (2^3 / 8): 10;
+    // y extent 2 (1 + 2/16) * 1024 / 1022 = 2.254 -> a multiple of 0.25 (2^1 / 8): 2.5
     const CascadeSdsmBox& b = r.boxes[0];
     CHECK(b.x1 - b.x0 == 10.0);
-    CHECK(b.y1 - b.y0 == 10.0);
-    CHECK(b.x0 == -5.0);              // centered on x = 0, whole texels of 10 / 1024
-    CHECK(b.y0 == -205.0 * 10.0 / 1024.0);  // centered on y = 3: 3 - 5 = -204.8 texels, floored
+    CHECK(b.y1 - b.y0 == 2.5);
+    CHECK(b.x0 == -5.0);                     // centered on x = 0, whole texels of 10 / 1024
+    CHECK(b.y0 == 716.0 * 2.5 / 1024.0);     // centered on y = 3: 1.75 / (2.5 / 1024) = 716.8 texels, floored
     CHECK(b.near_dist == -5.0);       // [-4, 4] grown by 8 / 16, snapped to 1 (2^3 / 8 of 9)
     CHECK(b.far_dist == 5.0);
-    CHECK(cs[0].texel_world_size == doctest::Approx(10.0 / 1024.0));
+    CHECK(cs[0].texel_world_size == doctest::Approx(10.0 / 1024.0));  // the larger axis
     CHECK(cs[0].texel_anchor.x == -512.0);
-    CHECK(cs[0].texel_anchor.y == -205.0);
+    CHECK(cs[0].texel_anchor.y == 716.0);
     // the matrix maps the box's corners to the clip box's corners: world (x, y, z) = (x0, -near, -y0) -> (-1, -1, -1)
     const glm::dvec4 c0 = glm::dmat4(cs[0].view_proj) * glm::dvec4(-5.0, 5.0, -b.y0, 1.0);
     CHECK(c0.x == doctest::Approx(-1.0));
@@ -258,13 +260,17 @@ TEST_CASE("sdsm: hysteresis: a camera move below the step keeps the fit bit-iden
         const CascadeSdsmResult ra = cascade_sdsm_fit(c.in, nullptr, a, 16);
         if (ra.status != Status::Ok) continue;
         ++runs;
-        // a translation of 1/10 of the margin of the smallest box, the range ends moved inward within a step
-        const double e0 = ra.boxes[0].x1 - ra.boxes[0].x0;
+        // a translation of 1/10 of the margin of the smallest extent (x, y or depth) of any box, the
+        // range ends moved inward within a step
+        double e0 = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < ra.count; ++i)
+            e0 = std::fmin(e0, std::fmin(ra.boxes[i].x1 - ra.boxes[i].x0,
+                                         std::fmin(ra.boxes[i].y1 - ra.boxes[i].y0, ra.boxes[i].far_dist - ra.boxes[i].near_dist)));
         const glm::vec3 move = rdir(rng) * static_cast<float>(0.1 * c.in.margin * e0 / 1.25);
         Config m = c;
         m.in.camera.camera_view = c.in.camera.camera_view * glm::translate(glm::mat4(1.0f), -move);
         const double step = std::exp2(1.0 / double(c.in.range_steps_per_octave)) - 1.0;
-        m.in.view_min = static_cast<float>(c.in.view_min * (1.0 + 0.3 * step * u(rng)));
+        m.in.view_min = std::fmin(c.in.view_max, static_cast<float>(c.in.view_min * (1.0 + 0.3 * step * u(rng))));
         m.in.view_max = std::fmax(m.in.view_min, static_cast<float>(c.in.view_max / (1.0 + 0.3 * step * u(rng))));
         const CascadeSdsmResult rb = cascade_sdsm_fit(m.in, &ra, b, 16);
         REQUIRE(rb.status == Status::Ok);
@@ -360,4 +366,92 @@ TEST_CASE("sdsm: stiff cases") {
         s.in.camera.light_position = glm::vec4(sign * f, 0.0f);
         check(s, sign > 0 ? "light along the view" : "light against the view");
     }
+}
+
+TEST_CASE("sdsm: receiver bounds (second reduction): visible points still land inside, boxes shrink") {
+    // the bounds are computed here as the GPU reduction does: each visible point (float) through the
+    // float light view of cascade_sdsm_light_view, into the cascade its view depth selects with the
+    // splits of cascade_sdsm_splits (beyond the last split: the last)
+    std::mt19937 rng(3125);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int bad = 0, fits = 0, smaller = 0, cascades = 0;
+    for (int k = 0; k < 1000; ++k) {
+        const Config c = random_config(rng, k % 2 ? 100.0 : 1.0);
+        if (c.in.cascade_count > 4) continue;
+        const CascadeSdsmResult sp = cascade_sdsm_splits(c.in, nullptr);
+        REQUIRE(sp.status == Status::Ok);
+        const CascadeSdsmLightView lv = cascade_sdsm_light_view(c.in.camera.light_position);
+        REQUIRE(lv.status == Status::Ok);
+        glm::vec4 b[4];
+        for (glm::vec4& v : b) v = glm::vec4(3e38f, 3e38f, -3e38f, -3e38f);
+        std::vector<glm::vec3> pts;
+        const double lo = c.in.view_min, hi = c.in.view_max;
+        for (int s = 0; s < 200; ++s) {  // a receiver surface: a random subset of the visible volume
+            const double dep = lo * std::pow(hi / lo, u(rng));
+            const glm::vec3 p = visible_point(c.in.camera.camera_view, c.fovy, c.aspect, dep, u(rng) - 0.3, 0.5 * u(rng));
+            const float vd = -(c.in.camera.camera_view * glm::vec4(p, 1.0f)).z;
+            int i = cascade_select_by_depth(vd, sp.splits, c.in.cascade_count).index;
+            if (i < 0) i = vd < sp.splits[0] ? 0 : static_cast<int>(c.in.cascade_count) - 1;
+            const glm::vec4 l = lv.view * glm::vec4(p, 1.0f);
+            b[i] = glm::vec4(std::min(b[i].x, l.x), std::min(b[i].y, l.y), std::max(b[i].z, l.x), std::max(b[i].w, l.y));
+            pts.push_back(p);
+        }
+        CascadeSdsmInput in = c.in;
+        in.receiver_bounds = b;
+        Cascade cs[4], whole[4];
+        const CascadeSdsmResult r = cascade_sdsm_fit(in, nullptr, cs, 4);
+        const CascadeSdsmResult rw = cascade_sdsm_fit(c.in, nullptr, whole, 4);
+        if (r.status == Status::Overflow) continue;
+        REQUIRE(r.status == Status::Ok);
+        REQUIRE(rw.status == Status::Ok);
+        ++fits;
+        CHECK(std::memcmp(r.splits, sp.splits, sizeof(r.splits)) == 0);  // the splits the bounds were reduced with
+        for (const glm::vec3& p : pts) {
+            const float vd = -(c.in.camera.camera_view * glm::vec4(p, 1.0f)).z;
+            int i = cascade_select_by_depth(vd, r.splits, static_cast<std::uint32_t>(r.count)).index;
+            if (i < 0) i = vd < r.splits[0] ? 0 : static_cast<int>(r.count) - 1;
+            if (!lands_inside(cs[i].view_proj, p, c.in.camera.light_depth)) ++bad;
+        }
+        for (std::size_t i = 0; i < r.count; ++i, ++cascades) {
+            const double a = (r.boxes[i].x1 - r.boxes[i].x0) * (r.boxes[i].y1 - r.boxes[i].y0);
+            const double aw = (rw.boxes[i].x1 - rw.boxes[i].x0) * (rw.boxes[i].y1 - rw.boxes[i].y0);
+            CHECK(a <= aw);
+            smaller += a < 0.5 * aw ? 1 : 0;
+        }
+    }
+    CHECK(fits > 400);
+    CHECK(bad == 0);
+    CHECK(smaller > cascades / 4);  // receivers on a part of the view: much smaller maps
+    MESSAGE("fits " << fits << ", cascades under half the slice's area " << smaller << " of " << cascades);
+}
+
+TEST_CASE("sdsm: receiver bounds validation, empty cascades, light view") {
+    CascadeSdsmInput in;
+    in.camera.camera_view = glm::mat4(1.0f);
+    in.camera.camera_proj = glm::perspective(1.0f, 1.0f, 0.5f, 100.0f);
+    in.camera.light_position = glm::vec4(0.2f, 1, 0.1f, 0);
+    in.view_min = 1.0f;
+    in.view_max = 10.0f;
+    Cascade a[4], b[4];
+    glm::vec4 rb[4];
+    for (glm::vec4& v : rb) v = glm::vec4(3e38f, 3e38f, -3e38f, -3e38f);  // no receiver in any cascade
+    const CascadeSdsmResult whole = cascade_sdsm_fit(in, nullptr, a, 4);
+    in.receiver_bounds = rb;
+    const CascadeSdsmResult empty = cascade_sdsm_fit(in, nullptr, b, 4);
+    REQUIRE(whole.status == Status::Ok);
+    REQUIRE(empty.status == Status::Ok);
+    CHECK(same_bits(whole, a, empty, b));  // an empty cascade keeps its slice's box
+    rb[2].x = std::nanf("");
+    CHECK(cascade_sdsm_fit(in, nullptr, b, 4).status == Status::NonFinite);
+    CHECK(cascade_sdsm_splits(in, nullptr).status == Status::Ok);  // the splits do not read the bounds
+    CHECK(cascade_sdsm_light_view(glm::vec4(0, 1, 0, 1)).status == Status::InvalidLight);
+    CHECK(cascade_sdsm_light_view(glm::vec4(0.0f)).status == Status::InvalidLight);
+    CHECK(cascade_sdsm_light_view(glm::vec4(NAN, 1, 0, 0)).status == Status::InvalidLight);
+    // closed form: light straight down -> map x = world x, map y = world -z, -z_light = distance = -y
+    const CascadeSdsmLightView lv = cascade_sdsm_light_view(glm::vec4(0, 1, 0, 0));
+    REQUIRE(lv.status == Status::Ok);
+    const glm::vec4 l = lv.view * glm::vec4(1, 2, 3, 1);
+    CHECK(l.x == doctest::Approx(1.0));
+    CHECK(l.y == doctest::Approx(-3.0));
+    CHECK(l.z == doctest::Approx(2.0));
 }
