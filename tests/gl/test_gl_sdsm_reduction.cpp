@@ -5,12 +5,19 @@
 // edges), blocks of 2 to 16, background 1.0 (and 0.0 for reversed-Z), a single receiver pixel in a
 // corner, and an all-background buffer (the empty marker, which cascade_sdsm_view_range reads as
 // nothing visible). One case draws triangles into the depth buffer (depth test on) and reads it back
-// with glReadPixels for the CPU side.
+// with glReadPixels for the CPU side. The second reduction (sk_sdsm_reduce_bounds, then
+// sk_sdsm_reduce_bounds_level) against the CPU's per-cascade light-space bounds of the same pixels'
+// world points (computed in double from the same float depths; pixels within 1e-3 of a split left
+// out so that float rounding cannot move one across), within 1e-3 world units.
 #include <doctest/doctest.h>
 
 #include <shadowkit/cascades.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -221,4 +228,165 @@ void main() { gl_Position = vec4(a_p, 1.0); }
     glDeleteVertexArrays(1, &vao);
     glDeleteProgram(prog);
     skgl::destroy_target(tgt);
+}
+
+namespace {
+
+const char* kBoundsFirst = R"(
+uniform sampler2D u_src;
+uniform mat4 u_clip_to_world;
+uniform mat4 u_world_to_view;
+uniform mat4 u_world_to_light;
+uniform vec4 u_split_far;
+uniform int u_count;
+layout(location = 0) out vec4 o_b0;
+layout(location = 1) out vec4 o_b1;
+layout(location = 2) out vec4 o_b2;
+layout(location = 3) out vec4 o_b3;
+void main() {
+    vec4 b[4];
+    sk_sdsm_reduce_bounds(u_src, ivec2(gl_FragCoord.xy), 4, 1.0, u_clip_to_world, u_world_to_view, u_world_to_light,
+                          u_split_far, u_count, false, b);
+    o_b0 = b[0]; o_b1 = b[1]; o_b2 = b[2]; o_b3 = b[3];
+}
+)";
+const char* kBoundsNext = R"(
+uniform sampler2D u_l0;
+uniform sampler2D u_l1;
+uniform sampler2D u_l2;
+uniform sampler2D u_l3;
+layout(location = 0) out vec4 o_b0;
+layout(location = 1) out vec4 o_b1;
+layout(location = 2) out vec4 o_b2;
+layout(location = 3) out vec4 o_b3;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    o_b0 = sk_sdsm_reduce_bounds_level(u_l0, p, 4);
+    o_b1 = sk_sdsm_reduce_bounds_level(u_l1, p, 4);
+    o_b2 = sk_sdsm_reduce_bounds_level(u_l2, p, 4);
+    o_b3 = sk_sdsm_reduce_bounds_level(u_l3, p, 4);
+}
+)";
+
+}  // namespace
+
+TEST_CASE("sdsm bounds reduction: per-cascade light-space bounds equal the CPU's") {
+    (void)gl_test_context();
+    std::string log;
+    const std::string head = "#version 330 core\n";
+    const std::string snip = skgl::read_text_file(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
+    const GLuint first = skgl::compile_program({{GL_VERTEX_SHADER, head + kVs}, {GL_FRAGMENT_SHADER, head + snip + kBoundsFirst}}, log);
+    REQUIRE_MESSAGE(first != 0, log);
+    const GLuint next = skgl::compile_program({{GL_VERTEX_SHADER, head + kVs}, {GL_FRAGMENT_SHADER, head + snip + kBoundsNext}}, log);
+    REQUIRE_MESSAGE(next != 0, log);
+    const int w = 203, h = 117;
+    const float n = 0.5f, f = 50.0f;
+    const glm::mat4 V = glm::lookAt(glm::vec3(3, 2, 5), glm::vec3(0, 0, -10), glm::vec3(0, 1, 0));
+    const glm::mat4 P = glm::perspective(0.9f, float(w) / float(h), n, f);
+    const glm::mat4 c2w = glm::inverse(P * V);
+    shadowkit::CascadeSdsmInput in;
+    in.camera.camera_view = V;
+    in.camera.camera_proj = P;
+    in.camera.light_position = glm::vec4(glm::normalize(glm::vec3(-0.85f, 0.5f, -0.15f)), 0.0f);
+    in.view_min = 1.0f;
+    in.view_max = 40.0f;
+    const shadowkit::CascadeSdsmResult sp = shadowkit::cascade_sdsm_splits(in, nullptr);
+    REQUIRE(sp.status == shadowkit::Status::Ok);
+    const shadowkit::CascadeSdsmLightView lv = shadowkit::cascade_sdsm_light_view(in.camera.light_position);
+    REQUIRE(lv.status == shadowkit::Status::Ok);
+    // depths of view depths in [1, 40]; a third background; none within 1e-3 of a split
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<float> d(static_cast<std::size_t>(w * h));
+    glm::dvec4 cpu[4];
+    for (glm::dvec4& b : cpu) b = glm::dvec4(1e300, 1e300, -1e300, -1e300);
+    const glm::dmat4 c2wd(c2w), Vd(V), Ld(lv.view);
+    int used[4] = {0, 0, 0, 0};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float& dv = d[static_cast<std::size_t>(y * w + x)];
+            dv = 1.0f;
+            if (u(rng) < 0.33) continue;
+            const double z = std::pow(40.0, u(rng));  // view depth
+            dv = static_cast<float>(((double(f) + n) / (double(f) - n) - 2.0 * f * n / ((double(f) - n) * z) + 1.0) * 0.5);
+            const glm::dvec4 hw = c2wd * glm::dvec4((x + 0.5) / w * 2.0 - 1.0, (y + 0.5) / h * 2.0 - 1.0, 2.0 * double(dv) - 1.0, 1.0);
+            const glm::dvec4 pw(glm::dvec3(hw) / hw.w, 1.0);
+            const double vd = -(Vd * pw).z;
+            bool near_split = false;
+            int c = 3;
+            for (int i = 3; i >= 0; --i) {
+                near_split = near_split || std::fabs(vd - double(sp.splits[i + 1])) < 1e-3 * vd;
+                if (vd <= double(sp.splits[i + 1])) c = i;
+            }
+            if (near_split) { dv = 1.0f; continue; }
+            const glm::dvec4 l = Ld * pw;
+            cpu[c] = glm::dvec4(std::min(cpu[c].x, l.x), std::min(cpu[c].y, l.y), std::max(cpu[c].z, l.x), std::max(cpu[c].w, l.y));
+            ++used[c];
+        }
+    for (int c = 0; c < 4; ++c) REQUIRE(used[c] > 10);
+    const GLuint t = depth_texture(d, w, h);
+    GLuint vao = 0;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glDisable(GL_DEPTH_TEST);
+    std::vector<skgl::Target> levels;
+    levels.reserve(16);
+    int lw = w, lh = h;
+    const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+    while (levels.empty() || lw > 1 || lh > 1) {
+        lw = (lw + 3) / 4;
+        lh = (lh + 3) / 4;
+        levels.emplace_back();
+        std::string why;
+        REQUIRE(skgl::make_target(levels.back(), lw, lh, {GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F}, 0, why));
+        for (GLuint c : levels.back().color) skgl::set_nearest_clamped(c);
+        glBindFramebuffer(GL_FRAMEBUFFER, levels.back().fbo);
+        glDrawBuffers(4, bufs);
+        glViewport(0, 0, lw, lh);
+        const bool is_first = levels.size() == 1;
+        const GLuint prog = is_first ? first : next;
+        glUseProgram(prog);
+        if (is_first) {
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, t);
+            glUniform1i(glGetUniformLocation(prog, "u_src"), 0);
+            glUniformMatrix4fv(glGetUniformLocation(prog, "u_clip_to_world"), 1, GL_FALSE, glm::value_ptr(c2w));
+            glUniformMatrix4fv(glGetUniformLocation(prog, "u_world_to_view"), 1, GL_FALSE, glm::value_ptr(V));
+            glUniformMatrix4fv(glGetUniformLocation(prog, "u_world_to_light"), 1, GL_FALSE, glm::value_ptr(lv.view));
+            glUniform4f(glGetUniformLocation(prog, "u_split_far"), sp.splits[1], sp.splits[2], sp.splits[3], sp.splits[4]);
+            glUniform1i(glGetUniformLocation(prog, "u_count"), 4);
+        } else {
+            const skgl::Target& prev = levels[levels.size() - 2];
+            for (int k = 0; k < 4; ++k) {
+                glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(k));
+                glBindTexture(GL_TEXTURE_2D, prev.color[static_cast<std::size_t>(k)]);
+                glUniform1i(glGetUniformLocation(prog, ("u_l" + std::to_string(k)).c_str()), k);
+            }
+        }
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glm::vec4 gpu[4];
+    for (int k = 0; k < 4; ++k) {
+        glReadBuffer(bufs[k]);
+        glReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, glm::value_ptr(gpu[k]));
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    for (int c = 0; c < 4; ++c) {
+        INFO("cascade " << c);
+        for (int k = 0; k < 4; ++k) CHECK(std::fabs(double(gpu[c][k]) - cpu[c][k]) < 1e-3);
+    }
+    // the fit with these bounds: every cascade's box inside its slice's box and no larger
+    shadowkit::Cascade cs[4], whole[4];
+    in.receiver_bounds = gpu;
+    const shadowkit::CascadeSdsmResult r = shadowkit::cascade_sdsm_fit(in, nullptr, cs, 4);
+    in.receiver_bounds = nullptr;
+    const shadowkit::CascadeSdsmResult rw = shadowkit::cascade_sdsm_fit(in, nullptr, whole, 4);
+    REQUIRE(r.status == shadowkit::Status::Ok);
+    REQUIRE(rw.status == shadowkit::Status::Ok);
+    for (int c = 0; c < 4; ++c) CHECK(r.boxes[c].x1 - r.boxes[c].x0 <= rw.boxes[c].x1 - rw.boxes[c].x0);
+    for (skgl::Target& tg : levels) skgl::destroy_target(tg);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteTextures(1, &t);
+    glDeleteProgram(first);
+    glDeleteProgram(next);
 }
