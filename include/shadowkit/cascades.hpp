@@ -708,7 +708,7 @@ inline CascadeSdsmBox cs_sdsm_tight_box(const CascadeInput& in, const CsRays& r,
 inline void cs_sdsm_axis(double t0, double t1, double m, double S, double prev_len, double& b0, double& b1) {
     double eq = cs_sdsm_round_up(std::fmax((t1 - t0) * (1.0 + 2.0 * m), 1e-30) * S / (S - 2.0));
     const double loose = cs_sdsm_round_up(std::fmax((t1 - t0) * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0));
-    if (prev_len >= eq && prev_len <= loose) eq = prev_len;
+    if (prev_len >= eq * (1.0 - 1e-12) && prev_len <= loose * (1.0 + 1e-12)) eq = prev_len;  // b1 - b0 rounds
     const double texel = eq / S;
     b0 = std::floor((0.5 * (t0 + t1) - 0.5 * eq) / texel) * texel;
     b1 = b0 + eq;
@@ -723,7 +723,9 @@ inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox*
                                   double S, bool& kept) {
     const double dd = t.far_dist - t.near_dist;
     const double dstep = std::ldexp(1.0, std::ilogb(std::fmax(dd * (1.0 + 2.0 * m), 1e-30)) - 3);
-    auto loose = [&](double e) { return cs_sdsm_round_up(std::fmax(e * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0)); };
+    auto loose = [&](double e) {  // (1 + 1e-12): a kept box's b1 - b0 is its rounded length within rounding
+        return cs_sdsm_round_up(std::fmax(e * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0)) * (1.0 + 1e-12);
+    };
     const bool depth_ok = prev && prev->near_dist <= t.near_dist && prev->far_dist >= t.far_dist &&
                           prev->far_dist - prev->near_dist <= dd * (1.0 + 4.0 * m) + 4.0 * dstep;
     kept = false;
