@@ -20,6 +20,7 @@
 //   const shadowkit::CascadeSdsmRange vr = shadowkit::cascade_sdsm_view_range(proj, depth, reversed, wmin, wmax);
 //   sd.view_min = vr.view_min; sd.view_max = vr.view_max;   // if vr.visible
 //   static shadowkit::CascadeSdsmResult last;               // last frame's fit: the hysteresis
+//   // optional, tighter: cascade_sdsm_splits(sd, &last) -> the bounds reduction -> sd.receiver_bounds
 //   last = shadowkit::cascade_sdsm_fit(sd, &last, cascades, 4);  // splits in last.splits
 //
 // Conventions: world units; GLM right-handed, column-major matrices; camera view depth d = -z_view > 0.
@@ -142,7 +143,7 @@ struct Cascade {
     glm::mat4 view_proj{1.0f};       ///< world -> cascade clip space
     float split_near = 0.0f;         ///< view-depth range covered by this cascade
     float split_far = 0.0f;
-    glm::vec4 sphere{0.0f};          ///< world bounding sphere of the slice (center, rounded radius)
+    glm::vec4 sphere{0.0f};          ///< world bounding sphere of the slice (center, rounded radius); SDSM: of its box
     float texel_world_size = 0.0f;   ///< world size of one shadow-map texel (SDSM: the larger of x and y)
     /// Where the map's texel (0, 0) begins on the light's texel grid, anchored at the world origin:
     /// window x of a point = (light-view x) / texel - texel_anchor.x (likewise y); whole numbers for an
