@@ -359,6 +359,17 @@ TEST_CASE("sdsm: stiff cases") {
         CHECK(r.range_max >= 100.0f);
         CHECK(r.range_max < 100.0f * 1.1f);
     }
+    for (bool reversed : {false, true}) {  // zero-to-one camera and light, reversed-Z or not, finite far
+        Config s = c;
+        s.in.camera.camera_view = look(glm::vec3(-3, 4, 1), glm::normalize(glm::vec3(0.5f, -0.4f, -1.0f)));
+        s.in.camera.camera_proj = reversed ? glm::perspectiveRH_ZO(1.0f, 1.5f, 1000.0f, 0.1f)  // near <-> far: reversed
+                                           : glm::perspectiveRH_ZO(1.0f, 1.5f, 0.1f, 1000.0f);
+        s.in.camera.camera_depth = ClipDepth::ZeroToOne;
+        s.in.camera.camera_reversed_z = reversed;
+        s.in.camera.light_depth = ClipDepth::ZeroToOne;
+        s.in.camera.light_reversed_z = reversed;
+        check(s, reversed ? "reversed-Z zero-to-one, finite far" : "zero-to-one");
+    }
     for (float sign : {1.0f, -1.0f}) {  // light parallel and anti-parallel to the view
         Config s = c;
         const glm::vec3 f = glm::normalize(glm::vec3(0.2f, -0.3f, -1.0f));
