@@ -1,4 +1,4 @@
-// shadowkit/glsl/cascades.glsl - cascaded shadow maps: cascade selection, blend band, lookup.
+// shadowkit/glsl/cascades.glsl - cascaded shadow maps: cascade selection, blend band, lookup, SDSM reduction.
 // versions: 330, 450
 // stages: fragment
 //
@@ -31,6 +31,19 @@
 // plane, the automatic bias) composes through sk_cascade_pick: it returns the cascade, the next one
 // inside the band and the blend weight; read each with the kernel and mix (docs/cascades.md).
 // Points outside the selected cascade's map (uv outside [0,1]) and beyond the last split are lit.
+// SDSM reduction (sample distribution shadow maps, Lauritzen et al. 2011): the min and max window
+// depth of the camera depth buffer's non-background pixels, in full-screen passes into RG32F levels
+// (no compute stage needed: GLSL 3.30 too). Pass 1 draws a ceil(W / block) x ceil(H / block) RG32F
+// target with sk_sdsm_reduce_depth(depth, ivec2(gl_FragCoord.xy), block, background) (depth: the
+// camera's depth texture as sampler2D, compare mode off, GL_NEAREST; background: its clear value,
+// 1.0, or 0.0 for reversed-Z); each next pass draws a level block times smaller with
+// sk_sdsm_reduce_minmax(previous level, ivec2(gl_FragCoord.xy), block) until it is 1x1; read that
+// texel back (or bind it). .x = min, .y = max window depth; (SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX)
+// when no pixel was a receiver. cascades.hpp's cascade_sdsm_view_range turns it into view depths and
+// cascade_sdsm_fit fits the cascades to it. GL state: depth test and blending off, viewport = target.
+// Optionally a second reduction, sk_sdsm_reduce_bounds then sk_sdsm_reduce_bounds_level (four RGBA32F
+// targets per level, one per cascade), gives each cascade's receiver bounds in light space
+// (CascadeSdsmInput::receiver_bounds): tighter maps than the view slices' boxes.
 // MIT License. Copyright (c) shadowkit contributors.
 
 // The first cascade whose far split is >= view_depth; -1 beyond the last one.
@@ -105,6 +118,96 @@ float sk_cascade_shadow(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_
     float s = sk_cascade_sample(maps, light_vp[i], i, world_pos, bias, zero_to_one);
     if (j >= 0) s = mix(s, sk_cascade_sample(maps, light_vp[j], j, world_pos, bias, zero_to_one), w);
     return s;
+}
+
+// ---- SDSM depth reduction ---------------------------------------------------------------------
+const float SK_SDSM_EMPTY_MIN = 2.0;   // a level texel that saw no receiver: (2, -1), outside [0, 1]
+const float SK_SDSM_EMPTY_MAX = -1.0;
+
+// First level: (min, max) window depth over the block x block texels of `depth` starting at
+// dst_texel * block (texels past the edge skipped), ignoring texels equal to background_depth.
+vec2 sk_sdsm_reduce_depth(sampler2D depth, ivec2 dst_texel, int block, float background_depth)
+{
+    ivec2 size = textureSize(depth, 0);
+    vec2 r = vec2(SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            ivec2 p = dst_texel * block + ivec2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float d = texelFetch(depth, p, 0).r;
+            if (d == background_depth) continue;
+            r = vec2(min(r.x, d), max(r.y, d));
+        }
+    }
+    return r;
+}
+
+// Next levels: (min of .x, max of .y) over the block x block texels of an RG32F level.
+vec2 sk_sdsm_reduce_minmax(sampler2D level, ivec2 dst_texel, int block)
+{
+    ivec2 size = textureSize(level, 0);
+    vec2 r = vec2(SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            ivec2 p = dst_texel * block + ivec2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            vec2 m = texelFetch(level, p, 0).xy;
+            r = vec2(min(r.x, m.x), max(r.y, m.y));
+        }
+    }
+    return r;
+}
+
+// Second reduction (SDSM sec. 3.2, optional): each cascade's light-space x/y bounds of the receivers it
+// serves, after cascade_sdsm_splits gave this frame's splits. First level: over the block x block
+// texels of `depth` from dst_texel * block, each non-background texel's world point (pixel center,
+// clip_to_world = inverse(camera proj * view) of the depth buffer's camera, zero_to_one its clip
+// depth) goes to the cascade its view depth (world_to_view, the fit camera's view) selects
+// (sk_cascade_by_depth with split_far, up to 4 cascades; beyond the last split: the last, so a depth
+// buffer of a camera a little off the fit's stays covered) and extends bounds[i] = (x0, y0, x1, y1) in
+// world_to_light's x/y (cascades.hpp's cascade_sdsm_light_view). A cascade without a receiver keeps
+// (SK_SDSM_EMPTY_BOUND, SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND): x0 > x1.
+// Next levels: sk_sdsm_reduce_bounds_level on each cascade's RGBA32F level.
+const float SK_SDSM_EMPTY_BOUND = 3.0e38;
+
+void sk_sdsm_reduce_bounds(sampler2D depth, ivec2 dst_texel, int block, float background_depth, mat4 clip_to_world,
+                           mat4 world_to_view, mat4 world_to_light, vec4 split_far, int count, bool zero_to_one,
+                           out vec4 bounds[4])
+{
+    for (int i = 0; i < 4; ++i) bounds[i] = vec4(vec2(SK_SDSM_EMPTY_BOUND), vec2(-SK_SDSM_EMPTY_BOUND));
+    ivec2 size = textureSize(depth, 0);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            ivec2 p = dst_texel * block + ivec2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float d = texelFetch(depth, p, 0).r;
+            if (d == background_depth) continue;
+            vec4 ndc = vec4((vec2(p) + 0.5) / vec2(size) * 2.0 - 1.0, zero_to_one ? d : d * 2.0 - 1.0, 1.0);
+            vec4 h = clip_to_world * ndc;
+            vec4 w = vec4(h.xyz / h.w, 1.0);
+            int i = sk_cascade_by_depth(-(world_to_view * w).z, split_far, count);
+            if (i < 0) i = count - 1;  // beyond the last split (a depth buffer of a lagging camera): the last
+            vec2 l = (world_to_light * w).xy;
+            for (int k = 0; k < 4; ++k)
+                if (k == i) bounds[k] = vec4(min(bounds[k].xy, l), max(bounds[k].zw, l));
+        }
+    }
+}
+
+// Next levels of the bounds: (min of .xy, max of .zw) over the block x block texels of one cascade's level.
+vec4 sk_sdsm_reduce_bounds_level(sampler2D level, ivec2 dst_texel, int block)
+{
+    ivec2 size = textureSize(level, 0);
+    vec4 r = vec4(vec2(SK_SDSM_EMPTY_BOUND), vec2(-SK_SDSM_EMPTY_BOUND));
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            ivec2 p = dst_texel * block + ivec2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            vec4 b = texelFetch(level, p, 0);
+            r = vec4(min(r.xy, b.xy), max(r.zw, b.zw));
+        }
+    }
+    return r;
 }
 
 #ifdef SK_PCF_GLSL

@@ -488,3 +488,52 @@ TEST_CASE("the Vulkan form of a driver puts loose uniforms into a set (the trans
     CHECK(compile_vulkan("#version 450 core\nuniform float u_x;\nlayout(location = 0) out vec4 o;\nvoid main() { o = vec4(u_x); }\n",
                          EShLangFragment, spirv) != "");
 }
+
+namespace {
+// Issue 25 (SDSM): the reduction passes the cascaded sample runs, each a full-screen fragment shader
+// of cascades.glsl's reduction functions (the bounds pass writes four targets).
+const char* kSdsmPasses[] = {
+    R"(
+uniform sampler2D u_src;
+out vec2 o_minmax;
+void main() { o_minmax = sk_sdsm_reduce_depth(u_src, ivec2(gl_FragCoord.xy), 8, 1.0); }
+)",
+    R"(
+uniform sampler2D u_src;
+out vec2 o_minmax;
+void main() { o_minmax = sk_sdsm_reduce_minmax(u_src, ivec2(gl_FragCoord.xy), 8); }
+)",
+    R"(
+uniform sampler2D u_src;
+uniform mat4 u_c2w, u_w2v, u_w2l;
+uniform vec4 u_split_far;
+layout(location = 0) out vec4 o_b0;
+layout(location = 1) out vec4 o_b1;
+layout(location = 2) out vec4 o_b2;
+layout(location = 3) out vec4 o_b3;
+void main() {
+    vec4 b[4];
+    sk_sdsm_reduce_bounds(u_src, ivec2(gl_FragCoord.xy), 8, 0.0, u_c2w, u_w2v, u_w2l, u_split_far, 4, true, b);
+    o_b0 = b[0]; o_b1 = b[1]; o_b2 = b[2]; o_b3 = b[3];
+}
+)",
+    R"(
+uniform sampler2D u_l0;
+out vec4 o_b;
+void main() { o_b = sk_sdsm_reduce_bounds_level(u_l0, ivec2(gl_FragCoord.xy), 8) + vec4(SK_SDSM_EMPTY_MIN + SK_SDSM_EMPTY_MAX); }
+)"};
+}  // namespace
+
+TEST_CASE("cascades.glsl's SDSM reduction passes compile (GLSL 3.30 and 4.50, fragment stage)") {
+    const std::string cascades = read_file(fs::path(SHADOWKIT_GLSL_DIR) / "cascades.glsl");
+    for (int v : {330, 450})
+        for (const char* pass : kSdsmPasses) {
+            const std::string src = "#version " + std::to_string(v) + " core\n" + cascades + pass;
+            CHECK_MESSAGE(compile(src, EShLangFragment, v).empty(), compile(src, EShLangFragment, v));
+        }
+    // Control: a call with the bounds out of order does not compile (the check can fail).
+    CHECK_FALSE(compile("#version 450 core\n" + cascades +
+                            "out vec2 o; uniform sampler2D s; void main() { o = sk_sdsm_reduce_minmax(s, 8, ivec2(0)); }",
+                        EShLangFragment, 450)
+                    .empty());
+}

@@ -15,6 +15,13 @@
 //       // render cascade i with cascades[i].view_proj into layer i of a depth array texture;
 //       // in the shader pick the cascade with glsl/cascades.glsl (fit.splits[1..4] as view depths).
 //   }
+//   // SDSM: fit to what the depth buffer shows (glsl/cascades.glsl's reduction -> window min/max)
+//   shadowkit::CascadeSdsmInput sd; sd.camera = in; sd.camera.stable_world_depth = false;
+//   const shadowkit::CascadeSdsmRange vr = shadowkit::cascade_sdsm_view_range(proj, depth, reversed, wmin, wmax);
+//   sd.view_min = vr.view_min; sd.view_max = vr.view_max;   // if vr.visible
+//   static shadowkit::CascadeSdsmResult last;               // last frame's fit: the hysteresis
+//   // optional, tighter: cascade_sdsm_splits(sd, &last) -> the bounds reduction -> sd.receiver_bounds
+//   last = shadowkit::cascade_sdsm_fit(sd, &last, cascades, 4);  // splits in last.splits
 //
 // Conventions: world units; GLM right-handed, column-major matrices; camera view depth d = -z_view > 0.
 // The camera projection may be any perspective or orthographic projection with its near plane in front
@@ -37,7 +44,9 @@
 //   Zhang, Sun, Xu & Lun 2006, "Parallel-Split Shadow Maps for Large-scale Virtual Environments"
 //     (practical split scheme: C_i = lambda C_log + (1 - lambda) C_uni); Engel 2007 "Cascaded Shadow
 //     Maps" (ShaderX5); Valient 2008, "Stable Rendering of Cascaded Shadow Maps" (ShaderX6: bounding
-//     sphere, texel snapping); Moschig, "Apelles" thesis, eqs. 2.3-2.5 (logarithmic split).
+//     sphere, texel snapping); Moschig, "Apelles" thesis, eqs. 2.3-2.5 (logarithmic split);
+//   Lauritzen, Salvi & Lefohn 2011, "Sample Distribution Shadow Maps" (I3D; SIGGRAPH 2010 course):
+//     depth-buffer min/max reduction, log partition of the visible range, tight light-space bounds.
 //
 // MIT License. Copyright (c) shadowkit contributors.
 #pragma once
@@ -134,13 +143,14 @@ struct Cascade {
     glm::mat4 view_proj{1.0f};       ///< world -> cascade clip space
     float split_near = 0.0f;         ///< view-depth range covered by this cascade
     float split_far = 0.0f;
-    glm::vec4 sphere{0.0f};          ///< world bounding sphere of the slice (center, rounded radius)
-    float texel_world_size = 0.0f;   ///< world size of one shadow-map texel
+    glm::vec4 sphere{0.0f};          ///< world bounding sphere of the slice (center, rounded radius); SDSM: of its box
+    float texel_world_size = 0.0f;   ///< world size of one shadow-map texel (SDSM: the larger of x and y)
     /// Where the map's texel (0, 0) begins on the light's texel grid, anchored at the world origin:
     /// window x of a point = (light-view x) / texel - texel_anchor.x (likewise y); whole numbers for an
     /// even shadow_map_size. A camera move changes them by the whole texels the map moved. For
     /// shadow_cache_plan, rebuild the double matrix's x/y translation exactly from it:
     /// view_proj[3][0] = -2 texel_anchor.x / size - 1 (likewise [3][1]), as for light_frustum.hpp.
+    /// (cascade_sdsm_fit: x and y each in texels of its own axis, its box's x0 / texel_x, y0 / texel_y.)
     glm::dvec2 texel_anchor{0.0};
 };
 
@@ -513,6 +523,445 @@ inline CascadeFitResult cascade_fit(const CascadeInput& in, float lambda, std::u
             res.status = out_cascades[i].status;
             return res;
         }
+        res.count = i + 1;
+    }
+    res.status = Status::Ok;
+    return res;
+}
+
+// ---- Sample distribution shadow maps (SDSM) ------------------------------------------------------
+// Lauritzen, Salvi & Lefohn 2011, "Sample Distribution Shadow Maps" (I3D): the cascades cover only the
+// view depths a depth-buffer reduction found visible (sec. 3: min/max of the depth buffer, then a
+// logarithmic partition of [z_min, z_max], their default), each fitted tightly in light space (sec. 3.2).
+
+/// The view-depth range of the visible receivers, converted from what glsl/cascades.glsl's reduction
+/// (sk_sdsm_reduce_depth / sk_sdsm_reduce_minmax) leaves in its last 1x1 level: the min and max window
+/// depth of every pixel that is not background.
+struct CascadeSdsmRange {
+    Status status = Status::NotRun;
+    bool visible = false;   ///< false (with Ok): the reduction found no receiver (its empty marker)
+    float view_min = 0.0f;  ///< [Units: wu, view depth d = -z_view > 0] nearest visible receiver
+    float view_max = 0.0f;  ///< farthest visible receiver (>= view_min)
+};
+
+/// The empty marker of the reduction: a level with no receiver pixel holds (2, -1) (window depths
+/// outside [0, 1]); SK_SDSM_EMPTY_MIN / SK_SDSM_EMPTY_MAX in glsl/cascades.glsl.
+constexpr float kCascadeSdsmEmptyMin = 2.0f;
+constexpr float kCascadeSdsmEmptyMax = -1.0f;
+
+/// SDSM fit inputs. Fields marked (required) default to a value the fit rejects.
+struct CascadeSdsmInput {
+    /// Camera, light, map size, caster bounds and the light's depth convention, as for cascade_fit.
+    /// Not used here: radius_quantum, scene bounds; stable_world_depth must be false (InvalidArgument).
+    /// max_distance > 0 clamps the visible range's far end (0: no clamp; an infinite far plane is fine).
+    CascadeInput camera;
+    /// [Units: wu, view depth] [Limit: 0 < view_min <= view_max] the visible receivers' depth range:
+    /// a CascadeSdsmRange, or a CPU min/max over the receivers' view depths (required). Clamped to the
+    /// camera's near and far planes.
+    float view_min = 0.0f;
+    float view_max = 0.0f;
+    std::uint32_t cascade_count = 4;  ///< [Limit: 1..16]
+    /// [Limit: 0..1] split scheme over [z_min, z_max]: 1 (default) the logarithmic partition (SDSM's
+    /// default), below 1 Zhang et al.'s practical blend with the uniform one.
+    float lambda = 1.0f;
+    /// [Limit: 1..64] the visible range is snapped outward to powers of 2^(1 / range_steps_per_octave)
+    /// (a split moves only when z_min or z_max crosses a step; kept while within two steps: hysteresis).
+    float range_steps_per_octave = 8.0f;
+    /// [Limit: 0..0.5] each cascade's box is padded by this fraction of its extent on every side when
+    /// it is rebuilt, and kept (bit-identical) while the new tight box stays inside it and is not
+    /// much smaller (extent within 4 margins after snapping): the hysteresis against flicker.
+    float margin = 1.0f / 8.0f;
+    /// Optional (nullptr: each cascade's whole view slice): cascade_count bounds (x0, y0, x1, y1) of
+    /// the visible receivers of each cascade in the frame of cascade_sdsm_light_view (SDSM sec. 3.2's
+    /// second reduction: sk_sdsm_reduce_bounds, each pixel in the cascade its view depth selects with
+    /// the splits cascade_sdsm_splits gives for this same input). A cascade's box is its slice's box
+    /// cut to these; x0 > x1 or y0 > y1 (the reduction's empty marker): no receiver, the slice's box.
+    const glm::vec4* receiver_bounds = nullptr;
+};
+
+/// One cascade's bounds in the light's view frame (rotation only, a fixed function of the light
+/// direction, origin at the world origin: cascade_sdsm_light_view): x/y across the light, depth =
+/// distance along the light. The x and y extents are rounded separately (texels need not be square).
+struct CascadeSdsmBox {
+    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
+    double near_dist = 0.0, far_dist = 0.0;
+};
+
+/// The light frame of the SDSM boxes (world -> light view, a rotation), for the bounds reduction.
+struct CascadeSdsmLightView {
+    Status status = Status::NotRun;
+    glm::mat4 view{1.0f};  ///< world -> light frame: x/y across the light, -z along its travel
+};
+
+/// Result of cascade_sdsm_fit; also the state the next frame's call reads (`previous`).
+struct CascadeSdsmResult {
+    Status status = Status::NotRun;
+    std::size_t count = 0;          ///< cascades written to out_cascades (a valid prefix)
+    std::size_t needed = 0;         ///< cascades the output needs (cascade_count)
+    bool visible = false;           ///< false (with Ok): the clamped range is empty, nothing written (count 0)
+    float range_min = 0.0f;         ///< the snapped visible range the splits cut: splits[0], splits[count]
+    float range_max = 0.0f;
+    float splits[17] = {};          ///< view depths: cascade i covers [splits[i], splits[i + 1]]
+    CascadeSdsmBox boxes[16];       ///< each cascade's light-space bounds (what its view_proj maps to the map)
+    std::uint32_t rebuilt = 0;      ///< bit i: cascade i's box was rebuilt (0: every box kept from `previous`)
+    glm::vec4 light_position{0.0f}; ///< the light and map size the boxes belong to (a different one
+    std::uint32_t shadow_map_size = 0;  ///< in the next call ignores `previous`)
+};
+
+namespace detail {
+
+/// Rounds v > 0 up to a multiple of 1/8 of its power of two (at most 12.5% larger).
+inline double cs_sdsm_round_up(double v) {
+    const double step = std::ldexp(1.0, std::ilogb(v) - 3);
+    return std::ceil(v / step) * step;
+}
+
+/// The light's view frame (rotation only): the stable fit's, anchored at the world origin.
+inline glm::dmat4 cs_light_view(const glm::vec4& light_position) {
+    const glm::dvec3 d = -glm::normalize(glm::dvec3(light_position));  // travel direction
+    const glm::dvec3 sx = glm::normalize(glm::cross(d, cs_stable_up(d)));
+    const glm::dvec3 sy = glm::cross(sx, d);
+    glm::dmat4 lv(1.0);
+    lv[0][0] = sx.x; lv[1][0] = sx.y; lv[2][0] = sx.z;
+    lv[0][1] = sy.x; lv[1][1] = sy.y; lv[2][1] = sy.z;
+    lv[0][2] = -d.x; lv[1][2] = -d.y; lv[2][2] = -d.z;
+    return lv;
+}
+
+/// Checks the SDSM-specific inputs (after cs_check_input): Ok or the first problem.
+inline Status cs_sdsm_check(const CascadeSdsmInput& in) {
+    if (!std::isfinite(in.view_min) || !std::isfinite(in.view_max) || !std::isfinite(in.lambda) ||
+        !std::isfinite(in.range_steps_per_octave) || !std::isfinite(in.margin))
+        return Status::NonFinite;
+    if (in.camera.stable_world_depth || !(in.view_min > 0.0f) || !(in.view_max >= in.view_min) ||
+        !(in.lambda >= 0.0f) || !(in.lambda <= 1.0f) || !(in.range_steps_per_octave >= 1.0f) ||
+        !(in.range_steps_per_octave <= 64.0f) || !(in.margin >= 0.0f) || !(in.margin <= 0.5f))
+        return Status::InvalidArgument;
+    if (in.receiver_bounds)
+        for (std::uint32_t i = 0; i < in.cascade_count && i < 16; ++i)
+            if (!cs_finite(in.receiver_bounds[i])) return Status::NonFinite;
+    return Status::Ok;
+}
+
+/// The visible range [zmin, zmax] snapped outward to powers of r = 2^(1/steps) (SDSM sec. 3's log
+/// partition is scale-free, so is the grid), keeping the previous end while it still covers and is
+/// within two steps (hysteresis).
+inline void cs_sdsm_snap_range(double zmin, double zmax, double steps, const CascadeSdsmResult* prev, double& lo,
+                               double& hi) {
+    const double klo = std::floor(std::log2(zmin) * steps), khi = std::ceil(std::log2(zmax) * steps);
+    lo = std::exp2(klo / steps);  // exact at whole octaves
+    hi = std::exp2(khi / steps);
+    if (lo > zmin) lo = std::exp2((klo - 1.0) / steps);  // log2/exp2 rounding
+    if (hi < zmax) hi = std::exp2((khi + 1.0) / steps);
+    if (!(hi > lo)) hi = lo * std::exp2(1.0 / steps);  // a zero range: one step
+    const double r2 = std::exp2(2.0 / steps);
+    if (prev) {
+        const double plo = prev->range_min, phi = prev->range_max;
+        if (plo <= zmin && zmin < plo * r2 && phi > plo) lo = plo;
+        if (phi >= zmax && zmax > phi / r2 && phi > lo) hi = phi;
+    }
+}
+
+/// Tight light-space box of the view slice [d0, d1] (its 8 corners, SDSM sec. 3.2), the near side
+/// pulled back to the caster bounds, cut to the receiver bounds rb (nullptr: none), padded by the
+/// float error of a vertex shader at that magnitude. pw receives the (unpadded) box's world corners.
+inline CascadeSdsmBox cs_sdsm_tight_box(const CascadeInput& in, const CsRays& r, const glm::dmat4& iv,
+                                        const glm::dmat4& lv, double d0, double d1, const glm::vec4* rb,
+                                        glm::dvec3 (&pw)[8]) {
+    CascadeSdsmBox b;
+    b.x0 = b.y0 = b.near_dist = std::numeric_limits<double>::infinity();
+    b.x1 = b.y1 = b.far_dist = -b.x0;
+    double mag = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        pw[i] = glm::dvec3(iv * glm::dvec4(cs_corner(r, i & 3, i < 4 ? d0 : d1), 1.0));
+        const glm::dvec3 l = glm::dvec3(lv * glm::dvec4(pw[i], 1.0));
+        b.x0 = std::fmin(b.x0, l.x); b.x1 = std::fmax(b.x1, l.x);
+        b.y0 = std::fmin(b.y0, l.y); b.y1 = std::fmax(b.y1, l.y);
+        b.near_dist = std::fmin(b.near_dist, -l.z); b.far_dist = std::fmax(b.far_dist, -l.z);
+        mag = std::fmax(mag, std::fmax(std::fabs(pw[i].x), std::fmax(std::fabs(pw[i].y), std::fabs(pw[i].z))));
+    }
+    if (in.has_caster_bounds)
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p((c & 1) ? in.caster_max.x : in.caster_min.x, (c & 2) ? in.caster_max.y : in.caster_min.y,
+                               (c & 4) ? in.caster_max.z : in.caster_min.z);
+            b.near_dist = std::fmin(b.near_dist, -(lv * glm::dvec4(p, 1.0)).z);
+        }
+    if (rb && rb->x <= rb->z && rb->y <= rb->w) {  // cut to the receivers (SDSM sec. 3.2), within the slice
+        b.x0 = std::fmax(b.x0, double(rb->x)); b.x1 = std::fmin(b.x1, double(rb->z));
+        b.y0 = std::fmax(b.y0, double(rb->y)); b.y1 = std::fmin(b.y1, double(rb->w));
+        if (b.x1 < b.x0) b.x0 = b.x1 = 0.5 * (b.x0 + b.x1);  // receivers beyond the slice (float rounding)
+        if (b.y1 < b.y0) b.y0 = b.y1 = 0.5 * (b.y0 + b.y1);
+    }
+    const double pad = 16.0 * 5.9604644775390625e-8 * mag;  // 16 u |p|: float positions, float matrix
+    for (int i = 0; i < 8; ++i)  // the box's corners bound every receiver in it: what the landing check reads
+        pw[i] = glm::dvec3(glm::transpose(lv) * glm::dvec4((i & 1) ? b.x1 : b.x0, (i & 2) ? b.y1 : b.y0,
+                                                           -((i & 4) ? b.far_dist : b.near_dist), 0.0));
+    b.x0 -= pad; b.y0 -= pad; b.near_dist -= pad;
+    b.x1 += pad; b.y1 += pad; b.far_dist += pad;
+    return b;
+}
+
+/// One axis of a rebuilt box: [t0, t1] grown by the margin, its length rounded up (cs_sdsm_round_up)
+/// with one texel of border on each side, its start snapped to whole texels of the origin-anchored
+/// grid. The previous length prev_len (0: none) is kept while it lies between that rounded length
+/// and the one of 4 margins: the box then moves by whole texels of an unchanged grid (Valient 2008's
+/// stable snapping), which leaves a static scene's shadows where they were.
+inline void cs_sdsm_axis(double t0, double t1, double m, double S, double prev_len, double& b0, double& b1) {
+    double eq = cs_sdsm_round_up(std::fmax((t1 - t0) * (1.0 + 2.0 * m), 1e-30) * S / (S - 2.0));
+    const double loose = cs_sdsm_round_up(std::fmax((t1 - t0) * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0));
+    if (prev_len >= eq * (1.0 - 1e-12) && prev_len <= loose * (1.0 + 1e-12)) eq = prev_len;  // b1 - b0 rounds
+    const double texel = eq / S;
+    b0 = std::floor((0.5 * (t0 + t1) - 0.5 * eq) / texel) * texel;
+    b1 = b0 + eq;
+}
+
+/// The box a cascade is rendered with: `prev` kept whole (bit-identical) when `same_split` and it holds
+/// the tight box t and is not much larger than a rebuilt one (each extent within the rounding of 4
+/// margins, the depth range within 4 margins and steps); else rebuilt with cs_sdsm_axis (keeping each
+/// previous extent where it fits), the depth range kept where it still holds t, or snapped outward to
+/// 1/8 of its power of two. `kept` says whether the whole box was kept.
+inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox* prev, bool same_split, double m,
+                                  double S, bool& kept) {
+    const double dd = t.far_dist - t.near_dist;
+    const double dstep = std::ldexp(1.0, std::ilogb(std::fmax(dd * (1.0 + 2.0 * m), 1e-30)) - 3);
+    auto loose = [&](double e) {  // (1 + 1e-12): a kept box's b1 - b0 is its rounded length within rounding
+        return cs_sdsm_round_up(std::fmax(e * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0)) * (1.0 + 1e-12);
+    };
+    const bool depth_ok = prev && prev->near_dist <= t.near_dist && prev->far_dist >= t.far_dist &&
+                          prev->far_dist - prev->near_dist <= dd * (1.0 + 4.0 * m) + 4.0 * dstep;
+    kept = false;
+    if (prev && same_split && depth_ok && prev->x0 <= t.x0 && prev->x1 >= t.x1 && prev->y0 <= t.y0 &&
+        prev->y1 >= t.y1 && prev->x1 - prev->x0 <= loose(t.x1 - t.x0) && prev->y1 - prev->y0 <= loose(t.y1 - t.y0)) {
+        kept = true;
+        return *prev;
+    }
+    CascadeSdsmBox b;
+    cs_sdsm_axis(t.x0, t.x1, m, S, prev ? prev->x1 - prev->x0 : 0.0, b.x0, b.x1);
+    cs_sdsm_axis(t.y0, t.y1, m, S, prev ? prev->y1 - prev->y0 : 0.0, b.y0, b.y1);
+    if (depth_ok) {
+        b.near_dist = prev->near_dist;
+        b.far_dist = prev->far_dist;
+        return b;
+    }
+    b.near_dist = std::floor((t.near_dist - m * dd) / dstep) * dstep;
+    b.far_dist = std::ceil((t.far_dist + m * dd) / dstep) * dstep;
+    if (!(b.far_dist > b.near_dist)) b.far_dist = b.near_dist + dstep;
+    return b;
+}
+
+/// The cascade of box b: its matrix (light view, orthographic box, the light's clip convention), the
+/// texel size and anchor, the box's circumscribed sphere. Overflow when the float matrix does not map
+/// the slice's corners pw inside (cs_float_landing_ok).
+inline Cascade cs_sdsm_cascade(const CascadeInput& in, const glm::dmat4& lv, const CascadeSdsmBox& b,
+                               const glm::dvec3 (&pw)[8]) {
+    Cascade out;
+    const double ex = b.x1 - b.x0, ey = b.y1 - b.y0, dz = b.far_dist - b.near_dist, S = double(in.shadow_map_size);
+    glm::dmat4 pr(1.0);
+    pr[0][0] = 2.0 / ex;
+    pr[1][1] = 2.0 / ey;
+    pr[2][2] = -2.0 / dz;
+    pr[3][0] = -(b.x0 + b.x1) / ex;
+    pr[3][1] = -(b.y0 + b.y1) / ey;
+    pr[3][2] = -(b.far_dist + b.near_dist) / dz;
+    glm::dmat4 conv(1.0);
+    if (in.light_depth == ClipDepth::ZeroToOne) {
+        conv[2][2] = in.light_reversed_z ? -0.5 : 0.5;
+        conv[3][2] = 0.5;
+    } else if (in.light_reversed_z) {
+        conv[2][2] = -1.0;
+    }
+    const glm::dmat4 m = conv * pr * lv;
+    out.view_proj = glm::mat4(m);
+    const double tx = ex / S, ty = ey / S, texel = std::fmax(tx, ty);
+    const glm::dvec3 cl(0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1), -0.5 * (b.near_dist + b.far_dist));
+    const glm::dvec3 cw = glm::dvec3(glm::transpose(lv) * glm::dvec4(cl, 0.0));  // lv is a rotation
+    const double rad = 0.5 * std::sqrt(ex * ex + ey * ey + dz * dz);
+    if (!cs_finite(m) || !cs_finite(out.view_proj) || !(static_cast<float>(texel) > 0.0f) ||
+        !std::isfinite(static_cast<float>(rad)) || !cs_finite(glm::vec3(cw)) || !cs_float_landing_ok(in, out.view_proj, pw)) {
+        out = Cascade{};
+        out.status = Status::Overflow;
+        return out;
+    }
+    out.sphere = glm::vec4(glm::vec3(cw), static_cast<float>(rad));
+    out.texel_world_size = static_cast<float>(texel);
+    out.texel_anchor = glm::dvec2(std::round(b.x0 / tx), std::round(b.y0 / ty));
+    out.status = Status::Ok;
+    return out;
+}
+
+}  // namespace detail
+
+/// Converts the reduction's last level (min and max window depth of the non-background pixels, in
+/// glDepthRange(0, 1)) to view depths with the camera projection the depth buffer was drawn with (any
+/// projection cascade_fit accepts; reversed-Z: the smallest window depth is the farthest).
+/// (kCascadeSdsmEmptyMin, kCascadeSdsmEmptyMax): visible = false with Ok.
+/// Status: NonFinite (NaN/Inf, a singular projection), InvalidArgument (a depth outside [0, 1],
+/// window_min > window_max, a depth at or behind the eye or beyond infinity).
+inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, ClipDepth camera_depth, bool reversed_z,
+                                                float window_min, float window_max) {
+    CascadeSdsmRange out;
+    if (!std::isfinite(window_min) || !std::isfinite(window_max) || !detail::cs_finite(camera_proj)) {
+        out.status = Status::NonFinite;
+        return out;
+    }
+    if (window_min == kCascadeSdsmEmptyMin && window_max == kCascadeSdsmEmptyMax) {
+        out.status = Status::Ok;
+        return out;
+    }
+    if (!(window_min >= 0.0f) || !(window_max <= 1.0f) || !(window_min <= window_max)) {
+        out.status = Status::InvalidArgument;
+        return out;
+    }
+    const glm::dmat4 ip = glm::inverse(glm::dmat4(camera_proj));
+    if (!detail::cs_finite(ip)) { out.status = Status::NonFinite; return out; }
+    double d[2];
+    const float w[2] = {window_min, window_max};
+    for (int i = 0; i < 2; ++i) {
+        const double z = camera_depth == ClipDepth::ZeroToOne ? double(w[i]) : 2.0 * double(w[i]) - 1.0;
+        const glm::dvec4 h = ip * glm::dvec4(0.0, 0.0, z, 1.0);  // the depth of an NDC z is the same over the screen
+        d[i] = -h.z / h.w;
+        if (!(std::fabs(h.w) > 0.0) || !std::isfinite(d[i]) || !(d[i] > 0.0)) {
+            out.status = Status::InvalidArgument;
+            return out;
+        }
+    }
+    (void)reversed_z;  // the order follows from the projection itself
+    const double lo = std::fmin(d[0], d[1]), hi = std::fmax(d[0], d[1]);
+    out.view_min = static_cast<float>(lo);
+    out.view_max = static_cast<float>(hi);
+    if (!std::isfinite(out.view_max) || !(out.view_min > 0.0f)) { out = CascadeSdsmRange{}; out.status = Status::Overflow; return out; }
+    out.visible = true;
+    out.status = Status::Ok;
+    return out;
+}
+
+namespace detail {
+
+/// What cascade_sdsm_splits and cascade_sdsm_fit share: validation, the camera, the previous fit it
+/// may keep, the clamped and snapped visible range and its splits (res.splits, range_min/max).
+/// Returns Ok with res.visible false when the clamped range is empty.
+inline Status cs_sdsm_prepare(const CascadeSdsmInput& in, const CascadeSdsmResult* previous, CsRays& r,
+                              glm::dmat4& iv, const CascadeSdsmResult*& prev, CascadeSdsmResult& res) {
+    if (in.cascade_count == 0 || in.cascade_count > 16) return Status::InvalidArgument;
+    res.needed = in.cascade_count;
+    Status st = cs_check_input(in.camera);
+    if (st == Status::Ok) st = cs_sdsm_check(in);
+    if (st != Status::Ok) return st;
+    st = cs_camera_rays(in.camera.camera_proj, in.camera.camera_depth, in.camera.camera_reversed_z, r);
+    if (st != Status::Ok) return st;
+    const glm::dmat4 V(in.camera.camera_view);
+    const double vdet = glm::determinant(V);
+    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return Status::InvalidArgument;
+    iv = glm::inverse(V);
+    if (!cs_finite(iv)) return Status::InvalidArgument;
+    res.light_position = in.camera.light_position;
+    res.shadow_map_size = in.camera.shadow_map_size;
+    const bool same = previous && previous->status == Status::Ok && previous->visible &&
+                      previous->light_position == in.camera.light_position &&
+                      previous->shadow_map_size == in.camera.shadow_map_size && previous->needed == in.cascade_count;
+    prev = same ? previous : nullptr;
+    double far = r.far_depth;
+    if (in.camera.max_distance > 0.0f) far = std::fmin(far, double(in.camera.max_distance));
+    const double zmin = std::fmax(double(in.view_min), r.near_depth), zmax = std::fmin(double(in.view_max), far);
+    res.visible = zmax >= zmin;  // else everything visible lies beyond the shadow distance
+    if (!res.visible) return Status::Ok;
+    double lo = 0.0, hi = 0.0;
+    cs_sdsm_snap_range(zmin, zmax, double(in.range_steps_per_octave), prev, lo, hi);
+    const CascadeSplits sp = cascade_split_distances(static_cast<float>(lo), static_cast<float>(hi), in.lambda,
+                                                     in.cascade_count);
+    if (sp.status != Status::Ok) return sp.status == Status::NonFinite ? Status::Overflow : sp.status;
+    res.range_min = sp.distances[0];
+    res.range_max = sp.distances[in.cascade_count];
+    for (std::uint32_t i = 0; i <= in.cascade_count; ++i) res.splits[i] = sp.distances[i];
+    return Status::Ok;
+}
+
+}  // namespace detail
+
+/// The light frame of the SDSM boxes and of CascadeSdsmInput::receiver_bounds (world -> light view:
+/// the rotation the stable fit uses, a fixed function of the light direction). Status: InvalidLight
+/// (not a directional light, NaN/Inf, zero).
+inline CascadeSdsmLightView cascade_sdsm_light_view(const glm::vec4& light_position) {
+    CascadeSdsmLightView out;
+    if (!detail::cs_finite(light_position) || light_position.w != 0.0f ||
+        (light_position.x == 0.0f && light_position.y == 0.0f && light_position.z == 0.0f)) {
+        out.status = Status::InvalidLight;
+        return out;
+    }
+    out.view = glm::mat4(detail::cs_light_view(light_position));
+    out.status = Status::Ok;
+    return out;
+}
+
+/// The splits cascade_sdsm_fit will use for the same input and `previous` (the range is snapped and
+/// kept the same way), for the second reduction (receiver bounds per cascade) before the fit: only
+/// `status`, `visible`, `needed`, `range_min`, `range_max` and `splits` are filled. receiver_bounds
+/// is not read. Status: as cascade_sdsm_fit's validation.
+inline CascadeSdsmResult cascade_sdsm_splits(const CascadeSdsmInput& in, const CascadeSdsmResult* previous) {
+    CascadeSdsmResult res;
+    CascadeSdsmInput plain = in;
+    plain.receiver_bounds = nullptr;
+    detail::CsRays r;
+    glm::dmat4 iv(1.0);
+    const CascadeSdsmResult* prev = nullptr;
+    const Status st = detail::cs_sdsm_prepare(plain, previous, r, iv, prev, res);
+    if (st != Status::Ok) {
+        res = CascadeSdsmResult{};
+        res.status = st;
+        return res;
+    }
+    res.status = Status::Ok;
+    return res;
+}
+
+/// Sample distribution shadow maps (Lauritzen et al. 2011): splits cut the visible range [view_min,
+/// view_max] (clamped to the camera, snapped outward to powers of 2^(1/range_steps_per_octave)) with
+/// the log partition (lambda 1); each cascade's map is the tight light-space box of its view slice
+/// (cut to receiver_bounds when given; depth from the slice with its near side pulled back to the
+/// caster bounds), grown by the margin, each extent rounded up to 1/8 of its power of two plus a texel
+/// of border, snapped to whole texels of the origin-anchored grid. `previous` (nullptr: none; a result
+/// of another light, map size or cascade count is ignored) is last frame's result: its range ends and
+/// boxes are kept while they still cover (hysteresis), so a small camera move changes nothing, bit for
+/// bit. out_cascades holds out_capacity Cascade elements (nullptr only with 0); it needs
+/// cascade_count (`needed`). Every visible point of a slice (within its receiver bounds) maps inside
+/// its cascade through the float matrix, in float.
+/// Status: BufferTooSmall, NonFinite, InvalidLight (not a directional light), InvalidArgument (a field
+/// outside its [Limit], a camera cascade_fit rejects), Overflow (beyond float; a slice too small
+/// against its distance from the origin), with `count` valid cascades before the failing one.
+inline CascadeSdsmResult cascade_sdsm_fit(const CascadeSdsmInput& in, const CascadeSdsmResult* previous,
+                                          Cascade* out_cascades, std::size_t out_capacity) {
+    using namespace detail;
+    CascadeSdsmResult res;
+    auto fail = [&res](Status s) {
+        res.status = s;
+        res.visible = false;
+        return res;
+    };
+    if (!out_cascades && out_capacity > 0) return fail(Status::InvalidArgument);
+    CsRays r;
+    glm::dmat4 iv(1.0);
+    const CascadeSdsmResult* prev = nullptr;
+    const Status st = cs_sdsm_prepare(in, previous, r, iv, prev, res);
+    if (st != Status::Ok) return fail(st);
+    if (out_capacity < in.cascade_count) return fail(Status::BufferTooSmall);
+    if (!res.visible) {
+        res.status = Status::Ok;
+        return res;
+    }
+    const glm::dmat4 lv = cs_light_view(in.camera.light_position);
+    const double S = double(in.camera.shadow_map_size);
+    for (std::uint32_t i = 0; i < in.cascade_count; ++i) {
+        glm::dvec3 pw[8];
+        const CascadeSdsmBox t = cs_sdsm_tight_box(in.camera, r, iv, lv, double(res.splits[i]), double(res.splits[i + 1]),
+                                                   in.receiver_bounds ? in.receiver_bounds + i : nullptr, pw);
+        const bool same_split = prev && prev->splits[i] == res.splits[i] && prev->splits[i + 1] == res.splits[i + 1];
+        bool kept = false;
+        res.boxes[i] = cs_sdsm_box(t, prev ? &prev->boxes[i] : nullptr, same_split, double(in.margin), S, kept);
+        if (!kept) res.rebuilt |= 1u << i;
+        out_cascades[i] = cs_sdsm_cascade(in.camera, lv, res.boxes[i], pw);
+        if (out_cascades[i].status != Status::Ok) return fail(out_cascades[i].status);
+        out_cascades[i].split_near = res.splits[i];
+        out_cascades[i].split_far = res.splits[i + 1];
         res.count = i + 1;
     }
     res.status = Status::Ok;

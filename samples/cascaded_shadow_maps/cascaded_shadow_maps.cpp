@@ -9,6 +9,10 @@
 //           bias of glsl/shadow_map.glsl (the default) or the offset's single compare, optionally the
 //           point moved along its normal; pcf_radius > 0: a tent of that radius in texels in each layer
 //           (pcf.glsl's array overloads) instead of the single 2x2 compare
+//   fit=sdsm  update first reduces the G-buffer's depth to its min/max (glsl/cascades.glsl's
+//           sk_sdsm_reduce_depth / sk_sdsm_reduce_minmax, blocks of 8, read back: two floats; a stall a
+//           renderer would hide by reading last frame's), then cascade_sdsm_fit fits the cascades to
+//           that range with last frame's fit as hysteresis; render is the same
 #include "cascaded_shadow_maps.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -74,6 +78,57 @@ float technique_visibility(vec3 p, vec3 n) {
 }
 )";
 
+// The SDSM reduction's passes (glsl/cascades.glsl): the depth buffer (unit 0, background 1.0: the
+// G-buffer is cleared to 1 with GL_LESS) to blocks of 8, then each level to blocks of 8, down to 1x1.
+const char* kReduceFirst = R"(
+layout(binding = 0) uniform sampler2D u_src;
+out vec2 o_minmax;
+void main() { o_minmax = sk_sdsm_reduce_depth(u_src, ivec2(gl_FragCoord.xy), 8, 1.0); }
+)";
+const char* kReduceNext = R"(
+layout(binding = 0) uniform sampler2D u_src;
+out vec2 o_minmax;
+void main() { o_minmax = sk_sdsm_reduce_minmax(u_src, ivec2(gl_FragCoord.xy), 8); }
+)";
+
+// The second reduction (receiver bounds per cascade): the G-buffer's depth to blocks of 8 into four
+// RGBA32F targets, then each level's four to blocks of 8, down to 1x1.
+const char* kBoundsFirst = R"(
+layout(binding = 0) uniform sampler2D u_src;
+uniform mat4 u_clip_to_world;
+uniform mat4 u_world_to_view;
+uniform mat4 u_world_to_light;
+uniform vec4 u_split_far;
+uniform int u_count;
+layout(location = 0) out vec4 o_b0;
+layout(location = 1) out vec4 o_b1;
+layout(location = 2) out vec4 o_b2;
+layout(location = 3) out vec4 o_b3;
+void main() {
+    vec4 b[4];
+    sk_sdsm_reduce_bounds(u_src, ivec2(gl_FragCoord.xy), 8, 1.0, u_clip_to_world, u_world_to_view, u_world_to_light,
+                          u_split_far, u_count, false, b);
+    o_b0 = b[0]; o_b1 = b[1]; o_b2 = b[2]; o_b3 = b[3];
+}
+)";
+const char* kBoundsNext = R"(
+layout(binding = 0) uniform sampler2D u_l0;
+layout(binding = 1) uniform sampler2D u_l1;
+layout(binding = 2) uniform sampler2D u_l2;
+layout(binding = 3) uniform sampler2D u_l3;
+layout(location = 0) out vec4 o_b0;
+layout(location = 1) out vec4 o_b1;
+layout(location = 2) out vec4 o_b2;
+layout(location = 3) out vec4 o_b3;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    o_b0 = sk_sdsm_reduce_bounds_level(u_l0, p, 8);
+    o_b1 = sk_sdsm_reduce_bounds_level(u_l1, p, 8);
+    o_b2 = sk_sdsm_reduce_bounds_level(u_l2, p, 8);
+    o_b3 = sk_sdsm_reduce_bounds_level(u_l3, p, 8);
+}
+)";
+
 }  // namespace
 
 bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
@@ -91,7 +146,13 @@ bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
     vis_prog_ = app::compile_visibility_program(pcf + "\n" + snippet, std::string(kCascadeInputs) + kLookup, why);
     vis_auto_prog_ = app::compile_visibility_program(pcf + "\n" + shadow_map + "\n" + snippet,
                                                      std::string(kCascadeInputs) + kLookupAuto, why);
-    if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_) return false;
+    reduce_first_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kReduceFirst, why);
+    reduce_next_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kReduceNext, why);
+    bounds_first_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kBoundsFirst, why);
+    bounds_next_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kBoundsNext, why);
+    if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_ || !reduce_first_ || !reduce_next_ || !bounds_first_ || !bounds_next_)
+        return false;
+    glGenVertexArrays(1, &reduce_vao_);
     return pass_.init(v.width, v.height, why);
 }
 
@@ -108,11 +169,143 @@ void CascadedShadowMaps::update(const app::View& v, const CascadedShadowMapSetti
     in.caster_min = caster_lo_;
     in.caster_max = caster_hi_;
     const auto count = static_cast<std::uint32_t>(s.count);
-    fit_ = shadowkit::cascade_fit(in, s.lambda, count, cascades_, 4);
     error_.clear();
+    nothing_visible_ = false;
+    if (s.fit == CascadedShadowMapSettings::Fit::Sdsm) {
+        update_sdsm(v, s, in);
+        return;
+    }
+    fit_ = shadowkit::cascade_fit(in, s.lambda, count, cascades_, 4);
     if (fit_.status != shadowkit::Status::Ok)
         error_ = std::string("cascade_fit status ") + shadowkit::status_name(fit_.status) +
                  (fit_.status == shadowkit::Status::InvalidLight ? " (cascades need a directional light)" : "");
+}
+
+// fit=sdsm: the G-buffer depth's min/max -> view depths (the G-buffer camera's projection) ->
+// cascade_sdsm_fit on the fit camera, last frame's result as `previous`; the splits into fit_.
+void CascadedShadowMaps::update_sdsm(const app::View& v, const CascadedShadowMapSettings& s,
+                                     const shadowkit::CascadeInput& in) {
+    float wmin = 0.f, wmax = 0.f;
+    reduce_depth(v, wmin, wmax);
+    const shadowkit::CascadeSdsmRange r =
+        shadowkit::cascade_sdsm_view_range(v.gpu->proj, shadowkit::ClipDepth::NegativeOneToOne, false, wmin, wmax);
+    fit_ = shadowkit::CascadeFitResult{};
+    if (r.status != shadowkit::Status::Ok) {
+        error_ = std::string("cascade_sdsm_view_range status ") + shadowkit::status_name(r.status);
+        return;
+    }
+    nothing_visible_ = !r.visible;
+    if (!r.visible) return;
+    shadowkit::CascadeSdsmInput sd;
+    sd.camera = in;
+    sd.view_min = r.view_min;
+    sd.view_max = r.view_max;
+    sd.cascade_count = static_cast<std::uint32_t>(s.count);
+    sd.lambda = s.sdsm_lambda;
+    glm::vec4 bounds[4];
+    if (s.receiver_bounds) {  // this frame's splits first, then the receivers of each cascade
+        const shadowkit::CascadeSdsmResult sp = shadowkit::cascade_sdsm_splits(sd, &sdsm_);
+        if (sp.status == shadowkit::Status::Ok && sp.visible && reduce_bounds(v, sp.splits, s.count, bounds))
+            sd.receiver_bounds = bounds;
+    }
+    sdsm_ = shadowkit::cascade_sdsm_fit(sd, &sdsm_, cascades_, 4);
+    fit_.status = sdsm_.status;
+    fit_.count = sdsm_.count;
+    fit_.needed = sdsm_.needed;
+    std::copy(sdsm_.splits, sdsm_.splits + 17, fit_.splits);
+    nothing_visible_ = sdsm_.status == shadowkit::Status::Ok && !sdsm_.visible;
+    if (sdsm_.status != shadowkit::Status::Ok)
+        error_ = std::string("cascade_sdsm_fit status ") + shadowkit::status_name(sdsm_.status) +
+                 (sdsm_.status == shadowkit::Status::InvalidLight ? " (cascades need a directional light)" : "");
+}
+
+// The reduction: full-screen passes into RG32F levels of ceil(size / 8), the G-buffer's depth first.
+bool CascadedShadowMaps::reduce_depth(const app::View& v, float& window_min, float& window_max) {
+    if (reduce_w_ != v.gpu->width || reduce_h_ != v.gpu->height) {
+        for (skgl::Target& t : reduce_levels_) skgl::destroy_target(t);
+        int w = v.gpu->width, h = v.gpu->height;
+        std::string why;
+        for (int i = 0; i < 8 && (i == 0 || w > 1 || h > 1); ++i) {
+            w = (w + 7) / 8;
+            h = (h + 7) / 8;
+            if (!skgl::make_target(reduce_levels_[i], w, h, {GL_RG32F}, 0, why)) return false;
+            skgl::set_nearest_clamped(reduce_levels_[i].color[0]);
+        }
+        reduce_w_ = v.gpu->width;
+        reduce_h_ = v.gpu->height;
+    }
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glBindVertexArray(reduce_vao_);
+    GLuint src = v.gpu->gbuffer.depth;
+    int last = 0;
+    for (int i = 0; i < 8 && reduce_levels_[i].fbo; ++i) {
+        glBindFramebuffer(GL_FRAMEBUFFER, reduce_levels_[i].fbo);
+        glViewport(0, 0, reduce_levels_[i].width, reduce_levels_[i].height);
+        glUseProgram(i == 0 ? reduce_first_ : reduce_next_);
+        glBindTextureUnit(0, src);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        src = reduce_levels_[i].color[0];
+        last = i;
+    }
+    float mm[2] = {shadowkit::kCascadeSdsmEmptyMin, shadowkit::kCascadeSdsmEmptyMax};
+    glBindFramebuffer(GL_FRAMEBUFFER, reduce_levels_[last].fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, 1, 1, GL_RG, GL_FLOAT, mm);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    window_min = mm[0];
+    window_max = mm[1];
+    return true;
+}
+
+// The second reduction: the same level sizes as reduce_depth (made there), four RGBA32F targets each.
+bool CascadedShadowMaps::reduce_bounds(const app::View& v, const float* splits, int count, glm::vec4* bounds) {
+    const shadowkit::CascadeSdsmLightView lv = shadowkit::cascade_sdsm_light_view(
+        glm::vec4(-glm::normalize(v.light().direction), 0.f));
+    if (lv.status != shadowkit::Status::Ok) return false;
+    std::string why;
+    for (int i = 0; i < 8 && reduce_levels_[i].fbo; ++i)
+        if (!bounds_levels_[i].fbo || bounds_levels_[i].width != reduce_levels_[i].width ||
+            bounds_levels_[i].height != reduce_levels_[i].height) {
+            skgl::destroy_target(bounds_levels_[i]);
+            if (!skgl::make_target(bounds_levels_[i], reduce_levels_[i].width, reduce_levels_[i].height,
+                                   {GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F}, 0, why))
+                return false;
+            for (GLuint t : bounds_levels_[i].color) skgl::set_nearest_clamped(t);
+        }
+    const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glBindVertexArray(reduce_vao_);
+    int last = 0;
+    for (int i = 0; i < 8 && reduce_levels_[i].fbo; ++i) {
+        glBindFramebuffer(GL_FRAMEBUFFER, bounds_levels_[i].fbo);
+        glDrawBuffers(4, bufs);
+        glViewport(0, 0, bounds_levels_[i].width, bounds_levels_[i].height);
+        const GLuint prog = i == 0 ? bounds_first_ : bounds_next_;
+        glUseProgram(prog);
+        if (i == 0) {
+            glBindTextureUnit(0, v.gpu->gbuffer.depth);
+            const glm::mat4 c2w = glm::inverse(v.gpu->proj * v.gpu->view);
+            glUniformMatrix4fv(glGetUniformLocation(prog, "u_clip_to_world"), 1, GL_FALSE, glm::value_ptr(c2w));
+            glUniformMatrix4fv(glGetUniformLocation(prog, "u_world_to_view"), 1, GL_FALSE, glm::value_ptr(v.view));
+            glUniformMatrix4fv(glGetUniformLocation(prog, "u_world_to_light"), 1, GL_FALSE, glm::value_ptr(lv.view));
+            glUniform4f(glGetUniformLocation(prog, "u_split_far"), splits[1], splits[std::min(count, 2)],
+                        splits[std::min(count, 3)], splits[std::min(count, 4)]);
+            glUniform1i(glGetUniformLocation(prog, "u_count"), count);
+        } else {
+            for (int k = 0; k < 4; ++k) glBindTextureUnit(static_cast<GLuint>(k), bounds_levels_[i - 1].color[static_cast<std::size_t>(k)]);
+        }
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        last = i;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, bounds_levels_[last].fbo);
+    for (int k = 0; k < count; ++k) {
+        glReadBuffer(bufs[k]);
+        glReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, &bounds[k].x);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return true;
 }
 
 // One depth layer per cascade, compared in hardware (sampler2DArrayShadow: GL_LEQUAL, GL_LINEAR for
@@ -173,7 +366,7 @@ void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSetti
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_cascade_vp"), 4, GL_FALSE, glm::value_ptr(vps[0]));
     glUniform4f(glGetUniformLocation(prog, "u_split_near"), sp[0], sp[1], sp[2], sp[3]);
     glUniform4f(glGetUniformLocation(prog, "u_split_far"), sp[1], sp[2], sp[3], sp[4]);
-    glUniform1i(glGetUniformLocation(prog, "u_count"), ok ? layers_ : 0);
+    glUniform1i(glGetUniformLocation(prog, "u_count"), ok && !nothing_visible_ ? layers_ : 0);
     glUniform1f(glGetUniformLocation(prog, "u_band"), s.band);
     glUniform1i(glGetUniformLocation(prog, "u_pcf_radius"), s.pcf_radius);
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(v.view));
@@ -191,7 +384,17 @@ void CascadedShadowMaps::release() {  // (no GL call without objects: the App ma
     if (depth_prog_) glDeleteProgram(depth_prog_);
     if (vis_prog_) glDeleteProgram(vis_prog_);
     if (vis_auto_prog_) glDeleteProgram(vis_auto_prog_);
-    maps_ = depth_prog_ = vis_prog_ = vis_auto_prog_ = 0;
+    if (reduce_first_) glDeleteProgram(reduce_first_);
+    if (reduce_next_) glDeleteProgram(reduce_next_);
+    if (bounds_first_) glDeleteProgram(bounds_first_);
+    if (bounds_next_) glDeleteProgram(bounds_next_);
+    for (skgl::Target& t : bounds_levels_) skgl::destroy_target(t);
+    bounds_first_ = bounds_next_ = 0;
+    if (reduce_vao_) glDeleteVertexArrays(1, &reduce_vao_);
+    for (skgl::Target& t : reduce_levels_) skgl::destroy_target(t);
+    maps_ = depth_prog_ = vis_prog_ = vis_auto_prog_ = reduce_first_ = reduce_next_ = reduce_vao_ = 0;
+    reduce_w_ = reduce_h_ = 0;
+    sdsm_ = shadowkit::CascadeSdsmResult{};
     std::fill(fbo_, fbo_ + 4, 0u);
     std::fill(layer_view_, layer_view_ + 4, 0u);
     size_ = layers_ = 0;

@@ -1,4 +1,4 @@
-// libFuzzer target for shadowkit/cascades.hpp: cascade_split_distances, cascade_fit, cascade_fit_slice,
+// libFuzzer target for shadowkit/cascades.hpp: cascade_split_distances, cascade_fit, cascade_fit_slice, the SDSM fit,
 // cascade_select_by_depth / _by_sphere and cascade_blend_weight on inputs decoded from raw bytes (NaN/Inf,
 // null outputs with a capacity, near planes at or behind the eye, epsilon-tweaked infinite projections).
 // Traps on Ok with a non-finite output or a broken invariant (monotonic splits, exact ends, count <=
@@ -176,6 +176,61 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                     __builtin_trap();
             }
         }
+    }
+    // SDSM (decoded last): view range, splits, light view and the fit with raw receiver bounds and a
+    // raw previous result. Ok: finite matrices, splits increasing and covering the clamped range,
+    // count == cascade_count when visible, and a second call with its own result kept every box.
+    {
+        const uint8_t f4 = r.u8();
+        const shadowkit::CascadeSdsmRange vr = shadowkit::cascade_sdsm_view_range(in.camera_proj, in.camera_depth,
+                                                                                 in.camera_reversed_z, r.f32(), r.f32());
+        if (vr.status == shadowkit::Status::Ok && vr.visible &&
+            (!std::isfinite(vr.view_min) || !(vr.view_min > 0.0f) || !(vr.view_max >= vr.view_min)))
+            __builtin_trap();
+        shadowkit::CascadeSdsmInput sd;
+        sd.camera = in;
+        sd.view_min = (f4 & 1) && vr.visible ? vr.view_min : r.f32();
+        sd.view_max = (f4 & 1) && vr.visible ? vr.view_max : r.f32();
+        sd.cascade_count = r.range<uint32_t>(0, 17);
+        sd.lambda = (f4 & 2) ? r.f32() : 1.0f;
+        sd.margin = (f4 & 4) ? r.f32() : 0.125f;
+        sd.range_steps_per_octave = (f4 & 8) ? r.f32() : 8.0f;
+        glm::vec4 rb[16];
+        for (glm::vec4& v : rb) v = r.vec4();
+        sd.receiver_bounds = (f4 & 16) ? rb : nullptr;
+        shadowkit::CascadeSdsmResult prev;
+        prev.status = (f4 & 32) ? shadowkit::Status::Ok : shadowkit::Status::NotRun;
+        prev.visible = true;
+        prev.needed = sd.cascade_count;
+        prev.light_position = in.light_position;
+        prev.shadow_map_size = in.shadow_map_size;
+        prev.range_min = r.f32();
+        prev.range_max = r.f32();
+        for (float& x : prev.splits) x = r.f32();
+        for (shadowkit::CascadeSdsmBox& b : prev.boxes) {
+            const glm::vec3 lo = r.vec3(), hi = r.vec3();
+            b.x0 = lo.x; b.y0 = lo.y; b.near_dist = lo.z;
+            b.x1 = hi.x; b.y1 = hi.y; b.far_dist = hi.z;
+        }
+        const shadowkit::CascadeSdsmResult sp = shadowkit::cascade_sdsm_splits(sd, &prev);
+        shadowkit::Cascade sc[16];
+        const shadowkit::CascadeSdsmResult fr = shadowkit::cascade_sdsm_fit(sd, &prev, sc, 16);
+        if (fr.count > 16 || (fr.status == shadowkit::Status::Ok && fr.visible && fr.count != sd.cascade_count)) __builtin_trap();
+        if (fr.status == shadowkit::Status::Ok) {
+            if (light_bad || near_bad || sp.status != shadowkit::Status::Ok) __builtin_trap();
+            for (uint32_t i = 0; i < fr.count; ++i) {
+                if (!all_finite(sc[i].view_proj) || !(sc[i].texel_world_size > 0.0f) || !(fr.splits[i] < fr.splits[i + 1]))
+                    __builtin_trap();
+                if (fr.splits[i] != sp.splits[i]) __builtin_trap();
+            }
+            if (fr.visible && !(sd.receiver_bounds)) {
+                shadowkit::Cascade sc2[16];
+                const shadowkit::CascadeSdsmResult again = shadowkit::cascade_sdsm_fit(sd, &fr, sc2, 16);
+                if (again.status != shadowkit::Status::Ok || again.rebuilt != 0) __builtin_trap();
+            }
+        }
+        const shadowkit::CascadeSdsmLightView lv = shadowkit::cascade_sdsm_light_view(r.vec4());
+        if (lv.status == shadowkit::Status::Ok && !all_finite(lv.view)) __builtin_trap();
     }
     return 0;
 }

@@ -5,6 +5,8 @@ uniform vec4 u_spheres[4];
 uniform vec4 u_split_near;
 uniform vec4 u_split_far;
 uniform int u_count;
+uniform sampler2D u_depth;
+uniform sampler2D u_level;
 in vec3 v_world_pos;
 in float v_view_depth;
 out vec4 frag_color;
@@ -22,5 +24,11 @@ void main()
     int first = sk_cascade_pick(v_view_depth, u_split_near, u_split_far, u_count, 0.1, second, weight);
     // sk_cascade_shadow_filtered / sk_cascade_sample_filtered exist only after glsl/pcf.glsl
     // (tests/test_glsl_snippets.cpp compiles pcf.glsl + cascades.glsl with a driver calling them)
-    frag_color = vec4(s * s0, w + c.x + weight, float(a + b + first + second), 1.0);
+    vec2 r0 = sk_sdsm_reduce_depth(u_depth, ivec2(gl_FragCoord.xy), 8, 1.0);
+    vec2 r1 = sk_sdsm_reduce_minmax(u_level, ivec2(gl_FragCoord.xy), 8);
+    vec4 bounds[4];
+    sk_sdsm_reduce_bounds(u_depth, ivec2(gl_FragCoord.xy), 8, 1.0, u_light_vp[0], u_light_vp[1], u_light_vp[2], u_split_far,
+                          u_count, false, bounds);
+    vec4 b1 = sk_sdsm_reduce_bounds_level(u_level, ivec2(gl_FragCoord.xy), 8);
+    frag_color = vec4(s * s0 + r0.x + bounds[0].x, w + c.x + weight + r1.y + b1.z, float(a + b + first + second), 1.0);
 }

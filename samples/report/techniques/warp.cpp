@@ -130,11 +130,14 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         return mats;
     };
     cascades.name = "cascades";
-    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band";
+    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band; "
+                           "fit=sdsm: sample distribution shadow maps (GPU min/max depth reduction, log partition, "
+                           "tight light-space boxes with hysteresis)";
     cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
-    cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4", "size=1024 count=4 bias=polygon_offset"};
-    cascades.quick = {"size=512 count=4", "size=1024 count=4"};
-    cascades.mesh_sweep = {"size=1024 count=4", "size=512 count=4"};
+    cascades.sweep = {"size=256 count=4", "size=512 count=4", "size=1024 count=4 fit=fixed", "size=1024 count=4 bias=polygon_offset",
+                      "size=512 count=4 fit=sdsm", "size=1024 count=4 fit=sdsm", "size=1024 count=4 fit=sdsm receiver_bounds=off"};
+    cascades.quick = {"size=512 count=4", "size=1024 count=4 fit=fixed", "size=1024 count=4 fit=sdsm", "size=1024 count=4 fit=sdsm receiver_bounds=off"};
+    cascades.mesh_sweep = {"size=1024 count=4", "size=512 count=4", "size=1024 count=4 fit=sdsm"};
     cascades.measure = measure_cascades;
     add_technique(out, std::move(cascades));
 }
