@@ -13,6 +13,10 @@
 //           sk_sdsm_reduce_depth / sk_sdsm_reduce_minmax, blocks of 8, read back: two floats; a stall a
 //           renderer would hide by reading last frame's), then cascade_sdsm_fit fits the cascades to
 //           that range with last frame's fit as hysteresis; render is the same
+//   cache=on  cached cascades (the section "Cached cascades" below): update fits with the depth range
+//           fixed in the world and plans each cascade (shadow_cache_plan); render scrolls the layers
+//           that moved and re-renders only the planned rectangles, with the translation-invariant
+//           caster pass of glsl/shadow_cache.glsl
 #include "cascaded_shadow_maps.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -129,6 +133,52 @@ void main() {
 }
 )";
 
+// cache=on: the translation-invariant caster pass (glsl/shadow_cache.glsl, as samples/cached_shadow_map):
+// the vertex in the cascade's global texel space (no anchor: the same bits every frame), exact
+// whole-texel window positions, each texel's depth from its global texel on the triangle's plane;
+// bias=polygon_offset adds a slope-scaled offset like glPolygonOffset(2, 2).
+const char* kInvariantVS = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_light_global;
+out vec3 v_global;
+void main() {
+    v_global = (u_light_global * vec4(a_position, 1.0)).xyz;
+    gl_Position = vec4(0.0);
+}
+)";
+const char* kInvariantGS = R"(
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 3) out;
+in vec3 v_global[];
+uniform ivec2 u_viewport_anchor;
+uniform vec2 u_viewport_size;
+flat out vec3 g_plane;
+flat out vec2 g_origin;
+void main() {
+    vec3 plane;
+    vec2 origin;
+    if (!sk_shadow_cache_plane(v_global[0], v_global[1], v_global[2], plane, origin)) return;
+    for (int i = 0; i < 3; ++i) {
+        g_plane = plane;
+        g_origin = origin;
+        gl_Position = sk_shadow_cache_position(v_global[i].xy, u_viewport_anchor, u_viewport_size);
+        EmitVertex();
+    }
+    EndPrimitive();
+}
+)";
+const char* kInvariantFS = R"(
+flat in vec3 g_plane;
+flat in vec2 g_origin;
+uniform ivec2 u_anchor;
+uniform bool u_offset;
+void main() {
+    float d = sk_shadow_cache_depth(g_plane, g_origin, gl_FragCoord.xy, u_anchor);
+    gl_FragDepth = u_offset ? min(d + sk_shadow_cache_depth_offset(g_plane, 2.0, 2.4e-7), 1.0) : d;
+}
+)";
+constexpr int kGuardViewport = 4096;  // the invariant pass's viewport: the layer plus a guard band
+
 }  // namespace
 
 bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
@@ -150,8 +200,19 @@ bool CascadedShadowMaps::init(const app::View& v, std::string& why) {
     reduce_next_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kReduceNext, why);
     bounds_first_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kBoundsFirst, why);
     bounds_next_ = app::compile_fullscreen_program("#version 450 core\n" + snippet + kBoundsNext, why);
-    if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_ || !reduce_first_ || !reduce_next_ || !bounds_first_ || !bounds_next_)
+    const std::string cache_glsl = app::load_snippet("shadow_cache", why);
+    if (cache_glsl.empty()) return false;
+    const std::string head = "#version 450 core\n" + cache_glsl;
+    invariant_prog_ = skgl::compile_program(
+        {{GL_VERTEX_SHADER, kInvariantVS}, {GL_GEOMETRY_SHADER, head + kInvariantGS}, {GL_FRAGMENT_SHADER, head + kInvariantFS}}, why);
+    if (!depth_prog_ || !vis_prog_ || !vis_auto_prog_ || !reduce_first_ || !reduce_next_ || !bounds_first_ || !bounds_next_ ||
+        !invariant_prog_)
         return false;
+    for (std::size_t i = 0; i < v.scene->meshes.size(); ++i)  // cache=on: the casters, each with its box
+        if (v.gpu->caster[i] && !v.scene->meshes[i].positions.empty()) cache_mesh_.push_back(i);
+    cache_casters_.assign(cache_mesh_.size(), shadowkit::ShadowCacheCaster{});
+    for (auto& r : rects_) r.resize(shadowkit::shadow_cache_rect_capacity(cache_mesh_.size()));
+    invalidate_cache();
     glGenVertexArrays(1, &reduce_vao_);
     return pass_.init(v.width, v.height, why);
 }
@@ -171,14 +232,33 @@ void CascadedShadowMaps::update(const app::View& v, const CascadedShadowMapSetti
     const auto count = static_cast<std::uint32_t>(s.count);
     error_.clear();
     nothing_visible_ = false;
+    cache_on_ = false;
     if (s.fit == CascadedShadowMapSettings::Fit::Sdsm) {
+        invalidate_cache();  // the SDSM fits follow what is visible: nothing to keep
         update_sdsm(v, s, in);
         return;
     }
+    const bool cache = s.cache && s.size <= 2048;  // the invariant pass's guard viewport is 4096
+    if (cache) {  // cached cascades: the depth range from the scene box, fixed in the world
+        in.has_scene_bounds = true;
+        in.scene_min = v.scene->bounds_min();
+        in.scene_max = v.scene->bounds_max();
+        in.stable_world_depth = true;
+    }
     fit_ = shadowkit::cascade_fit(in, s.lambda, count, cascades_, 4);
-    if (fit_.status != shadowkit::Status::Ok)
+    if (fit_.status != shadowkit::Status::Ok) {
         error_ = std::string("cascade_fit status ") + shadowkit::status_name(fit_.status) +
                  (fit_.status == shadowkit::Status::InvalidLight ? " (cascades need a directional light)" : "");
+        invalidate_cache();
+        return;
+    }
+    if (!cache) {
+        invalidate_cache();  // the plain pass's layers are not the invariant pass's: start over when cache=on
+        return;
+    }
+    cache_on_ = true;
+    cache_caster_bounds(v);
+    cache_plan(s);
 }
 
 // fit=sdsm: the G-buffer depth's min/max -> view depths (the G-buffer camera's projection) ->
@@ -317,6 +397,9 @@ void CascadedShadowMaps::make_maps(int size, int count) {
     std::fill(fbo_, fbo_ + 4, 0u);
     std::fill(layer_view_, layer_view_ + 4, 0u);
     maps_ = skgl::make_depth_texture(GL_TEXTURE_2D_ARRAY, size, count, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    if (scratch_) glDeleteTextures(1, &scratch_);
+    glCreateTextures(GL_TEXTURE_2D, 1, &scratch_);  // cache=on: a scroll copies through it
+    glTextureStorage2D(scratch_, 1, GL_DEPTH_COMPONENT32F, size, size);
     skgl::make_depth_framebuffers(GL_TEXTURE_2D_ARRAY, maps_, count, fbo_);
     glGenTextures(count, layer_view_);
     for (int i = 0; i < count; ++i)
@@ -325,15 +408,9 @@ void CascadedShadowMaps::make_maps(int size, int count) {
     layers_ = count;
 }
 
-void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSettings& s) {
-    if (s.size != size_ || s.count != layers_) make_maps(s.size, s.count);
-    const bool ok = error_.empty();
-
+// Every layer whole: cleared, then every caster drawn with the cascade's matrix (the plain pass).
+void CascadedShadowMaps::render_layers(const app::View& v, const CascadedShadowMapSettings& s, bool ok) {
     const bool automatic = s.bias == CascadedShadowMapSettings::Bias::Auto;
-
-    // 1. The casters' depth into each cascade's layer with its matrix: depth test GL_LESS, cleared to
-    //    the far plane; bias=polygon_offset: polygon offset (2, 2) (the automatic bias compares with the
-    //    true depths). No cascades (a light that is not the sun): empty maps.
     glUseProgram(depth_prog_);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -343,21 +420,43 @@ void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSetti
         glEnable(GL_POLYGON_OFFSET_FILL);
         glPolygonOffset(2.f, 2.f);
     }
-    glm::mat4 vps[4];
-    float texel[4] = {0.f, 0.f, 0.f, 0.f};
     for (int i = 0; i < layers_; ++i) {
         glBindFramebuffer(GL_FRAMEBUFFER, fbo_[i]);
         glViewport(0, 0, size_, size_);
         glClear(GL_DEPTH_BUFFER_BIT);
         if (!ok) continue;
-        vps[i] = cascades_[i].view_proj;
-        texel[i] = cascades_[i].texel_world_size;
-        glUniformMatrix4fv(glGetUniformLocation(depth_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(vps[i]));
+        glUniformMatrix4fv(glGetUniformLocation(depth_prog_, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(cascades_[i].view_proj));
         for (std::size_t m = 0; m < v.gpu->meshes.size(); ++m)
             if (v.gpu->caster[m]) skgl::draw_mesh(v.gpu->meshes[m]);
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
+}
 
+void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSettings& s) {
+    if (s.size != size_ || s.count != layers_) make_maps(s.size, s.count);
+    const bool ok = error_.empty();
+
+    const bool automatic = s.bias == CascadedShadowMapSettings::Bias::Auto;
+    glm::mat4 vps[4];
+    float texel[4] = {0.f, 0.f, 0.f, 0.f};
+    for (int i = 0; i < layers_ && ok; ++i) {
+        vps[i] = cascades_[i].view_proj;
+        texel[i] = cascades_[i].texel_world_size;
+    }
+
+    // 1. The casters' depth into each cascade's layer with its matrix: depth test GL_LESS, cleared to
+    //    the far plane; bias=polygon_offset: polygon offset (2, 2) (the automatic bias compares with the
+    //    true depths). No cascades (a light that is not the sun): empty maps.
+    //    cache=on: per cascade the plan's scroll, then only its rectangles (cached cascades, below).
+    if (cache_on_ && ok) {
+        for (int i = 0; i < layers_; ++i) {
+            cache_scroll(i);
+            cache_rerender(v, s, i);
+        }
+        cache_done();
+    } else {
+        render_layers(v, s, ok);
+    }
     // 2. V at the G-buffer's points: the matrices, the splits as each cascade's near and far view depth.
     const float* sp = fit_.splits;
     const GLuint prog = automatic ? vis_auto_prog_ : vis_prog_;
@@ -377,6 +476,132 @@ void CascadedShadowMaps::render(const app::View& v, const CascadedShadowMapSetti
     pass_.draw(prog, *v.gpu, GL_TEXTURE_2D_ARRAY, maps_);
 }
 
+// ---------------------------------------------------------------------------------------------------
+// Cached cascades (cache=on). A sun's cascades follow the camera, but with the depth range fixed in
+// the world (update: stable_world_depth) a camera move only translates each cascade by whole texels
+// of its own grid (Cascade::texel_anchor), and shadow_cache_plan can tell per cascade what of last
+// frame's layer is still right. Five small steps:
+//   update  A cache_caster_bounds  each caster's box this frame (a renderer with moving objects takes
+//                                  them from its transforms; here the positions as uploaded)
+//           B cache_plan           per cascade: its matrix in double with the x/y translation rebuilt
+//                                  from texel_anchor (what the plan certifies), the invariant pass's
+//                                  matrix, and the plan against what the layer holds
+//   render  C cache_scroll         Scroll: what stays on the layer, moved by whole texels (through a
+//                                  scratch texture: a copy within one image must not overlap)
+//           D cache_rerender       the plan's rectangles (the exposed border, the old and new footprints
+//                                  of casters that moved; Render: the whole layer) cleared and drawn
+//                                  with the translation-invariant pass, scissored
+//           E cache_done           the layers now hold this frame: its states and boxes are "previous"
+
+void CascadedShadowMaps::cache_caster_bounds(const app::View& v) {
+    for (std::size_t i = 0; i < cache_mesh_.size(); ++i) {
+        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        for (const glm::vec3& p : v.scene->meshes[cache_mesh_[i]].positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        const float b[6] = {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z};
+        std::copy(b, b + 6, cache_casters_[i].bounds);
+    }
+}
+
+void CascadedShadowMaps::cache_plan(const CascadedShadowMapSettings& s) {
+    if (s.size != size_ || s.count != layers_) invalidate_cache();  // render() makes new layers
+    const double S = double(s.size);
+    const std::uint64_t settings = s.bias == CascadedShadowMapSettings::Bias::Auto ? 1u : 2u;  // what the pass writes
+    scrolled_ = false;
+    for (int i = 0; i < s.count; ++i) {
+        // the matrix the layer is rendered with: x/y translation exactly from the anchor (docs/cascades.md)
+        const shadowkit::Cascade& c = cascades_[i];
+        glm::dmat4 vp(c.view_proj);
+        vp[3][0] = -2.0 * c.texel_anchor.x / S - 1.0;
+        vp[3][1] = -2.0 * c.texel_anchor.y / S - 1.0;
+        cache_vp_[i] = vp;
+        cascades_[i].view_proj = glm::mat4(vp);  // the lookup reads the same matrix
+        cache_anchor_[i] = glm::ivec2(glm::dvec2(c.texel_anchor));
+        // the invariant pass: world -> (global texel x, y, window depth), the same bits every frame
+        glm::dmat4 g(0.0);
+        for (int k = 0; k < 4; ++k) {
+            g[k][0] = 0.5 * S * vp[k][0];
+            g[k][1] = 0.5 * S * vp[k][1];
+            g[k][2] = 0.5 * vp[k][2];
+        }
+        g[3][0] += 0.5 * S + double(cache_anchor_[i].x);  // = 0: the grid is anchored at the world origin
+        g[3][1] += 0.5 * S + double(cache_anchor_[i].y);
+        g[3][2] += 0.5;
+        g[3][3] = 1.0;
+        cache_global_[i] = glm::mat4(g);
+        // the plan: this frame's state against the one the layer was last rendered with
+        current_[i] = shadowkit::ShadowCacheMapState{};
+        current_[i].view_proj = vp;
+        current_[i].width = current_[i].height = s.size;
+        current_[i].settings = settings;
+        plan_[i] = shadowkit::shadow_cache_plan(previous_[i], current_[i], cache_casters_.data(), cache_casters_.size(),
+                                                rects_[i].data(), rects_[i].size());
+        if (plan_[i].status != shadowkit::Status::Ok && error_.empty())
+            error_ = std::string("shadow_cache_plan status ") + shadowkit::status_name(plan_[i].status);
+    }
+}
+
+void CascadedShadowMaps::cache_scroll(int i) {
+    if (plan_[i].action != shadowkit::ShadowCacheAction::Scroll || scrolled_) return;  // once per update()
+    const shadowkit::ShadowCacheCopy& c = plan_[i].copy;
+    glCopyImageSubData(maps_, GL_TEXTURE_2D_ARRAY, 0, c.src_x, c.src_y, i, scratch_, GL_TEXTURE_2D, 0, 0, 0, 0, c.width,
+                       c.height, 1);
+    glCopyImageSubData(scratch_, GL_TEXTURE_2D, 0, 0, 0, 0, maps_, GL_TEXTURE_2D_ARRAY, 0, c.dst_x, c.dst_y, i, c.width,
+                       c.height, 1);
+}
+
+void CascadedShadowMaps::cache_rerender(const app::View& v, const CascadedShadowMapSettings& s, int i) {
+    const shadowkit::ShadowCachePlan& plan = plan_[i];
+    if (plan.count == 0) return;  // Keep
+    const int S = size_, guard = (kGuardViewport - S) / 2;
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_[i]);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);  // a scissored clear needs the writes
+    glClearDepth(1.0);
+    glViewport(-guard, -guard, kGuardViewport, kGuardViewport);  // triangles clipped far outside the layer
+    glUseProgram(invariant_prog_);
+    const glm::ivec2 a = cache_anchor_[i];
+    glUniformMatrix4fv(glGetUniformLocation(invariant_prog_, "u_light_global"), 1, GL_FALSE, glm::value_ptr(cache_global_[i]));
+    glUniform2i(glGetUniformLocation(invariant_prog_, "u_anchor"), a.x, a.y);
+    glUniform2i(glGetUniformLocation(invariant_prog_, "u_viewport_anchor"), a.x - guard, a.y - guard);
+    glUniform2f(glGetUniformLocation(invariant_prog_, "u_viewport_size"), float(kGuardViewport), float(kGuardViewport));
+    glUniform1i(glGetUniformLocation(invariant_prog_, "u_offset"), s.bias == CascadedShadowMapSettings::Bias::Auto ? 0 : 1);
+    glEnable(GL_SCISSOR_TEST);
+    for (std::size_t k = 0; k < plan.count; ++k) {
+        const shadowkit::ShadowCacheRect& r = rects_[i][k];
+        glScissor(r.x, r.y, r.width, r.height);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        for (std::size_t m = 0; m < cache_mesh_.size(); ++m) {  // the casters whose footprint meets r
+            const shadowkit::ShadowCacheFootprint f = shadowkit::shadow_cache_footprint(cache_vp_[i], S, S, cache_casters_[m].bounds);
+            if (f.status != shadowkit::Status::Ok || !f.visible) continue;
+            if (f.rect.x >= r.x + r.width || r.x >= f.rect.x + f.rect.width || f.rect.y >= r.y + r.height ||
+                r.y >= f.rect.y + f.rect.height)
+                continue;
+            skgl::draw_mesh(v.gpu->meshes[cache_mesh_[m]]);
+        }
+    }
+    glDisable(GL_SCISSOR_TEST);
+}
+
+void CascadedShadowMaps::cache_done() {
+    scrolled_ = true;
+    for (int i = 0; i < layers_; ++i) {
+        previous_[i] = current_[i];
+        previous_[i].has_content = true;
+    }
+    for (shadowkit::ShadowCacheCaster& c : cache_casters_) std::copy(c.bounds, c.bounds + 6, c.previous_bounds);
+}
+
+std::uint64_t CascadedShadowMaps::texels_rerendered() const {
+    if (!cache_on_) return std::uint64_t(layers_) * std::uint64_t(size_) * std::uint64_t(size_);
+    std::uint64_t n = 0;
+    for (int i = 0; i < layers_; ++i) n += plan_[i].texels;
+    return n;
+}
+
 void CascadedShadowMaps::release() {  // (no GL call without objects: the App may have no context)
     if (maps_) glDeleteTextures(1, &maps_);
     if (layer_view_[0]) glDeleteTextures(4, layer_view_);
@@ -388,6 +613,12 @@ void CascadedShadowMaps::release() {  // (no GL call without objects: the App ma
     if (reduce_next_) glDeleteProgram(reduce_next_);
     if (bounds_first_) glDeleteProgram(bounds_first_);
     if (bounds_next_) glDeleteProgram(bounds_next_);
+    if (invariant_prog_) glDeleteProgram(invariant_prog_);
+    if (scratch_) glDeleteTextures(1, &scratch_);
+    invariant_prog_ = scratch_ = 0;
+    cache_mesh_.clear();
+    cache_casters_.clear();
+    cache_on_ = false;
     for (skgl::Target& t : bounds_levels_) skgl::destroy_target(t);
     bounds_first_ = bounds_next_ = 0;
     if (reduce_vao_) glDeleteVertexArrays(1, &reduce_vao_);

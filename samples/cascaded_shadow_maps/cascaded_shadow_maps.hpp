@@ -15,10 +15,13 @@
 #pragma once
 
 #include <shadowkit/cascades.hpp>
+#include <shadowkit/shadow_cache.hpp>
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "app.hpp"
 #include "gbuffer.hpp"
@@ -58,6 +61,14 @@ struct CascadedShadowMapSettings {
     /// fit=sdsm: the split scheme over the visible range; 1 (default): the log partition, SDSM's
     /// default (outdoor, 1024: RMSE 0.0254 against 0.0310 at 0.9 and 0.0361 at 0.75).
     float sdsm_lambda = 1.f;
+    /// Cached cascades (fit=fixed, size <= 2048; ignored otherwise): each cascade's depth range fixed in
+    /// the world (cascade_fit's stable_world_depth), and every frame shadow_cache_plan says per cascade
+    /// what of last frame's layer is still right: keep it, scroll it by whole texels and re-render the
+    /// exposed border, or re-render the footprints of casters that moved (their old and new ones).
+    /// Only those rectangles are drawn (scissored), with glsl/shadow_cache.glsl's translation-invariant
+    /// caster pass, so a kept layer equals a full re-render bit for bit. Off (default): every layer whole
+    /// every frame with the plain depth pass (docs/cascades.md has the measured trade).
+    bool cache = false;
 };
 
 /// The settings by name, once: --param, the panel's widgets and the report's sweeps use these.
@@ -73,6 +84,7 @@ inline void bind_settings(app::Params& p, CascadedShadowMapSettings& s) {
     p.choice("fit", &s.fit, {{"fixed", CascadedShadowMapSettings::Fit::Fixed}, {"sdsm", CascadedShadowMapSettings::Fit::Sdsm}});
     p.toggle("receiver_bounds", &s.receiver_bounds);
     p.number("sdsm_lambda", &s.sdsm_lambda, 0.0, 1.0);
+    p.toggle("cache", &s.cache);
 }
 
 class CascadedShadowMaps {
@@ -102,6 +114,15 @@ public:
     const float* splits() const { return fit_.splits; }  ///< view depths: cascade i covers [splits[i], splits[i + 1]]
     int count() const { return layers_; }                 ///< cascades as rendered last
     int size() const { return size_; }                    ///< texels per side of each map as rendered last
+    GLuint maps() const { return maps_; }                 ///< the depth array: layer i is cascade i
+
+    // cache=on: what update() planned for each cascade this frame (Keep / Update / Scroll / Render).
+    bool cache_active() const { return cache_on_; }       ///< cache=on took effect this frame (fit=fixed, size <= 2048)
+    const shadowkit::ShadowCachePlan& plan(int i) const { return plan_[i]; }
+    std::uint64_t texels_rerendered() const;              ///< this frame, all cascades (cache off: all of them)
+    /// Forget what the layers hold: the next update() plans a whole render of every cascade (what a
+    /// renderer does after loading a level; the tests use it for the full re-render to compare with).
+    void invalidate_cache() { for (auto& p : previous_) p.has_content = false; }
 
 private:
     void make_maps(int size, int count);
@@ -110,7 +131,14 @@ private:
     /// fit=sdsm, receiver_bounds: each cascade's receivers' light-space bounds (x0, y0, x1, y1).
     bool reduce_bounds(const app::View& v, const float* splits, int count, glm::vec4* bounds);
     void update_sdsm(const app::View& v, const CascadedShadowMapSettings& s, const shadowkit::CascadeInput& in);
+    void render_layers(const app::View& v, const CascadedShadowMapSettings& s, bool ok);  // every layer whole
     void release();
+    // cache=on, in the order they run (cascaded_shadow_maps.cpp, "Cached cascades")
+    void cache_caster_bounds(const app::View& v);                         // update: each caster's box this frame
+    void cache_plan(const CascadedShadowMapSettings& s);                  // update: a plan per cascade
+    void cache_scroll(int i);                                             // render: layer i moved by whole texels
+    void cache_rerender(const app::View& v, const CascadedShadowMapSettings& s, int i);  // render: the planned rectangles
+    void cache_done();                                                    // render: the layers hold this frame
     glm::vec3 caster_lo_{0.f}, caster_hi_{0.f};
     std::string error_;
     shadowkit::Cascade cascades_[4];
@@ -125,5 +153,17 @@ private:
     int size_ = 0, layers_ = 0;
     GLuint maps_ = 0, fbo_[4] = {0, 0, 0, 0}, layer_view_[4] = {0, 0, 0, 0};
     GLuint depth_prog_ = 0, vis_prog_ = 0, vis_auto_prog_ = 0;  // V: bias=polygon_offset, bias=auto
+    // cache=on
+    bool cache_on_ = false, scrolled_ = false;  // scrolled_: this update()'s scrolls are done
+    std::vector<std::size_t> cache_mesh_;                 // the caster meshes
+    std::vector<shadowkit::ShadowCacheCaster> cache_casters_;  // their boxes now and when last rendered
+    glm::dmat4 cache_vp_[4];                              // each cascade's matrix as the plan compares it (double)
+    glm::mat4 cache_global_[4];                           // world -> (global texel x, y, window depth)
+    glm::ivec2 cache_anchor_[4];                          // the global texel of each layer's texel (0, 0)
+    shadowkit::ShadowCacheMapState previous_[4], current_[4];
+    shadowkit::ShadowCachePlan plan_[4];
+    std::vector<shadowkit::ShadowCacheRect> rects_[4];
+    GLuint scratch_ = 0;                                  // one layer's size: a scroll copies through it
+    GLuint invariant_prog_ = 0;                           // glsl/shadow_cache.glsl's caster pass
     app::VisibilityPass pass_;
 };
