@@ -16,6 +16,8 @@
 #include <shadowkit/perspective_shadow_maps.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <cstring>
 
 #include "cascaded_shadow_maps.hpp"
 #include "report_technique.hpp"
@@ -103,6 +105,74 @@ bool measure_cascades(CascadedShadowMaps& c, const CascadedShadowMapSettings&, c
     return true;
 }
 
+// The temporal rows of cascades (as ReportTechnique's default: update + render per frame, V and the
+// matrices), plus what the cache did (frames after the first, which renders every layer whole):
+// rerendered_fraction (mean texels re-rendered per frame / the array's texels; cache=off: 1),
+// rerendered_max, and with cache=on the plans' actions over cascade-frames (cascade_frames_kept /
+// _updated / _scrolled / _rendered) and, when the sequence is verified, texels_differing: array texels
+// (all frames) where the cached layers differ bit for bit from a second instance that re-renders every
+// layer whole each frame (its cache invalidated); frame_ms: the median of update + render (the layers
+// and V, between glFinish calls: llvmpipe runs the GPU work on the CPU) over the frames after the first.
+SequenceResult cascades_sequence(const RunContext& ctx, const CascadedShadowMapSettings& s, const std::vector<TemporalFrame>& frames) {
+    Scene scene = ctx.scene;  // its light turns with the frames
+    scene.light = frames[0].light;
+    CascadedShadowMaps c, full;
+    std::string why;
+    const app::View v0 = app::make_view(scene, ctx.gpu, frames[0].camera);
+    const bool verify = s.cache && ctx.verify_sequence;
+    if (!c.init(v0, why) || (verify && !full.init(v0, why))) return SequenceResult::failure(why);
+    SequenceResult out;
+    double actions[4] = {0, 0, 0, 0}, fraction = 0.0, fraction_max = 0.0, differing = 0.0;
+    std::vector<float> a, b;
+    std::vector<double> ms;
+    for (std::size_t t = 0; t < frames.size(); ++t) {
+        scene.light = frames[t].light;
+        const app::View v = app::make_view(scene, ctx.gpu, frames[t].camera);
+        glFinish();
+        const auto t0 = std::chrono::steady_clock::now();
+        c.update(v, s);
+        if (!c.error().empty()) return SequenceResult::failure(c.error());
+        c.render(v, s);
+        glFinish();
+        if (t > 0) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        out.visibility.push_back(read_r32f(c.visibility(), v.width, v.height));
+        std::vector<glm::mat4> mats;
+        for (int i = 0; i < c.count(); ++i) mats.push_back(c.cascade(i).view_proj);
+        out.light_matrices.push_back(mats);
+        const double texels = double(c.count()) * double(c.size()) * double(c.size());
+        if (t > 0) {
+            const double f = double(c.texels_rerendered()) / texels;
+            fraction += f;
+            fraction_max = std::max(fraction_max, f);
+            for (int i = 0; i < c.count() && c.cache_active(); ++i) actions[static_cast<int>(c.plan(i).action)] += 1.0;
+        }
+        if (!verify || !c.cache_active()) continue;
+        full.invalidate_cache();
+        full.update(v, s);
+        full.render(v, s);
+        a.resize(static_cast<std::size_t>(texels));
+        b.resize(a.size());
+        glGetTextureImage(c.maps(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(a.size() * 4), a.data());
+        glGetTextureImage(full.maps(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(b.size() * 4), b.data());
+        for (std::size_t k = 0; k < a.size(); ++k) differing += std::memcmp(&a[k], &b[k], 4) != 0 ? 1.0 : 0.0;
+    }
+    const double later = double(frames.size() > 1 ? frames.size() - 1 : 1);
+    std::sort(ms.begin(), ms.end());
+    out.work = {{"rerendered_fraction", fraction / later}, {"rerendered_max", fraction_max},
+                {"frame_ms", ms.empty() ? 0.0 : ms[ms.size() / 2]}};
+    if (s.cache) {
+        out.work.emplace_back("cascade_frames_kept", actions[0]);
+        out.work.emplace_back("cascade_frames_updated", actions[1]);
+        out.work.emplace_back("cascade_frames_scrolled", actions[2]);
+        out.work.emplace_back("cascade_frames_rendered", actions[3]);
+    }
+    if (verify) out.work.emplace_back("texels_differing", differing);
+    const std::string err = skgl::gl_error_string();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!err.empty()) return SequenceResult::failure("cascades: " + err);
+    return out;
+}
+
 }  // namespace
 
 void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
@@ -138,7 +208,13 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
                       "size=512 count=4 fit=sdsm", "size=1024 count=4 fit=sdsm", "size=1024 count=4 fit=sdsm receiver_bounds=off"};
     cascades.quick = {"size=512 count=4", "size=1024 count=4 fit=fixed", "size=1024 count=4 fit=sdsm", "size=1024 count=4 fit=sdsm receiver_bounds=off"};
     cascades.mesh_sweep = {"size=1024 count=4", "size=512 count=4", "size=1024 count=4 fit=sdsm"};
+    // cached cascades (issue 25) beside the default fixed-split row: still rows render every layer whole
+    // (the plan's first frame), the temporal rows show the texels re-rendered per frame
+    cascades.sweep.push_back("size=1024 count=4 fit=fixed cache=on");
+    cascades.quick.push_back("size=1024 count=4 fit=fixed cache=on");
+    cascades.mesh_sweep.push_back("size=1024 count=4 fit=fixed cache=on");
     cascades.measure = measure_cascades;
+    cascades.sequence = cascades_sequence;
     add_technique(out, std::move(cascades));
 }
 
