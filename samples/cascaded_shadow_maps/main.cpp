@@ -1,7 +1,7 @@
 // Sample: cascaded shadow maps for the sun (cascaded_shadow_maps.hpp / .cpp): up to four stable
 // orthographic maps along the camera's depth (cascades.hpp), selected by view depth and blended over a
 // band. Starts on `outdoor` (the only built-in scene with a sun: other lights are refused, no shadows).
-//   sample_cascaded_shadow_maps [--param size=512] [--param count=3] [--param normal_offset=0]
+//   sample_cascaded_shadow_maps [--param size=512] [--param count=3] [--param normal_offset=0] [--param cache=on]
 //                               [--view "cascade 1"] [--headless shot.png] [--help]
 #include <cstdio>
 
