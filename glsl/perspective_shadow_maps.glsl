@@ -42,12 +42,12 @@ vec4 sk_warp_coord(mat4 warp, mat4 depth_proj, vec3 world_pos, bool zero_to_one)
 }
 
 // 1 = lit, 0 = shadowed (bias in window depth; negative for reversed-Z).
-float sk_warp_shadow(sampler2DShadow shadow_map, mat4 warp, mat4 depth_proj, vec3 world_pos, float bias,
+float sk_warp_shadow(sampler2DShadow shadow_map, mat4 warp, mat4 depth_proj, vec3 world_pos, float bias_window,
                      bool zero_to_one)
 {
     vec4 c = sk_warp_coord(warp, depth_proj, world_pos, zero_to_one);
     if (c.w == 0.0) return 1.0;
-    return texture(shadow_map, vec3(c.xy, c.z - bias));
+    return texture(shadow_map, vec3(c.xy, c.z - bias_window));
 }
 
 // The automatic bias for any warp, TSM's separate depth included (no constant, no polygon offset:

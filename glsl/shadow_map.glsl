@@ -49,14 +49,14 @@ vec4 sk_shadow_coord(mat4 light_view_proj, vec3 world_pos, bool zero_to_one) {
 
 // Lit fraction of world_pos: one compare of the biased receiver depth (2x2 with GL_LINEAR).
 float sk_shadow_map_visibility(sampler2DShadow shadow_map, mat4 light_view_proj, vec3 world_pos,
-                               bool zero_to_one, float bias, float outside) {
+                               bool zero_to_one, float bias_window, float outside) {
     vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
         return outside;
 #ifdef SK_REVERSED_Z
-    return texture(shadow_map, vec3(c.xy, c.z + bias));
+    return texture(shadow_map, vec3(c.xy, c.z + bias_window));
 #else
-    return texture(shadow_map, vec3(c.xy, c.z - bias));
+    return texture(shadow_map, vec3(c.xy, c.z - bias_window));
 #endif
 }
 
@@ -66,17 +66,17 @@ float sk_shadow_map_visibility(sampler2DShadow shadow_map, mat4 light_view_proj,
 // sk_cube_visibility_distance instead: this function on that map compiles and is wrong almost
 // everywhere. (Its old name sk_cube_shadow_visibility fails to compile, naming this one.) The
 // reference depth is the face's window depth of the major-axis distance,
-// ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]), minus `bias` (window units).
+// ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]), minus `bias_window`.
 #define sk_cube_shadow_visibility sk_cube_shadow_visibility_renamed_to_sk_cube_visibility_hardware_depth
 float sk_cube_visibility_hardware_depth(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos,
-                                        float near_plane, float far_plane, float bias) {
+                                        float near_plane, float far_plane, float bias_window) {
     if (!(light_position.w > 0.0)) return 1.0;
     vec3 d = world_pos - light_position.xyz / light_position.w;
     float major = max(abs(d.x), max(abs(d.y), abs(d.z)));
     float f = far_plane;
     float n = near_plane;
     float ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * major);
-    return texture(shadow_map, vec4(d, ndc_z * 0.5 + 0.5 - bias));
+    return texture(shadow_map, vec4(d, ndc_z * 0.5 + 0.5 - bias_window));
 }
 
 // ---- automatic bias ----------------------------------------------------------------------------
