@@ -165,15 +165,19 @@ ivec2 sk_vsm_physical(int level, ivec2 t) {
     return ivec2(slot % cols, slot / cols) * pt + t % pt;
 }
 
-// The lookup on one level: true when every tap's page is current there, with the lit fraction in
-// `v`. Each tap compares the atlas depth with the receiver plane's depth at the tap's centre minus
-// the margin (plus with reversed Z).
+// The lookup on one level: true when the page holding the point is current there, with the lit
+// fraction in `v`. A tap on a neighbour page reads it through the table; where that page is not
+// current the tap is clamped into the point's own page (the kernel stays inside it). Each tap
+// compares the atlas depth with the receiver plane's depth at the tap's centre minus the margin
+// (plus with reversed Z).
 bool sk_vsm_filter_level(sampler2D atlas, int l, vec4 c, vec4 g, int radius, float depth_step, out float v) {
-    int size = sk_vsm_layout.y * sk_vsm_layout.z;
+    int pt = sk_vsm_layout.z, size = sk_vsm_layout.y * pt;
     ivec2 i0;
     vec2 w;
     v = 0.0;
     if (!(c.w > 0.0) || !sk_vsm_kernel(c.xy, size, radius, i0, w)) return false;
+    ivec2 home = ivec2(c.xy * float(size)) / pt;
+    if (sk_vsm_physical(l, home * pt).x < 0) return false;
     float eps = sk_vsm_bias_epsilon(g, 1.0 / float(size), c.z, depth_step);
     int taps = 2 * radius + 2;
     float sum = 0.0;
@@ -181,7 +185,10 @@ bool sk_vsm_filter_level(sampler2D atlas, int l, vec4 c, vec4 g, int radius, flo
         for (int i = 0; i < taps; ++i) {
             ivec2 t = i0 + ivec2(i, j);
             ivec2 p = sk_vsm_physical(l, t);
-            if (p.x < 0) return false;
+            if (p.x < 0) {
+                t = clamp(t, home * pt, home * pt + pt - 1);
+                p = sk_vsm_physical(l, t);
+            }
             vec2 centre = (vec2(t) + 0.5) / float(size);
             float zp = c.z + dot(g.xy, centre - c.xy);
             float d = texelFetch(atlas, p, 0).r;
@@ -196,8 +203,10 @@ bool sk_vsm_filter_level(sampler2D atlas, int l, vec4 c, vec4 g, int radius, flo
 }
 
 // Lit fraction of rel_pos: from `level` up, the first level whose window holds the kernel and whose
-// pages under it are all current (a neighbour page is read through the table; a missing one sends
-// the whole kernel one level coarser: never a hole). `used_level` is that level, -1 outside every
+// page holding the point is current (a neighbour page under the kernel is read through the table,
+// or the kernel is clamped into the point's page where it is missing; a missing page of the point
+// sends the lookup one level coarser, where vsm_plan keeps the parent of every fallen-back page:
+// never a hole). `used_level` is that level, -1 outside every
 // window (1.0, lit) or when no level has the pages (0.0, shadowed). An edge-on receiver (its plane
 // holds the light ray) is lit.
 float sk_vsm_visibility_level(sampler2D atlas, vec3 rel_pos, vec3 normal, int level, int radius, float depth_step,
