@@ -63,13 +63,14 @@ layout(std430, binding = SK_VSM_MASK_BINDING) buffer SkVsmRequestMask {
     uint sk_vsm_request_mask[];
 };
 
-// The level whose texels are no larger than `footprint_world` (a pixel's size on the receiver, world
-// units): ceil(log2(footprint / level 0's texel) + lod_bias), clamped to [0, level_count). A spot
-// light has one level: 0.
+// The coarsest level whose texels are no larger than `footprint_world` (a pixel's size on the
+// receiver, world units): floor(log2(footprint / level 0's texel) + lod_bias), clamped to [0,
+// level_count). lod_bias 1: texels up to twice the pixel (a quarter of the pages). A spot light has
+// one level: 0.
 int sk_vsm_level_for_footprint(float footprint_world, float lod_bias) {
     float texel0 = sk_vsm_scale.x;
     if (!(texel0 > 0.0) || !(footprint_world > 0.0)) return 0;
-    float l = ceil(log2(footprint_world / texel0) + lod_bias);
+    float l = floor(log2(footprint_world / texel0) + lod_bias);
     return int(clamp(l, 0.0, float(sk_vsm_layout.x - 1)));
 }
 
@@ -239,7 +240,7 @@ float sk_vsm_visibility(sampler2D atlas, vec3 rel_pos, vec3 normal, int level, i
 }
 
 // Debug view: the level the 2x2 lookup would use (a hue per level, repeating every 6), darkened on the
-// texel rows at page borders, magenta where no level has the page, grey outside every window.
+// texel rows at page borders, white where no level has the page, grey outside every window.
 vec3 sk_vsm_debug_color(vec3 rel_pos, int level) {
     int n = sk_vsm_layout.y, pt = sk_vsm_layout.z;
     bool inside = false;
@@ -255,5 +256,5 @@ vec3 sk_vsm_debug_color(vec3 rel_pos, int level) {
         bool border = any(equal(in_page, ivec2(0))) || any(equal(in_page, ivec2(pt - 1)));
         return mix(vec3(0.25), hue, 0.75) * (border ? 0.35 : 1.0);
     }
-    return inside ? vec3(1.0, 0.0, 1.0) : vec3(0.5);
+    return inside ? vec3(1.0) : vec3(0.5);
 }

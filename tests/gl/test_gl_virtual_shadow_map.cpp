@@ -302,7 +302,7 @@ void cpu_mark(const VsmState& s, const glm::dvec3& world, double dist, double pi
         for (double dx : {-1e-3, 1e-3})
             for (double dy : {-1e-3, 1e-3}) {
                 ++variants;
-                const double lf = std::ceil(std::log2(dist * pixel_angle / texel0) + dl);
+                const double lf = std::floor(std::log2(dist * pixel_angle / texel0) + dl);
                 const int level = int(std::min(std::max(lf, 0.0), double(s.layout.level_count - 1)));
                 for (int l = level; l < s.layout.level_count; ++l) {
                     const glm::dvec4 h = s.levels[l].world_to_uv * glm::dvec4(world, 1.0);
