@@ -23,6 +23,7 @@ namespace {
 const char* kMark = R"(
 layout(binding = 0) uniform sampler2D u_gbuf_position;
 uniform vec3 u_anchor;
+uniform vec3 u_eye;  // the G-buffer's camera: the footprint is its pixel's
 uniform float u_pixel_angle;
 uniform float u_lod_bias;
 uniform int u_pcf_radius;
@@ -30,7 +31,7 @@ void main() {
     vec4 p = texelFetch(u_gbuf_position, ivec2(gl_FragCoord.xy), 0);
     if (p.w == 0.0) discard;
     vec3 rel = p.xyz - u_anchor;
-    sk_vsm_mark(rel, sk_vsm_level_for_footprint(length(rel) * u_pixel_angle, u_lod_bias), u_pcf_radius);
+    sk_vsm_mark(rel, sk_vsm_level_for_footprint(length(p.xyz - u_eye) * u_pixel_angle, u_lod_bias), u_pcf_radius);
 }
 )";
 
@@ -38,12 +39,13 @@ void main() {
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2D u_pool;
 uniform vec3 u_anchor;
+uniform vec3 u_eye;
 uniform float u_pixel_angle;
 uniform float u_lod_bias;
 uniform int u_pcf_radius;
 float technique_visibility(vec3 p, vec3 n) {
     vec3 rel = p - u_anchor;
-    int level = sk_vsm_level_for_footprint(length(rel) * u_pixel_angle, u_lod_bias);
+    int level = sk_vsm_level_for_footprint(length(p - u_eye) * u_pixel_angle, u_lod_bias);
     return sk_vsm_visibility(u_pool, rel, n, level, u_pcf_radius, 0.0);  // float32 pool: depth_step 0
 }
 )";
@@ -52,6 +54,7 @@ float technique_visibility(vec3 p, vec3 n) {
 const char* kDebug = R"(
 layout(binding = 0) uniform sampler2D u_gbuf_position;
 uniform vec3 u_anchor;
+uniform vec3 u_eye;
 uniform float u_pixel_angle;
 uniform float u_lod_bias;
 layout(location = 0) out vec4 o_color;
@@ -59,12 +62,14 @@ void main() {
     vec4 p = texelFetch(u_gbuf_position, ivec2(gl_FragCoord.xy), 0);
     if (p.w == 0.0) { o_color = vec4(0.0); return; }
     vec3 rel = p.xyz - u_anchor;
-    o_color = vec4(sk_vsm_debug_color(rel, sk_vsm_level_for_footprint(length(rel) * u_pixel_angle, u_lod_bias)), 0.7);
+    o_color = vec4(sk_vsm_debug_color(rel, sk_vsm_level_for_footprint(length(p.xyz - u_eye) * u_pixel_angle, u_lod_bias)), 0.7);
 }
 )";
 
-void set_level_uniforms(GLuint prog, const glm::dvec3& anchor, float pixel_angle, const VirtualShadowMapSettings& s) {
+void set_level_uniforms(GLuint prog, const glm::dvec3& anchor, const glm::vec3& eye, float pixel_angle,
+                        const VirtualShadowMapSettings& s) {
     glUniform3f(glGetUniformLocation(prog, "u_anchor"), float(anchor.x), float(anchor.y), float(anchor.z));
+    glUniform3fv(glGetUniformLocation(prog, "u_eye"), 1, glm::value_ptr(eye));
     glUniform1f(glGetUniformLocation(prog, "u_pixel_angle"), pixel_angle);
     glUniform1f(glGetUniformLocation(prog, "u_lod_bias"), s.lod_bias);
     glUniform1i(glGetUniformLocation(prog, "u_pcf_radius"), s.pcf_radius);
@@ -105,7 +110,9 @@ void VirtualShadowMaps::update(const app::View& v, const VirtualShadowMapSetting
     frame_.camera_position = glm::dvec3(v.camera.eye);
     frame_.light_position = glm::vec4(-glm::normalize(L.direction), 0.f);  // w = 0, xyz toward the sun
     anchor_ = frame_.camera_position;
-    // the G-buffer's pixel footprint per unit distance (its own camera: the pixels are its)
+    // the G-buffer's pixel footprint: its camera's eye and pixel angle (the pixels are its; the report's
+    // temporal rows move the fit camera, which the levels center on, and keep the G-buffer)
+    eye_ = v.gpu->camera.eye;
     pixel_angle_ = 2.f * std::tan(0.5f * v.gpu->camera.fovy) / float(std::max(v.gpu->height, 1));
 }
 
@@ -170,7 +177,7 @@ void VirtualShadowMaps::mark(const app::View& v, const VirtualShadowMapSettings&
     app::begin_fullscreen_pass();
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glUseProgram(mark_prog_);
-    set_level_uniforms(mark_prog_, anchor_, pixel_angle_, s);
+    set_level_uniforms(mark_prog_, anchor_, eye_, pixel_angle_, s);
     glBindTextureUnit(0, v.gpu->gbuffer.color[0]);
     glBindVertexArray(empty_vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -227,7 +234,7 @@ app::DebugImage VirtualShadowMaps::debug_pages() {
     glViewport(0, 0, debug_.width, debug_.height);
     app::begin_fullscreen_pass();
     glUseProgram(debug_prog_);
-    set_level_uniforms(debug_prog_, anchor_, pixel_angle_, last_settings_);
+    set_level_uniforms(debug_prog_, anchor_, eye_, pixel_angle_, last_settings_);
     glBindTextureUnit(0, debug_positions_);
     glBindVertexArray(empty_vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -271,7 +278,7 @@ void VirtualShadowMaps::render(const app::View& v, const VirtualShadowMapSetting
     upload_block();
     glUseProgram(vis_prog_);
     app::set_light_uniforms(vis_prog_, v.light());
-    set_level_uniforms(vis_prog_, anchor_, pixel_angle_, s);
+    set_level_uniforms(vis_prog_, anchor_, eye_, pixel_angle_, s);
     pass_.draw(vis_prog_, *v.gpu, GL_TEXTURE_2D, atlas_);
     debug_positions_ = v.gpu->gbuffer.color[0];
     last_settings_ = s;

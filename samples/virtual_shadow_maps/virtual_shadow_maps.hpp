@@ -110,6 +110,7 @@ private:
     bool have_pool_ = false;
     float diag_ = 1.f, pixel_angle_ = 0.f;
     glm::dvec3 anchor_{0.0};
+    glm::vec3 eye_{0.f};
     std::vector<float> caster_boxes_;            // 6 floats per caster mesh
     std::vector<std::size_t> caster_mesh_;       // the mesh of each box
     std::vector<shadowkit::VsmPageRender> pages_;
