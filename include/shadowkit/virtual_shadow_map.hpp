@@ -1,4 +1,4 @@
-// shadowkit/virtual_shadow_map.hpp - virtual shadow maps (CPU core): clipmap layout, page table, physical page pool with LRU eviction, invalidation by moving casters and scrolling, the pages to render each frame.
+// shadowkit/virtual_shadow_map.hpp - virtual shadow maps (CPU side; glsl/virtual_shadow_map.glsl marks and looks up): clipmap layout, page table, physical page pool with LRU eviction, invalidation by moving casters and scrolling, the pages to render each frame.
 //
 // Usage (once: allocates; then per frame: no allocation):
 //   shadowkit::VsmLayout layout;
@@ -15,7 +15,8 @@
 //   std::vector<shadowkit::VsmPageRender> pages(layout.pool_pages);   // once
 //   const shadowkit::VsmPlan plan = shadowkit::vsm_plan(vsm, f, pages.data(), pages.size());
 //   for (std::size_t i = 0; i < plan.count; ++i) { /* viewport = pages[i].atlas_x/y, draw with pages[i].view_proj */ }
-//   upload(vsm.page_table);  // one uint per virtual page and level (vsm_table_index), for the lookup
+//   shadowkit::vsm_gpu_block(vsm, camera_world, words, n);  // the SSBO glsl/virtual_shadow_map.glsl reads:
+//   upload(words);  // level matrices relative to the camera + the page table (vsm_table_index), for the lookup
 //
 // Conventions:
 // Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's

@@ -12,6 +12,10 @@
 //  (c) one caster moves: vsm_plan with its old and new bounds; only the listed pages are re-rendered;
 //      the kept pool then equals a full re-render of every current page into a fresh atlas, bit for
 //      bit; and the move changed at least one page (so the comparison can fail).
+//  (d) a pool of half the requests: the plan falls back to coarser pages and the lookup walks up to
+//      them: no pixel without a page, >= 99% agreement.
+// All of it twice: at the origin and with the scene and camera 1e6 units away (the block's matrices
+// and every position relative to the camera).
 // What each check catches: a bit layout or level rule that differs from the header's, a wrong
 // toroidal offset, slot -> atlas mapping or page matrix, a hole at a page border or a missing
 // fallback, a bias that leaves acne, and a page the move touched but the plan did not invalidate.
@@ -358,9 +362,9 @@ Agreement agree_with_ray_cast(const Scene& scene, const glm::dvec3& camera, cons
     return r;
 }
 
-}  // namespace
-
-TEST_CASE("virtual shadow map on GL: GPU marks match the CPU, the lookup matches a ray cast, a moved caster re-renders only its pages") {
+// The whole check on the scene moved by `offset` (world units; the boxes' float bounds round there,
+// and the renderer, the plan and the ray cast all use those rounded bounds).
+void run_scene(const glm::dvec3& offset) {
     gl_test_context();
     Scene scene;
     scene.boxes = {{{-60.0f, -1.0f, -60.0f, 60.0f, 0.0f, 60.0f}},   // ground (top at y = 0)
@@ -369,7 +373,9 @@ TEST_CASE("virtual shadow map on GL: GPU marks match the CPU, the lookup matches
                    {{-5.0f, 0.0f, -10.0f, -3.0f, 1.0f, -7.0f}},
                    {{3.0f, 0.5f, 0.0f, 4.0f, 1.5f, 1.0f}},           // floating: its shadow is detached
                    {{-1.0f, 0.0f, -25.0f, 6.0f, 6.0f, -20.0f}}};
-    const glm::dvec3 camera(0.25, 5.0, 9.0), target(0.0, 0.0, -6.0);
+    for (Box& b : scene.boxes)
+        for (int k = 0; k < 6; ++k) b.b[k] = float(double(b.b[k]) + offset[k % 3]);
+    const glm::dvec3 camera = offset + glm::dvec3(0.25, 5.0, 9.0), target = offset + glm::dvec3(0.0, 0.0, -6.0);
     scene.anchor = camera;
     scene.upload();
     const glm::vec4 light(0.35f, 0.55f, -0.6f, 0.0f);  // a low sun behind the boxes: long shadows toward the camera
@@ -578,4 +584,14 @@ TEST_CASE("virtual shadow map on GL: GPU marks match the CPU, the lookup matches
     CHECK(coarser > 1000);
     CHECK(double(ag3.agree) >= 0.99 * double(ag3.counted));
     CHECK(skgl::gl_error_string().empty());
+}
+
+}  // namespace
+
+TEST_CASE("virtual shadow map on GL: GPU marks match the CPU, the lookup matches a ray cast, a moved caster re-renders only its pages") {
+    run_scene(glm::dvec3(0.0));
+}
+
+TEST_CASE("virtual shadow map on GL, 1e6 units from the origin: the camera-relative block keeps the same agreement") {
+    run_scene(glm::dvec3(1.0e6, 0.0, -1.0e6));
 }
