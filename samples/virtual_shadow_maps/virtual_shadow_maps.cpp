@@ -124,7 +124,14 @@ bool VirtualShadowMaps::make_pool(const VirtualShadowMapSettings& s) {
     layout.virtual_texels = s.virtual_texels;
     layout.level_count = s.levels;
     layout.pool_pages = s.pool_pages;
-    layout.level0_extent_world = 2.0 * double(diag_) / std::ldexp(1.0, s.levels - 1);  // the coarsest: 2 diagonals
+    // the coarsest level covers 2^k times the scene's diagonal (k >= 1, power-of-two steps keep one texel
+    // grid whatever the viewport): the least k that gives its texels a quarter of a pixel at twice the
+    // diagonal. A small scene seen whole then finds its level below the coarsest (with twice the
+    // diagonal alone, every pixel sat on the coarsest level, and a pool smaller than its pages left holes)
+    const double reach = 2.0 * double(diag_);
+    const double wanted = 0.25 * double(s.virtual_texels) * reach * double(pixel_angle_);
+    const double coarsest = reach * std::exp2(std::ceil(std::log2(std::max(wanted / reach, 1.0))));  // 2 diagonals x 2^k
+    layout.level0_extent_world = coarsest / std::ldexp(1.0, s.levels - 1);
     layout.depth_range_world = 2.0 * double(diag_);
     if (shadowkit::vsm_state_init(layout, state_).status != shadowkit::Status::Ok) return false;
     const int cols = state_.layout.pool_columns, rows = (s.pool_pages + cols - 1) / cols;

@@ -31,7 +31,9 @@
 struct VirtualShadowMapSettings {
     int page_texels = 128;        ///< side of a page in texels
     int virtual_texels = 16384;   ///< side of each level's virtual map in texels
-    int levels = 10;              ///< clipmap levels; the coarsest covers twice the scene's diagonal
+    /// clipmap levels; the coarsest covers 2^k times the scene's diagonal, k >= 1 the least that gives its
+    /// texels a quarter of a pixel at that distance (the finest level is the coarsest's / 2^(levels - 1))
+    int levels = 16;
     int pool_pages = 1024;        ///< physical pages in the pool (1024 pages of 128^2 float32: 64 MiB)
     /// added to log2(pixel footprint / level 0's texel) before rounding down: 0 picks the coarsest level
     /// whose texels are no larger than the pixel's footprint (distance x pixel angle). -2 (default):

@@ -2,7 +2,7 @@
 // VirtualShadowMaps class (samples/virtual_shadow_maps/) with timing, work counters and sweeps
 // (report_technique.hpp).
 //
-// Rows: scenes with a sun. The class's defaults (128-texel pages, 16k virtual texels per level, 10
+// Rows: scenes with a sun. The class's defaults (128-texel pages, 16k virtual texels per level, 16
 // levels, a pool of 1024 pages = 64 MiB, lod_bias -2: texels no larger than a quarter of the pixel's
 // footprint), then pools of 256 pages (16 MiB: the memory of 4 cascades of 1024^2) and 64 pages (4 MiB:
 // too small, coarser pages), lod_bias -1 and 0 (a quarter and a sixteenth of the pages), pcf_radius=1
