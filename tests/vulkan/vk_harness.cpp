@@ -185,7 +185,9 @@ std::string compile_spirv(Source src, VkShaderStageFlagBits stage, const std::st
     if (!program.link(messages)) return std::string("link: ") + program.getInfoLog();
     if (!program.mapIO()) return std::string("mapIO: ") + program.getInfoLog();
     glslang::SpvOptions opt;
-    opt.disableOptimizer = !hlsl;  // HLSL passes textures as arguments: SPIRV-Tools legalizes (as glslangValidator -D)
+    // HLSL: SPIRV-Tools' legalization, as glslangValidator runs it (textures passed as arguments;
+    // with glslang 12 the unlegalized modules validated and ran the same)
+    opt.disableOptimizer = !hlsl;
     spv::SpvBuildLogger logger;
     spirv.clear();
     glslang::GlslangToSpv(*program.getIntermediate(lang), spirv, &logger, &opt);
