@@ -421,7 +421,7 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     }
     VkVertexInputBindingDescription vb{0, d.vertex_stride, VK_VERTEX_INPUT_RATE_VERTEX};
     VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vi.vertexBindingDescriptionCount = 1;
+    vi.vertexBindingDescriptionCount = d.attributes.empty() ? 0u : 1u;  // none: positions from gl_VertexIndex
     vi.pVertexBindingDescriptions = &vb;
     vi.vertexAttributeDescriptionCount = static_cast<std::uint32_t>(d.attributes.size());
     vi.pVertexAttributeDescriptions = d.attributes.data();
@@ -521,13 +521,13 @@ void write_sampler(Context& ctx, DescriptorSet& ds, std::uint32_t binding, VkSam
     write_image(ctx, ds, binding, VK_DESCRIPTOR_TYPE_SAMPLER, VK_NULL_HANDLE, sampler, VK_IMAGE_LAYOUT_UNDEFINED);
 }
 
-void write_buffer(Context& ctx, DescriptorSet& ds, std::uint32_t binding, const Buffer& b) {
+void write_buffer(Context& ctx, DescriptorSet& ds, std::uint32_t binding, const Buffer& b, VkDescriptorType type) {
     VkDescriptorBufferInfo bi{b.buffer, 0, b.size};
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstSet = ds.set;
     w.dstBinding = binding;
     w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w.descriptorType = type;
     w.pBufferInfo = &bi;
     vkUpdateDescriptorSets(ctx.device, 1, &w, 0, nullptr);
 }
@@ -586,6 +586,25 @@ std::vector<float> read_image(Context& ctx, const Image& img, VkImageLayout layo
     }
     destroy(ctx, b);
     return out;
+}
+
+bool upload_image(Context& ctx, const Image& img, const std::vector<float>& data, VkImageLayout final_layout) {
+    const std::size_t n = std::size_t(img.width) * img.height * img.layers;
+    if (data.size() % n != 0 || data.empty()) return false;
+    Buffer b;
+    if (!make_buffer(ctx, data.size() * sizeof(float), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, b)) return false;
+    std::memcpy(b.mapped, data.data(), data.size() * sizeof(float));
+    VkCommandBuffer cmd = begin_commands(ctx);
+    transition(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    VkBufferImageCopy c{};
+    const VkImageAspectFlags aspect = (img.aspect & VK_IMAGE_ASPECT_DEPTH_BIT) ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : img.aspect;
+    c.imageSubresource = {aspect, 0, 0, img.layers};
+    c.imageExtent = {img.width, img.height, 1};
+    vkCmdCopyBufferToImage(cmd, b.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+    transition(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, final_layout);
+    const bool ok = submit_and_wait(ctx, cmd);
+    destroy(ctx, b);
+    return ok;
 }
 
 VkViewport viewport(std::uint32_t w, std::uint32_t h, bool flip_y) {

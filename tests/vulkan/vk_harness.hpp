@@ -125,7 +125,8 @@ bool make_descriptor_set(Context& ctx, const std::vector<Binding>& bindings, Des
 void write_image(Context& ctx, DescriptorSet& ds, std::uint32_t binding, VkDescriptorType type, VkImageView view,
                  VkSampler sampler, VkImageLayout layout);
 void write_sampler(Context& ctx, DescriptorSet& ds, std::uint32_t binding, VkSampler sampler);
-void write_buffer(Context& ctx, DescriptorSet& ds, std::uint32_t binding, const Buffer& b);
+void write_buffer(Context& ctx, DescriptorSet& ds, std::uint32_t binding, const Buffer& b,
+                  VkDescriptorType type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
 void destroy(Context& ctx, DescriptorSet& ds);
 
 /// A sampler clamped to the edge; `compare` != VK_COMPARE_OP_NEVER makes it a comparison sampler
@@ -139,6 +140,10 @@ void transition(VkCommandBuffer cmd, const Image& img, VkImageLayout from, VkIma
 /// render targets) to floats: `components` floats per texel, row 0 = the image's first row.
 std::vector<float> read_image(Context& ctx, const Image& img, VkImageLayout layout, std::uint32_t components,
                               std::uint32_t layer = 0);
+
+/// Fills every layer of an image made with TRANSFER_DST usage from floats (one per texel for a
+/// depth or one-channel format, layers one after the other), leaving it in `final_layout`.
+bool upload_image(Context& ctx, const Image& img, const std::vector<float>& data, VkImageLayout final_layout);
 
 /// Viewport helpers: the whole target, y flipped with a negative height (VK_KHR_maintenance1,
 /// core in Vulkan 1.1) when `flip_y`.
