@@ -1,6 +1,6 @@
 // Every hlsl/*.hlsl snippet compiles with glslang's HLSL front end (in process) to SPIR-V for Vulkan
 // 1.1 as a complete pixel shader: the snippet + the driver tests/hlsl/<snippet>.hlsl, whose main()
-// calls every function of the snippet; the module is checked by spirv-val where it is installed.
+// calls every function of the snippet (a driver's "// needs: pcf" line pastes hlsl/pcf.hlsl first); the module is checked by spirv-val where it is installed.
 // Every hlsl/ snippet has a glsl/ twin of the same name; a snippet without a driver fails, and a
 // broken fixture must fail. (The snippets RUN on Vulkan in tests/vulkan/, labels vulkan and hlsl;
 // this check needs only glslang.) DXC is not packaged in Debian 12 and is not run.
@@ -62,8 +62,16 @@ std::string check_snippet(const fs::path& snippet, const fs::path& driver_dir, c
     const std::string stem = snippet.stem().string();
     const fs::path driver = driver_dir / (stem + ".hlsl");
     if (!fs::exists(driver)) return stem + ": missing driver " + driver.string();
+    // a driver line "// needs: a b" pastes hlsl/a.hlsl, hlsl/b.hlsl before the snippet
+    const std::string drv = read_file(driver);
+    std::string prefix;
+    const auto needs = drv.find("// needs:");
+    if (needs != std::string::npos) {
+        std::istringstream names(drv.substr(needs + 9, drv.find('\n', needs) - needs - 9));
+        for (std::string n; names >> n;) prefix += read_file(snippet.parent_path() / (n + ".hlsl")) + "\n";
+    }
     std::vector<unsigned> spirv;
-    const std::string err = compile_hlsl(read_file(snippet) + "\n" + read_file(driver), spirv);
+    const std::string err = compile_hlsl(prefix + read_file(snippet) + "\n" + drv, spirv);
     if (!err.empty()) return stem + ": " + err;
     fs::create_directories(out_dir);
     const fs::path spv = out_dir / (stem + ".hlsl.spv");

@@ -21,18 +21,14 @@
 
 #include "../gl/pcf_reference.hpp"
 #include "vk_harness.hpp"
+#include "vk_passes.hpp"
 
 namespace {
 
 using skvk::Source;
+using skvk::compile_checked;
+using skvk::read_text;
 using namespace pcfref;
-
-std::string read_text(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
 
 const char* kFullscreenGlsl = R"(#version 450 core
 void main() {
@@ -110,17 +106,6 @@ struct Lookup {
     glm::vec3 uvz;
     glm::vec2 g;
 };
-
-std::vector<std::uint32_t> compile_checked(Source lang, VkShaderStageFlagBits stage, const std::string& text,
-                                           const char* entry, const std::string& spv_name) {
-    std::vector<std::uint32_t> spirv;
-    const std::string err = skvk::compile_spirv(lang, stage, text, entry, spirv);
-    REQUIRE_MESSAGE(err.empty(), spv_name << ": " << err);
-    bool validated = false;
-    const std::string val = skvk::spirv_val(spirv, std::string(SHADOWKIT_VK_SPIRV_DIR) + "/" + spv_name + ".spv", validated);
-    CHECK_MESSAGE(val.empty(), val);
-    return spirv;
-}
 
 void run_kernels(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();

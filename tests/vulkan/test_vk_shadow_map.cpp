@@ -21,18 +21,14 @@
 #include <vector>
 
 #include "vk_harness.hpp"
+#include "vk_passes.hpp"
 #include "vk_scene.hpp"
 
 namespace {
 
 using skvk::Source;
-
-std::string read_text(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+using skvk::compile_checked;
+using skvk::read_text;
 
 // ---------------------------------------------------------------------------------------- drivers
 // The map pass: position only, the matrix in push constants.
@@ -191,17 +187,6 @@ struct Shaders {
     const char* fs_entry = "main";
 };
 
-std::vector<std::uint32_t> compile_checked(Source lang, VkShaderStageFlagBits stage, const std::string& text,
-                                           const char* entry, const std::string& spv_name) {
-    std::vector<std::uint32_t> spirv;
-    const std::string err = skvk::compile_spirv(lang, stage, text, entry, spirv);
-    REQUIRE_MESSAGE(err.empty(), spv_name << ": " << err);
-    bool validated = false;
-    const std::string val = skvk::spirv_val(spirv, std::string(SHADOWKIT_VK_SPIRV_DIR) + "/" + spv_name + ".spv", validated);
-    CHECK_MESSAGE(val.empty(), val);
-    return spirv;
-}
-
 Shaders shaders(Source lang, bool reversed) {
     const std::string define = reversed ? "#define SK_REVERSED_Z 1\n" : "";
     const std::string tag = std::string(reversed ? "reversed" : "standard");
@@ -229,30 +214,6 @@ struct RunResult {
     int upright_checked = 0, upright_ok = 0;  ///< probe points found where the upright image has them
     std::size_t covered = 0;                  ///< pixels with geometry
 };
-
-// Records one render pass drawing the scene.
-void draw(VkCommandBuffer cmd, VkRenderPass rp, VkFramebuffer fb, std::uint32_t w, std::uint32_t h,
-          const std::vector<VkClearValue>& clears, VkPipeline pipe, VkPipelineLayout layout, const VkDescriptorSet* set,
-          const glm::mat4* push, VkBuffer vb, std::uint32_t count, bool flip) {
-    VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-    bi.renderPass = rp;
-    bi.framebuffer = fb;
-    bi.renderArea = {{0, 0}, {w, h}};
-    bi.clearValueCount = static_cast<std::uint32_t>(clears.size());
-    bi.pClearValues = clears.data();
-    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
-    const VkViewport vp = skvk::viewport(w, h, flip);
-    const VkRect2D sc{{0, 0}, {w, h}};
-    vkCmdSetViewport(cmd, 0, 1, &vp);
-    vkCmdSetScissor(cmd, 0, 1, &sc);
-    if (set) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, set, 0, nullptr);
-    if (push) vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4), push);
-    const VkDeviceSize offset = 0;
-    vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
-    vkCmdDraw(cmd, count, 1, 0, 0);
-    vkCmdEndRenderPass(cmd);
-}
 
 RunResult run(const Variant& v) {
     skvk::Context& ctx = skvk::vk_test_context();
@@ -355,9 +316,9 @@ RunResult run(const Variant& v) {
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
     far.depthStencil = {v.reversed ? 0.f : 1.f, 0};
-    draw(cmd, map_rp, map_fb, kMap, kMap, {far}, map_pipe, map_layout, nullptr, &map_vp, vb.buffer, vcount, vflip);
+    skvk::draw_pass(cmd, map_rp, map_fb, kMap, kMap, {far}, map_pipe, map_layout, nullptr, &map_vp, vb.buffer, vcount, vflip);
     VkClearValue zero{};
-    draw(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, vflip);
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, vflip);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
     const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
@@ -366,7 +327,8 @@ RunResult run(const Variant& v) {
     REQUIRE(v_vis.size() == std::size_t(kW) * kH);
 
     RunResult out;
-    out.agreement = skvk::compare_with_ray_cast(scene, light_vp, int(kW), int(kH), v_vis, v_world, v_normal);
+    out.agreement = skvk::compare_with_ray_cast(scene, glm::vec4(scene.light, 1.f), &light_vp, int(kW), int(kH), v_vis,
+                                                 v_world, v_normal);
     for (std::size_t k = 0; k < v_vis.size(); ++k) out.covered += v_world[k * 4 + 3] != 0.f;
     // upright: probe points projected with the GL convention (window y up) must be found at row
     // h - 1 - y of the read-back image (row 0 = top, as a presented image shows it)

@@ -65,21 +65,27 @@ struct Agreement {
 };
 
 /// Per-pixel agreement of `vis` (> 0.5: lit) with the ray cast at the G-buffer's points. `world`,
-/// `normal`: 4 floats per pixel (w = 1 where geometry was drawn); `light_vp`: the map's matrix (the
-/// light's frustum: pixels outside 98% of it are left out).
-inline Agreement compare_with_ray_cast(const BoxScene& s, const glm::mat4& light_vp, int w, int h, const std::vector<float>& vis,
-                                       const std::vector<float>& world, const std::vector<float>& normal) {
+/// `normal`: 4 floats per pixel (w = 1 where geometry was drawn); `light`: shadowkit's homogeneous
+/// light (w = 1: the point light at xyz; w = 0: a directional light toward xyz); `frustum`: the map's
+/// matrix for a spot light's cone (pixels outside 98% of it are left out), or nullptr.
+inline Agreement compare_with_ray_cast(const BoxScene& s, glm::vec4 light, const glm::mat4* frustum, int w, int h,
+                                       const std::vector<float>& vis, const std::vector<float>& world,
+                                       const std::vector<float>& normal) {
     std::vector<int> ref(static_cast<std::size_t>(w * h), -1);
     for (int i = 0; i < w * h; ++i) {
         const auto k = static_cast<std::size_t>(i);
         if (world[k * 4 + 3] == 0.f) continue;
         const glm::vec3 p(world[k * 4], world[k * 4 + 1], world[k * 4 + 2]);
         const glm::vec3 n(normal[k * 4], normal[k * 4 + 1], normal[k * 4 + 2]);
-        if (glm::dot(n, glm::normalize(s.light - p)) <= 0.05f) continue;  // facing away or grazing
-        const glm::vec4 lc = light_vp * glm::vec4(p, 1.f);
-        if (lc.w <= 0.f || std::abs(lc.x) > 0.98f * lc.w || std::abs(lc.y) > 0.98f * lc.w) continue;
+        const glm::vec3 to_light = light.w > 0.f ? glm::vec3(light) / light.w - p : glm::vec3(light);
+        if (glm::dot(n, glm::normalize(to_light)) <= 0.05f) continue;  // facing away or grazing
+        if (frustum) {
+            const glm::vec4 lc = *frustum * glm::vec4(p, 1.f);
+            if (lc.w <= 0.f || std::abs(lc.x) > 0.98f * lc.w || std::abs(lc.y) > 0.98f * lc.w) continue;
+        }
         const glm::vec3 q = p + 1e-3f * n;
-        ref[k] = segment_hits_box(q, s.light, s.box_c - s.box_h, s.box_c + s.box_h) ? 0 : 1;
+        const glm::vec3 end = light.w > 0.f ? glm::vec3(light) / light.w : q + 100.f * glm::normalize(to_light);
+        ref[k] = segment_hits_box(q, end, s.box_c - s.box_h, s.box_c + s.box_h) ? 0 : 1;
     }
     Agreement a;
     for (int y = 1; y < h - 1; ++y)
