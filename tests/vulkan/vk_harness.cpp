@@ -588,6 +588,26 @@ std::vector<float> read_image(Context& ctx, const Image& img, VkImageLayout layo
     return out;
 }
 
+std::vector<std::uint8_t> read_stencil(Context& ctx, const Image& img, VkImageLayout layout) {
+    const std::size_t n = std::size_t(img.width) * img.height;
+    Buffer b;
+    std::vector<std::uint8_t> out;
+    if (!(img.aspect & VK_IMAGE_ASPECT_STENCIL_BIT) || !make_buffer(ctx, n, VK_BUFFER_USAGE_TRANSFER_DST_BIT, b)) return out;
+    VkCommandBuffer cmd = begin_commands(ctx);
+    if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL) transition(cmd, img, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkBufferImageCopy c{};
+    c.imageSubresource = {VK_IMAGE_ASPECT_STENCIL_BIT, 0, 0, 1};
+    c.imageExtent = {img.width, img.height, 1};
+    vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, b.buffer, 1, &c);
+    if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL) transition(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout);
+    if (submit_and_wait(ctx, cmd)) {
+        out.resize(n);
+        std::memcpy(out.data(), b.mapped, n);
+    }
+    destroy(ctx, b);
+    return out;
+}
+
 bool upload_image(Context& ctx, const Image& img, const std::vector<float>& data, VkImageLayout final_layout) {
     const std::size_t n = std::size_t(img.width) * img.height * img.layers;
     if (data.size() % n != 0 || data.empty()) return false;

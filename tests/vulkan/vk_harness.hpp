@@ -141,6 +141,9 @@ void transition(VkCommandBuffer cmd, const Image& img, VkImageLayout from, VkIma
 std::vector<float> read_image(Context& ctx, const Image& img, VkImageLayout layout, std::uint32_t components,
                               std::uint32_t layer = 0);
 
+/// The stencil aspect of a depth-stencil image (one byte per texel, row 0 first).
+std::vector<std::uint8_t> read_stencil(Context& ctx, const Image& img, VkImageLayout layout);
+
 /// Fills every layer of an image made with TRANSFER_DST usage from floats (one per texel for a
 /// depth or one-channel format, layers one after the other), leaving it in `final_layout`.
 bool upload_image(Context& ctx, const Image& img, const std::vector<float>& data, VkImageLayout final_layout);
