@@ -256,8 +256,9 @@ VkImageView make_view(Context& ctx, const Image& img, VkImageViewType type, std:
 }  // namespace
 
 bool make_image(Context& ctx, std::uint32_t w, std::uint32_t h, std::uint32_t layers, VkFormat format,
-                VkImageUsageFlags usage, Image& img, bool array_view) {
+                VkImageUsageFlags usage, Image& img, bool array_view, bool cube) {
     VkImageCreateInfo ii{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    if (cube) ii.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     ii.imageType = VK_IMAGE_TYPE_2D;
     ii.format = format;
     ii.extent = {w, h, 1};
@@ -283,7 +284,8 @@ bool make_image(Context& ctx, std::uint32_t w, std::uint32_t h, std::uint32_t la
     img.height = h;
     img.layers = layers;
     const bool arr = layers > 1 || array_view;
-    img.view = make_view(ctx, img, arr ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D, 0, layers);
+    img.view = make_view(ctx, img, cube ? VK_IMAGE_VIEW_TYPE_CUBE : arr ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D,
+                         0, layers);
     if (arr)
         for (std::uint32_t l = 0; l < layers; ++l) img.layer_views.push_back(make_view(ctx, img, VK_IMAGE_VIEW_TYPE_2D, l, 1));
     return img.view != VK_NULL_HANDLE;

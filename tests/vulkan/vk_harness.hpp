@@ -69,14 +69,15 @@ void destroy(Context& ctx, Buffer& b);
 struct Image {
     VkImage image = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;        ///< all layers (2D, or 2D_ARRAY when layers > 1 or array_view)
+    VkImageView view = VK_NULL_HANDLE;        ///< all layers (2D, 2D_ARRAY when layers > 1 or array_view, or CUBE)
     std::vector<VkImageView> layer_views;     ///< one 2D view per layer (render targets of a layered map)
     VkFormat format = VK_FORMAT_UNDEFINED;
     VkImageAspectFlags aspect = 0;
     std::uint32_t width = 0, height = 0, layers = 1;
 };
+/// `cube`: six layers, cube-compatible, `view` a cube view (faces +X, -X, +Y, -Y, +Z, -Z in layer_views).
 bool make_image(Context& ctx, std::uint32_t w, std::uint32_t h, std::uint32_t layers, VkFormat format,
-                VkImageUsageFlags usage, Image& img, bool array_view = false);
+                VkImageUsageFlags usage, Image& img, bool array_view = false, bool cube = false);
 void destroy(Context& ctx, Image& img);
 
 /// A one-time command buffer, begun; submit_and_wait ends, submits, waits for and frees it.
