@@ -37,11 +37,12 @@ inline std::vector<std::uint32_t> compile_checked(Source lang, VkShaderStageFlag
 
 /// Records one render pass drawing `count` vertices of `vb` (nullptr: none bound) with `pipe`, the
 /// whole target as viewport (negative height when `flip`), an optional descriptor set and optional
-/// vertex-stage push constants (`push_bytes` of `push`: one matrix by default).
+/// push constants (`push_bytes` of `push` for `push_stages`: one matrix for the vertex stage by default).
 inline void draw_pass(VkCommandBuffer cmd, VkRenderPass rp, VkFramebuffer fb, std::uint32_t w, std::uint32_t h,
                       const std::vector<VkClearValue>& clears, VkPipeline pipe, VkPipelineLayout layout,
                       const VkDescriptorSet* set, const void* push, VkBuffer vb, std::uint32_t count, bool flip,
-                      std::uint32_t push_bytes = sizeof(glm::mat4)) {
+                      std::uint32_t push_bytes = sizeof(glm::mat4),
+                      VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT) {
     VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
     bi.renderPass = rp;
     bi.framebuffer = fb;
@@ -55,7 +56,7 @@ inline void draw_pass(VkCommandBuffer cmd, VkRenderPass rp, VkFramebuffer fb, st
     vkCmdSetViewport(cmd, 0, 1, &vp);
     vkCmdSetScissor(cmd, 0, 1, &sc);
     if (set) vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, set, 0, nullptr);
-    if (push) vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, push_bytes, push);
+    if (push) vkCmdPushConstants(cmd, layout, push_stages, 0, push_bytes, push);
     if (vb) {
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
