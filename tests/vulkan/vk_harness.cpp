@@ -118,6 +118,7 @@ std::string create_context(Context& ctx, bool want_validation, bool& no_device) 
     vkGetPhysicalDeviceFeatures(ctx.physical, &ctx.supported);
     ctx.enabled.depthClamp = ctx.supported.depthClamp;
     ctx.enabled.depthBounds = ctx.supported.depthBounds;
+    ctx.enabled.geometryShader = ctx.supported.geometryShader;
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qi.queueFamilyIndex = ctx.queue_family;
@@ -413,10 +414,14 @@ VkShaderModule make_module(Context& ctx, const std::vector<std::uint32_t>& code)
 }  // namespace
 
 VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout layout, VkRenderPass rp, std::string& why) {
-    VkPipelineShaderStageCreateInfo stages[2]{};
+    VkPipelineShaderStageCreateInfo stages[3]{};
     std::uint32_t nstages = 0;
-    VkShaderModule vs = make_module(ctx, d.vs), fs = VK_NULL_HANDLE;
+    VkShaderModule vs = make_module(ctx, d.vs), gs = VK_NULL_HANDLE, fs = VK_NULL_HANDLE;
     stages[nstages++] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vs, d.vs_entry, nullptr};
+    if (!d.gs.empty()) {
+        gs = make_module(ctx, d.gs);
+        stages[nstages++] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_GEOMETRY_BIT, gs, d.gs_entry, nullptr};
+    }
     if (!d.fs.empty()) {
         fs = make_module(ctx, d.fs);
         stages[nstages++] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fs, d.fs_entry, nullptr};
@@ -481,6 +486,7 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     if (r != VK_SUCCESS) why = "vkCreateGraphicsPipelines failed (" + std::to_string(r) + ")";
     vkDestroyShaderModule(ctx.device, vs, nullptr);
     if (fs) vkDestroyShaderModule(ctx.device, fs, nullptr);
+    if (gs) vkDestroyShaderModule(ctx.device, gs, nullptr);
     return p;
 }
 

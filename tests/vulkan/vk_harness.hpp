@@ -93,7 +93,9 @@ VkFramebuffer make_framebuffer(Context& ctx, VkRenderPass rp, const std::vector<
 /// A graphics pipeline: triangle lists from one interleaved vertex buffer, dynamic viewport and scissor.
 struct PipelineDesc {
     std::vector<std::uint32_t> vs, fs;  ///< fs empty: depth only
+    std::vector<std::uint32_t> gs;      ///< optional geometry stage (the geometryShader feature)
     const char* vs_entry = "main";
+    const char* gs_entry = "main";
     const char* fs_entry = "main";
     std::uint32_t vertex_stride = 0;
     std::vector<VkVertexInputAttributeDescription> attributes;
