@@ -104,3 +104,27 @@ if(SHADOWKIT_HAVE_SAMPLES)
   endif()
   _sk_part("samples' panel (Dear ImGui)" ON "${SHADOWKIT_HAVE_IMGUI}" "${_why}")
 endif()
+
+# the Vulkan and HLSL tests (labels vulkan, hlsl): the header tests' doctest + glslang, and the Vulkan
+# loader and headers; to run, a Vulkan driver (lavapipe) and the Khronos validation layer
+set(SHADOWKIT_HAVE_VULKAN OFF)
+if(SHADOWKIT_BUILD_VULKAN_TESTS AND SHADOWKIT_BUILD_TESTS)
+  find_package(Vulkan QUIET)
+  set(_why "")
+  if(NOT SHADOWKIT_HAVE_TESTS)
+    string(APPEND _why "the header tests' doctest and glslang are missing ")
+  endif()
+  _sk_need(Vulkan_FOUND "Vulkan loader and headers not found (Debian: libvulkan-dev)")
+  if(Vulkan_FOUND)
+    file(GLOB _sk_icds /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json /usr/local/share/vulkan/icd.d/*.json)
+    file(GLOB _sk_layer /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+                        /etc/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+                        /usr/local/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json)
+    _sk_need(_sk_icds "no Vulkan driver (Debian: mesa-vulkan-drivers, lavapipe)")
+    _sk_need(_sk_layer "the Khronos validation layer not found (Debian: vulkan-validationlayers)")
+  endif()
+  if(_why STREQUAL "")
+    set(SHADOWKIT_HAVE_VULKAN ON)
+  endif()
+  _sk_part("Vulkan tests (Vulkan loader, lavapipe, validation layer; glslang)" ON "${SHADOWKIT_HAVE_VULKAN}" "${_why}")
+endif()

@@ -5,6 +5,7 @@
 #   headers:  libglm-dev                       (the only dependency of the public headers)
 #   tests:    doctest-dev glslang-dev glslang-tools
 #   GL:       libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri (Mesa llvmpipe, EGL surfaceless)
+#   Vulkan:   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers (labels vulkan, hlsl: lavapipe + the Khronos layer)
 #   samples:  libglfw3-dev libstb-dev libimgui-dev xvfb xauth   (window, PNG, the Dear ImGui panel)
 #   report:   libembree-dev libtbb-dev libassimp-dev   (ray-traced reference, mesh files)
 #             zlib1g-dev                               (gzip-compressed meshes: the dragon's .ply.gz)
@@ -24,7 +25,8 @@ pkgs=(cmake ninja-build g++ pkg-config git
       libglfw3-dev libstb-dev libimgui-dev xvfb xauth
       libembree-dev libtbb-dev libassimp-dev zlib1g-dev libbenchmark-dev
       chromium chromium-driver python3-selenium
-      g++-aarch64-linux-gnu qemu-user)
+      g++-aarch64-linux-gnu qemu-user
+      libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers)
 if [[ "${1:-}" == "--fuzz" ]]; then pkgs+=(clang libclang-rt-14-dev); fi
 SUDO=""
 if [[ $(id -u) -ne 0 ]]; then SUDO=sudo; fi

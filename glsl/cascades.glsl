@@ -99,24 +99,24 @@ vec3 sk_cascade_coord(mat4 light_view_proj, vec3 world_pos, bool zero_to_one)
 }
 
 // One cascade's compare lookup: 1 = lit, 0 = shadowed; outside the map: 1.
-float sk_cascade_sample(sampler2DArrayShadow maps, mat4 light_view_proj, int layer, vec3 world_pos, float bias,
+float sk_cascade_sample(sampler2DArrayShadow maps, mat4 light_view_proj, int layer, vec3 world_pos, float bias_window,
                         bool zero_to_one)
 {
     vec3 c = sk_cascade_coord(light_view_proj, world_pos, zero_to_one);
     if (any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0)))) return 1.0;
-    return texture(maps, vec4(c.xy, float(layer), c.z - bias));
+    return texture(maps, vec4(c.xy, float(layer), c.z - bias_window));
 }
 
 // 1 = lit, 0 = shadowed; blends with the next cascade inside the band.
 float sk_cascade_shadow(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_near, vec4 split_far, int count,
-                        vec3 world_pos, float view_depth, float band, float bias, bool zero_to_one)
+                        vec3 world_pos, float view_depth, float band, float bias_window, bool zero_to_one)
 {
     int j;
     float w;
     int i = sk_cascade_pick(view_depth, split_near, split_far, count, band, j, w);
     if (i < 0) return 1.0;
-    float s = sk_cascade_sample(maps, light_vp[i], i, world_pos, bias, zero_to_one);
-    if (j >= 0) s = mix(s, sk_cascade_sample(maps, light_vp[j], j, world_pos, bias, zero_to_one), w);
+    float s = sk_cascade_sample(maps, light_vp[i], i, world_pos, bias_window, zero_to_one);
+    if (j >= 0) s = mix(s, sk_cascade_sample(maps, light_vp[j], j, world_pos, bias_window, zero_to_one), w);
     return s;
 }
 
@@ -221,12 +221,12 @@ const int SK_CASCADE_KERNEL_POISSON_ROTATED = 4;  // sk_pcf_poisson_rotated (ang
 // One cascade read with a pcf.glsl kernel: uvz = sk_cascade_coord minus bias, no receiver plane
 // (screen derivatives are not uniform across the band's branches; compose through sk_cascade_pick
 // for one). The radius is in texels of that cascade (its world width grows with the cascade).
-float sk_cascade_sample_filtered(sampler2DArrayShadow maps, mat4 light_view_proj, int layer, vec3 world_pos, float bias,
+float sk_cascade_sample_filtered(sampler2DArrayShadow maps, mat4 light_view_proj, int layer, vec3 world_pos, float bias_window,
                                  bool zero_to_one, int kernel, int radius_texels, int taps, float angle)
 {
     vec3 c = sk_cascade_coord(light_view_proj, world_pos, zero_to_one);
     if (any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0)))) return 1.0;
-    vec3 uvz = vec3(c.xy, c.z - bias);
+    vec3 uvz = vec3(c.xy, c.z - bias_window);
     float l = float(layer);
     float radius_uv = float(radius_texels) / float(textureSize(maps, 0).x);
     if (kernel == SK_CASCADE_KERNEL_BOX) return sk_pcf_box(maps, l, uvz, vec2(0.0), radius_texels);
@@ -238,17 +238,17 @@ float sk_cascade_sample_filtered(sampler2DArrayShadow maps, mat4 light_view_proj
 
 // sk_cascade_shadow with a pcf.glsl kernel in each cascade's layer, blended over the band.
 float sk_cascade_shadow_filtered(sampler2DArrayShadow maps, mat4 light_vp[4], vec4 split_near, vec4 split_far, int count,
-                                 vec3 world_pos, float view_depth, float band, float bias, bool zero_to_one, int kernel,
+                                 vec3 world_pos, float view_depth, float band, float bias_window, bool zero_to_one, int kernel,
                                  int radius_texels, int taps, float angle)
 {
     int j;
     float w;
     int i = sk_cascade_pick(view_depth, split_near, split_far, count, band, j, w);
     if (i < 0) return 1.0;
-    float s = sk_cascade_sample_filtered(maps, light_vp[i], i, world_pos, bias, zero_to_one, kernel, radius_texels, taps,
+    float s = sk_cascade_sample_filtered(maps, light_vp[i], i, world_pos, bias_window, zero_to_one, kernel, radius_texels, taps,
                                          angle);
     if (j >= 0)
-        s = mix(s, sk_cascade_sample_filtered(maps, light_vp[j], j, world_pos, bias, zero_to_one, kernel, radius_texels,
+        s = mix(s, sk_cascade_sample_filtered(maps, light_vp[j], j, world_pos, bias_window, zero_to_one, kernel, radius_texels,
                                               taps, angle), w);
     return s;
 }

@@ -86,7 +86,7 @@ vec4 sk_linear_light_skin_output(float value, float frag_depth) { return vec4(cl
 // directional endpoint): 0 if the point fails the depth test or faces away, else the visibility
 // map value (0.5 where no skin covers). Points outside the endpoint's frustum count as lit.
 float sk_linear_light_endpoint(sampler2D depth_map, sampler2D vis_map, mat4 view_proj, vec4 light_position, vec3 p,
-                               vec3 n, float bias) {
+                               vec3 n, float bias_window) {
     if (dot(n, light_position.xyz - p * light_position.w) <= 0.0) return 0.0;
     vec4 c = view_proj * vec4(p, 1.0);
     if (c.w <= 0.0) return 0.5;
@@ -94,7 +94,7 @@ float sk_linear_light_endpoint(sampler2D depth_map, sampler2D vis_map, mat4 view
     if (any(lessThan(w.xy, vec2(0.0))) || any(greaterThan(w.xy, vec2(1.0)))) return 0.5;
     ivec2 sz = textureSize(depth_map, 0);
     ivec2 ij = clamp(ivec2(w.xy * vec2(sz)), ivec2(0), sz - 1);
-    if (w.z > texelFetch(depth_map, ij, 0).r + bias) return 0.0;
+    if (w.z > texelFetch(depth_map, ij, 0).r + bias_window) return 0.0;
     vec3 v = texelFetch(vis_map, ij, 0).rgb;
     return (v.g < 0.5 && w.z >= v.b - 1e-6) ? v.r : 0.5;
 }
@@ -102,8 +102,8 @@ float sk_linear_light_endpoint(sampler2D depth_map, sampler2D vis_map, mat4 view
 // The paper's shade() for one linear light (endpoints end_a and end_b, world positions), in [0, 1].
 float sk_linear_light_visibility(sampler2D depth_a, sampler2D vis_a, mat4 view_proj_a, vec3 end_a,
                                  sampler2D depth_b, sampler2D vis_b, mat4 view_proj_b, vec3 end_b, vec3 p, vec3 n,
-                                 float bias) {
-    return clamp(sk_linear_light_endpoint(depth_a, vis_a, view_proj_a, vec4(end_a, 1.0), p, n, bias) +
-                     sk_linear_light_endpoint(depth_b, vis_b, view_proj_b, vec4(end_b, 1.0), p, n, bias),
+                                 float bias_window) {
+    return clamp(sk_linear_light_endpoint(depth_a, vis_a, view_proj_a, vec4(end_a, 1.0), p, n, bias_window) +
+                     sk_linear_light_endpoint(depth_b, vis_b, view_proj_b, vec4(end_b, 1.0), p, n, bias_window),
                  0.0, 1.0);
 }

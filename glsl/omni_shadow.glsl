@@ -66,17 +66,17 @@ float sk_omni_cube_texel_angle(float size) { return 2.0 / size; }
 #define sk_omni_cube_pcf sk_omni_cube_pcf_renamed_to_sk_cube_visibility_distance_pcf
 
 // Hardware compare: samplerCubeShadow on the distance cube (GL_LINEAR: 2x2 PCF across seams).
-float sk_cube_visibility_distance(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias) {
+float sk_cube_visibility_distance(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range, float bias_world) {
     vec3 d = world_pos - sk_omni_light_point(light_position);
-    return texture(shadow_map, vec4(d, (length(d) - bias) / range));
+    return texture(shadow_map, vec4(d, (length(d) - bias_world) / range));
 }
 
 // Manual compare: samplerCube on the same texture with compare mode NONE (GL_NEAREST), or an R32F
 // colour cube holding distance / range.
-float sk_cube_visibility_distance_manual(samplerCube distance_map, vec4 light_position, vec3 world_pos, float range, float bias) {
+float sk_cube_visibility_distance_manual(samplerCube distance_map, vec4 light_position, vec3 world_pos, float range, float bias_world) {
     vec3 d = world_pos - sk_omni_light_point(light_position);
     float stored = texture(distance_map, d).r;
-    return (length(d) - bias) / range <= stored ? 1.0 : 0.0;
+    return (length(d) - bias_world) / range <= stored ? 1.0 : 0.0;
 }
 
 // Tangents (s and t directions) of the face a direction is looked up in, same tie rule as
@@ -102,9 +102,9 @@ void sk_omni_cube_tangents(vec3 d, out vec3 t_s, out vec3 t_t, out float major) 
 // direction, so taps beyond a face edge land on the neighbor face (seams handled by the cube
 // lookup). Bias with filter_radius = (radius + 1) * 1.4143.
 float sk_cube_visibility_distance_pcf(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, float range,
-                                      float bias, float size, int radius) {
+                                      float bias_world, float size, int radius) {
     vec3 d = world_pos - sk_omni_light_point(light_position);
-    float ref = (length(d) - bias) / range;
+    float ref = (length(d) - bias_world) / range;
     vec3 ts, tt;
     float major;
     sk_omni_cube_tangents(d, ts, tt, major);
@@ -171,21 +171,21 @@ vec4 sk_dp_coord(mat4 dp_view, vec3 world_pos) {
 }
 
 // Hardware compare (GL_LINEAR: 2x2 PCF). The light is the frame's origin (dp_view).
-float sk_dp_shadow(sampler2DArrayShadow shadow_map, mat4 dp_view, vec3 world_pos, float range, float bias) {
+float sk_dp_shadow(sampler2DArrayShadow shadow_map, mat4 dp_view, vec3 world_pos, float range, float bias_world) {
     vec3 q = (dp_view * vec4(world_pos, 1.0)).xyz;
     float dist = length(q);
     vec3 m = sk_dp_project(q / max(dist, 1e-30));
-    return texture(shadow_map, vec4(m.xy * 0.5 + 0.5, m.z, (dist - bias) / range));
+    return texture(shadow_map, vec4(m.xy * 0.5 + 0.5, m.z, (dist - bias_world) / range));
 }
 
 // (2 radius + 1)^2 taps one texel apart in the map; a tap past the rim (r > 1) reads the other map
 // at xy / r^2 (the same direction). Bias with filter_radius = (radius + 1) * 1.4143.
-float sk_dp_shadow_pcf(sampler2DArrayShadow shadow_map, mat4 dp_view, vec3 world_pos, float range, float bias,
+float sk_dp_shadow_pcf(sampler2DArrayShadow shadow_map, mat4 dp_view, vec3 world_pos, float range, float bias_world,
                        float size, int radius) {
     vec3 q = (dp_view * vec4(world_pos, 1.0)).xyz;
     float dist = length(q);
     vec3 m = sk_dp_project(q / max(dist, 1e-30));
-    float ref = (dist - bias) / range;
+    float ref = (dist - bias_world) / range;
     float texel = 2.0 / size;
     float sum = 0.0;
     float n = 0.0;

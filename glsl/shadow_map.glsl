@@ -35,6 +35,8 @@
 //   float v = sk_shadow_map_visibility(u_shadow_map, u_light_view_proj, world_pos, false, 1e-4, 1.0);
 //   float v = sk_shadow_map_visibility_auto(u_shadow_map, u_light_view_proj, world_pos, world_normal,
 //                                           false, 0.0, 1.0);   // float32 map, automatic bias
+//   float v = sk_cube_visibility_hardware_depth_auto(u_cube, light_position, world_pos, world_normal,
+//                                                    near_plane, far_plane, 0.0);   // a point light's cube
 // MIT License. Copyright (c) shadowkit contributors.
 
 // Shadow-map coordinates (uv in [0,1], depth in window space) of a world point, and clip w.
@@ -47,14 +49,14 @@ vec4 sk_shadow_coord(mat4 light_view_proj, vec3 world_pos, bool zero_to_one) {
 
 // Lit fraction of world_pos: one compare of the biased receiver depth (2x2 with GL_LINEAR).
 float sk_shadow_map_visibility(sampler2DShadow shadow_map, mat4 light_view_proj, vec3 world_pos,
-                               bool zero_to_one, float bias, float outside) {
+                               bool zero_to_one, float bias_window, float outside) {
     vec4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
     if (c.w <= 0.0 || any(lessThan(c.xy, vec2(0.0))) || any(greaterThan(c.xy, vec2(1.0))) || c.z > 1.0 || c.z < 0.0)
         return outside;
 #ifdef SK_REVERSED_Z
-    return texture(shadow_map, vec3(c.xy, c.z + bias));
+    return texture(shadow_map, vec3(c.xy, c.z + bias_window));
 #else
-    return texture(shadow_map, vec3(c.xy, c.z - bias));
+    return texture(shadow_map, vec3(c.xy, c.z - bias_window));
 #endif
 }
 
@@ -64,17 +66,17 @@ float sk_shadow_map_visibility(sampler2DShadow shadow_map, mat4 light_view_proj,
 // sk_cube_visibility_distance instead: this function on that map compiles and is wrong almost
 // everywhere. (Its old name sk_cube_shadow_visibility fails to compile, naming this one.) The
 // reference depth is the face's window depth of the major-axis distance,
-// ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]), minus `bias` (window units).
+// ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]), minus `bias_window`.
 #define sk_cube_shadow_visibility sk_cube_shadow_visibility_renamed_to_sk_cube_visibility_hardware_depth
 float sk_cube_visibility_hardware_depth(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos,
-                                        float near_plane, float far_plane, float bias) {
+                                        float near_plane, float far_plane, float bias_window) {
     if (!(light_position.w > 0.0)) return 1.0;
     vec3 d = world_pos - light_position.xyz / light_position.w;
     float major = max(abs(d.x), max(abs(d.y), abs(d.z)));
     float f = far_plane;
     float n = near_plane;
     float ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * major);
-    return texture(shadow_map, vec4(d, ndc_z * 0.5 + 0.5 - bias));
+    return texture(shadow_map, vec4(d, ndc_z * 0.5 + 0.5 - bias_window));
 }
 
 // ---- automatic bias ----------------------------------------------------------------------------
@@ -194,6 +196,84 @@ float sk_shadow_map_visibility_auto(sampler2DArrayShadow shadow_maps, float laye
         return v;
     return w.x * texture(shadow_maps, vec4(uv[0], layer, z.x)) + w.y * texture(shadow_maps, vec4(uv[1], layer, z.y)) +
            w.z * texture(shadow_maps, vec4(uv[2], layer, z.z)) + w.w * texture(shadow_maps, vec4(uv[3], layer, z.w));
+}
+
+// ---- automatic bias for a cube of hardware depth ----------------------------------------------------
+// The face a direction d is read from (GL 4.5 spec 8.13: the major axis) as the frame its 90-degree
+// face was rendered with: lookAt(L, L + fwd, hint), hints (0, -1, 0) for +-x and +-z, (0, 0, +-1) for
+// +-y; right = NDC +x (texture s), up = NDC +y (texture t).
+void sk_cube_face_frame(vec3 d, out vec3 fwd, out vec3 right, out vec3 up) {
+    vec3 a = abs(d);
+    vec3 hint = vec3(0.0, -1.0, 0.0);
+    if (a.x >= a.y && a.x >= a.z) {
+        fwd = vec3(d.x >= 0.0 ? 1.0 : -1.0, 0.0, 0.0);
+    } else if (a.y >= a.z) {
+        fwd = vec3(0.0, d.y >= 0.0 ? 1.0 : -1.0, 0.0);
+        hint = vec3(0.0, 0.0, fwd.y);
+    } else {
+        fwd = vec3(0.0, 0.0, d.z >= 0.0 ? 1.0 : -1.0);
+    }
+    right = cross(fwd, hint);
+    up = cross(right, fwd);
+}
+
+// The view-projection of that face: perspective(90 degrees, 1, near, far) * lookAt (GL clip depth).
+mat4 sk_cube_face_view_proj(vec3 light, vec3 fwd, vec3 right, vec3 up, float near_plane, float far_plane) {
+    float a = -(far_plane + near_plane) / (far_plane - near_plane), b = -2.0 * far_plane * near_plane / (far_plane - near_plane);
+    // rows of P * V: x = right . (p - L), y = up . (p - L), z = -a fwd . (p - L) + b, w = fwd . (p - L)
+    return mat4(vec4(right.x, up.x, -a * fwd.x, fwd.x), vec4(right.y, up.y, -a * fwd.y, fwd.y),
+                vec4(right.z, up.z, -a * fwd.z, fwd.z),
+                vec4(-dot(right, light), -dot(up, light), a * dot(fwd, light) + b, -dot(fwd, light)));
+}
+
+// Lit fraction of world_pos in a cube of hardware depth with the automatic bias: the face's 2x2
+// filter done as four compares at texel centres, each against the receiver plane's own window depth
+// there (sk_shadow_map_visibility_auto on the face the point falls in). A tap past the face's edge is
+// read from the neighbouring face: its reference is the plane's depth along that tap's direction in
+// that face (the major axis of the plane point the tap's ray meets), so the seams keep the bias.
+// `normal`: the receiver's geometric world normal; depth_step: the cube's format step (0.0 float32).
+// Cube rendered as sk_cube_visibility_hardware_depth's (GL clip depth, not reversed, no polygon offset).
+float sk_cube_visibility_hardware_depth_auto(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, vec3 normal,
+                                             float near_plane, float far_plane, float depth_step) {
+    if (!(light_position.w > 0.0)) return 1.0;
+    vec3 light = light_position.xyz / light_position.w;
+    vec3 d = world_pos - light;
+    if (d == vec3(0.0)) return 1.0;
+    vec3 fwd, right, up;
+    sk_cube_face_frame(d, fwd, right, up);
+    mat4 vp = sk_cube_face_view_proj(light, fwd, right, up, near_plane, far_plane);
+    vec4 c = sk_shadow_coord(vp, world_pos, false);
+    vec4 g = sk_plane_depth_gradient(vp, world_pos, normal, false);
+    if (g.z == 0.0) return 1.0;  // edge-on receiver
+    vec2 size = vec2(textureSize(shadow_map, 0));
+    vec2 texel = 1.0 / size;
+    float eps = sk_auto_bias_epsilon(g, texel, c.z, depth_step);
+    vec2 f = c.xy * size - 0.5;
+    vec2 i0 = floor(f);
+    vec2 w = f - i0;
+    vec4 weight = vec4((1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y);
+    vec3 n = normalize(normal);
+    float nd = dot(n, d);
+    float zf = (far_plane + near_plane) / (far_plane - near_plane), zg = 2.0 * far_plane * near_plane / (far_plane - near_plane);
+    float v = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        vec2 centre = (i0 + vec2(float(k & 1), float(k >> 1)) + 0.5) * texel;
+        vec3 dir = fwd + (2.0 * centre.x - 1.0) * right + (2.0 * centre.y - 1.0) * up;
+        float z = c.z + dot(g.xy, centre - c.xy);  // in this face: the plane's depth is linear in (s, t)
+        if (any(lessThan(centre, vec2(0.0))) || any(greaterThan(centre, vec2(1.0)))) {
+            // past the edge: the neighbouring face's texel centre the tap falls in, and the plane's
+            // window depth along it in that face (the major axis of the plane point on that ray)
+            vec3 f2, r2, u2;
+            sk_cube_face_frame(dir, f2, r2, u2);
+            vec2 st = (vec2(dot(dir, r2), dot(dir, u2)) / dot(dir, f2)) * 0.5 + 0.5;
+            st = (min(floor(st * size), size - 1.0) + 0.5) / size;
+            dir = f2 + (2.0 * st.x - 1.0) * r2 + (2.0 * st.y - 1.0) * u2;
+            float t = nd / dot(n, dir);  // dir's component along f2 is 1: t is the plane point's major-axis distance
+            if (t > 0.0 && t < 3.0e38) z = 0.5 * (zf - zg / t) + 0.5;
+        }
+        v += weight[k] * texture(shadow_map, vec4(dir, clamp(z - eps, 0.0, 1.0)));
+    }
+    return v;
 }
 
 // For filtered kernels (pcf.glsl with GL_LINEAR taps, pcss.glsl): each tap applies the receiver plane

@@ -87,7 +87,7 @@ bool sk_silmap_point(vec2 frag_coord, vec2 a, vec2 b, out vec2 local, out float 
 // around the cell (corners (i, j) .. (i+1, j+1)) by more than bias. Also true when no sample lies
 // behind the edge by more than bias: the edge casts no shadow there (a contact edge, e.g. a box's
 // bottom edge on the floor), and its point would only bend the boundary of a depth crease.
-bool sk_silmap_occluded(sampler2D depth_map, ivec2 cell, vec2 a, vec2 b, float za, float zb, vec2 local, float bias) {
+bool sk_silmap_occluded(sampler2D depth_map, ivec2 cell, vec2 a, vec2 b, float za, float zb, vec2 local, float bias_window) {
     ivec2 sz = textureSize(depth_map, 0);
     vec2 q = vec2(cell) + 0.5 + local;
     vec2 d = b - a;
@@ -98,8 +98,8 @@ bool sk_silmap_occluded(sampler2D depth_map, ivec2 cell, vec2 a, vec2 b, float z
     for (int s = 0; s < 4; ++s) {
         ivec2 ij = min(cell + ivec2(s & 1, s >> 1), sz - 1);
         float zs = texelFetch(depth_map, ij, 0).r;
-        if (!(ze > zs + bias)) behind = false;
-        if (zs > ze + bias) casts = true;
+        if (!(ze > zs + bias_window)) behind = false;
+        if (zs > ze + bias_window) casts = true;
     }
     return behind || !casts;
 }
@@ -113,17 +113,17 @@ float sk_silmap_wrap(float a) {
 // 1 = lit, 0 = shadowed at texel-space position `texel` for a receiver of window depth
 // receiver_depth: nearest-sample result at the border and in failure texels (weight > 2), the four
 // depth tests where they agree, else the sector of the silhouette-point boundary.
-float sk_silmap_visibility(sampler2D depth_map, sampler2D silmap, vec2 texel, float receiver_depth, float bias) {
+float sk_silmap_visibility(sampler2D depth_map, sampler2D silmap, vec2 texel, float receiver_depth, float bias_window) {
     ivec2 sz = textureSize(depth_map, 0);
     vec2 s = texel - 0.5;
     ivec2 cell = ivec2(floor(s));
     vec2 local = s - vec2(cell);
     ivec2 nearest_ij = clamp(ivec2(floor(texel)), ivec2(0), sz - 1);
-    float plain = receiver_depth <= texelFetch(depth_map, nearest_ij, 0).r + bias ? 1.0 : 0.0;
+    float plain = receiver_depth <= texelFetch(depth_map, nearest_ij, 0).r + bias_window ? 1.0 : 0.0;
     if (cell.x < 0 || cell.y < 0 || cell.x > sz.x - 2 || cell.y > sz.y - 2) return plain;
     float lit[4];
     for (int k = 0; k < 4; ++k)
-        lit[k] = receiver_depth <= texelFetch(depth_map, cell + ivec2(k & 1, k >> 1), 0).r + bias ? 1.0 : 0.0;
+        lit[k] = receiver_depth <= texelFetch(depth_map, cell + ivec2(k & 1, k >> 1), 0).r + bias_window ? 1.0 : 0.0;
     float sum = lit[0] + lit[1] + lit[2] + lit[3];
     if (sum == 0.0 || sum == 4.0) return lit[0];
     vec4 c = texelFetch(silmap, cell, 0);

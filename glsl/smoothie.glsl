@@ -72,8 +72,8 @@ float sk_smoothie_shadow_depth_at(sampler2D linear_shadow_map, vec2 frag_coord_x
 }
 
 // True if the smoothie fragment at linear depth b lies behind a blocker (discard it).
-bool sk_smoothie_hidden(sampler2D linear_shadow_map, vec2 frag_coord_xy, float b, float bias) {
-    return b > sk_smoothie_shadow_depth_at(linear_shadow_map, frag_coord_xy) + bias;
+bool sk_smoothie_hidden(sampler2D linear_shadow_map, vec2 frag_coord_xy, float b, float bias_linear) {
+    return b > sk_smoothie_shadow_depth_at(linear_shadow_map, frag_coord_xy) + bias_linear;
 }
 
 // Chan & Durand 2003 eq. 1: alpha' = clamp(alpha / (1 - b/r)) = clamp(alpha r / (r - b));
@@ -106,8 +106,8 @@ vec2 sk_smoothie_depth_gradient(vec2 duv_dx, vec2 duv_dy, float dr_dx, float dr_
 }
 
 // One tap: umbra (0), penumbra (falloff of the remapped alpha), lit (1).
-float sk_smoothie_tap(float r, float z, vec2 smoothie, float bias, bool alpha_is_remapped) {
-    if (r > z + bias) return 0.0;
+float sk_smoothie_tap(float r, float z, vec2 smoothie, float bias_linear, bool alpha_is_remapped) {
+    if (r > z + bias_linear) return 0.0;
     if (r > smoothie.x)
         return sk_smoothie_falloff(alpha_is_remapped ? smoothie.y : sk_smoothie_remap(smoothie.y, smoothie.x, r));
     return 1.0;
@@ -118,7 +118,7 @@ float sk_smoothie_tap(float r, float z, vec2 smoothie, float bias, bool alpha_is
 // results filtered bilinearly (Chan & Durand 2003 sec. 3, step 5). The receiver depth is moved
 // to each texel centre along its plane (dr_duv) before the comparisons; bias is a linear-depth
 // offset for the umbra test. Outside [0,1]^2 or r <= 0 -> 1.
-float sk_smoothie_visibility(sampler2D shadow_map, sampler2D smoothie_map, vec2 uv, float r, vec2 dr_duv, float bias,
+float sk_smoothie_visibility(sampler2D shadow_map, sampler2D smoothie_map, vec2 uv, float r, vec2 dr_duv, float bias_linear,
                              bool alpha_is_remapped) {
     if (!(r > 0.0) || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
     ivec2 size = textureSize(shadow_map, 0);
@@ -134,7 +134,7 @@ float sk_smoothie_visibility(sampler2D shadow_map, sampler2D smoothie_map, vec2 
         float r_tap = r + dot(dr_duv, uv_tap - uv);
         float z = texelFetch(shadow_map, texel, 0).r;
         vec2 s = texelFetch(smoothie_map, texel, 0).rg;
-        v[k] = sk_smoothie_tap(r_tap, z, s, bias, alpha_is_remapped);
+        v[k] = sk_smoothie_tap(r_tap, z, s, bias_linear, alpha_is_remapped);
     }
     return mix(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), f.y);
 }

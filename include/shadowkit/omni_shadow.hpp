@@ -526,8 +526,8 @@ struct OmniBiasInput {
 /// Result of omni_distance_bias.
 struct OmniBiasResult {
     Status status = Status::NotRun;
-    float bias = 0.0f;          ///< [Units: wu] subtract from the receiver distance before comparing
-    float stored_bias = 0.0f;   ///< bias / range: subtract from the stored-space reference value
+    float bias_world = 0.0f;    ///< [Units: wu] subtract from the receiver distance before comparing
+    float bias_stored = 0.0f;   ///< bias_world / range (stored units, distance / range): subtract from the stored reference value
 };
 
 /// Receiver-side bias for linear distance storage. A planar receiver at distance d whose normal
@@ -568,9 +568,9 @@ inline OmniBiasResult omni_distance_bias(const OmniBiasInput& in) {
         default: storage = d * std::ldexp(1.0, -22); break;
     }
     const double b = std::max(0.0, geometric) + storage + static_cast<double>(in.constant);
-    r.bias = static_cast<float>(b);
-    r.stored_bias = static_cast<float>(b / static_cast<double>(in.range));
-    if (!std::isfinite(r.bias) || !std::isfinite(r.stored_bias)) {
+    r.bias_world = static_cast<float>(b);
+    r.bias_stored = static_cast<float>(b / static_cast<double>(in.range));
+    if (!std::isfinite(r.bias_world) || !std::isfinite(r.bias_stored)) {
         r.status = Status::Overflow;
         return r;
     }

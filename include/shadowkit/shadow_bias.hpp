@@ -280,6 +280,45 @@ inline BiasDepthValue bias_depth_metric_slope(BiasDepthMetric m, double d, doubl
     return detail::bias_double(s);
 }
 
+/// Bias units. Every bias parameter of the kit's headers and snippets names its unit: `_window`
+/// (the window depth a map stores: the PostProjective metrics, or LinearNormalized for an
+/// orthographic light: shadow_map.glsl, cascades.glsl, perspective_shadow_maps.glsl, linear_light.glsl,
+/// silhouette_map.glsl), `_world` (world units along the light ray: omni_shadow.glsl, normal offset),
+/// `_stored` (omni's distance / range), `_linear` (light-view distance: smoothie.glsl, pcss's blocker
+/// depths), `moment_bias` (MSM's moment mix; the pre-filtered maps' receiver bias is in their depth t,
+/// LinearNormalized over the light's range). This converts a world-unit bias at distance d from the
+/// light into metric m's units: bias_world times the metric's slope at d (first order; bias_depth_metric_slope).
+/// Statuses as bias_depth_metric_slope; InvalidArgument for a negative or NaN bias_world.
+inline BiasDepthValue bias_window_from_world(double bias_world, BiasDepthMetric m, double d, double n, double f) {
+    BiasDepthValue r;
+    if (!(bias_world >= 0.0) || std::isinf(bias_world)) {
+        r.status = std::isnan(bias_world) || std::isinf(bias_world) ? Status::NonFinite : Status::InvalidArgument;
+        return r;
+    }
+    const BiasDepthValue s = bias_depth_metric_slope(m, d, n, f);
+    if (s.status != Status::Ok) {
+        r.status = s.status;
+        return r;
+    }
+    return detail::bias_double(bias_world * s.value);
+}
+
+/// The inverse: a bias in metric m's units (window depth, t, or distance) at distance d, in world
+/// units along the light ray: bias / the metric's slope at d. Statuses as bias_window_from_world.
+inline BiasDepthValue bias_world_from_window(double bias_window, BiasDepthMetric m, double d, double n, double f) {
+    BiasDepthValue r;
+    if (!(bias_window >= 0.0) || std::isinf(bias_window)) {
+        r.status = std::isnan(bias_window) || std::isinf(bias_window) ? Status::NonFinite : Status::InvalidArgument;
+        return r;
+    }
+    const BiasDepthValue s = bias_depth_metric_slope(m, d, n, f);
+    if (s.status != Status::Ok) {
+        r.status = s.status;
+        return r;
+    }
+    return detail::bias_double(bias_window / s.value);
+}
+
 /// World-space depth resolution at distance d: the distance between adjacent stored values,
 /// step(format, value(d)) / slope(d) (first order). This is the smallest useful constant bias.
 /// - PostProjective, UNORM n: d^2 (f - n) / (f n (2^n - 1)): grows with d^2, so far receivers need

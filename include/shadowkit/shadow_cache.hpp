@@ -5,6 +5,7 @@
 //   cur.view_proj = light_view_proj;          // glm::dmat4 world -> clip, the matrix the map is drawn with (double!)
 //   cur.width = 2048; cur.height = 2048;      // texels (required)
 //   cur.settings = my_settings_hash;          // bias, format, culling, caster set...: any change renders all
+//   // or, from any header's float or double matrix: cur = shadowkit::shadow_cache_map_state(m, 2048, 2048, hash);
 //   shadowkit::ShadowCacheRect rects[16];
 //   const shadowkit::ShadowCachePlan plan = shadowkit::shadow_cache_plan(prev, cur, casters, caster_count, rects, 16);
 //   if (plan.status != shadowkit::Status::Ok) { /* bad input: render everything, keep prev.has_content false */ }
@@ -127,6 +128,26 @@ struct ShadowCacheMapState {
     /// 2^11 texels of the world origin, beyond it the plan says PrecisionTooLow.
     bool float_matrices = false;
 };
+
+/// A map's state from the matrix another header returns, in double (stable fits: light_frustum.hpp's
+/// texel_anchor path, cascades.hpp in double) or in float (LightFrustumResult::view_proj,
+/// CascadeResult, a glm::mat4 of your own): the float overload widens it exactly and sets
+/// float_matrices, so both are accepted alike and the plan certifies whole-texel motion with the
+/// round-off the matrix really carries. has_content stays false (set it once the map is rendered).
+inline ShadowCacheMapState shadow_cache_map_state(const glm::dmat4& view_proj, int width, int height, std::uint64_t settings = 0) {
+    ShadowCacheMapState s;
+    s.view_proj = view_proj;
+    s.width = width;
+    s.height = height;
+    s.settings = settings;
+    return s;
+}
+/// The same from a float matrix (float_matrices = true).
+inline ShadowCacheMapState shadow_cache_map_state(const glm::mat4& view_proj, int width, int height, std::uint64_t settings = 0) {
+    ShadowCacheMapState s = shadow_cache_map_state(glm::dmat4(view_proj), width, height, settings);
+    s.float_matrices = true;
+    return s;
+}
 
 /// A caster's world bounds this frame and last frame (6 floats each: min x, y, z, max x, y, z). A
 /// caster that did not move has bounds == previous_bounds and costs one comparison; a box with a
@@ -706,6 +727,11 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
         res.status = Status::Overflow;
     }
     return res;
+}
+
+/// shadow_cache_footprint for a float matrix (widened exactly to double).
+inline ShadowCacheFootprint shadow_cache_footprint(const glm::mat4& view_proj, int width, int height, const float* bounds) {
+    return shadow_cache_footprint(glm::dmat4(view_proj), width, height, bounds);
 }
 
 /// The plan for one map this frame: what to copy and which texel rectangles to clear and re-render

@@ -1,4 +1,4 @@
-// shadowkit/virtual_shadow_map.hpp - virtual shadow maps (CPU core): clipmap layout, page table, physical page pool with LRU eviction, invalidation by moving casters and scrolling, the pages to render each frame.
+// shadowkit/virtual_shadow_map.hpp - virtual shadow maps (CPU side; glsl/virtual_shadow_map.glsl marks and looks up): clipmap layout, page table, physical page pool with LRU eviction, invalidation by moving casters and scrolling, the pages to render each frame.
 //
 // Usage (once: allocates; then per frame: no allocation):
 //   shadowkit::VsmLayout layout;
@@ -15,7 +15,8 @@
 //   std::vector<shadowkit::VsmPageRender> pages(layout.pool_pages);   // once
 //   const shadowkit::VsmPlan plan = shadowkit::vsm_plan(vsm, f, pages.data(), pages.size());
 //   for (std::size_t i = 0; i < plan.count; ++i) { /* viewport = pages[i].atlas_x/y, draw with pages[i].view_proj */ }
-//   upload(vsm.page_table);  // one uint per virtual page and level (vsm_table_index), for the lookup
+//   shadowkit::vsm_gpu_block(vsm, camera_world, words, n);  // the SSBO glsl/virtual_shadow_map.glsl reads:
+//   upload(words);  // level matrices relative to the camera + the page table (vsm_table_index), for the lookup
 //
 // Conventions:
 // Lights: a light is its homogeneous position `light_position` = (x, y, z, w), as OpenGL's
@@ -48,6 +49,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace shadowkit {
@@ -553,6 +555,115 @@ inline VsmMatrix vsm_relative_matrix(const glm::dmat4& m, const glm::dvec3& anch
         }
     r.matrix = glm::mat4(t);
     r.status = Status::Ok;
+    return r;
+}
+
+/// uint32 words before the page table in the GPU block (vsm_gpu_block): 16 mat4, 16 ivec4, 2 ivec4, 1 vec4.
+constexpr std::size_t kVsmGpuHeaderWords = 16 * 16 + 16 * 4 + 4 + 4 + 4;
+
+/// Result of vsm_gpu_block.
+struct VsmGpuBlock {
+    Status status = Status::NotRun;
+    std::size_t count = 0;           ///< uint32 words written (needed when Ok)
+    std::size_t needed = 0;          ///< words the block needs: kVsmGpuHeaderWords + page-table entries
+};
+
+/// uint32 words of the GPU block (vsm_gpu_block). total: 0 for an uninitialized state.
+inline std::size_t vsm_gpu_block_words(const VsmState& s) {
+    return s.initialized ? kVsmGpuHeaderWords + s.page_table.size() : 0;
+}
+
+/// Writes the std430 buffer glsl/virtual_shadow_map.glsl reads (block SkVsmData), word for word:
+/// mat4 sk_vsm_world_to_uv[16] (levels[l].world_to_uv relative to `anchor`, float, column-major;
+/// zero past level_count), ivec4 sk_vsm_level[16] (origin_mod_x, origin_mod_y, 0, 0), ivec4
+/// sk_vsm_layout (level_count, pages_per_side, page_texels, pool_columns), ivec4 sk_vsm_flags
+/// (zero_to_one, reversed_z, directional, 0), vec4 sk_vsm_scale (level 0's texel in world units, 0,
+/// 0, 0), then the page table. The shader feeds positions relative to the same anchor (a point near
+/// the camera). `out` holds `capacity` uint32 elements; it needs vsm_gpu_block_words (`needed`).
+/// InvalidArgument before the first plan (no levels placed); NonFinite / Overflow as vsm_relative_matrix.
+inline VsmGpuBlock vsm_gpu_block(const VsmState& s, const glm::dvec3& anchor, std::uint32_t* out, std::size_t capacity) {
+    VsmGpuBlock r;
+    if (!s.initialized || !s.has_light || (out == nullptr && capacity != 0)) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    r.needed = vsm_gpu_block_words(s);
+    if (capacity < r.needed) {
+        r.status = Status::BufferTooSmall;
+        return r;
+    }
+    auto put_float = [&](std::size_t i, float v) {
+        std::uint32_t u = 0;
+        static_assert(sizeof(u) == sizeof(v), "float is 32 bits");
+        std::memcpy(&u, &v, sizeof(u));
+        out[i] = u;
+    };
+    for (int l = 0; l < kVsmMaxLevels; ++l) {
+        glm::mat4 m(0.0f);
+        if (l < s.layout.level_count) {
+            const VsmMatrix rel = vsm_relative_matrix(s.levels[l].world_to_uv, anchor);
+            if (rel.status != Status::Ok) {
+                r.status = rel.status;
+                return r;
+            }
+            m = rel.matrix;
+        }
+        for (int c = 0; c < 4; ++c)
+            for (int k = 0; k < 4; ++k) put_float(std::size_t(l * 16 + c * 4 + k), m[c][k]);
+        const bool used = l < s.layout.level_count;
+        out[256 + 4 * l + 0] = used ? std::uint32_t(s.levels[l].origin_mod_x) : 0u;
+        out[256 + 4 * l + 1] = used ? std::uint32_t(s.levels[l].origin_mod_y) : 0u;
+        out[256 + 4 * l + 2] = out[256 + 4 * l + 3] = 0u;
+    }
+    out[320] = std::uint32_t(s.layout.level_count);
+    out[321] = std::uint32_t(s.pages_per_side);
+    out[322] = std::uint32_t(s.layout.page_texels);
+    out[323] = std::uint32_t(s.layout.pool_columns);
+    out[324] = s.layout.clip_depth == ClipDepth::ZeroToOne ? 1u : 0u;
+    out[325] = s.layout.reversed_z ? 1u : 0u;
+    out[326] = detail::vsm_directional(s) ? 1u : 0u;
+    out[327] = 0u;
+    put_float(328, detail::vsm_directional(s) ? float(s.layout.level0_extent_world / double(s.layout.virtual_texels)) : 0.0f);
+    out[329] = out[330] = out[331] = 0u;
+    for (std::size_t i = 0; i < s.page_table.size(); ++i) out[kVsmGpuHeaderWords + i] = s.page_table[i];
+    r.count = r.needed;
+    r.status = Status::Ok;
+    return r;
+}
+
+/// The page a pool slot holds now (vsm_slot_page).
+struct VsmSlotPage {
+    Status status = Status::NotRun;
+    bool resident = false;           ///< the slot holds a page (false: free; `page` unset)
+    bool current = false;            ///< its content is current (kVsmPageValid); false: stale
+    bool on_window = false;          ///< the page is on its level's current window (x, y valid)
+    VsmPageRender page;              ///< level, x, y, slot, atlas origin and view_proj, as vsm_plan lists it
+};
+
+/// The page held by pool slot `slot`, with the matrix it is rendered with now: for re-rendering a
+/// resident page (a full re-render of the pool to check a kept one, a debug view). InvalidArgument
+/// for an uninitialized state, a state no plan has placed, or slot >= pool_pages.
+inline VsmSlotPage vsm_slot_page(const VsmState& s, std::uint32_t slot) {
+    VsmSlotPage r;
+    if (!s.initialized || !s.has_light || slot >= s.slots.size()) {
+        r.status = Status::InvalidArgument;
+        return r;
+    }
+    const VsmSlot& e = s.slots[slot];
+    r.status = Status::Ok;
+    if (!e.resident) return r;
+    r.resident = true;
+    const std::uint32_t t = s.page_table[detail::vsm_entry_abs(s, int(e.level), e.x, e.y)];
+    r.current = t == (kVsmPageValid | slot);
+    const std::int64_t px = e.x - s.origin_x[e.level], py = e.y - s.origin_y[e.level];
+    r.on_window = px >= 0 && py >= 0 && px < s.pages_per_side && py < s.pages_per_side;
+    r.page.level = e.level;
+    r.page.x = r.on_window ? std::uint32_t(px) : 0u;
+    r.page.y = r.on_window ? std::uint32_t(py) : 0u;
+    r.page.slot = slot;
+    r.page.atlas_x = int(slot % std::uint32_t(s.layout.pool_columns)) * s.layout.page_texels;
+    r.page.atlas_y = int(slot / std::uint32_t(s.layout.pool_columns)) * s.layout.page_texels;
+    r.page.view_proj = detail::vsm_page_matrix(s, int(e.level), e.x, e.y);
     return r;
 }
 

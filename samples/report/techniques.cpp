@@ -147,6 +147,7 @@ std::vector<std::unique_ptr<Technique>> make_techniques() {
     add("linear", add_linear_techniques);
     add("prefilter", add_prefilter_techniques);
     add("cache", add_cached_shadow_map_techniques);
+    add("vsm", add_vsm_techniques);
     t.push_back(std::make_unique<Unshadowed>());
     t.back()->set_family("check");
     return t;

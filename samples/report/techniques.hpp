@@ -159,5 +159,6 @@ void add_silmap_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_linear_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_prefilter_techniques(std::vector<std::unique_ptr<Technique>>& out);
 void add_cached_shadow_map_techniques(std::vector<std::unique_ptr<Technique>>& out);
+void add_vsm_techniques(std::vector<std::unique_ptr<Technique>>& out);
 
 }  // namespace sk

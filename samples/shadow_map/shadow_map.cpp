@@ -85,6 +85,17 @@ float technique_visibility(vec3 p, vec3 n) {
     return sk_cube_visibility_hardware_depth(u_cube, vec4(u_cube_light, 1.0), p, u_cube_near, u_cube_far, 0.0);
 }
 )";
+// bias=auto on the cube: each face's 2x2 filter as four compares against the receiver plane's depth
+// (across a face's edge, in the face the tap is read from); float32 faces: depth_step 0.0.
+const char* kLookupCubeAuto = R"(
+layout(binding = 2) uniform samplerCubeShadow u_cube;
+uniform vec3 u_cube_light;
+uniform float u_cube_near;
+uniform float u_cube_far;
+float technique_visibility(vec3 p, vec3 n) {
+    return sk_cube_visibility_hardware_depth_auto(u_cube, vec4(u_cube_light, 1.0), p, n, u_cube_near, u_cube_far, 0.0);
+}
+)";
 
 }  // namespace
 
@@ -103,11 +114,11 @@ bool ShadowMap::init(const app::View& v, std::string& why) {
 
 // The V program of the chosen bias and contact setting (the cube map has one lookup, no contact).
 bool ShadowMap::make_visibility_program(const ShadowMapSettings& s, std::string& why) {
-    const bool automatic = !cube_ && s.bias == ShadowMapSettings::Bias::Auto, contact = !cube_ && s.contact;
+    const bool automatic = s.bias == ShadowMapSettings::Bias::Auto, contact = !cube_ && s.contact;
     const int variant = int(automatic) + 2 * int(contact);
     if (vis_prog_ && vis_variant_ == variant) return true;
     if (vis_prog_) glDeleteProgram(vis_prog_);
-    const std::string body = cube_ ? std::string(kLookupCube)
+    const std::string body = cube_ ? std::string(automatic ? kLookupCubeAuto : kLookupCube)
                                    : std::string(automatic ? kLookupAuto : kLookup2D) + (contact ? kContact : kNoContact);
     vis_prog_ = app::compile_visibility_program(snippet_, body, why);
     vis_variant_ = variant;
@@ -171,11 +182,11 @@ void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
     if (s.size != size_) make_map(s.size);
     std::string why;
     if (!make_visibility_program(s, why)) return;
-    const bool automatic = !cube_ && s.bias == ShadowMapSettings::Bias::Auto;
+    const bool automatic = s.bias == ShadowMapSettings::Bias::Auto;
 
     // 1. The casters' depth from the light (each cube face in turn): depth test GL_LESS, cleared to
-    //    the far plane; bias=polygon_offset (and cube maps): a slope-scaled polygon offset pushing the
-    //    stored depth away from the light. The automatic bias needs the true depths: no offset.
+    //    the far plane; bias=polygon_offset: a slope-scaled polygon offset pushing the stored depth
+    //    away from the light. The automatic bias needs the true depths: no offset.
     glUseProgram(depth_prog_);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

@@ -37,18 +37,25 @@ void main() {
 )";
 const char* kTsmDepthFS = R"(
 in vec4 v_depth_clip;
-void main() { gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, false); }
+uniform float u_slope_scale;   // 2 (bias=offset), 0 (bias=auto: the true depths)
+void main() { gl_FragDepth = sk_warp_map_depth(v_depth_clip, u_slope_scale, 0.0, false); }
 )";
 // V's lookup (after glsl/perspective_shadow_maps.glsl and glsl/shadow_map.glsl): x, y through u_warp,
 // the compare depth through u_depth_proj (the same matrix for every method but TSM). The map is bound
-// at unit 2. u_auto (bias=auto, not TSM): the automatic bias through the one matrix, four compares at
-// texel centres; else the hardware 2x2 compare of the offset depths.
+// at unit 2. u_auto (bias=auto): the automatic bias, four compares at texel centres, each against the
+// receiver plane's depth there: through the one matrix (shadow_map.glsl), or for TSM's separate depth
+// along each texel's light ray (sk_warp_shadow_auto, with the warp's inverse); else the hardware 2x2
+// compare of the offset depths.
 const char* kLookup = R"(
 layout(binding = 2) uniform sampler2DShadow u_shadow_map;
 uniform mat4 u_warp;
+uniform mat4 u_warp_inverse;
 uniform mat4 u_depth_proj;
 uniform bool u_auto;
+uniform bool u_separate_depth;
 float technique_visibility(vec3 p, vec3 n) {
+    if (u_auto && u_separate_depth)
+        return sk_warp_shadow_auto(u_shadow_map, u_warp, u_warp_inverse, u_depth_proj, p, n, false, 0.0, 1.0);
     if (u_auto) return sk_shadow_map_visibility_auto(u_shadow_map, u_warp, p, n, false, 0.0, 1.0);
     return sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, p, 0.0, false);
 }
@@ -151,6 +158,7 @@ void WarpedShadowMaps::update(const app::View& v, const WarpedShadowMapSettings&
     visible_ = w.visible;  // false: no receiver in view needs a shadow
     light_vp_ = w.light_view_proj;
     depth_vp_ = w.depth_view_proj;  // = light_view_proj but for TSM
+    warp_inverse_ = glm::mat4(glm::inverse(glm::dmat4(w.light_view_proj)));  // in double: the TSM lookup unprojects texel centres
     separate_depth_ = w.separate_depth;
     fallback_ = w.fallback_uniform;
 }
@@ -167,7 +175,7 @@ void WarpedShadowMaps::make_map(int size) {
 
 void WarpedShadowMaps::render(const app::View& v, const WarpedShadowMapSettings& s) {
     if (s.size != size_) make_map(s.size);
-    const bool automatic = s.bias == WarpedShadowMapSettings::Bias::Auto && !separate_depth_;
+    const bool automatic = s.bias == WarpedShadowMapSettings::Bias::Auto;
 
     // 1. The casters' depth from the light: depth test GL_LESS, cleared to the far plane; bias=offset
     //    (and TSM) a polygon offset (2, 2) against acne, bias=auto the true depths. TSM: gl_FragDepth
@@ -184,9 +192,11 @@ void WarpedShadowMaps::render(const app::View& v, const WarpedShadowMapSettings&
         const GLuint prog = separate_depth_ ? tsm_depth_prog_ : depth_prog_;
         glUseProgram(prog);
         glUniformMatrix4fv(glGetUniformLocation(prog, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(light_vp_));
-        if (separate_depth_)
+        if (separate_depth_) {
             glUniformMatrix4fv(glGetUniformLocation(prog, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(depth_vp_));
-        if (!automatic) {
+            glUniform1f(glGetUniformLocation(prog, "u_slope_scale"), automatic ? 0.f : 2.f);
+        }
+        if (!automatic && !separate_depth_) {  // (TSM's written depth carries its offset itself)
             glEnable(GL_POLYGON_OFFSET_FILL);
             glPolygonOffset(2.f, 2.f);
         }
@@ -201,6 +211,8 @@ void WarpedShadowMaps::render(const app::View& v, const WarpedShadowMapSettings&
     glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_warp"), 1, GL_FALSE, glm::value_ptr(light_vp_));
     glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(depth_vp_));
     glUniform1i(glGetUniformLocation(vis_prog_, "u_auto"), automatic ? 1 : 0);
+    glUniform1i(glGetUniformLocation(vis_prog_, "u_separate_depth"), separate_depth_ ? 1 : 0);
+    glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_warp_inverse"), 1, GL_FALSE, glm::value_ptr(warp_inverse_));
     pass_.draw(vis_prog_, *v.gpu, GL_TEXTURE_2D, map_);
 }
 

@@ -36,8 +36,8 @@ struct WarpedShadowMapSettings {
     /// auto: true depths in the map and glsl/shadow_map.glsl's automatic bias through the warp's matrix
     /// (sk_shadow_map_visibility_auto: the receiver plane's depth at each of the 2x2 filter's texel
     /// centres, no constant); offset: a slope-scaled offset (2, 2) in the depth pass and the hardware
-    /// 2x2 compare. TSM always uses the offset (its depth comes from a second matrix, which the
-    /// automatic bias's plane gradient does not take).
+    /// 2x2 compare. TSM (its depth from a second matrix) takes perspective_shadow_maps.glsl's
+    /// sk_warp_shadow_auto: the plane's depth along each texel centre's light ray, through both matrices.
     enum class Bias { Auto, Offset };
     Bias bias = Bias::Auto;
 };
@@ -95,6 +95,7 @@ private:
     bool fallback_ = false;
     bool separate_depth_ = false;        // TSM: gl_FragDepth from depth_vp_
     glm::mat4 light_vp_{1.f}, depth_vp_{1.f};
+    glm::mat4 warp_inverse_{1.f};       // inverse(light_vp_) (computed in double): sk_warp_shadow_auto's unprojection
     // GL
     int size_ = 0;
     GLuint map_ = 0, fbo_ = 0;

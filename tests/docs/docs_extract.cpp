@@ -5,6 +5,7 @@
 //   OUT/parts/<NAME>/<PART>.inc       a block after `<!-- example: NAME/PART -->`, #included by
 //                                     tests/docs/NAME.cpp
 //   OUT/glsl/<doc>_<line>.glsl        a GLSL block after `<!-- glsl: STAGE VERSION snippets: a b -->`
+//   OUT/hlsl/<doc>_<line>.hlsl        an HLSL block after `<!-- hlsl: STAGE ENTRY snippets: a b -->`
 //   OUT/manifest.cmake                the lists above, and every rule broken (DOCS_ERRORS)
 // Usage: docs_extract OUT PROGRAMS_DIR file.md...
 #include <algorithm>
@@ -55,12 +56,13 @@ int main(int argc, char** argv) {
     const fs::path out = argv[1];
     const fs::path programs = argv[2];
     std::vector<std::string> errors;
-    std::ostringstream complete, glsl, parts_list;
+    std::ostringstream complete, glsl, hlsl, parts_list;
     std::map<std::string, std::set<std::string>> parts;  // example name -> parts found in the docs
     std::set<std::string> written;
     const std::regex example_re(R"(^<!--\s*example:\s*([A-Za-z0-9_]+)/([A-Za-z0-9_]+)\s*-->$)");
     const std::regex glsl_re(R"(^<!--\s*glsl:\s*(vertex|fragment|geometry|compute)\s+([0-9]+)\s+snippets:\s*([A-Za-z0-9_ ]*)-->$)");
-    int cpp_blocks = 0, glsl_blocks = 0;
+    const std::regex hlsl_re(R"(^<!--\s*hlsl:\s*(vertex|pixel|compute)\s+([A-Za-z_][A-Za-z0-9_]*)\s+snippets:\s*([A-Za-z0-9_ ]*)-->$)");
+    int cpp_blocks = 0, glsl_blocks = 0, hlsl_blocks = 0;
 
     for (int a = 3; a < argc; ++a) {
         const fs::path md = argv[a];
@@ -114,6 +116,15 @@ int main(int argc, char** argv) {
                     written.insert((fs::path("glsl") / (id + ".glsl")).string());
                     glsl << "  " << cm(id + "|" + std::string(m[1]) + "|" + std::string(m[2]) + "|" + trim(m[3]) + "|" + where) << "\n";
                 }
+            } else if (lang == "hlsl") {
+                ++hlsl_blocks;
+                if (!std::regex_match(marker, m, hlsl_re)) {
+                    errors.push_back(where + ": an HLSL block needs `<!-- hlsl: STAGE ENTRY snippets: a b -->` on the line before it");
+                } else {
+                    write_if_changed(out / "hlsl" / (id + ".hlsl"), body);
+                    written.insert((fs::path("hlsl") / (id + ".hlsl")).string());
+                    hlsl << "  " << cm(id + "|" + std::string(m[1]) + "|" + std::string(m[2]) + "|" + trim(m[3]) + "|" + where) << "\n";
+                }
             }
             i = end;
         }
@@ -146,7 +157,7 @@ int main(int argc, char** argv) {
             errors.push_back("docs blocks name the example " + name + ", but tests/docs/" + name + ".cpp does not exist");
 
     // Stale files from renamed blocks would be harmless, but keep the tree exact.
-    for (const char* sub : {"complete", "parts", "glsl"}) {
+    for (const char* sub : {"complete", "parts", "glsl", "hlsl"}) {
         if (!fs::exists(out / sub)) continue;
         for (const auto& e : fs::recursive_directory_iterator(out / sub))
             if (e.is_regular_file() && !written.count(fs::relative(e.path(), out).string())) fs::remove(e.path());
@@ -158,6 +169,7 @@ int main(int argc, char** argv) {
     manifest << "set(DOCS_COMPLETE\n" << complete.str() << ")\n";
     manifest << "set(DOCS_PARTS\n" << parts_list.str() << ")\n";
     manifest << "set(DOCS_GLSL\n" << glsl.str() << ")\n";
+    manifest << "set(DOCS_HLSL_BLOCKS " << hlsl_blocks << ")\nset(DOCS_HLSL\n" << hlsl.str() << ")\n";
     manifest << "set(DOCS_PROGRAMS\n";
     for (const auto& p : program_names) manifest << "  " << cm(p) << "\n";
     manifest << ")\nset(DOCS_ERRORS\n";

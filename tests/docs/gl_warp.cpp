@@ -218,5 +218,108 @@ void main() { o_lit = sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, v_world
                     method == shadowkit::WarpMethod::Tsm ? "TSM (separate depth)" : "LiSPSM", recv.size(), shadowed, 100.0 * frac);
         if (!(frac >= 0.995) || shadowed < 50) ++failures;
     }
+    // The automatic bias on TSM's separate depth (sk_warp_shadow_auto): the map holds the true depths
+    // (no slope-scaled offset), the lookup takes the ground's normal and the warp's inverse. Every lit
+    // ground point must stay lit (no acne) and >= 99.5% agree; the same true depths compared with no
+    // bias at all (sk_warp_shadow, bias 0) acne, which is what the automatic bias removes.
+    {
+        const GLuint depth_prog_true = docs::gl_program(shadow_vs, version + snippet + R"(
+in vec4 v_depth_clip;
+void main() { gl_FragDepth = sk_warp_map_depth(v_depth_clip, 0.0, 0.0, false); }
+)");
+        const GLuint auto_prog = docs::gl_program(version + R"(
+layout(location = 0) in vec3 a_position;
+uniform int u_width;
+out vec3 v_world_pos;
+void main() {
+    int i = gl_VertexID;
+    vec2 px = vec2(i % u_width, i / u_width) + 0.5;
+    gl_Position = vec4(px / vec2(u_width) * 2.0 - 1.0, 0.0, 1.0);
+    gl_PointSize = 1.0;
+    v_world_pos = a_position;
+}
+)", version + snippet + R"(
+in vec3 v_world_pos;
+layout(binding = 0) uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_warp;
+uniform mat4 u_warp_inverse;
+uniform mat4 u_depth_proj;
+uniform bool u_auto;
+out float o_lit;
+void main() {
+    o_lit = u_auto ? sk_warp_shadow_auto(u_shadow_map, u_warp, u_warp_inverse, u_depth_proj, v_world_pos, vec3(0.0, 1.0, 0.0),
+                                         false, 0.0, 1.0)
+                   : sk_warp_shadow(u_shadow_map, u_warp, u_depth_proj, v_world_pos, 0.0, false);
+}
+)");
+        const shadowkit::WarpResult w = shadowkit::warp_matrix(in, shadowkit::WarpMethod::Tsm);
+        if (w.status != shadowkit::Status::Ok || !w.visible || !w.separate_depth) return 1;
+        const glm::mat4 inv(glm::inverse(glm::dmat4(w.light_view_proj)));
+        // the ground itself is a receiver that is also in the map (as a scene's floor is)
+        const glm::vec3 ground[6] = {{-100, 0, -100}, {100, 0, 100}, {100, 0, -100}, {-100, 0, -100}, {-100, 0, 100}, {100, 0, 100}};
+        GLuint gvao = 0, gvbo = 0;
+        glGenVertexArrays(1, &gvao);
+        glBindVertexArray(gvao);
+        glGenBuffers(1, &gvbo);
+        glBindBuffer(GL_ARRAY_BUFFER, gvbo);
+        glBufferData(GL_ARRAY_BUFFER, sizeof(ground), ground, GL_STATIC_DRAW);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glEnableVertexAttribArray(0);
+        int acne[3] = {0, 0, 0}, wrong[3] = {0, 0, 0};
+        for (int mode = 0; mode < 3; ++mode) {  // 0 automatic, 1 no bias (both on the true depths), 2 the offset (2, 2)
+            const GLuint dp = mode == 2 ? depth_prog_tsm : depth_prog_true;
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+            glViewport(0, 0, size, size);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            glDepthMask(GL_TRUE);
+            glClear(GL_DEPTH_BUFFER_BIT);
+            glUseProgram(dp);
+            glUniformMatrix4fv(glGetUniformLocation(dp, "u_light_view_proj"), 1, GL_FALSE, glm::value_ptr(w.light_view_proj));
+            glUniformMatrix4fv(glGetUniformLocation(dp, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(w.depth_view_proj));
+            glBindVertexArray(vao);
+            draw_casters();
+            glBindVertexArray(gvao);
+            glDrawArrays(GL_TRIANGLES, 0, 6);
+            // the offset's lookup with the hardware 2x2 filter (GL_LINEAR), as the automatic bias filters
+            const GLint filter = mode == 2 ? GL_LINEAR : GL_NEAREST;
+            glTextureParameteri(map, GL_TEXTURE_MIN_FILTER, filter);
+            glTextureParameteri(map, GL_TEXTURE_MAG_FILTER, filter);
+            glBindFramebuffer(GL_FRAMEBUFFER, out_fbo);
+            glViewport(0, 0, W, W);
+            glDisable(GL_DEPTH_TEST);
+            const float clear[4] = {-1, -1, -1, -1};
+            glClearBufferfv(GL_COLOR, 0, clear);
+            glUseProgram(auto_prog);
+            glUniform1i(glGetUniformLocation(auto_prog, "u_width"), W);
+            glUniform1i(glGetUniformLocation(auto_prog, "u_auto"), mode == 0 ? 1 : 0);
+            glUniformMatrix4fv(glGetUniformLocation(auto_prog, "u_warp"), 1, GL_FALSE, glm::value_ptr(w.light_view_proj));
+            glUniformMatrix4fv(glGetUniformLocation(auto_prog, "u_warp_inverse"), 1, GL_FALSE, glm::value_ptr(inv));
+            glUniformMatrix4fv(glGetUniformLocation(auto_prog, "u_depth_proj"), 1, GL_FALSE, glm::value_ptr(w.depth_view_proj));
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, map);
+            glBindVertexArray(rvao);
+            glDrawArrays(GL_POINTS, 0, GLsizei(recv.size()));
+            std::vector<float> lit(std::size_t(W) * W);
+            glReadPixels(0, 0, W, W, GL_RED, GL_FLOAT, lit.data());
+            for (std::size_t k = 0; k < recv.size(); ++k) {
+                const int v = lit[k] > 0.5f ? 1 : 0;
+                wrong[mode] += v != ref[k];
+                acne[mode] += ref[k] == 1 && v == 0;
+            }
+        }
+        std::printf("TSM with the ground in the map: automatic bias %d lit points dark, %.2f%% agree; the offset (2, 2) with the 2x2 filter %d, %.2f%%; "
+                    "no bias %d\n", acne[0], 100.0 * (1.0 - double(wrong[0]) / double(recv.size())), acne[2],
+                    100.0 * (1.0 - double(wrong[2]) / double(recv.size())), acne[1]);
+        // What stays dark (34 of 25,362 lit points; the offset 18) lies 0.25-0.9 units from a box's base
+        // 24 units out, where a TSM texel is wider than the 0.15-unit edge margin: the concave crease of
+        // ground and box, whose tap reads the box's side nearer than the ground plane's extension (the
+        // offset pushes that steep side far back). The true depths without a bias acne everywhere.
+        std::size_t lit_points = 0;
+        for (int r : ref) lit_points += r == 1;
+        if (double(acne[0]) > 0.002 * double(lit_points) || !(1.0 - double(wrong[0]) / double(recv.size()) >= 0.995) ||
+            acne[1] < 1000)
+            ++failures;
+    }
     return failures == 0 && glGetError() == GL_NO_ERROR ? 0 : 1;
 }

@@ -76,7 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (flags & 8) bi.max_angle = r.f32();
     if (flags & 16) bi.constant = r.f32();
     const shadowkit::OmniBiasResult br = shadowkit::omni_distance_bias(bi);
-    if (br.status == shadowkit::Status::Ok) check(all_finite(br.bias) && br.bias >= 0.f && all_finite(br.stored_bias));
+    if (br.status == shadowkit::Status::Ok) check(all_finite(br.bias_world) && br.bias_world >= 0.f && all_finite(br.bias_stored));
     if (ld.status == shadowkit::Status::Ok) check(all_finite(ld.value));
     // ---- culling: casters from the rest of the data (counts bounded by what the data holds)
     shadowkit::OmniCullInput cu;

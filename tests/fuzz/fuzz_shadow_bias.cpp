@@ -46,6 +46,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const BiasDepthValue sl = bias_depth_metric_slope(metric, dist, n, f);
     check(sl);
     if (sl.status == Status::Ok && !(sl.value > 0.0)) __builtin_trap();
+    // the unit converters: Ok only where the slope is, non-negative, and a round trip within 1e-6
+    const BiasDepthValue bw = bias_window_from_world(double(a), metric, dist, n, f);
+    check(bw);
+    if (bw.status == Status::Ok && (sl.status != Status::Ok || !(bw.value >= 0.0))) __builtin_trap();
+    if (bw.status == Status::Ok && bw.value > 1e-290 && bw.value < 1e30) {  // (double subnormals lose the relative precision)
+        const BiasDepthValue back = bias_world_from_window(bw.value, metric, dist, n, f);
+        if (back.status == Status::Ok && !(std::fabs(back.value - double(a)) <= 1e-6 * std::fabs(double(a)) + 1e-300)) __builtin_trap();
+    }
     const BiasDepthValue res = bias_depth_metric_resolution(metric, fmt, dist, n, f);
     check(res);
     if (res.status == Status::Ok && !(res.value > 0.0)) __builtin_trap();

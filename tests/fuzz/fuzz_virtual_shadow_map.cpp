@@ -12,6 +12,7 @@
 #include "fuzz_input.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -154,6 +155,31 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             }
         } else if (pc.status == Status::BufferTooSmall) {
             check(pc.needed > idx.size() && pc.count == 0);
+        }
+        // the GPU block around a fuzzed anchor: a copy of the table after the header; Ok only finite
+        std::vector<std::uint32_t> block(r.u8() % 8 == 0 ? r.range<std::size_t>(0, 400) : vsm_gpu_block_words(s));
+        const glm::dvec3 anchor = r.boolean() ? cam : glm::dvec3(r.f64(), r.f64(), r.f64());
+        const VsmGpuBlock gb = vsm_gpu_block(s, anchor, block.empty() ? nullptr : block.data(), block.size());
+        check(gb.count <= block.size());
+        if (gb.status == Status::Ok) {
+            check(gb.count == vsm_gpu_block_words(s) && gb.needed == gb.count);
+            for (std::size_t i = 0; i < 256; ++i) {
+                float v = 0.0f;
+                std::memcpy(&v, &block[i], 4);
+                check(std::isfinite(v));
+            }
+            for (std::size_t i = 0; i < s.page_table.size(); ++i) check(block[kVsmGpuHeaderWords + i] == s.page_table[i]);
+        } else if (gb.status == Status::BufferTooSmall) {
+            check(gb.needed > block.size());
+        }
+        // every slot's page: current ones are where the table says, with finite matrices
+        const std::uint32_t probe = r.u32() % (std::uint32_t(s.layout.pool_pages) + 2);
+        const VsmSlotPage sp = vsm_slot_page(s, probe);
+        if (probe >= std::uint32_t(s.layout.pool_pages)) check(sp.status == Status::InvalidArgument);
+        if (sp.status == Status::Ok && sp.resident && sp.current && sp.on_window) {
+            check(s.page_table[vsm_table_index(s, sp.page.level, sp.page.x, sp.page.y)] == (kVsmPageValid | probe));
+            for (int c = 0; c < 4; ++c)
+                for (int k = 0; k < 4; ++k) check(std::isfinite(sp.page.view_proj[c][k]));
         }
     }
     return 0;

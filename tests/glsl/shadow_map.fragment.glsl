@@ -17,5 +17,6 @@ void main() {
     float e = sk_shadow_map_visibility_auto(u_sm_array, 2.0, u_light_vp, v_world, v_normal, true, u_depth_step, 1.0);
     vec4 g = sk_plane_depth_gradient(u_light_vp, v_world, v_normal, false);
     float f = sk_auto_filtered_bias(g, vec2(1.0 / 2048.0), c.z, u_depth_step);
-    o_color = vec4(a + d, b + e, c.z + f, 1.0);
+    float h = sk_cube_visibility_hardware_depth_auto(u_cube, u_light_position, v_world, v_normal, 0.05, 20.0, u_depth_step);
+    o_color = vec4(a + d, b + e + h, c.z + f, 1.0);
 }

@@ -330,3 +330,78 @@ TEST_CASE("glsl twins: every computed constant of a snippet is its header's, a c
     MESSAGE(checked, " computed constants in the snippets, ", in_header, " of them in their headers");
     CHECK(in_header > 34);
 }
+
+namespace {
+// The value of `#define NAME VALUE` in a snippet (an integer, decimal or hex with a u suffix); -1 if absent.
+long long glsl_define(const std::string& glsl, const std::string& name) {
+    std::istringstream in(glsl);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream w(trim(line));
+        std::string d, n, v;
+        w >> d >> n >> v;
+        if (d == "#define" && n == name && !v.empty()) return std::strtoll(v.c_str(), nullptr, 0);
+    }
+    return -1;
+}
+// The integer initializer of `constexpr <type> NAME = VALUE;` in a header (hex, decimal, or `1 << k`).
+long long header_constant(const std::string& hpp, const std::string& name) {
+    const std::size_t a = hpp.find(" " + name + " = ");
+    if (a == std::string::npos) return -1;
+    const std::string v = trim(hpp.substr(a + name.size() + 4, hpp.find(';', a) - a - name.size() - 4));
+    return std::strtoll(v.c_str(), nullptr, 0);
+}
+}  // namespace
+
+TEST_CASE("glsl twins: virtual_shadow_map.glsl has the header's page-table bits, level limit and GPU block layout") {
+    const std::string glsl = strip_comments(read_source("glsl/virtual_shadow_map.glsl"));
+    const std::string hpp = strip_comments(read_source("include/shadowkit/virtual_shadow_map.hpp"));
+    CHECK(glsl_define(glsl, "SK_VSM_MAX_LEVELS") == header_constant(hpp, "kVsmMaxLevels"));
+    CHECK(glsl_define(glsl, "SK_VSM_PAGE_VALID") == header_constant(hpp, "kVsmPageValid"));
+    CHECK(glsl_define(glsl, "SK_VSM_SLOT_MASK") == header_constant(hpp, "kVsmSlotMask"));
+    CHECK(header_constant(hpp, "kVsmPageValid") == 0x80000000LL);
+    // std430 size of SkVsmData's members before the page table (mat4 64 bytes, ivec4 / vec4 16, arrays
+    // of SK_VSM_MAX_LEVELS) = vsm_gpu_block's header words * 4
+    const std::size_t a = glsl.find("buffer SkVsmData {"), b = glsl.find("};", a);
+    REQUIRE(a != std::string::npos);
+    std::istringstream in(glsl.substr(a, b - a));
+    std::string line;
+    long long bytes = 0;
+    int members = 0;
+    bool runtime_array = false;
+    while (std::getline(in, line)) {
+        std::istringstream w(trim(line));
+        std::string type, name;
+        w >> type >> name;
+        const long long size = type == "mat4" ? 64 : (type == "ivec4" || type == "vec4") ? 16 : type == "uint" ? 4 : 0;
+        if (size == 0) continue;
+        ++members;
+        if (name.find("[]") != std::string::npos) { runtime_array = true; break; }
+        const std::size_t br = name.find('[');
+        long long count = 1;
+        if (br != std::string::npos) {
+            const std::string c = name.substr(br + 1, name.find(']') - br - 1);
+            count = c == "SK_VSM_MAX_LEVELS" ? glsl_define(glsl, c) : std::strtoll(c.c_str(), nullptr, 10);
+        }
+        bytes += size * count;
+    }
+    CHECK(members == 6);
+    CHECK(runtime_array);
+    const std::size_t at = hpp.find("kVsmGpuHeaderWords = ");
+    REQUIRE(at != std::string::npos);
+    // the header's expression is 16 * 16 + 16 * 4 + 4 + 4 + 4: evaluate it by its terms
+    long long words = 0;
+    std::istringstream e(hpp.substr(at + 21, hpp.find(';', at) - at - 21));
+    std::string tok, prev;
+    long long term = 1;
+    bool mul = false;
+    while (e >> tok) {
+        if (tok == "+") { words += term; term = 1; continue; }
+        if (tok == "*") { mul = true; continue; }
+        term = mul ? term * std::strtoll(tok.c_str(), nullptr, 10) : std::strtoll(tok.c_str(), nullptr, 10);
+        mul = false;
+    }
+    words += term;
+    CHECK(bytes == words * 4);
+    CHECK(words == 332);
+}

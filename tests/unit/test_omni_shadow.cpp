@@ -619,7 +619,7 @@ TEST_CASE("bias keeps a planar receiver lit over its filter footprint (brute-for
         in.format = it % 3 == 0 ? DepthFormat::Fixed24 : (it % 3 == 1 ? DepthFormat::Float32 : DepthFormat::Fixed16);
         const OmniBiasResult b = omni_distance_bias(in);
         REQUIRE(b.status == Status::Ok);
-        CHECK(std::fabs(b.stored_bias - b.bias / in.range) <= 1e-6f * b.stored_bias + 1e-12f);
+        CHECK(std::fabs(b.bias_stored - b.bias_world / in.range) <= 1e-6f * b.bias_stored + 1e-12f);
         // plane at perpendicular distance h = d cos(theta) (theta recomputed from the float input);
         // rays at angle psi from the lookup ray, in the plane of incidence (the extreme) and random
         const double d = in.distance, th = std::acos(double(in.cos_theta)), h = d * std::cos(th);
@@ -639,20 +639,20 @@ TEST_CASE("bias keeps a planar receiver lit over its filter footprint (brute-for
             // what a lookup compares: quantized stored value vs (d - bias) / range
             const OmniDepthResult st = omni_linear_depth(float(dp), in.range, in.format);
             REQUIRE(st.status == Status::Ok);
-            const double ref = (double(in.distance) - double(b.bias)) / double(in.range);
+            const double ref = (double(in.distance) - double(b.bias_world)) / double(in.range);
             if (!(ref <= double(st.value) + 1e-12)) {
                 ++stored_violations;
                 MESSAGE("format " << int(in.format) << " ref " << ref << " stored " << st.value << " d " << d << " range " << in.range);
             }
         }
-        if (max_drop > double(b.bias) * (1.0 + 1e-6) + 1e-9) ++violations;
+        if (max_drop > double(b.bias_world) * (1.0 + 1e-6) + 1e-9) ++violations;
         // exactness of the geometric term: bias minus its storage part vs the brute-force drop
         OmniBiasInput g = in;
         g.format = DepthFormat::Fixed24;
         g.range = 1e-30f;  // storage term ~0 (range / 2^24)
         const OmniBiasResult bg = omni_distance_bias(g);
         if (bg.status == Status::Ok && max_drop > 1e-6 * d)
-            worst_tightness = std::max(worst_tightness, double(bg.bias) / max_drop);
+            worst_tightness = std::max(worst_tightness, double(bg.bias_world) / max_drop);
     }
     MESSAGE("bias / brute-force drop (geometric part): max " << worst_tightness);
     CHECK(violations == 0);

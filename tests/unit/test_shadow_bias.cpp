@@ -532,3 +532,41 @@ TEST_CASE("property: in-range inputs are Ok and finite, out-of-range inputs are 
     }
     CHECK(ok > 3000);
 }
+
+TEST_CASE("bias unit converters: world <-> window / t / distance, closed form, finite differences, round trip (issue #25 item 4)") {
+    // closed form: a perspective light n = 1, f = 100, at d = 10 the window depth moves by f n / (d^2 (f - n)) per world unit
+    const BiasDepthValue w = bias_window_from_world(0.1, BiasDepthMetric::PostProjective, 10.0, 1.0, 100.0);
+    REQUIRE(w.status == Status::Ok);
+    CHECK(w.value == doctest::Approx(0.1 * 100.0 / (100.0 * 99.0)).epsilon(1e-12));
+    // a pre-filtered map's t over [0.5, 50.5]: 1 / 50 per world unit
+    const BiasDepthValue t = bias_window_from_world(0.1, BiasDepthMetric::LinearNormalized, 20.0, 0.5, 50.5);
+    REQUIRE(t.status == Status::Ok);
+    CHECK(t.value == doctest::Approx(0.002).epsilon(1e-12));
+    // against finite differences of the metric itself, and the round trip, over many configurations
+    std::mt19937 rng(2504);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int checked = 0;
+    for (int it = 0; it < 4000; ++it) {
+        const BiasDepthMetric m = static_cast<BiasDepthMetric>(it % 4);
+        const double n = std::pow(10.0, -3.0 + 3.0 * u(rng)), f = n * std::pow(10.0, 0.5 + 4.0 * u(rng));
+        const double d = n + (f - n) * (0.01 + 0.98 * u(rng)), b = 1e-6 * d * (1.0 + 100.0 * u(rng));
+        const BiasDepthValue bw = bias_window_from_world(b, m, d, n, f);
+        REQUIRE(bw.status == Status::Ok);
+        const double h = 1e-4 * d;
+        const BiasDepthValue v0 = bias_depth_metric_value(m, d - h, n, f), v1 = bias_depth_metric_value(m, d + h, n, f);
+        REQUIRE(v0.status == Status::Ok);
+        REQUIRE(v1.status == Status::Ok);
+        const double fd = std::fabs(v1.value - v0.value) / (2.0 * h);
+        CHECK(bw.value == doctest::Approx(b * fd).epsilon(1e-6));
+        const BiasDepthValue back = bias_world_from_window(bw.value, m, d, n, f);
+        REQUIRE(back.status == Status::Ok);
+        CHECK(back.value == doctest::Approx(b).epsilon(1e-12));
+        ++checked;
+    }
+    CHECK(checked == 4000);
+    // statuses
+    CHECK(bias_window_from_world(-1.0, BiasDepthMetric::PostProjective, 10.0, 1.0, 100.0).status == Status::InvalidArgument);
+    CHECK(bias_window_from_world(std::nan(""), BiasDepthMetric::PostProjective, 10.0, 1.0, 100.0).status == Status::NonFinite);
+    CHECK(bias_world_from_window(1e-3, BiasDepthMetric::PostProjective, 10.0, 1.0, 0.5).status == Status::InvalidArgument);  // f < n
+    CHECK(bias_world_from_window(1e-3, BiasDepthMetric::PostProjective, 10.0, 1.0, INFINITY).status == Status::Ok);  // far at infinity
+}

@@ -1110,3 +1110,48 @@ TEST_CASE("shadow_cache: property: the cover is disjoint, covers every moved cas
     CHECK(exact > 1000);
     CHECK(merged > 300);
 }
+
+TEST_CASE("shadow_cache_map_state: float and double matrices accepted alike (issue #25 item 5)") {
+    // A sun's orthographic map of 1-unit texels (256 x 256) moved by 3 texels in x: built in double,
+    // the plan certifies the scroll anywhere; handed over as the glm::mat4 other headers return, the
+    // float overload marks float_matrices and the same plan certifies it near the origin and says
+    // PrecisionTooLow far from it (2^-24 relative round-off: at 1e6 units that is 0.06 texel, beyond
+    // the 1/256 a scroll may carry), instead of scrolling on a matrix it cannot trust.
+    const int n = 256;
+    for (double origin : {0.0, 1e6}) {
+        auto ortho = [&](double x0) {
+            return glm::dmat4(glm::ortho(x0, x0 + n, origin, origin + n, -10.0, 10.0));
+        };
+        const glm::dmat4 A = ortho(origin), B = ortho(origin + 3.0);
+        std::vector<ShadowCacheRect> rects(4);
+        for (int as_float = 0; as_float < 2; ++as_float) {
+            ShadowCacheMapState prev = as_float ? shadow_cache_map_state(glm::mat4(A), n, n, 7) : shadow_cache_map_state(A, n, n, 7);
+            const ShadowCacheMapState cur = as_float ? shadow_cache_map_state(glm::mat4(B), n, n, 7) : shadow_cache_map_state(B, n, n, 7);
+            CHECK(cur.float_matrices == (as_float == 1));
+            CHECK(!cur.has_content);
+            prev.has_content = true;
+            const ShadowCachePlan p = shadow_cache_plan(prev, cur, nullptr, 0, rects.data(), rects.size());
+            REQUIRE(p.status == Status::Ok);
+            INFO("origin " << origin << (as_float ? " float" : " double"));
+            if (as_float && origin > 0.0) {
+                CHECK(p.action == ShadowCacheAction::Render);
+                CHECK(p.reason == ShadowCacheReason::PrecisionTooLow);
+            } else {
+                CHECK(p.action == ShadowCacheAction::Scroll);
+                CHECK(p.offset_x == -3);
+                CHECK(p.offset_y == 0);
+            }
+        }
+        // the footprint of a box through either matrix type
+        const float box[6] = {float(origin) + 10.0f, float(origin) + 20.0f, -1.0f, float(origin) + 30.5f, float(origin) + 40.0f, 1.0f};
+        const ShadowCacheFootprint fd = shadow_cache_footprint(A, n, n, box), ff = shadow_cache_footprint(glm::mat4(A), n, n, box);
+        REQUIRE(fd.status == Status::Ok);
+        REQUIRE(ff.status == Status::Ok);
+        if (origin == 0.0) {
+            CHECK(ff.rect.x == fd.rect.x);
+            CHECK(ff.rect.width == fd.rect.width);
+            CHECK(ff.rect.y == fd.rect.y);
+            CHECK(ff.rect.height == fd.rect.height);
+        }
+    }
+}

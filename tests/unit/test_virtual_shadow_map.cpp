@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <random>
 #include <set>
@@ -838,4 +839,123 @@ TEST_CASE("vsm_requests_from_bitmask: one request per set bit, in the window's p
     for (const VsmPageRequest& q : out) got.insert(std::make_tuple(q.level, q.x, q.y));
     CHECK(got == want);
     CHECK(vsm_requests_from_bitmask(s, mask.data(), 5, out.data(), out.size()).status == Status::InvalidArgument);
+}
+
+TEST_CASE("vsm_gpu_block: the std430 words the snippet reads, matrices relative to the anchor") {
+    VsmLayout layout;
+    layout.page_texels = 16;
+    layout.virtual_texels = 256;
+    layout.level_count = 5;
+    layout.level0_extent_world = 8.0;
+    layout.pool_pages = 50;
+    VsmState s;
+    REQUIRE(vsm_state_init(layout, s).status == Status::Ok);
+    std::vector<std::uint32_t> block(vsm_gpu_block_words(s));
+    CHECK(block.size() == 332 + 5 * 16 * 16);
+    CHECK(vsm_gpu_block(s, glm::dvec3(0.0), block.data(), block.size()).status == Status::InvalidArgument);  // no plan yet
+    const glm::dvec3 camera(1.0e6 + 0.3, 2.0, -3.0e5);
+    std::vector<VsmPageRequest> req = {{0, 7, 8}, {2, 3, 4}};
+    std::vector<VsmPageRender> pages(50);
+    VsmFrame f;
+    f.camera_position = camera;
+    f.light_position = glm::vec4(0.3f, 1.0f, -0.2f, 0.0f);
+    f.requests = req.data();
+    f.request_count = req.size();
+    REQUIRE(vsm_plan(s, f, pages.data(), pages.size()).status == Status::Ok);
+    const VsmGpuBlock small = vsm_gpu_block(s, camera, block.data(), 100);
+    CHECK(small.status == Status::BufferTooSmall);
+    CHECK(small.needed == block.size());
+    CHECK(vsm_gpu_block(s, camera, nullptr, 5).status == Status::InvalidArgument);
+    const VsmGpuBlock r = vsm_gpu_block(s, camera, block.data(), block.size());
+    REQUIRE(r.status == Status::Ok);
+    CHECK(r.count == block.size());
+    auto as_float = [&](std::size_t i) { float v; std::memcpy(&v, &block[i], 4); return v; };
+    // a point near the camera: the block's float matrix on (p - camera) gives the level's (u, v) in double
+    const glm::dvec3 p = camera + glm::dvec3(3.25, -2.0, 1.5);
+    for (int l = 0; l < 5; ++l) {
+        glm::mat4 m;
+        for (int c = 0; c < 4; ++c)
+            for (int k = 0; k < 4; ++k) m[c][k] = as_float(std::size_t(l * 16 + c * 4 + k));
+        const glm::vec4 h = m * glm::vec4(glm::vec3(p - camera), 1.0f);
+        const glm::dvec4 e = s.levels[l].world_to_uv * glm::dvec4(p, 1.0);
+        CHECK(std::fabs(double(h.x / h.w) - e.x / e.w) < 1e-6);
+        CHECK(std::fabs(double(h.y / h.w) - e.y / e.w) < 1e-6);
+        CHECK(int(block[256 + 4 * std::size_t(l)]) == s.levels[l].origin_mod_x);
+        CHECK(int(block[257 + 4 * std::size_t(l)]) == s.levels[l].origin_mod_y);
+    }
+    for (std::size_t i = 5 * 16; i < 256; ++i) CHECK(block[i] == 0u);  // unused levels
+    CHECK(block[320] == 5u);
+    CHECK(block[321] == 16u);
+    CHECK(block[322] == 16u);
+    CHECK(block[323] == std::uint32_t(s.layout.pool_columns));
+    CHECK(block[324] == 0u);  // GL clip depth
+    CHECK(block[325] == 0u);
+    CHECK(block[326] == 1u);  // directional
+    CHECK(as_float(328) == doctest::Approx(8.0 / 256.0));
+    for (std::size_t i = 0; i < s.page_table.size(); ++i) CHECK(block[332 + i] == s.page_table[i]);
+    // the requested pages' entries are valid in the block, at vsm_table_index
+    for (const VsmPageRequest& q : req) CHECK((block[332 + vsm_table_index(s, q.level, q.x, q.y)] & kVsmPageValid) != 0u);
+}
+
+TEST_CASE("vsm_slot_page: the page each slot holds, current or stale, with the matrix vsm_plan listed") {
+    VsmLayout layout;
+    layout.page_texels = 16;
+    layout.virtual_texels = 256;
+    layout.level_count = 4;
+    layout.level0_extent_world = 8.0;
+    layout.pool_pages = 10;
+    VsmState s;
+    REQUIRE(vsm_state_init(layout, s).status == Status::Ok);
+    CHECK(vsm_slot_page(s, 0).status == Status::InvalidArgument);  // no plan yet
+    std::vector<VsmPageRequest> req = {{0, 8, 8}, {1, 8, 8}, {3, 2, 9}};
+    std::vector<VsmPageRender> pages(10);
+    VsmFrame f;
+    f.light_position = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+    f.requests = req.data();
+    f.request_count = req.size();
+    const VsmPlan plan = vsm_plan(s, f, pages.data(), pages.size());
+    REQUIRE(plan.count == 3);
+    CHECK(vsm_slot_page(s, 10).status == Status::InvalidArgument);
+    std::size_t resident = 0;
+    for (std::uint32_t slot = 0; slot < 10; ++slot) {
+        const VsmSlotPage sp = vsm_slot_page(s, slot);
+        REQUIRE(sp.status == Status::Ok);
+        resident += sp.resident;
+        if (!sp.resident) continue;
+        CHECK(sp.current);
+        CHECK(sp.on_window);
+        bool found = false;
+        for (std::size_t i = 0; i < plan.count; ++i)
+            if (pages[i].slot == slot) {
+                found = true;
+                CHECK(sp.page.level == pages[i].level);
+                CHECK(sp.page.x == pages[i].x);
+                CHECK(sp.page.y == pages[i].y);
+                CHECK(sp.page.atlas_x == pages[i].atlas_x);
+                CHECK(sp.page.atlas_y == pages[i].atlas_y);
+                CHECK(sp.page.view_proj == pages[i].view_proj);
+            }
+        CHECK(found);
+    }
+    CHECK(resident == 3);
+    // a caster over page (0, 8, 8) makes it (and its parents) stale: not current, still resident. Light
+    // straight down: the map's x is world z, its y world x; level 0's pages are 0.5 wide and the window
+    // starts 8 pages below the camera's (at 0), so page (8, 8) is world x, z in [0, 0.5)
+    VsmCasterMove mv;
+    const float box[6] = {0.1f, 0.0f, 0.1f, 0.2f, 1.0f, 0.2f};
+    std::memcpy(mv.previous_bounds, box, sizeof(box));
+    std::memcpy(mv.bounds, mv.previous_bounds, sizeof(mv.bounds));
+    f.requests = nullptr;
+    f.request_count = 0;
+    f.moved_casters = &mv;
+    f.moved_caster_count = 1;
+    const VsmPlan p2 = vsm_plan(s, f, pages.data(), pages.size());
+    REQUIRE(p2.status == Status::Ok);
+    std::size_t stale = 0;
+    for (std::uint32_t slot = 0; slot < 10; ++slot) {
+        const VsmSlotPage sp = vsm_slot_page(s, slot);
+        if (sp.resident && !sp.current) ++stale;
+    }
+    CHECK(stale == p2.invalidated);
+    CHECK(stale > 0);
 }

@@ -1,0 +1,244 @@
+// glsl/contact_shadow.glsl and hlsl/contact_shadow.hlsl RUN on Vulkan: the scene of
+// tests/gl/test_gl_contact_shadow.cpp (a floor and a box on it) is rendered into a VK_FORMAT_D32_SFLOAT
+// depth image by a [0, 1] camera with the negative-height viewport; a full-screen pass runs
+// sk_contact_shadow and sk_contact_shadow_aligned at every pixel (view position rebuilt by
+// sk_contact_view_position) with zero_to_one and the matrix whose NDC y runs with the stored rows
+// (flip_y * proj, the rule of docs/vulkan_and_direct3d.md); the read-back visibility must equal the CPU
+// mirrors contact_shadow_march / contact_shadow_march_aligned (ClipDepth::ZeroToOne, Float32) run on
+// the read-back depth on >= 99.9% of the pixels (the GL test's tolerance), and the box must occlude
+// part of the floor. No validation message.
+#include <doctest/doctest.h>
+
+#include <shadowkit/contact_shadow.hpp>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "vk_harness.hpp"
+#include "vk_passes.hpp"
+
+namespace {
+
+using skvk::Source;
+
+constexpr std::uint32_t kW = 256, kH = 192;
+
+const char* kSceneVs = R"(#version 450 core
+layout(push_constant) uniform P { mat4 vp; } pc;
+layout(location = 0) in vec3 a_position;
+void main() { gl_Position = pc.vp * vec4(a_position, 1.0); }
+)";
+const char* kFullscreenGlsl = R"(#version 450 core
+void main() {
+    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+const char* kPassGlsl = R"(
+layout(set = 0, binding = 0) uniform sampler2D u_depth;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 proj; mat4 inv_proj; vec4 view_light; vec4 march; } u;
+layout(location = 0) out vec2 o_v;   // x: sk_contact_shadow, y: sk_contact_shadow_aligned; -1: background
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    ivec2 size = textureSize(u_depth, 0);
+    float win = texelFetch(u_depth, px, 0).r;
+    if (win == 1.0) { o_v = vec2(-1.0); return; }
+    vec3 view_pos = sk_contact_view_position(u.inv_proj, size, px, win, true);
+    int steps = int(u.march.y);
+    o_v = vec2(sk_contact_shadow(u_depth, u.proj, view_pos, u.view_light, u.march.x, steps, 0.0, 0.0, true, 0.0),
+               sk_contact_shadow_aligned(u_depth, u.proj, view_pos, u.view_light, u.march.x, steps, 0.0, 0.0, true, 0.0));
+}
+)";
+const char* kPassHlsl = R"(
+[[vk::binding(0, 0)]] Texture2D<float> u_depth;
+struct Params { column_major float4x4 proj; column_major float4x4 inv_proj; float4 view_light; float4 march; };
+[[vk::binding(1, 0)]] ConstantBuffer<Params> u;
+float4 vs_main(uint id : SV_VertexID) : SV_Position {
+    float2 p = float2(float((id << 1) & 2), float(id & 2));
+    return float4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+float2 ps_main(float4 position : SV_Position) : SV_Target0 {
+    int2 px = int2(position.xy);
+    uint w, h;
+    u_depth.GetDimensions(w, h);
+    float win = u_depth.Load(int3(px, 0));
+    if (win == 1.0) return float2(-1.0, -1.0);
+    float3 view_pos = sk_contact_view_position(u.inv_proj, int2(w, h), px, win, true);
+    int steps = int(u.march.y);
+    return float2(sk_contact_shadow(u_depth, u.proj, view_pos, u.view_light, u.march.x, steps, 0.0, 0.0, true, 0.0),
+                  sk_contact_shadow_aligned(u_depth, u.proj, view_pos, u.view_light, u.march.x, steps, 0.0, 0.0, true, 0.0));
+}
+)";
+
+struct Params {
+    glm::mat4 proj, inv_proj;
+    glm::vec4 view_light, march;
+};
+
+void quad(std::vector<glm::vec3>& v, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    for (const glm::vec3& p : {a, b, c, a, c, d}) v.push_back(p);
+}
+
+void run_contact(Source lang) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const std::size_t before = skvk::message_count();
+    std::vector<std::uint32_t> scene_vs, vs, fs;
+    const char* entries[2] = {"main", "main"};
+    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "contact.scene.vert");
+    if (lang == Source::Glsl) {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/contact_shadow.glsl");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "contact.glsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kPassGlsl, "main",
+                                   "contact.glsl.frag");
+    } else {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/contact_shadow.hlsl");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kPassHlsl, "vs_main", "contact.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kPassHlsl, "ps_main", "contact.hlsl.frag");
+        entries[0] = "vs_main";
+        entries[1] = "ps_main";
+    }
+    // the GL test's scene: a floor and a box on it
+    const glm::vec3 l(-0.5f, 0.f, -0.4f), h(0.5f, 0.7f, 0.4f);
+    std::vector<glm::vec3> tris;
+    quad(tris, {-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6});
+    quad(tris, {l.x, h.y, l.z}, {l.x, h.y, h.z}, {h.x, h.y, h.z}, {h.x, h.y, l.z});
+    quad(tris, {l.x, l.y, h.z}, {h.x, l.y, h.z}, {h.x, h.y, h.z}, {l.x, h.y, h.z});
+    quad(tris, {l.x, l.y, l.z}, {l.x, h.y, l.z}, {h.x, h.y, l.z}, {h.x, l.y, l.z});
+    quad(tris, {h.x, l.y, l.z}, {h.x, h.y, l.z}, {h.x, h.y, h.z}, {h.x, l.y, h.z});
+    quad(tris, {l.x, l.y, l.z}, {l.x, l.y, h.z}, {l.x, h.y, h.z}, {l.x, h.y, l.z});
+    const glm::mat4 view = glm::lookAt(glm::vec3(2.2f, 2.0f, 3.2f), glm::vec3(0.0f, 0.2f, 0.0f), glm::vec3(0, 1, 0));
+    const glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 40.0f);
+    glm::mat4 flip(1.f);
+    flip[1][1] = -1.f;
+    const glm::mat4 proj_rows = flip * proj;  // NDC y runs with the rows the negative-height viewport stores
+    const glm::vec4 view_light = view * glm::vec4(glm::normalize(glm::vec3(-0.5f, 0.6f, -0.3f)), 0.f);
+    shadowkit::ContactShadowParams prm;
+    prm.length_world = 0.5f;
+    prm.max_steps = 32;
+    prm.depth_format = shadowkit::DepthFormat::Float32;
+    prm.clip_depth = shadowkit::ClipDepth::ZeroToOne;
+    const Params params{proj_rows, glm::inverse(proj_rows), view_light, glm::vec4(prm.length_world, float(prm.max_steps), 0.f, 0.f)};
+
+    skvk::Buffer vb, ubo;
+    REQUIRE(skvk::make_buffer(ctx, sizeof(glm::vec3) * tris.size(), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, tris.data(), sizeof(glm::vec3) * tris.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
+    std::memcpy(ubo.mapped, &params, sizeof params);
+    skvk::Image depth, target;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                             depth));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32_SFLOAT,
+                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
+    const VkImageLayout depth_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkRenderPass scene_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, depth_read);
+    VkFramebuffer scene_fb = skvk::make_framebuffer(ctx, scene_rp, {depth.view}, kW, kH);
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range;
+    VkPipelineLayout scene_layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &scene_layout) == VK_SUCCESS);
+    skvk::PipelineDesc sd;
+    sd.vs = scene_vs;
+    sd.vertex_stride = sizeof(glm::vec3);
+    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    std::string why;
+    VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, scene_layout, scene_rp, why);
+    REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
+
+    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, kW, kH);
+    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    skvk::DescriptorSet ds;
+    const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
+    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}}, ds));
+    skvk::write_image(ctx, ds, 0, tex, depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE, depth_read);
+    skvk::write_buffer(ctx, ds, 1, ubo);
+    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1;
+    li.pSetLayouts = &ds.layout;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    skvk::PipelineDesc pd;
+    pd.vs = vs;
+    pd.fs = fs;
+    pd.vs_entry = entries[0];
+    pd.fs_entry = entries[1];
+    pd.depth_test = pd.depth_write = false;
+    pd.color_count = 1;
+    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
+    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue far{};
+    far.depthStencil = {1.f, 0};
+    const glm::mat4 vp = proj * view;  // drawn with the negative-height viewport
+    skvk::draw_pass(cmd, scene_rp, scene_fb, kW, kH, {far}, scene_pipe, scene_layout, nullptr, &vp, vb.buffer,
+                    static_cast<std::uint32_t>(tris.size()), true);
+    VkClearValue zero{};
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    const std::vector<float> d = skvk::read_image(ctx, depth, depth_read, 1);
+    const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 2);
+    REQUIRE(d.size() == std::size_t(kW) * kH);
+
+    const glm::mat4 inv = glm::inverse(proj_rows);
+    std::size_t fg = 0, agree[2] = {0, 0}, occluded[2] = {0, 0};
+    for (std::uint32_t y = 0; y < kH; ++y)
+        for (std::uint32_t x = 0; x < kW; ++x) {
+            const std::size_t k = std::size_t(y) * kW + x;
+            if (d[k] == 1.f) continue;
+            ++fg;
+            const glm::vec2 ndc = (glm::vec2(float(x), float(y)) + 0.5f) / glm::vec2(float(kW), float(kH)) * 2.0f - 1.0f;
+            const glm::vec4 c = inv * glm::vec4(ndc, d[k], 1.f);
+            const glm::vec3 view_pos = glm::vec3(c) / c.w;
+            const shadowkit::ContactShadowResult a =
+                shadowkit::contact_shadow_march(d.data(), d.size(), int(kW), int(kH), proj_rows, view_pos, view_light, prm);
+            const shadowkit::ContactShadowResult b =
+                shadowkit::contact_shadow_march_aligned(d.data(), d.size(), int(kW), int(kH), proj_rows, view_pos, view_light, prm);
+            agree[0] += a.status == shadowkit::Status::Ok && a.visibility == gpu[2 * k];
+            agree[1] += b.status == shadowkit::Status::Ok && b.visibility == gpu[2 * k + 1];
+            occluded[0] += gpu[2 * k] == 0.f;
+            occluded[1] += gpu[2 * k + 1] == 0.f;
+        }
+    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << ": " << fg << " foreground pixels; march agrees with its CPU mirror on "
+                                                    << agree[0] << " (" << occluded[0] << " occluded), aligned march on " << agree[1]
+                                                    << " (" << occluded[1] << " occluded)");
+    CHECK(fg > kW * kH / 2);
+    CHECK(double(agree[0]) >= 0.999 * double(fg));
+    CHECK(double(agree[1]) >= 0.999 * double(fg));
+    CHECK(occluded[0] > fg / 50);
+    CHECK(occluded[1] > fg / 50);
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+
+    vkDestroyPipeline(ctx.device, pipe, nullptr);
+    vkDestroyPipeline(ctx.device, scene_pipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyPipelineLayout(ctx.device, scene_layout, nullptr);
+    vkDestroySampler(ctx.device, nearest, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    vkDestroyFramebuffer(ctx.device, scene_fb, nullptr);
+    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    vkDestroyRenderPass(ctx.device, scene_rp, nullptr);
+    skvk::destroy(ctx, ds);
+    skvk::destroy(ctx, depth);
+    skvk::destroy(ctx, target);
+    skvk::destroy(ctx, vb);
+    skvk::destroy(ctx, ubo);
+}
+
+}  // namespace
+
+TEST_CASE("contact_shadow.glsl on Vulkan: both marches on a [0,1] depth image equal their CPU mirrors") {
+    run_contact(Source::Glsl);
+}
+
+TEST_CASE("HLSL contact_shadow.hlsl on Vulkan: both marches on a [0,1] depth image equal their CPU mirrors") {
+    run_contact(Source::Hlsl);
+}

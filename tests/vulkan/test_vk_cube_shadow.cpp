@@ -1,0 +1,260 @@
+// A point light's cube map of hardware depth on Vulkan, read by glsl/shadow_map.glsl's and
+// hlsl/shadow_map.hlsl's sk_cube_visibility_hardware_depth: the six faces rendered by the rasterizer
+// into a cube-compatible VK_FORMAT_D32_SFLOAT image with GL's face matrices (the lookAt frames of the
+// GL cube-map convention) and a [0, 1] projection (glm::perspectiveRH_ZO: the same window depth the
+// snippet's GL formula computes), with a plain viewport; the e2e scene's CPU ray cast as reference
+// (>= 99.5% of the receiver pixels away from shadow edges). Control: the faces drawn with the
+// negative-height viewport (the camera's y flip carried over to the cube) are mirrored and disagree.
+#include <doctest/doctest.h>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "vk_harness.hpp"
+#include "vk_passes.hpp"
+#include "vk_scene.hpp"
+
+namespace {
+
+using skvk::Source;
+
+const char* kDepthGlsl = R"(#version 450 core
+layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
+layout(location = 0) in vec3 a_position;
+void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
+)";
+const char* kReceiverGlslVs = R"(#version 450 core
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 planes; } u;
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = u.view_proj * vec4(a_position, 1.0);
+}
+)";
+const char* kReceiverGlslFs = R"(
+layout(set = 0, binding = 0) uniform samplerCubeShadow u_cube;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 planes; } u;
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out float o_visibility;
+layout(location = 1) out vec4 o_world;
+layout(location = 2) out vec4 o_normal;
+void main() {
+    o_visibility = sk_cube_visibility_hardware_depth(u_cube, u.light_position, v_world, u.planes.x, u.planes.y, u.planes.z);
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+)";
+const char* kReceiverHlsl = R"(
+struct Params { column_major float4x4 view_proj; float4 light_position; float4 planes; };
+[[vk::binding(0, 0)]] TextureCube<float> u_cube;
+[[vk::binding(1, 0)]] ConstantBuffer<Params> u;
+[[vk::binding(2, 0)]] SamplerComparisonState u_compare;
+struct Varyings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    [[vk::location(1)]] float3 normal : TEXCOORD1;
+};
+Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    Varyings o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(u.view_proj, float4(position, 1.0));
+    return o;
+}
+struct Targets {
+    [[vk::location(0)]] float visibility : SV_Target0;
+    [[vk::location(1)]] float4 world : SV_Target1;
+    [[vk::location(2)]] float4 normal : SV_Target2;
+};
+Targets ps_main(Varyings i) {
+    Targets o;
+    o.visibility = sk_cube_visibility_hardware_depth(u_cube, u_compare, u.light_position, i.world, u.planes.x, u.planes.y,
+                                                     u.planes.z);
+    o.world = float4(i.world, 1.0);
+    o.normal = float4(normalize(i.normal), 0.0);
+    return o;
+}
+)";
+
+constexpr std::uint32_t kFace = 512, kW = 320, kH = 240;
+constexpr float kNear = 0.1f, kFar = 20.f;
+
+struct Params {
+    glm::mat4 view_proj;
+    glm::vec4 light_position, planes;
+};
+
+// GL's cube-map face frames (+X, -X, +Y, -Y, +Z, -Z), 90-degree faces in [0, 1] depth.
+void face_matrices(glm::vec3 L, glm::mat4 out[6]) {
+    const glm::vec3 dir[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const glm::vec3 up[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    const glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(90.f), 1.f, kNear, kFar);
+    for (int f = 0; f < 6; ++f) out[f] = proj * glm::lookAt(L, L + dir[f], up[f]);
+}
+
+skvk::Agreement run(Source lang, bool flipped_faces) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const skvk::BoxScene scene;
+    const glm::vec4 light(scene.light, 1.f);
+    glm::mat4 faces[6];
+    face_matrices(scene.light, faces);
+    const glm::mat4 cam = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f) *
+                          glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
+    const Params params{cam, light, glm::vec4(kNear, kFar, 1e-4f, 0.f)};
+
+    std::vector<std::uint32_t> depth_vs, vs, fs;
+    const char* vs_entry = "main";
+    const char* fs_entry = "main";
+    depth_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "cube.depth.vert");
+    if (lang == Source::Glsl) {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "cube.glsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kReceiverGlslFs, "main",
+                                   "cube.glsl.frag");
+    } else {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_map.hlsl");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "cube.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kReceiverHlsl, "ps_main", "cube.hlsl.frag");
+        vs_entry = "vs_main";
+        fs_entry = "ps_main";
+    }
+
+    skvk::Buffer vb, ubo;
+    const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
+    REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
+    std::memcpy(ubo.mapped, &params, sizeof params);
+
+    skvk::Image cube, vis, world, normal, depth;
+    REQUIRE(skvk::make_image(ctx, kFace, kFace, 6, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cube, false, true));
+    const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    std::vector<VkFramebuffer> map_fb;
+    for (int f = 0; f < 6; ++f) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace));
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range;
+    VkPipelineLayout map_layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
+    skvk::PipelineDesc md;
+    md.vs = depth_vs;
+    md.vertex_stride = sizeof(skvk::SceneVertex);
+    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    md.depth_bias = true;
+    md.bias_slope = 1.5f;
+    md.bias_constant = 2.f;
+    std::string why;
+    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
+    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
+    VkRenderPass rp = skvk::make_render_pass(
+        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
+        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
+    skvk::DescriptorSet ds;
+    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    if (lang == Source::Glsl) {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cube.view, sampler, map_read);
+    } else {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
+                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, cube.view, VK_NULL_HANDLE, map_read);
+        skvk::write_sampler(ctx, ds, 2, sampler);
+    }
+    skvk::write_buffer(ctx, ds, 1, ubo);
+    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1;
+    li.pSetLayouts = &ds.layout;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    skvk::PipelineDesc pd;
+    pd.vs = vs;
+    pd.fs = fs;
+    pd.vs_entry = vs_entry;
+    pd.fs_entry = fs_entry;
+    pd.vertex_stride = sizeof(skvk::SceneVertex);
+    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    pd.color_count = 3;
+    pd.cull = VK_CULL_MODE_BACK_BIT;
+    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
+    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue far{};
+    far.depthStencil = {1.f, 0};
+    for (int f = 0; f < 6; ++f)
+        skvk::draw_pass(cmd, map_rp, map_fb[std::size_t(f)], kFace, kFace, {far}, map_pipe, map_layout, nullptr, &faces[f],
+                        vb.buffer, vcount, flipped_faces);
+    VkClearValue zero{};
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+
+    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
+    const skvk::Agreement a = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+
+    vkDestroyPipeline(ctx.device, pipe, nullptr);
+    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
+    vkDestroySampler(ctx.device, sampler, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
+    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
+    skvk::destroy(ctx, ds);
+    for (skvk::Image* i : {&cube, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, vb);
+    skvk::destroy(ctx, ubo);
+    return a;
+}
+
+void check(Source lang) {
+    const std::size_t before = skvk::message_count();
+    const skvk::Agreement a = run(lang, false);
+    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << " cube: compared " << a.compared << " (lit " << a.lit << ", shadowed "
+                                                    << a.shadowed << "), agreement " << a.fraction());
+    CHECK(a.compared > int(kW * kH) / 4);
+    CHECK(a.shadowed > a.compared / 50);
+    CHECK(a.fraction() >= 0.995);
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+}
+
+}  // namespace
+
+TEST_CASE("shadow_map.glsl's cube lookup on Vulkan: GL's face matrices, [0,1] faces, plain viewport agree with the ray cast") {
+    check(Source::Glsl);
+}
+
+TEST_CASE("cube faces on Vulkan, control: drawn with the negative-height viewport they are mirrored and disagree") {
+    const skvk::Agreement a = run(Source::Glsl, true);
+    MESSAGE("faces drawn y-flipped: agreement " << a.fraction() << " of " << a.compared);
+    CHECK(a.fraction() < 0.95);
+}
+
+TEST_CASE("HLSL shadow_map.hlsl's cube lookup on Vulkan: GL's face matrices, [0,1] faces, plain viewport agree with the ray cast") {
+    check(Source::Hlsl);
+}

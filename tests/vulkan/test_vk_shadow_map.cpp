@@ -1,0 +1,422 @@
+// glsl/shadow_map.glsl and hlsl/shadow_map.hlsl RUN on Vulkan (lavapipe in CI), against the CPU ray
+// cast of tests/gl/test_gl_shadow_map_e2e.cpp with its tolerance (>= 99.5% of receiver pixels away
+// from shadow edges agree). The light's matrix is shadowkit::light_frustum_fit's with
+// ClipDepth::ZeroToOne, standard and reversed-Z; Vulkan's y-down NDC is met both ways, a
+// negative-height viewport and a projection flip, in the map pass and the camera pass; the lookups
+// are sk_shadow_map_visibility (slope-scaled depth bias in the map pass) and
+// sk_shadow_map_visibility_auto (no bias). Each source is compiled to SPIR-V by glslang and checked by
+// spirv-val; the validation layer must report nothing. A control: a map drawn with the viewport flip
+// but looked up with the unflipped matrix disagrees (the y rule is what makes the others pass).
+#include <doctest/doctest.h>
+
+#include <shadowkit/light_frustum.hpp>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "vk_harness.hpp"
+#include "vk_passes.hpp"
+#include "vk_scene.hpp"
+
+namespace {
+
+using skvk::Source;
+using skvk::compile_checked;
+using skvk::read_text;
+
+// ---------------------------------------------------------------------------------------- drivers
+// The map pass: position only, the matrix in push constants.
+const char* kDepthGlsl = R"(#version 450 core
+layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
+layout(location = 0) in vec3 a_position;
+void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
+)";
+const char* kDepthHlsl = R"(
+struct DepthParams { column_major float4x4 light_view_proj; };
+[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
+float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
+    return mul(pc.light_view_proj, float4(position, 1.0));
+}
+)";
+
+// The receiver pass: visibility + G-buffer (world position, normal); the map at binding 0 (GLSL: a
+// combined image sampler; HLSL: a texture at 0 and its comparison sampler at 2), the matrices in a
+// uniform buffer at binding 1.
+const char* kReceiverGlslVs = R"(#version 450 core
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 light_view_proj; vec4 mode; } u;
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = u.view_proj * vec4(a_position, 1.0);
+}
+)";
+const char* kReceiverGlslFs = R"(
+layout(set = 0, binding = 0) uniform sampler2DShadow u_shadow_map;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 light_view_proj; vec4 mode; } u;
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out float o_visibility;
+layout(location = 1) out vec4 o_world;
+layout(location = 2) out vec4 o_normal;
+void main() {
+    o_visibility = u.mode.x > 0.5
+        ? sk_shadow_map_visibility_auto(u_shadow_map, u.light_view_proj, v_world, v_normal, true, 0.0, 0.0)
+        : sk_shadow_map_visibility(u_shadow_map, u.light_view_proj, v_world, true, 0.0, 0.0);
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+)";
+const char* kReceiverHlsl = R"(
+struct Params { column_major float4x4 view_proj; column_major float4x4 light_view_proj; float4 mode; };
+[[vk::binding(0, 0)]] Texture2D<float> u_shadow_map;
+[[vk::binding(1, 0)]] ConstantBuffer<Params> u;
+[[vk::binding(2, 0)]] SamplerComparisonState u_compare;
+struct Varyings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    [[vk::location(1)]] float3 normal : TEXCOORD1;
+};
+Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    Varyings o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(u.view_proj, float4(position, 1.0));
+    return o;
+}
+struct Targets {
+    [[vk::location(0)]] float visibility : SV_Target0;
+    [[vk::location(1)]] float4 world : SV_Target1;
+    [[vk::location(2)]] float4 normal : SV_Target2;
+};
+Targets ps_main(Varyings i) {
+    Targets o;
+    o.visibility = u.mode.x > 0.5
+        ? sk_shadow_map_visibility_auto(u_shadow_map, u_compare, u.light_view_proj, i.world, i.normal, true, 0.0, 0.0)
+        : sk_shadow_map_visibility(u_shadow_map, u_compare, u.light_view_proj, i.world, true, 0.0, 0.0);
+    o.world = float4(i.world, 1.0);
+    o.normal = float4(normalize(i.normal), 0.0);
+    return o;
+}
+)";
+
+// ---------------------------------------------------------------------------------------- one run
+enum class YFlip { Viewport, Projection };
+
+struct Variant {
+    Source lang = Source::Glsl;
+    bool reversed = false;
+    YFlip flip = YFlip::Viewport;
+    bool auto_bias = false;
+    bool wrong_lookup = false;  ///< control: the viewport-flipped map looked up with the unflipped matrix
+};
+
+std::string name_of(const Variant& v) {
+    std::string s = v.lang == Source::Glsl ? "GLSL" : "HLSL";
+    s += v.reversed ? ", reversed-Z" : ", standard depth";
+    s += v.flip == YFlip::Viewport ? ", viewport flip" : ", projection flip";
+    s += v.auto_bias ? ", automatic bias" : ", depth bias";
+    if (v.wrong_lookup) s += ", unflipped lookup (control)";
+    return s;
+}
+
+constexpr std::uint32_t kMap = 1024, kW = 320, kH = 240;
+
+// Vulkan's depth convention on a [0, 1] projection: reversed-Z maps z -> w - z (1 at near).
+glm::mat4 reverse_z() {
+    glm::mat4 r(1.f);
+    r[2][2] = -1.f;
+    r[3][2] = 1.f;
+    return r;
+}
+glm::mat4 flip_y() {
+    glm::mat4 f(1.f);
+    f[1][1] = -1.f;
+    return f;
+}
+
+struct Camera {
+    glm::mat4 view, proj;
+};
+Camera camera(bool reversed) {
+    Camera c;
+    c.view = glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
+    c.proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
+    if (reversed) c.proj = reverse_z() * c.proj;
+    return c;
+}
+
+// The light's matrix from the headers: the point light's frustum fitted to the camera's view of the
+// scene, in [0, 1] depth (reversed or not).
+glm::mat4 light_matrix(const skvk::BoxScene& s, const Camera& cam, bool reversed) {
+    shadowkit::LightFrustumInput in;
+    in.camera_view = cam.view;
+    in.camera_proj = cam.proj;
+    in.camera_depth = shadowkit::ClipDepth::ZeroToOne;
+    in.camera_reversed_z = reversed;
+    in.has_scene_bounds = true;
+    in.scene_min = glm::vec3(-s.ground_half, 0.f, -s.ground_half);
+    in.scene_max = glm::vec3(s.ground_half, s.box_c.y + s.box_h.y, s.ground_half);
+    in.light_position = glm::vec4(s.light, 1.f);
+    const glm::vec3 lo = s.box_c - s.box_h, hi = s.box_c + s.box_h;
+    const float boxes[12] = {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, -3.f, 0.f, -3.f, 3.f, 0.f, 3.f};
+    in.casters = boxes;
+    in.caster_count = 2;
+    in.light_depth = shadowkit::ClipDepth::ZeroToOne;
+    in.light_reversed_z = reversed;
+    std::uint32_t keep[2];
+    const shadowkit::LightFrustumResult r = shadowkit::light_frustum_fit(in, keep, 2);
+    REQUIRE_MESSAGE(r.status == shadowkit::Status::Ok, shadowkit::status_name(r.status));
+    REQUIRE(r.visible);
+    CHECK(r.count == 2);
+    return r.view_proj;
+}
+
+struct Shaders {
+    std::vector<std::uint32_t> depth_vs, vs, fs;
+    const char* vs_entry = "main";
+    const char* fs_entry = "main";
+};
+
+Shaders shaders(Source lang, bool reversed) {
+    const std::string define = reversed ? "#define SK_REVERSED_Z 1\n" : "";
+    const std::string tag = std::string(reversed ? "reversed" : "standard");
+    Shaders s;
+    if (lang == Source::Glsl) {
+        const std::string snippet = read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
+        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "shadow_map.glsl.depth.vert");
+        s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "shadow_map.glsl.vert");
+        s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kReceiverGlslFs,
+                               "main", "shadow_map.glsl." + tag + ".frag");
+    } else {
+        const std::string snippet = read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_map.hlsl");
+        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthHlsl, "main", "shadow_map.hlsl.depth.vert");
+        s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "shadow_map.hlsl.vert");
+        s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + kReceiverHlsl, "ps_main",
+                               "shadow_map.hlsl." + tag + ".frag");
+        s.vs_entry = "vs_main";
+        s.fs_entry = "ps_main";
+    }
+    return s;
+}
+
+struct RunResult {
+    skvk::Agreement agreement;
+    int upright_checked = 0, upright_ok = 0;  ///< probe points found where the upright image has them
+    std::size_t covered = 0;                  ///< pixels with geometry
+};
+
+RunResult run(const Variant& v) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const skvk::BoxScene scene;
+    const Camera cam = camera(v.reversed);
+    const glm::mat4 light_vp = light_matrix(scene, cam, v.reversed);
+    const bool vflip = v.flip == YFlip::Viewport;
+    // what the map pass draws with, and what the lookup gets: the matrix whose NDC y maps to the
+    // map's rows as stored (v = y * 0.5 + 0.5): a viewport-flipped map needs flip_y * light_vp
+    const glm::mat4 map_vp = vflip ? light_vp : flip_y() * light_vp;
+    const glm::mat4 lookup_vp = v.wrong_lookup ? light_vp : flip_y() * light_vp;
+    const glm::mat4 cam_vp = (vflip ? glm::mat4(1.f) : flip_y()) * cam.proj * cam.view;
+    const Shaders sh = shaders(v.lang, v.reversed);
+
+    skvk::Buffer vb, ubo;
+    const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
+    struct Params {
+        glm::mat4 view_proj, light_view_proj;
+        glm::vec4 mode;
+    } params{cam_vp, lookup_vp, glm::vec4(v.auto_bias ? 1.f : 0.f, 0.f, 0.f, 0.f)};
+    REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
+    std::memcpy(ubo.mapped, &params, sizeof params);
+
+    // map pass: depth only, D32_SFLOAT, cleared to the far value, slope-scaled bias for the plain lookup
+    skvk::Image map, vis, world, normal, depth;
+    REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, map));
+    const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkFramebuffer map_fb = skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap);
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range;
+    VkPipelineLayout map_layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
+    skvk::PipelineDesc md;
+    md.vs = sh.depth_vs;
+    md.vertex_stride = sizeof(skvk::SceneVertex);
+    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    md.depth_compare = v.reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
+    md.depth_bias = !v.auto_bias;  // the GL test's glPolygonOffset(1.5, 2); reversed-Z pushes the other way
+    md.bias_slope = v.reversed ? -1.5f : 1.5f;
+    md.bias_constant = v.reversed ? -2.f : 2.f;
+    std::string why;
+    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
+    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+
+    // receiver pass: visibility R32F, world and normal RGBA32F, depth D32_SFLOAT
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
+    VkRenderPass rp = skvk::make_render_pass(
+        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
+        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    // the comparison sampler: LEQUAL (GEQUAL reversed), linear: the hardware 2x2 filter, as on GL
+    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
+                                           v.reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
+    skvk::DescriptorSet ds;
+    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    if (v.lang == Source::Glsl) {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, map.view, sampler, map_read);
+    } else {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
+                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, map.view, VK_NULL_HANDLE, map_read);
+        skvk::write_sampler(ctx, ds, 2, sampler);
+    }
+    skvk::write_buffer(ctx, ds, 1, ubo);
+    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1;
+    li.pSetLayouts = &ds.layout;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    skvk::PipelineDesc pd;
+    pd.vs = sh.vs;
+    pd.fs = sh.fs;
+    pd.vs_entry = sh.vs_entry;
+    pd.fs_entry = sh.fs_entry;
+    pd.vertex_stride = sizeof(skvk::SceneVertex);
+    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    pd.depth_compare = v.reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
+    pd.color_count = 3;
+    // back faces culled, GL's counter-clockwise front faces: both flips draw the upright image, so both
+    // keep them (measured: VK_FRONT_FACE_CLOCKWISE with the projection flip culled the visible faces,
+    // 112 receiver pixels left of 41,338); only the unflipped GL matrix (an upside-down image) needs CW
+    pd.cull = VK_CULL_MODE_BACK_BIT;
+    pd.front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
+    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue far{};
+    far.depthStencil = {v.reversed ? 0.f : 1.f, 0};
+    skvk::draw_pass(cmd, map_rp, map_fb, kMap, kMap, {far}, map_pipe, map_layout, nullptr, &map_vp, vb.buffer, vcount, vflip);
+    VkClearValue zero{};
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, vflip);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+
+    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
+
+    RunResult out;
+    out.agreement = skvk::compare_with_ray_cast(scene, glm::vec4(scene.light, 1.f), &light_vp, int(kW), int(kH), v_vis,
+                                                 v_world, v_normal);
+    for (std::size_t k = 0; k < v_vis.size(); ++k) out.covered += v_world[k * 4 + 3] != 0.f;
+    // upright: probe points projected with the GL convention (window y up) must be found at row
+    // h - 1 - y of the read-back image (row 0 = top, as a presented image shows it)
+    const glm::mat4 gl_vp = cam.proj * cam.view;
+    for (const glm::vec3 p : {glm::vec3(0.f, 1.1f, 0.f), glm::vec3(-2.f, 0.f, 1.f), glm::vec3(2.f, 0.f, -2.f),
+                              glm::vec3(0.5f, 0.f, 2.5f)}) {
+        const glm::vec4 c = gl_vp * glm::vec4(p, 1.f);
+        const int x = int((c.x / c.w * 0.5f + 0.5f) * float(kW)), y_up = int((c.y / c.w * 0.5f + 0.5f) * float(kH));
+        const auto k = static_cast<std::size_t>((int(kH) - 1 - y_up) * int(kW) + x);
+        ++out.upright_checked;
+        const glm::vec3 got(v_world[k * 4], v_world[k * 4 + 1], v_world[k * 4 + 2]);
+        out.upright_ok += v_world[k * 4 + 3] != 0.f && glm::length(got - p) < 0.1f;
+    }
+
+    vkDestroyPipeline(ctx.device, pipe, nullptr);
+    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
+    vkDestroySampler(ctx.device, sampler, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    vkDestroyFramebuffer(ctx.device, map_fb, nullptr);
+    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
+    skvk::destroy(ctx, ds);
+    for (skvk::Image* i : {&map, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, vb);
+    skvk::destroy(ctx, ubo);
+    return out;
+}
+
+void check_all_variants(Source lang) {
+    for (bool reversed : {false, true})
+        for (YFlip flip : {YFlip::Viewport, YFlip::Projection})
+            for (bool auto_bias : {false, true}) {
+                Variant v;
+                v.lang = lang;
+                v.reversed = reversed;
+                v.flip = flip;
+                v.auto_bias = auto_bias;
+                const std::size_t before = skvk::message_count();
+                const RunResult r = run(v);
+                const skvk::Agreement& a = r.agreement;
+                INFO(name_of(v));
+                MESSAGE(name_of(v) << ": compared " << a.compared << " (lit " << a.lit << ", shadowed " << a.shadowed
+                                   << "), agreement " << a.fraction() << ", upright probes " << r.upright_ok << "/"
+                                   << r.upright_checked);
+                CHECK(a.compared > int(kW * kH) / 4);
+                CHECK(a.shadowed > a.compared / 50);
+                CHECK(a.lit > a.compared / 4);
+                CHECK(a.fraction() >= 0.995);
+                CHECK(r.upright_ok == r.upright_checked);
+                CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+            }
+}
+
+}  // namespace
+
+TEST_CASE("shadow_map.glsl on Vulkan: [0,1] depth, reversed-Z, both y flips, both biases agree with the ray cast") {
+    MESSAGE("device: " << skvk::vk_test_context().device_name);
+    check_all_variants(Source::Glsl);
+}
+
+TEST_CASE("shadow_map.glsl on Vulkan, control: a viewport-flipped map read with the unflipped matrix disagrees") {
+    Variant v;
+    v.wrong_lookup = true;
+    const RunResult r = run(v);
+    MESSAGE(name_of(v) << ": agreement " << r.agreement.fraction() << " of " << r.agreement.compared);
+    CHECK(r.agreement.compared > int(kW * kH) / 4);
+    CHECK(r.agreement.fraction() < 0.95);
+}
+
+TEST_CASE("the validation layer's messages are counted (the zero-message check can fail)") {
+    skvk::Context& ctx = skvk::vk_test_context();
+    REQUIRE(ctx.validation);
+    const std::size_t before = skvk::message_count();
+    // anisotropic filtering without the samplerAnisotropy feature enabled: a valid-usage error
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.anisotropyEnable = VK_TRUE;
+    si.maxAnisotropy = 4.f;
+    VkSampler s = VK_NULL_HANDLE;
+    vkCreateSampler(ctx.device, &si, nullptr, &s);
+    if (s) vkDestroySampler(ctx.device, s, nullptr);
+    const std::size_t provoked = skvk::message_count() - before;
+    MESSAGE("messages for the misused sampler: " << provoked);
+    CHECK(provoked >= 1);
+    skvk::expect_messages(provoked);
+}
+
+TEST_CASE("HLSL shadow_map.hlsl on Vulkan: [0,1] depth, reversed-Z, both y flips, both biases agree with the ray cast") {
+    check_all_variants(Source::Hlsl);
+}

@@ -1,0 +1,338 @@
+// Stencil shadow volumes on Vulkan: glsl/shadow_volume.glsl's and hlsl/shadow_volume.hlsl's
+// sk_extrude_shadow_volume in the volume pass, the volume from include/shadowkit/shadow_volume.hpp
+// (volume_build_vertices, side quads of every lit triangle's edges, VolumeCapMode::LitOnly caps with
+// the dark cap: z-fail), the box of the e2e scene as occluder and a point light. One render pass: the
+// scene's depth (reversed-Z, [0, 1]) and G-buffer, then the volumes with two-sided z-fail stencil
+// (back faces INCREMENT_AND_WRAP, front faces DECREMENT_AND_WRAP on depth fail, depth writes and
+// colour writes off, no culling, counter-clockwise front faces under the negative-height viewport).
+// Depth at infinity two ways: shadowkit::projection_perspective_infinite (ClipDepth::ZeroToOne,
+// reversed-Z, its Everitt-Kilgard epsilon) without clamping, and a finite far plane (10, just beyond
+// the scene) with depthClampEnable (where the device has depthClamp). The stencil read back must be 0 or 1 on every
+// receiver pixel, and stencil == 0 (lit) must agree with the CPU ray cast on >= 99.5% of them (the
+// e2e test's tolerance). Controls: the two faces' operations swapped give wrapped counts (255); the
+// finite far plane without the clamp clips the dark cap and loses shadow.
+#include <doctest/doctest.h>
+
+#include <shadowkit/infinite_projection.hpp>
+#include <shadowkit/shadow_volume.hpp>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "vk_harness.hpp"
+#include "vk_passes.hpp"
+#include "vk_scene.hpp"
+
+namespace {
+
+using skvk::Source;
+
+const char* kSceneVs = R"(#version 450 core
+layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; } pc;
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = pc.view_proj * vec4(a_position, 1.0);
+}
+)";
+const char* kSceneFs = R"(#version 450 core
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out vec4 o_world;
+layout(location = 1) out vec4 o_normal;
+void main() {
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+)";
+const char* kVolumeGlsl = R"(
+layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; } pc;
+layout(location = 0) in vec4 a_position;   // (p, 1) or (p, 0): shadowkit::volume_build_vertices
+void main() { gl_Position = pc.view_proj * sk_extrude_shadow_volume(a_position, pc.light_position); }
+)";
+const char* kVolumeHlsl = R"(
+struct Push { column_major float4x4 view_proj; float4 light_position; };
+[[vk::push_constant]] ConstantBuffer<Push> pc;
+float4 vs_volume([[vk::location(0)]] float4 position : POSITION) : SV_Position {
+    return mul(pc.view_proj, sk_extrude_shadow_volume(position, pc.light_position));
+}
+)";
+
+struct PushConstants {
+    glm::mat4 view_proj;
+    glm::vec4 light_position;
+};
+
+constexpr std::uint32_t kW = 320, kH = 240;
+
+// The box as an indexed, closed mesh (counter-clockwise from outside) and its z-fail volume.
+struct Volume {
+    std::vector<glm::vec4> vertices;
+    std::vector<std::uint32_t> indices;
+};
+
+Volume build_volume(const skvk::BoxScene& s, glm::vec4 light) {
+    // the box's triangles exactly as the scene pass draws them (vertices 6.. of the scene, the same
+    // corners, order and diagonals), indexed over its 8 corners: the light caps then rasterize to the
+    // very depths of the lit faces they lie on, so the z-fail depth test fails on them as it must
+    std::vector<glm::vec3> p;
+    std::vector<std::uint32_t> tris;
+    for (std::size_t k = 6; k < s.vertices.size(); ++k) {
+        const glm::vec3 q = s.vertices[k].position;
+        std::size_t i = 0;
+        while (i < p.size() && p[i] != q) ++i;
+        if (i == p.size()) p.push_back(q);
+        tris.push_back(static_cast<std::uint32_t>(i));
+    }
+    REQUIRE(p.size() == 8);
+    std::vector<std::uint8_t> lit(tris.size() / 3);
+    std::vector<std::uint32_t> edges;
+    for (std::size_t t = 0; t < lit.size(); ++t) {
+        const glm::vec3 a = p[tris[3 * t]], b = p[tris[3 * t + 1]], c = p[tris[3 * t + 2]];
+        const glm::vec3 n = glm::cross(b - a, c - a);
+        lit[t] = glm::dot(n, glm::vec3(light) - light.w * (a + b + c) / 3.f) > 0.f;
+        if (!lit[t]) continue;
+        for (int e = 0; e < 3; ++e) {  // every lit triangle's edges: shared ones cancel in the count
+            edges.push_back(tris[3 * t + std::size_t(e)]);
+            edges.push_back(tris[3 * t + std::size_t((e + 1) % 3)]);
+        }
+    }
+    Volume v;
+    v.vertices.resize(16);
+    REQUIRE(shadowkit::volume_build_vertices(p.data(), 8, v.vertices.data(), v.vertices.size()).status == shadowkit::Status::Ok);
+    v.indices.resize(shadowkit::volume_indices_capacity(edges.size(), tris.size()));
+    const shadowkit::VolumeBuffer sides =
+        shadowkit::volume_build_side_quads(edges.data(), edges.size(), 8, v.indices.data(), v.indices.size());
+    REQUIRE(sides.status == shadowkit::Status::Ok);
+    const shadowkit::VolumeBuffer caps =
+        shadowkit::volume_build_caps(tris.data(), tris.size(), lit.data(), lit.size(), 8, shadowkit::VolumeCapMode::LitOnly, true,
+                                     v.indices.data() + sides.count, v.indices.size() - sides.count);
+    REQUIRE(caps.status == shadowkit::Status::Ok);
+    v.indices.resize(sides.count + caps.count);
+    return v;
+}
+
+struct Variant {
+    Source lang = Source::Glsl;
+    bool clamp = false;    ///< finite far plane + depthClampEnable instead of the infinite projection
+    bool swapped = false;  ///< control: the faces' stencil operations swapped
+    bool clamp_off = false;  ///< control: the finite far plane without depthClampEnable
+};
+
+struct Result {
+    skvk::Agreement agreement;
+    int zero = 0, one = 0, other = 0;  ///< stencil values on receiver pixels
+};
+
+VkFormat depth_stencil_format(skvk::Context& ctx) {
+    for (VkFormat f : {VK_FORMAT_D32_SFLOAT_S8_UINT, VK_FORMAT_D24_UNORM_S8_UINT}) {
+        VkFormatProperties fp;
+        vkGetPhysicalDeviceFormatProperties(ctx.physical, f, &fp);
+        if (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT) return f;
+    }
+    return VK_FORMAT_UNDEFINED;
+}
+
+Result run(const Variant& v) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const skvk::BoxScene scene;
+    const glm::vec4 light(scene.light, 1.f);
+    const float fovy = 0.9f, aspect = float(kW) / float(kH);
+    shadowkit::ProjectionResult pr;
+    if (v.clamp) {
+        pr = shadowkit::projection_perspective_finite(fovy, aspect, 0.1f, 10.f, shadowkit::ClipDepth::ZeroToOne, true);
+    } else {
+        const float eps = shadowkit::projection_infinite_epsilon_bound(fovy, aspect, shadowkit::ClipDepth::ZeroToOne, true,
+                                                                       shadowkit::DepthFormat::Float32)
+                              .epsilon;
+        pr = shadowkit::projection_perspective_infinite(fovy, aspect, 0.1f, shadowkit::ClipDepth::ZeroToOne, true, eps);
+    }
+    REQUIRE(pr.status == shadowkit::Status::Ok);
+    const glm::mat4 view = glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
+    const PushConstants push{pr.matrix * view, light};
+    const Volume volume = build_volume(scene, light);
+
+    std::vector<std::uint32_t> scene_vs, scene_fs, volume_vs;
+    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "shadow_volume.scene.vert");
+    scene_fs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_FRAGMENT_BIT, kSceneFs, "main", "shadow_volume.scene.frag");
+    const char* entry = "main";
+    if (v.lang == Source::Glsl) {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl");
+        volume_vs = skvk::compile_checked(v.lang, VK_SHADER_STAGE_VERTEX_BIT, "#version 450 core\n" + snippet + kVolumeGlsl,
+                                          "main", "shadow_volume.glsl.vert");
+    } else {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_volume.hlsl");
+        volume_vs = skvk::compile_checked(v.lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kVolumeHlsl, "vs_volume",
+                                          "shadow_volume.hlsl.vert");
+        entry = "vs_volume";
+    }
+
+    skvk::Buffer vb, volume_vb, volume_ib;
+    const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
+    REQUIRE(skvk::make_buffer(ctx, sizeof(glm::vec4) * volume.vertices.size(), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, volume_vb));
+    std::memcpy(volume_vb.mapped, volume.vertices.data(), sizeof(glm::vec4) * volume.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(std::uint32_t) * volume.indices.size(), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, volume_ib));
+    std::memcpy(volume_ib.mapped, volume.indices.data(), sizeof(std::uint32_t) * volume.indices.size());
+
+    const VkFormat ds_format = depth_stencil_format(ctx);
+    REQUIRE(ds_format != VK_FORMAT_UNDEFINED);
+    skvk::Image world, normal, ds;
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, ds_format,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, ds));
+    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, ds_format,
+                                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {world.view, normal.view, ds.view}, kW, kH);
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(PushConstants)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+
+    skvk::PipelineDesc sd;  // the scene: depth (reversed-Z: GREATER) and G-buffer
+    sd.vs = scene_vs;
+    sd.fs = scene_fs;
+    sd.vertex_stride = sizeof(skvk::SceneVertex);
+    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    sd.depth_compare = VK_COMPARE_OP_GREATER;
+    sd.cull = VK_CULL_MODE_BACK_BIT;
+    sd.color_count = 2;
+    std::string why;
+    VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, layout, rp, why);
+    REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
+
+    skvk::PipelineDesc vd;  // the volumes: z-fail, two-sided stencil, no depth or colour writes
+    vd.vs = volume_vs;
+    vd.vs_entry = entry;
+    vd.vertex_stride = sizeof(glm::vec4);
+    vd.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+    vd.depth_compare = VK_COMPARE_OP_GREATER;
+    vd.depth_write = false;
+    vd.depth_clamp = v.clamp && !v.clamp_off;
+    vd.color_count = 2;
+    vd.color_write = false;
+    vd.stencil = true;
+    const VkStencilOpState inc{VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS,
+                               0xff, 0xff, 0};
+    const VkStencilOpState dec{VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS,
+                               0xff, 0xff, 0};
+    vd.stencil_back = v.swapped ? dec : inc;
+    vd.stencil_front = v.swapped ? inc : dec;
+    VkPipeline volume_pipe = skvk::make_pipeline(ctx, vd, layout, rp, why);
+    REQUIRE_MESSAGE(volume_pipe != VK_NULL_HANDLE, why);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue clears[3]{};
+    clears[2].depthStencil = {0.f, 0};  // reversed-Z: far (and infinity) is 0
+    VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    bi.renderPass = rp;
+    bi.framebuffer = fb;
+    bi.renderArea = {{0, 0}, {kW, kH}};
+    bi.clearValueCount = 3;
+    bi.pClearValues = clears;
+    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+    const VkViewport vp = skvk::viewport(kW, kH, true);
+    const VkRect2D sc{{0, 0}, {kW, kH}};
+    vkCmdSetViewport(cmd, 0, 1, &vp);
+    vkCmdSetScissor(cmd, 0, 1, &sc);
+    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof push, &push);
+    const VkDeviceSize offset = 0;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipe);
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vb.buffer, &offset);
+    vkCmdDraw(cmd, vcount, 1, 0, 0);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, volume_pipe);
+    vkCmdBindVertexBuffers(cmd, 0, 1, &volume_vb.buffer, &offset);
+    vkCmdBindIndexBuffer(cmd, volume_ib.buffer, 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexed(cmd, static_cast<std::uint32_t>(volume.indices.size()), 1, 0, 0, 0);
+    vkCmdEndRenderPass(cmd);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+
+    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    const std::vector<std::uint8_t> stencil = skvk::read_stencil(ctx, ds, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    REQUIRE(stencil.size() == std::size_t(kW) * kH);
+    std::vector<float> vis(stencil.size());
+    Result out;
+    for (std::size_t k = 0; k < stencil.size(); ++k) {
+        vis[k] = stencil[k] == 0 ? 1.f : 0.f;
+        if (v_world[k * 4 + 3] == 0.f) continue;
+        (stencil[k] == 0 ? out.zero : stencil[k] == 1 ? out.one : out.other)++;
+    }
+    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), vis, v_world, v_normal);
+
+    vkDestroyPipeline(ctx.device, scene_pipe, nullptr);
+    vkDestroyPipeline(ctx.device, volume_pipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    for (skvk::Image* i : {&world, &normal, &ds}) skvk::destroy(ctx, *i);
+    for (skvk::Buffer* b : {&vb, &volume_vb, &volume_ib}) skvk::destroy(ctx, *b);
+    return out;
+}
+
+void check(Source lang) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    for (bool clamp : {false, true}) {
+        if (clamp && !ctx.enabled.depthClamp) {
+            MESSAGE("the device has no depthClamp: the clamped variant is not run");
+            continue;
+        }
+        Variant v;
+        v.lang = lang;
+        v.clamp = clamp;
+        const std::size_t before = skvk::message_count();
+        const Result r = run(v);
+        const std::string name = std::string(lang == Source::Glsl ? "GLSL" : "HLSL") +
+                                 (clamp ? ", finite far + depth clamp" : ", infinite reversed-Z [0,1] projection");
+        INFO(name);
+        MESSAGE(name << ": stencil 0 / 1 / other on receiver pixels " << r.zero << " / " << r.one << " / " << r.other
+                     << "; compared " << r.agreement.compared << " (shadowed " << r.agreement.shadowed << "), agreement "
+                     << r.agreement.fraction());
+        CHECK(r.other == 0);
+        CHECK(r.one > 1000);
+        CHECK(r.agreement.compared > int(kW * kH) / 4);
+        CHECK(r.agreement.shadowed > r.agreement.compared / 50);
+        CHECK(r.agreement.fraction() >= 0.995);
+        CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+    }
+}
+
+}  // namespace
+
+TEST_CASE("shadow_volume.glsl on Vulkan: z-fail stencil volumes, infinite reversed-Z and depth clamp, match the ray cast") {
+    MESSAGE("depthClamp " << skvk::vk_test_context().supported.depthClamp << ", depthBounds "
+                          << skvk::vk_test_context().supported.depthBounds);
+    check(Source::Glsl);
+}
+
+TEST_CASE("shadow_volume.glsl on Vulkan, controls: swapped stencil operations wrap, a finite far plane without clamp loses shadow") {
+    Variant v;
+    v.swapped = true;
+    const Result r = run(v);
+    MESSAGE("swapped: stencil 0 / 1 / other " << r.zero << " / " << r.one << " / " << r.other);
+    CHECK(r.other > 1000);
+    Variant f;
+    f.clamp = true;
+    f.clamp_off = true;
+    const Result c = run(f);
+    MESSAGE("finite far plane without depth clamp: agreement " << c.agreement.fraction() << " (the far parts of the volumes, "
+            "dark cap included, are clipped)");
+    CHECK(c.agreement.fraction() < 0.99);
+}
+
+TEST_CASE("HLSL shadow_volume.hlsl on Vulkan: z-fail stencil volumes, infinite reversed-Z and depth clamp, match the ray cast") {
+    check(Source::Hlsl);
+}

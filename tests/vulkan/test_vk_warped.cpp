@@ -1,0 +1,347 @@
+// glsl/perspective_shadow_maps.glsl and hlsl/perspective_shadow_maps.hlsl RUN on Vulkan: LiSPSM and
+// TSM matrices from shadowkit/perspective_shadow_maps.hpp (ClipDepth::ZeroToOne, standard and
+// reversed-Z, a directional light) for the e2e scene; the map pass draws with the warp (LiSPSM:
+// slope-scaled depth bias; TSM with separate depth: the fragment stage writes sk_warp_map_depth), the
+// camera pass (negative-height viewport) calls sk_warp_shadow; every receiver pixel is compared with
+// the CPU ray cast toward the light (>= 99.5% away from shadow edges, the e2e test's tolerance), with
+// no validation message.
+#include <doctest/doctest.h>
+
+#include <shadowkit/perspective_shadow_maps.hpp>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "vk_harness.hpp"
+#include "vk_passes.hpp"
+#include "vk_scene.hpp"
+
+namespace {
+
+using skvk::Source;
+
+// The map pass: position through the warp; depth_clip for TSM's separate depth.
+const char* kDepthVsGlsl = R"(#version 450 core
+layout(push_constant) uniform DepthParams { mat4 warp; mat4 depth_proj; } pc;
+layout(location = 0) in vec3 a_position;
+layout(location = 0) out vec4 v_depth_clip;
+void main() {
+    v_depth_clip = pc.depth_proj * vec4(a_position, 1.0);
+    gl_Position = pc.warp * vec4(a_position, 1.0);
+}
+)";
+const char* kDepthFsGlsl = R"(
+layout(location = 0) in vec4 v_depth_clip;
+void main() {
+#ifdef SK_REVERSED_Z
+    gl_FragDepth = sk_warp_map_depth(v_depth_clip, -2.0, 0.0, true);
+#else
+    gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, true);
+#endif
+}
+)";
+const char* kDepthHlsl = R"(
+struct DepthParams { column_major float4x4 warp; column_major float4x4 depth_proj; };
+[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
+struct DepthVaryings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float4 depth_clip : TEXCOORD0;
+};
+DepthVaryings vs_depth([[vk::location(0)]] float3 position : POSITION) {
+    DepthVaryings o;
+    o.depth_clip = mul(pc.depth_proj, float4(position, 1.0));
+    o.position = mul(pc.warp, float4(position, 1.0));
+    return o;
+}
+float ps_depth(DepthVaryings i) : SV_Depth {
+#ifdef SK_REVERSED_Z
+    return sk_warp_map_depth(i.depth_clip, -2.0, 0.0, true);
+#else
+    return sk_warp_map_depth(i.depth_clip, 2.0, 0.0, true);
+#endif
+}
+)";
+
+const char* kReceiverGlslVs = R"(#version 450 core
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; } u;
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = u.view_proj * vec4(a_position, 1.0);
+}
+)";
+const char* kReceiverGlslFs = R"(
+layout(set = 0, binding = 0) uniform sampler2DShadow u_map;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; } u;
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out float o_visibility;
+layout(location = 1) out vec4 o_world;
+layout(location = 2) out vec4 o_normal;
+void main() {
+    o_visibility = sk_warp_shadow(u_map, u.warp, u.depth_proj, v_world, 0.0, true);
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+)";
+const char* kReceiverHlsl = R"(
+struct Params { column_major float4x4 view_proj; column_major float4x4 warp; column_major float4x4 depth_proj; };
+[[vk::binding(0, 0)]] Texture2D<float> u_map;
+[[vk::binding(1, 0)]] ConstantBuffer<Params> u;
+[[vk::binding(2, 0)]] SamplerComparisonState u_compare;
+struct Varyings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    [[vk::location(1)]] float3 normal : TEXCOORD1;
+};
+Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    Varyings o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(u.view_proj, float4(position, 1.0));
+    return o;
+}
+struct Targets {
+    [[vk::location(0)]] float visibility : SV_Target0;
+    [[vk::location(1)]] float4 world : SV_Target1;
+    [[vk::location(2)]] float4 normal : SV_Target2;
+};
+Targets ps_main(Varyings i) {
+    Targets o;
+    o.visibility = sk_warp_shadow(u_map, u_compare, u.warp, u.depth_proj, i.world, 0.0, true);
+    o.world = float4(i.world, 1.0);
+    o.normal = float4(normalize(i.normal), 0.0);
+    return o;
+}
+)";
+
+constexpr std::uint32_t kMap = 1024, kW = 320, kH = 240;
+
+struct Params {
+    glm::mat4 view_proj, warp, depth_proj;
+};
+struct DepthPush {
+    glm::mat4 warp, depth_proj;
+};
+
+struct Shaders {
+    std::vector<std::uint32_t> depth_vs, depth_fs, vs, fs;
+    const char* entries[4] = {"main", "main", "main", "main"};
+};
+
+Shaders shaders(Source lang, bool reversed, bool write_depth) {
+    const std::string define = reversed ? "#define SK_REVERSED_Z 1\n" : "";
+    Shaders s;
+    if (lang == Source::Glsl) {
+        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/perspective_shadow_maps.glsl");
+        s.depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthVsGlsl, "main", "warped.glsl.depth.vert");
+        if (write_depth)
+            s.depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kDepthFsGlsl,
+                                               "main", "warped.glsl.depth.frag");
+        s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "warped.glsl.vert");
+        s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kReceiverGlslFs, "main",
+                                     "warped.glsl.frag");
+        return s;
+    }
+    const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/perspective_shadow_maps.hlsl");
+    s.depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kDepthHlsl, "vs_depth", "warped.hlsl.depth.vert");
+    if (write_depth)
+        s.depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + kDepthHlsl, "ps_depth",
+                                           "warped.hlsl.depth.frag");
+    s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "warped.hlsl.vert");
+    s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kReceiverHlsl, "ps_main", "warped.hlsl.frag");
+    s.entries[0] = "vs_depth";
+    s.entries[1] = "ps_depth";
+    s.entries[2] = "vs_main";
+    s.entries[3] = "ps_main";
+    return s;
+}
+
+struct Result {
+    skvk::Agreement agreement;
+    bool separate_depth = false;
+    float warp_strength = 0.f;
+};
+
+Result run(Source lang, shadowkit::WarpMethod method, bool reversed) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const skvk::BoxScene scene;
+    const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);
+    const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
+    glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
+    if (reversed) {
+        glm::mat4 r(1.f);
+        r[2][2] = -1.f;
+        r[3][2] = 1.f;
+        proj = r * proj;
+    }
+    shadowkit::WarpInput in;
+    in.camera_view = view;
+    in.camera_proj = proj;
+    in.camera_depth = shadowkit::ClipDepth::ZeroToOne;
+    in.camera_reversed_z = reversed;
+    in.max_distance = 8.f;
+    in.light_position = light;
+    in.has_scene_bounds = true;
+    in.scene_min = glm::vec3(-scene.ground_half, 0.f, -scene.ground_half);
+    in.scene_max = glm::vec3(scene.ground_half, scene.box_c.y + scene.box_h.y, scene.ground_half);
+    in.light_depth = shadowkit::ClipDepth::ZeroToOne;
+    in.light_reversed_z = reversed;
+    const shadowkit::WarpResult w =
+        method == shadowkit::WarpMethod::Tsm ? shadowkit::warp_tsm_matrix(in) : shadowkit::warp_lispsm_matrix(in);
+    REQUIRE_MESSAGE(w.status == shadowkit::Status::Ok, shadowkit::status_name(w.status));
+    REQUIRE(w.visible);
+    const Params params{proj * view, w.light_view_proj, w.depth_view_proj};
+    const DepthPush push{w.light_view_proj, w.depth_view_proj};
+    const Shaders sh = shaders(lang, reversed, w.separate_depth);
+
+    skvk::Buffer vb, ubo;
+    const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
+    REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
+    std::memcpy(ubo.mapped, &params, sizeof params);
+
+    skvk::Image map, vis, world, normal, depth;
+    REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, map));
+    const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkFramebuffer map_fb = skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap);
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DepthPush)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range;
+    VkPipelineLayout map_layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
+    skvk::PipelineDesc md;
+    md.vs = sh.depth_vs;
+    md.fs = sh.depth_fs;  // TSM with separate depth: the fragment stage writes the depth (and its bias)
+    md.vs_entry = sh.entries[0];
+    md.fs_entry = sh.entries[1];
+    md.vertex_stride = sizeof(skvk::SceneVertex);
+    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    md.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
+    md.depth_bias = !w.separate_depth;  // rasterized depth: the GL test's glPolygonOffset(1.5, 2)
+    md.bias_slope = reversed ? -1.5f : 1.5f;
+    md.bias_constant = reversed ? -2.f : 2.f;
+    std::string why;
+    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
+    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
+    VkRenderPass rp = skvk::make_render_pass(
+        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
+        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
+                                           reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
+    skvk::DescriptorSet ds;
+    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    if (lang == Source::Glsl) {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, map.view, sampler, map_read);
+    } else {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
+                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, map.view, VK_NULL_HANDLE, map_read);
+        skvk::write_sampler(ctx, ds, 2, sampler);
+    }
+    skvk::write_buffer(ctx, ds, 1, ubo);
+    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1;
+    li.pSetLayouts = &ds.layout;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    skvk::PipelineDesc pd;
+    pd.vs = sh.vs;
+    pd.fs = sh.fs;
+    pd.vs_entry = sh.entries[2];
+    pd.fs_entry = sh.entries[3];
+    pd.vertex_stride = sizeof(skvk::SceneVertex);
+    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    pd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
+    pd.color_count = 3;
+    pd.cull = VK_CULL_MODE_BACK_BIT;
+    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
+    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue far{};
+    far.depthStencil = {reversed ? 0.f : 1.f, 0};
+    skvk::draw_pass(cmd, map_rp, map_fb, kMap, kMap, {far}, map_pipe, map_layout, nullptr, &push, vb.buffer, vcount, false,
+                    sizeof push);
+    VkClearValue zero{};
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+
+    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
+    Result out;
+    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+    out.separate_depth = w.separate_depth;
+    out.warp_strength = w.warp_strength;
+
+    vkDestroyPipeline(ctx.device, pipe, nullptr);
+    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
+    vkDestroySampler(ctx.device, sampler, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    vkDestroyFramebuffer(ctx.device, map_fb, nullptr);
+    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
+    skvk::destroy(ctx, ds);
+    for (skvk::Image* i : {&map, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, vb);
+    skvk::destroy(ctx, ubo);
+    return out;
+}
+
+void check(Source lang) {
+    for (shadowkit::WarpMethod m : {shadowkit::WarpMethod::Lispsm, shadowkit::WarpMethod::Tsm})
+        for (bool reversed : {false, true}) {
+            const std::size_t before = skvk::message_count();
+            const Result r = run(lang, m, reversed);
+            const skvk::Agreement& a = r.agreement;
+            const std::string name = std::string(lang == Source::Glsl ? "GLSL " : "HLSL ") +
+                                     (m == shadowkit::WarpMethod::Tsm ? "TSM" : "LiSPSM") +
+                                     (reversed ? ", reversed-Z" : ", standard depth");
+            INFO(name);
+            MESSAGE(name << " (warp strength " << r.warp_strength << std::string(r.separate_depth ? ", separate depth" : "")
+                         << "): compared " << a.compared << " (lit " << a.lit << ", shadowed " << a.shadowed << "), agreement "
+                         << a.fraction());
+            CHECK(r.warp_strength > 0.1f);  // the warp is really on
+            if (m == shadowkit::WarpMethod::Tsm) CHECK(r.separate_depth);  // sk_warp_map_depth writes the depth
+            CHECK(a.compared > int(kW * kH) / 4);
+            CHECK(a.shadowed > a.compared / 50);
+            CHECK(a.fraction() >= 0.995);
+            CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+        }
+}
+
+}  // namespace
+
+TEST_CASE("perspective_shadow_maps.glsl on Vulkan: LiSPSM and TSM in [0,1] depth, standard and reversed-Z, match the ray cast") {
+    check(Source::Glsl);
+}
+
+TEST_CASE("HLSL perspective_shadow_maps.hlsl on Vulkan: LiSPSM and TSM in [0,1] depth, standard and reversed-Z, match the ray cast") {
+    check(Source::Hlsl);
+}

@@ -1,0 +1,158 @@
+// A small headless Vulkan 1.1 harness for the tests of labels `vulkan` and `hlsl` (Mesa's lavapipe in
+// CI): one device and queue, VK_LAYER_KHRONOS_validation with a debug-utils messenger that counts every
+// warning and error (a test fails on any), offscreen images, render passes, pipelines from SPIR-V that
+// glslang makes in process (GLSL or HLSL source), descriptor sets, and readback to the CPU.
+// The process-wide context is made by vk_main.cpp before any test runs: no Vulkan device gives exit 77
+// (CTest: skipped), or a failure where SHADOWKIT_REQUIRE_GL=1 is set (as in CI).
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace skvk {
+
+struct Context {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    std::uint32_t queue_family = 0;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkPhysicalDeviceFeatures supported{};  ///< what the device offers (depthClamp, depthBounds, ...)
+    VkPhysicalDeviceFeatures enabled{};    ///< what the harness turned on
+    std::string device_name;
+    bool validation = false;               ///< VK_LAYER_KHRONOS_validation is on
+};
+
+/// The process-wide context (vk_main.cpp).
+Context& vk_test_context();
+
+/// Makes the context. Returns "" or why not; `no_device` is true when the reason is a missing
+/// loader, driver or layer (a skip where allowed) rather than an error.
+std::string create_context(Context& ctx, bool want_validation, bool& no_device);
+void destroy_context(Context& ctx);
+
+/// Warning and error messages the debug-utils messenger received since the process started.
+std::size_t message_count();
+/// Messages a test provoked on purpose (to show the count works) are declared with expect_messages
+/// and not held against the run.
+std::size_t unexpected_message_count();
+void expect_messages(std::size_t n);
+/// Their text (the first 20).
+std::string messages();
+
+// ---------------------------------------------------------------------------------------- SPIR-V
+enum class Source { Glsl, Hlsl };
+/// Compiles one stage to SPIR-V 1.3 for Vulkan 1.1 with glslang (GLSL: #version in the text; HLSL:
+/// `entry` is the entry point, legalized by SPIRV-Tools as glslangValidator does). "" or the log.
+std::string compile_spirv(Source lang, VkShaderStageFlagBits stage, const std::string& text, const char* entry,
+                          std::vector<std::uint32_t>& spirv);
+/// Writes the module to `path` and runs `spirv-val --target-env vulkan1.1` on it: "" or why not
+/// ("" also when spirv-val is not installed: `validated` says whether it ran).
+std::string spirv_val(const std::vector<std::uint32_t>& spirv, const std::string& path, bool& validated);
+
+// ---------------------------------------------------------------------------------------- resources
+struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    void* mapped = nullptr;  ///< host-visible, coherent, mapped for its lifetime
+    VkDeviceSize size = 0;
+};
+bool make_buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, Buffer& b);
+void destroy(Context& ctx, Buffer& b);
+
+struct Image {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;        ///< all layers (2D, 2D_ARRAY when layers > 1 or array_view, or CUBE)
+    std::vector<VkImageView> layer_views;     ///< one 2D view per layer (render targets of a layered map)
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkImageAspectFlags aspect = 0;
+    std::uint32_t width = 0, height = 0, layers = 1;
+};
+/// `cube`: six layers, cube-compatible, `view` a cube view (faces +X, -X, +Y, -Y, +Z, -Z in layer_views).
+bool make_image(Context& ctx, std::uint32_t w, std::uint32_t h, std::uint32_t layers, VkFormat format,
+                VkImageUsageFlags usage, Image& img, bool array_view = false, bool cube = false);
+void destroy(Context& ctx, Image& img);
+
+/// A one-time command buffer, begun; submit_and_wait ends, submits, waits for and frees it.
+VkCommandBuffer begin_commands(Context& ctx);
+bool submit_and_wait(Context& ctx, VkCommandBuffer cmd);
+
+/// A render pass with `colors` (cleared, then TRANSFER_SRC_OPTIMAL) and an optional depth or
+/// depth-stencil attachment (VK_FORMAT_UNDEFINED: none; cleared, then `depth_final`).
+VkRenderPass make_render_pass(Context& ctx, const std::vector<VkFormat>& colors, VkFormat depth, VkImageLayout depth_final);
+VkFramebuffer make_framebuffer(Context& ctx, VkRenderPass rp, const std::vector<VkImageView>& views, std::uint32_t w,
+                               std::uint32_t h);
+
+/// A graphics pipeline: triangle lists from one interleaved vertex buffer, dynamic viewport and scissor.
+struct PipelineDesc {
+    std::vector<std::uint32_t> vs, fs;  ///< fs empty: depth only
+    std::vector<std::uint32_t> gs;      ///< optional geometry stage (the geometryShader feature)
+    const char* vs_entry = "main";
+    const char* gs_entry = "main";
+    const char* fs_entry = "main";
+    std::uint32_t vertex_stride = 0;
+    std::vector<VkVertexInputAttributeDescription> attributes;
+    bool depth_test = true, depth_write = true;
+    VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
+    bool depth_bias = false;
+    float bias_constant = 0.f, bias_slope = 0.f;
+    bool depth_clamp = false;
+    VkCullModeFlags cull = VK_CULL_MODE_NONE;
+    VkFrontFace front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    std::uint32_t color_count = 0;
+    bool color_write = true;
+    bool stencil = false;                          ///< stencil test with the two faces below
+    VkStencilOpState stencil_front{}, stencil_back{};
+};
+VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout layout, VkRenderPass rp, std::string& why);
+
+/// A shader module's worth of descriptors: one set, each binding given by type and stages.
+struct Binding {
+    std::uint32_t binding;
+    VkDescriptorType type;
+    VkShaderStageFlags stages;
+};
+struct DescriptorSet {
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+};
+bool make_descriptor_set(Context& ctx, const std::vector<Binding>& bindings, DescriptorSet& ds);
+void write_image(Context& ctx, DescriptorSet& ds, std::uint32_t binding, VkDescriptorType type, VkImageView view,
+                 VkSampler sampler, VkImageLayout layout);
+void write_sampler(Context& ctx, DescriptorSet& ds, std::uint32_t binding, VkSampler sampler);
+void write_buffer(Context& ctx, DescriptorSet& ds, std::uint32_t binding, const Buffer& b,
+                  VkDescriptorType type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
+void destroy(Context& ctx, DescriptorSet& ds);
+
+/// A sampler clamped to the edge; `compare` != VK_COMPARE_OP_NEVER makes it a comparison sampler
+/// (GL_TEXTURE_COMPARE_MODE on, with that function).
+VkSampler make_sampler(Context& ctx, VkFilter filter, VkCompareOp compare);
+
+/// Image layout transition of all layers (a pipeline barrier recorded into cmd).
+void transition(VkCommandBuffer cmd, const Image& img, VkImageLayout from, VkImageLayout to);
+
+/// Copies layer `layer` of a colour or depth image in layout `layout` (TRANSFER_SRC_OPTIMAL for
+/// render targets) to floats: `components` floats per texel, row 0 = the image's first row.
+std::vector<float> read_image(Context& ctx, const Image& img, VkImageLayout layout, std::uint32_t components,
+                              std::uint32_t layer = 0);
+
+/// The stencil aspect of a depth-stencil image (one byte per texel, row 0 first).
+std::vector<std::uint8_t> read_stencil(Context& ctx, const Image& img, VkImageLayout layout);
+
+/// Fills every layer of an image made with TRANSFER_DST usage from floats (one per texel for a
+/// depth or one-channel format, layers one after the other), leaving it in `final_layout`.
+bool upload_image(Context& ctx, const Image& img, const std::vector<float>& data, VkImageLayout final_layout);
+
+/// Viewport helpers: the whole target, y flipped with a negative height (VK_KHR_maintenance1,
+/// core in Vulkan 1.1) when `flip_y`.
+VkViewport viewport(std::uint32_t w, std::uint32_t h, bool flip_y);
+
+}  // namespace skvk
