@@ -16,6 +16,8 @@
 // Filtering: include hlsl/pcf.hlsl BEFORE this file and sk_cascade_shadow_filtered runs its kernels
 // in each cascade's layer (SK_CASCADE_KERNEL_*); the rotated Poisson kernel then needs the pixel
 // position (SV_Position.xy), the last argument of the filtered functions.
+// SDSM (sk_sdsm_*): the depth reduction's passes, each a pixel shader reading the previous level with
+// Load (glsl/cascades.glsl says the passes and what cascades.hpp does with the result).
 // Usage: float lit = sk_cascade_shadow(g_cascades, g_compare, g.light_vp, g.split_near, g.split_far, g.count,
 //        world_pos, view_depth, 0.1, 0.0005, true);  // blend over the last 10% of each cascade
 // Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan; written for DXC

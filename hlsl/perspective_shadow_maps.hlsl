@@ -9,6 +9,8 @@
 // build them with ClipDepth::ZeroToOne (zero_to_one = true).
 // TSM's separate depth: the shadow pass's pixel shader returns SV_Depth = sk_warp_map_depth(depth_clip,
 // 2.0, 0.0, true) (depth_clip = depth_proj * world position from the vertex stage; reversed-Z: -2.0).
+// Automatic bias (true depths in the map, standard depth only): sk_warp_shadow_auto(g_map, g_compare, warp,
+// warp_inverse, depth_proj, world_pos, world_normal, true, 0.0, 1.0), warp_inverse = inverse(warp) in double.
 // Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan; written for DXC
 // (shader model 6.0) as well, but not compiled with it here (DXC is not packaged in Debian 12).
 // MIT License. Copyright (c) shadowkit contributors.

@@ -26,6 +26,8 @@
 //   float v = sk_shadow_map_visibility(g_shadow_map, g_compare, g_light_view_proj, world_pos, true, 1e-4, 1.0);
 //   float v = sk_shadow_map_visibility_auto(g_shadow_map, g_compare, g_light_view_proj, world_pos, world_normal,
 //                                           true, 0.0, 1.0);   // float32 map, automatic bias
+//   float v = sk_cube_visibility_hardware_depth_auto(g_cube, g_compare, light_position, world_pos, world_normal,
+//                                                    near_plane, far_plane, 0.0);   // a point light's cube
 // Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan; written for DXC
 // (shader model 6.0) and FXC (5.0) as well, but not compiled with them here (DXC is not packaged in
 // Debian 12).

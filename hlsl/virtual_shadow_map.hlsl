@@ -20,8 +20,9 @@
 //   sk_vsm_mark(rel_pos, level, 0);                                   // marking pass
 //   float lit = sk_vsm_visibility(g_atlas, rel_pos, normal, level, 0, 0.0);   // lookup pass
 //   float3 debug = sk_vsm_debug_color(rel_pos, level);
-// Compiled in the tests by glslang's HLSL front end to SPIR-V and validated by spirv-val; written for
-// DXC (shader model 6.0) as well, but DXC was not run (it is not packaged in Debian 12).
+// Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan (marking and lookup,
+// tests/vulkan/test_vk_virtual_shadow_map.cpp); written for DXC (shader model 6.0) as well, but DXC
+// was not run (it is not packaged in Debian 12).
 // MIT License. Copyright (c) shadowkit contributors.
 
 #ifndef SK_VSM_DATA_BINDING

@@ -183,7 +183,10 @@ struct Modules {
 };
 Modules compile(Source lang) {
     Modules m;
-    m.caster = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kCasterGlsl, "main", "vsm.caster.vert");
+    // the caster stage is GLSL in both runs; its .spv named per run (the two CTest runs go in parallel
+    // and would write and spirv-val the same file at once)
+    m.caster = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kCasterGlsl, "main",
+                                     lang == Source::Glsl ? "vsm.glsl.caster.vert" : "vsm.hlsl.caster.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/virtual_shadow_map.glsl");
         m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "vsm.glsl.vert");
