@@ -16,6 +16,8 @@
 // Filtering: include hlsl/pcf.hlsl BEFORE this file and sk_cascade_shadow_filtered runs its kernels
 // in each cascade's layer (SK_CASCADE_KERNEL_*); the rotated Poisson kernel then needs the pixel
 // position (SV_Position.xy), the last argument of the filtered functions.
+// SDSM (sk_sdsm_*): the depth reduction's passes, each a pixel shader reading the previous level with
+// Load (glsl/cascades.glsl says the passes and what cascades.hpp does with the result).
 // Usage: float lit = sk_cascade_shadow(g_cascades, g_compare, g.light_vp, g.split_near, g.split_far, g.count,
 //        world_pos, view_depth, 0.1, 0.0005, true);  // blend over the last 10% of each cascade
 // Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan; written for DXC
@@ -70,23 +72,114 @@ float3 sk_cascade_coord(float4x4 light_view_proj, float3 world_pos, bool zero_to
 
 // One cascade's compare lookup: 1 = lit, 0 = shadowed; outside the map: 1.
 float sk_cascade_sample(Texture2DArray<float> maps, SamplerComparisonState cmp, float4x4 light_view_proj, int layer,
-                        float3 world_pos, float bias, bool zero_to_one) {
+                        float3 world_pos, float bias_window, bool zero_to_one) {
     float3 c = sk_cascade_coord(light_view_proj, world_pos, zero_to_one);
     if (any(c.xy < 0.0) || any(c.xy > 1.0)) return 1.0;
-    return maps.SampleCmpLevelZero(cmp, float3(c.xy, float(layer)), c.z - bias);
+    return maps.SampleCmpLevelZero(cmp, float3(c.xy, float(layer)), c.z - bias_window);
 }
 
 // 1 = lit, 0 = shadowed; blends with the next cascade inside the band.
 float sk_cascade_shadow(Texture2DArray<float> maps, SamplerComparisonState cmp, float4x4 light_vp[4], float4 split_near,
-                        float4 split_far, int count, float3 world_pos, float view_depth, float band, float bias,
+                        float4 split_far, int count, float3 world_pos, float view_depth, float band, float bias_window,
                         bool zero_to_one) {
     int j;
     float w;
     int i = sk_cascade_pick(view_depth, split_near, split_far, count, band, j, w);
     if (i < 0) return 1.0;
-    float s = sk_cascade_sample(maps, cmp, light_vp[i], i, world_pos, bias, zero_to_one);
-    if (j >= 0) s = lerp(s, sk_cascade_sample(maps, cmp, light_vp[j], j, world_pos, bias, zero_to_one), w);
+    float s = sk_cascade_sample(maps, cmp, light_vp[i], i, world_pos, bias_window, zero_to_one);
+    if (j >= 0) s = lerp(s, sk_cascade_sample(maps, cmp, light_vp[j], j, world_pos, bias_window, zero_to_one), w);
     return s;
+}
+
+// ---- SDSM depth reduction (glsl/cascades.glsl says the passes) --------------------------------------
+// Each pass is a pixel shader over its target with dst_texel = int2(position.xy) (SV_Position); the
+// depth buffer is read with Load (a Texture2D<float> view of it, no sampler), the levels are RG32F /
+// RGBA32F render targets read the same way. Bit-exact min / max: no filtering anywhere.
+static const float SK_SDSM_EMPTY_MIN = 2.0;   // a level texel that saw no receiver: (2, -1), outside [0, 1]
+static const float SK_SDSM_EMPTY_MAX = -1.0;
+
+// First level: (min, max) window depth over the block x block texels of `depth` starting at
+// dst_texel * block (texels past the edge skipped), ignoring texels equal to background_depth.
+float2 sk_sdsm_reduce_depth(Texture2D<float> depth, int2 dst_texel, int block, float background_depth) {
+    uint width, height;
+    depth.GetDimensions(width, height);
+    int2 size = int2(width, height);
+    float2 r = float2(SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            int2 p = dst_texel * block + int2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float d = depth.Load(int3(p, 0));
+            if (d == background_depth) continue;
+            r = float2(min(r.x, d), max(r.y, d));
+        }
+    }
+    return r;
+}
+
+// Next levels: (min of .x, max of .y) over the block x block texels of an RG32F level.
+float2 sk_sdsm_reduce_minmax(Texture2D<float2> level, int2 dst_texel, int block) {
+    uint width, height;
+    level.GetDimensions(width, height);
+    int2 size = int2(width, height);
+    float2 r = float2(SK_SDSM_EMPTY_MIN, SK_SDSM_EMPTY_MAX);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            int2 p = dst_texel * block + int2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float2 m = level.Load(int3(p, 0));
+            r = float2(min(r.x, m.x), max(r.y, m.y));
+        }
+    }
+    return r;
+}
+
+// Second reduction (SDSM sec. 3.2, optional): each cascade's light-space x/y bounds of its receivers
+// (glsl/cascades.glsl states the arguments). bounds[i] = (x0, y0, x1, y1); an empty cascade keeps
+// (SK_SDSM_EMPTY_BOUND, SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND).
+static const float SK_SDSM_EMPTY_BOUND = 3.0e38;
+
+void sk_sdsm_reduce_bounds(Texture2D<float> depth, int2 dst_texel, int block, float background_depth,
+                           float4x4 clip_to_world, float4x4 world_to_view, float4x4 world_to_light, float4 split_far,
+                           int count, bool zero_to_one, out float4 bounds[4]) {
+    [unroll] for (int i = 0; i < 4; ++i)
+        bounds[i] = float4(SK_SDSM_EMPTY_BOUND, SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND);
+    uint width, height;
+    depth.GetDimensions(width, height);
+    int2 size = int2(width, height);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            int2 p = dst_texel * block + int2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float d = depth.Load(int3(p, 0));
+            if (d == background_depth) continue;
+            float4 ndc = float4((float2(p) + 0.5) / float2(size) * 2.0 - 1.0, zero_to_one ? d : d * 2.0 - 1.0, 1.0);
+            float4 h = mul(clip_to_world, ndc);
+            float4 wp = float4(h.xyz / h.w, 1.0);
+            int c = sk_cascade_by_depth(-mul(world_to_view, wp).z, split_far, count);
+            if (c < 0) c = count - 1;  // beyond the last split (a depth buffer of a lagging camera): the last
+            float2 l = mul(world_to_light, wp).xy;
+            [unroll] for (int k = 0; k < 4; ++k)
+                if (k == c) bounds[k] = float4(min(bounds[k].xy, l), max(bounds[k].zw, l));
+        }
+    }
+}
+
+// Next levels of the bounds: (min of .xy, max of .zw) over the block x block texels of one cascade's level.
+float4 sk_sdsm_reduce_bounds_level(Texture2D<float4> level, int2 dst_texel, int block) {
+    uint width, height;
+    level.GetDimensions(width, height);
+    int2 size = int2(width, height);
+    float4 r = float4(SK_SDSM_EMPTY_BOUND, SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND, -SK_SDSM_EMPTY_BOUND);
+    for (int y = 0; y < block; ++y) {
+        for (int x = 0; x < block; ++x) {
+            int2 p = dst_texel * block + int2(x, y);
+            if (p.x >= size.x || p.y >= size.y) continue;
+            float4 b = level.Load(int3(p, 0));
+            r = float4(min(r.xy, b.xy), max(r.zw, b.zw));
+        }
+    }
+    return r;
 }
 
 #ifdef SK_PCF_HLSL
@@ -99,11 +192,11 @@ static const int SK_CASCADE_KERNEL_POISSON_ROTATED = 4;  // sk_pcf_poisson_rotat
 
 // One cascade read with a pcf.hlsl kernel (no receiver plane; radius in texels of that cascade).
 float sk_cascade_sample_filtered(Texture2DArray<float> maps, SamplerComparisonState cmp, float4x4 light_view_proj,
-                                 int layer, float3 world_pos, float bias, bool zero_to_one, int kernel, int radius_texels,
+                                 int layer, float3 world_pos, float bias_window, bool zero_to_one, int kernel, int radius_texels,
                                  int taps, float angle, float2 pixel) {
     float3 c = sk_cascade_coord(light_view_proj, world_pos, zero_to_one);
     if (any(c.xy < 0.0) || any(c.xy > 1.0)) return 1.0;
-    float3 uvz = float3(c.xy, c.z - bias);
+    float3 uvz = float3(c.xy, c.z - bias_window);
     float l = float(layer);
     float width, height, layers;
     maps.GetDimensions(width, height, layers);
@@ -119,16 +212,16 @@ float sk_cascade_sample_filtered(Texture2DArray<float> maps, SamplerComparisonSt
 // sk_cascade_shadow with a pcf.hlsl kernel in each cascade's layer, blended over the band.
 float sk_cascade_shadow_filtered(Texture2DArray<float> maps, SamplerComparisonState cmp, float4x4 light_vp[4],
                                  float4 split_near, float4 split_far, int count, float3 world_pos, float view_depth,
-                                 float band, float bias, bool zero_to_one, int kernel, int radius_texels, int taps,
+                                 float band, float bias_window, bool zero_to_one, int kernel, int radius_texels, int taps,
                                  float angle, float2 pixel) {
     int j;
     float w;
     int i = sk_cascade_pick(view_depth, split_near, split_far, count, band, j, w);
     if (i < 0) return 1.0;
-    float s = sk_cascade_sample_filtered(maps, cmp, light_vp[i], i, world_pos, bias, zero_to_one, kernel, radius_texels,
+    float s = sk_cascade_sample_filtered(maps, cmp, light_vp[i], i, world_pos, bias_window, zero_to_one, kernel, radius_texels,
                                          taps, angle, pixel);
     if (j >= 0)
-        s = lerp(s, sk_cascade_sample_filtered(maps, cmp, light_vp[j], j, world_pos, bias, zero_to_one, kernel,
+        s = lerp(s, sk_cascade_sample_filtered(maps, cmp, light_vp[j], j, world_pos, bias_window, zero_to_one, kernel,
                                                radius_texels, taps, angle, pixel), w);
     return s;
 }

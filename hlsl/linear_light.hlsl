@@ -71,7 +71,7 @@ float4 sk_linear_light_skin_output(float value, float frag_depth) { return float
 // fails the depth test or faces away, else the visibility-map value (0.5 where no skin covers).
 // Points outside the endpoint's frustum count as lit (0.5).
 float sk_linear_light_endpoint(Texture2D<float> depth_map, Texture2D<float4> vis_map, float4x4 view_proj,
-                               float4 light_position, float3 p, float3 n, float bias) {
+                               float4 light_position, float3 p, float3 n, float bias_window) {
     if (dot(n, light_position.xyz - p * light_position.w) <= 0.0) return 0.0;
     float4 c = mul(view_proj, float4(p, 1.0));
     if (c.w <= 0.0) return 0.5;
@@ -81,7 +81,7 @@ float sk_linear_light_endpoint(Texture2D<float> depth_map, Texture2D<float4> vis
     depth_map.GetDimensions(sw, sh);
     int2 sz = int2(sw, sh);
     int2 ij = clamp(int2(w.xy * float2(sz)), int2(0, 0), sz - 1);
-    if (w.z > depth_map.Load(int3(ij, 0)) + bias) return 0.0;
+    if (w.z > depth_map.Load(int3(ij, 0)) + bias_window) return 0.0;
     float3 v = vis_map.Load(int3(ij, 0)).rgb;
     return (v.g < 0.5 && w.z >= v.b - 1e-6) ? v.r : 0.5;
 }
@@ -89,7 +89,7 @@ float sk_linear_light_endpoint(Texture2D<float> depth_map, Texture2D<float4> vis
 // The paper's shade() for one linear light (endpoints end_a and end_b, world positions), in [0, 1].
 float sk_linear_light_visibility(Texture2D<float> depth_a, Texture2D<float4> vis_a, float4x4 view_proj_a, float3 end_a,
                                  Texture2D<float> depth_b, Texture2D<float4> vis_b, float4x4 view_proj_b, float3 end_b,
-                                 float3 p, float3 n, float bias) {
-    return saturate(sk_linear_light_endpoint(depth_a, vis_a, view_proj_a, float4(end_a, 1.0), p, n, bias) +
-                    sk_linear_light_endpoint(depth_b, vis_b, view_proj_b, float4(end_b, 1.0), p, n, bias));
+                                 float3 p, float3 n, float bias_window) {
+    return saturate(sk_linear_light_endpoint(depth_a, vis_a, view_proj_a, float4(end_a, 1.0), p, n, bias_window) +
+                    sk_linear_light_endpoint(depth_b, vis_b, view_proj_b, float4(end_b, 1.0), p, n, bias_window));
 }

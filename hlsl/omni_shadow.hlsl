@@ -39,17 +39,17 @@ float sk_omni_cube_texel_angle(float size) { return 2.0 / size; }
 
 // Hardware compare on the distance cube (linear filter: 2x2 PCF across seams).
 float sk_cube_visibility_distance(TextureCube<float> shadow_map, SamplerComparisonState cmp, float4 light_position,
-                                  float3 world_pos, float range, float bias) {
+                                  float3 world_pos, float range, float bias_world) {
     float3 d = world_pos - sk_omni_light_point(light_position);
-    return shadow_map.SampleCmpLevelZero(cmp, d, (length(d) - bias) / range);
+    return shadow_map.SampleCmpLevelZero(cmp, d, (length(d) - bias_world) / range);
 }
 
 // Manual compare: the same cube through a point SamplerState, or an R32_FLOAT cube of distance / range.
 float sk_cube_visibility_distance_manual(TextureCube<float> distance_map, SamplerState point_sampler, float4 light_position,
-                                         float3 world_pos, float range, float bias) {
+                                         float3 world_pos, float range, float bias_world) {
     float3 d = world_pos - sk_omni_light_point(light_position);
     float stored = distance_map.SampleLevel(point_sampler, d, 0.0);
-    return (length(d) - bias) / range <= stored ? 1.0 : 0.0;
+    return (length(d) - bias_world) / range <= stored ? 1.0 : 0.0;
 }
 
 // Tangents (s and t directions) of the face a direction is looked up in (x before y before z), and
@@ -74,9 +74,9 @@ void sk_omni_cube_tangents(float3 d, out float3 t_s, out float3 t_t, out float m
 // (2 radius + 1)^2 hardware-compare taps one texel apart in the face plane (taps past a face edge
 // read the neighbour face). Bias with filter_radius = (radius + 1) * 1.4143.
 float sk_cube_visibility_distance_pcf(TextureCube<float> shadow_map, SamplerComparisonState cmp, float4 light_position,
-                                      float3 world_pos, float range, float bias, float size, int radius) {
+                                      float3 world_pos, float range, float bias_world, float size, int radius) {
     float3 d = world_pos - sk_omni_light_point(light_position);
-    float ref = (length(d) - bias) / range;
+    float ref = (length(d) - bias_world) / range;
     float3 ts, tt;
     float major;
     sk_omni_cube_tangents(d, ts, tt, major);
@@ -141,21 +141,21 @@ float4 sk_dp_coord(float4x4 dp_view, float3 world_pos) {
 
 // Hardware compare (linear filter: 2x2 PCF). The light is the frame's origin (dp_view).
 float sk_dp_shadow(Texture2DArray<float> shadow_map, SamplerComparisonState cmp, float4x4 dp_view, float3 world_pos,
-                   float range, float bias) {
+                   float range, float bias_world) {
     float3 q = mul(dp_view, float4(world_pos, 1.0)).xyz;
     float dist = length(q);
     float3 m = sk_dp_project(q / max(dist, 1e-30));
-    return shadow_map.SampleCmpLevelZero(cmp, float3(m.xy * 0.5 + 0.5, m.z), (dist - bias) / range);
+    return shadow_map.SampleCmpLevelZero(cmp, float3(m.xy * 0.5 + 0.5, m.z), (dist - bias_world) / range);
 }
 
 // (2 radius + 1)^2 taps one texel apart in the map; a tap past the rim (r > 1) reads the other map
 // at xy / r^2. Bias with filter_radius = (radius + 1) * 1.4143.
 float sk_dp_shadow_pcf(Texture2DArray<float> shadow_map, SamplerComparisonState cmp, float4x4 dp_view, float3 world_pos,
-                       float range, float bias, float size, int radius) {
+                       float range, float bias_world, float size, int radius) {
     float3 q = mul(dp_view, float4(world_pos, 1.0)).xyz;
     float dist = length(q);
     float3 m = sk_dp_project(q / max(dist, 1e-30));
-    float ref = (dist - bias) / range;
+    float ref = (dist - bias_world) / range;
     float texel = 2.0 / size;
     float sum = 0.0;
     float n = 0.0;

@@ -26,6 +26,8 @@
 //   float v = sk_shadow_map_visibility(g_shadow_map, g_compare, g_light_view_proj, world_pos, true, 1e-4, 1.0);
 //   float v = sk_shadow_map_visibility_auto(g_shadow_map, g_compare, g_light_view_proj, world_pos, world_normal,
 //                                           true, 0.0, 1.0);   // float32 map, automatic bias
+//   float v = sk_cube_visibility_hardware_depth_auto(g_cube, g_compare, light_position, world_pos, world_normal,
+//                                                    near_plane, far_plane, 0.0);   // a point light's cube
 // Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan; written for DXC
 // (shader model 6.0) and FXC (5.0) as well, but not compiled with them here (DXC is not packaged in
 // Debian 12).
@@ -41,14 +43,14 @@ float4 sk_shadow_coord(float4x4 light_view_proj, float3 world_pos, bool zero_to_
 
 // Lit fraction of world_pos: one compare of the biased receiver depth (2x2 with a linear filter).
 float sk_shadow_map_visibility(Texture2D<float> shadow_map, SamplerComparisonState cmp, float4x4 light_view_proj,
-                               float3 world_pos, bool zero_to_one, float bias, float outside) {
+                               float3 world_pos, bool zero_to_one, float bias_window, float outside) {
     float4 c = sk_shadow_coord(light_view_proj, world_pos, zero_to_one);
     if (c.w <= 0.0 || any(c.xy < 0.0) || any(c.xy > 1.0) || c.z > 1.0 || c.z < 0.0)
         return outside;
 #ifdef SK_REVERSED_Z
-    return shadow_map.SampleCmpLevelZero(cmp, c.xy, c.z + bias);
+    return shadow_map.SampleCmpLevelZero(cmp, c.xy, c.z + bias_window);
 #else
-    return shadow_map.SampleCmpLevelZero(cmp, c.xy, c.z - bias);
+    return shadow_map.SampleCmpLevelZero(cmp, c.xy, c.z - bias_window);
 #endif
 }
 
@@ -57,14 +59,14 @@ float sk_shadow_map_visibility(Texture2D<float> shadow_map, SamplerComparisonSta
 // major-axis distance, ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d), minus `bias`. Point lights only
 // (light_position.w > 0; others give 1.0, lit).
 float sk_cube_visibility_hardware_depth(TextureCube<float> shadow_map, SamplerComparisonState cmp, float4 light_position,
-                                        float3 world_pos, float near_plane, float far_plane, float bias) {
+                                        float3 world_pos, float near_plane, float far_plane, float bias_window) {
     if (!(light_position.w > 0.0)) return 1.0;
     float3 d = world_pos - light_position.xyz / light_position.w;
     float major = max(abs(d.x), max(abs(d.y), abs(d.z)));
     float f = far_plane;
     float n = near_plane;
     float ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * major);
-    return shadow_map.SampleCmpLevelZero(cmp, d, ndc_z * 0.5 + 0.5 - bias);
+    return shadow_map.SampleCmpLevelZero(cmp, d, ndc_z * 0.5 + 0.5 - bias_window);
 }
 
 // ---- automatic bias (glsl/shadow_map.glsl explains each step) ------------------------------------
@@ -179,6 +181,81 @@ float sk_shadow_map_visibility_auto(Texture2DArray<float> shadow_maps, SamplerCo
            w.y * shadow_maps.SampleCmpLevelZero(cmp, float3(uv[1], layer), z.y) +
            w.z * shadow_maps.SampleCmpLevelZero(cmp, float3(uv[2], layer), z.z) +
            w.w * shadow_maps.SampleCmpLevelZero(cmp, float3(uv[3], layer), z.w);
+}
+
+// A point light's cube face for direction d (GL / Vulkan cube-map face selection and orientation):
+// fwd the face's axis, right and up its +s and +t directions. Ties go to x, then y, as the hardware.
+void sk_cube_face_frame(float3 d, out float3 fwd, out float3 right, out float3 up) {
+    float3 a = abs(d);
+    float3 hint = float3(0.0, -1.0, 0.0);
+    if (a.x >= a.y && a.x >= a.z) {
+        fwd = float3(d.x >= 0.0 ? 1.0 : -1.0, 0.0, 0.0);
+    } else if (a.y >= a.z) {
+        fwd = float3(0.0, d.y >= 0.0 ? 1.0 : -1.0, 0.0);
+        hint = float3(0.0, 0.0, fwd.y);
+    } else {
+        fwd = float3(0.0, 0.0, d.z >= 0.0 ? 1.0 : -1.0);
+    }
+    right = cross(fwd, hint);
+    up = cross(right, fwd);
+}
+
+// The view-projection of that face: perspective(90 degrees, 1, near, far) * lookAt (GL clip depth).
+// float4x4(...) takes ROWS in HLSL (GLSL's mat4(...) takes columns): the same matrix, mul(M, v).
+float4x4 sk_cube_face_view_proj(float3 light, float3 fwd, float3 right, float3 up, float near_plane, float far_plane) {
+    float a = -(far_plane + near_plane) / (far_plane - near_plane), b = -2.0 * far_plane * near_plane / (far_plane - near_plane);
+    return float4x4(float4(right, -dot(right, light)), float4(up, -dot(up, light)),
+                    float4(-a * fwd, a * dot(fwd, light) + b), float4(fwd, -dot(fwd, light)));
+}
+
+// Lit fraction of world_pos in a cube of hardware depth with the automatic bias (glsl/shadow_map.glsl
+// says how: four compares at the face's texel centres, each against the receiver plane's window depth
+// there, taps past the face's edge read from the neighbouring face with that face's plane depth).
+// `normal`: the receiver's geometric world normal; depth_step: the cube's format step (0.0 float32).
+// Cube rendered as sk_cube_visibility_hardware_depth's (GL clip depth, not reversed, no depth bias).
+float sk_cube_visibility_hardware_depth_auto(TextureCube<float> shadow_map, SamplerComparisonState cmp, float4 light_position,
+                                             float3 world_pos, float3 normal, float near_plane, float far_plane,
+                                             float depth_step) {
+    if (!(light_position.w > 0.0)) return 1.0;
+    float3 light = light_position.xyz / light_position.w;
+    float3 d = world_pos - light;
+    if (all(d == 0.0)) return 1.0;
+    float3 fwd, right, up;
+    sk_cube_face_frame(d, fwd, right, up);
+    float4x4 vp = sk_cube_face_view_proj(light, fwd, right, up, near_plane, far_plane);
+    float4 c = sk_shadow_coord(vp, world_pos, false);
+    float4 g = sk_plane_depth_gradient(vp, world_pos, normal, false);
+    if (g.z == 0.0) return 1.0;  // edge-on receiver
+    float width, height;
+    shadow_map.GetDimensions(width, height);
+    float2 size = float2(width, height);
+    float2 texel = 1.0 / size;
+    float eps = sk_auto_bias_epsilon(g, texel, c.z, depth_step);
+    float2 f = c.xy * size - 0.5;
+    float2 i0 = floor(f);
+    float2 w = f - i0;
+    float4 weight = float4((1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y);
+    float3 n = normalize(normal);
+    float nd = dot(n, d);
+    float zf = (far_plane + near_plane) / (far_plane - near_plane), zg = 2.0 * far_plane * near_plane / (far_plane - near_plane);
+    float v = 0.0;
+    [unroll] for (int k = 0; k < 4; ++k) {
+        float2 centre = (i0 + float2(float(k & 1), float(k >> 1)) + 0.5) * texel;
+        float3 dir = fwd + (2.0 * centre.x - 1.0) * right + (2.0 * centre.y - 1.0) * up;
+        float z = c.z + dot(g.xy, centre - c.xy);  // in this face: the plane's depth is linear in (s, t)
+        if (any(centre < 0.0) || any(centre > 1.0)) {
+            // past the edge: the neighbouring face's texel centre and the plane's depth along it there
+            float3 f2, r2, u2;
+            sk_cube_face_frame(dir, f2, r2, u2);
+            float2 st = (float2(dot(dir, r2), dot(dir, u2)) / dot(dir, f2)) * 0.5 + 0.5;
+            st = (min(floor(st * size), size - 1.0) + 0.5) / size;
+            dir = f2 + (2.0 * st.x - 1.0) * r2 + (2.0 * st.y - 1.0) * u2;
+            float t = nd / dot(n, dir);  // dir's component along f2 is 1: the plane point's major-axis distance
+            if (t > 0.0 && t < 3.0e38) z = 0.5 * (zf - zg / t) + 0.5;
+        }
+        v += weight[k] * shadow_map.SampleCmpLevelZero(cmp, dir, clamp(z - eps, 0.0, 1.0));
+    }
+    return v;
 }
 
 // For filtered kernels (hlsl/pcf.hlsl): one texel of the plane's slope plus the precision margin

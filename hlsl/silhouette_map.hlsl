@@ -67,7 +67,7 @@ bool sk_silmap_point(float2 frag_coord, float2 a, float2 b, out float2 local, ou
 
 // The paper's occlusion test (glsl/silhouette_map.glsl says when it is true).
 bool sk_silmap_occluded(Texture2D<float> depth_map, int2 cell, float2 a, float2 b, float za, float zb, float2 local,
-                        float bias) {
+                        float bias_window) {
     uint w, h;
     depth_map.GetDimensions(w, h);
     int2 sz = int2(w, h);
@@ -81,8 +81,8 @@ bool sk_silmap_occluded(Texture2D<float> depth_map, int2 cell, float2 a, float2 
     [unroll] for (int s = 0; s < 4; ++s) {
         int2 ij = min(cell + int2(s & 1, s >> 1), sz - 1);
         float zs = depth_map.Load(int3(ij, 0));
-        if (!(ze > zs + bias)) behind = false;
-        if (zs > ze + bias) casts = true;
+        if (!(ze > zs + bias_window)) behind = false;
+        if (zs > ze + bias_window) casts = true;
     }
     return behind || !casts;
 }
@@ -95,7 +95,7 @@ float sk_silmap_wrap(float a) {
 
 // 1 = lit, 0 = shadowed at texel-space position `texel` for a receiver of window depth receiver_depth.
 float sk_silmap_visibility(Texture2D<float> depth_map, Texture2D<float4> silmap, float2 texel, float receiver_depth,
-                           float bias) {
+                           float bias_window) {
     uint w, h;
     depth_map.GetDimensions(w, h);
     int2 sz = int2(w, h);
@@ -103,11 +103,11 @@ float sk_silmap_visibility(Texture2D<float> depth_map, Texture2D<float4> silmap,
     int2 cell = int2(floor(s));
     float2 local = s - float2(cell);
     int2 nearest_ij = clamp(int2(floor(texel)), int2(0, 0), sz - 1);
-    float plain = receiver_depth <= depth_map.Load(int3(nearest_ij, 0)) + bias ? 1.0 : 0.0;
+    float plain = receiver_depth <= depth_map.Load(int3(nearest_ij, 0)) + bias_window ? 1.0 : 0.0;
     if (cell.x < 0 || cell.y < 0 || cell.x > sz.x - 2 || cell.y > sz.y - 2) return plain;
     float lit[4];
     [unroll] for (int k = 0; k < 4; ++k)
-        lit[k] = receiver_depth <= depth_map.Load(int3(cell + int2(k & 1, k >> 1), 0)) + bias ? 1.0 : 0.0;
+        lit[k] = receiver_depth <= depth_map.Load(int3(cell + int2(k & 1, k >> 1), 0)) + bias_window ? 1.0 : 0.0;
     float sum = lit[0] + lit[1] + lit[2] + lit[3];
     if (sum == 0.0 || sum == 4.0) return lit[0];
     float4 c = silmap.Load(int3(cell, 0));

@@ -46,8 +46,8 @@ float sk_smoothie_shadow_depth_at(Texture2D<float> linear_shadow_map, float2 fra
 }
 
 // True if the smoothie pixel at linear depth b lies behind a blocker (discard it).
-bool sk_smoothie_hidden(Texture2D<float> linear_shadow_map, float2 frag_coord_xy, float b, float bias) {
-    return b > sk_smoothie_shadow_depth_at(linear_shadow_map, frag_coord_xy) + bias;
+bool sk_smoothie_hidden(Texture2D<float> linear_shadow_map, float2 frag_coord_xy, float b, float bias_linear) {
+    return b > sk_smoothie_shadow_depth_at(linear_shadow_map, frag_coord_xy) + bias_linear;
 }
 
 // Chan & Durand 2003 eq. 1: alpha' = clamp(alpha r / (r - b)); b/r >= 1 or r <= 0 -> 1.
@@ -77,8 +77,8 @@ float2 sk_smoothie_depth_gradient(float2 duv_dx, float2 duv_dy, float dr_dx, flo
 }
 
 // One tap: umbra (0), penumbra (falloff of the remapped alpha), lit (1).
-float sk_smoothie_tap(float r, float z, float2 smoothie, float bias, bool alpha_is_remapped) {
-    if (r > z + bias) return 0.0;
+float sk_smoothie_tap(float r, float z, float2 smoothie, float bias_linear, bool alpha_is_remapped) {
+    if (r > z + bias_linear) return 0.0;
     if (r > smoothie.x)
         return sk_smoothie_falloff(alpha_is_remapped ? smoothie.y : sk_smoothie_remap(smoothie.y, smoothie.x, r));
     return 1.0;
@@ -87,7 +87,7 @@ float sk_smoothie_tap(float r, float z, float2 smoothie, float bias, bool alpha_
 // Final lookup: visibility in [0,1] of a receiver at light uv and linear depth r: the four texels
 // around uv tested and filtered bilinearly. Outside [0,1]^2 or r <= 0 -> 1.
 float sk_smoothie_visibility(Texture2D<float> shadow_map, Texture2D<float2> smoothie_map, float2 uv, float r, float2 dr_duv,
-                             float bias, bool alpha_is_remapped) {
+                             float bias_linear, bool alpha_is_remapped) {
     if (!(r > 0.0) || any(uv < 0.0) || any(uv > 1.0)) return 1.0;
     uint w, h;
     shadow_map.GetDimensions(w, h);
@@ -104,7 +104,7 @@ float sk_smoothie_visibility(Texture2D<float> shadow_map, Texture2D<float2> smoo
         float r_tap = r + dot(dr_duv, uv_tap - uv);
         float z = shadow_map.Load(int3(texel, 0));
         float2 s = smoothie_map.Load(int3(texel, 0));
-        v[k] = sk_smoothie_tap(r_tap, z, s, bias, alpha_is_remapped);
+        v[k] = sk_smoothie_tap(r_tap, z, s, bias_linear, alpha_is_remapped);
     }
     return lerp(lerp(v[0], v[1], f.x), lerp(v[2], v[3], f.x), f.y);
 }

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../cube_auto_scene.hpp"
 #include "gl_test.hpp"
 #include "techniques.hpp"
 
@@ -198,43 +199,18 @@ TEST_CASE("cube conventions: each lookup is right on its own cube and wrong on t
 // ---- the automatic bias on a cube of hardware depth (issue #23: the plain shadow map's point light)
 namespace {
 
-const glm::dvec3 kLight(0.5, 5.9, 0.0);  // off center, 2.1 below the ceiling: the ceiling grazing far out, seams across every wall
+using cube_auto::kLight;
 
-// Distance from kLight along unit direction d to the nearest surface (walls at +-kRoom, the sphere).
-double hit_from_light(const glm::dvec3& d, bool* on_sphere = nullptr) {
-    double wall = 1e300;
-    for (int a = 0; a < 3; ++a)
-        if (d[a] != 0.0) wall = std::min(wall, ((d[a] > 0.0 ? kRoom : -kRoom) - kLight[a]) / d[a]);
-    const glm::dvec3 oc = kSphereCenter - kLight;
-    const double b = glm::dot(d, oc), c = glm::dot(oc, oc) - kSphereRadius * kSphereRadius;
-    const double disc = b * b - c;
-    if (on_sphere) *on_sphere = false;
-    if (disc >= 0.0) {
-        const double t = b - std::sqrt(disc);
-        if (t > 0.0 && t < wall) {
-            if (on_sphere) *on_sphere = true;
-            return t;
-        }
-    }
-    return wall;
-}
-
+// The closed-form cube (tests/cube_auto_scene.hpp, shared with the Vulkan runs).
 GLuint make_offset_cube(int n) {
     GLuint t = 0;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_CUBE_MAP, t);
     glTexStorage2D(GL_TEXTURE_CUBE_MAP, 1, GL_DEPTH_COMPONENT32F, n, n);
-    std::vector<float> face(static_cast<std::size_t>(n * n));
-    for (int f = 0; f < 6; ++f) {
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                const glm::dvec3 d = face_direction(f, i, j, n);
-                const double major = hit_from_light(d) * std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
-                const double ndc = (kFar + kNear) / (kFar - kNear) - 2.0 * kFar * kNear / ((kFar - kNear) * major);
-                face[static_cast<std::size_t>(j * n + i)] = float(ndc * 0.5 + 0.5);
-            }
-        glTexSubImage2D(GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), 0, 0, 0, n, n, GL_DEPTH_COMPONENT, GL_FLOAT, face.data());
-    }
+    const std::vector<float> faces = cube_auto::cube_faces(n);
+    for (int f = 0; f < 6; ++f)
+        glTexSubImage2D(GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), 0, 0, 0, n, n, GL_DEPTH_COMPONENT, GL_FLOAT,
+                        faces.data() + static_cast<std::size_t>(f * n * n));
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -280,75 +256,14 @@ TEST_CASE("cube of hardware depth, automatic bias: no acne on walls or the spher
     glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     const int n = 256;
     const GLuint cube = make_offset_cube(n);
-    const double texel_angle = 2.0 / n;
-    std::mt19937 rng(2323);
-    std::normal_distribution<double> g(0.0, 1.0);
     const int M = 8192;
-    std::vector<float> pts(4 * M), nrm(4 * M);
-    std::vector<int> truth(M), kind(M);  // kind: 0 wall, 1 sphere
-    std::vector<bool> use(M);
-    int used = 0, lit = 0, seam = 0;
-    for (int i = 0; i < M; ++i) {
-        glm::dvec3 d;
-        if (i % 3 == 1) {  // along a face seam: two equal major components (within 2 texels), the third anywhere
-            const int a = static_cast<int>(rng() % 3), b = (a + 1 + static_cast<int>(rng() % 2)) % 3;
-            std::uniform_real_distribution<double> u(-1.0, 1.0);
-            d = glm::dvec3(0.0);
-            d[a] = rng() % 2 ? 1.0 : -1.0;
-            d[b] = (rng() % 2 ? 1.0 : -1.0) * (1.0 + 2.0 * texel_angle * u(rng));
-            d[3 - a - b] = 0.98 * u(rng);
-        } else {
-            do d = glm::dvec3(g(rng), g(rng), g(rng)) + (i % 3 == 0 ? glm::normalize(kSphereCenter - kLight) * 3.0 : glm::dvec3(0.0));
-            while (glm::length(d) < 1e-3);
-        }
-        d = glm::normalize(d);
-        bool sphere = false;
-        const double t = hit_from_light(d, &sphere);
-        glm::dvec3 p = kLight + t * d, nn;
-        if (sphere) {
-            nn = glm::normalize(p - kSphereCenter);
-            // half of them on the sphere's far side (shadowed by itself): reflect through the center
-            if (i % 2) {
-                p = 2.0 * kSphereCenter - p;
-                nn = -nn;
-            }
-        } else {
-            int a = 0;
-            for (int k = 1; k < 3; ++k)
-                if (std::fabs(std::fabs(p[k]) - kRoom) < std::fabs(std::fabs(p[a]) - kRoom)) a = k;
-            nn = glm::dvec3(0.0);
-            nn[a] = p[a] > 0.0 ? -1.0 : 1.0;
-        }
-        const glm::dvec3 to = p - kLight;
-        const double dist = glm::length(to);
-        const glm::dvec3 dd = to / dist;
-        const double cosi = -glm::dot(nn, dd);  // > 0: faces the light
-        bool hit_sphere = false;
-        const double first = hit_from_light(dd, &hit_sphere);
-        truth[i] = cosi > 0.0 && first >= dist - 1e-6 * dist ? 1 : 0;
-        kind[i] = sphere ? 1 : 0;
-        // away from edges: the sphere's silhouette seen from the light (3 texels' angle), the terminator
-        // (cos > 0.05), the room's edges (3 texels of the wall's footprint: 3 texel_angle dist / cos)
-        const glm::dvec3 oc = kSphereCenter - kLight;
-        const double silhouette = std::asin(kSphereRadius / glm::length(oc));
-        const double ang = std::acos(std::clamp(glm::dot(dd, glm::normalize(oc)), -1.0, 1.0));
-        bool ok = std::fabs(ang - silhouette) > 3.0 * texel_angle && std::fabs(cosi) > 0.05;
-        if (!sphere) {
-            const double reach = 3.0 * texel_angle * dist / std::max(cosi, 1e-3);
-            int near_edges = 0;
-            for (int k = 0; k < 3; ++k) near_edges += std::fabs(std::fabs(p[k]) - kRoom) < reach;
-            ok = ok && near_edges <= 1;
-        }
-        use[i] = ok;
-        const glm::dvec3 ad = glm::abs(dd);
-        const double m1 = std::max({ad.x, ad.y, ad.z}), m3 = std::min({ad.x, ad.y, ad.z}), m2 = ad.x + ad.y + ad.z - m1 - m3;
-        if (ok && (m1 - m2) / m1 < 2.0 * texel_angle) ++seam;  // within two texels of a face seam
-        if (ok) {
-            ++used;
-            lit += truth[i];
-        }
-        for (int k = 0; k < 3; ++k) pts[4 * i + k] = float(p[k]), nrm[4 * i + k] = float(nn[k]);
-    }
+    const cube_auto::Receivers rc = cube_auto::make_receivers(M, n);
+    const std::vector<float>& pts = rc.pts;
+    const std::vector<float>& nrm = rc.nrm;
+    const std::vector<int>& truth = rc.truth;
+    const std::vector<int>& kind = rc.kind;
+    const std::vector<bool>& use = rc.use;
+    const int used = rc.used, lit = rc.lit, seam = rc.seam;
     REQUIRE(used > M / 2);
     REQUIRE(seam > 500);
     auto upload = [&](const std::vector<float>& data) {

@@ -18,5 +18,9 @@ float4 main(float4 position : SV_Position, float3 world : TEXCOORD0, float3 norm
     float e = sk_cube_visibility_hardware_depth(g_cube, g_compare, g.light_position, world, 0.1, 50.0, 1e-4);
     float4 grad = sk_plane_depth_gradient(g.light_view_proj, world, normal, true);
     float f = sk_auto_filtered_bias(grad, float2(1.0 / 2048.0, 1.0 / 2048.0), c.z, 0.0);
-    return float4(a * b, d * e, f, c.w);
+    float h = sk_cube_visibility_hardware_depth_auto(g_cube, g_compare, g.light_position, world, normal, 0.1, 50.0, 0.0);
+    float3 fwd, right, up;
+    sk_cube_face_frame(world - g.light_position.xyz, fwd, right, up);
+    float4 face = sk_shadow_coord(sk_cube_face_view_proj(g.light_position.xyz, fwd, right, up, 0.1, 50.0), world, false);
+    return float4(a * b, d * e * h, f + face.z, c.w);
 }

@@ -37,11 +37,7 @@ void main() {
 const char* kDepthFsGlsl = R"(
 layout(location = 0) in vec4 v_depth_clip;
 void main() {
-#ifdef SK_REVERSED_Z
-    gl_FragDepth = sk_warp_map_depth(v_depth_clip, -2.0, 0.0, true);
-#else
-    gl_FragDepth = sk_warp_map_depth(v_depth_clip, 2.0, 0.0, true);
-#endif
+    gl_FragDepth = sk_warp_map_depth(v_depth_clip, SK_TEST_SLOPE, 0.0, true);  // 2 (reversed-Z: -2); 0: true depths
 }
 )";
 const char* kDepthHlsl = R"(
@@ -58,16 +54,12 @@ DepthVaryings vs_depth([[vk::location(0)]] float3 position : POSITION) {
     return o;
 }
 float ps_depth(DepthVaryings i) : SV_Depth {
-#ifdef SK_REVERSED_Z
-    return sk_warp_map_depth(i.depth_clip, -2.0, 0.0, true);
-#else
-    return sk_warp_map_depth(i.depth_clip, 2.0, 0.0, true);
-#endif
+    return sk_warp_map_depth(i.depth_clip, SK_TEST_SLOPE, 0.0, true);  // 2 (reversed-Z: -2); 0: true depths
 }
 )";
 
 const char* kReceiverGlslVs = R"(#version 450 core
-layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; } u;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; mat4 warp_inverse; } u;
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 0) out vec3 v_world;
@@ -80,20 +72,27 @@ void main() {
 )";
 const char* kReceiverGlslFs = R"(
 layout(set = 0, binding = 0) uniform sampler2DShadow u_map;
-layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; } u;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; mat4 warp_inverse; } u;
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_normal;
 layout(location = 0) out float o_visibility;
 layout(location = 1) out vec4 o_world;
 layout(location = 2) out vec4 o_normal;
 void main() {
+#ifdef SK_TEST_AUTO
+    o_visibility = sk_warp_shadow_auto(u_map, u.warp, u.warp_inverse, u.depth_proj, v_world, v_normal, true, 0.0, 1.0);
+#else
     o_visibility = sk_warp_shadow(u_map, u.warp, u.depth_proj, v_world, 0.0, true);
+#endif
     o_world = vec4(v_world, 1.0);
     o_normal = vec4(normalize(v_normal), 0.0);
 }
 )";
 const char* kReceiverHlsl = R"(
-struct Params { column_major float4x4 view_proj; column_major float4x4 warp; column_major float4x4 depth_proj; };
+struct Params {
+    column_major float4x4 view_proj; column_major float4x4 warp; column_major float4x4 depth_proj;
+    column_major float4x4 warp_inverse;
+};
 [[vk::binding(0, 0)]] Texture2D<float> u_map;
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
@@ -116,7 +115,11 @@ struct Targets {
 };
 Targets ps_main(Varyings i) {
     Targets o;
+#ifdef SK_TEST_AUTO
+    o.visibility = sk_warp_shadow_auto(u_map, u_compare, u.warp, u.warp_inverse, u.depth_proj, i.world, i.normal, true, 0.0, 1.0);
+#else
     o.visibility = sk_warp_shadow(u_map, u_compare, u.warp, u.depth_proj, i.world, 0.0, true);
+#endif
     o.world = float4(i.world, 1.0);
     o.normal = float4(normalize(i.normal), 0.0);
     return o;
@@ -126,8 +129,13 @@ Targets ps_main(Varyings i) {
 constexpr std::uint32_t kMap = 1024, kW = 320, kH = 240;
 
 struct Params {
-    glm::mat4 view_proj, warp, depth_proj;
+    glm::mat4 view_proj, warp, depth_proj, warp_inverse;
 };
+
+// Plain: the map with the slope-scaled bias (TSM: sk_warp_map_depth's slope 2), sk_warp_shadow, LINEAR;
+// Auto: the map's true depths (slope 0), sk_warp_shadow_auto, NEAREST (as the GL check in
+// tests/docs/gl_warp.cpp); NoBias: the true depths and sk_warp_shadow with bias 0 (the control: acne).
+enum class Mode { Plain, Auto, NoBias };
 struct DepthPush {
     glm::mat4 warp, depth_proj;
 };
@@ -137,8 +145,10 @@ struct Shaders {
     const char* entries[4] = {"main", "main", "main", "main"};
 };
 
-Shaders shaders(Source lang, bool reversed, bool write_depth) {
-    const std::string define = reversed ? "#define SK_REVERSED_Z 1\n" : "";
+Shaders shaders(Source lang, bool reversed, bool write_depth, Mode mode) {
+    const std::string define = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") + "#define SK_TEST_SLOPE " +
+                               (mode != Mode::Plain ? "0.0" : reversed ? "-2.0" : "2.0") + "\n";
+    const std::string lookup = mode == Mode::Auto ? "#define SK_TEST_AUTO 1\n" : "";
     Shaders s;
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/perspective_shadow_maps.glsl");
@@ -147,17 +157,17 @@ Shaders shaders(Source lang, bool reversed, bool write_depth) {
             s.depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kDepthFsGlsl,
                                                "main", "warped.glsl.depth.frag");
         s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "warped.glsl.vert");
-        s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kReceiverGlslFs, "main",
+        s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + lookup + snippet + kReceiverGlslFs, "main",
                                      "warped.glsl.frag");
         return s;
     }
     const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/perspective_shadow_maps.hlsl");
-    s.depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kDepthHlsl, "vs_depth", "warped.hlsl.depth.vert");
+    s.depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, define + snippet + kDepthHlsl, "vs_depth", "warped.hlsl.depth.vert");
     if (write_depth)
         s.depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + kDepthHlsl, "ps_depth",
                                            "warped.hlsl.depth.frag");
     s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "warped.hlsl.vert");
-    s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kReceiverHlsl, "ps_main", "warped.hlsl.frag");
+    s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, lookup + snippet + kReceiverHlsl, "ps_main", "warped.hlsl.frag");
     s.entries[0] = "vs_depth";
     s.entries[1] = "ps_depth";
     s.entries[2] = "vs_main";
@@ -171,7 +181,7 @@ struct Result {
     float warp_strength = 0.f;
 };
 
-Result run(Source lang, shadowkit::WarpMethod method, bool reversed) {
+Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode = Mode::Plain) {
     skvk::Context& ctx = skvk::vk_test_context();
     const skvk::BoxScene scene;
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);
@@ -199,9 +209,10 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed) {
         method == shadowkit::WarpMethod::Tsm ? shadowkit::warp_tsm_matrix(in) : shadowkit::warp_lispsm_matrix(in);
     REQUIRE_MESSAGE(w.status == shadowkit::Status::Ok, shadowkit::status_name(w.status));
     REQUIRE(w.visible);
-    const Params params{proj * view, w.light_view_proj, w.depth_view_proj};
+    const glm::mat4 warp_inverse(glm::inverse(glm::dmat4(w.light_view_proj)));  // in double, as the snippet asks
+    const Params params{proj * view, w.light_view_proj, w.depth_view_proj, warp_inverse};
     const DepthPush push{w.light_view_proj, w.depth_view_proj};
-    const Shaders sh = shaders(lang, reversed, w.separate_depth);
+    const Shaders sh = shaders(lang, reversed, w.separate_depth, mode);
 
     skvk::Buffer vb, ubo;
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
@@ -246,7 +257,7 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed) {
         ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
         VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
+    VkSampler sampler = skvk::make_sampler(ctx, mode == Mode::Plain ? VK_FILTER_LINEAR : VK_FILTER_NEAREST,
                                            reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -336,7 +347,37 @@ void check(Source lang) {
         }
 }
 
+
+// sk_warp_shadow_auto on TSM's separate depth (true depths, no offset), the GL check's bounds
+// (tests/docs/gl_warp.cpp): >= 99.5% agree, at most 0.2% of the lit pixels dark; the same true depths
+// read without a bias acne (the control). Standard depth only: sk_warp_shadow_auto has no reversed-Z path.
+void check_auto(Source lang) {
+    const std::size_t before = skvk::message_count();
+    const Result a = run(lang, shadowkit::WarpMethod::Tsm, false, Mode::Auto);
+    const Result none = run(lang, shadowkit::WarpMethod::Tsm, false, Mode::NoBias);
+    const std::string name = std::string(lang == Source::Glsl ? "GLSL" : "HLSL") + " TSM, true depths";
+    INFO(name);
+    MESSAGE(name << ": sk_warp_shadow_auto compared " << a.agreement.compared << " (lit " << a.agreement.lit << ", shadowed "
+                 << a.agreement.shadowed << "), agreement " << a.agreement.fraction() << ", lit pixels dark " << a.agreement.acne
+                 << "; no bias: agreement " << none.agreement.fraction() << ", lit pixels dark " << none.agreement.acne);
+    CHECK(a.separate_depth);
+    CHECK(a.agreement.compared > int(kW * kH) / 4);
+    CHECK(a.agreement.shadowed > a.agreement.compared / 50);
+    CHECK(a.agreement.fraction() >= 0.995);
+    CHECK(double(a.agreement.acne) <= 0.002 * double(a.agreement.lit));
+    CHECK(none.agreement.acne > a.agreement.lit / 100);  // the control: the true depths without a bias acne
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+}
+
 }  // namespace
+
+TEST_CASE("perspective_shadow_maps.glsl on Vulkan: sk_warp_shadow_auto on TSM's true depths, no acne, matches the ray cast") {
+    check_auto(Source::Glsl);
+}
+
+TEST_CASE("HLSL perspective_shadow_maps.hlsl on Vulkan: sk_warp_shadow_auto on TSM's true depths, no acne, matches the ray cast") {
+    check_auto(Source::Hlsl);
+}
 
 TEST_CASE("perspective_shadow_maps.glsl on Vulkan: LiSPSM and TSM in [0,1] depth, standard and reversed-Z, match the ray cast") {
     check(Source::Glsl);

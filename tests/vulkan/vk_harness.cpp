@@ -119,6 +119,7 @@ std::string create_context(Context& ctx, bool want_validation, bool& no_device) 
     ctx.enabled.depthClamp = ctx.supported.depthClamp;
     ctx.enabled.depthBounds = ctx.supported.depthBounds;
     ctx.enabled.geometryShader = ctx.supported.geometryShader;
+    ctx.enabled.fragmentStoresAndAtomics = ctx.supported.fragmentStoresAndAtomics;  // virtual_shadow_map marking
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qi.queueFamilyIndex = ctx.queue_family;

@@ -61,6 +61,7 @@ inline bool segment_hits_box(glm::vec3 p, glm::vec3 light, glm::vec3 lo, glm::ve
 
 struct Agreement {
     int compared = 0, agree = 0, lit = 0, shadowed = 0;
+    int acne = 0;  ///< lit by the ray cast, dark in `vis`
     double fraction() const { return compared ? double(agree) / double(compared) : 0.0; }
 };
 
@@ -102,6 +103,7 @@ inline Agreement compare_with_ray_cast(const BoxScene& s, glm::vec4 light, const
             ++a.compared;
             (ref[k] ? a.lit : a.shadowed)++;
             if ((vis[k] > 0.5f ? 1 : 0) == ref[k]) ++a.agree;
+            if (ref[k] == 1 && !(vis[k] > 0.5f)) ++a.acne;
         }
     return a;
 }
