@@ -68,7 +68,8 @@
 //   Wimmer, Scherzer & Purgathofer 2004, "Light Space Perspective Shadow Maps" (n_opt, falloff).
 //   Martin & Tan 2004, "Anti-aliasing and Continuity with Trapezoidal Shadow Maps" (80% rule, the
 //     trapezoid transformation N_T, depth from the light's post-perspective space).
-//   Lloyd et al. 2006/2008, "Warping and Partitioning for Low Error Shadow Maps" (aliasing metric);
+//   Lloyd et al. 2006/2008, "Warping and Partitioning for Low Error Shadow Maps" (aliasing metric, the
+//     general LiSPSM n_opt; with the virtual near/far planes of filament's ShadowMap::applyLISPSM);
 //     Moschig, "Apelles" thesis, eq. 3.17 (dp/ds = (z_n / z) (dz / ds) cos(alpha)).
 //
 // MIT License. Copyright (c) shadowkit contributors.
@@ -944,6 +945,7 @@ inline WarpResult warp_uniform_matrix(const WarpInput& in) {
 /// sin(gamma) goes from 1.5 * lispsm_min_sin_gamma down to lispsm_min_sin_gamma.
 inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     using namespace detail;
+    if (const Status ost = wp_lispsm_options_status(in.options); ost != Status::Ok) return wp_fail(ost);
     const wp_Setup s = wp_prepare(in);
     if (s.status != Status::Ok) return wp_fail(s.status);
     if (!s.visible) return wp_not_visible();
@@ -994,11 +996,8 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
         ymax = std::fmax(ymax, y);
     }
     const double D = ymax - ymin;
-    // n_opt (wp_lispsm_kappa: Lloyd et al. 2006 by default, Wimmer et al. 2004 on request); both equal
-    // z_n + sqrt(z_n z_f) for gamma = 90 deg without virtual planes. Computed in world units and carried
+    // n_opt (wp_lispsm_kappa: Lloyd et al. 2006 or Wimmer et al. 2004), computed in world units and carried
     // to the warp space as the ratio n / D (the warp is scale invariant).
-    const Status ost = wp_lispsm_options_status(in.options);
-    if (ost != Status::Ok) return wp_fail(ost);
     double Dw = D;
     if (!s.directional) {
         const glm::dvec3 dw = glm::normalize(s.mc - s.L);
