@@ -68,7 +68,8 @@
 //   Wimmer, Scherzer & Purgathofer 2004, "Light Space Perspective Shadow Maps" (n_opt, falloff).
 //   Martin & Tan 2004, "Anti-aliasing and Continuity with Trapezoidal Shadow Maps" (80% rule, the
 //     trapezoid transformation N_T, depth from the light's post-perspective space).
-//   Lloyd et al. 2006/2008, "Warping and Partitioning for Low Error Shadow Maps" (aliasing metric);
+//   Lloyd et al. 2006/2008, "Warping and Partitioning for Low Error Shadow Maps" (aliasing metric, the
+//     general LiSPSM n_opt; with the virtual near/far planes of filament's ShadowMap::applyLISPSM);
 //     Moschig, "Apelles" thesis, eq. 3.17 (dp/ds = (z_n / z) (dz / ds) cos(alpha)).
 //
 // MIT License. Copyright (c) shadowkit contributors.
@@ -132,12 +133,17 @@ enum class ClipDepth { NegativeOneToOne, ZeroToOne };
 /// The four fits of this header (for warp_matrix).
 enum class WarpMethod { Uniform, Psm, Lispsm, Tsm };
 
+/// LiSPSM's warp distance n_opt. Lloyd: Lloyd et al. 2006's general n_opt (eta = 0): the near distance
+/// z_n is used as is, with filament's virtual near and far planes. Wimmer: Wimmer et al.'s reference code,
+/// z_n / sin(gamma) (shadowkit 0.1.0 before issue 25): a weaker warp as the light nears the view direction.
+enum class LispsmNOpt { Lloyd, Wimmer };
+
 /// Tuning. The values below are the defaults; every field is checked (InvalidArgument outside its limit).
 struct WarpOptions {
     /// LiSPSM: multiplies n_opt (> 1 weaker warp, < 1 stronger). [Limit: > 0]
     float lispsm_n_scale = 1.0f;
     /// LiSPSM: below this sin(gamma) (gamma: angle between the view and the light) the warp is off
-    /// (uniform); between it and twice it the warp fades out continuously (n -> infinity). filament
+    /// (uniform); between it and 1.5 times it the warp fades out continuously (n -> infinity). filament
     /// uses 0.02 (~1.15 deg). [Limit: 0 <= x < 0.5]
     float lispsm_min_sin_gamma = 0.02f;
     /// TSM: at |cos gamma| >= this the fit is uniform (DagorEngine: 0.95); the warp fades out over the
@@ -155,6 +161,14 @@ struct WarpOptions {
     /// wider one (light near the view direction), the virtual camera slides back further, which
     /// weakens the warp continuously instead of switching to the uniform fit. [Limit: 1 < x < 89]
     float psm_max_half_angle_deg = 80.0f;
+    /// LiSPSM: which n_opt (docs/perspective_shadow_maps.md, "LiSPSM near the view direction").
+    LispsmNOpt lispsm_n_opt = LispsmNOpt::Lloyd;
+    /// LiSPSM (Lloyd only): virtual near plane [wu]: the near distance under the square root is at least
+    /// this (filament's shadowNearHint, 1 m); 0: none. Receivers nearer than it get less resolution. [Limit: >= 0]
+    float lispsm_virtual_near = 1.0f;
+    /// LiSPSM (Lloyd only): virtual far plane [wu]: the far distance under the square root is at most
+    /// this (filament's shadowFarHint, 100 m); 0: none. [Limit: >= 0]
+    float lispsm_virtual_far = 100.0f;
 };
 
 /// Same inputs for every method.
@@ -339,6 +353,8 @@ struct wp_Setup {
     glm::dvec3 nc{0.0}, fc{0.0}, mc{0.0};  ///< center line at d0, d1 and halfway
     glm::dvec3 c_org{0.0}, c_dir{0.0};     ///< center line (world): c_org + depth * c_dir
     double d0 = 0, d1 = 0;    ///< receivers' view-depth range
+    double cam_d0 = 0, cam_d1 = 0;  ///< the camera slice's view-depth range (d0, d1 lie within it)
+    glm::dmat4 view{1.0};     ///< world -> camera view
     glm::dvec3 recv[wp_kMaxRecv];
     int nrecv = 0;
     glm::dvec3 body[2 * wp_kMaxRecv];
@@ -540,6 +556,9 @@ inline void wp_focus_slice(const wp_Camera& C, wp_Setup& s) {
         r0 = std::fmin(r0, dep);
         r1 = std::fmax(r1, dep);
     }
+    s.cam_d0 = C.d0;
+    s.cam_d1 = C.d1;
+    s.view = C.V;
     s.d0 = glm::clamp(r0, C.d0, C.d1);
     s.d1 = glm::clamp(r1, s.d0, C.d1);
     for (int i = 0; i < 4; ++i) {
@@ -865,6 +884,44 @@ inline void wp_gamma(const wp_Setup& s, double& sin_g, double& cos_g) {
     sin_g = glm::length(glm::cross(s.vdir, d));
 }
 
+/// The LiSPSM n_opt options: NonFinite or InvalidArgument outside their limits.
+inline Status wp_lispsm_options_status(const WarpOptions& o) {
+    if (!std::isfinite(o.lispsm_virtual_near) || !std::isfinite(o.lispsm_virtual_far)) return Status::NonFinite;
+    const bool known = o.lispsm_n_opt == LispsmNOpt::Lloyd || o.lispsm_n_opt == LispsmNOpt::Wimmer;
+    return known && o.lispsm_virtual_near >= 0.0f && o.lispsm_virtual_far >= 0.0f ? Status::Ok : Status::InvalidArgument;
+}
+
+/// LiSPSM's 1 / n [1/wu] (n: the warp distance) for the body spanning D [wu] across the light; 0 (no
+/// warp) where n is unbounded.
+inline double wp_lispsm_kappa(const WarpOptions& o, const wp_Setup& s, double D, double sin_g) {
+    if (o.lispsm_n_opt == LispsmNOpt::Wimmer) {
+        // Wimmer et al. 2004, sec. 5: n = (z_n' + sqrt(z_n' z_f')) / sin(gamma), z_n' = z_n / sin(gamma), z_f' = z_n' + D sin(gamma)
+        const double zn = s.d0 / sin_g, zf = zn + D * sin_g;
+        return sin_g / (zn + std::sqrt(zn * zf));
+    }
+    // z_n, z_f: the view-depth range of the receivers swept towards the light (filament's receiver
+    // volume reaches the casters), within the camera's slice
+    double b0 = 1e300, b1 = -1e300;
+    for (int i = 0; i < s.nbody; ++i) {
+        const double dep = -(s.view * glm::dvec4(s.body[i], 1.0)).z;
+        b0 = std::fmin(b0, dep);
+        b1 = std::fmax(b1, dep);
+    }
+    const double z_n = glm::clamp(b0, s.cam_d0, s.d0), z_f = glm::clamp(b1, s.d1, s.cam_d1);
+    // Lloyd et al. 2006 (thesis sec. 5.1.2.2, eta = 0): n = (z_0 + sqrt(z_0 z_1)) / sin(gamma), z_0 = z_n,
+    // z_1 = z_0 + D sin(gamma); under the root z_0 >= the virtual near v_n and z_1 <= the virtual far
+    // (filament's ShadowMap::applyLISPSM), and n >= dz / (2 - 3 dz / (z_f - z_n)), dz = v_n - z_n, which
+    // grows without bound (kappa -> 0, continuously) as dz reaches 2/3 of the receivers' depth range.
+    const double vn = double(o.lispsm_virtual_near), vf = double(o.lispsm_virtual_far);
+    const double z1 = z_n + D * sin_g;
+    const double r0 = std::fmax(z_n, vn), r1 = std::fmax(0.0, vf > 0.0 ? std::fmin(std::fmin(z_f, vf), z1) : z1);
+    const double n0 = (z_n + std::sqrt(r0 * r1)) / sin_g;
+    const double dz = std::fmax(0.0, vn - z_n), range = std::fmax(z_f - z_n, 1e-300);
+    const double den = 2.0 - 3.0 * dz / range;  // 1 / n1 = den / dz
+    const double k0 = n0 > 0.0 ? 1.0 / n0 : 0.0, k1 = dz > 0.0 ? std::fmax(0.0, den) / dz : k0;
+    return std::fmin(k0, k1);
+}
+
 }  // namespace detail
 
 /// Uniform (standard) shadow map fitted to the receiver volume extended towards the light:
@@ -885,9 +942,10 @@ inline WarpResult warp_uniform_matrix(const WarpInput& in) {
 /// Light Space Perspective Shadow Maps (Wimmer et al. 2004): a perspective warp whose axis is the view
 /// direction projected perpendicular to the light (a point light is first made directional in its own
 /// post-perspective space), strength n_opt. The warp fades out (n -> infinity, continuously) as
-/// sin(gamma) goes from 2 * lispsm_min_sin_gamma down to lispsm_min_sin_gamma.
+/// sin(gamma) goes from 1.5 * lispsm_min_sin_gamma down to lispsm_min_sin_gamma.
 inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     using namespace detail;
+    if (const Status ost = wp_lispsm_options_status(in.options); ost != Status::Ok) return wp_fail(ost);
     const wp_Setup s = wp_prepare(in);
     if (s.status != Status::Ok) return wp_fail(s.status);
     if (!s.visible) return wp_not_visible();
@@ -920,7 +978,8 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     const glm::dvec3 vp = v - glm::dot(v, d) * d;
     const double sg = line_ok ? glm::length(vp) : 0.0;
     const double s0 = double(in.options.lispsm_min_sin_gamma);
-    const double fade = !(sg > 0.0) || !wp_fin(sg) ? 0.0 : (s0 > 0.0 ? wp_smooth01((sg - s0) / s0) : 1.0);
+    constexpr double kLispsmFade = 0.5;  // the warp fades in over sin(gamma) in [s0, (1 + kLispsmFade) s0]
+    const double fade = !(sg > 0.0) || !wp_fin(sg) ? 0.0 : (s0 > 0.0 ? wp_smooth01((sg - s0) / (kLispsmFade * s0)) : 1.0);
     const glm::dvec3 up = wp_up(d, d, line_ok ? v : ref, ref);
     // light-space frame: x lateral, y along the warp axis (view direction projected), z against the
     // light; origin at the receivers' near center on the view's center line (the warp's lateral center)
@@ -937,9 +996,8 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
         ymax = std::fmax(ymax, y);
     }
     const double D = ymax - ymin;
-    // n_opt (Wimmer et al. 2004, sec. 5): n = (z_n' + sqrt(z_n' z_f')) / sin(gamma), z_n' = z_n / sin(gamma),
-    // z_f' = z_n' + D sin(gamma); equals z_n + sqrt(z_n z_f) for gamma = 90 deg. Computed in world units
-    // and carried to the warp space as the ratio n / D (the warp is scale invariant).
+    // n_opt (wp_lispsm_kappa: Lloyd et al. 2006 or Wimmer et al. 2004), computed in world units and carried
+    // to the warp space as the ratio n / D (the warp is scale invariant).
     double Dw = D;
     if (!s.directional) {
         const glm::dvec3 dw = glm::normalize(s.mc - s.L);
@@ -955,9 +1013,8 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     const double sgn = s.directional ? sg : sg_w;
     double n_world = 0.0, kappa = 0.0;
     if (fade > 0.0 && sgn > 0.0 && Dw > 0.0 && D > 1e-12 * s.scale) {
-        const double zn = s.d0 / sgn;
-        const double zf = zn + Dw * sgn;
-        n_world = (zn + std::sqrt(zn * zf)) / sgn * double(in.options.lispsm_n_scale);
+        const double k = wp_lispsm_kappa(in.options, s, Dw, sgn);
+        n_world = k > 0.0 ? double(in.options.lispsm_n_scale) / k : 0.0;
         const double n = n_world * (D / Dw);  // in the warp space
         if (n > 0.0 && wp_fin(n)) kappa = fade / n;
     }

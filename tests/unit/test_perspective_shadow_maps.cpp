@@ -403,14 +403,14 @@ TEST_CASE("warp: containment, depth order, orientation and finite Ok over thousa
 }
 
 TEST_CASE("warp: anchors - filament LiSPSM off within ~1 degree, DagorEngine TSM off at |cos gamma| >= 0.95") {
-    // filament: sinLV <= 0.02 -> no LiSPSM. Ours: off below 0.02, fading to full strength at 0.04.
+    // filament: sinLV <= 0.02 -> no LiSPSM. Ours: off below 0.02, fading to full strength at 0.03.
     CHECK(warp_lispsm_matrix(outdoor(1.0f)).fallback_uniform);   // sin 1 deg = 0.0175
     CHECK(warp_lispsm_matrix(outdoor(-1.0f)).fallback_uniform);
     CHECK_FALSE(warp_lispsm_matrix(outdoor(3.0f)).fallback_uniform);  // sin 3 deg = 0.052
     CHECK(warp_lispsm_matrix(outdoor(3.0f)).warp_strength == 1.0f);
     CHECK(warp_lispsm_matrix(outdoor(0.0f)).fallback_uniform);   // exactly parallel
     CHECK(warp_lispsm_matrix(outdoor(180.0f)).fallback_uniform); // exactly anti-parallel
-    const float mid = glm::degrees(std::asin(0.03f));  // halfway through the fade: smoothstep(0.5) = 0.5
+    const float mid = glm::degrees(std::asin(0.025f));  // halfway through the fade: smoothstep(0.5) = 0.5
     CHECK(warp_lispsm_matrix(outdoor(mid)).warp_strength == doctest::Approx(0.5).epsilon(1e-3));
     // DagorEngine TSM: |cos gamma| >= 0.95 -> ortho
     const float a95 = glm::degrees(std::acos(0.96f)), a90 = glm::degrees(std::acos(0.89f));
@@ -1040,4 +1040,244 @@ TEST_CASE("warp: a point light just above a wide scene gets one map (issue 13 co
                                                                       << fitted[2] << ", tsm " << fitted[3] << " of " << N
                                                                       << "; " << points << " receiver checks");
     for (int m = 0; m < 4; ++m) CHECK(fitted[m] > N * 5 / 6);
+}
+
+// ------------------------------------------------------------------------------------ issue 25
+// LiSPSM near the view direction, side by side with filament's LiSPSM. The filament side below is our
+// own re-implementation of the warp parameter choice read in google/filament
+// filament/src/ShadowMap.cpp (ShadowMap::applyLISPSM: sinLV, the virtual near/far planes
+// shadowNearHint = 1 m / shadowFarHint = 100 m, nopt0 / nopt1, the sinLV > 0.02 switch; warpFrustum;
+// computeLightRotation; computeFocusParams; intersectFrustumWithBox for its own receiver volume),
+// not a copy of its code; it is evaluated on filament's own volume (the view frustum clipped by the
+// scene box's light-space bounds) and on shadowkit's (detail::wp_prepare's body).
+namespace {
+
+struct Sweep { glm::dvec3 eye, v, up; double fovy, aspect, nearp, farp; };
+
+// filament-like warp on a point set (world), light travel dir d
+glm::dmat4 filament_warp(const std::vector<glm::dvec3>& vol, const glm::dvec3& d, const Sweep& c, double* nopt_out, bool* used) {
+    // light view: look along d; up: any perpendicular (the rotation L fixes y below)
+    glm::dvec3 vp = c.v - glm::dot(c.v, d) * d;
+    const double lvp = glm::length(vp);
+    glm::dvec3 y = lvp > 1e-9 ? vp / lvp : glm::dvec3(1, 0, 0);
+    glm::dvec3 z = -d, x = glm::cross(y, z);
+    glm::dmat4 LV(1.0);
+    LV[0] = glm::dvec4(x.x, y.x, z.x, 0); LV[1] = glm::dvec4(x.y, y.y, z.y, 0); LV[2] = glm::dvec4(x.z, y.z, z.z, 0);
+    LV[3] = glm::dvec4(0, 0, 0, 1);
+    const glm::dmat4 V = glm::lookAt(c.eye, c.eye + c.v, c.up);
+    double zn = 1e300, zf = -1e300, n = 1e300, f = -1e300;
+    for (auto& p : vol) {
+        double dep = -(V * glm::dvec4(p, 1)).z;
+        zn = std::fmin(zn, dep); zf = std::fmax(zf, dep);
+        double yy = (LV * glm::dvec4(p, 1)).y;
+        n = std::fmin(n, yy); f = std::fmax(f, yy);
+    }
+    zn = std::fmax(zn, c.nearp); zf = std::fmin(zf, c.farp);
+    const double dd = f - n;
+    const double LoV = glm::dot(c.v, d), sinLV = std::sqrt(std::fmax(0.0, 1 - LoV * LoV));
+    const double nearHint = 1.0, farHint = 100.0;
+    const double dzn = std::fmax(0.0, nearHint - c.nearp), dzf = std::fmax(0.0, c.farp - farHint);
+    const double z0 = zn, z1 = z0 + dd * sinLV;
+    glm::dmat4 W(1.0);
+    *used = false;
+    if (f > n && sinLV > 0.02 && 3 * (dzn / (zf - zn)) < 2) {
+        const double vz0 = std::fmax(0.0, std::fmax(std::fmax(zn, c.nearp + dzn), z0));
+        const double vz1 = std::fmax(0.0, std::fmin(std::fmin(zf, c.farp - dzf), z1));
+        const double nopt0 = (z0 + std::sqrt(vz0 * vz1)) / sinLV;
+        const double nopt1 = dzn / (2 - 3 * (dzn / (zf - zn)));
+        const double nopt = std::fmax(nopt0, nopt1);
+        *nopt_out = nopt;
+        *used = true;
+        const glm::dvec3 cam = glm::dvec3(LV * glm::dvec4(c.eye, 1));
+        const glm::dvec3 p(cam.x, n - nopt, 0);
+        const double nn = nopt, ff = nopt + dd;
+        glm::dmat4 Wp(0.0);
+        Wp[0][0] = nn; Wp[1][1] = (ff + nn) / (ff - nn); Wp[3][1] = -2 * nn * ff / (ff - nn); Wp[2][2] = nn; Wp[1][3] = 1;
+        W = Wp * glm::translate(glm::dmat4(1.0), -p);
+    }
+    const glm::dmat4 WL = W * LV;
+    glm::dvec2 mn(1e300), mx(-1e300);
+    for (auto& p : vol) { glm::dvec4 h = WL * glm::dvec4(p, 1); glm::dvec2 q = glm::dvec2(h) / h.w; mn = glm::min(mn, q); mx = glm::max(mx, q); }
+    glm::dmat4 F(1.0);
+    F[0][0] = 2 / (mx.x - mn.x); F[1][1] = 2 / (mx.y - mn.y);
+    F[3][0] = -(mx.x + mn.x) / (mx.x - mn.x); F[3][1] = -(mx.y + mn.y) / (mx.y - mn.y);
+    // depth irrelevant for the metric: scale z small
+    glm::dmat4 Z(1.0); Z[2][2] = 1e-3;
+    return F * Z * WL;
+}
+
+// frustum ∩ {light-space AABB of box}: vertices from plane triples
+std::vector<glm::dvec3> filament_volume(const Sweep& c, const glm::dvec3& d, const glm::dvec3& bmn, const glm::dvec3& bmx) {
+    glm::dvec3 vp = c.v - glm::dot(c.v, d) * d; glm::dvec3 y = glm::length(vp) > 1e-9 ? glm::normalize(vp) : glm::dvec3(1,0,0);
+    glm::dvec3 z = -d, x = glm::cross(y, z);
+    glm::dvec3 ax[3] = {x, y, z};
+    std::vector<glm::dvec4> pl;
+    for (int a = 0; a < 3; ++a) {
+        double lo = 1e300, hi = -1e300;
+        for (int k = 0; k < 8; ++k) { glm::dvec3 q((k&1)?bmx.x:bmn.x,(k&2)?bmx.y:bmn.y,(k&4)?bmx.z:bmn.z); double t = glm::dot(q, ax[a]); lo = std::fmin(lo,t); hi = std::fmax(hi,t);}
+        pl.push_back(glm::dvec4(ax[a], -lo)); pl.push_back(glm::dvec4(-ax[a], hi));
+    }
+    // frustum planes (inward)
+    const glm::dvec3 r = glm::normalize(glm::cross(c.v, c.up)), u = glm::cross(r, c.v);
+    const double ty = std::tan(0.5 * c.fovy), tx = ty * c.aspect;
+    auto addp = [&](glm::dvec3 nrm, glm::dvec3 pt) { nrm = glm::normalize(nrm); pl.push_back(glm::dvec4(nrm, -glm::dot(nrm, pt))); };
+    addp(c.v, c.eye + c.nearp * c.v); addp(-c.v, c.eye + c.farp * c.v);
+    addp(c.v * tx + r, c.eye); addp(c.v * tx - r, c.eye); addp(c.v * ty + u, c.eye); addp(c.v * ty - u, c.eye);
+    std::vector<glm::dvec3> out;
+    for (size_t i = 0; i < pl.size(); ++i) for (size_t j = i+1; j < pl.size(); ++j) for (size_t k = j+1; k < pl.size(); ++k) {
+        glm::dvec3 a(pl[i]), b(pl[j]), cc(pl[k]); glm::dvec3 bc = glm::cross(b, cc); double det = glm::dot(a, bc);
+        if (std::fabs(det) < 1e-12) continue;
+        glm::dvec3 p = (-pl[i].w * bc - pl[j].w * glm::cross(cc, a) - pl[k].w * glm::cross(a, b)) / det;
+        bool in = true; for (auto& q : pl) in = in && glm::dot(glm::dvec3(q), p) + q.w >= -1e-6 * (1 + glm::length(p));
+        if (in) out.push_back(p);
+    }
+    return out;
+}
+
+
+struct AliasStat { double mx = 0, mean = 0; int n = 0; };
+
+// 64 x 64 screen samples on the ground plane y = 0 (within the 400-unit box), surfaces facing the light,
+// 2048^2 map, 1920 x 1080 screen: screen pixels per texel from warp_aliasing_error.
+AliasStat ground_aliasing(const glm::mat4& L, const Sweep& c, const glm::dvec3& d) {
+    const glm::mat4 P = glm::perspective(float(c.fovy), float(c.aspect), float(c.nearp), float(c.farp));
+    const glm::mat4 V = glm::lookAt(glm::vec3(c.eye), glm::vec3(c.eye + c.v), glm::vec3(c.up));
+    const glm::dmat4 iv = glm::inverse(glm::dmat4(P) * glm::dmat4(V));
+    AliasStat st;
+    double sum = 0;
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) {
+            const double x = -1 + (i + 0.5) / 32.0, y = -1 + (j + 0.5) / 32.0;
+            const glm::dvec4 a = iv * glm::dvec4(x, y, -1, 1), b = iv * glm::dvec4(x, y, 1, 1);
+            const glm::dvec3 pa = glm::dvec3(a) / a.w, pb = glm::dvec3(b) / b.w;
+            if (!(pb.y < 0)) continue;
+            const double t = pa.y / (pa.y - pb.y);
+            if (t < 0 || t > 1) continue;
+            const glm::dvec3 p = pa + t * (pb - pa);
+            if (std::fabs(p.x) > 400 || std::fabs(p.z) > 400) continue;
+            const WarpAliasingValue e = warp_aliasing_error(L, P * V, glm::vec3(p), glm::vec3(-d), 2048, {1920, 1080});
+            if (e.status != Status::Ok) continue;
+            st.mx = std::fmax(st.mx, e.value);
+            sum += e.value;
+            ++st.n;
+        }
+    st.mean = st.n ? sum / st.n : 0;
+    return st;
+}
+
+// The camera over the ground: eye at height h, pitched down, the ground box +-400 wu, casters up to `top`.
+Sweep ground_camera(double pitch_deg, double nearp, double h, double farp, double fovy) {
+    Sweep c;
+    c.nearp = nearp;
+    c.farp = farp;
+    c.fovy = fovy;
+    c.aspect = 16.0 / 9.0;
+    c.eye = glm::dvec3(0, h, 0);
+    const double pr = glm::radians(pitch_deg);
+    c.v = glm::dvec3(0, -std::sin(pr), -std::cos(pr));
+    c.up = glm::dvec3(0, std::cos(pr), -std::sin(pr));
+    return c;
+}
+
+// The light's direction of travel at gamma degrees from the view, rotated down (the sun behind and above).
+glm::dvec3 ground_light(const Sweep& c, double gamma_deg) {
+    const double g = glm::radians(gamma_deg);
+    return std::cos(g) * c.v - std::sin(g) * c.up;
+}
+
+WarpInput ground_input(const Sweep& c, const glm::dvec3& d, double top) {
+    WarpInput in;
+    in.camera_view = glm::lookAt(glm::vec3(c.eye), glm::vec3(c.eye + c.v), glm::vec3(c.up));
+    in.camera_proj = glm::perspective(float(c.fovy), float(c.aspect), float(c.nearp), float(c.farp));
+    in.light_position = glm::vec4(glm::vec3(-d), 0.0f);
+    in.has_scene_bounds = true;
+    in.scene_min = glm::vec3(-400, 0, -400);
+    in.scene_max = glm::vec3(400, float(top), 400);
+    return in;
+}
+
+}  // namespace
+
+TEST_CASE("warp: issue 25 - LiSPSM max aliasing no worse than filament's formulation from 90 to 1 degree") {
+    struct Cam { double pitch, nearp, h, farp, fovy, top; };
+    const Cam cams[3] = {{0, 1, 2, 400, 1.0, 10}, {10, 0.5, 5, 600, glm::radians(60.0), 10}, {20, 0.1, 10, 600, glm::radians(60.0), 1}};
+    for (const Cam& cm : cams) {
+        const Sweep c = ground_camera(cm.pitch, cm.nearp, cm.h, cm.farp, cm.fovy);
+        MESSAGE("camera pitch " << cm.pitch << " deg, near " << cm.nearp << ", height " << cm.h << ", casters to " << cm.top
+                                << "; max/mean screen px per texel: angle | Wimmer (before) | Lloyd, no virtual planes | default (Lloyd + virtual planes) | filament own | filament on shadowkit's volume");
+        for (double g : {90.0, 60.0, 30.0, 10.0, 5.0, 3.0, 2.0, 1.0}) {
+            const glm::dvec3 d = ground_light(c, g);
+            const WarpInput in = ground_input(c, d, cm.top);
+            WarpInput old = in, bare = in;
+            old.options.lispsm_n_opt = LispsmNOpt::Wimmer;
+            bare.options.lispsm_virtual_near = bare.options.lispsm_virtual_far = 0.0f;
+            const WarpResult rn = warp_lispsm_matrix(in), ro = warp_lispsm_matrix(old), rb = warp_lispsm_matrix(bare);
+            REQUIRE(rn.status == Status::Ok);
+            REQUIRE(ro.status == Status::Ok);
+            REQUIRE(rb.status == Status::Ok);
+            const AliasStat sn = ground_aliasing(rn.light_view_proj, c, d), so = ground_aliasing(ro.light_view_proj, c, d),
+                            sb = ground_aliasing(rb.light_view_proj, c, d);
+            double nopt = 0;
+            bool used = false;
+            const std::vector<glm::dvec3> vol = filament_volume(c, d, glm::dvec3(-400, 0, -400), glm::dvec3(400, cm.top, 400));
+            const AliasStat sf = ground_aliasing(glm::mat4(filament_warp(vol, d, c, &nopt, &used)), c, d);
+            const detail::wp_Setup su = detail::wp_prepare(in);
+            const std::vector<glm::dvec3> body(su.body, su.body + su.nbody);
+            const AliasStat sk = ground_aliasing(glm::mat4(filament_warp(body, d, c, &nopt, &used)), c, d);
+            MESSAGE(g << " | " << so.mx << " / " << so.mean << " | " << sb.mx << " / " << sb.mean << " | " << sn.mx << " / " << sn.mean << " | " << sf.mx << " / " << sf.mean
+                      << " | " << sk.mx << " / " << sk.mean);
+            REQUIRE(sn.n > 1000);
+            CHECK(sn.mx <= 1.01 * sk.mx);  // filament's formulation on the same receivers
+            CHECK(sn.mx <= 1.01 * sf.mx);  // filament's own fit
+        }
+    }
+}
+
+TEST_CASE("warp: issue 25 - the new n_opt stays continuous over the ground sweep (< 0.01 NDC per 0.002 degree)") {
+    const Sweep c = ground_camera(0, 1, 2, 400, 1.0);
+    std::vector<glm::dvec3> pts;
+    for (int i = -4; i <= 4; ++i)
+        for (int k = 1; k <= 12; ++k) pts.push_back(glm::dvec3(i * 0.5 * k, 0.0, -4.0 * k * k));
+    for (LispsmNOpt opt : {LispsmNOpt::Lloyd, LispsmNOpt::Wimmer}) {
+        const std::string name = opt == LispsmNOpt::Lloyd ? "Lloyd" : "Wimmer";
+        // 0.002 degree steps through the fade (sin 0.02 .. 0.03: 1.15 .. 1.72 degrees) and past it, and
+        // around 30 and 90 degrees
+        for (const glm::dvec2 range : {glm::dvec2(0.6, 4.0), glm::dvec2(29.5, 30.5), glm::dvec2(89.5, 90.0)}) {
+            double worst = 0, at = 0;
+            WarpResult prev;
+            for (double a = range.x; a <= range.y + 1e-9; a += 0.002) {
+                WarpInput in = ground_input(c, ground_light(c, a), 10);
+                in.options.lispsm_n_opt = opt;
+                const WarpResult r = warp_lispsm_matrix(in);
+                REQUIRE(r.status == Status::Ok);
+                if (prev.status == Status::Ok)
+                    for (const glm::dvec3& p : pts) {
+                        const double mv = glm::length(ndc_xy(r.light_view_proj, p) - ndc_xy(prev.light_view_proj, p));
+                        if (mv > worst) { worst = mv; at = a; }
+                    }
+                prev = r;
+            }
+            MESSAGE(name << ", " << range.x << " .. " << range.y << " deg: largest step " << worst << " NDC at " << at << " deg");
+            CHECK(worst < 0.01);
+        }
+    }
+}
+
+TEST_CASE("warp: issue 25 - the n_opt options are checked") {
+    WarpInput in = outdoor(30.0f);
+    in.options.lispsm_virtual_near = -1.0f;
+    CHECK(warp_lispsm_matrix(in).status == Status::InvalidArgument);
+    in = outdoor(30.0f);
+    in.options.lispsm_virtual_far = std::numeric_limits<float>::quiet_NaN();
+    CHECK(warp_lispsm_matrix(in).status == Status::NonFinite);
+    in = outdoor(30.0f);
+    in.options.lispsm_n_opt = static_cast<LispsmNOpt>(7);
+    CHECK(warp_lispsm_matrix(in).status == Status::InvalidArgument);
+    // Lloyd without virtual planes at 90 degrees: n = z_n + sqrt(z_n z_f) (both formulas agree there)
+    in = outdoor(90.0f);
+    in.options.lispsm_virtual_near = 0.0f;
+    in.options.lispsm_virtual_far = 0.0f;
+    WarpInput w = in;
+    w.options.lispsm_n_opt = LispsmNOpt::Wimmer;
+    CHECK(warp_lispsm_matrix(in).warp_parameter == doctest::Approx(warp_lispsm_matrix(w).warp_parameter).epsilon(1e-5));
 }
