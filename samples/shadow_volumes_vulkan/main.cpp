@@ -2,10 +2,12 @@
 // its descriptor set, render pass and pipelines are vk_shadow_volumes.hpp/.cpp; this file is the frame
 // loop: headless into an offscreen image (written as PNG) or windowed on a GLFW swapchain.
 //   sample_shadow_volumes_vulkan [--api vulkan] [--scene NAME] [--headless [OUT.png]] [--out OUT.png]
-//                                [--frames N] [--size WxH] [--help]
+//                                [--window] [--frames N] [--size WxH] [--help]
 // Headless: N frames (default 1), the light turning 360/N degrees a frame as in the GL sample, the last
 // one written; exit 77 without a Vulkan device (1 with SHADOWKIT_REQUIRE_GL set), 1 on any
-// validation-layer warning or error. Windowed: until closed, or N frames with --frames.
+// validation-layer warning or error. Windowed: until closed (the light turning a degree a frame), or N
+// frames with --frames (the light turning as headless); with --window, --out saves the last presented
+// swapchain image (the test compares it with the headless picture).
 #include <vulkan/vulkan.h>
 #if SHADOWKIT_VK_SAMPLE_GLFW
 #define GLFW_INCLUDE_NONE
@@ -16,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -26,14 +29,14 @@ namespace {
 
 struct Options {
     std::string scene = "stack", out;
-    bool headless = false;
+    bool headless = false, window = false;  // window: --out saves the last presented image instead
     int frames = 0;
     std::uint32_t width = 640, height = 480;
 };
 
 int usage(const char* msg) {
     std::fprintf(stderr, "%s\nusage: sample_shadow_volumes_vulkan [--api vulkan] [--scene NAME] [--headless [OUT.png]] "
-                         "[--out OUT.png] [--frames N] [--size WxH]\n", msg);
+                         "[--out OUT.png] [--window] [--frames N] [--size WxH]\n", msg);
     return 2;
 }
 
@@ -108,7 +111,7 @@ std::string make_swapchain(skvk::Context& ctx, VkSurfaceKHR surface, std::uint32
     ci.imageColorSpace = fmt.colorSpace;
     ci.imageExtent = sc.extent;
     ci.imageArrayLayers = 1;
-    ci.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    ci.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     ci.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
     ci.preTransform = caps.currentTransform;
     ci.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -143,6 +146,30 @@ void destroy_swapchain(skvk::Context& ctx, Swapchain& sc) {
     sc = Swapchain{};
 }
 
+// The last presented image (PRESENT_SRC_KHR) copied out, BGRA swizzled to RGBA, written as PNG.
+std::string save_swapchain_image(skvk::Context& ctx, const Swapchain& sc, std::uint32_t image, const std::string& path) {
+    const std::uint32_t w = sc.extent.width, h = sc.extent.height;
+    skvk::Buffer b;
+    if (!skvk::make_buffer(ctx, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, b)) return "readback buffer";
+    skvk::Image img;  // the harness's transition() on the swapchain's image
+    img.image = sc.images[image];
+    img.aspect = VK_IMAGE_ASPECT_COLOR_BIT;
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    skvk::transition(cmd, img, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkBufferImageCopy c{};
+    c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    c.imageExtent = {w, h, 1};
+    vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, b.buffer, 1, &c);
+    skvk::transition(cmd, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
+    std::string why = skvk::submit_and_wait(ctx, cmd) ? "" : "readback submit failed";
+    std::vector<std::uint8_t> px(static_cast<const std::uint8_t*>(b.mapped), static_cast<const std::uint8_t*>(b.mapped) + std::size_t(w) * h * 4);
+    skvk::destroy(ctx, b);
+    if (sc.format == VK_FORMAT_B8G8R8A8_UNORM || sc.format == VK_FORMAT_B8G8R8A8_SRGB)
+        for (std::size_t k = 0; k < px.size(); k += 4) std::swap(px[k], px[k + 2]);
+    if (why.empty() && !stbi_write_png(path.c_str(), int(w), int(h), 4, px.data(), int(w) * 4)) why = "cannot write " + path;
+    return why;
+}
+
 // Every frame: wait for the last one (the technique's buffers are mapped), update, acquire, record,
 // submit (waiting for the image at the colour-output stage), present.
 std::string window_loop(skvk::Context& ctx, GLFWwindow* win, VkSurfaceKHR surface, const Options& o, sk::Scene& scene) {
@@ -167,10 +194,11 @@ std::string window_loop(skvk::Context& ctx, GLFWwindow* win, VkSurfaceKHR surfac
     VkFence done = VK_NULL_HANDLE;
     vkCreateFence(ctx.device, &fi, nullptr, &done);
     const sk::Scene base = scene;
+    std::uint32_t last = 0;
     for (int frame = 0; why.empty() && !glfwWindowShouldClose(win) && (o.frames == 0 || frame < o.frames); ++frame) {
         glfwPollEvents();
         vkWaitForFences(ctx.device, 1, &done, VK_TRUE, UINT64_MAX);
-        scene.light = turned_light(base, frame % 360, 360);  // a slow turn, one degree a frame
+        scene.light = o.frames ? turned_light(base, frame, o.frames) : turned_light(base, frame % 360, 360);
         why = sv.update(scene);
         if (!why.empty()) break;
         std::uint32_t image = 0;
@@ -202,8 +230,10 @@ std::string window_loop(skvk::Context& ctx, GLFWwindow* win, VkSurfaceKHR surfac
         pi.pSwapchains = &sc.chain;
         pi.pImageIndices = &image;
         if (why.empty() && vkQueuePresentKHR(ctx.queue, &pi) != VK_SUCCESS) why = "vkQueuePresentKHR failed";
+        last = image;
     }
     vkDeviceWaitIdle(ctx.device);
+    if (why.empty() && !o.out.empty()) why = save_swapchain_image(ctx, sc, last, o.out);
     vkDestroyFence(ctx.device, done, nullptr);
     vkDestroySemaphore(ctx.device, acquired, nullptr);
     vkFreeCommandBuffers(ctx.device, ctx.pool, 1, &cmd);
@@ -262,7 +292,8 @@ int main(int argc, char** argv) {
             if (has_value) o.out = argv[++i];
         } else if (a == "--out" && has_value) {
             o.out = argv[++i];
-            o.headless = true;
+        } else if (a == "--window") {
+            o.window = true;
         } else if (a == "--frames" && has_value && std::atoi(argv[i + 1]) > 0) {
             o.frames = std::atoi(argv[++i]);
         } else if (a == "--size" && has_value &&
@@ -274,6 +305,7 @@ int main(int argc, char** argv) {
     }
     sk::Scene scene;
     if (!sk::make_builtin_scene(o.scene, scene)) return usage(("unknown scene '" + o.scene + "'").c_str());
+    if (!o.out.empty() && !o.window) o.headless = true;
     if (o.headless) {
         if (o.out.empty()) o.out = "shot.png";
         if (o.frames == 0) o.frames = 1;
