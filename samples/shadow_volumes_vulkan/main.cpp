@@ -202,7 +202,8 @@ std::string window_loop(skvk::Context& ctx, GLFWwindow* win, VkSurfaceKHR surfac
         why = sv.update(scene);
         if (!why.empty()) break;
         std::uint32_t image = 0;
-        if (vkAcquireNextImageKHR(ctx.device, sc.chain, UINT64_MAX, acquired, VK_NULL_HANDLE, &image) != VK_SUCCESS) {
+        const VkResult got = vkAcquireNextImageKHR(ctx.device, sc.chain, UINT64_MAX, acquired, VK_NULL_HANDLE, &image);
+        if (got != VK_SUCCESS && got != VK_SUBOPTIMAL_KHR) {  // suboptimal: still presentable
             why = "vkAcquireNextImageKHR failed (window resized? the sample keeps its first size)";
             break;
         }
@@ -229,7 +230,8 @@ std::string window_loop(skvk::Context& ctx, GLFWwindow* win, VkSurfaceKHR surfac
         pi.swapchainCount = 1;
         pi.pSwapchains = &sc.chain;
         pi.pImageIndices = &image;
-        if (why.empty() && vkQueuePresentKHR(ctx.queue, &pi) != VK_SUCCESS) why = "vkQueuePresentKHR failed";
+        const VkResult shown = why.empty() ? vkQueuePresentKHR(ctx.queue, &pi) : VK_SUCCESS;
+        if (shown != VK_SUCCESS && shown != VK_SUBOPTIMAL_KHR) why = "vkQueuePresentKHR failed";
         last = image;
     }
     vkDeviceWaitIdle(ctx.device);
