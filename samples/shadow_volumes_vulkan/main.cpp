@@ -35,8 +35,10 @@ struct Options {
 };
 
 int usage(const char* msg) {
+    std::string scenes;
+    for (const std::string& n : sk::builtin_scene_names()) scenes += (scenes.empty() ? "" : ", ") + n;
     std::fprintf(stderr, "%s\nusage: sample_shadow_volumes_vulkan [--api vulkan] [--scene NAME] [--headless [OUT.png]] "
-                         "[--out OUT.png] [--window] [--frames N] [--size WxH]\n", msg);
+                         "[--out OUT.png] [--window] [--frames N] [--size WxH]\nscenes: %s\n", msg, scenes.c_str());
     return 2;
 }
 

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#define STB_IMAGE_IMPLEMENTATION  // the reader: shadowkit_app holds only stb_image_write's implementation
+#include <stb_image.h>
 #include <stb_image_write.h>
 
 #include "frames.hpp"
@@ -103,9 +105,38 @@ Counts compare(const HeadlessFrames& f, std::uint8_t* marked) {
     return c;
 }
 
+// `--gl-stencil FILE SCENE`: the GL twin's "stencil counts" view of SCENE (sample_shadow_volumes
+// --view "stencil counts" --param method=zfail --param projection=reversed, 3 frames, 160 x 120: grey
+// = 64 x the count) against this sample's stencil on every pixel: in a volume or not.
+int compare_with_gl(skvk::Context& ctx, const char* file, const char* scene_name) {
+    int w = 0, h = 0, n = 0;
+    unsigned char* gl = stbi_load(file, &w, &h, &n, 1);
+    sk::Scene scene;
+    if (!gl || !sk::make_builtin_scene(scene_name, scene)) {
+        std::printf("FAIL: cannot read %s or no scene %s\n", file, scene_name);
+        return 1;
+    }
+    HeadlessFrames f;
+    const std::string err = render_headless(ctx, scene, 3, std::uint32_t(w), std::uint32_t(h), f);
+    int agree = 0, gl_shadow = 0, vk_shadow = 0;
+    for (std::size_t k = 0; err.empty() && k < f.stencil.size(); ++k) {
+        const bool a = gl[k] > 16, b = f.stencil[k] != 0;
+        agree += a == b;
+        gl_shadow += a;
+        vk_shadow += b;
+    }
+    stbi_image_free(gl);
+    const double frac = double(agree) / double(w * h);
+    // both must show shadow (0.5% of the picture at least): agreement on empty masks is vacuous
+    const bool ok = err.empty() && frac >= 0.99 && gl_shadow * 200 >= w * h && vk_shadow * 200 >= w * h;
+    std::printf("%s %s: in a volume on GL %d, on Vulkan %d pixels of %d; the two agree on %.4f of them %s\n",
+                ok ? "ok  " : "FAIL", scene_name, gl_shadow, vk_shadow, w * h, frac, err.c_str());
+    return ok ? 0 : 1;
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
     skvk::Context ctx;
     bool no_device = false;
     const std::string why = skvk::create_context(ctx, true, no_device);
@@ -118,7 +149,9 @@ int main() {
     }
     std::printf("Vulkan device: %s (validation layer on)\n", ctx.device_name.c_str());
     int failures = 0;
-    for (const std::string& name : sk::builtin_scene_names()) {
+    const bool gl = argc == 4 && std::string(argv[1]) == "--gl-stencil";
+    if (gl) failures += compare_with_gl(ctx, argv[2], argv[3]);
+    for (const std::string& name : gl ? std::vector<std::string>{} : sk::builtin_scene_names()) {
         sk::Scene scene;
         if (!sk::make_builtin_scene(name, scene)) continue;
         HeadlessFrames f;
