@@ -97,13 +97,15 @@ std::string create_context(Context& ctx, bool want_validation, bool& no_device) 
     mi.pfnUserCallback = on_message;
     VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ci.pApplicationInfo = &app;
+    std::vector<const char*> exts = ctx.instance_extensions;
     if (want_validation) {
         ci.enabledLayerCount = 1;
         ci.ppEnabledLayerNames = &layer;
-        ci.enabledExtensionCount = 1;
-        ci.ppEnabledExtensionNames = &ext;
+        exts.push_back(ext);
         ci.pNext = &mi;  // instance creation and destruction are watched too
     }
+    ci.enabledExtensionCount = static_cast<std::uint32_t>(exts.size());
+    ci.ppEnabledExtensionNames = exts.empty() ? nullptr : exts.data();
     VkResult r = vkCreateInstance(&ci, nullptr, &ctx.instance);
     if (r != VK_SUCCESS) return "vkCreateInstance failed (" + std::to_string(r) + "): no Vulkan driver (Debian: mesa-vulkan-drivers)";
     ctx.validation = want_validation;
@@ -129,6 +131,8 @@ std::string create_context(Context& ctx, bool want_validation, bool& no_device) 
     di.queueCreateInfoCount = 1;
     di.pQueueCreateInfos = &qi;
     di.pEnabledFeatures = &ctx.enabled;
+    di.enabledExtensionCount = static_cast<std::uint32_t>(ctx.device_extensions.size());
+    di.ppEnabledExtensionNames = ctx.device_extensions.empty() ? nullptr : ctx.device_extensions.data();
     if (vkCreateDevice(ctx.physical, &di, nullptr, &ctx.device) != VK_SUCCESS) return "vkCreateDevice failed";
     vkGetDeviceQueue(ctx.device, ctx.queue_family, 0, &ctx.queue);
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};

@@ -27,6 +27,9 @@ struct Context {
     VkPhysicalDeviceFeatures enabled{};    ///< what the harness turned on
     std::string device_name;
     bool validation = false;               ///< VK_LAYER_KHRONOS_validation is on
+    /// Extensions a caller asks for beyond the harness's own, set before create_context (a window:
+    /// glfwGetRequiredInstanceExtensions and VK_KHR_swapchain; samples/shadow_volumes_vulkan).
+    std::vector<const char*> instance_extensions, device_extensions;
 };
 
 /// The process-wide context (vk_main.cpp).
