@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     std::set<std::string> written;
     const std::regex example_re(R"(^<!--\s*example:\s*([A-Za-z0-9_]+)/([A-Za-z0-9_]+)\s*-->$)");
     const std::regex glsl_re(R"(^<!--\s*glsl:\s*(vertex|fragment|geometry|compute)\s+([0-9]+)\s+snippets:\s*([A-Za-z0-9_ ]*)-->$)");
-    const std::regex hlsl_re(R"(^<!--\s*hlsl:\s*(vertex|pixel|compute)\s+([A-Za-z_][A-Za-z0-9_]*)\s+snippets:\s*([A-Za-z0-9_ ]*)-->$)");
+    const std::regex hlsl_re(R"(^<!--\s*hlsl:\s*(vertex|geometry|pixel|compute)\s+([A-Za-z_][A-Za-z0-9_]*)\s+snippets:\s*([A-Za-z0-9_ ]*)-->$)");
     int cpp_blocks = 0, glsl_blocks = 0, hlsl_blocks = 0;
 
     for (int a = 3; a < argc; ++a) {

@@ -1,10 +1,11 @@
 # docs.hlsl.*: the named hlsl/ snippets + the block, compiled by glslangValidator's HLSL front end (-D)
-# to SPIR-V for Vulkan 1.1. Input: VALIDATOR, BLOCK, STAGE (vertex|pixel|compute), ENTRY, SNIPPETS
+# to SPIR-V for Vulkan 1.1. Input: VALIDATOR, BLOCK, STAGE (vertex|geometry|pixel|compute), ENTRY, SNIPPETS
 # (space-separated), HLSL_DIR, WHERE, WORK.
 if(NOT VALIDATOR)
   message(FATAL_ERROR "glslangValidator not found (Debian: glslang-tools)")
 endif()
 set(ext_vertex vert)
+set(ext_geometry geom)
 set(ext_pixel frag)
 set(ext_compute comp)
 set(src "")
