@@ -214,15 +214,31 @@ inline float cts_bias(float depth_step, float win, float w, float inv_sdet) {
     const float dw = depth_step + 2.38418579e-7f * std::fabs(win);  // 2^-22: 4 float32 ulp in [0.5, 1)
     return 4.0f * dw * (w * w) * inv_sdet;
 }
+// Where cts_setup's NonFinite / InvalidArgument came from (the first failing input, in its order).
+inline const char* cts_nonfinite_why(const glm::mat4& proj, glm::vec3 view_pos, const ContactShadowParams& p) {
+    if (!std::isfinite(p.length_world)) return "length_world: NaN or Inf";
+    if (std::isnan(p.thickness_world)) return "thickness_world: NaN";
+    if (!std::isfinite(p.jitter)) return "jitter: NaN or Inf";
+    return !cts_finite(proj) ? "proj: NaN or Inf" : (!cts_finite(view_pos) ? "view_pos: NaN or Inf" : nullptr);
+}
+inline const char* cts_invalid_why(int width, int height, const ContactShadowParams& p) {
+    if (width <= 0 || height <= 0) return "width, height: not > 0";
+    if (!(p.length_world > 0.0f)) return "length_world: not > 0";
+    if (p.max_steps < 1 || p.max_steps > kContactShadowMaxSteps) return "max_steps: outside [1, 256]";
+    if (!(p.thickness_world >= 0.0f)) return "thickness_world: < 0";
+    if (!(p.jitter >= 0.0f && p.jitter < 1.0f)) return "jitter: outside [0, 1)";
+    if (!(p.depth_format == DepthFormat::Float32 || p.depth_format == DepthFormat::Fixed24 || p.depth_format == DepthFormat::Fixed16))
+        return "depth_format: unknown DepthFormat";
+    if (p.clip_depth != ClipDepth::ZeroToOne && p.clip_depth != ClipDepth::NegativeOneToOne) return "clip_depth: unknown ClipDepth";
+    return "proj: not a projection (x, y feed z or w)";
+}
 inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec3 view_pos, glm::vec4 light_position,
                         const ContactShadowParams& p) {
     CtsSetup s;
     if (!std::isfinite(p.length_world) || std::isnan(p.thickness_world) || !std::isfinite(p.jitter) ||
         !cts_finite(proj) || !cts_finite(view_pos)) {
         s.status = Status::NonFinite;
-        s.detail = !std::isfinite(p.length_world) ? "length_world: NaN or Inf"
-                   : (std::isnan(p.thickness_world) ? "thickness_world: NaN"
-                   : (!std::isfinite(p.jitter) ? "jitter: NaN or Inf" : (!cts_finite(proj) ? "proj: NaN or Inf" : "view_pos: NaN or Inf")));
+        s.detail = cts_nonfinite_why(proj, view_pos, p);
         return s;
     }
     const bool zo = p.clip_depth == ClipDepth::ZeroToOne;
@@ -232,15 +248,7 @@ inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec
         !(zo || p.clip_depth == ClipDepth::NegativeOneToOne) ||
         proj[0][2] != 0.0f || proj[1][2] != 0.0f || proj[0][3] != 0.0f || proj[1][3] != 0.0f) {
         s.status = Status::InvalidArgument;
-        s.detail = width <= 0 || height <= 0 ? "width, height: not > 0"
-                   : (!(p.length_world > 0.0f) ? "length_world: not > 0"
-                   : (p.max_steps < 1 || p.max_steps > kContactShadowMaxSteps ? "max_steps: outside [1, 256]"
-                   : (!(p.thickness_world >= 0.0f) ? "thickness_world: < 0"
-                   : (!(p.jitter >= 0.0f && p.jitter < 1.0f) ? "jitter: outside [0, 1)"
-                   : (!(p.depth_format == DepthFormat::Float32 || p.depth_format == DepthFormat::Fixed24 ||
-                        p.depth_format == DepthFormat::Fixed16) ? "depth_format: unknown DepthFormat"
-                   : (!(zo || p.clip_depth == ClipDepth::NegativeOneToOne) ? "clip_depth: unknown ClipDepth"
-                                                                          : "proj: not a projection (x, y feed z or w)"))))));
+        s.detail = cts_invalid_why(width, height, p);
         return s;
     }
     s.a = proj[2][2];

@@ -515,6 +515,17 @@ inline VolumeBuffer sv_build_caps_two_sided(const std::uint32_t* indices, const 
     r.detail = r.count < r.needed ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
+// Where volume_build_caps' InvalidArgument came from (the first failing argument, in its order).
+inline const char* sv_caps_why(const std::uint32_t* indices, std::size_t index_count, const std::uint8_t* lit,
+                               std::size_t lit_count, std::size_t vertex_count, const std::uint32_t* out, std::size_t out_capacity) {
+    if (index_count > 0 && indices == nullptr) return "indices: null with index_count > 0";
+    if (lit_count > 0 && lit == nullptr) return "lit: null with lit_count > 0";
+    if (out_capacity > 0 && out == nullptr) return "out: null with out_capacity > 0";
+    if (index_count % 3 != 0) return "index_count: not a multiple of 3";
+    if (lit_count != index_count / 3) return "lit_count: not index_count / 3";
+    if (vertex_count > 0x7FFFFFFFull) return "vertex_count: > 2^31 - 1";
+    return index_count > (std::numeric_limits<std::size_t>::max() / 4) ? "index_count: too large" : "mode: unknown VolumeCapMode";
+}
 // volume_build_caps' last triangles [t, tris) (a buffer near its end): whole triangles while they fit,
 // then only counted in k. Returns true if an index is out of range.
 inline bool sv_caps_rest(const std::uint32_t* indices, const std::uint8_t* lit, std::size_t tris, std::uint32_t n, bool lit_only,
@@ -558,13 +569,7 @@ inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t 
         index_count > (std::numeric_limits<std::size_t>::max() / 4) ||
         (mode != VolumeCapMode::LitOnly && mode != VolumeCapMode::EverittKilgard && mode != VolumeCapMode::TwoSided)) {
         r.status = Status::InvalidArgument;
-        r.detail = index_count > 0 && indices == nullptr ? "indices: null with index_count > 0"
-                   : (lit_count > 0 && lit == nullptr ? "lit: null with lit_count > 0"
-                   : (out_capacity > 0 && out == nullptr ? "out: null with out_capacity > 0"
-                   : (index_count % 3 != 0 ? "index_count: not a multiple of 3"
-                   : (lit_count != index_count / 3 ? "lit_count: not index_count / 3"
-                   : (vertex_count > 0x7FFFFFFFull ? "vertex_count: > 2^31 - 1"
-                   : (index_count > (std::numeric_limits<std::size_t>::max() / 4) ? "index_count: too large" : "mode: unknown VolumeCapMode"))))));
+        r.detail = detail::sv_caps_why(indices, index_count, lit, lit_count, vertex_count, out, out_capacity);
         return r;
     }
     if (mode == VolumeCapMode::TwoSided) return detail::sv_build_caps_two_sided(indices, lit, lit_count, vertex_count, dark_cap, out, out_capacity);
