@@ -34,7 +34,9 @@
 // direction). A point light at the receiver has no direction: Status::InvalidLight.
 // Results: a struct whose first member is `status`; `Ok` only with finite outputs in their range;
 // "the ray left the screen / stayed inside its own pixel" is an outcome (fewer or no steps), never an
-// error. Arithmetic: float, operation for operation the GLSL's, so a GL test compares them.
+// error; a non-Ok result's `detail` names the offending input and the rule ("length_world: not > 0"), a
+// static string, nullptr when Ok. Arithmetic: float, operation for operation the GLSL's, so a GL test
+// compares them.
 //
 // The march (and the derivation of every number contact_shadow_derive returns):
 //   1. Ray: from the receiver P0 along D = normalize(to light), length L = min(length_world, distance
@@ -157,6 +159,7 @@ struct ContactShadowParams {
 /// The parameters a user does not tune, for one receiver (the header comment derives each).
 struct ContactShadowDerived {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int steps = 0;                  ///< samples the march takes: ceil(projected_pixels) in [1, max_steps]; 0: the ray stays in its own pixel
     float projected_pixels = 0.0f;  ///< screen length of the clipped ray, pixels (>= 0)
     float start_offset_pixels = 0.0f; ///< first sample's distance from the receiver, pixels (1)
@@ -169,6 +172,7 @@ struct ContactShadowDerived {
 /// The march's outcome at one receiver. Non-Ok results keep visibility 1 (a failed call never darkens).
 struct ContactShadowResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float visibility = 1.0f;        ///< 0: a sample hit an occluder, 1: lit by this test (compose: V = V_map * visibility)
     bool hit = false;               ///< true (with Ok): an occluder was found; visibility 0
     float hit_distance_world = 0.0f;///< distance from the receiver along the ray to the first hit, view units (0 without a hit)
@@ -192,6 +196,7 @@ inline float cts_near(glm::vec4 c, bool zero_to_one, bool reversed_z) {
 // Everything the march needs before it reads the buffer (the GLSL computes the same, same order).
 struct CtsSetup {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec2 uv0{0.0f}, uv1{0.0f};  // screen endpoints of the clipped ray
     float w0 = 0.0f, w1 = 0.0f;      // clip w at the endpoints
     float z0 = 0.0f, z1 = 0.0f;      // view z at the endpoints
@@ -209,12 +214,31 @@ inline float cts_bias(float depth_step, float win, float w, float inv_sdet) {
     const float dw = depth_step + 2.38418579e-7f * std::fabs(win);  // 2^-22: 4 float32 ulp in [0.5, 1)
     return 4.0f * dw * (w * w) * inv_sdet;
 }
+// Where cts_setup's NonFinite / InvalidArgument came from (the first failing input, in its order).
+inline const char* cts_nonfinite_why(const glm::mat4& proj, glm::vec3 view_pos, const ContactShadowParams& p) {
+    if (!std::isfinite(p.length_world)) return "length_world: NaN or Inf";
+    if (std::isnan(p.thickness_world)) return "thickness_world: NaN";
+    if (!std::isfinite(p.jitter)) return "jitter: NaN or Inf";
+    return !cts_finite(proj) ? "proj: NaN or Inf" : (!cts_finite(view_pos) ? "view_pos: NaN or Inf" : nullptr);
+}
+inline const char* cts_invalid_why(int width, int height, const ContactShadowParams& p) {
+    if (width <= 0 || height <= 0) return "width, height: not > 0";
+    if (!(p.length_world > 0.0f)) return "length_world: not > 0";
+    if (p.max_steps < 1 || p.max_steps > kContactShadowMaxSteps) return "max_steps: outside [1, 256]";
+    if (!(p.thickness_world >= 0.0f)) return "thickness_world: < 0";
+    if (!(p.jitter >= 0.0f && p.jitter < 1.0f)) return "jitter: outside [0, 1)";
+    if (!(p.depth_format == DepthFormat::Float32 || p.depth_format == DepthFormat::Fixed24 || p.depth_format == DepthFormat::Fixed16))
+        return "depth_format: unknown DepthFormat";
+    if (p.clip_depth != ClipDepth::ZeroToOne && p.clip_depth != ClipDepth::NegativeOneToOne) return "clip_depth: unknown ClipDepth";
+    return "proj: not a projection (x, y feed z or w)";
+}
 inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec3 view_pos, glm::vec4 light_position,
                         const ContactShadowParams& p) {
     CtsSetup s;
     if (!std::isfinite(p.length_world) || std::isnan(p.thickness_world) || !std::isfinite(p.jitter) ||
         !cts_finite(proj) || !cts_finite(view_pos)) {
         s.status = Status::NonFinite;
+        s.detail = cts_nonfinite_why(proj, view_pos, p);
         return s;
     }
     const bool zo = p.clip_depth == ClipDepth::ZeroToOne;
@@ -224,6 +248,7 @@ inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec
         !(zo || p.clip_depth == ClipDepth::NegativeOneToOne) ||
         proj[0][2] != 0.0f || proj[1][2] != 0.0f || proj[0][3] != 0.0f || proj[1][3] != 0.0f) {
         s.status = Status::InvalidArgument;
+        s.detail = cts_invalid_why(width, height, p);
         return s;
     }
     s.a = proj[2][2];
@@ -231,40 +256,42 @@ inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec
     s.c = proj[2][3];
     s.d = proj[3][3];
     const float det = s.a * s.d - s.b * s.c;  // d(ndc)/dz = det / w^2
-    if (!std::isfinite(det)) { s.status = Status::Overflow; return s; }
-    if (det == 0.0f) { s.status = Status::InvalidArgument; return s; }
+    if (!std::isfinite(det)) { s.status = Status::Overflow; s.detail = "proj: depth rows' determinant beyond float"; return s; }
+    if (det == 0.0f) { s.status = Status::InvalidArgument; s.detail = "proj: singular depth rows"; return s; }
     s.inv_sdet = 1.0f / ((zo ? 1.0f : 0.5f) * std::fabs(det));
-    if (!std::isfinite(s.inv_sdet)) { s.status = Status::Overflow; return s; }
+    if (!std::isfinite(s.inv_sdet)) { s.status = Status::Overflow; s.detail = "proj: depth rows' determinant too small"; return s; }
     // the light
     const glm::vec4 L = light_position;
     if (!cts_finite(L) || L.w < 0.0f || (L.x == 0.0f && L.y == 0.0f && L.z == 0.0f && L.w == 0.0f)) {
         s.status = Status::InvalidLight;
+        s.detail = !cts_finite(L) ? "light_position: NaN or Inf" : (L.w < 0.0f ? "light_position: w < 0" : "light_position: (0, 0, 0, 0)");
         return s;
     }
     glm::vec3 to_light = glm::vec3(L);
     if (L.w > 0.0f) {
         const glm::vec3 lp = glm::vec3(L) / L.w;
-        if (!cts_finite(lp)) { s.status = Status::Overflow; return s; }
+        if (!cts_finite(lp)) { s.status = Status::Overflow; s.detail = "light_position: xyz / w beyond float"; return s; }
         to_light = lp - view_pos;
-        if (!cts_finite(to_light)) { s.status = Status::Overflow; return s; }
+        if (!cts_finite(to_light)) { s.status = Status::Overflow; s.detail = "light_position: direction beyond float"; return s; }
     }
     const float m = std::fmax(std::fabs(to_light.x), std::fmax(std::fabs(to_light.y), std::fabs(to_light.z)));
-    if (!(m > 0.0f)) { s.status = Status::InvalidLight; return s; }  // a point light at the receiver
+    if (!(m > 0.0f)) { s.status = Status::InvalidLight; s.detail = "light_position: at the receiver (no direction)"; return s; }
     const glm::vec3 scaled = to_light / m;
     const float sl = std::sqrt(scaled.x * scaled.x + scaled.y * scaled.y + scaled.z * scaled.z);
     const glm::vec3 dir = scaled / sl;
     float len = p.length_world;
     if (L.w > 0.0f) len = std::fmin(len, m * sl);  // never march past a point light
-    if (!std::isfinite(len)) { s.status = Status::Overflow; return s; }
+    if (!std::isfinite(len)) { s.status = Status::Overflow; s.detail = "length_world: march length beyond float"; return s; }
     const glm::vec3 p1 = view_pos + dir * len;
     const glm::vec4 c0 = proj * glm::vec4(view_pos, 1.0f);
     glm::vec4 c1 = proj * glm::vec4(p1, 1.0f);
-    if (!cts_finite(p1) || !cts_finite(c0) || !cts_finite(c1)) { s.status = Status::Overflow; return s; }
+    if (!cts_finite(p1) || !cts_finite(c0) || !cts_finite(c1)) { s.status = Status::Overflow; s.detail = "view_pos: clip coordinates beyond float"; return s; }
     // the receiver must be visible: in front of the near plane, w > 0, on screen
     const float f0[6] = {cts_near(c0, zo, p.reversed_z), c0.w, c0.w - c0.x, c0.w + c0.x, c0.w - c0.y, c0.w + c0.y};
     const float f1[6] = {cts_near(c1, zo, p.reversed_z), c1.w, c1.w - c1.x, c1.w + c1.x, c1.w - c1.y, c1.w + c1.y};
     if (!(f0[0] > 0.0f) || !(f0[1] > 0.0f) || !(f0[2] >= 0.0f) || !(f0[3] >= 0.0f) || !(f0[4] >= 0.0f) || !(f0[5] >= 0.0f)) {
         s.status = Status::InvalidArgument;
+        s.detail = "view_pos: not visible (behind the near plane or off screen)";
         return s;
     }
     float t_end = 1.0f;
@@ -292,7 +319,11 @@ inline CtsSetup cts_setup(int width, int height, const glm::mat4& proj, glm::vec
     const float wr = s.c * view_pos.z + s.d;
     const float ndc0 = (s.a * view_pos.z + s.b) / wr;
     s.bias0 = cts_bias(s.depth_step, zo ? ndc0 : ndc0 * 0.5f + 0.5f, wr, s.inv_sdet);
-    if (!std::isfinite(s.length) || !std::isfinite(s.pixels) || !std::isfinite(s.bias0)) { s.status = Status::Overflow; return s; }
+    if (!std::isfinite(s.length) || !std::isfinite(s.pixels) || !std::isfinite(s.bias0)) {
+        s.status = Status::Overflow;
+        s.detail = "proj, view_pos: march length, pixels or bias beyond float";
+        return s;
+    }
     s.status = Status::Ok;
     return s;
 }
@@ -336,7 +367,7 @@ inline ContactShadowDerived contact_shadow_derive(int width, int height, const g
                                                   glm::vec4 light_position, const ContactShadowParams& params) {
     ContactShadowDerived r;
     const detail::CtsSetup s = detail::cts_setup(width, height, proj, view_pos, light_position, params);
-    if (s.status != Status::Ok) { r.status = s.status; return r; }
+    if (s.status != Status::Ok) { r.status = s.status; r.detail = s.detail; return r; }
     r.steps = s.steps;
     r.projected_pixels = s.pixels;
     r.start_offset_pixels = 1.0f;
@@ -360,10 +391,10 @@ inline ContactShadowResult contact_shadow_march(const float* depth, std::size_t 
                                                 const ContactShadowParams& params) {
     ContactShadowResult r;
     const detail::CtsSetup s = detail::cts_setup(width, height, proj, view_pos, light_position, params);
-    if (s.status != Status::Ok) { r.status = s.status; return r; }
+    if (s.status != Status::Ok) { r.status = s.status; r.detail = s.detail; return r; }
     r.needed = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-    if (depth == nullptr) { r.status = Status::InvalidArgument; return r; }
-    if (depth_capacity < r.needed) { r.status = Status::BufferTooSmall; return r; }
+    if (depth == nullptr) { r.status = Status::InvalidArgument; r.detail = "depth: null"; return r; }
+    if (depth_capacity < r.needed) { r.status = Status::BufferTooSmall; r.detail = "depth_capacity: below width * height (see needed)"; return r; }
     const bool zo = params.clip_depth == ClipDepth::ZeroToOne;
     for (int i = 0; i < s.steps; ++i) {
         // screen fraction of sample i: from one pixel past the receiver to the clipped end
@@ -394,6 +425,7 @@ namespace detail {
 // operation for operation). Sample k (0 .. count - 1) is at texel-index position p + k dp.
 struct CtsAligned {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec2 p{0.0f}, dp{0.0f};      // first sample (whole pixel along the major axis), one step
     float win = 0.0f, dwin = 0.0f;    // the ray's window depth at the first sample, per step
     float iw = 0.0f, diw = 0.0f;      // the ray's 1 / clip w at the first sample, per step
@@ -409,6 +441,7 @@ inline CtsAligned cts_aligned_setup(int width, int height, const glm::mat4& proj
     CtsAligned r;
     const CtsSetup s = cts_setup(width, height, proj, view_pos, light_position, p);  // validation, statuses
     r.status = s.status;
+    r.detail = s.detail;
     if (s.status != Status::Ok) return r;
     const bool zo = p.clip_depth == ClipDepth::ZeroToOne;
     const float det = proj[2][2] * proj[3][3] - proj[3][2] * proj[2][3];
@@ -500,10 +533,14 @@ inline ContactShadowResult contact_shadow_march_aligned(const float* depth, std:
                                                         const ContactShadowParams& params) {
     ContactShadowResult res;
     const detail::CtsAligned r = detail::cts_aligned_setup(width, height, proj, view_pos, light_position, params);
-    if (r.status != Status::Ok) { res.status = r.status; return res; }
+    if (r.status != Status::Ok) { res.status = r.status; res.detail = r.detail; return res; }
     res.needed = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-    if (depth == nullptr) { res.status = Status::InvalidArgument; return res; }
-    if (depth_capacity < res.needed) { res.status = Status::BufferTooSmall; return res; }
+    if (depth == nullptr) { res.status = Status::InvalidArgument; res.detail = "depth: null"; return res; }
+    if (depth_capacity < res.needed) {
+        res.status = Status::BufferTooSmall;
+        res.detail = "depth_capacity: below width * height (see needed)";
+        return res;
+    }
     for (int k = 0; k < r.count; ++k) {
         if (!detail::cts_aligned_sample(depth, width, height, r, static_cast<float>(k), params.reversed_z)) continue;
         const float u = r.u1 + r.du * static_cast<float>(k);  // screen fraction -> 3D fraction (1/w affine)

@@ -17,7 +17,8 @@
 // Clip depth: ClipDepth::NegativeOneToOne (OpenGL) or ZeroToOne (glClipControl / D3D / Vulkan);
 // reversed_z maps the near plane to depth 1 and the far plane (or infinity) to 0 (NDC -1 for GL).
 // Results: a struct whose first member is `status`; `Ok` only with finite outputs in their
-// documented range. No light, no buffers, no allocation.
+// documented range; a non-Ok result's `detail` names the offending input and the rule ("near_z: not
+// > 0"), a static string, nullptr when Ok. No light, no buffers, no allocation.
 // Limits: near_z finite and > 0; far_z > near_z with far / near >= 1.001 (GL) or 1.0005 (ZeroToOne)
 // - closer planes make the float32 depth row |A| > 2048 and the near and far planes land off their
 // NDC values (near 0.1, far 0.1 + 1 ulp: +0.90 and +2.90), so they give Status::Overflow.
@@ -106,18 +107,21 @@ struct ProjectionDepth {
 /// A projection matrix.
 struct ProjectionResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 matrix = glm::mat4(0.0f);  ///< finite when Ok; row 3 is (0, 0, -1, 0)
 };
 
 /// A scalar result (a depth, a distance). `value` is 0 unless status is Ok.
 struct ProjectionValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     double value = 0.0;
 };
 
 /// An eye distance recovered from a window depth.
 struct ProjectionEyeDistance {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool at_infinity = false;  ///< true (with Ok): the window depth of infinity (infinite far plane); value is 0
     double value = 0.0;        ///< eye distance, finite and > 0, when Ok and !at_infinity
 };
@@ -125,6 +129,7 @@ struct ProjectionEyeDistance {
 /// NDC depth as a function of eye distance d: ndc(d) = A + B / d.
 struct ProjectionDepthMapping {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     double A = 0.0;
     double B = 0.0;
 };
@@ -132,6 +137,7 @@ struct ProjectionDepthMapping {
 /// Epsilon bounds for the tweaked infinite projection (derivation at projection_infinite_epsilon_bound).
 struct ProjectionEpsilonBound {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float clip = 0.0f;    ///< minimum keeping w = 0 vertices inside the clip volume in float32
     float storage = 0.0f; ///< minimum keeping infinity strictly inside the depth clear value
     float epsilon = 0.0f; ///< max(clip, storage), in [0, 0.5] when Ok
@@ -167,10 +173,38 @@ inline void ip_mapping(const ProjectionDepth& p, double& A, double& B) {
         }
     }
 }
-inline Status ip_check_fov_aspect(float fovy, float aspect) {
-    if (!std::isfinite(fovy) || !std::isfinite(aspect)) return Status::NonFinite;
-    if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.14159265358979323846)) return Status::InvalidArgument;
-    if (!(aspect > 0.0f)) return Status::InvalidArgument;
+// `why` receives where a non-Ok status came from (a static string).
+inline Status ip_fail(const char*& why, Status s, const char* what) {
+    why = what;
+    return s;
+}
+inline Status ip_check_fov_aspect(float fovy, float aspect, const char*& why) {
+    if (!std::isfinite(fovy)) return ip_fail(why, Status::NonFinite, "fovy: NaN or Inf");
+    if (!std::isfinite(aspect)) return ip_fail(why, Status::NonFinite, "aspect: NaN or Inf");
+    if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.14159265358979323846))
+        return ip_fail(why, Status::InvalidArgument, "fovy: outside (0, pi)");
+    if (!(aspect > 0.0f)) return ip_fail(why, Status::InvalidArgument, "aspect: not > 0");
+    return Status::Ok;
+}
+// projection_validate, with where a non-Ok status came from.
+inline Status ip_validate(const ProjectionDepth& p, const char*& why) {
+    if (!std::isfinite(p.near_z)) return ip_fail(why, Status::NonFinite, "near_z: NaN or Inf");
+    if (std::isnan(p.far_z) || p.far_z == -std::numeric_limits<float>::infinity())
+        return ip_fail(why, Status::NonFinite, "far_z: NaN or -Inf");
+    if (!std::isfinite(p.epsilon)) return ip_fail(why, Status::NonFinite, "epsilon: NaN or Inf");
+    if (!(p.near_z > 0.0f)) return ip_fail(why, Status::InvalidArgument, "near_z: not > 0");
+    if (!(p.far_z > p.near_z)) return ip_fail(why, Status::InvalidArgument, "far_z: not > near_z");
+    if (!(p.epsilon >= 0.0f && p.epsilon <= 0.5f)) return ip_fail(why, Status::InvalidArgument, "epsilon: outside [0, 0.5]");
+    if (std::isfinite(p.far_z) && p.epsilon != 0.0f)
+        return ip_fail(why, Status::InvalidArgument, "epsilon: not 0 with a finite far_z");
+    if (p.clip_depth != ClipDepth::NegativeOneToOne && p.clip_depth != ClipDepth::ZeroToOne)
+        return ip_fail(why, Status::InvalidArgument, "clip_depth: unknown ClipDepth");
+    double A = 0.0, B = 0.0;
+    ip_mapping(p, A, B);
+    // a subnormal B (near ~1e-38) has too few bits: NDC of near far off
+    if (!ip_fits_float(A) || !ip_fits_float(B) || std::fabs(A) > kIpMaxDepthRowA ||
+        !(std::fabs(B) >= static_cast<double>(std::numeric_limits<float>::min())))
+        return ip_fail(why, Status::Overflow, "far_z: too close to near_z (depth row beyond float), or near_z subnormal");
     return Status::Ok;
 }
 } // namespace detail
@@ -181,19 +215,8 @@ inline Status ip_check_fov_aspect(float fovy, float aspect) {
 /// represented in float32 (|A| > 2048: far / near < 1.001 for GL, < 1.0005 for ZeroToOne; an
 /// entry beyond float range; |B| below FLT_MIN, i.e. near ~1e-38 and less). Ok otherwise.
 inline Status projection_validate(const ProjectionDepth& p) {
-    if (!std::isfinite(p.near_z) || std::isnan(p.far_z) || p.far_z == -std::numeric_limits<float>::infinity() ||
-        !std::isfinite(p.epsilon))
-        return Status::NonFinite;
-    if (!(p.near_z > 0.0f) || !(p.far_z > p.near_z)) return Status::InvalidArgument;
-    if (!(p.epsilon >= 0.0f && p.epsilon <= 0.5f)) return Status::InvalidArgument;
-    if (std::isfinite(p.far_z) && p.epsilon != 0.0f) return Status::InvalidArgument;
-    if (p.clip_depth != ClipDepth::NegativeOneToOne && p.clip_depth != ClipDepth::ZeroToOne) return Status::InvalidArgument;
-    double A = 0.0, B = 0.0;
-    detail::ip_mapping(p, A, B);
-    if (!detail::ip_fits_float(A) || !detail::ip_fits_float(B) || std::fabs(A) > detail::kIpMaxDepthRowA ||
-        !(std::fabs(B) >= static_cast<double>(std::numeric_limits<float>::min())))
-        return Status::Overflow;  // a subnormal B (near ~1e-38) has too few bits: NDC of near far off
-    return Status::Ok;
+    const char* why = nullptr;
+    return detail::ip_validate(p, why);
 }
 
 /// Coefficients of ndc(d) = A + B / d (computed in double); status as projection_validate.
@@ -204,7 +227,7 @@ inline Status projection_validate(const ProjectionDepth& p) {
 ///   reversed-Z   : GL: ndc -> -ndc; ZO: ndc -> 1 - ndc (eps then measured from -1 resp. 0)
 inline ProjectionDepthMapping projection_depth_mapping(const ProjectionDepth& p) {
     ProjectionDepthMapping m;
-    m.status = projection_validate(p);
+    m.status = detail::ip_validate(p, m.detail);
     if (m.status != Status::Ok) return m;
     detail::ip_mapping(p, m.A, m.B);
     return m;
@@ -217,12 +240,17 @@ inline ProjectionDepthMapping projection_depth_mapping(const ProjectionDepth& p)
 inline ProjectionResult projection_frustum(float left, float right, float bottom, float top, const ProjectionDepth& depth) {
     ProjectionResult r;
     const ProjectionDepthMapping m = projection_depth_mapping(depth);
-    if (m.status != Status::Ok) { r.status = m.status; return r; }
+    if (m.status != Status::Ok) { r.status = m.status; r.detail = m.detail; return r; }
     if (!(std::isfinite(left) && std::isfinite(right) && std::isfinite(bottom) && std::isfinite(top))) {
         r.status = Status::NonFinite;
+        r.detail = !(std::isfinite(left) && std::isfinite(right)) ? "left, right: NaN or Inf" : "bottom, top: NaN or Inf";
         return r;
     }
-    if (!(left < right) || !(bottom < top)) { r.status = Status::InvalidArgument; return r; }
+    if (!(left < right) || !(bottom < top)) {
+        r.status = Status::InvalidArgument;
+        r.detail = !(left < right) ? "right: not > left" : "top: not > bottom";
+        return r;
+    }
     const double N = static_cast<double>(depth.near_z);
     const double l = left, rt = right, b = bottom, t = top;
     const double m00 = 2.0 * N / (rt - l), m11 = 2.0 * N / (t - b);
@@ -230,6 +258,7 @@ inline ProjectionResult projection_frustum(float left, float right, float bottom
     if (!detail::ip_fits_float(m00) || !detail::ip_fits_float(m11) || !detail::ip_fits_float(m20) ||
         !detail::ip_fits_float(m21) || static_cast<float>(m00) == 0.0f || static_cast<float>(m11) == 0.0f) {
         r.status = Status::Overflow;
+        r.detail = "left, right, bottom, top: a matrix entry beyond float or 0";
         return r;
     }
     r.matrix[0][0] = static_cast<float>(m00);
@@ -249,9 +278,9 @@ inline ProjectionResult projection_frustum(float left, float right, float bottom
 /// or rounds to 0; otherwise the status of projection_validate(depth).
 inline ProjectionResult projection_perspective(float fovy, float aspect, const ProjectionDepth& depth) {
     ProjectionResult r;
-    const Status s = projection_validate(depth);
+    const Status s = detail::ip_validate(depth, r.detail);
     if (s != Status::Ok) { r.status = s; return r; }
-    r.status = detail::ip_check_fov_aspect(fovy, aspect);
+    r.status = detail::ip_check_fov_aspect(fovy, aspect, r.detail);
     if (r.status != Status::Ok) return r;
     const double t = std::tan(0.5 * static_cast<double>(fovy));
     const double m11 = 1.0 / t;
@@ -259,6 +288,7 @@ inline ProjectionResult projection_perspective(float fovy, float aspect, const P
     if (!detail::ip_fits_float(m00) || !detail::ip_fits_float(m11) || !(static_cast<float>(m00) > 0.0f) ||
         !(static_cast<float>(m11) > 0.0f)) {
         r.status = Status::Overflow;
+        r.detail = "fovy, aspect: a matrix entry beyond float or 0";
         return r;
     }
     double A = 0.0, B = 0.0;
@@ -303,11 +333,11 @@ inline ProjectionResult projection_perspective_finite(float fovy, float aspect, 
 inline ProjectionValue projection_ndc_depth(const ProjectionDepth& p, double eye_distance) {
     ProjectionValue v;
     const ProjectionDepthMapping m = projection_depth_mapping(p);
-    if (m.status != Status::Ok) { v.status = m.status; return v; }
-    if (std::isnan(eye_distance)) { v.status = Status::NonFinite; return v; }
-    if (!(eye_distance > 0.0)) { v.status = Status::InvalidArgument; return v; }
+    if (m.status != Status::Ok) { v.status = m.status; v.detail = m.detail; return v; }
+    if (std::isnan(eye_distance)) { v.status = Status::NonFinite; v.detail = "eye_distance: NaN"; return v; }
+    if (!(eye_distance > 0.0)) { v.status = Status::InvalidArgument; v.detail = "eye_distance: not > 0"; return v; }
     const double value = std::isinf(eye_distance) ? m.A : m.A + m.B / eye_distance;
-    if (!detail::ip_fits_float(value)) { v.status = Status::Overflow; return v; }
+    if (!detail::ip_fits_float(value)) { v.status = Status::Overflow; v.detail = "eye_distance: the depth is beyond float"; return v; }
     v.value = value;
     v.status = Status::Ok;
     return v;
@@ -328,20 +358,24 @@ inline ProjectionValue projection_window_depth(const ProjectionDepth& p, double 
 inline ProjectionEyeDistance projection_eye_distance_from_window_depth(const ProjectionDepth& p, double window) {
     ProjectionEyeDistance v;
     const ProjectionDepthMapping m = projection_depth_mapping(p);
-    if (m.status != Status::Ok) { v.status = m.status; return v; }
-    if (std::isnan(window)) { v.status = Status::NonFinite; return v; }
-    if (!(window >= 0.0 && window <= 1.0)) { v.status = Status::InvalidArgument; return v; }
+    if (m.status != Status::Ok) { v.status = m.status; v.detail = m.detail; return v; }
+    if (std::isnan(window)) { v.status = Status::NonFinite; v.detail = "window: NaN"; return v; }
+    if (!(window >= 0.0 && window <= 1.0)) { v.status = Status::InvalidArgument; v.detail = "window: outside [0, 1]"; return v; }
     const double ndc = p.clip_depth == ClipDepth::NegativeOneToOne ? 2.0 * window - 1.0 : window;
     const double den = ndc - m.A;
     if (den == 0.0) {
-        if (!std::isinf(p.far_z)) { v.status = Status::InvalidArgument; return v; }  // not reached: A is outside [0, 1] for finite far
+        if (!std::isinf(p.far_z)) {  // not reached: A is outside [0, 1] for finite far
+            v.status = Status::InvalidArgument;
+            v.detail = "window: the depth of infinity with a finite far_z";
+            return v;
+        }
         v.at_infinity = true;
         v.status = Status::Ok;
         return v;
     }
     const double d = m.B / den;
-    if (!(d > 0.0)) { v.status = Status::InvalidArgument; return v; }
-    if (!detail::ip_fits_float(d)) { v.status = Status::Overflow; return v; }
+    if (!(d > 0.0)) { v.status = Status::InvalidArgument; v.detail = "window: beyond the depth of infinity"; return v; }
+    if (!detail::ip_fits_float(d)) { v.status = Status::Overflow; v.detail = "window: the distance is beyond float"; return v; }
     v.value = d;
     v.status = Status::Ok;
     return v;
@@ -372,28 +406,32 @@ inline double ip_float_gap(double x) {
 inline ProjectionValue projection_depth_resolution(const ProjectionDepth& p, DepthFormat format, double eye_distance) {
     ProjectionValue v;
     const ProjectionDepthMapping m = projection_depth_mapping(p);
-    if (m.status != Status::Ok) { v.status = m.status; return v; }
-    if (!std::isfinite(eye_distance)) { v.status = Status::NonFinite; return v; }
-    if (!(eye_distance > 0.0)) { v.status = Status::InvalidArgument; return v; }
+    if (m.status != Status::Ok) { v.status = m.status; v.detail = m.detail; return v; }
+    if (!std::isfinite(eye_distance)) { v.status = Status::NonFinite; v.detail = "eye_distance: NaN or Inf"; return v; }
+    if (!(eye_distance > 0.0)) { v.status = Status::InvalidArgument; v.detail = "eye_distance: not > 0"; return v; }
     const bool gl = p.clip_depth == ClipDepth::NegativeOneToOne;
     const double s = gl ? 0.5 : 1.0;
     const double ndc = m.A + m.B / eye_distance;
     double w = gl ? 0.5 * ndc + 0.5 : ndc;
     // Only distances inside the depth range [near, far] have a stored depth (slack for rounding).
-    if (!(w >= -1e-12 && w <= 1.0 + 1e-12)) { v.status = Status::InvalidArgument; return v; }
+    if (!(w >= -1e-12 && w <= 1.0 + 1e-12)) { v.status = Status::InvalidArgument; v.detail = "eye_distance: outside [near_z, far_z]"; return v; }
     w = w < 0.0 ? 0.0 : (w > 1.0 ? 1.0 : w);
     double step = 0.0;
     switch (format) {
     case DepthFormat::Float32: step = detail::ip_float_gap(w); break;
     case DepthFormat::Fixed24: step = 1.0 / 16777215.0; break;
     case DepthFormat::Fixed16: step = 1.0 / 65535.0; break;
-    default: v.status = Status::InvalidArgument; return v;
+    default: v.status = Status::InvalidArgument; v.detail = "format: unknown DepthFormat"; return v;
     }
     const double ndc_step = s * detail::ip_float_gap(std::fabs(ndc));
     if (ndc_step > step) step = ndc_step;
     const double slope = std::fabs(s * m.B) / eye_distance / eye_distance;
     const double value = step / slope;
-    if (!(slope > 0.0) || !detail::ip_fits_float(value) || !(value > 0.0)) { v.status = Status::Overflow; return v; }
+    if (!(slope > 0.0) || !detail::ip_fits_float(value) || !(value > 0.0)) {
+        v.status = Status::Overflow;
+        v.detail = "eye_distance: the step is beyond float";
+        return v;
+    }
     v.value = value;
     v.status = Status::Ok;
     return v;
@@ -430,12 +468,13 @@ inline ProjectionValue projection_depth_resolution(const ProjectionDepth& p, Dep
 inline ProjectionEpsilonBound projection_infinite_epsilon_bound(float fovy, float aspect, ClipDepth clip, bool reversed_z,
                                                                 DepthFormat format, float ulps_per_op = 1.0f) {
     ProjectionEpsilonBound e;
-    e.status = detail::ip_check_fov_aspect(fovy, aspect);
+    e.status = detail::ip_check_fov_aspect(fovy, aspect, e.detail);
     if (e.status != Status::Ok) return e;
-    if (!std::isfinite(ulps_per_op)) { e.status = Status::NonFinite; return e; }
+    if (!std::isfinite(ulps_per_op)) { e.status = Status::NonFinite; e.detail = "ulps_per_op: NaN or Inf"; return e; }
     if (!(ulps_per_op >= 0.0f && ulps_per_op <= 1.0e6f) ||
         (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne)) {
         e.status = Status::InvalidArgument;
+        e.detail = !(ulps_per_op >= 0.0f && ulps_per_op <= 1.0e6f) ? "ulps_per_op: outside [0, 1e6]" : "clip: unknown ClipDepth";
         return e;
     }
     const double u = 1.0 / 16777216.0; // 2^-24
@@ -454,7 +493,7 @@ inline ProjectionEpsilonBound projection_infinite_epsilon_bound(float fovy, floa
         if (!reversed_z) storage = gap_scale * u;
         else storage = gl ? u : static_cast<double>(std::numeric_limits<float>::min());
         break;
-    default: e.status = Status::InvalidArgument; return e;
+    default: e.status = Status::InvalidArgument; e.detail = "format: unknown DepthFormat"; return e;
     }
     // Round up to float so that the stored epsilon is never below the bound.
     auto up = [](double x) {
@@ -466,7 +505,11 @@ inline ProjectionEpsilonBound projection_infinite_epsilon_bound(float fovy, floa
     e.clip = up(clip_bound);
     e.storage = up(storage);
     e.epsilon = e.clip > e.storage ? e.clip : e.storage;
-    if (!(e.epsilon <= 0.5f)) { e.status = Status::InvalidArgument; e.clip = e.storage = e.epsilon = 0.0f; }
+    if (!(e.epsilon <= 0.5f)) {
+        e.status = Status::InvalidArgument;
+        e.detail = "ulps_per_op, fovy, aspect: the bound is above 0.5";
+        e.clip = e.storage = e.epsilon = 0.0f;
+    }
     return e;
 }
 

@@ -27,6 +27,8 @@
 // along -xyz). w < 0, (0, 0, 0, 0) and NaN/Inf are rejected with Status::InvalidLight.
 // Buffers: `kept_indices` holds `capacity` uint32 elements (caster indices); the result's `needed`
 // says how many the whole output needs, `count` how many were written.
+// Results: a non-Ok result's `detail` names the offending input and the rule ("camera_proj: near plane
+// at or behind the eye"), a static string; nullptr when Ok.
 // Map orientation (the roll about the light axis): the tight fits put the camera's view direction,
 // projected onto the light's image plane, along the map's +y (continuous in the light direction except
 // within a fraction of a degree of the light parallel or anti-parallel to the view, where the map
@@ -159,6 +161,7 @@ struct LightFrustumInput {
 /// Result of light_frustum_fit.
 struct LightFrustumResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;                ///< false (with Ok): the receiver volume is empty; skip the shadow pass
     /// world -> light view. Its eye is in front of every receiver and kept caster (near_plane > 0):
     /// -(view * p).z is a positive distance along the light (directional: the eye sits 1% of the
@@ -186,6 +189,7 @@ struct LightFrustumResult {
 /// World-space corners of the camera slice, see light_frustum_slice_corners.
 struct LightFrustumCorners {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;                ///< false (with Ok): the depth range is empty (corners not written)
     glm::vec3 corners[8] = {};           ///< corner i: bit0 = +x, bit1 = +y, bit2 = far layer
     float near_depth = 0.0f;             ///< view depths of the near and far layers
@@ -195,6 +199,7 @@ struct LightFrustumCorners {
 /// Convex volume as at most 64 inward-facing planes (n . x + d >= 0 inside).
 struct LightFrustumPlanes {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int count = 0;                       ///< planes in use
     glm::dvec4 planes[64];
 };
@@ -232,6 +237,12 @@ inline glm::dmat4 lf_depth_convention(ClipDepth cd, bool reversed) {
 
 /// The camera's four corner rays in view space: the point on the near plane, a direction away from
 /// the eye, the near depth and the far depth of each (+inf for a far plane at infinity).
+// Sets `why` (where a non-Ok status came from, a static string) and returns s.
+inline Status lf_fail(const char*& why, Status s, const char* what) {
+    why = what;
+    return s;
+}
+
 struct LfRays {
     glm::dvec3 pn[4], dir[4];
     double dn[4] = {0, 0, 0, 0};
@@ -243,13 +254,13 @@ struct LfRays {
 /// included). The far plane is found from NDC depth zf: a point there that lies beyond the second
 /// point on the ray is a finite far plane; w = 0 or a point behind the eye (the epsilon-tweaked P_inf
 /// puts zf beyond infinity) is a far plane at infinity.
-inline Status lf_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, LfRays& r) {
+inline Status lf_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, LfRays& r, const char*& why) {
     const glm::dmat4 P(proj);
-    if (!lf_finite(P)) return Status::NonFinite;
+    if (!lf_finite(P)) return lf_fail(why, Status::NonFinite, "camera_proj: NaN or Inf");
     const double det = glm::determinant(P);
-    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) return Status::InvalidArgument;  // singular
+    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) return lf_fail(why, Status::InvalidArgument, "camera_proj: singular");
     const glm::dmat4 inv = glm::inverse(P);
-    if (!lf_finite(inv)) return Status::InvalidArgument;
+    if (!lf_finite(inv)) return lf_fail(why, Status::InvalidArgument, "camera_proj: inverse not finite");
     const double lo = (cd == ClipDepth::ZeroToOne) ? 0.0 : -1.0;
     const double zn = reversed ? 1.0 : lo, zf = reversed ? lo : 1.0, zm = zn + (zf - zn) / 64.0;
     r.near_depth = -std::numeric_limits<double>::infinity();
@@ -261,15 +272,17 @@ inline Status lf_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed,
         const glm::dvec4 hf = inv * glm::dvec4(x, y, zf, 1.0);
         const double sn = std::fabs(hn.x) + std::fabs(hn.y) + std::fabs(hn.z);
         const double sm = std::fabs(hm.x) + std::fabs(hm.y) + std::fabs(hm.z);
-        if (!(std::fabs(hn.w) > 1e-12 * sn) || !(std::fabs(hn.w) > 1e-300)) return Status::InvalidArgument;
-        if (!(std::fabs(hm.w) > 1e-12 * sm) || !(std::fabs(hm.w) > 1e-300)) return Status::InvalidArgument;
+        if (!(std::fabs(hn.w) > 1e-12 * sn) || !(std::fabs(hn.w) > 1e-300))
+            return lf_fail(why, Status::InvalidArgument, "camera_proj: near plane at infinity");
+        if (!(std::fabs(hm.w) > 1e-12 * sm) || !(std::fabs(hm.w) > 1e-300))
+            return lf_fail(why, Status::InvalidArgument, "camera_proj: near-side depth at infinity");
         r.pn[i] = glm::dvec3(hn) / hn.w;
         const glm::dvec3 pm = glm::dvec3(hm) / hm.w;
         r.dir[i] = pm - r.pn[i];
         r.dn[i] = -r.pn[i].z;
         // near plane in front of the eye, rays going away from it
         if (!(r.dn[i] > 0.0) || !(r.dir[i].z < 0.0) || !lf_finite(r.pn[i]) || !lf_finite(r.dir[i]))
-            return Status::InvalidArgument;
+            return lf_fail(why, Status::InvalidArgument, "camera_proj: near plane at or behind the eye");
         const double sf = std::fabs(hf.x) + std::fabs(hf.y) + std::fabs(hf.z);
         double dfar = std::numeric_limits<double>::infinity();
         if (std::fabs(hf.w) > 1e-9 * sf && std::fabs(hf.w) > 1e-300) {
@@ -280,7 +293,7 @@ inline Status lf_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed,
         r.near_depth = std::fmax(r.near_depth, r.dn[i]);
         r.far_depth = std::fmin(r.far_depth, dfar);
     }
-    if (!(r.far_depth > r.near_depth)) return Status::InvalidArgument;
+    if (!(r.far_depth > r.near_depth)) return lf_fail(why, Status::InvalidArgument, "camera_proj: far plane not beyond near");
     return Status::Ok;
 }
 
@@ -290,21 +303,23 @@ inline glm::dvec3 lf_ray_at(const LfRays& r, int i, double depth) {
 
 /// Camera slice corners in view space (corner i: bit0 = +x, bit1 = +y, bit2 = far layer), between
 /// depths d0 = max(near, rmin) and d1 = min(far, max_distance, rmax). visible = false: empty range.
-inline Status lf_slice_view(const LightFrustumInput& in, glm::dvec3 out[8], double& d0, double& d1, bool& visible) {
+inline Status lf_slice_view(const LightFrustumInput& in, glm::dvec3 out[8], double& d0, double& d1, bool& visible,
+                           const char*& why) {
     visible = false;
     if (!std::isfinite(in.max_distance) || !std::isfinite(in.receiver_min_depth) ||
         !std::isfinite(in.receiver_max_depth))
-        return Status::NonFinite;
-    if (in.max_distance < 0.0f) return Status::InvalidArgument;
+        return lf_fail(why, Status::NonFinite, !std::isfinite(in.max_distance) ? "max_distance: NaN or Inf"
+                                               : "receiver_min_depth, receiver_max_depth: NaN or Inf");
+    if (in.max_distance < 0.0f) return lf_fail(why, Status::InvalidArgument, "max_distance: < 0");
     const bool use_range = !(in.receiver_min_depth == 0.0f && in.receiver_max_depth == 0.0f);
     if (use_range && !(in.receiver_min_depth > 0.0f && in.receiver_min_depth <= in.receiver_max_depth))
-        return Status::InvalidArgument;
+        return lf_fail(why, Status::InvalidArgument, "receiver_min_depth: not in (0, receiver_max_depth]");
     LfRays r;
-    const Status st = lf_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
+    const Status st = lf_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r, why);
     if (st != Status::Ok) return st;
     double f = r.far_depth;
     if (in.max_distance > 0.0f) f = std::fmin(f, double(in.max_distance));
-    else if (std::isinf(f)) return Status::InvalidArgument;  // infinite far plane needs max_distance
+    else if (std::isinf(f)) return lf_fail(why, Status::InvalidArgument, "max_distance: 0 with an infinite far plane");
     d0 = r.near_depth;
     d1 = f;
     if (use_range) {
@@ -315,7 +330,7 @@ inline Status lf_slice_view(const LightFrustumInput& in, glm::dvec3 out[8], doub
     for (int i = 0; i < 4; ++i) {
         out[i] = lf_ray_at(r, i, d0);
         out[i + 4] = lf_ray_at(r, i, d1);
-        if (!lf_finite(out[i]) || !lf_finite(out[i + 4])) return Status::Overflow;
+        if (!lf_finite(out[i]) || !lf_finite(out[i + 4])) return lf_fail(why, Status::Overflow, "camera_proj: a slice corner beyond range");
     }
     visible = true;
     return Status::Ok;
@@ -575,9 +590,10 @@ inline bool lf_valid_sphere(const float* s) {
 }
 
 /// Validates a light position: Ok, or InvalidLight for NaN/Inf, w < 0 and (0, 0, 0, 0).
-inline Status lf_check_light(const glm::vec4& l) {
-    if (!lf_finite(l) || l.w < 0.0f) return Status::InvalidLight;
-    if (l.w == 0.0f && l.x == 0.0f && l.y == 0.0f && l.z == 0.0f) return Status::InvalidLight;
+inline Status lf_check_light(const glm::vec4& l, const char*& why) {
+    if (!lf_finite(l)) return lf_fail(why, Status::InvalidLight, "light_position: NaN or Inf");
+    if (l.w < 0.0f) return lf_fail(why, Status::InvalidLight, "light_position: w < 0");
+    if (l.w == 0.0f && l.x == 0.0f && l.y == 0.0f && l.z == 0.0f) return lf_fail(why, Status::InvalidLight, "light_position: (0, 0, 0, 0)");
     return Status::Ok;
 }
 
@@ -662,28 +678,36 @@ inline bool lf_maps_inside(const glm::mat4& m, const glm::dvec3* pts, int n, Cli
 }
 
 // Step 1 of light_frustum_fit: the arguments. Ok or the status to return.
-inline Status lf_fit_check_inputs(const LightFrustumInput& in, const std::uint32_t* kept_indices, std::size_t capacity) {
-    if ((!in.casters && in.caster_count > 0) || (!in.caster_spheres && in.caster_sphere_count > 0) ||
-        (!kept_indices && capacity > 0))
-        return Status::InvalidArgument;
+inline Status lf_fit_check_inputs(const LightFrustumInput& in, const std::uint32_t* kept_indices, std::size_t capacity,
+                                  const char*& why) {
+    if (!in.casters && in.caster_count > 0) return lf_fail(why, Status::InvalidArgument, "casters: null with caster_count > 0");
+    if (!in.caster_spheres && in.caster_sphere_count > 0)
+        return lf_fail(why, Status::InvalidArgument, "caster_spheres: null with caster_sphere_count > 0");
+    if (!kept_indices && capacity > 0) return lf_fail(why, Status::InvalidArgument, "kept_indices: null with capacity > 0");
     constexpr std::size_t kMaxCasters = 0xFFFFFFFFu;  // indices are uint32
     if (in.caster_count > kMaxCasters || in.caster_sphere_count > kMaxCasters - in.caster_count)
-        return Status::InvalidArgument;
-    if (!lf_finite(in.camera_view) || !lf_finite(in.camera_proj)) return Status::NonFinite;
-    const Status ls = lf_check_light(in.light_position);
+        return lf_fail(why, Status::InvalidArgument, "caster_count + caster_sphere_count: beyond uint32 indices");
+    if (!lf_finite(in.camera_view)) return lf_fail(why, Status::NonFinite, "camera_view: NaN or Inf");
+    if (!lf_finite(in.camera_proj)) return lf_fail(why, Status::NonFinite, "camera_proj: NaN or Inf");
+    const Status ls = lf_check_light(in.light_position, why);
     if (ls != Status::Ok) return ls;
     if (in.has_scene_bounds) {
-        if (!lf_finite(in.scene_min) || !lf_finite(in.scene_max)) return Status::NonFinite;
+        if (!lf_finite(in.scene_min) || !lf_finite(in.scene_max))
+            return lf_fail(why, Status::NonFinite, "scene_min, scene_max: NaN or Inf");
         if (in.scene_min.x > in.scene_max.x || in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z)
-            return Status::InvalidArgument;
+            return lf_fail(why, Status::InvalidArgument, "scene_min: > scene_max");
     }
-    if (!std::isfinite(in.radius_quantum) || !std::isfinite(in.point_min_near_ratio)) return Status::NonFinite;
-    if (in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f) || !(in.point_min_near_ratio > 0.0f) ||
-        !(in.point_min_near_ratio < 1.0f))
-        return Status::InvalidArgument;
+    if (!std::isfinite(in.radius_quantum)) return lf_fail(why, Status::NonFinite, "radius_quantum: NaN or Inf");
+    if (!std::isfinite(in.point_min_near_ratio)) return lf_fail(why, Status::NonFinite, "point_min_near_ratio: NaN or Inf");
+    if (in.shadow_map_size < 4) return lf_fail(why, Status::InvalidArgument, "shadow_map_size: < 4");
+    if (!(in.radius_quantum > 0.0f)) return lf_fail(why, Status::InvalidArgument, "radius_quantum: not > 0");
+    if (!(in.point_min_near_ratio > 0.0f) || !(in.point_min_near_ratio < 1.0f))
+        return lf_fail(why, Status::InvalidArgument, "point_min_near_ratio: outside (0, 1)");
     const bool directional = in.light_position.w == 0.0f;
-    if (in.stable && !directional) return Status::InvalidLight;  // stable fit: directional lights only
-    if (in.stable && in.stable_world_depth && !in.has_scene_bounds) return Status::InvalidArgument;
+    if (in.stable && !directional)  // stable fit: directional lights only
+        return lf_fail(why, Status::InvalidLight, "light_position: a point light with stable = true");
+    if (in.stable && in.stable_world_depth && !in.has_scene_bounds)
+        return lf_fail(why, Status::InvalidArgument, "stable_world_depth: without has_scene_bounds");
     return Status::Ok;
 }
 
@@ -701,14 +725,14 @@ struct LfReceivers {
 };
 
 // Step 2 of light_frustum_fit: the receiver volume. Ok with visible = false when it is empty.
-inline Status lf_receiver_volume(const LightFrustumInput& in, LfReceivers& R, bool& visible) {
+inline Status lf_receiver_volume(const LightFrustumInput& in, LfReceivers& R, bool& visible, const char*& why) {
     double d0 = 0, d1 = 0;
     visible = false;
-    const Status ss = lf_slice_view(in, R.cv, d0, d1, visible);
+    const Status ss = lf_slice_view(in, R.cv, d0, d1, visible, why);
     if (ss != Status::Ok || !visible) return ss;
     for (int i = 0; i < 8; ++i) {
         R.cw[i] = glm::dvec3(R.iv * glm::dvec4(R.cv[i], 1.0));
-        if (!lf_finite(R.cw[i])) return Status::Overflow;
+        if (!lf_finite(R.cw[i])) return lf_fail(why, Status::Overflow, "camera_view: a slice corner beyond range");
     }
     // camera axes in world space (for the tight fits' orientation)
     R.cam_fwd = glm::dvec3(R.iv * glm::dvec4(0.0, 0.0, -1.0, 0.0));
@@ -835,7 +859,7 @@ inline glm::dvec2 lf_world_depth_range(const LightFrustumInput& in, const glm::d
 // Step 4a of light_frustum_fit, directional stable: a sphere around the slice with a quantized
 // radius, an origin-anchored light view and a window snapped to whole texels.
 inline Status lf_fit_directional_stable(const LightFrustumInput& in, const LfReceivers& R, const LfCasterCull& cull,
-                                        const glm::dvec3& d, LfLightFit& F, LightFrustumResult& res) {
+                                        const glm::dvec3& d, LfLightFit& F, LightFrustumResult& res, const char*& why) {
     const glm::dvec3* cv = R.cv;
     // sphere of the slice computed in view space: bitwise invariant to camera rotation/translation
     const glm::dvec3 nc = (cv[0] + cv[1] + cv[2] + cv[3]) * 0.25, fc = (cv[4] + cv[5] + cv[6] + cv[7]) * 0.25;
@@ -851,7 +875,7 @@ inline Status lf_fit_directional_stable(const LightFrustumInput& in, const LfRec
     for (int i = 0; i < 8; ++i) r = std::fmax(r, glm::length(cv[i] - center_v));
     const double q = in.radius_quantum;
     r = std::ceil(r / q) * q;  // MJP/Valient: rounded radius -> constant texel size
-    if (!(r > 0.0) || !lf_finite(r)) return Status::Overflow;
+    if (!(r > 0.0) || !lf_finite(r)) return lf_fail(why, Status::Overflow, "radius_quantum: bounding radius not finite");
     const glm::dmat4 lview = lf_look_dir(glm::dvec3(0.0), d, lf_stable_up(d));  // origin-anchored, fixed per light
     const glm::dvec3 cl = glm::dvec3(lview * R.iv * glm::dvec4(center_v, 1.0));
     // window side W: the sphere's diameter, or the scene box's light-space extent if smaller
@@ -909,7 +933,8 @@ inline Status lf_fit_directional_stable(const LightFrustumInput& in, const LfRec
     res.texel_world_size = static_cast<float>(texel);
     res.texel_anchor = glm::dvec2(kx - 0.5 * S, ky - 0.5 * S);  // (cx - half) / texel
     res.bounding_sphere = glm::vec4(glm::vec3(glm::dvec3(R.iv * glm::dvec4(center_v, 1.0))), static_cast<float>(r));
-    if (!(res.texel_world_size > 0.0f) || !lf_finite(res.bounding_sphere)) return Status::Overflow;
+    if (!(res.texel_world_size > 0.0f) || !lf_finite(res.bounding_sphere))
+        return lf_fail(why, Status::Overflow, "shadow_map_size: texel size or bounding sphere beyond float");
     return Status::Ok;
 }
 
@@ -939,16 +964,18 @@ inline void lf_fit_directional_tight(const LfReceivers& R, const LfCasterCull& c
 // the receiver volume's vertices (a mean of the vertices put near receivers beyond 89.4 degrees for a
 // light just above wide receivers) and the perspective window around them.
 inline Status lf_fit_point(const LightFrustumInput& in, const LfReceivers& R, const LfCasterCull& cull,
-                           const glm::dvec3& L, LfLightFit& F) {
+                           const glm::dvec3& L, LfLightFit& F, const char*& why) {
     const glm::dvec3 f = cone_axis(R.verts, R.nv, L);
-    if (!(glm::length(f) > 0.0)) return Status::LightInsideVolume;
+    if (!(glm::length(f) > 0.0))
+        return lf_fail(why, Status::LightInsideVolume, "light_position: inside the receiver volume");
     F.view = lf_look_dir(L, f, lf_view_up(f, R.cam_fwd, R.cam_up));
     double xl = 1e300, xr = -1e300, yb = 1e300, yt = -1e300, dmin = 1e300, dmax = 0;
     for (int i = 0; i < R.nv; ++i) {
         const glm::dvec3 p = glm::dvec3(F.view * glm::dvec4(R.verts[i], 1.0));
         const double dep = -p.z;
         const double lat = std::fmax(std::fabs(p.x), std::fabs(p.y));
-        if (!(dep > 1e-9 * R.scale) || lat > 100.0 * dep) return Status::LightInsideVolume;  // > ~89.4 deg
+        if (!(dep > 1e-9 * R.scale) || lat > 100.0 * dep)  // > ~89.4 deg
+            return lf_fail(why, Status::LightInsideVolume, "light_position: a receiver > 89.4 degrees off every axis");
         xl = std::fmin(xl, p.x / dep); xr = std::fmax(xr, p.x / dep);
         yb = std::fmin(yb, p.y / dep); yt = std::fmax(yt, p.y / dep);
         dmin = std::fmin(dmin, dep); dmax = std::fmax(dmax, dep);
@@ -975,28 +1002,37 @@ inline Status lf_fit_point(const LightFrustumInput& in, const LfReceivers& R, co
 /// Ok with visible = false when the depth range is empty.
 inline LightFrustumCorners light_frustum_slice_corners(const LightFrustumInput& in) {
     LightFrustumCorners res;
-    if (!detail::lf_finite(in.camera_view)) { res.status = Status::NonFinite; return res; }
+    if (!detail::lf_finite(in.camera_view)) { res.status = Status::NonFinite; res.detail = "camera_view: NaN or Inf"; return res; }
     glm::dvec3 c[8];
     double d0 = 0, d1 = 0;
     bool visible = false;
-    res.status = detail::lf_slice_view(in, c, d0, d1, visible);
+    res.status = detail::lf_slice_view(in, c, d0, d1, visible, res.detail);
     if (res.status != Status::Ok) return res;
     if (!visible) return res;
     const glm::dmat4 V(in.camera_view);
     const double det = glm::determinant(V);
-    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) { res.status = Status::InvalidArgument; return res; }
+    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) {
+        res.status = Status::InvalidArgument;
+        res.detail = "camera_view: singular";
+        return res;
+    }
     const glm::dmat4 iv = glm::inverse(V);
     for (int i = 0; i < 8; ++i) {
         res.corners[i] = glm::vec3(glm::dvec3(iv * glm::dvec4(c[i], 1.0)));
         if (!detail::lf_finite(res.corners[i])) {
             res.status = Status::Overflow;  // float overflow
+            res.detail = "corners: beyond float range";
             for (glm::vec3& k : res.corners) k = glm::vec3(0.0f);
             return res;
         }
     }
     res.near_depth = static_cast<float>(d0);
     res.far_depth = static_cast<float>(d1);
-    if (!std::isfinite(res.near_depth) || !std::isfinite(res.far_depth)) { res.status = Status::Overflow; return res; }
+    if (!std::isfinite(res.near_depth) || !std::isfinite(res.far_depth)) {
+        res.status = Status::Overflow;
+        res.detail = "near_depth, far_depth: beyond float range";
+        return res;
+    }
     res.visible = true;
     return res;
 }
@@ -1015,28 +1051,37 @@ inline LightFrustumPlanes light_frustum_extruded_planes(const glm::dvec3* receiv
     if ((!receiver_vertices && vertex_count > 0) || (!receiver_planes && plane_count > 0) || vertex_count > 64 ||
         plane_count > 64) {
         out.status = Status::InvalidArgument;
+        out.detail = !receiver_vertices && vertex_count > 0 ? "receiver_vertices: null with vertex_count > 0"
+                     : (!receiver_planes && plane_count > 0 ? "receiver_planes: null with plane_count > 0"
+                     : (vertex_count > 64 ? "vertex_count: > 64" : "plane_count: > 64"));
         return out;
     }
-    out.status = detail::lf_check_light(light_position);
+    out.status = detail::lf_check_light(light_position, out.detail);
     if (out.status != Status::Ok) return out;
     for (std::size_t i = 0; i < vertex_count; ++i)
-        if (!detail::lf_finite(receiver_vertices[i])) { out.status = Status::NonFinite; return out; }
+        if (!detail::lf_finite(receiver_vertices[i])) {
+            out.status = Status::NonFinite;
+            out.detail = "receiver_vertices: NaN or Inf";
+            return out;
+        }
     for (std::size_t i = 0; i < plane_count; ++i)
         if (!detail::lf_finite(glm::dvec3(receiver_planes[i])) || !std::isfinite(receiver_planes[i].w)) {
             out.status = Status::NonFinite;
+            out.detail = "receiver_planes: NaN or Inf";
             return out;
         }
     const bool directional = light_position.w == 0.0f;
     const glm::dvec3 xyz(light_position);
     const glm::dvec3 toward = directional ? glm::normalize(xyz) : glm::dvec3(0.0);
     const glm::dvec3 pos = directional ? glm::dvec3(0.0) : xyz / double(light_position.w);
-    if (!detail::lf_finite(pos)) { out.status = Status::Overflow; return out; }
+    if (!detail::lf_finite(pos)) { out.status = Status::Overflow; out.detail = "light_position: xyz / w beyond range"; return out; }
     out = detail::lf_extruded_planes(receiver_vertices, int(vertex_count), receiver_planes, int(plane_count),
                                      directional, toward, pos);
     for (int k = 0; k < out.count; ++k)
         if (!detail::lf_finite(glm::dvec3(out.planes[k])) || !std::isfinite(out.planes[k].w)) {
             out.count = 0;
             out.status = Status::Overflow;
+            out.detail = "planes: beyond range";
             return out;
         }
     return out;
@@ -1077,28 +1122,30 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
                                             std::size_t capacity) {
     using namespace detail;
     LightFrustumResult res;
-    auto fail = [&res](Status s) {
+    auto fail = [&res](Status s, const char* why) {
         res.status = s;
+        res.detail = why;
         return res;
     };
-    const Status vs = lf_fit_check_inputs(in, kept_indices, capacity);
-    if (vs != Status::Ok) return fail(vs);
+    const char* why = nullptr;
+    const Status vs = lf_fit_check_inputs(in, kept_indices, capacity, why);
+    if (vs != Status::Ok) return fail(vs, why);
     const bool directional = in.light_position.w == 0.0f;
     const glm::dvec3 lxyz(in.light_position);
     const glm::dvec3 toward = directional ? glm::normalize(lxyz) : glm::dvec3(0.0);
     const glm::dvec3 Lpos = directional ? glm::dvec3(0.0) : lxyz / double(in.light_position.w);
-    if (!lf_finite(toward) || !lf_finite(Lpos)) return fail(Status::Overflow);
+    if (!lf_finite(toward) || !lf_finite(Lpos)) return fail(Status::Overflow, "light_position: direction or xyz / w beyond range");
     const glm::dmat4 V(in.camera_view);
     const double vdet = glm::determinant(V);
-    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument);
+    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument, "camera_view: singular");
     LfReceivers R;
     R.iv = glm::inverse(V);
-    if (!lf_finite(R.iv)) return fail(Status::InvalidArgument);
+    if (!lf_finite(R.iv)) return fail(Status::InvalidArgument, "camera_view: inverse not finite");
 
     // --- receiver volume: camera slice (view space -> world), optionally clipped by the scene box
     bool visible = false;
-    const Status rs = lf_receiver_volume(in, R, visible);
-    if (rs != Status::Ok) return fail(rs);
+    const Status rs = lf_receiver_volume(in, R, visible, why);
+    if (rs != Status::Ok) return fail(rs, why);
     if (!visible) {  // nothing to draw: every caster culled
         res.status = Status::Ok;
         res.visible = false;
@@ -1119,18 +1166,18 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
     LfLightFit F;
     Status fs = Status::Ok;
     if (directional && in.stable)
-        fs = lf_fit_directional_stable(in, R, cull, -toward, F, res);  // -toward: the light view's forward axis
+        fs = lf_fit_directional_stable(in, R, cull, -toward, F, res, why);  // -toward: the light view's forward axis
     else if (directional)
         lf_fit_directional_tight(R, cull, -toward, F);
     else
-        fs = lf_fit_point(in, R, cull, Lpos, F);
-    if (fs != Status::Ok) return fail(fs);
+        fs = lf_fit_point(in, R, cull, Lpos, F, why);
+    if (fs != Status::Ok) return fail(fs, why);
 
     // --- the depth convention, and the float matrices checked against the receivers
     const glm::dmat4 lview = F.view;
     const glm::dmat4 lproj = lf_depth_convention(in.light_depth, in.light_reversed_z) * F.proj;
     const glm::dmat4 vp = lproj * lview;
-    if (!lf_finite(vp) || !lf_finite(lview) || !lf_finite(lproj)) return fail(Status::Overflow);
+    if (!lf_finite(vp) || !lf_finite(lview) || !lf_finite(lproj)) return fail(Status::Overflow, "view_proj: beyond range");
     res.view = glm::mat4(lview);
     res.proj = glm::mat4(lproj);
     res.view_proj = glm::mat4(vp);
@@ -1140,12 +1187,14 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
         !std::isfinite(res.far_plane) || !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2)) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
+        bad.detail = "view_proj: the float matrix cannot place the receivers (coordinates too large)";
         return bad;
     }
     res.visible = true;
     res.needed = kept;
     res.count = kept < capacity ? kept : capacity;
     res.status = kept > capacity ? Status::BufferTooSmall : Status::Ok;
+    res.detail = kept > capacity ? "capacity: below needed (see needed)" : nullptr;
     return res;
 }
 
@@ -1179,16 +1228,23 @@ inline bool lf_box_ok(const glm::vec3& mn, const glm::vec3& mx) {
     return lf_finite(mn) && lf_finite(mx) && mn.x <= mx.x && mn.y <= mx.y && mn.z <= mx.z;
 }
 
-inline Status lf_caster_fit_check(const LightCasterFitInput& in) {
-    if (!lf_finite(in.caster_min) || !lf_finite(in.caster_max) || !lf_finite(in.receiver_min) || !lf_finite(in.receiver_max) ||
-        !std::isfinite(in.emitter_radius_world) || !std::isfinite(in.max_half_angle_radians) || !std::isfinite(in.min_near_ratio))
-        return Status::NonFinite;
-    if (!lf_box_ok(in.caster_min, in.caster_max) || !lf_box_ok(in.receiver_min, in.receiver_max) ||
-        !(in.emitter_radius_world >= 0.0f) || !(in.max_half_angle_radians > 0.0f && in.max_half_angle_radians <= 1.5f) ||
-        !(in.min_near_ratio > 0.0f && in.min_near_ratio < 1.0f) ||
-        (in.light_depth != ClipDepth::NegativeOneToOne && in.light_depth != ClipDepth::ZeroToOne))
-        return Status::InvalidArgument;
-    return lf_check_light(in.light_position);
+inline Status lf_caster_fit_check(const LightCasterFitInput& in, const char*& why) {
+    const Status nf = Status::NonFinite, ia = Status::InvalidArgument;
+    if (!lf_finite(in.caster_min) || !lf_finite(in.caster_max)) return lf_fail(why, nf, "caster_min, caster_max: NaN or Inf");
+    if (!lf_finite(in.receiver_min) || !lf_finite(in.receiver_max))
+        return lf_fail(why, nf, "receiver_min, receiver_max: NaN or Inf");
+    if (!std::isfinite(in.emitter_radius_world)) return lf_fail(why, nf, "emitter_radius_world: NaN or Inf");
+    if (!std::isfinite(in.max_half_angle_radians)) return lf_fail(why, nf, "max_half_angle_radians: NaN or Inf");
+    if (!std::isfinite(in.min_near_ratio)) return lf_fail(why, nf, "min_near_ratio: NaN or Inf");
+    if (!lf_box_ok(in.caster_min, in.caster_max)) return lf_fail(why, ia, "caster_min: > caster_max");
+    if (!lf_box_ok(in.receiver_min, in.receiver_max)) return lf_fail(why, ia, "receiver_min: > receiver_max");
+    if (!(in.emitter_radius_world >= 0.0f)) return lf_fail(why, ia, "emitter_radius_world: < 0");
+    if (!(in.max_half_angle_radians > 0.0f && in.max_half_angle_radians <= 1.5f))
+        return lf_fail(why, ia, "max_half_angle_radians: outside (0, 1.5]");
+    if (!(in.min_near_ratio > 0.0f && in.min_near_ratio < 1.0f)) return lf_fail(why, ia, "min_near_ratio: outside (0, 1)");
+    if (in.light_depth != ClipDepth::NegativeOneToOne && in.light_depth != ClipDepth::ZeroToOne)
+        return lf_fail(why, ia, "light_depth: unknown ClipDepth");
+    return lf_check_light(in.light_position, why);
 }
 
 // Directional: the view along the light, an orthographic box whose x/y is the casters' light-space
@@ -1228,17 +1284,19 @@ inline void lf_caster_fit_directional(const LightCasterFitInput& in, const glm::
 // Point: the view from the light toward the casters' box center, the cone just wide enough for its
 // corners (2% margin) plus the emitter's penumbra seen from the nearest corner (atan(r / z_min)); near
 // 0.9 of the nearest caster corner, far 1.01 of the farthest receiver corner.
-inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec3& L, LfLightFit& F) {
+inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec3& L, LfLightFit& F, const char*& why) {
     const glm::dvec3 rmn(in.receiver_min), rmx(in.receiver_max), cmn(in.caster_min), cmx(in.caster_max);
     const glm::dvec3 axis = 0.5 * (cmn + cmx) - L;
     const double len = glm::length(axis);
-    if (!(len > 0.0) || !std::isfinite(len)) return Status::LightInsideVolume;
+    if (!(len > 0.0) || !std::isfinite(len))
+        return lf_fail(why, Status::LightInsideVolume, "light_position: at the casters' box center");
     const glm::dvec3 f = axis / len;
     F.view = lf_look_dir(L, f, lf_stable_up(f));
     double tan_max = 0.0, zmin = std::numeric_limits<double>::infinity();
     for (int c = 0; c < 8; ++c) {
         const glm::dvec4 v = F.view * glm::dvec4((c & 1) ? cmx.x : cmn.x, (c & 2) ? cmx.y : cmn.y, (c & 4) ? cmx.z : cmn.z, 1.0);
-        if (!(-v.z > 1e-9 * len)) return Status::LightInsideVolume;  // a corner beside or behind the light
+        if (!(-v.z > 1e-9 * len))  // a corner beside or behind the light
+            return lf_fail(why, Status::LightInsideVolume, "light_position: a caster corner beside or behind the light");
         tan_max = std::fmax(tan_max, std::fmax(std::fabs(v.x), std::fabs(v.y)) / -v.z);
         zmin = std::fmin(zmin, -v.z);
     }
@@ -1246,11 +1304,12 @@ inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec
     double big = glm::length(L);
     for (int k = 0; k < 3; ++k) big = std::fmax(big, std::fmax(std::fabs(cmn[k]), std::fabs(cmx[k])));
     const double half = std::atan(1.02 * tan_max + double(in.emitter_radius_world) / zmin + 64.0 * 5.9604644775390625e-8 * big / zmin);
-    if (!(half <= double(in.max_half_angle_radians))) return Status::LightInsideVolume;
+    if (!(half <= double(in.max_half_angle_radians)))
+        return lf_fail(why, Status::LightInsideVolume, "max_half_angle_radians: the casters need a wider cone");
     const glm::dvec2 dr = lf_box_light_depths(F.view, rmn, rmx);
     F.farp = 1.01 * std::fmax(dr.y, zmin);
     F.nearp = std::fmax(0.9 * zmin, double(in.min_near_ratio) * F.farp);
-    if (!(F.nearp < F.farp)) return Status::Overflow;
+    if (!(F.nearp < F.farp)) return lf_fail(why, Status::Overflow, "receiver_min, receiver_max: near not below far");
     const double t = F.nearp * std::tan(half);
     F.proj = lf_frustum(-t, t, -t, t, F.nearp, F.farp);
     return Status::Ok;
@@ -1276,19 +1335,19 @@ inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec
 inline LightFrustumResult light_frustum_fit_casters(const LightCasterFitInput& in) {
     using namespace detail;
     LightFrustumResult res;
-    res.status = lf_caster_fit_check(in);
+    res.status = lf_caster_fit_check(in, res.detail);
     if (res.status != Status::Ok) return res;
     const bool directional = in.light_position.w == 0.0f;
     const glm::dvec3 lxyz(in.light_position);
     LfLightFit F;
     if (directional) {
         const glm::dvec3 f = -glm::normalize(lxyz);  // the light view's forward axis: where the rays travel
-        if (!lf_finite(f)) return res.status = Status::Overflow, res;
+        if (!lf_finite(f)) return res.status = Status::Overflow, res.detail = "light_position: direction beyond range", res;
         lf_caster_fit_directional(in, f, F);
     } else {
         const glm::dvec3 L = lxyz / double(in.light_position.w);
-        if (!lf_finite(L)) return res.status = Status::Overflow, res;
-        const Status s = lf_caster_fit_point(in, L, F);
+        if (!lf_finite(L)) return res.status = Status::Overflow, res.detail = "light_position: xyz / w beyond range", res;
+        const Status s = lf_caster_fit_point(in, L, F, res.detail);
         if (s != Status::Ok) return res.status = s, res;
     }
     const glm::dmat4 lproj = lf_depth_convention(in.light_depth, in.light_reversed_z) * F.proj;
@@ -1301,6 +1360,7 @@ inline LightFrustumResult light_frustum_fit_casters(const LightCasterFitInput& i
         !std::isfinite(res.far_plane) || !(res.near_plane < res.far_plane)) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
+        bad.detail = "view_proj: not finite in float";
         return bad;
     }
     res.visible = true;

@@ -49,7 +49,9 @@
 //     say `count` (elements written, a valid prefix) and `needed`. A null pointer with a non-zero
 //     count or capacity is Status::InvalidArgument. No function allocates.
 //   * Status: NaN/Inf in any input is Status::NonFinite; a finite input whose result does not fit a
-//     float is Status::Overflow; `Ok` means every output is finite and in its documented range.
+//     float is Status::Overflow; `Ok` means every output is finite and in its documented range. A
+//     non-Ok result's `detail` names the offending input and the rule ("length: < 0"), a static
+//     string; nullptr when Ok.
 //
 // Based on:
 //   W. Heidrich, S. Brabec, H.-P. Seidel, "Soft Shadow Maps for Linear Lights", Eurographics
@@ -114,6 +116,7 @@ inline const char* status_name(Status s) {
 /// A linear light: the segment from end_a to end_b (linear_light_segment).
 struct LinearLightSegment {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec3 end_a{0.f}, end_b{0.f};  ///< endpoints (world); equal for a zero-length (point) light
     bool is_point = false;             ///< zero length (or shorter than float resolution at the center): a point light
 };
@@ -126,6 +129,7 @@ struct LinearLightBox {
 /// A closed parameter interval [t0, t1] of the segment; empty when !(t0 <= t1).
 struct LinearLightInterval {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float t0 = 1.f, t1 = 0.f;  ///< within [0, 1] when not empty
     bool empty() const { return !(t0 <= t1); }
 };
@@ -133,12 +137,14 @@ struct LinearLightInterval {
 /// Result of linear_light_visible_fraction.
 struct LinearLightFraction {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float fraction = 0.f;  ///< visible fraction of the segment in [0, 1] (point light: 0 or 1)
 };
 
 /// Result of linear_light_subdivide.
 struct LinearLightSubdivideResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< endpoints written (a valid prefix; == needed when Ok)
     std::size_t needed = 0;  ///< endpoints of k sub-lights: k + 1
 };
@@ -240,10 +246,12 @@ inline LinearLightSegment linear_light_segment(glm::vec3 center, glm::vec3 direc
     LinearLightSegment s;
     if (!detail::ll_finite(center) || !detail::ll_finite(direction) || !std::isfinite(length)) {
         s.status = Status::NonFinite;
+        s.detail = !detail::ll_finite(center) ? "center: NaN or Inf" : (!detail::ll_finite(direction) ? "direction: NaN or Inf" : "length: NaN or Inf");
         return s;
     }
     if (length < 0.f) {
         s.status = Status::InvalidArgument;
+        s.detail = "length: < 0";
         return s;
     }
     if (length == 0.f) {
@@ -256,6 +264,7 @@ inline LinearLightSegment linear_light_segment(glm::vec3 center, glm::vec3 direc
                                 double(direction.z) * direction.z);
     if (!(dl > 0.0)) {
         s.status = Status::InvalidArgument;
+        s.detail = "direction: zero with length > 0";
         return s;
     }
     const glm::dvec3 h = glm::dvec3(direction) * (0.5 * double(length) / dl);
@@ -263,12 +272,14 @@ inline LinearLightSegment linear_light_segment(glm::vec3 center, glm::vec3 direc
     if (!detail::ll_fits_float(a) || !detail::ll_fits_float(b) ||
         !detail::ll_fits_float(glm::dvec3(glm::vec3(b)) - glm::dvec3(glm::vec3(a)))) {
         s.status = Status::Overflow;
+        s.detail = "center, length: an endpoint beyond float";
         return s;
     }
     s.end_a = glm::vec3(a);
     s.end_b = glm::vec3(b);
     if (!detail::ll_finite(s.end_a) || !detail::ll_finite(s.end_b) || !detail::ll_finite(s.end_b - s.end_a)) {
         s.status = Status::Overflow;  // rounding to float reached Inf
+        s.detail = "center, length: an endpoint beyond float";
         return s;
     }
     s.is_point = s.end_a == s.end_b;
@@ -285,10 +296,12 @@ inline LinearLightSubdivideResult linear_light_subdivide(const LinearLightSegmen
     LinearLightSubdivideResult r;
     if (k == 0 || segment.status != Status::Ok || (out_capacity && !out)) {
         r.status = Status::InvalidArgument;
+        r.detail = k == 0 ? "k: 0" : (segment.status != Status::Ok ? "segment: status not Ok" : "out: null with out_capacity > 0");
         return r;
     }
     if (!detail::ll_finite(segment.end_a) || !detail::ll_finite(segment.end_b)) {
         r.status = Status::NonFinite;
+        r.detail = "segment: an endpoint NaN or Inf";
         return r;
     }
     r.needed = std::size_t(k) + 1;
@@ -301,6 +314,7 @@ inline LinearLightSubdivideResult linear_light_subdivide(const LinearLightSegmen
                                (glm::dvec3(segment.end_b) - glm::dvec3(segment.end_a)) * (double(i) / double(k)));
     }
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.count < r.needed ? "out_capacity: below k + 1 (see needed)" : nullptr;
     return r;
 }
 
@@ -317,10 +331,14 @@ inline LinearLightInterval linear_light_box_interval(glm::vec3 p, glm::vec3 end_
     if (!detail::ll_finite(p) || !detail::ll_finite(end_a) || !detail::ll_finite(end_b) || !detail::ll_finite(box.lo) ||
         !detail::ll_finite(box.hi) || !std::isfinite(min_fraction)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::ll_finite(p) ? "p: NaN or Inf"
+                   : (!detail::ll_finite(end_a) || !detail::ll_finite(end_b) ? "end_a, end_b: NaN or Inf"
+                   : (!std::isfinite(min_fraction) ? "min_fraction: NaN or Inf" : "box: NaN or Inf"));
         return r;
     }
     if (!(min_fraction >= 0.f && min_fraction < 1.f) || !detail::ll_box_ok(box)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(min_fraction >= 0.f && min_fraction < 1.f) ? "min_fraction: outside [0, 1)" : "box: lo > hi";
         return r;
     }
     return detail::ll_box_interval(p, end_a, end_b, box, min_fraction);
@@ -333,6 +351,7 @@ inline LinearLightInterval linear_light_tangent_interval(glm::vec3 p, glm::vec3 
     LinearLightInterval r;
     if (!detail::ll_finite(p) || !detail::ll_finite(n) || !detail::ll_finite(end_a) || !detail::ll_finite(end_b)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::ll_finite(p) ? "p: NaN or Inf" : (!detail::ll_finite(n) ? "n: NaN or Inf" : "end_a, end_b: NaN or Inf");
         return r;
     }
     r.status = Status::Ok;
@@ -367,24 +386,31 @@ inline LinearLightFraction linear_light_visible_fraction(glm::vec3 p, glm::vec3 
     LinearLightFraction f;
     if (box_count && !boxes) {
         f.status = Status::InvalidArgument;
+        f.detail = "boxes: null with box_count > 0";
         return f;
     }
     if (!detail::ll_finite(p) || !detail::ll_finite(n) || !detail::ll_finite(end_a) || !detail::ll_finite(end_b) ||
         !std::isfinite(min_fraction)) {
         f.status = Status::NonFinite;
+        f.detail = !detail::ll_finite(p) ? "p: NaN or Inf"
+                   : (!detail::ll_finite(n) ? "n: NaN or Inf"
+                   : (!std::isfinite(min_fraction) ? "min_fraction: NaN or Inf" : "end_a, end_b: NaN or Inf"));
         return f;
     }
     if (!(min_fraction >= 0.f && min_fraction < 1.f)) {
         f.status = Status::InvalidArgument;
+        f.detail = "min_fraction: outside [0, 1)";
         return f;
     }
     for (std::size_t i = 0; i < box_count; ++i) {
         if (!detail::ll_finite(boxes[i].lo) || !detail::ll_finite(boxes[i].hi)) {
             f.status = Status::NonFinite;
+            f.detail = "boxes: NaN or Inf";
             return f;
         }
         if (!detail::ll_box_ok(boxes[i])) {
             f.status = Status::InvalidArgument;
+            f.detail = "boxes: lo > hi";
             return f;
         }
     }
@@ -468,6 +494,7 @@ struct LinearLightSkinVertex {
 /// Skin triangles of one 2x2 cell (linear_light_skin_cell).
 struct LinearLightSkinCell {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int triangle_count = 0;        ///< 0 (no discontinuity) or 2
     int triangles[2][3] = {};      ///< corner indices of each triangle
     float value[4] = {};           ///< per corner: 0 occluder, 1 receiver
@@ -476,6 +503,7 @@ struct LinearLightSkinCell {
 /// Result of linear_light_build_skin.
 struct LinearLightSkinResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< vertices written (a valid prefix; == needed when Ok)
     std::size_t needed = 0;  ///< vertices of the whole skin (3 per triangle)
     std::size_t cells = 0;   ///< 2x2 sample cells that hold a discontinuity
@@ -494,12 +522,14 @@ inline LinearLightSkinCell linear_light_skin_cell(glm::vec4 distances, float thr
     if (!std::isfinite(threshold) || !std::isfinite(distances.x) || !std::isfinite(distances.y) ||
         !std::isfinite(distances.z) || !std::isfinite(distances.w)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(threshold) ? "threshold: NaN or Inf" : "distances: NaN or Inf";
         return r;
     }
     float lo = distances[0], hi = distances[0];
     for (int k = 0; k < 4; ++k) {
         if (!(distances[k] > 0.f)) {
             r.status = Status::InvalidArgument;
+            r.detail = "distances: not > 0";
             return r;
         }
         lo = std::min(lo, distances[k]);
@@ -507,6 +537,7 @@ inline LinearLightSkinCell linear_light_skin_cell(glm::vec4 distances, float thr
     }
     if (!(threshold >= 0.f)) {
         r.status = Status::InvalidArgument;
+        r.detail = "threshold: < 0";
         return r;
     }
     r.status = Status::Ok;
@@ -549,14 +580,18 @@ inline LinearLightSkinResult linear_light_build_skin(const glm::vec3* positions,
     LinearLightSkinResult r;
     if ((width && height && (!positions || !distances)) || (out_capacity && !out)) {
         r.status = Status::InvalidArgument;
+        r.detail = width && height && !positions ? "positions: null with width * height > 0"
+                   : (width && height && !distances ? "distances: null with width * height > 0" : "out: null with out_capacity > 0");
         return r;
     }
     if (!std::isfinite(threshold)) {
         r.status = Status::NonFinite;
+        r.detail = "threshold: NaN or Inf";
         return r;
     }
     if (!(threshold >= 0.f)) {
         r.status = Status::InvalidArgument;
+        r.detail = "threshold: < 0";
         return r;
     }
     if (width < 2 || height < 2) {
@@ -571,6 +606,7 @@ inline LinearLightSkinResult linear_light_build_skin(const glm::vec3* positions,
                 if (!detail::ll_finite(positions[c])) {
                     r = LinearLightSkinResult{};
                     r.status = Status::NonFinite;
+                    r.detail = "positions: NaN or Inf";
                     return r;
                 }
             const LinearLightSkinCell cell =
@@ -579,6 +615,7 @@ inline LinearLightSkinResult linear_light_build_skin(const glm::vec3* positions,
             if (cell.status != Status::Ok) {
                 r = LinearLightSkinResult{};
                 r.status = cell.status;
+                r.detail = cell.detail;
                 return r;
             }
             if (cell.triangle_count) ++r.cells;
@@ -591,6 +628,7 @@ inline LinearLightSkinResult linear_light_build_skin(const glm::vec3* positions,
         }
     r.count = std::min(r.needed, out_capacity);
     r.status = r.needed > out_capacity ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.needed > out_capacity ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
 

@@ -57,7 +57,8 @@
 //     results say `count` (elements written) and `needed` (elements the whole output needs).
 //     Nothing here allocates.
 //   * Results: every validating function returns a struct whose first member is `status`; `Ok` only
-//     with finite outputs in their documented ranges.
+//     with finite outputs in their documented ranges. A non-Ok result's `detail` names the offending
+//     input and the rule ("near_z: not > 0"), a static string; nullptr when Ok.
 //
 // Based on:
 //   Gerasimov 2004, "Omnidirectional Shadow Mapping", GPU Gems ch. 12 (cube shadow maps storing
@@ -177,6 +178,7 @@ struct OmniCubeInput {
 /// The six face matrices of a cube shadow map.
 struct OmniCubeMatrices {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 proj{1.0f};        ///< shared 90-degree, aspect-1 perspective
     glm::mat4 view[6];           ///< world -> face view (looks down -z; x = right, y = up of the basis)
     glm::mat4 view_proj[6];      ///< proj * view[f]
@@ -195,22 +197,40 @@ inline bool omni_valid_range(float n, float f, bool allow_inf_far) {
 
 // Status of a near / far pair (far = +inf allowed): NaN or an infinite near -> NonFinite, near <= 0,
 // far <= near or far = -inf -> InvalidArgument.
-inline Status omni_range_status(float n, float f) {
-    if (std::isnan(n) || std::isnan(f) || std::isinf(n)) return Status::NonFinite;
-    if (!(n > 0.0f) || !(f > n)) return Status::InvalidArgument;
+// `why` receives where a non-Ok status came from (a static string).
+inline Status omni_range_status(float n, float f, const char*& why) {
+    if (std::isnan(n) || std::isnan(f) || std::isinf(n)) {
+        why = std::isnan(f) ? "far_z: NaN" : "near_z: NaN or Inf";
+        return Status::NonFinite;
+    }
+    if (!(n > 0.0f) || !(f > n)) {
+        why = !(n > 0.0f) ? "near_z: not > 0" : "far_z: not > near_z";
+        return Status::InvalidArgument;
+    }
     return Status::Ok;
 }
 
 // The point light's position xyz / w (double): InvalidLight for NaN/Inf, w <= 0 (a directional
 // light has no position) and (0, 0, 0, 0); Overflow when xyz / w is beyond float.
-inline Status omni_point_light(const glm::vec4& L, glm::dvec3& center) {
-    if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z) || !std::isfinite(L.w) || !(L.w > 0.0f))
+inline Status omni_point_light(const glm::vec4& L, glm::dvec3& center, const char*& why) {
+    if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z) || !std::isfinite(L.w) || !(L.w > 0.0f)) {
+        why = !std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z) || !std::isfinite(L.w)
+                  ? "light_position: NaN or Inf"
+                  : (L.w == 0.0f ? "light_position: w = 0 (directional; a point light is needed)" : "light_position: w < 0");
         return Status::InvalidLight;
+    }
     const double w = L.w;
     center = glm::dvec3(L.x / w, L.y / w, L.z / w);
     const double fmax = static_cast<double>(std::numeric_limits<float>::max());
-    if (!(std::fabs(center.x) <= fmax && std::fabs(center.y) <= fmax && std::fabs(center.z) <= fmax)) return Status::Overflow;
+    if (!(std::fabs(center.x) <= fmax && std::fabs(center.y) <= fmax && std::fabs(center.z) <= fmax)) {
+        why = "light_position: xyz / w beyond float";
+        return Status::Overflow;
+    }
     return Status::Ok;
+}
+inline Status omni_point_light(const glm::vec4& L, glm::dvec3& center) {
+    const char* why = nullptr;
+    return omni_point_light(L, center, why);
 }
 
 inline bool omni_finite_mat(const glm::mat4& m) {
@@ -311,9 +331,9 @@ inline bool omni_sphere_meets_face(double T, double U, double V, double r, doubl
 inline OmniCubeMatrices omni_cube_matrices(const OmniCubeInput& in) {
     OmniCubeMatrices out;
     glm::dvec3 center;
-    out.status = detail::omni_point_light(in.light_position, center);
+    out.status = detail::omni_point_light(in.light_position, center, out.detail);
     if (out.status != Status::Ok) return out;
-    out.status = detail::omni_range_status(in.near_z, in.far_z);
+    out.status = detail::omni_range_status(in.near_z, in.far_z, out.detail);
     if (out.status != Status::Ok) return out;
     out.status = Status::NotRun;
     const double n = in.near_z, f = in.far_z;
@@ -342,6 +362,7 @@ inline OmniCubeMatrices omni_cube_matrices(const OmniCubeInput& in) {
     P[2][3] = -1.0f;
     if (!detail::omni_finite_mat(P)) {
         out.status = Status::Overflow;  // far so close to near that the depth scale is beyond float
+        out.detail = "far_z: so close to near_z that the depth scale is beyond float";
         return out;
     }
     // Issue 19: with far within a few ulps of near the rounded A and B cancel (near 1, far 1 + 1 ulp
@@ -354,6 +375,7 @@ inline OmniCubeMatrices omni_cube_matrices(const OmniCubeInput& in) {
         const double got_f = inf ? -a : -a + bb / f;
         if (!(std::fabs(got_n - zn) <= 1e-4) || !(std::fabs(got_f - zf) <= 1e-4)) {
             out.status = Status::Overflow;
+            out.detail = "far_z: within float steps of near_z (near and far map off their depths)";
             return out;
         }
     }
@@ -377,6 +399,7 @@ inline OmniCubeMatrices omni_cube_matrices(const OmniCubeInput& in) {
     for (const auto& m : out.view_proj)
         if (!detail::omni_finite_mat(m)) {
             out.status = Status::Overflow;  // light so far out that the translation overflows
+            out.detail = "light_position: so far out that the view translation overflows";
             return out;
         }
     out.status = Status::Ok;
@@ -386,6 +409,7 @@ inline OmniCubeMatrices omni_cube_matrices(const OmniCubeInput& in) {
 /// Result of omni_cube_face.
 struct OmniFaceHit {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     OmniCubeFace face = OmniCubeFace::PositiveX;
     glm::vec2 st{0.5f};  ///< GL cube texture coordinates on that face, in [0,1]^2
 };
@@ -402,6 +426,7 @@ inline OmniFaceHit omni_cube_face(const glm::vec3& d) {
     OmniFaceHit h;
     if (!detail::omni_finite3(d)) {
         h.status = Status::NonFinite;
+        h.detail = "d: NaN or Inf";
         return h;
     }
     const float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
@@ -412,6 +437,7 @@ inline OmniFaceHit omni_cube_face(const glm::vec3& d) {
     const float major = d[axis];
     if (!(major != 0.0f)) {  // zero vector
         h.status = Status::InvalidArgument;
+        h.detail = "d: zero vector";
         return h;
     }
     const int face = 2 * axis + (major > 0.0f ? 0 : 1);
@@ -429,6 +455,7 @@ inline OmniFaceHit omni_cube_face(const glm::vec3& d) {
 /// A unit direction (omni_cube_direction, omni_paraboloid_unproject).
 struct OmniDirection {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec3 direction{0.0f};  ///< unit length
 };
 
@@ -439,22 +466,26 @@ inline OmniDirection omni_cube_direction(OmniCubeFace face, const glm::vec2& st)
     OmniDirection r;
     if (static_cast<int>(face) > 5) {
         r.status = Status::InvalidArgument;
+        r.detail = "face: outside OmniCubeFace";
         return r;
     }
     if (!std::isfinite(st.x) || !std::isfinite(st.y)) {
         r.status = Status::NonFinite;
+        r.detail = "st: NaN or Inf";
         return r;
     }
     const OmniFaceBasis b = omni_cube_face_basis(face);
     const glm::dvec3 d = glm::dvec3(b.forward) + (2.0 * st.x - 1.0) * glm::dvec3(b.right) + (2.0 * st.y - 1.0) * glm::dvec3(b.up);
     r.direction = glm::vec3(glm::normalize(d));
     r.status = detail::omni_finite3(r.direction) ? Status::Ok : Status::Overflow;  // |st| near FLT_MAX
+    r.detail = r.status == Status::Ok ? nullptr : "st: so large the direction is not finite";
     return r;
 }
 
 /// A scalar result of omni_shadow.hpp.
 struct OmniValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;  ///< the quantity the function's comment names
 };
 
@@ -465,6 +496,7 @@ inline OmniValue omni_cube_texel_angle(std::uint32_t size) {
     OmniValue v;
     if (size == 0) {
         v.status = Status::InvalidArgument;
+        v.detail = "size: 0";
         return v;
     }
     v.value = 2.0f / static_cast<float>(size);
@@ -477,6 +509,7 @@ inline OmniValue omni_cube_texel_angle(std::uint32_t size) {
 /// Result of omni_linear_depth.
 struct OmniDepthResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;  ///< what the depth texture holds: distance / range, clamped to [0,1], quantized
 };
 
@@ -489,11 +522,13 @@ inline OmniDepthResult omni_linear_depth(float distance, float range, DepthForma
     OmniDepthResult r;
     if (!std::isfinite(range) || std::isnan(distance)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(range) ? "range: NaN or Inf" : "distance: NaN";
         return r;
     }
     if (!(range > 0.0f) || distance < 0.0f ||
         (format != DepthFormat::Float32 && format != DepthFormat::Fixed24 && format != DepthFormat::Fixed16)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(range > 0.0f) ? "range: not > 0" : (distance < 0.0f ? "distance: < 0" : "format: unknown DepthFormat");
         return r;
     }
     double v = std::min(1.0, static_cast<double>(distance) / static_cast<double>(range));
@@ -526,6 +561,7 @@ struct OmniBiasInput {
 /// Result of omni_distance_bias.
 struct OmniBiasResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float bias_world = 0.0f;    ///< [Units: wu] subtract from the receiver distance before comparing
     float bias_stored = 0.0f;   ///< bias_world / range (stored units, distance / range): subtract from the stored reference value
 };
@@ -549,12 +585,25 @@ inline OmniBiasResult omni_distance_bias(const OmniBiasInput& in) {
         !std::isfinite(in.texel_angle) || !std::isfinite(in.filter_radius) || !std::isfinite(in.max_angle) ||
         !std::isfinite(in.constant)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(in.range) ? "range: NaN or Inf"
+                   : (!std::isfinite(in.distance) ? "distance: NaN or Inf"
+                   : (!std::isfinite(in.cos_theta) ? "cos_theta: NaN or Inf"
+                   : (!std::isfinite(in.texel_angle) ? "texel_angle: NaN or Inf"
+                   : (!std::isfinite(in.filter_radius) ? "filter_radius: NaN or Inf"
+                   : (!std::isfinite(in.max_angle) ? "max_angle: NaN or Inf" : "constant: NaN or Inf")))));
         return r;
     }
     if (!(in.range > 0.0f) || in.distance < 0.0f || std::fabs(in.cos_theta) > 1.0f || !(in.texel_angle > 0.0f) ||
         in.filter_radius < 0.0f || !(in.max_angle > 0.0f) || !(in.max_angle < 1.5707963f) || in.constant < 0.0f ||
         (in.format != DepthFormat::Float32 && in.format != DepthFormat::Fixed24 && in.format != DepthFormat::Fixed16)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(in.range > 0.0f) ? "range: not > 0"
+                   : (in.distance < 0.0f ? "distance: < 0"
+                   : (std::fabs(in.cos_theta) > 1.0f ? "cos_theta: outside [-1, 1]"
+                   : (!(in.texel_angle > 0.0f) ? "texel_angle: not > 0"
+                   : (in.filter_radius < 0.0f ? "filter_radius: < 0"
+                   : (!(in.max_angle > 0.0f) || !(in.max_angle < 1.5707963f) ? "max_angle: outside (0, pi/2)"
+                   : (in.constant < 0.0f ? "constant: < 0" : "format: unknown DepthFormat"))))));
         return r;
     }
     const double d = in.distance;
@@ -572,6 +621,7 @@ inline OmniBiasResult omni_distance_bias(const OmniBiasInput& in) {
     r.bias_stored = static_cast<float>(b / static_cast<double>(in.range));
     if (!std::isfinite(r.bias_world) || !std::isfinite(r.bias_stored)) {
         r.status = Status::Overflow;
+        r.detail = "bias_world: beyond float range";
         return r;
     }
     r.status = Status::Ok;
@@ -600,6 +650,7 @@ struct OmniCullInput {
 /// Result of omni_cull_casters / omni_cull_face_lists.
 struct OmniCullResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;           ///< elements written to the output buffer (masks or list entries)
     std::size_t needed = 0;          ///< elements the output needs (masks: caster_count; lists: draws)
     std::size_t caster_count = 0;    ///< box_count + sphere_count
@@ -675,15 +726,17 @@ template <class Emit>
 OmniCullResult omni_cull(const OmniCullInput& in, Emit&& emit) {
     OmniCullResult r;
     glm::dvec3 c;
-    r.status = omni_point_light(in.light_position, c);
+    r.status = omni_point_light(in.light_position, c, r.detail);
     if (r.status != Status::Ok) return r;
-    r.status = omni_range_status(in.near_z, in.far_z);
+    r.status = omni_range_status(in.near_z, in.far_z, r.detail);
     if (r.status != Status::Ok) return r;
     r.status = Status::NotRun;
     const std::size_t max_count = std::numeric_limits<std::size_t>::max() / 8;
     if ((in.box_count && !in.boxes) || (in.sphere_count && !in.spheres) || in.box_count > max_count ||
         in.sphere_count > max_count || in.box_count + in.sphere_count > max_count) {
         r.status = Status::InvalidArgument;
+        r.detail = in.box_count && !in.boxes ? "boxes: null with box_count > 0"
+                   : (in.sphere_count && !in.spheres ? "spheres: null with sphere_count > 0" : "box_count + sphere_count: too many");
         return r;
     }
     r.caster_count = in.box_count + in.sphere_count;
@@ -726,6 +779,7 @@ inline OmniCullResult omni_cull_casters(const OmniCullInput& in, std::uint8_t* f
     if (!face_masks && mask_capacity != 0) {
         OmniCullResult bad;
         bad.status = Status::InvalidArgument;
+        bad.detail = "face_masks: null with mask_capacity > 0";
         return bad;
     }
     OmniCullResult r = detail::omni_cull(in, [&](std::size_t i, std::uint8_t m) {
@@ -734,7 +788,10 @@ inline OmniCullResult omni_cull_casters(const OmniCullInput& in, std::uint8_t* f
     if (r.status != Status::Ok) return r;
     r.needed = r.caster_count;
     r.count = std::min(mask_capacity, r.caster_count);
-    if (mask_capacity < r.caster_count) r.status = Status::BufferTooSmall;
+    if (mask_capacity < r.caster_count) {
+        r.status = Status::BufferTooSmall;
+        r.detail = "mask_capacity: below needed (see needed)";
+    }
     return r;
 }
 
@@ -749,6 +806,7 @@ inline OmniCullResult omni_cull_face_lists(const OmniCullInput& in, std::uint32_
     if ((!lists && capacity != 0) || !face_offsets) {
         OmniCullResult bad;
         bad.status = Status::InvalidArgument;
+        bad.detail = !face_offsets ? "face_offsets: null" : "lists: null with capacity > 0";
         return bad;
     }
     OmniCullResult r = detail::omni_cull(in, [](std::size_t, std::uint8_t) {});
@@ -756,12 +814,14 @@ inline OmniCullResult omni_cull_face_lists(const OmniCullInput& in, std::uint32_
     r.needed = r.draws;
     if (r.caster_count > 0xFFFFFFFFull) {
         r.status = Status::InvalidArgument;
+        r.detail = "box_count + sphere_count: beyond uint32 indices";
         return r;
     }
     face_offsets[0] = 0;
     for (int f = 0; f < 6; ++f) face_offsets[f + 1] = face_offsets[f] + r.face_draws[f];
     if (capacity < r.draws) {
         r.status = Status::BufferTooSmall;
+        r.detail = "capacity: below needed (see needed)";
         return r;
     }
     r.count = r.draws;
@@ -782,6 +842,7 @@ enum class OmniHemisphere : std::uint8_t { Front = 0, Back = 1 };
 /// Result of omni_paraboloid_frame.
 struct OmniParaboloidFrame {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 view{1.0f};  ///< world -> paraboloid frame: light at the origin, `axis` = +z (right-handed)
 };
 
@@ -793,17 +854,19 @@ inline OmniParaboloidFrame omni_paraboloid_frame(const glm::vec4& light_position
                                                  const glm::vec3& up) {
     OmniParaboloidFrame fr;
     glm::dvec3 l;
-    fr.status = detail::omni_point_light(light_position, l);
+    fr.status = detail::omni_point_light(light_position, l, fr.detail);
     if (fr.status != Status::Ok) return fr;
     fr.status = Status::NotRun;
     if (!detail::omni_finite3(axis) || !detail::omni_finite3(up)) {
         fr.status = Status::NonFinite;
+        fr.detail = !detail::omni_finite3(axis) ? "axis: NaN or Inf" : "up: NaN or Inf";
         return fr;
     }
     const glm::dvec3 a(axis), u(up);
     const double la = glm::length(a);
     if (!(la > 0.0) || !std::isfinite(la)) {
         fr.status = Status::InvalidArgument;
+        fr.detail = "axis: zero";
         return fr;
     }
     const glm::dvec3 z = a / la;
@@ -811,6 +874,7 @@ inline OmniParaboloidFrame omni_paraboloid_frame(const glm::vec4& light_position
     const double lx = glm::length(x);
     if (!(lx > 1e-6 * glm::length(u)) || !std::isfinite(lx)) {
         fr.status = Status::InvalidArgument;  // up parallel to the axis (or zero)
+        fr.detail = "up: parallel to axis (or zero)";
         return fr;
     }
     x /= lx;
@@ -827,6 +891,7 @@ inline OmniParaboloidFrame omni_paraboloid_frame(const glm::vec4& light_position
     fr.view = glm::mat4(V);
     if (!detail::omni_finite_mat(fr.view)) {
         fr.status = Status::Overflow;
+        fr.detail = "light_position: view matrix beyond float";
         return fr;
     }
     fr.status = Status::Ok;
@@ -836,6 +901,7 @@ inline OmniParaboloidFrame omni_paraboloid_frame(const glm::vec4& light_position
 /// Result of omni_paraboloid_project.
 struct OmniParaboloidPoint {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     OmniHemisphere hemisphere = OmniHemisphere::Front;
     glm::vec2 xy{0.0f};  ///< in the unit disk; texture uv = xy * 0.5 + 0.5 of that hemisphere's map
 };
@@ -849,12 +915,14 @@ inline OmniParaboloidPoint omni_paraboloid_project(const glm::vec3& d) {
     OmniParaboloidPoint p;
     if (!detail::omni_finite3(d)) {
         p.status = Status::NonFinite;
+        p.detail = "d: NaN or Inf";
         return p;
     }
     const glm::dvec3 v(d);
     const double len = glm::length(v);
     if (!(len > 0.0) || !std::isfinite(len)) {
         p.status = Status::InvalidArgument;
+        p.detail = "d: zero vector";
         return p;
     }
     const glm::dvec3 n = v / len;
@@ -875,10 +943,12 @@ inline OmniDirection omni_paraboloid_unproject(OmniHemisphere h, const glm::vec2
     OmniDirection r;
     if (h != OmniHemisphere::Front && h != OmniHemisphere::Back) {
         r.status = Status::InvalidArgument;
+        r.detail = "h: unknown OmniHemisphere";
         return r;
     }
     if (!std::isfinite(xy.x) || !std::isfinite(xy.y)) {
         r.status = Status::NonFinite;
+        r.detail = "xy: NaN or Inf";
         return r;
     }
     const double x = xy.x, y = xy.y, r2 = x * x + y * y;  // finite: |xy| <= FLT_MAX
@@ -888,6 +958,7 @@ inline OmniDirection omni_paraboloid_unproject(OmniHemisphere h, const glm::vec2
     d = glm::normalize(d);  // already unit up to rounding; keeps huge r2 well-defined
     r.direction = glm::vec3(d);
     r.status = detail::omni_finite3(r.direction) ? Status::Ok : Status::Overflow;
+    r.detail = r.status == Status::Ok ? nullptr : "xy: so large the direction is not finite";
     return r;
 }
 
@@ -899,10 +970,12 @@ inline OmniValue omni_paraboloid_texel_angle(std::uint32_t size, float r) {
     OmniValue v;
     if (size == 0) {
         v.status = Status::InvalidArgument;
+        v.detail = "size: 0";
         return v;
     }
     if (!std::isfinite(r)) {
         v.status = Status::NonFinite;
+        v.detail = "r: NaN or Inf";
         return v;
     }
     const double texel = 2.0 / size;
@@ -915,6 +988,7 @@ inline OmniValue omni_paraboloid_texel_angle(std::uint32_t size, float r) {
 /// Result of omni_paraboloid_edge_error.
 struct OmniEdgeErrorResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float texels = 0.0f;            ///< bound on the deviation between the curved image and the drawn chord
     float subtended_angle = 0.0f;   ///< [Units: rad] bound on the angle the edge subtends at the light
 };
@@ -950,10 +1024,13 @@ inline OmniEdgeErrorResult omni_paraboloid_edge_error(float edge_length, float d
     OmniEdgeErrorResult r;
     if (!std::isfinite(edge_length) || std::isnan(distance) || !std::isfinite(max_radius)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(edge_length) ? "edge_length: NaN or Inf" : (std::isnan(distance) ? "distance: NaN" : "max_radius: NaN or Inf");
         return r;
     }
     if (size == 0 || size > 65536 || edge_length < 0.0f || distance < 0.0f || !(max_radius > 0.0f) || max_radius > 1e4f) {
         r.status = Status::InvalidArgument;
+        r.detail = size == 0 || size > 65536 ? "size: outside [1, 65536]"
+                   : (edge_length < 0.0f ? "edge_length: < 0" : (distance < 0.0f ? "distance: < 0" : "max_radius: outside (0, 1e4]"));
         return r;
     }
     const double L = edge_length, D = distance;
@@ -970,6 +1047,7 @@ inline OmniEdgeErrorResult omni_paraboloid_edge_error(float edge_length, float d
 /// Result of omni_paraboloid_max_edge_length.
 struct OmniEdgeLengthResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float length = 0.0f;     ///< [Units: wu] longest edge at that distance whose image deviates <= max_texels
     bool unlimited = false;  ///< true (with Ok): any edge passes (max_texels that large); length = FLT_MAX
 };
@@ -987,10 +1065,13 @@ inline OmniEdgeLengthResult omni_paraboloid_max_edge_length(float distance, std:
     OmniEdgeLengthResult r;
     if (!std::isfinite(distance) || std::isnan(max_texels) || !std::isfinite(max_radius)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(distance) ? "distance: NaN or Inf" : (std::isnan(max_texels) ? "max_texels: NaN" : "max_radius: NaN or Inf");
         return r;
     }
     if (size == 0 || size > 65536 || distance < 0.0f || max_texels < 0.0f || !(max_radius > 0.0f) || max_radius > 1e4f) {
         r.status = Status::InvalidArgument;
+        r.detail = size == 0 || size > 65536 ? "size: outside [1, 65536]"
+                   : (distance < 0.0f ? "distance: < 0" : (max_texels < 0.0f ? "max_texels: < 0" : "max_radius: outside (0, 1e4]"));
         return r;
     }
     const double sag = 2.0 * static_cast<double>(max_texels) / size;  // allowed deviation, map units
@@ -1006,6 +1087,7 @@ inline OmniEdgeLengthResult omni_paraboloid_max_edge_length(float distance, std:
         if (!std::isfinite(r.length)) {
             r.length = 0.0f;
             r.status = Status::Overflow;
+            r.detail = "length: beyond float range";
             return r;
         }
     }

@@ -28,8 +28,9 @@
 // near, 0 at far. The penumbra ratio needs linear depths: (z_r - z_b)/z_b on post-projective
 // values is wrong by orders of magnitude (three.js's PCSS example and pboechat/PCSS do that).
 // Results: a struct whose first member is `status`; Ok only with finite outputs in their
-// documented range; "no blocker" is `blocker_found = false` with Ok. Buffers: pcss_average_blocker
-// reads `count` floats; nothing allocates.
+// documented range; "no blocker" is `blocker_found = false` with Ok; a non-Ok result's `detail`
+// names the offending input and the rule ("z_r: not > 0"), a static string, nullptr when Ok.
+// Buffers: pcss_average_blocker reads `count` floats; nothing allocates.
 // The search region (Apelles eq. 3.20) is where the pyramid from the receiver to the light crosses
 // the near plane: with the near plane far in front of the casters it is needlessly wide (near 0.1,
 // receiver 40, a 0.5 light and a 60 degree cone: 4.3 times the whole map) and a fixed number of taps
@@ -116,12 +117,14 @@ struct PcssLight {
 /// A scalar result (a width, a distance, a uv extent). `value` is 0 unless status is Ok.
 struct PcssValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;
 };
 
 /// The light with its near plane moved to the casters (pcss_fit_near_plane).
 struct PcssFit {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool raised = false;   ///< false (with Ok): the casters reach the given near plane (or lie beyond far); near_z unchanged
     PcssLight light;       ///< the input light, near_z raised to the casters when `raised`
     float caster_near_z = 0.0f;  ///< nearest depth of the casters' box along the light axis (may be <= 0: behind the light)
@@ -130,6 +133,7 @@ struct PcssFit {
 /// Blocker estimate of one receiver (pcss_average_blocker).
 struct PcssBlocker {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool blocker_found = false;    ///< false (with Ok): no sample closer than z_r - bias: fully lit
     float average = 0.0f;          ///< mean linear depth of the blocking samples (when blocker_found)
     std::size_t blocker_count = 0; ///< number of blocking samples
@@ -148,6 +152,7 @@ struct PcssPolicy {
 /// The PCF filter for one receiver (pcss_filter).
 struct PcssFilter {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool blocker_found = false;   ///< false (with Ok): fully lit, skip the filter (filter_uv 0, taps 0)
     float search_uv = 0.0f;       ///< blocker search width (uv), clamped to max_filter_uv
     float blocker_depth = 0.0f;   ///< average blocker depth (linear), when blocker_found
@@ -162,21 +167,49 @@ inline bool pcss_fits_float(double v) {
 }
 inline PcssValue pcss_value(double v) {
     PcssValue r;
-    if (!pcss_fits_float(v)) { r.status = Status::Overflow; return r; }
+    if (!pcss_fits_float(v)) { r.status = Status::Overflow; r.detail = "value: beyond float range"; return r; }
     r.value = static_cast<float>(v);
     r.status = Status::Ok;
     return r;
 }
-inline PcssValue pcss_error(Status s) {
+// `why`: where the status came from, a static string.
+inline PcssValue pcss_error(Status s, const char* why) {
     PcssValue r;
     r.status = s;
+    r.detail = why;
     return r;
 }
+inline Status pcss_fail(const char*& why, Status s, const char* what) {
+    why = what;
+    return s;
+}
 // Perspective planes: near finite > 0, far > near (+inf allowed).
-inline Status pcss_check_planes(float n, float f) {
-    if (!std::isfinite(n) || std::isnan(f) || f == -std::numeric_limits<float>::infinity()) return Status::NonFinite;
-    if (!(n > 0.0f) || !(f > n)) return Status::InvalidArgument;
+inline Status pcss_check_planes(float n, float f, const char*& why) {
+    if (!std::isfinite(n)) return pcss_fail(why, Status::NonFinite, "near_z: NaN or Inf");
+    if (std::isnan(f) || f == -std::numeric_limits<float>::infinity()) return pcss_fail(why, Status::NonFinite, "far_z: NaN or -Inf");
+    if (!(n > 0.0f)) return pcss_fail(why, Status::InvalidArgument, "near_z: not > 0");
+    if (!(f > n)) return pcss_fail(why, Status::InvalidArgument, "far_z: not > near_z");
     return Status::Ok;
+}
+// pcss_validate_light, with where a non-Ok status came from.
+inline Status pcss_check_light(const PcssLight& L, const char*& why) {
+    if (!std::isfinite(L.size)) return pcss_fail(why, Status::NonFinite, "size: NaN or Inf");
+    if (!std::isfinite(L.near_z)) return pcss_fail(why, Status::NonFinite, "near_z: NaN or Inf");
+    if (!std::isfinite(L.frustum_width)) return pcss_fail(why, Status::NonFinite, "frustum_width: NaN or Inf");
+    if (std::isnan(L.far_z) || L.far_z == -std::numeric_limits<float>::infinity())
+        return pcss_fail(why, Status::NonFinite, "far_z: NaN or -Inf");
+    if (L.size < 0.0f) return pcss_fail(why, Status::InvalidArgument, "size: < 0");
+    if (!(L.frustum_width > 0.0f)) return pcss_fail(why, Status::InvalidArgument, "frustum_width: not > 0");
+    if (!(L.far_z > L.near_z)) return pcss_fail(why, Status::InvalidArgument, "far_z: not > near_z");
+    if (L.type == PcssLightType::Perspective)
+        return L.near_z > 0.0f ? Status::Ok : pcss_fail(why, Status::InvalidArgument, "near_z: not > 0 (perspective)");
+    if (L.type == PcssLightType::Directional) {
+        if (std::isinf(L.far_z)) return pcss_fail(why, Status::NonFinite, "far_z: +inf (directional)");
+        return static_cast<double>(L.size) < 3.14159265358979323846
+                   ? Status::Ok
+                   : pcss_fail(why, Status::InvalidArgument, "size: angular diameter not < pi (directional)");
+    }
+    return pcss_fail(why, Status::InvalidArgument, "type: unknown PcssLightType");
 }
 } // namespace detail
 
@@ -184,16 +217,8 @@ inline Status pcss_check_planes(float n, float f) {
 /// an infinite far_z of a directional light; InvalidArgument for size < 0, frustum_width <= 0,
 /// far_z <= near_z, a perspective near_z <= 0, a directional size >= pi, an unknown type. Ok otherwise.
 inline Status pcss_validate_light(const PcssLight& L) {
-    if (!std::isfinite(L.size) || !std::isfinite(L.near_z) || !std::isfinite(L.frustum_width) || std::isnan(L.far_z) ||
-        L.far_z == -std::numeric_limits<float>::infinity())
-        return Status::NonFinite;
-    if (L.size < 0.0f || !(L.frustum_width > 0.0f) || !(L.far_z > L.near_z)) return Status::InvalidArgument;
-    if (L.type == PcssLightType::Perspective) return L.near_z > 0.0f ? Status::Ok : Status::InvalidArgument;
-    if (L.type == PcssLightType::Directional) {
-        if (std::isinf(L.far_z)) return Status::NonFinite;
-        return static_cast<double>(L.size) < 3.14159265358979323846 ? Status::Ok : Status::InvalidArgument;
-    }
-    return Status::InvalidArgument;
+    const char* why = nullptr;
+    return detail::pcss_check_light(L, why);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -208,9 +233,10 @@ inline Status pcss_validate_light(const PcssLight& L) {
 /// near_z <= 0 or far_z <= near_z, Overflow for the window depth of infinity (f = +inf: a cleared
 /// texel, no surface) or a distance beyond float.
 inline PcssValue pcss_linearize_window_depth(float z_w, float near_z, float far_z, bool reversed_z) {
-    const Status s = detail::pcss_check_planes(near_z, far_z);
-    if (s != Status::Ok) return detail::pcss_error(s);
-    if (!std::isfinite(z_w)) return detail::pcss_error(Status::NonFinite);
+    const char* why = nullptr;
+    const Status s = detail::pcss_check_planes(near_z, far_z, why);
+    if (s != Status::Ok) return detail::pcss_error(s, why);
+    if (!std::isfinite(z_w)) return detail::pcss_error(Status::NonFinite, "z_w: NaN or Inf");
     const double z = !(z_w > 0.0f) ? 0.0 : (z_w > 1.0f ? 1.0 : static_cast<double>(z_w));  // -0 -> +0
     const double dn = static_cast<double>(near_z), df = static_cast<double>(far_z);
     double d;
@@ -224,9 +250,10 @@ inline PcssValue pcss_linearize_window_depth(float z_w, float near_z, float far_
 /// Eye distance d (clamped to [n, f]; +inf is the far plane or infinity) -> window depth in [0,1],
 /// the inverse of pcss_linearize_window_depth. NonFinite for NaN or -inf d; planes as there.
 inline PcssValue pcss_delinearize_window_depth(float d, float near_z, float far_z, bool reversed_z) {
-    const Status s = detail::pcss_check_planes(near_z, far_z);
-    if (s != Status::Ok) return detail::pcss_error(s);
-    if (std::isnan(d) || d == -std::numeric_limits<float>::infinity()) return detail::pcss_error(Status::NonFinite);
+    const char* why = nullptr;
+    const Status s = detail::pcss_check_planes(near_z, far_z, why);
+    if (s != Status::Ok) return detail::pcss_error(s, why);
+    if (std::isnan(d) || d == -std::numeric_limits<float>::infinity()) return detail::pcss_error(Status::NonFinite, "d: NaN or -Inf");
     const double dn = static_cast<double>(near_z), df = static_cast<double>(far_z);
     const double dd = static_cast<double>(d) < dn ? dn : (static_cast<double>(d) > df ? df : static_cast<double>(d));
     double z;
@@ -245,10 +272,11 @@ inline PcssValue pcss_delinearize_window_depth(float d, float near_z, float far_
 /// pcss_linearize_window_depth; InvalidArgument for an unknown clip depth.
 inline PcssValue pcss_linearize_ndc_depth(float ndc, float near_z, float far_z, ClipDepth clip, bool reversed_z) {
     if (clip == ClipDepth::ZeroToOne) return pcss_linearize_window_depth(ndc, near_z, far_z, reversed_z);
-    if (clip != ClipDepth::NegativeOneToOne) return detail::pcss_error(Status::InvalidArgument);
-    const Status s = detail::pcss_check_planes(near_z, far_z);
-    if (s != Status::Ok) return detail::pcss_error(s);
-    if (!std::isfinite(ndc)) return detail::pcss_error(Status::NonFinite);
+    if (clip != ClipDepth::NegativeOneToOne) return detail::pcss_error(Status::InvalidArgument, "clip: unknown ClipDepth");
+    const char* why = nullptr;
+    const Status s = detail::pcss_check_planes(near_z, far_z, why);
+    if (s != Status::Ok) return detail::pcss_error(s, why);
+    if (!std::isfinite(ndc)) return detail::pcss_error(Status::NonFinite, "ndc: NaN or Inf");
     double z = reversed_z ? -static_cast<double>(ndc) : static_cast<double>(ndc);
     z = z < -1.0 ? -1.0 : (z > 1.0 ? 1.0 : z);
     const double dn = static_cast<double>(near_z), df = static_cast<double>(far_z);
@@ -260,8 +288,10 @@ inline PcssValue pcss_linearize_ndc_depth(float ndc, float near_z, float far_z, 
 /// [0,1] (reversed: z_w -> 1 - z_w). near_z, far_z finite, far_z > near_z. NonFinite for NaN/Inf,
 /// InvalidArgument for far_z <= near_z, Overflow beyond float.
 inline PcssValue pcss_linearize_ortho_window_depth(float z_w, float near_z, float far_z, bool reversed_z) {
-    if (!std::isfinite(z_w) || !std::isfinite(near_z) || !std::isfinite(far_z)) return detail::pcss_error(Status::NonFinite);
-    if (!(far_z > near_z)) return detail::pcss_error(Status::InvalidArgument);
+    if (!std::isfinite(z_w) || !std::isfinite(near_z) || !std::isfinite(far_z))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(z_w) ? "z_w: NaN or Inf"
+                                                     : (!std::isfinite(near_z) ? "near_z: NaN or Inf" : "far_z: NaN or Inf"));
+    if (!(far_z > near_z)) return detail::pcss_error(Status::InvalidArgument, "far_z: not > near_z");
     const double zc = z_w < 0.0f ? 0.0 : (z_w > 1.0f ? 1.0 : static_cast<double>(z_w));
     const double z = reversed_z ? 1.0 - zc : zc;
     return detail::pcss_value(static_cast<double>(near_z) + z * (static_cast<double>(far_z) - static_cast<double>(near_z)));
@@ -276,8 +306,11 @@ inline PcssValue pcss_linearize_ortho_window_depth(float z_w, float near_z, floa
 /// triangles); 0 when the receiver is at or in front of the near plane. light_width finite >= 0,
 /// z_r, z_n finite > 0. NonFinite for NaN/Inf, InvalidArgument outside the ranges.
 inline PcssValue pcss_search_width(float light_width, float z_r, float z_n) {
-    if (!std::isfinite(light_width) || !std::isfinite(z_r) || !std::isfinite(z_n)) return detail::pcss_error(Status::NonFinite);
-    if (!(light_width >= 0.0f) || !(z_r > 0.0f) || !(z_n > 0.0f)) return detail::pcss_error(Status::InvalidArgument);
+    if (!std::isfinite(light_width) || !std::isfinite(z_r) || !std::isfinite(z_n))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(light_width) ? "light_width: NaN or Inf"
+                                                     : (!std::isfinite(z_r) ? "z_r: NaN or Inf" : "z_n: NaN or Inf"));
+    if (!(light_width >= 0.0f) || !(z_r > 0.0f) || !(z_n > 0.0f))
+        return detail::pcss_error(Status::InvalidArgument, !(light_width >= 0.0f) ? "light_width: < 0" : (!(z_r > 0.0f) ? "z_r: not > 0" : "z_n: not > 0"));
     if (!(z_r > z_n)) return detail::pcss_value(0.0);
     return detail::pcss_value(static_cast<double>(light_width) * (static_cast<double>(z_r) - static_cast<double>(z_n)) /
                               static_cast<double>(z_r));
@@ -288,8 +321,11 @@ inline PcssValue pcss_search_width(float light_width, float z_r, float z_n) {
 /// (blocker at the receiver: contact, hard shadow). light_width finite >= 0, z_r, z_b finite > 0.
 /// NonFinite for NaN/Inf, InvalidArgument outside the ranges, Overflow beyond float (z_b -> 0).
 inline PcssValue pcss_penumbra_width(float light_width, float z_r, float z_b) {
-    if (!std::isfinite(light_width) || !std::isfinite(z_r) || !std::isfinite(z_b)) return detail::pcss_error(Status::NonFinite);
-    if (!(light_width >= 0.0f) || !(z_r > 0.0f) || !(z_b > 0.0f)) return detail::pcss_error(Status::InvalidArgument);
+    if (!std::isfinite(light_width) || !std::isfinite(z_r) || !std::isfinite(z_b))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(light_width) ? "light_width: NaN or Inf"
+                                                     : (!std::isfinite(z_r) ? "z_r: NaN or Inf" : "z_b: NaN or Inf"));
+    if (!(light_width >= 0.0f) || !(z_r > 0.0f) || !(z_b > 0.0f))
+        return detail::pcss_error(Status::InvalidArgument, !(light_width >= 0.0f) ? "light_width: < 0" : (!(z_r > 0.0f) ? "z_r: not > 0" : "z_b: not > 0"));
     if (!(z_r > z_b) || light_width == 0.0f) return detail::pcss_value(0.0);
     return detail::pcss_value(static_cast<double>(light_width) * (static_cast<double>(z_r) - static_cast<double>(z_b)) /
                               static_cast<double>(z_b));
@@ -299,16 +335,22 @@ inline PcssValue pcss_penumbra_width(float light_width, float z_r, float z_b) {
 /// passes w_penumbra itself to PCF, too wide by z_r / z_n.) w_penumbra finite >= 0, z_r, z_n finite
 /// > 0. NonFinite for NaN/Inf, InvalidArgument outside the ranges, Overflow beyond float.
 inline PcssValue pcss_filter_width(float w_penumbra, float z_r, float z_n) {
-    if (!std::isfinite(w_penumbra) || !std::isfinite(z_r) || !std::isfinite(z_n)) return detail::pcss_error(Status::NonFinite);
-    if (!(w_penumbra >= 0.0f) || !(z_r > 0.0f) || !(z_n > 0.0f)) return detail::pcss_error(Status::InvalidArgument);
+    if (!std::isfinite(w_penumbra) || !std::isfinite(z_r) || !std::isfinite(z_n))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(w_penumbra) ? "w_penumbra: NaN or Inf"
+                                                     : (!std::isfinite(z_r) ? "z_r: NaN or Inf" : "z_n: NaN or Inf"));
+    if (!(w_penumbra >= 0.0f) || !(z_r > 0.0f) || !(z_n > 0.0f))
+        return detail::pcss_error(Status::InvalidArgument, !(w_penumbra >= 0.0f) ? "w_penumbra: < 0" : (!(z_r > 0.0f) ? "z_r: not > 0" : "z_n: not > 0"));
     return detail::pcss_value(static_cast<double>(w_penumbra) * static_cast<double>(z_n) / static_cast<double>(z_r));
 }
 
 /// A world width at eye distance z of a perspective light, in shadow-map uv: width / (z frustum_width).
 /// width finite >= 0, z and frustum_width finite > 0. NonFinite, InvalidArgument, Overflow accordingly.
 inline PcssValue pcss_width_to_uv(float width, float z, float frustum_width) {
-    if (!std::isfinite(width) || !std::isfinite(z) || !std::isfinite(frustum_width)) return detail::pcss_error(Status::NonFinite);
-    if (!(width >= 0.0f) || !(z > 0.0f) || !(frustum_width > 0.0f)) return detail::pcss_error(Status::InvalidArgument);
+    if (!std::isfinite(width) || !std::isfinite(z) || !std::isfinite(frustum_width))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(width) ? "width: NaN or Inf"
+                                                     : (!std::isfinite(z) ? "z: NaN or Inf" : "frustum_width: NaN or Inf"));
+    if (!(width >= 0.0f) || !(z > 0.0f) || !(frustum_width > 0.0f))
+        return detail::pcss_error(Status::InvalidArgument, !(width >= 0.0f) ? "width: < 0" : (!(z > 0.0f) ? "z: not > 0" : "frustum_width: not > 0"));
     return detail::pcss_value(static_cast<double>(width) / (static_cast<double>(z) * static_cast<double>(frustum_width)));
 }
 
@@ -318,9 +360,11 @@ inline PcssValue pcss_width_to_uv(float width, float z, float frustum_width) {
 /// perspective scaling, so the filter width is the penumbra width). angular_diameter in [0, pi),
 /// z_r, z_n finite. NonFinite for NaN/Inf, InvalidArgument outside, Overflow beyond float.
 inline PcssValue pcss_search_width_directional(float angular_diameter, float z_r, float z_n) {
-    if (!std::isfinite(angular_diameter) || !std::isfinite(z_r) || !std::isfinite(z_n)) return detail::pcss_error(Status::NonFinite);
+    if (!std::isfinite(angular_diameter) || !std::isfinite(z_r) || !std::isfinite(z_n))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(angular_diameter) ? "angular_diameter: NaN or Inf"
+                                                     : (!std::isfinite(z_r) ? "z_r: NaN or Inf" : "z_n: NaN or Inf"));
     if (!(angular_diameter >= 0.0f && static_cast<double>(angular_diameter) < 3.14159265358979323846))
-        return detail::pcss_error(Status::InvalidArgument);
+        return detail::pcss_error(Status::InvalidArgument, "angular_diameter: outside [0, pi)");
     if (!(z_r > z_n)) return detail::pcss_value(0.0);
     return detail::pcss_value(2.0 * std::tan(0.5 * static_cast<double>(angular_diameter)) *
                               (static_cast<double>(z_r) - static_cast<double>(z_n)));
@@ -337,8 +381,9 @@ inline PcssValue pcss_penumbra_width_directional(float angular_diameter, float z
 /// frustum_width, the uniform `light_uv_per_depth` (uv of penumbra per unit of window depth).
 /// Statuses of pcss_validate_light; Overflow beyond float.
 inline PcssValue pcss_light_uv_at_near(const PcssLight& L) {
-    const Status s = pcss_validate_light(L);
-    if (s != Status::Ok) return detail::pcss_error(s);
+    const char* why = nullptr;
+    const Status s = detail::pcss_check_light(L, why);
+    if (s != Status::Ok) return detail::pcss_error(s, why);
     if (L.type == PcssLightType::Directional)
         return detail::pcss_value(2.0 * std::tan(0.5 * static_cast<double>(L.size)) *
                                   (static_cast<double>(L.far_z) - static_cast<double>(L.near_z)) /
@@ -352,15 +397,16 @@ inline PcssValue pcss_light_uv_at_near(const PcssLight& L) {
 /// (perspective: > 0). Statuses of pcss_validate_light, NonFinite / InvalidArgument for z_r,
 /// Overflow beyond float.
 inline PcssValue pcss_search_uv(const PcssLight& L, float z_r) {
-    const Status s = pcss_validate_light(L);
-    if (s != Status::Ok) return detail::pcss_error(s);
-    if (!std::isfinite(z_r)) return detail::pcss_error(Status::NonFinite);
+    const char* why = nullptr;
+    const Status s = detail::pcss_check_light(L, why);
+    if (s != Status::Ok) return detail::pcss_error(s, why);
+    if (!std::isfinite(z_r)) return detail::pcss_error(Status::NonFinite, "z_r: NaN or Inf");
     if (L.type == PcssLightType::Directional) {
         const PcssValue w = pcss_search_width_directional(L.size, z_r, L.near_z);
         if (w.status != Status::Ok) return w;
         return detail::pcss_value(static_cast<double>(w.value) / static_cast<double>(L.frustum_width));
     }
-    if (!(z_r > 0.0f)) return detail::pcss_error(Status::InvalidArgument);
+    if (!(z_r > 0.0f)) return detail::pcss_error(Status::InvalidArgument, "z_r: not > 0");
     if (!(z_r > L.near_z)) return detail::pcss_value(0.0);
     return detail::pcss_value(static_cast<double>(L.size) * (static_cast<double>(z_r) - static_cast<double>(L.near_z)) /
                               (static_cast<double>(z_r) * static_cast<double>(L.near_z) * static_cast<double>(L.frustum_width)));
@@ -382,11 +428,11 @@ inline PcssFit pcss_fit_near_plane(const PcssLight& L, const glm::mat4& light_vi
                                    glm::vec3 casters_max) {
     PcssFit fit;
     fit.light = L;
-    fit.status = pcss_validate_light(L);
+    fit.status = detail::pcss_check_light(L, fit.detail);
     if (fit.status != Status::Ok) return fit;
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(light_view[c][r])) { fit.status = Status::NonFinite; return fit; }
+            if (!std::isfinite(light_view[c][r])) { fit.status = Status::NonFinite; fit.detail = "light_view: NaN or Inf"; return fit; }
     {  // a view matrix is invertible: a zero or rank-deficient upper 3x3 maps casters onto a plane or a point
         double a[3][3], len2[3] = {0.0, 0.0, 0.0};
         for (int c = 0; c < 3; ++c)
@@ -396,11 +442,19 @@ inline PcssFit pcss_fit_near_plane(const PcssLight& L, const glm::mat4& light_vi
             }
         const double det = a[0][0] * (a[1][1] * a[2][2] - a[2][1] * a[1][2]) - a[1][0] * (a[0][1] * a[2][2] - a[2][1] * a[0][2]) +
                            a[2][0] * (a[0][1] * a[1][2] - a[1][1] * a[0][2]);
-        if (!(std::fabs(det) > 1e-12 * std::sqrt(len2[0] * len2[1] * len2[2]))) { fit.status = Status::InvalidArgument; return fit; }
+        if (!(std::fabs(det) > 1e-12 * std::sqrt(len2[0] * len2[1] * len2[2]))) {
+            fit.status = Status::InvalidArgument;
+            fit.detail = "light_view: singular upper 3x3";
+            return fit;
+        }
     }
     for (int i = 0; i < 3; ++i) {
-        if (!std::isfinite(casters_min[i]) || !std::isfinite(casters_max[i])) { fit.status = Status::NonFinite; return fit; }
-        if (!(casters_min[i] <= casters_max[i])) { fit.status = Status::InvalidArgument; return fit; }
+        if (!std::isfinite(casters_min[i]) || !std::isfinite(casters_max[i])) {
+            fit.status = Status::NonFinite;
+            fit.detail = !std::isfinite(casters_min[i]) ? "casters_min: NaN or Inf" : "casters_max: NaN or Inf";
+            return fit;
+        }
+        if (!(casters_min[i] <= casters_max[i])) { fit.status = Status::InvalidArgument; fit.detail = "casters_min: > casters_max"; return fit; }
     }
     double nearest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 8; ++i) {
@@ -409,7 +463,7 @@ inline PcssFit pcss_fit_near_plane(const PcssLight& L, const glm::mat4& light_vi
         const double depth = -(glm::dmat4(light_view) * p).z;
         if (depth < nearest) nearest = depth;
     }
-    if (!detail::pcss_fits_float(nearest)) { fit.status = Status::Overflow; return fit; }
+    if (!detail::pcss_fits_float(nearest)) { fit.status = Status::Overflow; fit.detail = "casters_min, casters_max: depth beyond float"; return fit; }
     fit.caster_near_z = static_cast<float>(nearest);
     const double n = static_cast<double>(L.near_z), f = static_cast<double>(L.far_z);
     const double candidate = L.type == PcssLightType::Perspective ? 0.99 * nearest : nearest - 0.01 * (f - nearest);
@@ -432,8 +486,12 @@ inline PcssFit pcss_fit_near_plane(const PcssLight& L, const glm::mat4& light_vi
 /// InvalidArgument for a null array with count > 0.
 inline PcssBlocker pcss_average_blocker(const float* linear_depths, std::size_t count, float z_r, float bias) {
     PcssBlocker b;
-    if (!std::isfinite(z_r) || !std::isfinite(bias)) { b.status = Status::NonFinite; return b; }
-    if (linear_depths == nullptr && count > 0) { b.status = Status::InvalidArgument; return b; }
+    if (!std::isfinite(z_r) || !std::isfinite(bias)) {
+        b.status = Status::NonFinite;
+        b.detail = !std::isfinite(z_r) ? "z_r: NaN or Inf" : "bias: NaN or Inf";
+        return b;
+    }
+    if (linear_depths == nullptr && count > 0) { b.status = Status::InvalidArgument; b.detail = "linear_depths: null with count > 0"; return b; }
     const double limit = static_cast<double>(z_r) - static_cast<double>(bias);
     double sum = 0.0;
     for (std::size_t i = 0; i < count; ++i) {
@@ -459,8 +517,10 @@ inline PcssBlocker pcss_average_blocker(const float* linear_depths, std::size_t 
 /// Clamps a filter width (uv) into [min_uv, max_uv]; NaN filter_uv -> min_uv (hard shadow), +inf ->
 /// max_uv. min_uv, max_uv finite with 0 <= min_uv <= max_uv (NonFinite / InvalidArgument otherwise).
 inline PcssValue pcss_clamp_filter(float filter_uv, float min_uv, float max_uv) {
-    if (!std::isfinite(min_uv) || !std::isfinite(max_uv)) return detail::pcss_error(Status::NonFinite);
-    if (!(min_uv >= 0.0f) || !(max_uv >= min_uv)) return detail::pcss_error(Status::InvalidArgument);
+    if (!std::isfinite(min_uv) || !std::isfinite(max_uv))
+        return detail::pcss_error(Status::NonFinite, !std::isfinite(min_uv) ? "min_uv: NaN or Inf" : "max_uv: NaN or Inf");
+    if (!(min_uv >= 0.0f) || !(max_uv >= min_uv))
+        return detail::pcss_error(Status::InvalidArgument, !(min_uv >= 0.0f) ? "min_uv: < 0" : "max_uv: < min_uv");
     if (std::isnan(filter_uv) || filter_uv < min_uv) return detail::pcss_value(static_cast<double>(min_uv));
     if (filter_uv > max_uv) return detail::pcss_value(static_cast<double>(max_uv));
     return detail::pcss_value(static_cast<double>(filter_uv));
@@ -496,38 +556,48 @@ inline int pcss_tap_budget(float filter_texels, int min_taps, int max_taps, floa
 /// penumbra is beyond float.
 inline PcssFilter pcss_filter(const PcssLight& L, float z_r, const PcssBlocker& b, const PcssPolicy& p) {
     PcssFilter out;
-    out.status = pcss_validate_light(L);
+    out.status = detail::pcss_check_light(L, out.detail);
     if (out.status != Status::Ok) return out;
     if (!std::isfinite(z_r) || !std::isfinite(p.min_filter_uv) || !std::isfinite(p.max_filter_uv) ||
         !std::isfinite(p.map_resolution) || !std::isfinite(p.texels_per_tap)) {
         out.status = Status::NonFinite;
+        out.detail = !std::isfinite(z_r) ? "z_r: NaN or Inf"
+                     : (!std::isfinite(p.min_filter_uv) ? "min_filter_uv: NaN or Inf"
+                     : (!std::isfinite(p.max_filter_uv) ? "max_filter_uv: NaN or Inf"
+                     : (!std::isfinite(p.map_resolution) ? "map_resolution: NaN or Inf" : "texels_per_tap: NaN or Inf")));
         return out;
     }
     const bool persp = L.type == PcssLightType::Perspective;
     if ((persp && !(z_r > 0.0f)) || p.min_filter_uv < 0.0f || !(p.max_filter_uv >= p.min_filter_uv) ||
         !(p.max_filter_uv > 0.0f) || !(p.map_resolution > 0.0f) || !(p.texels_per_tap > 0.0f) || b.status != Status::Ok) {
         out.status = Status::InvalidArgument;
+        out.detail = persp && !(z_r > 0.0f) ? "z_r: not > 0"
+                     : (p.min_filter_uv < 0.0f ? "min_filter_uv: < 0"
+                     : (!(p.max_filter_uv >= p.min_filter_uv) || !(p.max_filter_uv > 0.0f) ? "max_filter_uv: not > 0 or < min_filter_uv"
+                     : (!(p.map_resolution > 0.0f) ? "map_resolution: not > 0"
+                     : (!(p.texels_per_tap > 0.0f) ? "texels_per_tap: not > 0" : "b: status not Ok"))));
         return out;
     }
     const PcssValue search = pcss_search_uv(L, z_r);
-    if (search.status != Status::Ok) { out.status = search.status; return out; }
+    if (search.status != Status::Ok) { out.status = search.status; out.detail = search.detail; return out; }
     out.search_uv = search.value < p.max_filter_uv ? search.value : p.max_filter_uv;
     if (!b.blocker_found) return out;  // Ok, fully lit
     if (!std::isfinite(b.average) || (persp && !(b.average > 0.0f))) {
         out = PcssFilter{};
         out.status = Status::InvalidArgument;
+        out.detail = "b: average not finite (or not > 0, perspective)";
         return out;
     }
     double filter;
     if (persp) {
         const PcssValue pen = pcss_penumbra_width(L.size, z_r, b.average);
-        if (pen.status != Status::Ok) { out = PcssFilter{}; out.status = pen.status; return out; }
+        if (pen.status != Status::Ok) { out = PcssFilter{}; out.status = pen.status; out.detail = pen.detail; return out; }
         out.penumbra_width = pen.value;
         // eq. 3.22 then near-plane width -> uv; equal to w_penumbra / (z_r frustum_width).
         filter = static_cast<double>(pen.value) / (static_cast<double>(z_r) * static_cast<double>(L.frustum_width));
     } else {
         const PcssValue pen = pcss_penumbra_width_directional(L.size, z_r, b.average);
-        if (pen.status != Status::Ok) { out = PcssFilter{}; out.status = pen.status; return out; }
+        if (pen.status != Status::Ok) { out = PcssFilter{}; out.status = pen.status; out.detail = pen.detail; return out; }
         out.penumbra_width = pen.value;
         filter = static_cast<double>(pen.value) / static_cast<double>(L.frustum_width);
     }

@@ -54,7 +54,8 @@
 //     `visible` = false, both with Status::Ok. Errors: NonFinite (NaN/Inf input), InvalidLight (see
 //     above), InvalidArgument (radius or padding < 0, extent <= 0, a zero viewport or matrix, a null
 //     pointer with a count, a result that no successful call made), Overflow (finite input whose
-//     planes or hull are beyond float).
+//     planes or hull are beyond float). A non-Ok result's `detail` names the offending input and
+//     the rule ("padding: < 0"), a static string; nullptr when Ok.
 //   * Buffers: pointer + count in elements of the pointer's type, stated next to each pointer.
 //     Nothing here allocates.
 //   * Clip depth: ScissorParams::clip_depth (GL [-1, 1] or zero-to-one) plus reversed_z; depth bounds
@@ -197,6 +198,7 @@ struct ScissorParams {
 /// Pixel rectangle and window-depth range that hold every pixel a shadow volume or wedge can touch.
 struct ScissorRect {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;                     ///< false (with Ok): nothing of it is on screen, skip the occluder
     int x = 0, y = 0, width = 0, height = 0;  ///< for glScissor
     float depth_min = 0.0f, depth_max = 1.0f; ///< for glDepthBoundsEXT: window depth, glDepthRange(0, 1)
@@ -232,6 +234,7 @@ enum class PenumbraWedgeShape {
 /// skip is None.
 struct PenumbraWedge {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     PenumbraWedgeSkip skip = PenumbraWedgeSkip::None; ///< != None (with Ok): skip the edge, planes are zero
     PenumbraWedgeShape shape = PenumbraWedgeShape::Equidistant;
     glm::vec4 outer_bound = glm::vec4(0.0f); ///< tangent plane bounding the outer half-wedge
@@ -256,6 +259,7 @@ struct PenumbraHalfWedge {
 /// two triangles are degenerate (zero area, they rasterize nothing).
 struct PenumbraWedgeHull {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     /// false (with Ok): nothing to draw - the wedge was skipped (`skip` != None) or has shape HalfSpace
     /// (no finite hull; its penumbra is then lost unless drawn full-screen). vertices/indices are zero.
     bool drawable = false;
@@ -267,24 +271,28 @@ struct PenumbraWedgeHull {
 /// A scalar result of penumbra_wedge.hpp (coverage, visibility).
 struct PenumbraValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     double value = 0.0;  ///< the quantity the function's comment names (double: the CPU reference)
 };
 
 /// A plane result (penumbra_transform_plane).
 struct PenumbraPlane {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec4 plane = glm::vec4(0.0f);
 };
 
 /// A matrix result (penumbra_viewport_transform).
 struct PenumbraMatrix {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 matrix = glm::mat4(1.0f);
 };
 
 /// Result of penumbra_rect_bounding_sphere.
 struct PenumbraBoundingSphere {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     PenumbraSphereLight light;  ///< the circumscribed sphere light
 };
 
@@ -449,22 +457,26 @@ inline PenumbraWedge pw_check_finite(const PenumbraWedge& W) {
     if (ok) return W;
     PenumbraWedge bad;
     bad.status = Status::Overflow;
+    bad.detail = "e0, e1: the wedge's planes or rays beyond float";
     return bad;
 }
 
 // The sphere light's center (double) and radius: InvalidLight unless a point light (w > 0, finite,
 // not all zero), NonFinite for a NaN/Inf radius, InvalidArgument for r < 0, Overflow for a center
 // xyz / w beyond float.
-inline Status pw_light(const PenumbraSphereLight& L, glm::dvec3& c, double& r) {
+// `why` receives where a non-Ok status came from (a static string).
+inline Status pw_light(const PenumbraSphereLight& L, glm::dvec3& c, double& r, const char*& why) {
     const glm::vec4& q = L.light_position;
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) || !std::isfinite(q.w) || !(q.w > 0.0f))
-        return Status::InvalidLight;
-    if (!std::isfinite(L.radius)) return Status::NonFinite;
-    if (!(L.radius >= 0.0f)) return Status::InvalidArgument;
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) || !std::isfinite(q.w))
+        return why = "light_position: NaN or Inf", Status::InvalidLight;
+    if (!(q.w > 0.0f)) return why = "light_position: w <= 0 (a point light is needed)", Status::InvalidLight;
+    if (!std::isfinite(L.radius)) return why = "radius: NaN or Inf", Status::NonFinite;
+    if (!(L.radius >= 0.0f)) return why = "radius: < 0", Status::InvalidArgument;
     const double w = q.w;
     c = glm::dvec3(q.x / w, q.y / w, q.z / w);
     const double fmax = static_cast<double>(std::numeric_limits<float>::max());
-    if (!(std::fabs(c.x) <= fmax && std::fabs(c.y) <= fmax && std::fabs(c.z) <= fmax)) return Status::Overflow;
+    if (!(std::fabs(c.x) <= fmax && std::fabs(c.y) <= fmax && std::fabs(c.z) <= fmax))
+        return why = "light_position: xyz / w beyond float", Status::Overflow;
     r = L.radius;
     return Status::Ok;
 }
@@ -618,10 +630,11 @@ inline PenumbraBoundingSphere penumbra_rect_bounding_sphere(const glm::vec4& lig
     probe.light_position = light_position;
     glm::dvec3 c;
     double r0 = 0.0;
-    R.status = detail::pw_light(probe, c, r0);
+    R.status = detail::pw_light(probe, c, r0, R.detail);
     if (R.status != Status::Ok) return R;
     if (!detail::pw_finite(half_u) || !detail::pw_finite(half_v)) {
         R.status = Status::NonFinite;
+        R.detail = !detail::pw_finite(half_u) ? "half_u: NaN or Inf" : "half_v: NaN or Inf";
         return R;
     }
     const glm::dvec3 u = detail::pw_d(half_u), v = detail::pw_d(half_v);
@@ -632,6 +645,7 @@ inline PenumbraBoundingSphere penumbra_rect_bounding_sphere(const glm::vec4& lig
     if (!std::isfinite(R.light.radius)) {
         R.light.radius = 0.0f;
         R.status = Status::Overflow;
+        R.detail = "half_u, half_v: radius beyond float";
         return R;
     }
     R.status = Status::Ok;
@@ -690,15 +704,17 @@ inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSp
     PenumbraWedge W;
     glm::dvec3 c;
     double r = 0.0;
-    W.status = pw_light(light, c, r);
+    W.status = pw_light(light, c, r, W.detail);
     if (W.status != Status::Ok) return W;
     W.status = Status::NotRun;
     if (!pw_finite(e0) || !pw_finite(e1) || !std::isfinite(padding)) {
         W.status = Status::NonFinite;
+        W.detail = !pw_finite(e0) ? "e0: NaN or Inf" : (!pw_finite(e1) ? "e1: NaN or Inf" : "padding: NaN or Inf");
         return W;
     }
     if (!(padding >= 0.0f)) {
         W.status = Status::InvalidArgument;
+        W.detail = "padding: < 0";
         return W;
     }
     const glm::dvec3 E0 = pw_d(e0), E1 = pw_d(e1);
@@ -720,6 +736,7 @@ inline PenumbraWedge penumbra_wedge(glm::vec3 e0, glm::vec3 e1, const PenumbraSp
     const double nl = pw_len(nh);
     if (!std::isfinite(nl)) {
         W.status = Status::Overflow;
+        W.detail = "e0, e1: the edge plane's normal beyond double";
         return W;
     }
     if (!(nl > 0.0)) {
@@ -814,10 +831,12 @@ inline PenumbraPlane penumbra_transform_plane(const glm::vec4& plane, const glm:
         for (int j = 0; j < 4; ++j)
             if (!std::isfinite(m[i][j])) {
                 R.status = Status::NonFinite;
+                R.detail = "M: NaN or Inf";
                 return R;
             }
     if (!std::isfinite(plane.x) || !std::isfinite(plane.y) || !std::isfinite(plane.z) || !std::isfinite(plane.w)) {
         R.status = Status::NonFinite;
+        R.detail = "plane: NaN or Inf";
         return R;
     }
     // Cofactor expansion in double; inverse^T = cofactor matrix / det.
@@ -847,10 +866,12 @@ inline PenumbraPlane penumbra_transform_plane(const glm::vec4& plane, const glm:
     for (int j = 0; j < 4; ++j) det += a[0][j] * cof[0][j];
     if (!std::isfinite(det)) {
         R.status = Status::Overflow;
+        R.detail = "M: determinant beyond double";
         return R;
     }
     if (!(std::fabs(det) > 0.0)) {
         R.status = Status::InvalidArgument;
+        R.detail = "M: singular";
         return R;
     }
     // inverse(A)^T = cof / det (row-major indices); apply to the plane column vector.
@@ -866,6 +887,7 @@ inline PenumbraPlane penumbra_transform_plane(const glm::vec4& plane, const glm:
     if (!std::isfinite(R.plane.x) || !std::isfinite(R.plane.y) || !std::isfinite(R.plane.z) || !std::isfinite(R.plane.w)) {
         R.plane = glm::vec4(0.0f);
         R.status = Status::Overflow;
+        R.detail = "plane: the transformed plane beyond float";
         return R;
     }
     R.status = Status::Ok;
@@ -882,6 +904,7 @@ inline PenumbraMatrix penumbra_viewport_transform(const int viewport[4], ClipDep
     if (viewport == nullptr || viewport[2] <= 0 || viewport[3] <= 0 || viewport[2] > lim || viewport[3] > lim ||
         viewport[0] > lim || viewport[0] < -lim || viewport[1] > lim || viewport[1] < -lim) {
         R.status = Status::InvalidArgument;
+        R.detail = viewport == nullptr ? "viewport: null" : "viewport: no width / height, or beyond 2^30";
         return R;
     }
     glm::mat4 V(1.0f);
@@ -907,10 +930,11 @@ inline PenumbraValue penumbra_edge_coverage(glm::vec3 e0, glm::vec3 e1, const Pe
     PenumbraValue R;
     glm::dvec3 c;
     double r = 0.0;
-    R.status = pw_light(light, c, r);
+    R.status = pw_light(light, c, r, R.detail);
     if (R.status != Status::Ok) return R;
     if (!pw_finite(e0) || !pw_finite(e1) || !pw_finite(p)) {
         R.status = Status::NonFinite;
+        R.detail = !pw_finite(e0) ? "e0: NaN or Inf" : (!pw_finite(e1) ? "e1: NaN or Inf" : "p: NaN or Inf");
         return R;
     }
     R.value = r > 0.0 ? pw_coverage(pw_d(e0), pw_d(e1), c, r, pw_d(p)) : 0.0;
@@ -929,19 +953,22 @@ inline PenumbraValue penumbra_visibility(const glm::vec3* endpoints, std::size_t
     PenumbraValue R;
     glm::dvec3 c;
     double r = 0.0;
-    R.status = pw_light(light, c, r);
+    R.status = pw_light(light, c, r, R.detail);
     if (R.status != Status::Ok) return R;
     if (!endpoints && edge_count > 0) {
         R.status = Status::InvalidArgument;
+        R.detail = "endpoints: null with edge_count > 0";
         return R;
     }
     if (!pw_finite(p)) {
         R.status = Status::NonFinite;
+        R.detail = "p: NaN or Inf";
         return R;
     }
     for (std::size_t i = 0; i < 2 * edge_count; ++i)
         if (!pw_finite(endpoints[i])) {
             R.status = Status::NonFinite;
+            R.detail = "endpoints: NaN or Inf";
             return R;
         }
     double sum = static_cast<double>(hard_count);
@@ -964,14 +991,17 @@ inline PenumbraWedgeHull penumbra_wedge_hull(const PenumbraWedge& w, float exten
     PenumbraWedgeHull H;
     if (w.status != Status::Ok) {
         H.status = Status::InvalidArgument;
+        H.detail = "w: status not Ok";
         return H;
     }
     if (std::isnan(extent)) {
         H.status = Status::NonFinite;
+        H.detail = "extent: NaN";
         return H;
     }
     if (!(extent > 0.0f)) {
         H.status = Status::InvalidArgument;
+        H.detail = "extent: not > 0";
         return H;
     }
     if (w.skip != PenumbraWedgeSkip::None || w.shape == PenumbraWedgeShape::HalfSpace) {
@@ -1020,6 +1050,7 @@ inline PenumbraWedgeHull penumbra_wedge_hull(const PenumbraWedge& w, float exten
         if (!std::isfinite(H.vertices[i].x) || !std::isfinite(H.vertices[i].y) || !std::isfinite(H.vertices[i].z)) {
             PenumbraWedgeHull bad;
             bad.status = Status::Overflow;
+            bad.detail = "extent: a hull vertex beyond float";
             return bad;
         }
     }
@@ -1041,6 +1072,7 @@ inline ScissorRect penumbra_points_scissor(const glm::vec4* points, std::size_t 
     if (sp.viewport[2] <= 0 || sp.viewport[3] <= 0 || sp.viewport[2] > lim || sp.viewport[3] > lim ||
         std::abs(sp.viewport[0]) > lim || std::abs(sp.viewport[1]) > lim || (!points && count > 0)) {
         S.status = Status::InvalidArgument;
+        S.detail = !points && count > 0 ? "points: null with count > 0" : "viewport: no width / height, or beyond 2^30";
         return S;
     }
     const glm::dmat4 VP(sp.view_proj);
@@ -1048,21 +1080,25 @@ inline ScissorRect penumbra_points_scissor(const glm::vec4* points, std::size_t 
         for (int j = 0; j < 4; ++j)
             if (!std::isfinite(VP[i][j])) {
                 S.status = Status::NonFinite;
+                S.detail = "view_proj: NaN or Inf";
                 return S;
             }
     const double det = glm::determinant(VP);
     if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) {  // the zero matrix of a default ScissorParams
         S.status = Status::InvalidArgument;
+        S.detail = "view_proj: singular (or the zero default)";
         return S;
     }
     for (std::size_t i = 0; i < count; ++i) {
         const glm::vec4& P = points[i];
         if (!std::isfinite(P.x) || !std::isfinite(P.y) || !std::isfinite(P.z) || !std::isfinite(P.w)) {
             S.status = Status::NonFinite;
+            S.detail = "points: NaN or Inf";
             return S;
         }
         if (P.w < 0.0f) {
             S.status = Status::InvalidArgument;
+            S.detail = "points: w < 0";
             return S;
         }
     }
@@ -1130,6 +1166,7 @@ inline ScissorRect penumbra_wedge_scissor(const PenumbraWedgeHull& hull, const S
     if (hull.status != Status::Ok) {
         ScissorRect S;
         S.status = Status::InvalidArgument;
+        S.detail = "hull: status not Ok";
         return S;
     }
     if (!hull.drawable) {
@@ -1151,14 +1188,17 @@ inline ScissorRect penumbra_wedge_scissor_in_box(const PenumbraWedgeHull& hull, 
     if (S.status != Status::Ok) return S;
     if (hull.status != Status::Ok) {
         S.status = Status::InvalidArgument;
+        S.detail = "hull: status not Ok";
         return S;
     }
     if (!pw_finite(box_min) || !pw_finite(box_max)) {
         S.status = Status::NonFinite;
+        S.detail = "box_min, box_max: NaN or Inf";
         return S;
     }
     if (box_min.x > box_max.x || box_min.y > box_max.y || box_min.z > box_max.z) {
         S.status = Status::InvalidArgument;
+        S.detail = "box_min: > box_max";
         return S;
     }
     if (!hull.drawable) return S;

@@ -28,6 +28,8 @@
 //   such a far plane counts as infinite), GL or zero-to-one clip depth, reversed-Z. `max_distance`
 //   clamps the far plane and is required when it is infinite. A near plane at or behind the eye, near
 //   >= far and a singular matrix give Status::InvalidArgument.
+// Results: a non-Ok result's `detail` names the offending input and the rule ("camera_proj: near plane
+//   at or behind the eye"), a static string; nullptr when Ok.
 // Clip depth: `light_depth` / `light_reversed_z` choose the depth convention of the matrices built.
 //   Points nearer the light get smaller depth (larger with reversed_z) for every method, including
 //   PSM's inverted (light-sink) case, so the usual LESS (GREATER) compare works.
@@ -196,6 +198,7 @@ struct WarpInput {
 /// bounds, nothing needs a shadow (the matrices are then the identity).
 struct WarpResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;             ///< false (with Ok): no receivers in view, skip the shadow pass
     glm::mat4 light_view_proj = glm::mat4(1.0f);  ///< world -> light clip space (render casters, look up receivers)
     glm::mat4 depth_view_proj = glm::mat4(1.0f);  ///< world -> clip whose z / w is the map's undistorted depth (TSM: the unwarped light)
@@ -209,12 +212,14 @@ struct WarpResult {
 /// warp_aliasing_error's value: screen pixels per shadow-map texel along the worst direction.
 struct WarpAliasingValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     double value = 0.0;  ///< >= 0; > 1: undersampled (a texel covers more than a pixel)
 };
 
 /// warp_measure_aliasing's statistics over the samples that have a value.
 struct WarpAliasingStats {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     double max_error = 0.0;             ///< max over samples of the texel footprint in screen pixels
     double mean_error = 0.0;
     double undersampled_fraction = 0.0; ///< fraction of samples with error > 1 (a texel covers > 1 pixel)
@@ -342,6 +347,7 @@ inline glm::dvec3 wp_center(const glm::dvec3* p, int n) {
 /// Everything the methods share: the receiver volume and the body (receivers extended towards the light).
 struct wp_Setup {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;
     bool directional = true;
     glm::dvec3 d{0.0};        ///< directional: unit direction the light travels (-xyz)
@@ -385,29 +391,46 @@ inline bool wp_check_inputs(const WarpInput& in, wp_Setup& s) {
         !ff(in.receiver_max_depth) || !opts_finite || (in.has_scene_bounds && !(wp_fin(in.scene_min) && wp_fin(in.scene_max))) ||
         (in.has_caster_bounds && !(wp_fin(in.caster_min) && wp_fin(in.caster_max)))) {
         s.status = Status::NonFinite;
+        s.detail = !wp_fin(in.camera_view) ? "camera_view: NaN or Inf"
+                   : (!wp_fin(in.camera_proj) ? "camera_proj: NaN or Inf"
+                   : (!ff(in.max_distance) ? "max_distance: NaN or Inf"
+                   : (!ff(in.receiver_min_depth) || !ff(in.receiver_max_depth) ? "receiver_min_depth, receiver_max_depth: NaN or Inf"
+                   : (!opts_finite ? "options: NaN or Inf"
+                   : (in.has_scene_bounds && !(wp_fin(in.scene_min) && wp_fin(in.scene_max)) ? "scene_min, scene_max: NaN or Inf"
+                                                                                              : "caster_min, caster_max: NaN or Inf")))));
         return false;
     }
     // the light
     const glm::vec4 lp = in.light_position;
     if (!wp_fin(lp) || lp.w < 0.0f || (lp.x == 0.0f && lp.y == 0.0f && lp.z == 0.0f && lp.w == 0.0f)) {
         s.status = Status::InvalidLight;
+        s.detail = !wp_fin(lp) ? "light_position: NaN or Inf" : (lp.w < 0.0f ? "light_position: w < 0" : "light_position: (0, 0, 0, 0)");
         return false;
     }
     s.directional = lp.w == 0.0f;
     if (s.directional) {
         const glm::dvec3 t(lp);
         const double tl = glm::length(t);
-        if (!(tl > 0.0) || !wp_fin(tl)) { s.status = Status::InvalidLight; return false; }
+        if (!(tl > 0.0) || !wp_fin(tl)) {
+            s.status = Status::InvalidLight;
+            s.detail = "light_position: direction length not finite";
+            return false;
+        }
         s.d = -(t / tl);
     } else {
         s.L = glm::dvec3(lp) / double(lp.w);
-        if (!wp_fin(glm::vec3(s.L))) { s.status = Status::InvalidLight; return false; }  // xyz / w beyond float
+        if (!wp_fin(glm::vec3(s.L))) {  // xyz / w beyond float
+            s.status = Status::InvalidLight;
+            s.detail = "light_position: xyz / w beyond float";
+            return false;
+        }
     }
     s.status = Status::InvalidArgument;
-    if (!wp_options_ok(o) || !(in.max_distance >= 0.0f)) return false;
+    if (!wp_options_ok(o)) return s.detail = "options: a field outside its [Limit]", false;
+    if (!(in.max_distance >= 0.0f)) return s.detail = "max_distance: < 0", false;
     auto box_ok = [](const glm::vec3& a, const glm::vec3& b) { return a.x <= b.x && a.y <= b.y && a.z <= b.z; };
-    if (in.has_scene_bounds && !box_ok(in.scene_min, in.scene_max)) return false;
-    if (in.has_caster_bounds && !box_ok(in.caster_min, in.caster_max)) return false;
+    if (in.has_scene_bounds && !box_ok(in.scene_min, in.scene_max)) return s.detail = "scene_min: > scene_max", false;
+    if (in.has_caster_bounds && !box_ok(in.caster_min, in.caster_max)) return s.detail = "caster_min: > caster_max", false;
     return true;
 }
 
@@ -431,10 +454,12 @@ inline bool wp_camera_slice(const WarpInput& in, wp_Camera& C, wp_Setup& s) {
     const glm::dmat4 P(in.camera_proj);
     C.V = glm::dmat4(in.camera_view);
     const double pdet = glm::determinant(P), vdet = glm::determinant(C.V);
-    if (!wp_fin(pdet) || !(std::fabs(pdet) > 1e-300) || !wp_fin(vdet) || !(std::fabs(vdet) > 1e-300)) return false;
+    if (!wp_fin(pdet) || !(std::fabs(pdet) > 1e-300) || !wp_fin(vdet) || !(std::fabs(vdet) > 1e-300))
+        return s.detail = !wp_fin(pdet) || !(std::fabs(pdet) > 1e-300) ? "camera_proj: singular" : "camera_view: singular", false;
     const glm::dmat4 ip = glm::inverse(P);
     C.iv = glm::inverse(C.V);
-    if (!wp_fin(ip) || !wp_fin(C.iv)) return false;
+    if (!wp_fin(ip) || !wp_fin(C.iv))
+        return s.detail = !wp_fin(ip) ? "camera_proj: inverse not finite" : "camera_view: inverse not finite", false;
     const double lo = in.camera_depth == ClipDepth::ZeroToOne ? 0.0 : -1.0;
     const double zn = in.camera_reversed_z ? 1.0 : lo, zf = in.camera_reversed_z ? lo : 1.0;
     const double zq = zn + 0.25 * (zf - zn);
@@ -445,12 +470,14 @@ inline bool wp_camera_slice(const WarpInput& in, wp_Camera& C, wp_Setup& s) {
         const glm::dvec4 hn = ip * glm::dvec4(x, y, zn, 1.0), hq = ip * glm::dvec4(x, y, zq, 1.0),
                          hf = ip * glm::dvec4(x, y, zf, 1.0);
         auto mag = [](const glm::dvec4& h) { return std::fabs(h.x) + std::fabs(h.y) + std::fabs(h.z); };
-        if (!(std::fabs(hn.w) > 1e-12 * mag(hn)) || !(std::fabs(hq.w) > 1e-12 * mag(hq)) || hn.w * hq.w <= 0.0) return false;
+        if (!(std::fabs(hn.w) > 1e-12 * mag(hn)) || !(std::fabs(hq.w) > 1e-12 * mag(hq)) || hn.w * hq.w <= 0.0)
+            return s.detail = "camera_proj: near plane at infinity or split by the eye", false;
         C.pn[i] = glm::dvec3(hn) / hn.w;
         const glm::dvec3 pq = glm::dvec3(hq) / hq.w;
         C.dir[i] = pq - C.pn[i];
         C.dn[i] = -C.pn[i].z;
-        if (!wp_fin(C.pn[i]) || !wp_fin(C.dir[i]) || !(C.dir[i].z < 0.0) || !(C.dn[i] > 0.0)) return false;  // near plane at/behind the eye
+        if (!wp_fin(C.pn[i]) || !wp_fin(C.dir[i]) || !(C.dir[i].z < 0.0) || !(C.dn[i] > 0.0))
+            return s.detail = "camera_proj: near plane at or behind the eye", false;
         dfar[i] = std::numeric_limits<double>::infinity();
         if (hf.w * hn.w > 0.0 && std::fabs(hf.w) > 1e-12 * mag(hf)) {
             const glm::dvec3 pf = glm::dvec3(hf) / hf.w;
@@ -464,8 +491,9 @@ inline bool wp_camera_slice(const WarpInput& in, wp_Camera& C, wp_Setup& s) {
         d1 = std::fmin(d1, dfar[i]);
     }
     if (in.max_distance > 0.0f) d1 = std::fmin(d1, double(in.max_distance));
-    else if (infinite) return false;  // infinite far plane needs max_distance
-    if (!(d1 > d0) || !wp_fin(d1)) return false;  // near >= far (or the clamp in front of the near plane)
+    else if (infinite) return s.detail = "max_distance: 0 with an infinite far plane", false;
+    if (!(d1 > d0) || !wp_fin(d1))  // near >= far (or the clamp in front of the near plane)
+        return s.detail = "max_distance: in front of the near plane (or near >= far)", false;
     if (in.receiver_max_depth > in.receiver_min_depth && in.receiver_min_depth > 0.0f) {
         d0 = std::fmax(d0, double(in.receiver_min_depth));
         d1 = std::fmin(d1, double(in.receiver_max_depth));
@@ -485,12 +513,16 @@ inline bool wp_center_line(const wp_Camera& C, glm::dvec3 cw[8], wp_Setup& s) {
         cw[i + 4] = C.to_world(C.corner_at(i, C.d1));
     }
     for (int i = 0; i < 8; ++i)
-        if (!wp_fin(cw[i])) { s.status = Status::Overflow; return false; }
+        if (!wp_fin(cw[i])) { s.status = Status::Overflow; s.detail = "camera_view: a slice corner beyond range"; return false; }
     {
         const glm::dvec3 a = (cw[0] + cw[1] + cw[2] + cw[3]) * 0.25, b = (cw[4] + cw[5] + cw[6] + cw[7]) * 0.25;
         s.c_dir = (b - a) / (C.d1 - C.d0);
         s.c_org = a - C.d0 * s.c_dir;
-        if (!(glm::length(s.c_dir) > 0.0) || !wp_fin(s.c_dir) || !wp_fin(s.c_org)) { s.status = Status::Overflow; return false; }
+        if (!(glm::length(s.c_dir) > 0.0) || !wp_fin(s.c_dir) || !wp_fin(s.c_org)) {
+            s.status = Status::Overflow;
+            s.detail = "camera_view: the view's center line beyond range";
+            return false;
+        }
         s.vdir = glm::normalize(s.c_dir);
     }
     s.eye = glm::dvec3(C.iv[3]);
@@ -499,7 +531,7 @@ inline bool wp_center_line(const wp_Camera& C, glm::dvec3 cw[8], wp_Setup& s) {
         up -= glm::dot(up, s.vdir) * s.vdir;
         s.cam_up = glm::length(up) > 1e-9 * glm::length(glm::dvec3(C.iv[1])) ? glm::normalize(up) : wp_perp(s.vdir);
     }
-    if (!wp_fin(s.eye) || !wp_fin(s.cam_up)) { s.status = Status::Overflow; return false; }
+    if (!wp_fin(s.eye) || !wp_fin(s.cam_up)) { s.status = Status::Overflow; s.detail = "camera_view: eye or up beyond range"; return false; }
     for (int i = 0; i < 8; ++i) s.scale = std::fmax(s.scale, glm::length(cw[i]));
     return true;
 }
@@ -617,7 +649,7 @@ inline wp_Setup wp_prepare(const WarpInput& in) {
     wp_focus_slice(C, s);                      // the receivers' own depth range
     wp_body(in, s);                            // the receivers swept towards the light
     for (int i = 0; i < s.nbody; ++i)
-        if (!wp_fin(s.body[i])) { s.status = Status::Overflow; return s; }
+        if (!wp_fin(s.body[i])) { s.status = Status::Overflow; s.detail = "light_position: the body swept to the light beyond range"; return s; }
     s.visible = true;
     return s;
 }
@@ -835,9 +867,10 @@ inline bool wp_uniform_world(const wp_Setup& s, glm::dmat4& out) {
     return wp_point_fit(s, 100.0, out);  // up to ~89.4 degrees
 }
 
-inline WarpResult wp_fail(Status st) {
+inline WarpResult wp_fail(Status st, const char* why) {
     WarpResult r;
     r.status = st;
+    r.detail = why;
     return r;
 }
 
@@ -853,7 +886,7 @@ inline WarpResult wp_finish(const WarpInput& in, const glm::dmat4& m, const glm:
     const glm::dmat4 conv = wp_depth_convention(in.light_depth, in.light_reversed_z);
     const glm::dmat4 f = conv * m, g = conv * depth_m;
     const glm::mat4 ff(f), gf(g);
-    if (!wp_fin(f) || !wp_fin(ff) || !wp_fin(g) || !wp_fin(gf)) return wp_fail(Status::Overflow);
+    if (!wp_fin(f) || !wp_fin(ff) || !wp_fin(g) || !wp_fin(gf)) return wp_fail(Status::Overflow, "light_view_proj: not finite in float");
     r.status = Status::Ok;
     r.visible = true;
     r.light_view_proj = ff;
@@ -930,10 +963,10 @@ inline double wp_lispsm_kappa(const WarpOptions& o, const wp_Setup& s, double D,
 inline WarpResult warp_uniform_matrix(const WarpInput& in) {
     using namespace detail;
     const wp_Setup s = wp_prepare(in);
-    if (s.status != Status::Ok) return wp_fail(s.status);
+    if (s.status != Status::Ok) return wp_fail(s.status, s.detail);
     if (!s.visible) return wp_not_visible();
     glm::dmat4 m;
-    if (!wp_uniform_world(s, m)) return wp_fail(Status::LightInsideVolume);
+    if (!wp_uniform_world(s, m)) return wp_fail(Status::LightInsideVolume, "light_position: inside the receivers' body (no frustum holds it)");
     double sg, cg;
     wp_gamma(s, sg, cg);
     return wp_finish(in, m, m, false, false, 0.0, sg, 0.0);
@@ -947,7 +980,7 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     using namespace detail;
     if (const Status ost = wp_lispsm_options_status(in.options); ost != Status::Ok) return wp_fail(ost);
     const wp_Setup s = wp_prepare(in);
-    if (s.status != Status::Ok) return wp_fail(s.status);
+    if (s.status != Status::Ok) return wp_fail(s.status, s.detail);
     if (!s.visible) return wp_not_visible();
     double sg_w, cg_w;
     wp_gamma(s, sg_w, cg_w);
@@ -960,7 +993,7 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     } else {
         // point light: its own post-perspective space (z negated: right-handed) makes it directional
         glm::dmat4 U;
-        if (!wp_point_fit(s, 100.0, U)) return wp_fail(Status::LightInsideVolume);
+        if (!wp_point_fit(s, 100.0, U)) return wp_fail(Status::LightInsideVolume, "light_position: inside the receivers' body (no frustum holds it)");
         base = wp_flip_z() * U;
         for (int i = 0; i < s.nbody; ++i) pts[i] = wp_project(base, s.body[i]);
         d = glm::dvec3(0, 0, -1);
@@ -1051,10 +1084,10 @@ inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
 inline WarpResult warp_tsm_matrix(const WarpInput& in) {
     using namespace detail;
     const wp_Setup s = wp_prepare(in);
-    if (s.status != Status::Ok) return wp_fail(s.status);
+    if (s.status != Status::Ok) return wp_fail(s.status, s.detail);
     if (!s.visible) return wp_not_visible();
     glm::dmat4 U;
-    if (!wp_uniform_world(s, U)) return wp_fail(Status::LightInsideVolume);
+    if (!wp_uniform_world(s, U)) return wp_fail(Status::LightInsideVolume, "light_position: inside the receivers' body (no frustum holds it)");
     double sg, cg;
     wp_gamma(s, sg, cg);
     const double cmax = double(in.options.tsm_max_abs_cos_gamma);
@@ -1262,7 +1295,7 @@ inline WpPsmEval wp_psm_slide(const wp_Setup& s, const glm::dmat4& R, const glm:
 inline WarpResult warp_psm_matrix(const WarpInput& in) {
     using namespace detail;
     const wp_Setup s = wp_prepare(in);
-    if (s.status != Status::Ok) return wp_fail(s.status);
+    if (s.status != Status::Ok) return wp_fail(s.status, s.detail);
     if (!s.visible) return wp_not_visible();
     double sg, cg;
     wp_gamma(s, sg, cg);
@@ -1282,7 +1315,7 @@ inline WarpResult warp_psm_matrix(const WarpInput& in) {
     const WpPsmEval best = wp_psm_slide(s, R, Lw, s_min, range, tan_t, slide);
     if (!best.ok) {
         glm::dmat4 U;
-        if (!wp_uniform_world(s, U)) return wp_fail(Status::LightInsideVolume);
+        if (!wp_uniform_world(s, U)) return wp_fail(Status::LightInsideVolume, "light_position: inside the receivers' body (no frustum holds it)");
         return wp_finish(in, U, U, false, true, 0.0, sg, 0.0);
     }
     const double strength = (s_min + range) / (slide + range);
@@ -1298,7 +1331,7 @@ inline WarpResult warp_matrix(const WarpInput& in, WarpMethod method) {
     case WarpMethod::Lispsm: return warp_lispsm_matrix(in);
     case WarpMethod::Tsm: return warp_tsm_matrix(in);
     }
-    return detail::wp_fail(Status::InvalidArgument);
+    return detail::wp_fail(Status::InvalidArgument, "method: unknown WarpMethod");
 }
 
 /// Perspective aliasing error at a world point on a surface with the given normal: the largest
@@ -1315,13 +1348,19 @@ inline WarpAliasingValue warp_aliasing_error(const glm::mat4& light_view_proj, c
     WarpAliasingValue out;
     if (!wp_fin(light_view_proj) || !wp_fin(camera_view_proj) || !wp_fin(world_pos) || !wp_fin(normal)) {
         out.status = Status::NonFinite;
+        out.detail = !wp_fin(light_view_proj) ? "light_view_proj: NaN or Inf"
+                     : (!wp_fin(camera_view_proj) ? "camera_view_proj: NaN or Inf"
+                     : (!wp_fin(world_pos) ? "world_pos: NaN or Inf" : "normal: NaN or Inf"));
         return out;
     }
     const glm::dmat4 Lm(light_view_proj), Cm(camera_view_proj);
     const glm::dvec3 x(world_pos);
     glm::dvec3 n(normal);
     out.status = Status::InvalidArgument;
-    if (!(glm::length(n) > 0.0) || shadow_map_size == 0 || viewport.x == 0 || viewport.y == 0) return out;
+    if (!(glm::length(n) > 0.0) || shadow_map_size == 0 || viewport.x == 0 || viewport.y == 0) {
+        out.detail = !(glm::length(n) > 0.0) ? "normal: zero" : (shadow_map_size == 0 ? "shadow_map_size: 0" : "viewport: empty");
+        return out;
+    }
     n = glm::normalize(n);
     const glm::dvec3 t1 = wp_perp(n);
     const glm::dvec3 t2 = glm::cross(n, t1);
@@ -1338,11 +1377,11 @@ inline WarpAliasingValue warp_aliasing_error(const glm::mat4& light_view_proj, c
         return true;
     };
     glm::dmat2 A, B;  // columns: derivative along t1, t2
-    if (!jac(Lm, 0.5 * shadow_map_size, 0.5 * shadow_map_size, A)) return out;
-    if (!jac(Cm, 0.5 * viewport.x, 0.5 * viewport.y, B)) return out;
+    if (!jac(Lm, 0.5 * shadow_map_size, 0.5 * shadow_map_size, A)) return out.detail = "world_pos: behind the light (clip w <= 0)", out;
+    if (!jac(Cm, 0.5 * viewport.x, 0.5 * viewport.y, B)) return out.detail = "world_pos: behind the camera (clip w <= 0)", out;
     out.status = Status::Overflow;
     const double det = glm::determinant(A);
-    if (!(std::fabs(det) > 0.0) || !wp_fin(det)) return out;
+    if (!(std::fabs(det) > 0.0) || !wp_fin(det)) return out.detail = "normal: the surface is edge-on to the light", out;
     const glm::dmat2 J = B * glm::inverse(A);  // pixels per texel
     // largest singular value of a 2x2 matrix
     const double a = J[0][0], b = J[1][0], c = J[0][1], d = J[1][1];
@@ -1350,7 +1389,7 @@ inline WarpAliasingValue warp_aliasing_error(const glm::mat4& light_view_proj, c
     const double s2 = std::sqrt(std::fmax(0.0, (a * a + b * b - c * c - d * d) * (a * a + b * b - c * c - d * d) +
                                                    4.0 * (a * c + b * d) * (a * c + b * d)));
     const double sv = std::sqrt(std::fmax(0.0, 0.5 * (s1 + s2)));
-    if (!wp_fin(sv)) return out;
+    if (!wp_fin(sv)) return out.detail = "value: not finite", out;
     out.status = Status::Ok;
     out.value = sv;
     return out;
@@ -1369,14 +1408,17 @@ inline WarpAliasingStats warp_measure_aliasing(const WarpInput& in, const glm::m
     const wp_Setup s = wp_prepare(in);
     if (s.status != Status::Ok) {
         st.status = s.status;
+        st.detail = s.detail;
         return st;
     }
     if (!wp_fin(light_view_proj)) {
         st.status = Status::NonFinite;
+        st.detail = "light_view_proj: NaN or Inf";
         return st;
     }
     if (nx == 0 || ny == 0 || nz == 0 || shadow_map_size == 0 || viewport.x == 0 || viewport.y == 0) {
         st.status = Status::InvalidArgument;
+        st.detail = nx == 0 || ny == 0 || nz == 0 ? "nx, ny, nz: 0" : (shadow_map_size == 0 ? "shadow_map_size: 0" : "viewport: empty");
         return st;
     }
     st.status = Status::Ok;
@@ -1422,6 +1464,7 @@ inline WarpAliasingStats warp_measure_aliasing(const WarpInput& in, const glm::m
     if (!wp_fin(st.mean_error) || !wp_fin(st.max_error)) {
         WarpAliasingStats o;
         o.status = Status::Overflow;
+        o.detail = "mean_error, max_error: not finite";
         return o;
     }
     return st;

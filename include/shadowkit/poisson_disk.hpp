@@ -21,7 +21,9 @@
 // was written (a valid prefix) and `needed` what the whole output needs; too small a buffer gives
 // Status::BufferTooSmall (the call is repeatable: same seed, same set). The generators allocate
 // their work memory (grids, candidate lists) with std::vector: call them once, at setup, not per
-// frame. Results: a struct whose first member is `status`; Ok only with finite outputs.
+// frame. Results: a struct whose first member is `status`; Ok only with finite outputs; a non-Ok
+// result's `detail` names the offending input and the rule ("radius: not > 0"), a static string,
+// nullptr when Ok.
 // GLSL: glsl/pcf.glsl and glsl/pcss.glsl have a built-in 64-tap disk (sk_poisson_disk64); a
 // generated array with any other name compiles next to it, and the snippets use it when
 // SK_POISSON_TAPS / SK_POISSON_TAP_COUNT name it before the snippet (PoissonGlsl::ArrayForSnippets).
@@ -98,6 +100,7 @@ struct PoissonDomain {
 /// Result of a generator (points written to the caller's buffer).
 struct PoissonResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< points written to the caller buffer (a valid prefix)
     std::size_t needed = 0;  ///< points the full set has (== count when Ok)
     float radius = 0.0f;     ///< Bridson: the radius asked for (all pairs are >= it); elimination: the
@@ -107,6 +110,7 @@ struct PoissonResult {
 /// A scalar result (an area, a distance, a ratio). `value` is 0 unless status is Ok.
 struct PoissonValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;
 };
 
@@ -120,6 +124,7 @@ enum class PoissonGlsl {
 /// Result of poisson_to_glsl: chars of GLSL text.
 struct PoissonGlslResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< chars written to `out`, the terminating NUL included (a valid, NUL-terminated prefix)
     std::size_t needed = 0;  ///< chars the whole text needs, the terminating NUL included (== count when Ok)
 };
@@ -385,31 +390,39 @@ inline PoissonValue pd_value(double v) {
     PoissonValue r;
     if (!std::isfinite(v) || std::fabs(v) > double(std::numeric_limits<float>::max())) {
         r.status = Status::Overflow;
+        r.detail = "value: beyond float range";
         return r;
     }
     r.value = static_cast<float>(v);
     r.status = Status::Ok;
     return r;
 }
-inline PoissonValue pd_error(Status s) {
+// `why`: where the status came from, a static string.
+inline PoissonValue pd_error(Status s, const char* why) {
     PoissonValue r;
     r.status = s;
+    r.detail = why;
     return r;
 }
-// A point array: null only with n == 0, every coordinate finite.
-inline Status pd_check_points(const glm::vec2* pts, std::size_t n) {
-    if (pts == nullptr && n > 0) return Status::InvalidArgument;
+// A point array: null only with n == 0, every coordinate finite. `why` receives the detail.
+inline Status pd_check_points(const glm::vec2* pts, std::size_t n, const char*& why) {
+    if (pts == nullptr && n > 0) return why = "pts: null with n > 0", Status::InvalidArgument;
     for (std::size_t i = 0; i < n; ++i)
-        if (!std::isfinite(pts[i].x) || !std::isfinite(pts[i].y)) return Status::NonFinite;
+        if (!std::isfinite(pts[i].x) || !std::isfinite(pts[i].y)) return why = "pts: NaN or Inf", Status::NonFinite;
     return Status::Ok;
+}
+// Why a domain is invalid (pd_valid_domain false).
+inline const char* pd_domain_why(PoissonDomain d) {
+    return d.shape == PoissonShape::Annulus ? "inner_radius: outside [0, 0.99]" : "shape: unknown PoissonShape";
 }
 }  // namespace detail
 
 /// Area of the domain (pi, 4, or pi (1 - r_i^2)). InvalidArgument for an unknown shape or an
 /// inner radius outside [0, 0.99] (NonFinite when NaN/Inf).
 inline PoissonValue poisson_domain_area(PoissonDomain d) {
-    if (d.shape == PoissonShape::Annulus && !std::isfinite(d.inner_radius)) return detail::pd_error(Status::NonFinite);
-    if (!detail::pd_valid_domain(d)) return detail::pd_error(Status::InvalidArgument);
+    if (d.shape == PoissonShape::Annulus && !std::isfinite(d.inner_radius))
+        return detail::pd_error(Status::NonFinite, "inner_radius: NaN or Inf");
+    if (!detail::pd_valid_domain(d)) return detail::pd_error(Status::InvalidArgument, detail::pd_domain_why(d));
     return detail::pd_value(detail::pd_area(d));
 }
 
@@ -424,7 +437,7 @@ inline bool poisson_domain_contains(PoissonDomain d, glm::vec2 p) {
 inline PoissonValue poisson_packing_distance(PoissonDomain d, std::size_t n) {
     const PoissonValue a = poisson_domain_area(d);
     if (a.status != Status::Ok) return a;
-    if (n == 0) return detail::pd_error(Status::InvalidArgument);
+    if (n == 0) return detail::pd_error(Status::InvalidArgument, "n: 0");
     return detail::pd_value(std::sqrt(2.0 * detail::pd_area(d) / (std::sqrt(3.0) * double(n))));
 }
 
@@ -465,11 +478,16 @@ inline PoissonResult poisson_bridson(PoissonDomain d, float radius, std::uint64_
     const std::size_t capacity = out_capacity;
     if (!std::isfinite(radius) || (d.shape == PoissonShape::Annulus && !std::isfinite(d.inner_radius))) {
         res.status = Status::NonFinite;
+        res.detail = !std::isfinite(radius) ? "radius: NaN or Inf" : "inner_radius: NaN or Inf";
         return res;
     }
     if (!pd_valid_domain(d) || !(radius > 0.0f) || (out == nullptr && capacity > 0) || opt.attempts < 1 ||
         opt.attempts > 1000 || poisson_bridson_capacity(d, radius) > kPoissonMaxPoints) {
         res.status = Status::InvalidArgument;
+        res.detail = !pd_valid_domain(d) ? pd_domain_why(d)
+                     : (!(radius > 0.0f) ? "radius: not > 0"
+                     : (out == nullptr && capacity > 0 ? "out: null with out_capacity > 0"
+                     : (opt.attempts < 1 || opt.attempts > 1000 ? "attempts: outside [1, 1000]" : "radius: too small (beyond kPoissonMaxPoints)")));
         return res;
     }
     res.radius = radius;
@@ -550,6 +568,7 @@ inline PoissonResult poisson_bridson(PoissonDomain d, float radius, std::uint64_
     res.count = pts.size() < capacity ? pts.size() : capacity;
     for (std::size_t i = 0; i < res.count; ++i) out[i] = pts[i];
     res.status = res.count == res.needed ? Status::Ok : Status::BufferTooSmall;
+    res.detail = res.count == res.needed ? nullptr : "out_capacity: below needed (see needed)";
     return res;
 }
 
@@ -575,16 +594,21 @@ inline PoissonResult poisson_eliminate(PoissonDomain d, std::size_t count, std::
     const std::size_t capacity = out_capacity;
     if (d.shape == PoissonShape::Annulus && !std::isfinite(d.inner_radius)) {
         res.status = Status::NonFinite;
+        res.detail = "inner_radius: NaN or Inf";
         return res;
     }
     if (!pd_valid_domain(d) || (out == nullptr && capacity > 0) || opt.candidate_factor < 2 ||
         opt.candidate_factor > 64 || count > kPoissonMaxPoints) {
         res.status = Status::InvalidArgument;
+        res.detail = !pd_valid_domain(d) ? pd_domain_why(d)
+                     : (out == nullptr && capacity > 0 ? "out: null with out_capacity > 0"
+                     : (opt.candidate_factor < 2 || opt.candidate_factor > 64 ? "candidate_factor: outside [2, 64]" : "count: > kPoissonMaxPoints"));
         return res;
     }
     res.needed = count;
     if (capacity < count) {
         res.status = Status::BufferTooSmall;
+        res.detail = "out_capacity: below count (see needed)";
         return res;
     }
     res.status = Status::Ok;
@@ -631,9 +655,10 @@ inline PoissonResult poisson_eliminate(PoissonDomain d, std::size_t count, std::
 /// n == 0). InvalidArgument for n < 2 or null pts, NonFinite for a NaN/Inf coordinate, Overflow
 /// beyond float.
 inline PoissonValue poisson_min_distance(const glm::vec2* pts, std::size_t n) {
-    const Status s = detail::pd_check_points(pts, n);
-    if (s != Status::Ok) return detail::pd_error(s);
-    if (n < 2) return detail::pd_error(Status::InvalidArgument);
+    const char* why = nullptr;
+    const Status s = detail::pd_check_points(pts, n, why);
+    if (s != Status::Ok) return detail::pd_error(s, why);
+    if (n < 2) return detail::pd_error(Status::InvalidArgument, "n: < 2");
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j) {
@@ -676,9 +701,10 @@ inline PoissonValue poisson_coverage_radius(PoissonDomain d, const glm::vec2* pt
     using namespace detail;
     const PoissonValue a = poisson_domain_area(d);
     if (a.status != Status::Ok) return a;
-    const Status ps = pd_check_points(pts, n);
-    if (ps != Status::Ok) return pd_error(ps);
-    if (n == 0) return pd_error(Status::InvalidArgument);
+    const char* why = nullptr;
+    const Status ps = pd_check_points(pts, n, why);
+    if (ps != Status::Ok) return pd_error(ps, why);
+    if (n == 0) return pd_error(Status::InvalidArgument, "n: 0");
     double best = 0.0;
     auto eval = [&](double x, double y) {
         const double q = pd_nearest(pts, n, x, y);
@@ -764,9 +790,10 @@ inline PoissonValue poisson_coverage_radius_grid(PoissonDomain d, const glm::vec
     using namespace detail;
     const PoissonValue a = poisson_domain_area(d);
     if (a.status != Status::Ok) return a;
-    const Status ps = pd_check_points(pts, n);
-    if (ps != Status::Ok) return pd_error(ps);
-    if (n == 0) return pd_error(Status::InvalidArgument);
+    const char* why = nullptr;
+    const Status ps = pd_check_points(pts, n, why);
+    if (ps != Status::Ok) return pd_error(ps, why);
+    if (n == 0) return pd_error(Status::InvalidArgument, "n: 0");
     const int res = resolution < 2 ? 2 : (resolution > 4096 ? 4096 : resolution);
     double best = 0.0;
     for (int y = 0; y < res; ++y)
@@ -877,6 +904,10 @@ inline PoissonGlslResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, co
     if (pts == nullptr || n == 0 || name == nullptr || (out == nullptr && capacity > 0) ||
         (mode != PoissonGlsl::Array && mode != PoissonGlsl::ArrayForSnippets)) {
         res.status = Status::InvalidArgument;
+        res.detail = pts == nullptr ? "pts: null"
+                     : (n == 0 ? "n: 0"
+                     : (name == nullptr ? "name: null"
+                     : (out == nullptr && capacity > 0 ? "out: null with out_capacity > 0" : "mode: unknown PoissonGlsl")));
         return res;
     }
     {
@@ -888,6 +919,7 @@ inline PoissonGlslResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, co
             const bool double_underscore = c == '_' && len > 0 && name[len - 1] == '_';
             if (!(alpha || (digit && len > 0)) || double_underscore) {
                 res.status = Status::InvalidArgument;
+                res.detail = "name: not a GLSL identifier (or has \"__\")";
                 return res;
             }
         }
@@ -895,10 +927,11 @@ inline PoissonGlslResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, co
                                                    (name[0] == 's' && name[1] == 'k' && name[2] == '_'))) ||
             detail::pd_glsl_reserved(name, len) || detail::pd_glsl_builtin(name, len)) {
             res.status = Status::InvalidArgument;
+            res.detail = "name: empty, too long, gl_ / sk_ prefix, or a GLSL keyword or built-in";
             return res;
         }
     }
-    const Status ps = detail::pd_check_points(pts, n);
+    const Status ps = detail::pd_check_points(pts, n, res.detail);
     if (ps != Status::Ok) {
         res.status = ps;
         return res;
@@ -947,6 +980,7 @@ inline PoissonGlslResult poisson_to_glsl(const glm::vec2* pts, std::size_t n, co
     res.needed = pos + 1;
     res.count = res.needed < capacity ? res.needed : capacity;
     res.status = res.needed <= capacity ? Status::Ok : Status::BufferTooSmall;
+    res.detail = res.needed <= capacity ? nullptr : "out_capacity: below needed (see needed)";
     return res;
 }
 

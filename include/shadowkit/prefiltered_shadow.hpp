@@ -42,6 +42,8 @@
 //   NaN and Inf included, give a visibility in [0, 1] (1 = lit). A texel with a non-finite moment
 //   counts as lit (it can only come from an overflowed warp: keep exponents within the limits).
 // - Buffers: prefilter_blur_weights writes `weights_capacity` float elements.
+// - Results: a non-Ok result's `detail` names the offending input and the rule ("far: not > near"),
+//   a static string; nullptr when Ok.
 // - No function here takes a light: the light's projection enters only through near/far values
 //   (prefilter_window_depth_map) and the projection matrices of prefilter_kernel_texels and
 //   prefilter_soft_uniforms (with the emitter's width, a separate field).
@@ -272,6 +274,7 @@ constexpr float pf_max_evsm_exponent = 44.36141f;
 /// The linear map from eye distance d to moment depth t = d * scale + offset.
 struct PrefilterDepthRange {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float scale = 0.0f;   ///< 1 / (far - near)
     float offset = 0.0f;  ///< -near / (far - near)
     float near_distance = 0.0f;  ///< near, as given (offset can underflow: -1e-60 for [1e-30, 1e30]); 0 if not set
@@ -286,10 +289,12 @@ inline PrefilterDepthRange prefilter_depth_range(float near, float far) {
     PrefilterDepthRange r;
     if (!std::isfinite(near) || !std::isfinite(far)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(near) ? "near: NaN or Inf" : "far: NaN or Inf";
         return r;
     }
     if (near < 0.0f || !(far > near)) {
         r.status = Status::InvalidArgument;
+        r.detail = near < 0.0f ? "near: < 0" : "far: not > near";
         return r;
     }
     const double span = double(far) - double(near);
@@ -297,6 +302,7 @@ inline PrefilterDepthRange prefilter_depth_range(float near, float far) {
     if (!(span > 4.0 * double(std::nextafter(far, std::numeric_limits<float>::infinity()) - far)) ||
         !(scale < double(std::numeric_limits<float>::max()))) {
         r.status = Status::Overflow;
+        r.detail = "far: far - near below 4 float steps of far";
         return r;
     }
     r.scale = static_cast<float>(scale);
@@ -322,6 +328,7 @@ constexpr float kPrefilterWindowTolerance = 1e-4f;
 /// Coefficients c of t = (c.x + c.y z_w) / (c.z + c.w z_w), window depth z_w -> moment depth.
 struct PrefilterWindowMap {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec4 coefficients{0.0f};
 };
 
@@ -341,15 +348,18 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
     PrefilterWindowMap m;
     if (r.status != Status::Ok) {
         m.status = Status::InvalidArgument;
+        m.detail = "r: status not Ok";
         return m;
     }
     if (std::isnan(proj_near) || std::isnan(proj_far) || !std::isfinite(proj_near) ||
         (!perspective && !std::isfinite(proj_far))) {
         m.status = Status::NonFinite;
+        m.detail = !std::isfinite(proj_near) ? "proj_near: NaN or Inf" : "proj_far: NaN (or Inf, orthographic)";
         return m;
     }
     if (!(proj_far > proj_near) || (perspective && !(proj_near > 0.0f))) {
         m.status = Status::InvalidArgument;
+        m.detail = !(proj_far > proj_near) ? "proj_far: not > proj_near" : "proj_near: not > 0 (perspective)";
         return m;
     }
     const double n = double(proj_near), f = double(proj_far), s = double(r.scale), o = double(r.offset);
@@ -365,6 +375,7 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
     for (int i = 0; i < 4; ++i)
         if (!(std::abs(c[i]) < double(std::numeric_limits<float>::max()))) {
             m.status = Status::Overflow;
+            m.detail = "coefficients: beyond float range";
             return m;
         }
     m.coefficients = glm::vec4(c);
@@ -398,6 +409,7 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
     if (!(worst <= double(kPrefilterWindowTolerance))) {
         m.coefficients = glm::vec4(0.0f);
         m.status = Status::Overflow;
+        m.detail = "proj_near, proj_far: window depth cannot keep t within kPrefilterWindowTolerance";
         return m;
     }
     m.status = Status::Ok;
@@ -418,6 +430,7 @@ inline float prefilter_depth_from_window(float z_w, const glm::vec4& c) {
 /// A value as the moment texture stores it.
 struct PrefilterStored {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;  ///< the stored value; +-Inf with Status::Overflow
 };
 
@@ -428,6 +441,7 @@ inline PrefilterStored prefilter_store(double v, PrefilterFormat format) {
     PrefilterStored s;
     if (!std::isfinite(v)) {
         s.status = Status::NonFinite;
+        s.detail = "v: NaN or Inf";
         s.value = static_cast<float>(v);
         return s;
     }
@@ -443,6 +457,7 @@ inline PrefilterStored prefilter_store(double v, PrefilterFormat format) {
         if (a >= 65520.0) {
             s.value = static_cast<float>(v < 0.0 ? -inf : inf);
             s.status = Status::Overflow;
+            s.detail = "v: beyond half float range";
             return s;
         }
         // spacing of half floats near a: 2^(e - 10), e = max(floor(log2 a), -14)
@@ -459,12 +474,14 @@ inline PrefilterStored prefilter_store(double v, PrefilterFormat format) {
     const float f = static_cast<float>(v);  // IEEE round to nearest even, Inf beyond the threshold
     s.value = f;
     s.status = std::isinf(f) ? Status::Overflow : Status::Ok;
+    s.detail = std::isinf(f) ? "v: beyond float range" : nullptr;
     return s;
 }
 
 /// The largest exponent of an exponential warp.
 struct PrefilterExponent {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float exponent = 0.0f;     ///< largest float c with N e^(k c) below the format's overflow threshold
     double worst_value = 0.0;  ///< N e^(k c) at that c: the largest value the moment texture receives
 };
@@ -483,6 +500,7 @@ inline PrefilterExponent prefilter_exponent_limit(PrefilterMethod method, Prefil
     if (!warp || accumulated_samples == 0u ||
         (format != PrefilterFormat::Float32 && format != PrefilterFormat::Float16)) {
         r.status = Status::InvalidArgument;
+        r.detail = !warp ? "method: not ESM or EVSM" : (accumulated_samples == 0u ? "accumulated_samples: 0" : "format: not Float32 or Float16");
         return r;
     }
     const double T = format == PrefilterFormat::Float16 ? 65520.0 : 340282356779733661637539395458142568448.0;
@@ -490,6 +508,7 @@ inline PrefilterExponent prefilter_exponent_limit(PrefilterMethod method, Prefil
     const double k = method == PrefilterMethod::Esm ? 1.0 : 2.0;
     if (!(N < T)) {
         r.status = Status::Overflow;
+        r.detail = "accumulated_samples: at or above the format's overflow threshold";
         return r;
     }
     auto worst = [&](float c) { return N * std::exp(k * double(c)); };
@@ -822,6 +841,7 @@ struct PrefilterSettings {
 /// The values the snippet's uniforms take (sk_prefilter_moments / sk_prefilter_visibility).
 struct PrefilterUniforms {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     PrefilterMethod method = PrefilterMethod::Vsm;
     int method_code = 0;                ///< `method` of the GLSL functions
     glm::vec2 exponents{0.0f};          ///< (c+, c-)
@@ -847,6 +867,10 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
         std::isinf(s.exponent_negative) || !std::isfinite(s.min_variance) || !std::isfinite(s.bleed_reduction) ||
         !std::isfinite(s.moment_bias)) {
         u.status = Status::NonFinite;
+        u.detail = std::isnan(s.exponent_positive) || std::isinf(s.exponent_positive) ? "exponent_positive: NaN or Inf"
+                   : (std::isnan(s.exponent_negative) || std::isinf(s.exponent_negative) ? "exponent_negative: NaN or Inf"
+                   : (!std::isfinite(s.min_variance) ? "min_variance: NaN or Inf"
+                   : (!std::isfinite(s.bleed_reduction) ? "bleed_reduction: NaN or Inf" : "moment_bias: NaN or Inf")));
         return u;
     }
     const auto m = static_cast<int>(s.method);
@@ -858,6 +882,14 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
         (msm && s.format == PrefilterFormat::Float16) || s.bleed_reduction < 0.0f || !(s.bleed_reduction < 1.0f) ||
         s.min_variance > 1.0f || s.moment_bias > 1.0f) {
         u.status = Status::InvalidArgument;
+        u.detail = m < 0 || m > 5 ? "method: unknown PrefilterMethod"
+                   : (f < 0 || f > 2 ? "format: unknown PrefilterFormat"
+                   : (s.accumulated_samples == 0u ? "accumulated_samples: 0"
+                   : (warp && s.format == PrefilterFormat::Unorm16 ? "format: Unorm16 with ESM / EVSM"
+                   : (warp && s.exponent_positive == 0.0f ? "exponent_positive: 0 with ESM / EVSM"
+                   : (msm && s.format == PrefilterFormat::Float16 ? "format: Float16 with MSM"
+                   : (s.bleed_reduction < 0.0f || !(s.bleed_reduction < 1.0f) ? "bleed_reduction: outside [0, 1)"
+                   : (s.min_variance > 1.0f ? "min_variance: > 1" : "moment_bias: > 1")))))));
         return u;
     }
     u.method = s.method;
@@ -870,6 +902,7 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
         const PrefilterExponent lim = prefilter_exponent_limit(s.method, s.format, s.accumulated_samples);
         if (lim.status != Status::Ok) {
             u.status = lim.status;
+            u.detail = lim.detail;
             return u;
         }
         const float c_pos = s.exponent_positive < 0.0f ? 0.99f * lim.exponent : s.exponent_positive;
@@ -878,6 +911,8 @@ inline PrefilterUniforms prefilter_uniforms(const PrefilterSettings& s) {
                             : (s.exponent_negative < 0.0f ? c_neg_default : s.exponent_negative);
         if (c_pos > lim.exponent || c_neg > lim.exponent) {
             u.status = Status::Overflow;
+            u.detail = c_pos > lim.exponent ? "exponent_positive: above prefilter_exponent_limit"
+                                            : "exponent_negative: above prefilter_exponent_limit";
             return u;
         }
         u.exponents = glm::vec2(c_pos, c_neg);
@@ -961,6 +996,7 @@ inline float prefilter_receiver_bias(const glm::vec3& duvt_dx, const glm::vec3& 
 /// A separable blur kernel.
 struct PrefilterKernel {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int radius = 0;          ///< taps -radius .. radius per pass
     std::size_t count = 0;   ///< weights written (radius + 1: center, then offsets 1 .. radius)
     std::size_t needed = 0;  ///< weights the kernel needs (radius + 1)
@@ -978,11 +1014,16 @@ inline PrefilterKernel prefilter_blur_weights(PrefilterBlur shape, float width_t
     PrefilterKernel k;
     if (!std::isfinite(width_texels)) {
         k.status = Status::NonFinite;
+        k.detail = "width_texels: NaN or Inf";
         return k;
     }
     if (width_texels < 0.0f || (weights == nullptr && weights_capacity > 0) ||
         (shape != PrefilterBlur::Box && shape != PrefilterBlur::Gaussian) || width_texels > 2.0f * kPrefilterMaxRadius + 1.0f) {
         k.status = Status::InvalidArgument;
+        k.detail = width_texels < 0.0f ? "width_texels: < 0"
+                   : (weights == nullptr && weights_capacity > 0 ? "weights: null with weights_capacity > 0"
+                   : (shape != PrefilterBlur::Box && shape != PrefilterBlur::Gaussian ? "shape: unknown PrefilterBlur"
+                                                                                        : "width_texels: > 2 kPrefilterMaxRadius + 1"));
         return k;
     }
     const double sigma = double(width_texels) / 6.0;
@@ -992,12 +1033,14 @@ inline PrefilterKernel prefilter_blur_weights(PrefilterBlur shape, float width_t
                                         : static_cast<int>(std::floor(3.0 * sigma + 1e-9));
     if (r > kPrefilterMaxRadius) {
         k.status = Status::InvalidArgument;
+        k.detail = "width_texels: radius above kPrefilterMaxRadius";
         return k;
     }
     k.radius = r;
     k.needed = static_cast<std::size_t>(r) + 1u;
     if (weights_capacity < k.needed) {
         k.status = Status::BufferTooSmall;
+        k.detail = "weights_capacity: below needed (see needed)";
         return k;
     }
     double w[kPrefilterMaxWeights];
@@ -1015,6 +1058,7 @@ inline PrefilterKernel prefilter_blur_weights(PrefilterBlur shape, float width_t
 /// A world width in shadow-map texels.
 struct PrefilterKernelWidth {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec2 texels{0.0f};  ///< along the map's x and y
 };
 
@@ -1034,17 +1078,23 @@ inline PrefilterKernelWidth prefilter_kernel_texels(const glm::mat4& light_proj,
         for (int i = 0; i < 4; ++i) finite = finite && std::isfinite(light_proj[c][i]);
     if (!finite) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(world_width) ? "world_width: NaN or Inf"
+                   : (!std::isfinite(eye_distance) ? "eye_distance: NaN or Inf" : "light_proj: NaN or Inf");
         return r;
     }
     const double w = -double(light_proj[2][3]) * double(eye_distance) + double(light_proj[3][3]);
     if (world_width < 0.0f || map_width <= 0 || map_height <= 0 || !(w > 0.0)) {
         r.status = Status::InvalidArgument;
+        r.detail = world_width < 0.0f ? "world_width: < 0"
+                   : (map_width <= 0 ? "map_width: not > 0"
+                   : (map_height <= 0 ? "map_height: not > 0" : "eye_distance: at or behind the light (clip w <= 0)"));
         return r;
     }
     const double tx = 0.5 * std::abs(double(light_proj[0][0])) * double(world_width) / w * double(map_width);
     const double ty = 0.5 * std::abs(double(light_proj[1][1])) * double(world_width) / w * double(map_height);
     if (!(tx < double(std::numeric_limits<float>::max())) || !(ty < double(std::numeric_limits<float>::max()))) {
         r.status = Status::Overflow;
+        r.detail = "texels: beyond float range";
         return r;
     }
     r.texels = glm::vec2(static_cast<float>(tx), static_cast<float>(ty));
@@ -1068,6 +1118,7 @@ struct PrefilterSoftSettings {
 /// The soft lookup's uniforms: `params()` is the `soft` vec4 of sk_prefilter_soft_visibility.
 struct PrefilterSoftUniforms {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float light_uv = 0.0f;         ///< 0.5 sqrt|P[0][0] P[1][1]| light_width / -P[2][3]: the emitter's uv width x unit distance
     float light_width = 0.0f;      ///< world units
     float distance_scale = 0.0f;   ///< eye distance d = t * distance_scale + distance_offset
@@ -1089,6 +1140,7 @@ inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings
         for (int i = 0; i < 4; ++i) finite = finite && std::isfinite(s.light_proj[c][i]);
     if (!finite) {
         u.status = Status::NonFinite;
+        u.detail = !std::isfinite(s.light_width) ? "light_width: NaN or Inf" : "light_proj: NaN or Inf";
         return u;
     }
     const double p23 = double(s.light_proj[2][3]);
@@ -1099,12 +1151,18 @@ inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings
     const bool pow2 = s.map_size > 0 && (s.map_size & (s.map_size - 1)) == 0;
     if (s.light_proj[3][3] != 0.0f || !(p23 < 0.0) || s.light_width < 0.0f || !(ds > 0.0) || !(near > 0.0) || !pow2) {
         u.status = Status::InvalidArgument;
+        u.detail = s.light_proj[3][3] != 0.0f || !(p23 < 0.0) ? "light_proj: not a perspective projection"
+                   : (s.light_width < 0.0f ? "light_width: < 0"
+                   : (!(ds > 0.0) ? "range: status not Ok or scale not > 0"
+                   : (!(near > 0.0) ? "range: near not > 0" : "map_size: not a power of two")));
         return u;
     }
     const double luv = 0.5 * std::sqrt(std::abs(double(s.light_proj[0][0]) * double(s.light_proj[1][1]))) *
                        double(s.light_width) / -p23;
     if (!(luv < double(std::numeric_limits<float>::max())) || !(ds < double(std::numeric_limits<float>::max()))) {
         u.status = Status::Overflow;
+        u.detail = !(luv < double(std::numeric_limits<float>::max())) ? "light_width: light_uv beyond float range"
+                                                                      : "range: 1 / scale beyond float range";
         return u;
     }
     u.light_uv = static_cast<float>(luv);
@@ -1120,6 +1178,7 @@ inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings
 /// The average blocker depth in front of a receiver, estimated from one filtered moment texel.
 struct PrefilterBlocker {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool blocker_found = false;  ///< false (with Ok): nothing in front of t in this texel (lit)
     float depth = 0.0f;          ///< average blocker depth in t units, in [0, t] (t when none is found)
     float fraction = 0.0f;       ///< the blockers' share of the texel, in [0, 1]
@@ -1190,6 +1249,7 @@ inline PrefilterBlocker prefilter_soft_blocker(const glm::vec4& moments, float t
     if (u.status != Status::Ok || !(u.method == PrefilterMethod::Vsm || u.method == PrefilterMethod::Msm ||
                                     u.method == PrefilterMethod::MsmHausdorff)) {
         r.status = Status::InvalidArgument;
+        r.detail = u.status != Status::Ok ? "u: status not Ok" : "u: method not VSM or MSM";
         return r;
     }
     const glm::vec2 b = detail::pf_soft_blocker(moments, t, u);
@@ -1229,6 +1289,7 @@ inline float prefilter_soft_width(float t_receiver, float t_front, const Prefilt
 /// The penumbra a blocker casts on a receiver.
 struct PrefilterPenumbra {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float width_world = 0.0f;  ///< full width at the receiver, world units: W (d_r - d_b) / d_b
     float width_uv = 0.0f;     ///< the same in the map's uv, in [0, 1] (prefilter_soft_width)
     float level = 0.0f;        ///< the mip level that filters it, in [0, max_level] (prefilter_soft_level_of)
@@ -1241,10 +1302,13 @@ inline PrefilterPenumbra prefilter_soft_penumbra(float t_receiver, float t_block
     PrefilterPenumbra r;
     if (!std::isfinite(t_receiver) || !std::isfinite(t_blocker)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(t_receiver) ? "t_receiver: NaN or Inf" : "t_blocker: NaN or Inf";
         return r;
     }
     if (s.status != Status::Ok || t_receiver < 0.0f || t_receiver > 1.0f || t_blocker < 0.0f || t_blocker > t_receiver) {
         r.status = Status::InvalidArgument;
+        r.detail = s.status != Status::Ok ? "s: status not Ok"
+                   : (t_receiver < 0.0f || t_receiver > 1.0f ? "t_receiver: outside [0, 1]" : "t_blocker: outside [0, t_receiver]");
         return r;
     }
     const double dr = double(t_receiver) * s.distance_scale + s.distance_offset;
@@ -1252,6 +1316,7 @@ inline PrefilterPenumbra prefilter_soft_penumbra(float t_receiver, float t_block
     const double w = double(s.light_width) * (dr - db) / db;
     if (!(w < double(std::numeric_limits<float>::max()))) {
         r.status = Status::Overflow;
+        r.detail = "width_world: beyond float range";
         return r;
     }
     r.width_world = static_cast<float>(w);

@@ -52,8 +52,9 @@
 //     from other arguments (a transfer vector: order^2 floats; an environment: order^2 vec3) are
 //     stated next to the pointer.
 //   * Status: NaN/Inf in an input is Status::NonFinite; a finite input whose result does not fit a
-//     float is Status::Overflow; `Ok` means every output is finite. Functions that allocate say so
-//     (prt_make_samples, prt_cpca_compress); shading never allocates.
+//     float is Status::Overflow; `Ok` means every output is finite. A non-Ok result's `detail` names
+//     the offending input and the rule ("strata: outside [1, 1024]"), a static string; nullptr when
+//     Ok. Functions that allocate say so (prt_make_samples, prt_cpca_compress); shading never allocates.
 //   * This header takes no light: the lighting is an environment in SH (a sun is a sharp lobe in it).
 //
 // Based on:
@@ -139,6 +140,7 @@ constexpr std::size_t prt_coefficient_count(int order) {
 /// Stratified sphere directions with their SH basis values (built by prt_make_samples).
 struct PrtSamples {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int order = 0;
     std::vector<glm::vec3> directions;  ///< unit, uniform over the sphere
     std::vector<float> basis;           ///< directions.size() * order^2, basis[j * n + i] = y_i(s_j)
@@ -159,6 +161,7 @@ struct PrtTransferOptions {
 /// Result of prt_compute_transfer.
 struct PrtTransferResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;                ///< floats written (vertex_count * n when Ok, else 0)
     std::size_t needed = 0;               ///< floats the output needs (vertex_count * n)
     std::size_t degenerate_vertices = 0;  ///< zero transfer written (zero normal)
@@ -168,6 +171,7 @@ struct PrtTransferResult {
 /// Status, values written and values the output needs.
 struct PrtResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< elements written (== needed when Ok, 0 otherwise)
     std::size_t needed = 0;  ///< elements the output needs
 };
@@ -175,12 +179,14 @@ struct PrtResult {
 /// A scalar shading result.
 struct PrtValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;  ///< finite when Ok, 0 otherwise
 };
 
 /// An RGB shading result (exit radiance).
 struct PrtRgbValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec3 value{0.0f};  ///< finite when Ok, 0 otherwise
 };
 
@@ -280,17 +286,20 @@ inline bool prt_all_finite(const glm::vec3* v, std::size_t n) {
     return any == 0;
 }
 
-inline PrtResult prt_result(Status s, std::size_t count, std::size_t needed) {
+// `why`: where a non-Ok status came from (a static string; nullptr with Ok).
+inline PrtResult prt_result(Status s, std::size_t count, std::size_t needed, const char* why) {
     PrtResult r;
     r.status = s;
+    r.detail = why;
     r.count = count;
     r.needed = needed;
     return r;
 }
 
-inline PrtTransferResult prt_transfer_result(Status s, std::size_t needed) {
+inline PrtTransferResult prt_transfer_result(Status s, std::size_t needed, const char* why) {
     PrtTransferResult r;
     r.status = s;
+    r.detail = why;
     r.needed = needed;
     return r;
 }
@@ -310,12 +319,14 @@ inline PrtRgbValue prt_dot_rgb(std::size_t n, const float* t, const glm::vec3* e
     for (std::size_t i = 0; i < n; ++i) {
         if (!std::isfinite(t[i]) || !prt_finite3(env[i])) {
             r.status = Status::NonFinite;
+            r.detail = !std::isfinite(t[i]) ? "transfer: NaN or Inf" : "env: NaN or Inf";
             return r;
         }
         d += static_cast<double>(t[i]) * glm::dvec3(env[i]);
     }
     if (!prt_fits(d.x) || !prt_fits(d.y) || !prt_fits(d.z)) {
         r.status = Status::Overflow;
+        r.detail = "value: beyond float range";
         return r;
     }
     r.status = Status::Ok;
@@ -330,18 +341,19 @@ inline PrtRgbValue prt_dot_rgb(std::size_t n, const float* t, const glm::vec3* e
 /// (NonFinite) writes zeros.
 inline PrtResult prt_sh_basis(int order, const glm::vec3& dir, float* out, std::size_t capacity) {
     const std::size_t n = prt_coefficient_count(order);
-    if (n == 0) return detail::prt_result(Status::InvalidArgument, 0, 0);
-    if (!out) return detail::prt_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::prt_result(Status::BufferTooSmall, 0, n);
+    if (n == 0) return detail::prt_result(Status::InvalidArgument, 0, 0, "order: outside 1 .. 5");
+    if (!out) return detail::prt_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::prt_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     glm::dvec3 d;
     if (!detail::prt_unit(dir, d)) {
         for (std::size_t i = 0; i < n; ++i) out[i] = 0.0f;
-        return detail::prt_result(detail::prt_finite3(dir) ? Status::InvalidArgument : Status::NonFinite, 0, n);
+        return detail::prt_result(detail::prt_finite3(dir) ? Status::InvalidArgument : Status::NonFinite, 0, n,
+                                  detail::prt_finite3(dir) ? "dir: zero vector" : "dir: NaN or Inf");
     }
     double b[25];
     detail::prt_basis(order, d.x, d.y, d.z, b);
     for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(b[i]);
-    return detail::prt_result(Status::Ok, n, n);
+    return detail::prt_result(Status::Ok, n, n, nullptr);
 }
 
 /// strata^2 stratified jittered uniform sphere directions (course notes: theta = 2 acos(sqrt(1 - x)),
@@ -353,6 +365,7 @@ inline PrtSamples prt_make_samples(int order, int strata, std::uint32_t seed) {
     const std::size_t n = prt_coefficient_count(order);
     if (n == 0 || strata < 1 || strata > 1024) {
         out.status = Status::InvalidArgument;
+        out.detail = n == 0 ? "order: outside 1 .. 5" : "strata: outside [1, 1024]";
         return out;
     }
     const std::size_t count = static_cast<std::size_t>(strata) * static_cast<std::size_t>(strata);
@@ -398,31 +411,35 @@ inline PrtTransferResult prt_compute_transfer(const PrtSamples& samples, const P
     const std::size_t n = prt_coefficient_count(samples.order);
     const bool shadowed = opt.mode == PrtMode::Shadowed;
     if (samples.status != Status::Ok || n == 0 || (opt.mode != PrtMode::Shadowed && opt.mode != PrtMode::Unshadowed))
-        return detail::prt_transfer_result(Status::InvalidArgument, 0);
+        return detail::prt_transfer_result(Status::InvalidArgument, 0,
+                                           samples.status != Status::Ok || n == 0 ? "samples: status not Ok" : "mode: unknown PrtMode");
     if (shadowed && (samples.count() == 0 || samples.basis.size() != samples.count() * n))
-        return detail::prt_transfer_result(Status::InvalidArgument, 0);
+        return detail::prt_transfer_result(Status::InvalidArgument, 0, "samples: no directions or basis (Shadowed)");
     if (!std::isfinite(opt.albedo) || !std::isfinite(opt.ray_offset))
-        return detail::prt_transfer_result(Status::NonFinite, 0);
+        return detail::prt_transfer_result(Status::NonFinite, 0, !std::isfinite(opt.albedo) ? "albedo: NaN or Inf" : "ray_offset: NaN or Inf");
     if (std::fabs(opt.albedo) > 1e30f || opt.ray_offset < 0.0f)
-        return detail::prt_transfer_result(Status::InvalidArgument, 0);
+        return detail::prt_transfer_result(Status::InvalidArgument, 0, opt.ray_offset < 0.0f ? "ray_offset: < 0" : "albedo: |albedo| > 1e30");
     if (vertex_count > std::numeric_limits<std::size_t>::max() / n)
-        return detail::prt_transfer_result(Status::InvalidArgument, 0);
+        return detail::prt_transfer_result(Status::InvalidArgument, 0, "vertex_count: too large");
     PrtTransferResult res;
     res.needed = vertex_count * n;
     if (vertex_count == 0) {
         res.status = Status::Ok;
         return res;
     }
-    if (!normals || !out || (shadowed && !positions)) return detail::prt_transfer_result(Status::InvalidArgument, res.needed);
-    if (capacity < res.needed) return detail::prt_transfer_result(Status::BufferTooSmall, res.needed);
+    if (!normals || !out || (shadowed && !positions))
+        return detail::prt_transfer_result(Status::InvalidArgument, res.needed,
+                                           !normals ? "normals: null" : (!out ? "out: null" : "positions: null (Shadowed)"));
+    if (capacity < res.needed) return detail::prt_transfer_result(Status::BufferTooSmall, res.needed, "capacity: below needed (see needed)");
     // validate every vertex before any ray is cast
     for (std::size_t v = 0; v < vertex_count; ++v) {
         if (!detail::prt_finite3(normals[v]) || (shadowed && !detail::prt_finite3(positions[v])))
-            return detail::prt_transfer_result(Status::NonFinite, res.needed);
+            return detail::prt_transfer_result(Status::NonFinite, res.needed,
+                                               !detail::prt_finite3(normals[v]) ? "normals: NaN or Inf" : "positions: NaN or Inf");
         glm::dvec3 nrm;
         if (shadowed && detail::prt_unit(normals[v], nrm) &&
             !detail::prt_finite3(positions[v] + opt.ray_offset * glm::vec3(nrm)))
-            return detail::prt_transfer_result(Status::Overflow, res.needed);
+            return detail::prt_transfer_result(Status::Overflow, res.needed, "positions, ray_offset: the ray origin beyond float");
     }
     const double scale = static_cast<double>(opt.albedo) / detail::prt_pi;
     double t[25], b[25];
@@ -472,7 +489,8 @@ inline PrtTransferResult prt_compute_transfer(const PrtSamples& samples, const P
                                               std::size_t vertex_count, PrtVisibilityFn visible, void* user,
                                               float* out, std::size_t capacity) {
     if (!visible && opt.mode == PrtMode::Shadowed)
-        return detail::prt_transfer_result(Status::InvalidArgument, prt_coefficient_count(samples.order) * vertex_count);
+        return detail::prt_transfer_result(Status::InvalidArgument, prt_coefficient_count(samples.order) * vertex_count,
+                                           "visible: null (Shadowed)");
     return prt_compute_transfer(
         samples, opt, positions, normals, vertex_count,
         [visible, user](const glm::vec3& o, const glm::vec3& d) { return visible(user, o, d); }, out, capacity);
@@ -488,15 +506,15 @@ inline PrtResult prt_project_environment(const PrtSamples& samples, Radiance&& r
                                          std::size_t capacity) {
     const std::size_t n = prt_coefficient_count(samples.order);
     if (samples.status != Status::Ok || n == 0 || samples.count() == 0 || samples.basis.size() != samples.count() * n)
-        return detail::prt_result(Status::InvalidArgument, 0, n);
-    if (!out) return detail::prt_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::prt_result(Status::BufferTooSmall, 0, n);
+        return detail::prt_result(Status::InvalidArgument, 0, n, "samples: status not Ok (or no directions)");
+    if (!out) return detail::prt_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::prt_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     glm::dvec3 acc[25] = {};
     for (std::size_t j = 0; j < samples.count(); ++j) {
         const glm::vec3 L = radiance(samples.directions[j]);
         if (!detail::prt_finite3(L)) {
             for (std::size_t i = 0; i < n; ++i) out[i] = glm::vec3(0.0f);
-            return detail::prt_result(Status::NonFinite, 0, n);
+            return detail::prt_result(Status::NonFinite, 0, n, "radiance: NaN or Inf");
         }
         for (std::size_t i = 0; i < n; ++i) acc[i] += static_cast<double>(samples.basis[j * n + i]) * glm::dvec3(L);
     }
@@ -504,10 +522,10 @@ inline PrtResult prt_project_environment(const PrtSamples& samples, Radiance&& r
         out[i] = glm::vec3(acc[i] * samples.weight);
         if (!detail::prt_finite3(out[i])) {  // finite radiance too large for float
             for (std::size_t k = 0; k < n; ++k) out[k] = glm::vec3(0.0f);
-            return detail::prt_result(Status::Overflow, 0, n);
+            return detail::prt_result(Status::Overflow, 0, n, "radiance: a coefficient beyond float");
         }
     }
-    return detail::prt_result(Status::Ok, n, n);
+    return detail::prt_result(Status::Ok, n, n, nullptr);
 }
 
 /// Exit radiance at one vertex: sum_i T_i L_i per channel (course notes: shading = dot product).
@@ -520,6 +538,7 @@ inline PrtRgbValue prt_shade_rgb(int order, const float* transfer, const glm::ve
     if (n == 0 || !transfer || !env) {
         PrtRgbValue r;
         r.status = Status::InvalidArgument;
+        r.detail = n == 0 ? "order: outside 1 .. 5" : (!transfer ? "transfer: null" : "env: null");
         return r;
     }
     return detail::prt_dot_rgb(n, transfer, env);
@@ -531,6 +550,7 @@ inline PrtValue prt_shade(int order, const float* transfer, const float* env) {
     const std::size_t n = prt_coefficient_count(order);
     if (n == 0 || !transfer || !env) {
         r.status = Status::InvalidArgument;
+        r.detail = n == 0 ? "order: outside 1 .. 5" : (!transfer ? "transfer: null" : "env: null");
         return r;
     }
     float c = 0.0f;
@@ -544,12 +564,14 @@ inline PrtValue prt_shade(int order, const float* transfer, const float* env) {
     for (std::size_t i = 0; i < n; ++i) {
         if (!std::isfinite(transfer[i]) || !std::isfinite(env[i])) {
             r.status = Status::NonFinite;
+            r.detail = !std::isfinite(transfer[i]) ? "transfer: NaN or Inf" : "env: NaN or Inf";
             return r;
         }
         d += static_cast<double>(transfer[i]) * static_cast<double>(env[i]);
     }
     if (!detail::prt_fits(d)) {
         r.status = Status::Overflow;
+        r.detail = "value: beyond float range";
         return r;
     }
     r.status = Status::Ok;
@@ -567,12 +589,14 @@ inline PrtValue prt_shade(int order, const float* transfer, const float* env) {
 inline PrtResult prt_shade_mesh(int order, const float* transfers, std::size_t stride, std::size_t vertex_count,
                                 const glm::vec3* env, glm::vec3* out, std::size_t capacity) {
     const std::size_t n = prt_coefficient_count(order);
-    if (n == 0 || stride < n) return detail::prt_result(Status::InvalidArgument, 0, vertex_count);
-    if (vertex_count == 0) return detail::prt_result(Status::Ok, 0, 0);
-    if (!transfers || !env || !out) return detail::prt_result(Status::InvalidArgument, 0, vertex_count);
-    if (capacity < vertex_count) return detail::prt_result(Status::BufferTooSmall, 0, vertex_count);
+    if (n == 0 || stride < n)
+        return detail::prt_result(Status::InvalidArgument, 0, vertex_count, n == 0 ? "order: outside 1 .. 5" : "stride: below order^2");
+    if (vertex_count == 0) return detail::prt_result(Status::Ok, 0, 0, nullptr);
+    if (!transfers || !env || !out)
+        return detail::prt_result(Status::InvalidArgument, 0, vertex_count, !transfers ? "transfers: null" : (!env ? "env: null" : "out: null"));
+    if (capacity < vertex_count) return detail::prt_result(Status::BufferTooSmall, 0, vertex_count, "capacity: below vertex_count (see needed)");
     for (std::size_t i = 0; i < n; ++i)
-        if (!detail::prt_finite3(env[i])) return detail::prt_result(Status::NonFinite, 0, vertex_count);
+        if (!detail::prt_finite3(env[i])) return detail::prt_result(Status::NonFinite, 0, vertex_count, "env: NaN or Inf");
     // hot path: the float dot products, then one branch-free finiteness pass over the output;
     // vertices that came out non-finite are classified (NaN input or overflow) one by one
     for (std::size_t v = 0; v < vertex_count; ++v) {
@@ -585,10 +609,10 @@ inline PrtResult prt_shade_mesh(int order, const float* transfers, std::size_t s
         for (std::size_t v = 0; v < vertex_count; ++v) {
             if (detail::prt_finite3(out[v])) continue;
             const PrtRgbValue c = detail::prt_dot_rgb(n, transfers + v * stride, env);
-            if (c.status != Status::Ok) return detail::prt_result(c.status, 0, vertex_count);
+            if (c.status != Status::Ok) return detail::prt_result(c.status, 0, vertex_count, c.detail);
             out[v] = c.value;
         }
-    return detail::prt_result(Status::Ok, vertex_count, vertex_count);
+    return detail::prt_result(Status::Ok, vertex_count, vertex_count, nullptr);
 }
 
 // ---------------------------------------------------------------- clustered PCA compression
@@ -597,6 +621,7 @@ inline PrtResult prt_shade_mesh(int order, const float* transfers, std::size_t s
 /// and T_p ~ mean_c + sum_k w_pk basis_ck, k < components (orthonormal basis per cluster).
 struct PrtCpca {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int order = 0;
     int components = 0;                     ///< PCA vectors per cluster (besides the mean)
     std::size_t clusters = 0;
@@ -672,20 +697,32 @@ inline double prt_dist2(const float* a, const double* b, std::size_t n) {
 namespace detail {
 
 // Every used value finite (else NonFinite) with magnitude <= 1e30 (else InvalidArgument).
-inline Status prt_cpca_check_values(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count) {
+inline Status prt_cpca_check_values(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count,
+                                    const char*& why) {
     for (std::size_t v = 0; v < vertex_count; ++v)
         for (std::size_t i = 0; i < n; ++i) {
             const float x = transfers[v * stride + i];
             if (!std::isfinite(x)) {
-                return Status::NonFinite;
+                return why = "transfers: NaN or Inf", Status::NonFinite;
             }
             if (!(std::fabs(x) <= 1e30f)) {
-                return Status::InvalidArgument;
+                return why = "transfers: |value| > 1e30", Status::InvalidArgument;
             }
         }
     return Status::Ok;
 }
 
+// Where prt_cpca_compress's InvalidArgument came from (the first failing argument, in its order).
+inline const char* prt_cpca_why(std::size_t n, std::size_t stride, const PrtCpcaOptions& opt, std::size_t vertex_count,
+                                const float* transfers) {
+    if (n == 0) return "order: outside 1 .. 5";
+    if (stride < n) return "stride: below order^2";
+    if (opt.clusters == 0) return "clusters: 0";
+    if (opt.components < 0 || static_cast<std::size_t>(opt.components) > n) return "components: outside [0, order^2]";
+    if (opt.iterations < 0) return "iterations: < 0";
+    if (vertex_count == 0) return "vertex_count: 0";
+    return !transfers ? "transfers: null" : "vertex_count: too large";
+}
 // VQ (Sloan et al. 2003): farthest-point initialization from a seeded first center, then Lloyd
 // iterations; an empty cluster restarts at the worst-represented vertex. K centers of n doubles.
 inline void prt_cpca_vq(const float* transfers, std::size_t stride, std::size_t n, std::size_t vertex_count, std::size_t K,
@@ -828,9 +865,10 @@ inline PrtCpca prt_cpca_compress(int order, const float* transfers, std::size_t 
         static_cast<std::size_t>(opt.components) > n || opt.iterations < 0 || vertex_count == 0 || !transfers ||
         vertex_count > std::numeric_limits<std::size_t>::max() / stride) {
         out.status = Status::InvalidArgument;
+        out.detail = detail::prt_cpca_why(n, stride, opt, vertex_count, transfers);
         return out;
     }
-    const Status vs = detail::prt_cpca_check_values(transfers, stride, n, vertex_count);
+    const Status vs = detail::prt_cpca_check_values(transfers, stride, n, vertex_count, out.detail);
     if (vs != Status::Ok) {
         out.status = vs;
         return out;
@@ -873,12 +911,12 @@ inline bool prt_cpca_ok(const PrtCpca& cp) {
 /// disagree, out null), IndexOutOfRange (vertex >= vertex_count(), or a cluster id >= clusters),
 /// BufferTooSmall, Overflow (a coefficient does not fit a float).
 inline PrtResult prt_cpca_reconstruct(const PrtCpca& cp, std::size_t vertex, float* out, std::size_t capacity) {
-    if (!detail::prt_cpca_ok(cp)) return detail::prt_result(Status::InvalidArgument, 0, 0);
+    if (!detail::prt_cpca_ok(cp)) return detail::prt_result(Status::InvalidArgument, 0, 0, "cp: status not Ok (or inconsistent)");
     const std::size_t n = prt_coefficient_count(cp.order);
     if (vertex >= cp.vertex_count() || cp.cluster_of[vertex] >= cp.clusters)
-        return detail::prt_result(Status::IndexOutOfRange, 0, n);
-    if (!out) return detail::prt_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::prt_result(Status::BufferTooSmall, 0, n);
+        return detail::prt_result(Status::IndexOutOfRange, 0, n, "vertex: >= vertex_count (or its cluster out of range)");
+    if (!out) return detail::prt_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::prt_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     const std::size_t k = cp.cluster_of[vertex], C = static_cast<std::size_t>(cp.components);
     double acc[25];
     for (std::size_t i = 0; i < n; ++i) acc[i] = static_cast<double>(cp.means[k * n + i]);
@@ -886,13 +924,15 @@ inline PrtResult prt_cpca_reconstruct(const PrtCpca& cp, std::size_t vertex, flo
         for (std::size_t i = 0; i < n; ++i)
             acc[i] += static_cast<double>(cp.weights[vertex * C + c]) * static_cast<double>(cp.bases[(k * C + c) * n + i]);
     for (std::size_t i = 0; i < n; ++i)
-        if (!detail::prt_fits(acc[i])) return detail::prt_result(std::isnan(acc[i]) ? Status::NonFinite : Status::Overflow, 0, n);
+        if (!detail::prt_fits(acc[i]))
+            return detail::prt_result(std::isnan(acc[i]) ? Status::NonFinite : Status::Overflow, 0, n,
+                                      std::isnan(acc[i]) ? "cp: a NaN coefficient" : "out: a coefficient beyond float");
     for (std::size_t i = 0; i < n; ++i) out[i] = cp.means[k * n + i];
     for (std::size_t c = 0; c < C; ++c)
         for (std::size_t i = 0; i < n; ++i) out[i] += cp.weights[vertex * C + c] * cp.bases[(k * C + c) * n + i];
     for (std::size_t i = 0; i < n; ++i)
         if (!std::isfinite(out[i])) out[i] = static_cast<float>(acc[i]);  // float rounding past FLT_MAX
-    return detail::prt_result(Status::Ok, n, n);
+    return detail::prt_result(Status::Ok, n, n, nullptr);
 }
 
 /// Per-frame projections of the environment onto every cluster's mean and basis vectors:
@@ -903,21 +943,22 @@ inline PrtResult prt_cpca_reconstruct(const PrtCpca& cp, std::size_t vertex, flo
 /// out), NonFinite (NaN/Inf in env), Overflow (a projection does not fit a float).
 inline PrtResult prt_cpca_project_environment(const PrtCpca& cp, const glm::vec3* env, std::size_t env_count,
                                               glm::vec3* out, std::size_t capacity) {
-    if (!detail::prt_cpca_ok(cp)) return detail::prt_result(Status::InvalidArgument, 0, 0);
+    if (!detail::prt_cpca_ok(cp)) return detail::prt_result(Status::InvalidArgument, 0, 0, "cp: status not Ok (or inconsistent)");
     const std::size_t n = prt_coefficient_count(cp.order);
     const std::size_t C = static_cast<std::size_t>(cp.components), need = cp.clusters * (C + 1);
-    if (!env || !out) return detail::prt_result(Status::InvalidArgument, 0, need);
-    if (env_count < n || capacity < need) return detail::prt_result(Status::BufferTooSmall, 0, need);
+    if (!env || !out) return detail::prt_result(Status::InvalidArgument, 0, need, !env ? "env: null" : "out: null");
+    if (env_count < n || capacity < need)
+        return detail::prt_result(Status::BufferTooSmall, 0, need, env_count < n ? "env_count: below order^2" : "capacity: below needed (see needed)");
     for (std::size_t i = 0; i < n; ++i)
-        if (!detail::prt_finite3(env[i])) return detail::prt_result(Status::NonFinite, 0, need);
+        if (!detail::prt_finite3(env[i])) return detail::prt_result(Status::NonFinite, 0, need, "env: NaN or Inf");
     for (std::size_t k = 0; k < cp.clusters; ++k)
         for (std::size_t c = 0; c <= C; ++c) {
             const float* vec = c == 0 ? &cp.means[k * n] : &cp.bases[(k * C + c - 1) * n];
             const PrtRgbValue p = detail::prt_dot_rgb(n, vec, env);
-            if (p.status != Status::Ok) return detail::prt_result(p.status, 0, need);
+            if (p.status != Status::Ok) return detail::prt_result(p.status, 0, need, p.detail);
             out[k * (C + 1) + c] = p.value;
         }
-    return detail::prt_result(Status::Ok, need, need);
+    return detail::prt_result(Status::Ok, need, need, nullptr);
 }
 
 /// Exit radiance of one vertex from the per-cluster projections: R_k0 + sum_c w_pc R_kc.
@@ -930,11 +971,13 @@ inline PrtRgbValue prt_cpca_shade(const PrtCpca& cp, const glm::vec3* projected,
     // per-vertex hot path: only the checks that keep the reads in bounds
     if (cp.status != Status::Ok || !projected || cp.components < 0) {
         r.status = Status::InvalidArgument;
+        r.detail = !projected ? "projected: null" : "cp: status not Ok";
         return r;
     }
     const std::size_t C = static_cast<std::size_t>(cp.components);
     if (vertex >= cp.cluster_of.size() || cp.cluster_of[vertex] >= cp.clusters || (vertex + 1) * C > cp.weights.size()) {
         r.status = Status::IndexOutOfRange;
+        r.detail = "vertex: >= vertex_count (or its cluster out of range)";
         return r;
     }
     const std::size_t k = cp.cluster_of[vertex];
@@ -949,12 +992,14 @@ inline PrtRgbValue prt_cpca_shade(const PrtCpca& cp, const glm::vec3* projected,
     for (std::size_t j = 0; j <= C; ++j)
         if (!detail::prt_finite3(projected[k * (C + 1) + j])) {
             r.status = Status::NonFinite;
+            r.detail = "projected: NaN or Inf";
             return r;
         }
     for (std::size_t j = 0; j < C; ++j)
         d += static_cast<double>(cp.weights[vertex * C + j]) * glm::dvec3(projected[k * (C + 1) + 1 + j]);
     if (!detail::prt_fits(d.x) || !detail::prt_fits(d.y) || !detail::prt_fits(d.z)) {
         r.status = Status::Overflow;
+        r.detail = "value: beyond float range";
         return r;
     }
     r.status = Status::Ok;
@@ -971,11 +1016,13 @@ inline PrtRgbValue prt_cpca_shade(const PrtCpca& cp, const glm::vec3* projected,
 /// fit a float).
 inline PrtResult prt_cpca_shade_mesh(const PrtCpca& cp, const glm::vec3* projected, glm::vec3* out,
                                      std::size_t capacity) {
-    if (!detail::prt_cpca_ok(cp) || !projected || !out) return detail::prt_result(Status::InvalidArgument, 0, 0);
+    if (!detail::prt_cpca_ok(cp) || !projected || !out)
+        return detail::prt_result(Status::InvalidArgument, 0, 0,
+                                  !detail::prt_cpca_ok(cp) ? "cp: status not Ok (or inconsistent)" : (!projected ? "projected: null" : "out: null"));
     const std::size_t V = cp.vertex_count(), C = static_cast<std::size_t>(cp.components);
-    if (capacity < V) return detail::prt_result(Status::BufferTooSmall, 0, V);
+    if (capacity < V) return detail::prt_result(Status::BufferTooSmall, 0, V, "capacity: below vertex_count() (see needed)");
     for (std::size_t v = 0; v < V; ++v)
-        if (cp.cluster_of[v] >= cp.clusters) return detail::prt_result(Status::IndexOutOfRange, 0, V);
+        if (cp.cluster_of[v] >= cp.clusters) return detail::prt_result(Status::IndexOutOfRange, 0, V, "cp: a cluster index out of range");
     for (std::size_t v = 0; v < V; ++v) {
         const glm::vec3* p = projected + cp.cluster_of[v] * (C + 1);
         const float* w = cp.weights.data() + v * C;
@@ -987,10 +1034,10 @@ inline PrtResult prt_cpca_shade_mesh(const PrtCpca& cp, const glm::vec3* project
         for (std::size_t v = 0; v < V; ++v) {
             if (detail::prt_finite3(out[v])) continue;
             const PrtRgbValue c = prt_cpca_shade(cp, projected, v);
-            if (c.status != Status::Ok) return detail::prt_result(c.status, 0, V);
+            if (c.status != Status::Ok) return detail::prt_result(c.status, 0, V, c.detail);
             out[v] = c.value;
         }
-    return detail::prt_result(Status::Ok, V, V);
+    return detail::prt_result(Status::Ok, V, V, nullptr);
 }
 
 }  // namespace shadowkit

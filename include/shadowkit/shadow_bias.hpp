@@ -29,7 +29,8 @@
 // Normals need not be unit length. Results: a struct whose first member is `status`; `Ok`
 // only with finite outputs in their documented range; outcomes (a surface facing away, an edge-on
 // plane, a singular receiver Jacobian) are fields with Ok. Functions marked "total:" take any
-// input. No buffers, no allocation.
+// input. No buffers, no allocation. A non-Ok result's `detail` names the offending input and the rule
+// ("fov: outside (0, pi)"), a static string; nullptr when Ok.
 //
 // Based on:
 //   L. Williams, "Casting curved shadows on curved surfaces", SIGGRAPH 1978.
@@ -117,18 +118,21 @@ enum class BiasDepthMetric {
 /// A scalar result in world or uv units. `value` is 0 unless status is Ok.
 struct BiasValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;
 };
 
 /// A depth-precision result (steps, slopes, offsets: double keeps 2^-24 steps exact). 0 unless Ok.
 struct BiasDepthValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     double value = 0.0;
 };
 
 /// tan of the angle between a surface normal and the direction to the light.
 struct BiasTanAngle {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool faces_light = false;  ///< false (with Ok): the surface faces away from the light or contains its direction; value 0
     float value = 0.0f;        ///< tan(theta) >= 0 when faces_light
 };
@@ -136,6 +140,7 @@ struct BiasTanAngle {
 /// Depth gradient of a plane in a light's image plane.
 struct BiasDepthGradient {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool edge_on = false;   ///< true (with Ok): the plane (nearly) contains the light direction, the gradient is beyond float; dz_duv 0
     glm::vec2 dz_duv{0.0f}; ///< (dz/du, dz/dv), depth units per world unit on the light's image plane
 };
@@ -143,6 +148,7 @@ struct BiasDepthGradient {
 /// Receiver-plane depth gradient from screen-space derivatives.
 struct BiasReceiverPlane {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool singular = false;  ///< true (with Ok): the uv Jacobian is singular (seen edge-on); dz_duv 0: fall back to slope-scaled bias
     glm::vec2 dz_duv{0.0f}; ///< (dz/du, dz/dv) in window depth per uv
 };
@@ -150,6 +156,7 @@ struct BiasReceiverPlane {
 /// An offset lookup position.
 struct BiasPosition {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec3 position{0.0f};
 };
 
@@ -164,30 +171,40 @@ inline bool bias_valid_format(DepthFormat f) {
 }
 inline BiasValue bias_float(double v) {
     BiasValue r;
-    if (!bias_fits_float(v)) { r.status = Status::Overflow; return r; }
+    if (!bias_fits_float(v)) { r.status = Status::Overflow; r.detail = "result: beyond float range"; return r; }
     r.value = static_cast<float>(v);
     r.status = Status::Ok;
     return r;
 }
 inline BiasDepthValue bias_double(double v) {
     BiasDepthValue r;
-    if (!bias_fits_float(v)) { r.status = Status::Overflow; return r; }
+    if (!bias_fits_float(v)) { r.status = Status::Overflow; r.detail = "result: beyond float range"; return r; }
     r.value = v;
     r.status = Status::Ok;
     return r;
 }
 // The metric's domain: n finite > 0, f > n (+inf allowed except LinearNormalized), d finite > 0.
-inline Status bias_check_metric(BiasDepthMetric m, double d, double n, double f) {
+// `detail` receives where a non-Ok status came from (a static string).
+inline Status bias_check_metric(BiasDepthMetric m, double d, double n, double f, const char*& detail) {
     if (std::isnan(d) || std::isnan(n) || std::isnan(f) || std::isinf(d) || std::isinf(n) ||
-        f == -std::numeric_limits<double>::infinity())
+        f == -std::numeric_limits<double>::infinity()) {
+        detail = std::isnan(d) || std::isinf(d) ? "d: NaN or Inf" : (std::isnan(n) || std::isinf(n) ? "n: NaN or Inf" : "f: NaN or -Inf");
         return Status::NonFinite;
-    if (!(n > 0.0) || !(f > n) || !(d > 0.0)) return Status::InvalidArgument;
+    }
+    if (!(n > 0.0) || !(f > n) || !(d > 0.0)) {
+        detail = !(n > 0.0) ? "n: not > 0" : (!(f > n) ? "f: not > n" : "d: not > 0");
+        return Status::InvalidArgument;
+    }
     switch (m) {
     case BiasDepthMetric::PostProjective:
     case BiasDepthMetric::PostProjectiveReversed:
     case BiasDepthMetric::LinearDistance: return Status::Ok;
-    case BiasDepthMetric::LinearNormalized: return std::isinf(f) ? Status::InvalidArgument : Status::Ok;
+    case BiasDepthMetric::LinearNormalized:
+        if (!std::isinf(f)) return Status::Ok;
+        detail = "f: +inf with LinearNormalized";
+        return Status::InvalidArgument;
     }
+    detail = "m: unknown BiasDepthMetric";
     return Status::InvalidArgument;
 }
 inline double bias_metric_value(BiasDepthMetric m, double d, double n, double f) {
@@ -231,8 +248,8 @@ inline int bias_depth_format_bits(DepthFormat f) {
 /// Overflow for |v| beyond float (Float32).
 inline BiasDepthValue bias_quantize_depth(DepthFormat f, double v) {
     BiasDepthValue r;
-    if (!std::isfinite(v)) { r.status = Status::NonFinite; return r; }
-    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    if (!std::isfinite(v)) { r.status = Status::NonFinite; r.detail = "v: NaN or Inf"; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; r.detail = "f: unknown DepthFormat"; return r; }
     const int bits = bias_depth_format_bits(f);
     if (bits == 0) return detail::bias_double(static_cast<double>(static_cast<float>(v)));
     const double scale = std::ldexp(1.0, bits) - 1.0;
@@ -245,8 +262,8 @@ inline BiasDepthValue bias_quantize_depth(DepthFormat f, double v) {
 /// NonFinite for NaN/Inf v, InvalidArgument for an unknown format, Overflow at |v| >= FLT_MAX.
 inline BiasDepthValue bias_depth_format_step(DepthFormat f, double v) {
     BiasDepthValue r;
-    if (!std::isfinite(v)) { r.status = Status::NonFinite; return r; }
-    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    if (!std::isfinite(v)) { r.status = Status::NonFinite; r.detail = "v: NaN or Inf"; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; r.detail = "f: unknown DepthFormat"; return r; }
     return detail::bias_double(detail::bias_format_step(f, v));
 }
 
@@ -263,7 +280,7 @@ inline BiasDepthValue bias_depth_format_step(DepthFormat f, double v) {
 /// Overflow beyond float range.
 inline BiasDepthValue bias_depth_metric_value(BiasDepthMetric m, double d, double n, double f) {
     BiasDepthValue r;
-    r.status = detail::bias_check_metric(m, d, n, f);
+    r.status = detail::bias_check_metric(m, d, n, f, r.detail);
     if (r.status != Status::Ok) return r;
     return detail::bias_double(detail::bias_metric_value(m, d, n, f));
 }
@@ -273,10 +290,10 @@ inline BiasDepthValue bias_depth_metric_value(BiasDepthMetric m, double d, doubl
 /// bias_depth_metric_value; Overflow also when the slope underflows to 0.
 inline BiasDepthValue bias_depth_metric_slope(BiasDepthMetric m, double d, double n, double f) {
     BiasDepthValue r;
-    r.status = detail::bias_check_metric(m, d, n, f);
+    r.status = detail::bias_check_metric(m, d, n, f, r.detail);
     if (r.status != Status::Ok) return r;
     const double s = detail::bias_metric_slope(m, d, n, f);
-    if (!(s > 0.0)) { r.status = Status::Overflow; return r; }
+    if (!(s > 0.0)) { r.status = Status::Overflow; r.detail = "d: slope underflows to 0"; return r; }
     return detail::bias_double(s);
 }
 
@@ -293,11 +310,13 @@ inline BiasDepthValue bias_window_from_world(double bias_world, BiasDepthMetric 
     BiasDepthValue r;
     if (!(bias_world >= 0.0) || std::isinf(bias_world)) {
         r.status = std::isnan(bias_world) || std::isinf(bias_world) ? Status::NonFinite : Status::InvalidArgument;
+        r.detail = r.status == Status::NonFinite ? "bias_world: NaN or Inf" : "bias_world: < 0";
         return r;
     }
     const BiasDepthValue s = bias_depth_metric_slope(m, d, n, f);
     if (s.status != Status::Ok) {
         r.status = s.status;
+        r.detail = s.detail;
         return r;
     }
     return detail::bias_double(bias_world * s.value);
@@ -309,11 +328,13 @@ inline BiasDepthValue bias_world_from_window(double bias_window, BiasDepthMetric
     BiasDepthValue r;
     if (!(bias_window >= 0.0) || std::isinf(bias_window)) {
         r.status = std::isnan(bias_window) || std::isinf(bias_window) ? Status::NonFinite : Status::InvalidArgument;
+        r.detail = r.status == Status::NonFinite ? "bias_window: NaN or Inf" : "bias_window: < 0";
         return r;
     }
     const BiasDepthValue s = bias_depth_metric_slope(m, d, n, f);
     if (s.status != Status::Ok) {
         r.status = s.status;
+        r.detail = s.detail;
         return r;
     }
     return detail::bias_double(bias_window / s.value);
@@ -331,16 +352,18 @@ inline BiasDepthValue bias_world_from_window(double bias_window, BiasDepthMetric
 /// for LinearDistance with a UNORM format or an unknown format; Overflow beyond float range.
 inline BiasDepthValue bias_depth_metric_resolution(BiasDepthMetric m, DepthFormat fmt, double d, double n, double f) {
     BiasDepthValue r;
-    r.status = detail::bias_check_metric(m, d, n, f);
+    r.status = detail::bias_check_metric(m, d, n, f, r.detail);
     if (r.status != Status::Ok) return r;
     if (!(d >= n && d <= f) || !detail::bias_valid_format(fmt) ||
         (m == BiasDepthMetric::LinearDistance && fmt != DepthFormat::Float32)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(d >= n && d <= f) ? "d: outside [n, f]"
+                   : (!detail::bias_valid_format(fmt) ? "fmt: unknown DepthFormat" : "fmt: UNORM with LinearDistance");
         return r;
     }
     const double slope = detail::bias_metric_slope(m, d, n, f);
     const double v = detail::bias_format_step(fmt, detail::bias_metric_value(m, d, n, f)) / slope;
-    if (!(slope > 0.0) || !(v > 0.0)) { r.status = Status::Overflow; return r; }
+    if (!(slope > 0.0) || !(v > 0.0)) { r.status = Status::Overflow; r.detail = "d: slope or step underflows to 0"; return r; }
     return detail::bias_double(v);
 }
 
@@ -352,9 +375,14 @@ inline BiasDepthValue bias_depth_metric_resolution(BiasDepthMetric m, DepthForma
 /// above pi), Overflow beyond float range.
 inline BiasValue bias_texel_world_size_perspective(float d, float fov, float resolution) {
     BiasValue r;
-    if (!std::isfinite(d) || !std::isfinite(fov) || !std::isfinite(resolution)) { r.status = Status::NonFinite; return r; }
+    if (!std::isfinite(d) || !std::isfinite(fov) || !std::isfinite(resolution)) {
+        r.status = Status::NonFinite;
+        r.detail = !std::isfinite(d) ? "d: NaN or Inf" : (!std::isfinite(fov) ? "fov: NaN or Inf" : "resolution: NaN or Inf");
+        return r;
+    }
     if (!(d >= 0.0f) || !(fov > 0.0f && static_cast<double>(fov) < 3.14159265358979323846) || !(resolution > 0.0f)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(d >= 0.0f) ? "d: < 0" : (!(resolution > 0.0f) ? "resolution: not > 0" : "fov: outside (0, pi)");
         return r;
     }
     return detail::bias_float(2.0 * static_cast<double>(d) * std::tan(0.5 * static_cast<double>(fov)) /
@@ -365,8 +393,16 @@ inline BiasValue bias_texel_world_size_perspective(float d, float fov, float res
 /// width / resolution (finite > 0). Statuses as bias_texel_world_size_perspective.
 inline BiasValue bias_texel_world_size_ortho(float width, float resolution) {
     BiasValue r;
-    if (!std::isfinite(width) || !std::isfinite(resolution)) { r.status = Status::NonFinite; return r; }
-    if (!(width >= 0.0f) || !(resolution > 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    if (!std::isfinite(width) || !std::isfinite(resolution)) {
+        r.status = Status::NonFinite;
+        r.detail = !std::isfinite(width) ? "width: NaN or Inf" : "resolution: NaN or Inf";
+        return r;
+    }
+    if (!(width >= 0.0f) || !(resolution > 0.0f)) {
+        r.status = Status::InvalidArgument;
+        r.detail = !(width >= 0.0f) ? "width: < 0" : "resolution: not > 0";
+        return r;
+    }
     return detail::bias_float(static_cast<double>(width) / static_cast<double>(resolution));
 }
 
@@ -395,9 +431,17 @@ inline bool bias_shadow_test_lit(float receiver, float stored, float bias, bool 
 /// InvalidArgument for a zero vector, Overflow when tan exceeds FLT_MAX (n . l < ~3e-39 |n| |l|).
 inline BiasTanAngle bias_light_tan_angle(glm::vec3 normal, glm::vec3 to_light) {
     BiasTanAngle r;
-    if (!detail::bias_finite(normal) || !detail::bias_finite(to_light)) { r.status = Status::NonFinite; return r; }
+    if (!detail::bias_finite(normal) || !detail::bias_finite(to_light)) {
+        r.status = Status::NonFinite;
+        r.detail = !detail::bias_finite(normal) ? "normal: NaN or Inf" : "to_light: NaN or Inf";
+        return r;
+    }
     const glm::dvec3 n(normal), l(to_light);
-    if (glm::dot(n, n) == 0.0 || glm::dot(l, l) == 0.0) { r.status = Status::InvalidArgument; return r; }
+    if (glm::dot(n, n) == 0.0 || glm::dot(l, l) == 0.0) {
+        r.status = Status::InvalidArgument;
+        r.detail = glm::dot(n, n) == 0.0 ? "normal: zero" : "to_light: zero";
+        return r;
+    }
     // Scale both to a max component of 1 first: squares of 3e38 or 1e-45 stay normal in double.
     const glm::dvec3 nn = n / std::fmax(std::fabs(n.x), std::fmax(std::fabs(n.y), std::fabs(n.z)));
     const glm::dvec3 ll = l / std::fmax(std::fabs(l.x), std::fmax(std::fabs(l.y), std::fabs(l.z)));
@@ -405,7 +449,7 @@ inline BiasTanAngle bias_light_tan_angle(glm::vec3 normal, glm::vec3 to_light) {
     r.status = Status::Ok;
     if (!(c > 0.0)) return r;
     const double t = glm::length(glm::cross(nn, ll)) / c;
-    if (!detail::bias_fits_float(t)) { r.status = Status::Overflow; return r; }
+    if (!detail::bias_fits_float(t)) { r.status = Status::Overflow; r.detail = "result: tan beyond float range"; return r; }
     r.faces_light = true;
     r.value = static_cast<float>(t);
     return r;
@@ -422,10 +466,17 @@ inline BiasDepthGradient bias_plane_depth_gradient(glm::vec3 normal, glm::vec3 r
     if (!detail::bias_finite(normal) || !detail::bias_finite(right) || !detail::bias_finite(up) ||
         !detail::bias_finite(forward)) {
         g.status = Status::NonFinite;
+        g.detail = !detail::bias_finite(normal) ? "normal: NaN or Inf"
+                   : (!detail::bias_finite(right) ? "right: NaN or Inf"
+                                                  : (!detail::bias_finite(up) ? "up: NaN or Inf" : "forward: NaN or Inf"));
         return g;
     }
     const glm::dvec3 n(normal), f(forward);
-    if (glm::dot(n, n) == 0.0 || glm::dot(f, f) == 0.0) { g.status = Status::InvalidArgument; return g; }
+    if (glm::dot(n, n) == 0.0 || glm::dot(f, f) == 0.0) {
+        g.status = Status::InvalidArgument;
+        g.detail = glm::dot(n, n) == 0.0 ? "normal: zero" : "forward: zero";
+        return g;
+    }
     g.status = Status::Ok;
     const double nf = glm::dot(n, f);
     const double gu = -glm::dot(n, glm::dvec3(right)) / nf, gv = -glm::dot(n, glm::dvec3(up)) / nf;
@@ -443,8 +494,12 @@ inline BiasDepthGradient bias_plane_depth_gradient(glm::vec3 normal, glm::vec3 r
 /// texel_world finite >= 0. NonFinite for NaN/Inf, InvalidArgument for texel_world < 0, Overflow.
 inline BiasValue bias_texel_depth_delta(glm::vec2 dz_duv, float texel_world) {
     BiasValue r;
-    if (!detail::bias_finite(dz_duv) || !std::isfinite(texel_world)) { r.status = Status::NonFinite; return r; }
-    if (!(texel_world >= 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    if (!detail::bias_finite(dz_duv) || !std::isfinite(texel_world)) {
+        r.status = Status::NonFinite;
+        r.detail = !detail::bias_finite(dz_duv) ? "dz_duv: NaN or Inf" : "texel_world: NaN or Inf";
+        return r;
+    }
+    if (!(texel_world >= 0.0f)) { r.status = Status::InvalidArgument; r.detail = "texel_world: < 0"; return r; }
     return detail::bias_float(0.5 * static_cast<double>(texel_world) *
                               (std::fabs(static_cast<double>(dz_duv.x)) + std::fabs(static_cast<double>(dz_duv.y))));
 }
@@ -465,11 +520,18 @@ inline BiasValue bias_slope_scaled(float texel_world, float tan_theta, float slo
     if (!std::isfinite(texel_world) || std::isnan(tan_theta) || tan_theta == -std::numeric_limits<float>::infinity() ||
         !std::isfinite(slope_scale) || !std::isfinite(constant) || !std::isfinite(max_tan)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(texel_world) ? "texel_world: NaN or Inf"
+                   : (std::isnan(tan_theta) || tan_theta == -std::numeric_limits<float>::infinity() ? "tan_theta: NaN or -Inf"
+                   : (!std::isfinite(slope_scale) ? "slope_scale: NaN or Inf"
+                   : (!std::isfinite(constant) ? "constant: NaN or Inf" : "max_tan: NaN or Inf")));
         return r;
     }
     if (!(texel_world >= 0.0f) || !(tan_theta >= 0.0f) || !(slope_scale >= 0.0f) || !(constant >= 0.0f) ||
         !(max_tan > 0.0f)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(texel_world >= 0.0f) ? "texel_world: < 0"
+                   : (!(tan_theta >= 0.0f) ? "tan_theta: < 0"
+                   : (!(slope_scale >= 0.0f) ? "slope_scale: < 0" : (!(constant >= 0.0f) ? "constant: < 0" : "max_tan: not > 0")));
         return r;
     }
     const double t = tan_theta > max_tan ? static_cast<double>(max_tan) : static_cast<double>(tan_theta);
@@ -483,8 +545,8 @@ inline BiasValue bias_slope_scaled(float texel_world, float tan_theta, float slo
 /// max_window_z, InvalidArgument for an unknown format.
 inline BiasDepthValue bias_polygon_offset_r(DepthFormat f, float max_window_z) {
     BiasDepthValue r;
-    if (!std::isfinite(max_window_z)) { r.status = Status::NonFinite; return r; }
-    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    if (!std::isfinite(max_window_z)) { r.status = Status::NonFinite; r.detail = "max_window_z: NaN or Inf"; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; r.detail = "f: unknown DepthFormat"; return r; }
     const int bits = bias_depth_format_bits(f);
     r.status = Status::Ok;
     if (bits != 0) { r.value = std::ldexp(1.0, -bits); return r; }
@@ -508,10 +570,12 @@ inline BiasDepthValue bias_polygon_offset(float factor, float units, float dzdx,
     BiasDepthValue r;
     if (!std::isfinite(factor) || !std::isfinite(units) || !std::isfinite(dzdx) || !std::isfinite(dzdy)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(factor) ? "factor: NaN or Inf"
+                   : (!std::isfinite(units) ? "units: NaN or Inf" : (!std::isfinite(dzdx) ? "dzdx: NaN or Inf" : "dzdy: NaN or Inf"));
         return r;
     }
     const BiasDepthValue rr = bias_polygon_offset_r(f, max_window_z);
-    if (rr.status != Status::Ok) { r.status = rr.status; return r; }
+    if (rr.status != Status::Ok) { r.status = rr.status; r.detail = rr.detail; return r; }
     const double ax = std::fabs(static_cast<double>(dzdx)), ay = std::fabs(static_cast<double>(dzdy));
     const double m = exact_m ? std::sqrt(ax * ax + ay * ay) : (ax > ay ? ax : ay);
     return detail::bias_double(m * static_cast<double>(factor) + rr.value * static_cast<double>(units));
@@ -524,11 +588,11 @@ inline BiasDepthValue bias_polygon_offset(float factor, float units, float dzdx,
 inline BiasDepthValue bias_polygon_offset_units_for_world_bias(double world_bias, BiasDepthMetric m, DepthFormat fmt,
                                                                double d, double n, double f) {
     BiasDepthValue r;
-    if (!std::isfinite(world_bias)) { r.status = Status::NonFinite; return r; }
+    if (!std::isfinite(world_bias)) { r.status = Status::NonFinite; r.detail = "world_bias: NaN or Inf"; return r; }
     const BiasDepthValue v = bias_depth_metric_value(m, d, n, f);
-    if (v.status != Status::Ok) { r.status = v.status; return r; }
+    if (v.status != Status::Ok) { r.status = v.status; r.detail = v.detail; return r; }
     const BiasDepthValue rr = bias_polygon_offset_r(fmt, static_cast<float>(v.value));
-    if (rr.status != Status::Ok) { r.status = rr.status; return r; }
+    if (rr.status != Status::Ok) { r.status = rr.status; r.detail = rr.status == Status::InvalidArgument ? "fmt: unknown DepthFormat" : rr.detail; return r; }
     return detail::bias_double(world_bias * detail::bias_metric_slope(m, d, n, f) / rr.value);
 }
 
@@ -555,11 +619,23 @@ inline BiasPosition bias_normal_offset_position(glm::vec3 p, glm::vec3 normal, g
     if (!detail::bias_finite(p) || !detail::bias_finite(normal) || !detail::bias_finite(to_light) ||
         !std::isfinite(texel_world) || !std::isfinite(scale)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::bias_finite(p) ? "p: NaN or Inf"
+                   : (!detail::bias_finite(normal) ? "normal: NaN or Inf"
+                   : (!detail::bias_finite(to_light) ? "to_light: NaN or Inf"
+                   : (!std::isfinite(texel_world) ? "texel_world: NaN or Inf" : "scale: NaN or Inf")));
         return r;
     }
-    if (!(texel_world >= 0.0f) || !(scale >= 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    if (!(texel_world >= 0.0f) || !(scale >= 0.0f)) {
+        r.status = Status::InvalidArgument;
+        r.detail = !(texel_world >= 0.0f) ? "texel_world: < 0" : "scale: < 0";
+        return r;
+    }
     const glm::dvec3 n0(normal), l0(to_light);
-    if (glm::dot(n0, n0) == 0.0 || glm::dot(l0, l0) == 0.0) { r.status = Status::InvalidArgument; return r; }
+    if (glm::dot(n0, n0) == 0.0 || glm::dot(l0, l0) == 0.0) {
+        r.status = Status::InvalidArgument;
+        r.detail = glm::dot(n0, n0) == 0.0 ? "normal: zero" : "to_light: zero";
+        return r;
+    }
     const glm::dvec3 nn = n0 / std::fmax(std::fabs(n0.x), std::fmax(std::fabs(n0.y), std::fabs(n0.z)));
     const glm::dvec3 ll = l0 / std::fmax(std::fabs(l0.x), std::fmax(std::fabs(l0.y), std::fabs(l0.z)));
     const glm::dvec3 n = nn / glm::length(nn), l = ll / glm::length(ll);
@@ -567,6 +643,7 @@ inline BiasPosition bias_normal_offset_position(glm::vec3 p, glm::vec3 normal, g
     const glm::dvec3 q = glm::dvec3(p) + n * (static_cast<double>(scale) * static_cast<double>(texel_world) * s);
     if (!detail::bias_fits_float(q.x) || !detail::bias_fits_float(q.y) || !detail::bias_fits_float(q.z)) {
         r.status = Status::Overflow;
+        r.detail = "position: beyond float range";
         return r;
     }
     r.position = glm::vec3(q);
@@ -592,7 +669,11 @@ inline BiasPosition bias_normal_offset_position(glm::vec3 p, glm::vec3 normal, g
 /// pixel-quad derivatives straddle two surfaces).
 inline BiasReceiverPlane bias_receiver_plane_depth_gradient(glm::vec3 duvz_dx, glm::vec3 duvz_dy) {
     BiasReceiverPlane g;
-    if (!detail::bias_finite(duvz_dx) || !detail::bias_finite(duvz_dy)) { g.status = Status::NonFinite; return g; }
+    if (!detail::bias_finite(duvz_dx) || !detail::bias_finite(duvz_dy)) {
+        g.status = Status::NonFinite;
+        g.detail = !detail::bias_finite(duvz_dx) ? "duvz_dx: NaN or Inf" : "duvz_dy: NaN or Inf";
+        return g;
+    }
     const double a = duvz_dx.x, b = duvz_dx.y, c = duvz_dy.x, d = duvz_dy.y;
     const double det = a * d - b * c;
     const double scale = (std::fabs(a) + std::fabs(b)) * (std::fabs(c) + std::fabs(d));
@@ -603,7 +684,11 @@ inline BiasReceiverPlane bias_receiver_plane_depth_gradient(glm::vec3 duvz_dx, g
     }
     const double zx = duvz_dx.z, zy = duvz_dy.z;
     const double gu = (d * zx - b * zy) / det, gv = (a * zy - c * zx) / det;
-    if (!detail::bias_fits_float(gu) || !detail::bias_fits_float(gv)) { g.status = Status::Overflow; return g; }
+    if (!detail::bias_fits_float(gu) || !detail::bias_fits_float(gv)) {
+        g.status = Status::Overflow;
+        g.detail = "dz_duv: beyond float range";
+        return g;
+    }
     g.dz_duv = glm::vec2(static_cast<float>(gu), static_cast<float>(gv));
     return g;
 }
@@ -614,6 +699,7 @@ inline BiasValue bias_receiver_plane_depth(float z, glm::vec2 dz_duv, glm::vec2 
     BiasValue r;
     if (!std::isfinite(z) || !detail::bias_finite(dz_duv) || !detail::bias_finite(offset_uv)) {
         r.status = Status::NonFinite;
+        r.detail = !std::isfinite(z) ? "z: NaN or Inf" : (!detail::bias_finite(dz_duv) ? "dz_duv: NaN or Inf" : "offset_uv: NaN or Inf");
         return r;
     }
     return detail::bias_float(static_cast<double>(z) + static_cast<double>(dz_duv.x) * static_cast<double>(offset_uv.x) +
@@ -625,8 +711,12 @@ inline BiasValue bias_receiver_plane_depth(float z, glm::vec2 dz_duv, glm::vec2 
 /// texel size in uv, >= 0). NonFinite for NaN/Inf, InvalidArgument for a negative texel, Overflow.
 inline BiasValue bias_receiver_plane_texel_bias(glm::vec2 dz_duv, glm::vec2 texel_uv) {
     BiasValue r;
-    if (!detail::bias_finite(dz_duv) || !detail::bias_finite(texel_uv)) { r.status = Status::NonFinite; return r; }
-    if (!(texel_uv.x >= 0.0f) || !(texel_uv.y >= 0.0f)) { r.status = Status::InvalidArgument; return r; }
+    if (!detail::bias_finite(dz_duv) || !detail::bias_finite(texel_uv)) {
+        r.status = Status::NonFinite;
+        r.detail = !detail::bias_finite(dz_duv) ? "dz_duv: NaN or Inf" : "texel_uv: NaN or Inf";
+        return r;
+    }
+    if (!(texel_uv.x >= 0.0f) || !(texel_uv.y >= 0.0f)) { r.status = Status::InvalidArgument; r.detail = "texel_uv: < 0"; return r; }
     return detail::bias_float(0.5 * (std::fabs(static_cast<double>(dz_duv.x)) * static_cast<double>(texel_uv.x) +
                                      std::fabs(static_cast<double>(dz_duv.y)) * static_cast<double>(texel_uv.y)));
 }
@@ -653,9 +743,15 @@ inline BiasValue bias_second_depth_value(float z1, float z2, float max_offset = 
     if (std::isnan(z1) || std::isnan(z2) || std::isnan(max_offset) || !std::isfinite(lo) ||
         max_offset == -std::numeric_limits<float>::infinity()) {
         r.status = Status::NonFinite;
+        r.detail = std::isnan(z1) || std::isnan(z2) ? "z1, z2: NaN" : (std::isnan(max_offset) ? "max_offset: NaN"
+                   : (!std::isfinite(lo) ? "z1, z2: the smaller is Inf" : "max_offset: -Inf"));
         return r;
     }
-    if (!(max_offset >= 0.0f) || (std::isinf(hi) && std::isinf(max_offset))) { r.status = Status::InvalidArgument; return r; }
+    if (!(max_offset >= 0.0f) || (std::isinf(hi) && std::isinf(max_offset))) {
+        r.status = Status::InvalidArgument;
+        r.detail = !(max_offset >= 0.0f) ? "max_offset: < 0" : "max_offset: +inf with an infinite z1 or z2";
+        return r;
+    }
     const double half = std::isinf(hi) ? std::numeric_limits<double>::infinity()
                                         : 0.5 * (static_cast<double>(hi) - static_cast<double>(lo));
     const double cap = static_cast<double>(max_offset);
@@ -696,6 +792,7 @@ inline BiasValue bias_second_depth_value(float z1, float z2, float max_offset = 
 /// The receiver plane's window-depth gradient in a shadow map, from the surface normal.
 struct BiasPlaneGradient {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool edge_on = false;     ///< true (with Ok): the plane (nearly) contains the light ray through p (conditioning <= 1e-4); dz_duv 0
     glm::vec4 coord{0.0f};    ///< (u, v, window z, clip w) of p, as sk_shadow_coord
     glm::vec2 dz_duv{0.0f};   ///< window depth per uv
@@ -708,6 +805,7 @@ struct BiasPlaneGradient {
 /// The automatic bias's lookup: the 2x2 filter as four compares at texel centres.
 struct BiasAutoLookup {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool outside = false;       ///< true (with Ok): p is behind the light or outside the map (uv or window z outside [0, 1]): no compare
     bool edge_on = false;       ///< true (with Ok): the plane contains the light ray through p: no compare, lit
     glm::vec4 coord{0.0f};      ///< (u, v, window z, clip w) of p
@@ -744,18 +842,22 @@ inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, C
     BiasPlaneGradient r;
     if (!detail::bias_finite(light_view_proj) || !detail::bias_finite(world_pos) || !detail::bias_finite(normal)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::bias_finite(light_view_proj) ? "light_view_proj: NaN or Inf"
+                   : (!detail::bias_finite(world_pos) ? "world_pos: NaN or Inf" : "normal: NaN or Inf");
         return r;
     }
     const double nl = std::sqrt(static_cast<double>(normal.x) * normal.x + static_cast<double>(normal.y) * normal.y +
                                 static_cast<double>(normal.z) * normal.z);
     if (!(nl > 0.0) || (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(nl > 0.0) ? "normal: zero" : "clip: unknown ClipDepth";
         return r;
     }
     const glm::mat4& m = light_view_proj;
     const glm::vec4 c = m * glm::vec4(world_pos, 1.0f);
     if (!(c.w > 0.0f) || !std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(c.w)) {
         r.status = c.w > 0.0f ? Status::Overflow : Status::InvalidArgument;
+        r.detail = c.w > 0.0f ? "world_pos: clip coordinates beyond float" : "world_pos: behind the light (clip w <= 0)";
         return r;
     }
     const bool z01 = clip == ClipDepth::ZeroToOne;
@@ -763,6 +865,7 @@ inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, C
     if (!detail::bias_finite(glm::vec3(r.coord))) {  // c / w beyond float (w tiny)
         r = BiasPlaneGradient{};
         r.status = Status::Overflow;
+        r.detail = "world_pos: c / w beyond float";
         return r;
     }
     const glm::vec3 ndc = glm::vec3(c) / c.w;
@@ -776,6 +879,7 @@ inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, C
     if (!std::isfinite(pos_err)) {
         r = BiasPlaneGradient{};
         r.status = Status::Overflow;
+        r.detail = "world_pos: position error beyond float";
         return r;
     }
     r.position_error = pos_err;
@@ -799,6 +903,7 @@ inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, C
     if (!std::isfinite(gu) || !std::isfinite(gv)) {
         r = BiasPlaneGradient{};
         r.status = Status::Overflow;
+        r.detail = "dz_duv: beyond float range";
         return r;
     }
     r.dz_duv = glm::vec2(gu, gv);
@@ -811,7 +916,7 @@ inline BiasPlaneGradient bias_plane_gradient(const glm::mat4& light_view_proj, C
 /// InvalidArgument for an unknown format.
 inline BiasValue bias_auto_depth_step(DepthFormat f) {
     BiasValue r;
-    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; return r; }
+    if (!detail::bias_valid_format(f)) { r.status = Status::InvalidArgument; r.detail = "f: unknown DepthFormat"; return r; }
     r.value = f == DepthFormat::Fixed16 ? static_cast<float>(1.0 / 65535.0)
                                         : (f == DepthFormat::Fixed24 ? static_cast<float>(1.0 / 16777215.0) : 0.0f);
     r.status = Status::Ok;
@@ -829,18 +934,26 @@ inline BiasValue bias_auto_epsilon(glm::vec2 dz_duv, float conditioning, float p
     if (!detail::bias_finite(dz_duv) || !detail::bias_finite(texel_uv) || !std::isfinite(z) ||
         !std::isfinite(conditioning) || !std::isfinite(depth_step) || !std::isfinite(position_error)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::bias_finite(dz_duv) ? "dz_duv: NaN or Inf"
+                   : (!detail::bias_finite(texel_uv) ? "texel_uv: NaN or Inf"
+                   : (!std::isfinite(z) ? "z: NaN or Inf"
+                   : (!std::isfinite(conditioning) ? "conditioning: NaN or Inf"
+                   : (!std::isfinite(depth_step) ? "depth_step: NaN or Inf" : "position_error: NaN or Inf"))));
         return r;
     }
     if (!(texel_uv.x > 0.0f) || !(texel_uv.y > 0.0f) || !(conditioning > 0.0f) || conditioning > 1.0f ||
         !(depth_step >= 0.0f) || !(position_error >= 0.0f)) {
         r.status = Status::InvalidArgument;
+        r.detail = !(texel_uv.x > 0.0f) || !(texel_uv.y > 0.0f) ? "texel_uv: not > 0"
+                   : (!(conditioning > 0.0f) || conditioning > 1.0f ? "conditioning: outside (0, 1]"
+                   : (!(depth_step >= 0.0f) ? "depth_step: < 0" : "position_error: < 0"));
         return r;
     }
     const float float_term = reversed_z ? 4.76837158e-7f * std::fabs(z) + 1.17549435e-38f : 4.76837158e-7f * (1.0f + std::fabs(z));
     const float plane = std::fabs(dz_duv.x) * texel_uv.x + std::fabs(dz_duv.y) * texel_uv.y;
     const float cond = conditioning > 1e-4f ? conditioning : 1e-4f;
     const float e = 2.0f * depth_step + float_term + 2.0f * position_error + plane * (0.125f + 9.53674316e-7f + 2.38418579e-7f / cond);
-    if (!std::isfinite(e)) { r.status = Status::Overflow; return r; }
+    if (!std::isfinite(e)) { r.status = Status::Overflow; r.detail = "epsilon: beyond float range"; return r; }
     r.value = e;
     r.status = Status::Ok;
     return r;
@@ -855,9 +968,15 @@ inline BiasValue bias_auto_epsilon(glm::vec2 dz_duv, float conditioning, float p
 inline BiasAutoLookup bias_auto_lookup(const glm::mat4& light_view_proj, ClipDepth clip, bool reversed_z, glm::vec3 world_pos,
                                        glm::vec3 normal, glm::ivec2 map_size, DepthFormat format) {
     BiasAutoLookup a;
-    if (map_size.x < 1 || map_size.y < 1 || !detail::bias_valid_format(format)) { a.status = Status::InvalidArgument; return a; }
+    if (map_size.x < 1 || map_size.y < 1 || !detail::bias_valid_format(format)) {
+        a.status = Status::InvalidArgument;
+        a.detail = map_size.x < 1 || map_size.y < 1 ? "map_size: < 1" : "format: unknown DepthFormat";
+        return a;
+    }
     if (!detail::bias_finite(light_view_proj) || !detail::bias_finite(world_pos) || !detail::bias_finite(normal)) {
         a.status = Status::NonFinite;
+        a.detail = !detail::bias_finite(light_view_proj) ? "light_view_proj: NaN or Inf"
+                   : (!detail::bias_finite(world_pos) ? "world_pos: NaN or Inf" : "normal: NaN or Inf");
         return a;
     }
     const glm::vec4 c = light_view_proj * glm::vec4(world_pos, 1.0f);
@@ -865,26 +984,31 @@ inline BiasAutoLookup bias_auto_lookup(const glm::mat4& light_view_proj, ClipDep
     const glm::vec4 coord = c.w > 0.0f ? detail::bias_coord(light_view_proj, world_pos, z01) : glm::vec4(0.0f);
     if (!detail::bias_finite(glm::vec3(c)) || !std::isfinite(c.w) || !detail::bias_finite(glm::vec3(coord))) {
         a.status = Status::Overflow;  // the transform or c / w beyond float
+        a.detail = "world_pos: clip coordinates or c / w beyond float";
         return a;
     }
     if (!(c.w > 0.0f) || !(coord.x >= 0.0f && coord.x <= 1.0f && coord.y >= 0.0f && coord.y <= 1.0f && coord.z >= 0.0f &&
                            coord.z <= 1.0f)) {
-        if (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne) { a.status = Status::InvalidArgument; return a; }
-        if (glm::dot(normal, normal) == 0.0f) { a.status = Status::InvalidArgument; return a; }
+        if (clip != ClipDepth::NegativeOneToOne && clip != ClipDepth::ZeroToOne) {
+            a.status = Status::InvalidArgument;
+            a.detail = "clip: unknown ClipDepth";
+            return a;
+        }
+        if (glm::dot(normal, normal) == 0.0f) { a.status = Status::InvalidArgument; a.detail = "normal: zero"; return a; }
         a.outside = true;
         a.coord = coord;
         a.status = Status::Ok;
         return a;
     }
     const BiasPlaneGradient g = bias_plane_gradient(light_view_proj, clip, world_pos, normal);
-    if (g.status != Status::Ok) { a.status = g.status; return a; }
+    if (g.status != Status::Ok) { a.status = g.status; a.detail = g.detail; return a; }
     a.coord = g.coord;
     if (g.edge_on) { a.edge_on = true; a.status = Status::Ok; return a; }
     const glm::vec2 size(static_cast<float>(map_size.x), static_cast<float>(map_size.y));
     const glm::vec2 texel = 1.0f / size;
     const BiasValue dstep = bias_auto_depth_step(format);
     const BiasValue eps = bias_auto_epsilon(g.dz_duv, g.conditioning, g.position_error, texel, g.coord.z, dstep.value, reversed_z);
-    if (eps.status != Status::Ok) { a.status = eps.status; return a; }
+    if (eps.status != Status::Ok) { a.status = eps.status; a.detail = eps.detail; return a; }
     const glm::vec2 f = glm::vec2(g.coord) * size - 0.5f;
     const glm::vec2 i0(std::floor(f.x), std::floor(f.y));
     const glm::vec2 w = f - i0;
@@ -893,7 +1017,12 @@ inline BiasAutoLookup bias_auto_lookup(const glm::mat4& light_view_proj, ClipDep
         a.tap_uv[k] = centre;
         const float zp = g.coord.z + glm::dot(g.dz_duv, centre - glm::vec2(g.coord));
         const float ref = reversed_z ? zp + eps.value : zp - eps.value;
-        if (!std::isfinite(ref)) { a = BiasAutoLookup{}; a.status = Status::Overflow; return a; }
+        if (!std::isfinite(ref)) {
+            a = BiasAutoLookup{};
+            a.status = Status::Overflow;
+            a.detail = "tap_depth: beyond float range";
+            return a;
+        }
         a.tap_depth[k] = ref < 0.0f ? 0.0f : (ref > 1.0f ? 1.0f : ref);
     }
     a.tap_weight[0] = (1.0f - w.x) * (1.0f - w.y);

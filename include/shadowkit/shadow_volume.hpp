@@ -93,7 +93,8 @@
 //     <= 0, min > max bounds, negative radius or margin, an out-of-range enum: InvalidArgument.
 //     NaN/Inf inputs: NonFinite. A bad light_position: InvalidLight. Indices >= vertex_count:
 //     IndexOutOfRange. Short buffers: BufferTooSmall with `needed`. Finite inputs whose result is not
-//     finite: Overflow. Ok means every output is finite.
+//     finite: Overflow. Ok means every output is finite. A non-Ok result's `detail` names the
+//     offending input and the rule ("indices: >= vertex_count"), a static string; nullptr when Ok.
 //
 // Based on:
 //   C. Everitt, M. J. Kilgard, "Practical and Robust Stenciled Shadow Volumes for Hardware-Accelerated
@@ -184,6 +185,7 @@ struct ScissorParams {
 /// Pixel rectangle and window-depth range that hold every pixel a shadow volume or wedge can touch.
 struct ScissorRect {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;                     ///< false (with Ok): nothing of it is on screen, skip the occluder
     int x = 0, y = 0, width = 0, height = 0;  ///< for glScissor
     float depth_min = 0.0f, depth_max = 1.0f; ///< for glDepthBoundsEXT: window depth, glDepthRange(0, 1)
@@ -193,6 +195,7 @@ struct ScissorRect {
 /// Elements written to / needed by a volume buffer (vertices: vec4; indices: uint32).
 struct VolumeBuffer {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;  ///< elements written: a valid prefix (whole quads / triangles)
     std::size_t needed = 0; ///< elements the whole output needs (count == needed when Ok)
 };
@@ -200,6 +203,7 @@ struct VolumeBuffer {
 /// A vertex extruded to infinity (volume_extrude_to_infinity).
 struct VolumeExtrusion {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec4 position = glm::vec4(0.0f); ///< (x, y, z, 0), never (0, 0, 0, 0) when Ok
 };
 
@@ -216,12 +220,14 @@ enum class VolumeStencilMethod { ZPass, ZFail };
 /// The z-pass / z-fail decision for one occluder.
 struct VolumeMethod {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     VolumeStencilMethod method = VolumeStencilMethod::ZFail; ///< ZFail whenever unsure (and when not Ok)
 };
 
 /// World-space corners of the camera's near-plane rectangle (any winding, convex).
 struct VolumeNearRect {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::vec3 corners[4] = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
 };
 
@@ -372,11 +378,12 @@ inline double sv_tri_dist2(SvVec p, SvVec a, SvVec b, SvVec c) {
 }
 
 // common checks of the two stencil-method choices
-inline Status sv_check_method_args(const VolumeNearRect& rect, const glm::vec4& light) {
+// `why` receives where a non-Ok status came from (a static string).
+inline Status sv_check_method_args(const VolumeNearRect& rect, const glm::vec4& light, const char*& why) {
     for (const glm::vec3& c : rect.corners)
-        if (!sv_finite3(c)) return Status::NonFinite;
-    if (rect.status != Status::Ok) return Status::InvalidArgument;
-    if (!sv_valid_light(light)) return Status::InvalidLight;
+        if (!sv_finite3(c)) return why = "near_rect: a corner NaN or Inf", Status::NonFinite;
+    if (rect.status != Status::Ok) return why = "near_rect: status not Ok", Status::InvalidArgument;
+    if (!sv_valid_light(light)) return why = "light_position: NaN/Inf, w < 0 or (0, 0, 0, 0)", Status::InvalidLight;
     return Status::Ok;
 }
 
@@ -389,11 +396,21 @@ inline Status sv_check_method_args(const VolumeNearRect& rect, const glm::vec4& 
 inline VolumeExtrusion volume_extrude_to_infinity(const glm::vec4& p, const glm::vec4& light_position) {
     VolumeExtrusion r;
     const glm::vec4& L = light_position;
-    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w))) { r.status = Status::NonFinite; return r; }
-    if (!detail::sv_valid_light(L)) { r.status = Status::InvalidLight; return r; }
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w))) {
+        r.status = Status::NonFinite;
+        r.detail = "p: NaN or Inf";
+        return r;
+    }
+    if (!detail::sv_valid_light(L)) { r.status = Status::InvalidLight; r.detail = "light_position: NaN/Inf, w < 0 or (0, 0, 0, 0)"; return r; }
     r.position = glm::vec4(p.x * L.w - L.x * p.w, p.y * L.w - L.y * p.w, p.z * L.w - L.z * p.w, 0.0f);
-    if (!detail::sv_finite3(glm::vec3(r.position))) { r.status = Status::Overflow; r.position = glm::vec4(0.0f); return r; }
+    if (!detail::sv_finite3(glm::vec3(r.position))) {
+        r.status = Status::Overflow;
+        r.detail = "p: extruded position beyond float";
+        r.position = glm::vec4(0.0f);
+        return r;
+    }
     r.status = (r.position.x == 0.0f && r.position.y == 0.0f && r.position.z == 0.0f) ? Status::InvalidArgument : Status::Ok;
+    r.detail = r.status == Status::Ok ? nullptr : "p: at the light position (no extrusion direction)";
     return r;
 }
 
@@ -405,10 +422,12 @@ inline VolumeBuffer volume_build_vertices(const glm::vec3* positions, std::size_
     VolumeBuffer r;
     if ((vertex_count > 0 && positions == nullptr) || (out_capacity > 0 && out == nullptr) || vertex_count > 0x7FFFFFFFull) {
         r.status = Status::InvalidArgument;
+        r.detail = vertex_count > 0 && positions == nullptr ? "positions: null with vertex_count > 0"
+                   : (out_capacity > 0 && out == nullptr ? "out: null with out_capacity > 0" : "vertex_count: > 2^31 - 1");
         return r;
     }
     for (std::size_t i = 0; i < vertex_count; ++i)
-        if (!detail::sv_finite3(positions[i])) { r.status = Status::NonFinite; return r; }
+        if (!detail::sv_finite3(positions[i])) { r.status = Status::NonFinite; r.detail = "positions: NaN or Inf"; return r; }
     r.needed = 2 * vertex_count;
     for (std::size_t i = 0; i < vertex_count; ++i) {
         if (i < out_capacity) out[i] = glm::vec4(positions[i], 1.0f);
@@ -416,6 +435,7 @@ inline VolumeBuffer volume_build_vertices(const glm::vec3* positions, std::size_
     }
     r.count = r.needed < out_capacity ? r.needed : out_capacity;
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.count < r.needed ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
 
@@ -431,6 +451,10 @@ inline VolumeBuffer volume_build_side_quads(const std::uint32_t* edge_indices, s
     if ((edge_index_count > 0 && edge_indices == nullptr) || (out_capacity > 0 && out == nullptr) || edge_index_count % 2 != 0 ||
         vertex_count > 0x7FFFFFFFull || edge_index_count > (std::numeric_limits<std::size_t>::max() / 4)) {
         r.status = Status::InvalidArgument;
+        r.detail = edge_index_count > 0 && edge_indices == nullptr ? "edge_indices: null with edge_index_count > 0"
+                   : (out_capacity > 0 && out == nullptr ? "out: null with out_capacity > 0"
+                   : (edge_index_count % 2 != 0 ? "edge_index_count: odd"
+                   : (vertex_count > 0x7FFFFFFFull ? "vertex_count: > 2^31 - 1" : "edge_index_count: too large")));
         return r;
     }
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
@@ -461,10 +485,11 @@ inline VolumeBuffer volume_build_side_quads(const std::uint32_t* edge_indices, s
         o[3] = b; o[4] = a + n; o[5] = b + n;
     }
     for (std::size_t i = 2 * full; i < edge_index_count; ++i) bad |= edge_indices[i] >= n;
-    if (bad) { r.status = Status::IndexOutOfRange; return r; }
+    if (bad) { r.status = Status::IndexOutOfRange; r.detail = "indices: >= vertex_count"; return r; }
     r.needed = 6 * edges;
     r.count = 6 * full;
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.count < r.needed ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
 
@@ -478,7 +503,7 @@ inline VolumeBuffer sv_build_caps_two_sided(const std::uint32_t* indices, const 
     std::size_t k = 0;
     for (std::size_t t = 0; t < tris; ++t) {
         const std::uint32_t a = indices[3 * t], b0 = indices[3 * t + 1], c0 = indices[3 * t + 2];
-        if (a >= n || b0 >= n || c0 >= n) { r.status = Status::IndexOutOfRange; return r; }
+        if (a >= n || b0 >= n || c0 >= n) { r.status = Status::IndexOutOfRange; r.detail = "indices: >= vertex_count"; return r; }
         const std::uint32_t b = lit[t] ? b0 : c0, c = lit[t] ? c0 : b0;
         const std::uint32_t tri[6] = {a, b, c, a + n, c + n, b + n};
         for (std::size_t j = 0; j < (dark_cap ? 6u : 3u); j += 3, k += 3)
@@ -487,7 +512,19 @@ inline VolumeBuffer sv_build_caps_two_sided(const std::uint32_t* indices, const 
     r.needed = k;
     r.count = k <= out_capacity ? k : (out_capacity / 3) * 3;
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.count < r.needed ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
+}
+// Where volume_build_caps' InvalidArgument came from (the first failing argument, in its order).
+inline const char* sv_caps_why(const std::uint32_t* indices, std::size_t index_count, const std::uint8_t* lit,
+                               std::size_t lit_count, std::size_t vertex_count, const std::uint32_t* out, std::size_t out_capacity) {
+    if (index_count > 0 && indices == nullptr) return "indices: null with index_count > 0";
+    if (lit_count > 0 && lit == nullptr) return "lit: null with lit_count > 0";
+    if (out_capacity > 0 && out == nullptr) return "out: null with out_capacity > 0";
+    if (index_count % 3 != 0) return "index_count: not a multiple of 3";
+    if (lit_count != index_count / 3) return "lit_count: not index_count / 3";
+    if (vertex_count > 0x7FFFFFFFull) return "vertex_count: > 2^31 - 1";
+    return index_count > (std::numeric_limits<std::size_t>::max() / 4) ? "index_count: too large" : "mode: unknown VolumeCapMode";
 }
 // volume_build_caps' last triangles [t, tris) (a buffer near its end): whole triangles while they fit,
 // then only counted in k. Returns true if an index is out of range.
@@ -532,6 +569,7 @@ inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t 
         index_count > (std::numeric_limits<std::size_t>::max() / 4) ||
         (mode != VolumeCapMode::LitOnly && mode != VolumeCapMode::EverittKilgard && mode != VolumeCapMode::TwoSided)) {
         r.status = Status::InvalidArgument;
+        r.detail = detail::sv_caps_why(indices, index_count, lit, lit_count, vertex_count, out, out_capacity);
         return r;
     }
     if (mode == VolumeCapMode::TwoSided) return detail::sv_build_caps_two_sided(indices, lit, lit_count, vertex_count, dark_cap, out, out_capacity);
@@ -615,10 +653,11 @@ inline VolumeBuffer volume_build_caps(const std::uint32_t* indices, std::size_t 
         }
     }
     bad |= detail::sv_caps_rest(indices, lit, lit_count, n, lit_only, dark_cap, out, out_capacity, t, k);
-    if (bad) { r.status = Status::IndexOutOfRange; return r; }
+    if (bad) { r.status = Status::IndexOutOfRange; r.detail = "indices: >= vertex_count"; return r; }
     r.needed = k;
     r.count = k <= out_capacity ? k : (out_capacity / 3) * 3;
     r.status = r.count < r.needed ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.count < r.needed ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
 
@@ -638,11 +677,15 @@ inline VolumeNearRect volume_near_plane_rect(const glm::mat4& view, float fovy, 
     VolumeNearRect r;
     if (!detail::sv_finite_mat(view) || !std::isfinite(fovy) || !std::isfinite(aspect) || !std::isfinite(near_z)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::sv_finite_mat(view) ? "view: NaN or Inf"
+                   : (!std::isfinite(fovy) ? "fovy: NaN or Inf" : (!std::isfinite(aspect) ? "aspect: NaN or Inf" : "near_z: NaN or Inf"));
         return r;
     }
     if (!(fovy > 0.0f && static_cast<double>(fovy) < 3.141592653589793) || !(aspect > 0.0f) || !(near_z > 0.0f) ||
         detail::sv_det4(view) == 0.0) {
         r.status = Status::InvalidArgument;
+        r.detail = !(fovy > 0.0f && static_cast<double>(fovy) < 3.141592653589793) ? "fovy: outside (0, pi)"
+                   : (!(aspect > 0.0f) ? "aspect: not > 0" : (!(near_z > 0.0f) ? "near_z: not > 0" : "view: singular"));
         return r;
     }
     const glm::dmat4 inv = glm::inverse(glm::dmat4(view));
@@ -652,7 +695,7 @@ inline VolumeNearRect volume_near_plane_rect(const glm::mat4& view, float fovy, 
     for (int i = 0; i < 4; ++i) {
         const glm::dvec4 w = inv * glm::dvec4(xs[i], ys[i], -static_cast<double>(near_z), 1.0);
         r.corners[i] = glm::vec3(static_cast<float>(w.x / w.w), static_cast<float>(w.y / w.w), static_cast<float>(w.z / w.w));
-        if (!detail::sv_finite3(r.corners[i])) { r.status = Status::Overflow; return r; }
+        if (!detail::sv_finite3(r.corners[i])) { r.status = Status::Overflow; r.detail = "corners: beyond float range"; return r; }
     }
     r.status = Status::Ok;
     return r;
@@ -664,16 +707,20 @@ inline VolumeNearRect volume_near_plane_rect(const glm::mat4& view, float fovy, 
 inline VolumeNearRect volume_near_plane_rect_from_inverse(const glm::mat4& inverse_view_proj, ClipDepth clip_depth,
                                                           bool reversed_z) {
     VolumeNearRect r;
-    if (!detail::sv_finite_mat(inverse_view_proj)) { r.status = Status::NonFinite; return r; }
-    if (clip_depth != ClipDepth::NegativeOneToOne && clip_depth != ClipDepth::ZeroToOne) { r.status = Status::InvalidArgument; return r; }
+    if (!detail::sv_finite_mat(inverse_view_proj)) { r.status = Status::NonFinite; r.detail = "inverse_view_proj: NaN or Inf"; return r; }
+    if (clip_depth != ClipDepth::NegativeOneToOne && clip_depth != ClipDepth::ZeroToOne) {
+        r.status = Status::InvalidArgument;
+        r.detail = "clip_depth: unknown ClipDepth";
+        return r;
+    }
     const glm::dmat4 inv(inverse_view_proj);
     const double zn = reversed_z ? 1.0 : (clip_depth == ClipDepth::NegativeOneToOne ? -1.0 : 0.0);
     const double xs[4] = {-1, 1, 1, -1}, ys[4] = {-1, -1, 1, 1};
     for (int i = 0; i < 4; ++i) {
         const glm::dvec4 w = inv * glm::dvec4(xs[i], ys[i], zn, 1.0);
-        if (!(w.w > 0.0)) { r.status = Status::InvalidArgument; return r; }
+        if (!(w.w > 0.0)) { r.status = Status::InvalidArgument; r.detail = "inverse_view_proj: a near corner at or behind the eye (w <= 0)"; return r; }
         r.corners[i] = glm::vec3(static_cast<float>(w.x / w.w), static_cast<float>(w.y / w.w), static_cast<float>(w.z / w.w));
-        if (!detail::sv_finite3(r.corners[i])) { r.status = Status::Overflow; return r; }
+        if (!detail::sv_finite3(r.corners[i])) { r.status = Status::Overflow; r.detail = "corners: beyond float range"; return r; }
     }
     r.status = Status::Ok;
     return r;
@@ -685,11 +732,16 @@ inline VolumeNearRect volume_near_plane_rect_from_inverse(const glm::mat4& inver
 inline VolumeMethod volume_choose_stencil_method_box(const VolumeNearRect& near_rect, const glm::vec4& light_position,
                                                      const glm::vec3& box_min, const glm::vec3& box_max, float margin = 0.0f) {
     VolumeMethod m;
-    m.status = detail::sv_check_method_args(near_rect, light_position);
+    m.status = detail::sv_check_method_args(near_rect, light_position, m.detail);
     if (m.status != Status::Ok) return m;
-    if (!detail::sv_finite3(box_min) || !detail::sv_finite3(box_max) || !std::isfinite(margin)) { m.status = Status::NonFinite; return m; }
+    if (!detail::sv_finite3(box_min) || !detail::sv_finite3(box_max) || !std::isfinite(margin)) {
+        m.status = Status::NonFinite;
+        m.detail = !detail::sv_finite3(box_min) || !detail::sv_finite3(box_max) ? "box_min, box_max: NaN or Inf" : "margin: NaN or Inf";
+        return m;
+    }
     if (!(box_min.x <= box_max.x && box_min.y <= box_max.y && box_min.z <= box_max.z) || margin < 0.0f) {
         m.status = Status::InvalidArgument;
+        m.detail = margin < 0.0f ? "margin: < 0" : "box_min: > box_max";
         return m;
     }
     using namespace detail;
@@ -739,10 +791,14 @@ inline VolumeMethod volume_choose_stencil_method_box(const VolumeNearRect& near_
 inline VolumeMethod volume_choose_stencil_method_sphere(const VolumeNearRect& near_rect, const glm::vec4& light_position,
                                                         const glm::vec3& center, float radius, float margin = 0.0f) {
     VolumeMethod m;
-    m.status = detail::sv_check_method_args(near_rect, light_position);
+    m.status = detail::sv_check_method_args(near_rect, light_position, m.detail);
     if (m.status != Status::Ok) return m;
-    if (!detail::sv_finite3(center) || !std::isfinite(radius) || !std::isfinite(margin)) { m.status = Status::NonFinite; return m; }
-    if (radius < 0.0f || margin < 0.0f) { m.status = Status::InvalidArgument; return m; }
+    if (!detail::sv_finite3(center) || !std::isfinite(radius) || !std::isfinite(margin)) {
+        m.status = Status::NonFinite;
+        m.detail = !detail::sv_finite3(center) ? "center: NaN or Inf" : (!std::isfinite(radius) ? "radius: NaN or Inf" : "margin: NaN or Inf");
+        return m;
+    }
+    if (radius < 0.0f || margin < 0.0f) { m.status = Status::InvalidArgument; m.detail = radius < 0.0f ? "radius: < 0" : "margin: < 0"; return m; }
     using namespace detail;
     const SvVec c = sv_of(center);
     const double rr = static_cast<double>(radius) + static_cast<double>(margin);
@@ -783,18 +839,31 @@ namespace detail {
 
 // Step 1 of volume_scissor: the arguments. Ok or the status to return.
 inline Status sv_scissor_check(const glm::vec4& light, const glm::vec3& box_min, const glm::vec3& box_max,
-                               const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params) {
-    if (!sv_valid_light(light)) return Status::InvalidLight;
+                               const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params,
+                               const char*& why) {
+    if (!sv_valid_light(light)) return why = "light_position: NaN/Inf, w < 0 or (0, 0, 0, 0)", Status::InvalidLight;
     if (!sv_finite3(box_min) || !sv_finite3(box_max) || !sv_finite3(light_min) || !sv_finite3(light_max) ||
-        !sv_finite_mat(params.view_proj))
+        !sv_finite_mat(params.view_proj)) {
+        why = !sv_finite3(box_min) || !sv_finite3(box_max) ? "box_min, box_max: NaN or Inf"
+              : (!sv_finite3(light_min) || !sv_finite3(light_max) ? "light_min, light_max: NaN or Inf" : "view_proj: NaN or Inf");
         return Status::NonFinite;
+    }
     const int* vp = params.viewport;
     if (!(box_min.x <= box_max.x && box_min.y <= box_max.y && box_min.z <= box_max.z) ||
         !(light_min.x <= light_max.x && light_min.y <= light_max.y && light_min.z <= light_max.z) || vp[2] <= 0 ||
         vp[3] <= 0 || vp[0] > std::numeric_limits<int>::max() - vp[2] || vp[1] > std::numeric_limits<int>::max() - vp[3] ||
         (params.clip_depth != ClipDepth::NegativeOneToOne && params.clip_depth != ClipDepth::ZeroToOne) ||
-        sv_det4(params.view_proj) == 0.0)
+        sv_det4(params.view_proj) == 0.0) {
+        why = !(box_min.x <= box_max.x && box_min.y <= box_max.y && box_min.z <= box_max.z) ? "box_min: > box_max"
+              : (!(light_min.x <= light_max.x && light_min.y <= light_max.y && light_min.z <= light_max.z) ? "light_min: > light_max"
+              : (vp[2] <= 0 || vp[3] <= 0 || vp[0] > std::numeric_limits<int>::max() - vp[2] ||
+                         vp[1] > std::numeric_limits<int>::max() - vp[3]
+                     ? "viewport: no width / height, or beyond int"
+                     : (params.clip_depth != ClipDepth::NegativeOneToOne && params.clip_depth != ClipDepth::ZeroToOne
+                            ? "clip_depth: unknown ClipDepth"
+                            : "view_proj: singular (or the zero default)")));
         return Status::InvalidArgument;
+    }
     return Status::Ok;
 }
 
@@ -970,7 +1039,7 @@ inline ScissorRect volume_scissor(const glm::vec4& light_position, const glm::ve
                                   const glm::vec3& light_min, const glm::vec3& light_max, const ScissorParams& params) {
     using namespace detail;
     ScissorRect res;
-    res.status = sv_scissor_check(light_position, box_min, box_max, light_min, light_max, params);
+    res.status = sv_scissor_check(light_position, box_min, box_max, light_min, light_max, params, res.detail);
     if (res.status != Status::Ok) return res;
     const glm::dmat4 M(params.view_proj);
     const SvRegion R = sv_shadow_region(light_position, box_min, box_max, light_min, light_max, M, params);

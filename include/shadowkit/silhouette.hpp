@@ -42,6 +42,8 @@
 //     builds allocate; nothing else does, except silhouette_compute (says so). The chunked and
 //     parallel extractions use their whole buffers as scratch (elements past `count`, never past a
 //     capacity); the serial ones write exactly [0, count).
+//   * Results: a non-Ok result's `detail` names the offending input and the rule ("indices: >=
+//     vertex_count"), a static string; nullptr when Ok.
 //   * Facing (exact). For a kept face (A, B, C) and light_position L = (l, w):
 //       d = dot(cross(B - A, C - A), l - w A)      (= w * (plane . L) for the plane through A)
 //     with real arithmetic on the float inputs: the sign of d is computed EXACTLY (an orient3d-style
@@ -205,6 +207,7 @@ struct SilhouetteAdjacencyOptions {
 /// Edge adjacency of a mesh (silhouette_build_adjacency). `status` first; the rest is valid when Ok.
 struct SilhouetteAdjacency {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::uint32_t vertex_count = 0;                ///< input vertex count
     std::vector<std::uint32_t> remap;              ///< input vertex -> representative (input index)
     std::vector<std::uint32_t> faces;              ///< 3 welded indices per kept face, input winding
@@ -237,6 +240,7 @@ enum SilhouetteFlag : std::uint8_t { SilhouetteBoundary = 1u, SilhouetteNonManif
 /// Facing of a mesh's kept faces (silhouette_compute_facing).
 struct SilhouetteFacing {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;     ///< uint8 facing elements written (a chunk: this chunk's faces)
     std::size_t needed = 0;    ///< uint8 elements the facing buffer needs: adj.face_count()
     std::size_t lit_faces = 0; ///< faces with d > 0 among those written
@@ -248,6 +252,7 @@ struct SilhouetteFacing {
 /// Silhouette edges (silhouette_extract and the chunked functions).
 struct SilhouetteResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;             ///< uint32 elements written to edge_indices (2 per edge, whole edges; side quads: 6)
     std::size_t needed = 0;            ///< uint32 elements the whole silhouette needs (2 per edge; side quads: 6)
     std::size_t boundary_edges = 0;    ///< emitted edges flagged SilhouetteBoundary (whole silhouette)
@@ -257,6 +262,7 @@ struct SilhouetteResult {
 /// Exact facing of one triangle (silhouette_face_orientation).
 struct SilhouetteOrientation {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int sign = 0;     ///< sign of d (header comment): +1, 0 or -1, exact
     bool lit = false; ///< sign > 0
 };
@@ -697,13 +703,17 @@ inline SilhouetteAdjacency silhouette_build_adjacency(const glm::vec3* positions
     if ((vertex_count > 0 && positions == nullptr) || (index_count > 0 && indices == nullptr) || index_count % 3 != 0 ||
         vertex_count > 0xFFFFFFFEull || index_count / 3 > 0x7FFFFFFFull) {
         adj.status = Status::InvalidArgument;
+        adj.detail = vertex_count > 0 && positions == nullptr ? "positions: null with vertex_count > 0"
+                     : (index_count > 0 && indices == nullptr ? "indices: null with index_count > 0"
+                     : (index_count % 3 != 0 ? "index_count: not a multiple of 3"
+                     : (vertex_count > 0xFFFFFFFEull ? "vertex_count: > 2^32 - 2" : "index_count: more than 2^31 - 1 triangles")));
         return adj;
     }
-    if (!std::isfinite(options.weld_tolerance)) { adj.status = Status::NonFinite; return adj; }
+    if (!std::isfinite(options.weld_tolerance)) { adj.status = Status::NonFinite; adj.detail = "weld_tolerance: NaN or Inf"; return adj; }
     for (std::size_t i = 0; i < vertex_count; ++i)
-        if (!detail::sil_finite(positions[i])) { adj.status = Status::NonFinite; return adj; }
+        if (!detail::sil_finite(positions[i])) { adj.status = Status::NonFinite; adj.detail = "positions: NaN or Inf"; return adj; }
     for (std::size_t i = 0; i < index_count; ++i)
-        if (indices[i] >= vertex_count) { adj.status = Status::IndexOutOfRange; return adj; }
+        if (indices[i] >= vertex_count) { adj.status = Status::IndexOutOfRange; adj.detail = "indices: >= vertex_count"; return adj; }
 
     const std::uint32_t n = static_cast<std::uint32_t>(vertex_count);
     adj.vertex_count = n;
@@ -774,8 +784,12 @@ inline std::size_t silhouette_indices_capacity(const SilhouetteAdjacency& adj) {
 inline SilhouetteOrientation silhouette_face_orientation(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
                                                          const glm::vec4& light_position) {
     SilhouetteOrientation r;
-    if (!detail::sil_finite(a) || !detail::sil_finite(b) || !detail::sil_finite(c)) { r.status = Status::NonFinite; return r; }
-    if (!silhouette_valid_light(light_position)) { r.status = Status::InvalidLight; return r; }
+    if (!detail::sil_finite(a) || !detail::sil_finite(b) || !detail::sil_finite(c)) {
+        r.status = Status::NonFinite;
+        r.detail = !detail::sil_finite(a) ? "a: NaN or Inf" : (!detail::sil_finite(b) ? "b: NaN or Inf" : "c: NaN or Inf");
+        return r;
+    }
+    if (!silhouette_valid_light(light_position)) { r.status = Status::InvalidLight; r.detail = "light_position: NaN/Inf, w < 0 or (0, 0, 0, 0)"; return r; }
     r.sign = detail::sil_face_sign(a, b, c, light_position);
     r.lit = r.sign > 0;
     r.status = Status::Ok;
@@ -801,13 +815,21 @@ inline std::size_t sil_facing_range(const SilhouetteAdjacency& adj, const glm::v
     return lit_faces;
 }
 
+// Sets `why` (where a non-Ok status came from, a static string) and returns s.
+inline Status sil_fail(const char*& why, Status s, const char* what) {
+    why = what;
+    return s;
+}
 inline Status sil_check_facing_args(const SilhouetteAdjacency& adj, const glm::vec3* positions, std::size_t vertex_count,
-                                    const glm::vec4& light, const std::uint8_t* facing, std::size_t capacity) {
-    if (adj.status != Status::Ok) return Status::InvalidArgument;
-    if (vertex_count != adj.vertex_count || (vertex_count > 0 && positions == nullptr) || (capacity > 0 && facing == nullptr))
-        return Status::InvalidArgument;
-    if (!silhouette_valid_light(light)) return Status::InvalidLight;
-    if (capacity < adj.face_count()) return Status::BufferTooSmall;
+                                    const glm::vec4& light, const std::uint8_t* facing, std::size_t capacity,
+                                    const char*& why) {
+    const Status ia = Status::InvalidArgument;
+    if (adj.status != Status::Ok) return sil_fail(why, ia, "adj: status not Ok");
+    if (vertex_count != adj.vertex_count) return sil_fail(why, ia, "vertex_count: not adj.vertex_count");
+    if (vertex_count > 0 && positions == nullptr) return sil_fail(why, ia, "positions: null with vertex_count > 0");
+    if (capacity > 0 && facing == nullptr) return sil_fail(why, ia, "facing: null with capacity > 0");
+    if (!silhouette_valid_light(light)) return sil_fail(why, Status::InvalidLight, "light_position: NaN/Inf, w < 0 or (0, 0, 0, 0)");
+    if (capacity < adj.face_count()) return sil_fail(why, Status::BufferTooSmall, "facing_capacity: below needed (see needed)");
     return Status::Ok;
 }
 
@@ -866,12 +888,14 @@ inline std::size_t sil_chunk_begin(std::size_t n, std::size_t c, std::size_t cou
 // Common checks of the extraction functions' buffers.
 inline Status sil_check_extract_args(const SilhouetteAdjacency& adj, const std::uint8_t* facing, std::size_t facing_count,
                                      const std::uint32_t* edge_indices, std::size_t edge_indices_capacity,
-                                     const std::uint8_t* edge_flags, std::size_t edge_flags_capacity) {
-    if (adj.status != Status::Ok) return Status::InvalidArgument;
+                                     const std::uint8_t* edge_flags, std::size_t edge_flags_capacity, const char*& why) {
+    const Status ia = Status::InvalidArgument;
+    if (adj.status != Status::Ok) return sil_fail(why, ia, "adj: status not Ok");
     const std::size_t fc = adj.face_count();
-    if (facing_count != fc || (fc > 0 && facing == nullptr) || (edge_indices_capacity > 0 && edge_indices == nullptr) ||
-        (edge_flags_capacity > 0 && edge_flags == nullptr))
-        return Status::InvalidArgument;
+    if (facing_count != fc) return sil_fail(why, ia, "facing_count: not adj.face_count()");
+    if (fc > 0 && facing == nullptr) return sil_fail(why, ia, "facing: null");
+    if (edge_indices_capacity > 0 && edge_indices == nullptr) return sil_fail(why, ia, "edge_indices: null with a capacity > 0");
+    if (edge_flags_capacity > 0 && edge_flags == nullptr) return sil_fail(why, ia, "edge_flags: null with edge_flags_capacity > 0");
     return Status::Ok;
 }
 
@@ -886,12 +910,15 @@ inline SilhouetteFacing silhouette_compute_facing(const SilhouetteAdjacency& adj
                                                   std::uint8_t* facing, std::size_t facing_capacity) {
     SilhouetteFacing r;
     r.needed = adj.face_count();
-    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity);
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     bool bad = false;
     r.lit_faces = detail::sil_facing_range(adj, positions, light_position, facing, 0, r.needed, bad);
     r.count = r.needed;
-    if (bad) r.status = Status::NonFinite;
+    if (bad) {
+        r.status = Status::NonFinite;
+        r.detail = "positions: NaN or Inf at a face's vertex";
+    }
     return r;
 }
 
@@ -906,13 +933,16 @@ inline SilhouetteResult silhouette_extract(const SilhouetteAdjacency& adj, const
                                            std::uint8_t* edge_flags, std::size_t edge_flags_capacity) {
     SilhouetteResult r;
     r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
-                                              edge_flags_capacity);
+                                              edge_flags_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     std::size_t room = edge_indices_capacity / 2;
     if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
     const std::size_t n = detail::sil_extract_range(adj, facing, edge_indices, edge_flags, room, 0, adj.edges.size(), true, r);
     r.count = 2 * (n < room ? n : room);
-    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    if (r.count < r.needed) {
+        r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below needed (see needed)";
+    }
     return r;
 }
 
@@ -934,7 +964,7 @@ inline SilhouetteResult silhouette_extract_two_sided(const SilhouetteAdjacency& 
                                                      std::size_t edge_flags_capacity) {
     SilhouetteResult r;
     r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
-                                              edge_flags_capacity);
+                                              edge_flags_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     std::size_t room = edge_indices_capacity / 2, n = 0;
     if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
@@ -967,7 +997,10 @@ inline SilhouetteResult silhouette_extract_two_sided(const SilhouetteAdjacency& 
     }
     r.needed = 2 * n;
     r.count = 2 * (n < room ? n : room);
-    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    if (r.count < r.needed) {
+        r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below needed (see needed)";
+    }
     return r;
 }
 
@@ -994,15 +1027,18 @@ inline SilhouetteFacing silhouette_compute_facing_chunk(const SilhouetteAdjacenc
                                                         std::size_t chunk_count) {
     SilhouetteFacing r;
     r.needed = adj.face_count();
-    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
-    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity);
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; r.detail = chunk_count == 0 ? "chunk_count: 0" : "chunk: >= chunk_count"; return r; }
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
     const std::size_t b = detail::sil_chunk_begin(fc, chunk, chunk_count), e = detail::sil_chunk_begin(fc, chunk + 1, chunk_count);
     bool bad = false;
     r.lit_faces = detail::sil_facing_range(adj, positions, light_position, facing, b, e, bad);
     r.count = e - b;
-    if (bad) r.status = Status::NonFinite;
+    if (bad) {
+        r.status = Status::NonFinite;
+        r.detail = "positions: NaN or Inf at a face's vertex";
+    }
     return r;
 }
 
@@ -1022,13 +1058,14 @@ inline SilhouetteResult silhouette_extract_chunk(const SilhouetteAdjacency& adj,
                                                  std::size_t edge_indices_capacity, std::uint8_t* edge_flags,
                                                  std::size_t edge_flags_capacity, std::size_t chunk, std::size_t chunk_count) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; r.detail = chunk_count == 0 ? "chunk_count: 0" : "chunk: >= chunk_count"; return r; }
     r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
-                                              edge_flags_capacity);
+                                              edge_flags_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t max_edges = adj.max_silhouette_edges();
     if (edge_indices_capacity / 2 < max_edges || (edge_flags && edge_flags_capacity < max_edges)) {
         r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below silhouette_indices_capacity(adj)";
         return r;
     }
     const std::size_t ec = adj.edges.size();
@@ -1052,18 +1089,32 @@ inline SilhouetteResult silhouette_compact_chunks(const SilhouetteAdjacency& adj
     if (chunk_count == 0 || chunks == nullptr || adj.status != Status::Ok || (edge_indices_capacity > 0 && edge_indices == nullptr) ||
         (edge_flags_capacity > 0 && edge_flags == nullptr)) {
         r.status = Status::InvalidArgument;
+        r.detail = chunk_count == 0 ? "chunk_count: 0"
+                   : (chunks == nullptr ? "chunks: null"
+                   : (adj.status != Status::Ok ? "adj: status not Ok"
+                   : (edge_indices_capacity > 0 && edge_indices == nullptr ? "edge_indices: null with a capacity > 0"
+                                                                            : "edge_flags: null with edge_flags_capacity > 0")));
         return r;
     }
     for (std::size_t c = 0; c < chunk_count; ++c)
-        if (chunks[c].status != Status::Ok) { r.status = chunks[c].status; return r; }
+        if (chunks[c].status != Status::Ok) {
+            r.status = chunks[c].status;
+            r.detail = chunks[c].detail != nullptr ? chunks[c].detail : "chunks: a status not Ok";
+            return r;
+        }
     const std::size_t cap = 2 * adj.max_silhouette_edges();
-    if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) { r.status = Status::BufferTooSmall; return r; }
+    if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) {
+        r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below silhouette_indices_capacity(adj)";
+        return r;
+    }
     // a chunk cannot have more edges than its room (results that do are not silhouette_extract_chunk's)
     for (std::size_t c = 0; c < chunk_count; ++c) {
         const std::size_t off = silhouette_chunk_offset(adj, c, chunk_count);
         const std::size_t room = c + 1 == chunk_count ? cap - off : silhouette_chunk_offset(adj, c + 1, chunk_count) - off;
         if (chunks[c].count > room || chunks[c].count % 2 != 0 || chunks[c].count != chunks[c].needed) {
             r.status = Status::InvalidArgument;
+            r.detail = "chunks: a count that silhouette_extract_chunk cannot give";
             return r;
         }
     }
@@ -1097,16 +1148,22 @@ inline SilhouetteResult silhouette_extract_parallel(const SilhouetteAdjacency& a
                                                     SilhouetteResult* chunk_results, std::size_t chunk_count,
                                                     ParallelFor&& parallel_for) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunk_results == nullptr) { r.status = Status::InvalidArgument; return r; }
+    if (chunk_count == 0 || chunk_results == nullptr) {
+        r.status = Status::InvalidArgument;
+        r.detail = chunk_count == 0 ? "chunk_count: 0" : "chunk_results: null";
+        return r;
+    }
     // validate once, so that no chunk can fail on its arguments
-    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity);
+    r.status = detail::sil_check_facing_args(adj, positions, vertex_count, light_position, facing, facing_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
-    r.status = detail::sil_check_extract_args(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags, edge_flags_capacity);
+    r.status = detail::sil_check_extract_args(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags, edge_flags_capacity,
+                                              r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t cap = silhouette_indices_capacity(adj);
     if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) {
         r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below needed (see needed)";
         r.needed = cap;
         return r;
     }
@@ -1115,10 +1172,17 @@ inline SilhouetteResult silhouette_extract_parallel(const SilhouetteAdjacency& a
         bool bad = false;
         detail::sil_facing_range(adj, positions, light_position, facing, detail::sil_chunk_begin(fc, c, chunk_count),
                                  detail::sil_chunk_begin(fc, c + 1, chunk_count), bad);
-        if (bad) chunk_results[c].status = Status::NonFinite;
+        if (bad) {
+            chunk_results[c].status = Status::NonFinite;
+            chunk_results[c].detail = "positions: NaN or Inf at a face's vertex";
+        }
     });
     for (std::size_t c = 0; c < chunk_count; ++c)
-        if (chunk_results[c].status == Status::NonFinite) { r.status = Status::NonFinite; return r; }
+        if (chunk_results[c].status == Status::NonFinite) {
+            r.status = Status::NonFinite;
+            r.detail = "positions: NaN or Inf at a face's vertex";
+            return r;
+        }
     parallel_for(chunk_count, [&](std::size_t c) {
         chunk_results[c] = silhouette_extract_chunk(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags,
                                                     edge_flags_capacity, c, chunk_count);
@@ -1157,6 +1221,7 @@ inline SilhouetteResult silhouette_extract_parallel(const SilhouetteAdjacency& a
 /// positions buffer: pass the same adjacency to the *_planes functions (the counts are checked).
 struct SilhouettePlanes {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::uint32_t vertex_count = 0;            ///< the adjacency's vertex count
     glm::vec3 origin = glm::vec3(0.0f);        ///< O: local frame center (header comment above)
     double scale = 1.0;                        ///< R: a power of two >= the positions' half extent
@@ -1310,22 +1375,25 @@ inline std::size_t sil_planes_facing_range(const SilhouetteAdjacency& adj, const
     return lit;
 }
 
-inline Status sil_check_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl) {
-    if (adj.status != Status::Ok || pl.status != Status::Ok || pl.vertex_count != adj.vertex_count ||
+inline Status sil_check_planes(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const char*& why) {
+    if (adj.status != Status::Ok) return sil_fail(why, Status::InvalidArgument, "adj: status not Ok");
+    if (pl.status != Status::Ok) return sil_fail(why, Status::InvalidArgument, "planes: status not Ok");
+    if (pl.vertex_count != adj.vertex_count ||
         pl.face_count() != adj.face_count() || pl.edge_faces.size() != adj.edges.size() ||
         pl.edge_boundary.size() != (adj.edges.size() + 7) / 8 ||
         pl.edge_vertices.size() != 2 * adj.edges.size() || pl.positions.size() != adj.vertex_count ||
         pl.plane_y.size() != pl.face_count() || pl.plane_z.size() != pl.face_count() || pl.plane_w.size() != pl.face_count() ||
         pl.plane_class.size() != pl.face_count())
-        return Status::InvalidArgument;
+        return sil_fail(why, Status::InvalidArgument, "planes: not built from adj (silhouette_build_planes)");
     return Status::Ok;
 }
 
 inline Status sil_check_planes_facing_args(const SilhouetteAdjacency& adj, const SilhouettePlanes& pl, const glm::vec4& light,
-                                           const std::uint8_t* facing, std::size_t capacity) {
-    if (sil_check_planes(adj, pl) != Status::Ok || (capacity > 0 && facing == nullptr)) return Status::InvalidArgument;
-    if (!silhouette_valid_light(light)) return Status::InvalidLight;
-    if (capacity < adj.face_count()) return Status::BufferTooSmall;
+                                           const std::uint8_t* facing, std::size_t capacity, const char*& why) {
+    if (sil_check_planes(adj, pl, why) != Status::Ok) return Status::InvalidArgument;
+    if (capacity > 0 && facing == nullptr) return sil_fail(why, Status::InvalidArgument, "facing: null with capacity > 0");
+    if (!silhouette_valid_light(light)) return sil_fail(why, Status::InvalidLight, "light_position: NaN/Inf, w < 0 or (0, 0, 0, 0)");
+    if (capacity < adj.face_count()) return sil_fail(why, Status::BufferTooSmall, "facing_capacity: below needed (see needed)");
     return Status::Ok;
 }
 
@@ -1572,10 +1640,12 @@ inline SilhouettePlanes silhouette_build_planes(const SilhouetteAdjacency& adj, 
     SilhouettePlanes pl;
     if (adj.status != Status::Ok || vertex_count != adj.vertex_count || (vertex_count > 0 && positions == nullptr)) {
         pl.status = Status::InvalidArgument;
+        pl.detail = adj.status != Status::Ok ? "adj: status not Ok"
+                    : (vertex_count != adj.vertex_count ? "vertex_count: not adj.vertex_count" : "positions: null with vertex_count > 0");
         return pl;
     }
     for (std::size_t i = 0; i < vertex_count; ++i)
-        if (!detail::sil_finite(positions[i])) { pl.status = Status::NonFinite; return pl; }
+        if (!detail::sil_finite(positions[i])) { pl.status = Status::NonFinite; pl.detail = "positions: NaN or Inf"; return pl; }
     pl.vertex_count = adj.vertex_count;
     pl.positions.assign(positions, positions + vertex_count);
     glm::vec3 lo(0.0f), hi(0.0f);
@@ -1655,7 +1725,7 @@ inline SilhouetteFacing silhouette_compute_facing_planes(const SilhouetteAdjacen
                                                          std::size_t facing_capacity) {
     SilhouetteFacing r;
     r.needed = adj.face_count();
-    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
+    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     r.lit_faces = detail::sil_planes_facing_range(adj, planes, light_position, facing, 0, r.needed, &r.exact_evaluations);
     r.count = r.needed;
@@ -1670,8 +1740,8 @@ inline SilhouetteFacing silhouette_compute_facing_planes_chunk(const SilhouetteA
                                                                std::size_t chunk_count) {
     SilhouetteFacing r;
     r.needed = adj.face_count();
-    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
-    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; r.detail = chunk_count == 0 ? "chunk_count: 0" : "chunk: >= chunk_count"; return r; }
+    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
     const std::size_t b = detail::sil_chunk_begin(fc, chunk, chunk_count), e = detail::sil_chunk_begin(fc, chunk + 1, chunk_count);
@@ -1688,15 +1758,18 @@ inline SilhouetteResult silhouette_extract_planes(const SilhouetteAdjacency& adj
                                                   std::uint8_t* edge_flags, std::size_t edge_flags_capacity) {
     SilhouetteResult r;
     r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
-                                              edge_flags_capacity);
-    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes);
+                                              edge_flags_capacity, r.detail);
+    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes, r.detail);
     if (r.status != Status::Ok) return r;
     std::size_t room = edge_indices_capacity / 2;
     if (edge_flags && edge_flags_capacity < room) room = edge_flags_capacity;
     const std::size_t n =
         detail::sil_planes_extract_range(adj, planes, facing, edge_indices, edge_flags, room, 0, adj.edges.size(), true, r);
     r.count = 2 * (n < room ? n : room);
-    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    if (r.count < r.needed) {
+        r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below needed (see needed)";
+    }
     return r;
 }
 
@@ -1713,15 +1786,21 @@ inline SilhouetteResult silhouette_extract_planes_side_quads(const SilhouetteAdj
                                                              const std::uint8_t* facing, std::size_t facing_count, std::uint32_t* out,
                                                              std::size_t out_capacity) {
     SilhouetteResult r;
-    r.status = detail::sil_check_extract_args(adj, facing, facing_count, out, out_capacity, nullptr, 0);
-    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes);
-    if (r.status == Status::Ok && adj.vertex_count > 0x7FFFFFFFu) r.status = Status::InvalidArgument;
+    r.status = detail::sil_check_extract_args(adj, facing, facing_count, out, out_capacity, nullptr, 0, r.detail);
+    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes, r.detail);
+    if (r.status == Status::Ok && adj.vertex_count > 0x7FFFFFFFu) {
+        r.status = Status::InvalidArgument;
+        r.detail = "adj: vertex_count > 2^31 - 1 (side quads index 2 n vertices)";
+    }
     if (r.status != Status::Ok) return r;
     const std::size_t room = out_capacity / 6;
     const std::size_t n = detail::sil_planes_extract_impl<true>(adj, planes, facing, out, nullptr, room, 0, adj.edges.size(), true,
                                                                 adj.vertex_count, r);
     r.count = 6 * (n < room ? n : room);
-    if (r.count < r.needed) r.status = Status::BufferTooSmall;
+    if (r.count < r.needed) {
+        r.status = Status::BufferTooSmall;
+        r.detail = "out_capacity: below needed (see needed)";
+    }
     return r;
 }
 
@@ -1732,14 +1811,15 @@ inline SilhouetteResult silhouette_extract_planes_chunk(const SilhouetteAdjacenc
                                                         std::uint8_t* edge_flags, std::size_t edge_flags_capacity,
                                                         std::size_t chunk, std::size_t chunk_count) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; return r; }
+    if (chunk_count == 0 || chunk >= chunk_count) { r.status = Status::InvalidArgument; r.detail = chunk_count == 0 ? "chunk_count: 0" : "chunk: >= chunk_count"; return r; }
     r.status = detail::sil_check_extract_args(adj, facing, facing_count, edge_indices, edge_indices_capacity, edge_flags,
-                                              edge_flags_capacity);
-    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes);
+                                              edge_flags_capacity, r.detail);
+    if (r.status == Status::Ok) r.status = detail::sil_check_planes(adj, planes, r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t max_edges = adj.max_silhouette_edges();
     if (edge_indices_capacity / 2 < max_edges || (edge_flags && edge_flags_capacity < max_edges)) {
         r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below silhouette_indices_capacity(adj)";
         return r;
     }
     const std::size_t ec = adj.edges.size();
@@ -1763,15 +1843,21 @@ inline SilhouetteResult silhouette_extract_parallel_planes(const SilhouetteAdjac
                                                            std::size_t edge_flags_capacity, SilhouetteResult* chunk_results,
                                                            std::size_t chunk_count, ParallelFor&& parallel_for) {
     SilhouetteResult r;
-    if (chunk_count == 0 || chunk_results == nullptr) { r.status = Status::InvalidArgument; return r; }
-    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity);
+    if (chunk_count == 0 || chunk_results == nullptr) {
+        r.status = Status::InvalidArgument;
+        r.detail = chunk_count == 0 ? "chunk_count: 0" : "chunk_results: null";
+        return r;
+    }
+    r.status = detail::sil_check_planes_facing_args(adj, planes, light_position, facing, facing_capacity, r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t fc = adj.face_count();
-    r.status = detail::sil_check_extract_args(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags, edge_flags_capacity);
+    r.status = detail::sil_check_extract_args(adj, facing, fc, edge_indices, edge_indices_capacity, edge_flags, edge_flags_capacity,
+                                              r.detail);
     if (r.status != Status::Ok) return r;
     const std::size_t cap = silhouette_indices_capacity(adj);
     if (edge_indices_capacity < cap || (edge_flags && edge_flags_capacity < cap / 2)) {
         r.status = Status::BufferTooSmall;
+        r.detail = "edge_indices_capacity or edge_flags_capacity: below needed (see needed)";
         r.needed = cap;
         return r;
     }
@@ -1791,6 +1877,7 @@ inline SilhouetteResult silhouette_extract_parallel_planes(const SilhouetteAdjac
 /// Facing, silhouette edges (2 uint32 per edge) and their flags, in vectors (silhouette_compute).
 struct Silhouette {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::vector<std::uint8_t> facing;   ///< adj.face_count() bits
     std::vector<std::uint32_t> indices; ///< 2 per edge, oriented as in the lit face
     std::vector<std::uint8_t> flags;    ///< one SilhouetteFlag mask per edge
@@ -1802,13 +1889,14 @@ inline Silhouette silhouette_compute(const SilhouetteAdjacency& adj, const glm::
     Silhouette s;
     s.facing.resize(adj.face_count());
     const SilhouetteFacing fr = silhouette_compute_facing(adj, positions, vertex_count, light_position, s.facing.data(), s.facing.size());
-    if (fr.status != Status::Ok) { s.status = fr.status; s.facing.clear(); return s; }
+    if (fr.status != Status::Ok) { s.status = fr.status; s.detail = fr.detail; s.facing.clear(); return s; }
     const std::size_t cap = silhouette_indices_capacity(adj);
     s.indices.resize(cap);
     s.flags.resize(cap / 2);
     const SilhouetteResult r = silhouette_extract(adj, s.facing.data(), s.facing.size(), s.indices.data(), s.indices.size(),
                                                   s.flags.data(), s.flags.size());
     s.status = r.status;
+    s.detail = r.detail;
     s.indices.resize(r.count);
     s.flags.resize(r.count / 2);
     return s;

@@ -46,7 +46,9 @@
 //     type. A null pointer with a non-zero count or capacity is Status::InvalidArgument.
 //   * Status: NaN/Inf in any input is Status::NonFinite; `Ok` means every output is finite and in
 //     its documented range. What a successful call found (edges culled, fragments occluded, failure
-//     texels, a lookup that fell back to the plain map) is a field of its result.
+//     texels, a lookup that fell back to the plain map) is a field of its result. A non-Ok result's
+//     `detail` names the offending input and the rule ("size: outside 1 .. kSilmapMaxSize"), a
+//     static string; nullptr when Ok.
 //   * This header takes no light: the light is in the light's view-projection matrix.
 //
 // Based on:
@@ -131,6 +133,7 @@ struct SilmapEdge {
 /// Result of silmap_project_edges.
 struct SilmapProjectResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< edges written to `out` (a valid prefix; == needed when Ok)
     std::size_t needed = 0;  ///< edges the whole output needs (edge_count minus `culled`)
     std::size_t culled = 0;  ///< edges with nothing in front of the light or inside the guard band (not an error)
@@ -146,6 +149,7 @@ struct SilmapPoint {
 /// Result of silmap_rasterize_edge.
 struct SilmapRasterResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< cells written to `out` (a valid prefix; == needed when Ok)
     std::size_t needed = 0;  ///< cells the edge touches (0: it misses the map, with Ok)
 };
@@ -153,6 +157,7 @@ struct SilmapRasterResult {
 /// Result of silmap_build.
 struct SilmapBuildResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;             ///< texels written to each of points and weights (W * H when Ok, else 0)
     std::size_t needed = 0;            ///< texels each output buffer needs (W * H)
     std::size_t fragments = 0;         ///< rasterized fragments with a silhouette point (cases 1-3)
@@ -164,6 +169,7 @@ struct SilmapBuildResult {
 /// Result of a lookup (silmap_reconstruct, silmap_lookup).
 struct SilmapLookup {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool lit = false;               ///< the answer (valid when status is Ok)
     bool silhouette_pixel = false;  ///< the four depth tests disagree (the silhouette map decides)
     bool fallback = false;          ///< failure texel, border or degenerate sectors: plain result used (with Ok)
@@ -173,6 +179,7 @@ struct SilmapLookup {
 /// Result of silmap_plain_lookup.
 struct SilmapPlainLookup {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool lit = false;  ///< the nearest depth sample's test (valid when status is Ok)
 };
 
@@ -277,23 +284,30 @@ inline SilmapProjectResult silmap_project_edges(const glm::mat4& light_view_proj
         !detail::silmap_size_ok(size) ||
         (clip_depth != ClipDepth::NegativeOneToOne && clip_depth != ClipDepth::ZeroToOne)) {
         r.status = Status::InvalidArgument;
+        r.detail = edge_count && !edges ? "edges: null with edge_count > 0"
+                   : (vertex_count && !positions ? "positions: null with vertex_count > 0"
+                   : (out_capacity && !out ? "out: null with out_capacity > 0"
+                   : (!detail::silmap_size_ok(size) ? "size: outside 1 .. kSilmapMaxSize" : "clip_depth: unknown ClipDepth")));
         return r;
     }
     for (int c = 0; c < 4; ++c)
         for (int k = 0; k < 4; ++k)
             if (!std::isfinite(light_view_proj[c][k])) {
                 r.status = Status::NonFinite;
+                r.detail = "light_view_proj: NaN or Inf";
                 return r;
             }
     // validate every referenced vertex before writing anything
     for (std::size_t e = 0; e < 2 * edge_count; ++e) {
         if (edges[e] >= vertex_count) {
             r.status = Status::IndexOutOfRange;
+            r.detail = "edges: an index >= vertex_count";
             return r;
         }
         const glm::vec3& p = positions[edges[e]];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
             r.status = Status::NonFinite;
+            r.detail = "positions: NaN or Inf";
             return r;
         }
     }
@@ -338,6 +352,7 @@ inline SilmapProjectResult silmap_project_edges(const glm::mat4& light_view_proj
     }
     r.count = std::min(r.needed, out_capacity);
     r.status = r.needed > out_capacity ? Status::BufferTooSmall : Status::Ok;
+    r.detail = r.needed > out_capacity ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
 
@@ -390,10 +405,13 @@ inline SilmapRasterResult silmap_rasterize_edge(glm::vec2 a, glm::vec2 b, glm::u
     SilmapRasterResult r;
     if (!detail::silmap_finite(a) || !detail::silmap_finite(b)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::silmap_finite(a) ? "a: NaN or Inf" : "b: NaN or Inf";
         return r;
     }
     if (!detail::silmap_size_ok(size) || !(margin >= 0.f) || !(margin < 1.f) || (out_capacity && !out)) {
         r.status = Status::InvalidArgument;
+        r.detail = !detail::silmap_size_ok(size) ? "size: outside 1 .. kSilmapMaxSize"
+                   : (!(margin >= 0.f) || !(margin < 1.f) ? "margin: outside [0, 1)" : "out: null with out_capacity > 0");
         return r;
     }
     // cells cover [0.5, W + 0.5] x [0.5, H + 0.5]
@@ -432,6 +450,7 @@ inline SilmapRasterResult silmap_rasterize_edge(glm::vec2 a, glm::vec2 b, glm::u
     r.needed = n;
     r.count = std::min(n, out_capacity);
     r.status = n > out_capacity ? Status::BufferTooSmall : Status::Ok;
+    r.detail = n > out_capacity ? "out_capacity: below needed (see needed)" : nullptr;
     return r;
 }
 
@@ -455,11 +474,14 @@ inline SilmapBuildResult silmap_build(const SilmapEdge* edges, std::size_t edge_
     SilmapBuildResult r;
     if ((edge_count && !edges) || !detail::silmap_size_ok(size) || !points || !weights) {
         r.status = Status::InvalidArgument;
+        r.detail = edge_count && !edges ? "edges: null with edge_count > 0"
+                   : (!detail::silmap_size_ok(size) ? "size: outside 1 .. kSilmapMaxSize" : (!points ? "points: null" : "weights: null"));
         return r;
     }
     r.needed = std::size_t(size.x) * std::size_t(size.y);
     if (!std::isfinite(depth_bias)) {
         r.status = Status::NonFinite;
+        r.detail = "depth_bias: NaN or Inf";
         return r;
     }
     for (std::size_t e = 0; e < edge_count; ++e) {
@@ -467,11 +489,14 @@ inline SilmapBuildResult silmap_build(const SilmapEdge* edges, std::size_t edge_
         if (!detail::silmap_finite(E.a) || !detail::silmap_finite(E.b) || !std::isfinite(E.depth_a) ||
             !std::isfinite(E.depth_b)) {
             r.status = Status::NonFinite;
+            r.detail = "edges: NaN or Inf";
             return r;
         }
     }
     if (points_capacity < r.needed || weights_capacity < r.needed) {
         r.status = Status::BufferTooSmall;
+        r.detail = points_capacity < r.needed ? "points_capacity: below size.x * size.y (see needed)"
+                                              : "weights_capacity: below size.x * size.y (see needed)";
         return r;
     }
     for (std::size_t k = 0; k < r.needed; ++k) {
@@ -552,11 +577,13 @@ inline SilmapLookup silmap_reconstruct(glm::vec2 local, glm::vec2 center, glm::v
     SilmapLookup r;
     if (!corner_lit) {
         r.status = Status::InvalidArgument;
+        r.detail = "corner_lit: null";
         return r;
     }
     if (!detail::silmap_finite(local) || !detail::silmap_finite(center) || !detail::silmap_finite(right) ||
         !detail::silmap_finite(top) || !detail::silmap_finite(left) || !detail::silmap_finite(bottom)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::silmap_finite(local) ? "local: NaN or Inf" : "center, right, top, left, bottom: NaN or Inf";
         return r;
     }
     r.status = Status::Ok;
@@ -611,10 +638,12 @@ inline SilmapLookup silmap_lookup(const glm::vec2* points, const std::uint8_t* w
     SilmapLookup r;
     if (!points || !weights || !depth || !detail::silmap_size_ok(size)) {
         r.status = Status::InvalidArgument;
+        r.detail = !points ? "points: null" : (!weights ? "weights: null" : (!depth ? "depth: null" : "size: outside 1 .. kSilmapMaxSize"));
         return r;
     }
     if (!detail::silmap_finite(q) || !std::isfinite(receiver_depth) || !std::isfinite(bias)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::silmap_finite(q) ? "q: NaN or Inf" : (!std::isfinite(receiver_depth) ? "receiver_depth: NaN or Inf" : "bias: NaN or Inf");
         return r;
     }
     r.status = Status::Ok;
@@ -662,10 +691,12 @@ inline SilmapPlainLookup silmap_plain_lookup(const float* depth, glm::uvec2 size
     SilmapPlainLookup r;
     if (!depth || !detail::silmap_size_ok(size)) {
         r.status = Status::InvalidArgument;
+        r.detail = !depth ? "depth: null" : "size: outside 1 .. kSilmapMaxSize";
         return r;
     }
     if (!detail::silmap_finite(q) || !std::isfinite(receiver_depth) || !std::isfinite(bias)) {
         r.status = Status::NonFinite;
+        r.detail = !detail::silmap_finite(q) ? "q: NaN or Inf" : (!std::isfinite(receiver_depth) ? "receiver_depth: NaN or Inf" : "bias: NaN or Inf");
         return r;
     }
     const int ix = std::min(std::max(int(std::floor(std::max(std::min(q.x, 1e9f), -1e9f))), 0), int(size.x) - 1);

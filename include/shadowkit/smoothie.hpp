@@ -32,7 +32,9 @@
 //     with finite outputs. Skipped edges are counted in the result (Ok), never errors. Errors:
 //     InvalidArgument (a null pointer with a count, t < 0, a singular light matrix, a result no call
 //     filled), NonFinite (t or the light matrix NaN/Inf), BufferTooSmall (scratch or vertex buffer too
-//     small: `scratch_needed` / `needed` say how many elements), Overflow (a width beyond float).
+//     small: `scratch_needed` / `needed` say how many elements), Overflow (a width beyond float). A
+//     non-Ok result's `detail` names the offending input and the rule ("t: < 0"), a static string;
+//     nullptr when Ok.
 //   * Buffers: pointer + capacity in elements of the pointer's type (SmoothieScratch, SmoothieVertex);
 //     `count` = vertices written, `needed` = vertices the whole output needs. smoothie_build never
 //     allocates: the caller passes per-edge scratch (smoothie_scratch_capacity(edge_count) elements,
@@ -260,6 +262,7 @@ static_assert(sizeof(SmoothieVertex) == 12 * sizeof(float), "SmoothieVertex must
 /// was too small.
 struct SmoothieResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;             ///< vertices written: min(needed, capacity) rounded down to whole triangles
     std::size_t needed = 0;            ///< vertices the whole output needs (3 per triangle)
     std::size_t scratch_needed = 0;    ///< SmoothieScratch elements the call needs (edge_count; 0 for t = 0)
@@ -291,6 +294,7 @@ inline std::size_t smoothie_scratch_capacity(std::size_t edge_count) { return ed
 /// A scalar result of smoothie.hpp (widths).
 struct SmoothieValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     float value = 0.0f;  ///< the quantity the function's comment names
 };
 
@@ -343,15 +347,18 @@ inline SmoothieValue smoothie_width_for_area_light(float light_width, float b, f
     SmoothieValue v;
     if (!std::isfinite(light_width) || !std::isfinite(b) || !std::isfinite(proj_scale)) {
         v.status = Status::NonFinite;
+        v.detail = !std::isfinite(light_width) ? "light_width: NaN or Inf" : (!std::isfinite(b) ? "b: NaN or Inf" : "proj_scale: NaN or Inf");
         return v;
     }
     if (light_width < 0.0f || !(b > 0.0f) || !(proj_scale > 0.0f)) {
         v.status = Status::InvalidArgument;
+        v.detail = light_width < 0.0f ? "light_width: < 0" : (!(b > 0.0f) ? "b: not > 0" : "proj_scale: not > 0");
         return v;
     }
     const double t = static_cast<double>(proj_scale) * static_cast<double>(light_width) / static_cast<double>(b);
     if (!(t <= static_cast<double>(std::numeric_limits<float>::max()))) {
         v.status = Status::Overflow;
+        v.detail = "value: beyond float range";
         return v;
     }
     v.value = static_cast<float>(t);
@@ -364,15 +371,18 @@ inline SmoothieValue smoothie_area_light_width(float t, float b, float proj_scal
     SmoothieValue v;
     if (!std::isfinite(t) || !std::isfinite(b) || !std::isfinite(proj_scale)) {
         v.status = Status::NonFinite;
+        v.detail = !std::isfinite(t) ? "t: NaN or Inf" : (!std::isfinite(b) ? "b: NaN or Inf" : "proj_scale: NaN or Inf");
         return v;
     }
     if (t < 0.0f || !(b > 0.0f) || !(proj_scale > 0.0f)) {
         v.status = Status::InvalidArgument;
+        v.detail = t < 0.0f ? "t: < 0" : (!(b > 0.0f) ? "b: not > 0" : "proj_scale: not > 0");
         return v;
     }
     const double w = static_cast<double>(t) * static_cast<double>(b) / static_cast<double>(proj_scale);
     if (!(w <= static_cast<double>(std::numeric_limits<float>::max()))) {
         v.status = Status::Overflow;
+        v.detail = "value: beyond float range";
         return v;
     }
     v.value = static_cast<float>(w);
@@ -388,10 +398,13 @@ inline SmoothieValue smoothie_penumbra_width(float t, float b, float r, float pr
     SmoothieValue v;
     if (!std::isfinite(t) || !std::isfinite(b) || !std::isfinite(r) || !std::isfinite(proj_scale)) {
         v.status = Status::NonFinite;
+        v.detail = !std::isfinite(t) ? "t: NaN or Inf"
+                   : (!std::isfinite(b) ? "b: NaN or Inf" : (!std::isfinite(r) ? "r: NaN or Inf" : "proj_scale: NaN or Inf"));
         return v;
     }
     if (t < 0.0f || !(proj_scale > 0.0f)) {
         v.status = Status::InvalidArgument;
+        v.detail = t < 0.0f ? "t: < 0" : "proj_scale: not > 0";
         return v;
     }
     const double w = r > b ? static_cast<double>(t) * (static_cast<double>(r) - static_cast<double>(b)) /
@@ -399,6 +412,7 @@ inline SmoothieValue smoothie_penumbra_width(float t, float b, float r, float pr
                            : 0.0;
     if (!(w <= static_cast<double>(std::numeric_limits<float>::max()))) {
         v.status = Status::Overflow;
+        v.detail = "value: beyond float range";
         return v;
     }
     v.value = static_cast<float>(w);
@@ -591,14 +605,19 @@ inline bool smoothie_check_inputs(const SmoothieEdges& in, const glm::mat4& ligh
     if ((in.positions == nullptr && in.position_count != 0) || (in.edges == nullptr && in.edge_count != 0) ||
         (out == nullptr && capacity != 0) || (scratch == nullptr && scratch_capacity != 0)) {
         res.status = Status::InvalidArgument;
+        res.detail = in.positions == nullptr && in.position_count != 0 ? "positions: null with position_count > 0"
+                     : (in.edges == nullptr && in.edge_count != 0 ? "edges: null with edge_count > 0"
+                     : (out == nullptr && capacity != 0 ? "out: null with capacity > 0" : "scratch: null with scratch_capacity > 0"));
         return false;
     }
     if (!std::isfinite(params.t)) {
         res.status = Status::NonFinite;
+        res.detail = "t: NaN or Inf";
         return false;
     }
     if (params.t < 0.0f) {
         res.status = Status::InvalidArgument;
+        res.detail = "t: < 0";
         return false;
     }
     for (int c = 0; c < 4; ++c)
@@ -606,6 +625,7 @@ inline bool smoothie_check_inputs(const SmoothieEdges& in, const glm::mat4& ligh
             const float v = light_view_proj[c][r];
             if (!std::isfinite(v)) {
                 res.status = Status::NonFinite;
+                res.detail = "light_view_proj: NaN or Inf";
                 return false;
             }
             M[c][r] = static_cast<double>(v);
@@ -618,6 +638,7 @@ inline bool smoothie_check_inputs(const SmoothieEdges& in, const glm::mat4& ligh
             if (!std::isfinite(inv[c][r])) inv_ok = false;
     if (!inv_ok) {
         res.status = Status::InvalidArgument;
+        res.detail = "light_view_proj: singular";
         return false;
     }
     if (params.t == 0.0f || in.edge_count == 0) {  // t = 0: no geometry (hard shadows), nothing counted
@@ -627,6 +648,7 @@ inline bool smoothie_check_inputs(const SmoothieEdges& in, const glm::mat4& ligh
     res.scratch_needed = smoothie_scratch_capacity(in.edge_count);
     if (scratch_capacity < res.scratch_needed) {
         res.status = Status::BufferTooSmall;
+        res.detail = "scratch_capacity: below scratch_needed";
         return false;
     }
     return true;
@@ -968,6 +990,7 @@ inline SmoothieResult smoothie_build(const SmoothieEdges& in, const glm::mat4& l
     res.needed = B.count;
     res.count = B.written;
     res.status = B.full ? Status::BufferTooSmall : Status::Ok;
+    res.detail = B.full ? "capacity: below needed (see needed)" : nullptr;
     return res;
 }
 

@@ -41,7 +41,8 @@
 //     allocates.
 //   * Status: NaN/Inf in an input (coefficients, kernel, samples, matrix) is Status::NonFinite; a
 //     finite result too large for Real (float) is Status::Overflow (outputs zeroed), never Inf; `Ok`
-//     means every output is finite.
+//     means every output is finite. A non-Ok result's `detail` names the offending input and the
+//     rule ("order: outside 1 .. kSHMaxOrder"), a static string; nullptr when Ok.
 //   * Rotation: sh_rotate with the rotation built from R turns the function by R: the output
 //     represents g(s) = f(R^T s), so a lobe around direction d moves to R d. R must be orthogonal
 //     (tolerance 1e-3 on R^T R - I, else Status::InvalidArgument); det R = -1 (a reflection) is
@@ -130,6 +131,7 @@ constexpr int sh_index(int l, int m) { return l * (l + 1) + m; }
 /// Status, the number of values written and the number the output needs.
 struct SHResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;   ///< values written (order^2 when Ok, 0 otherwise)
     std::size_t needed = 0;  ///< values the output needs (order^2; 0 for an invalid order)
 };
@@ -138,6 +140,7 @@ struct SHResult {
 template <typename Real>
 struct SHValue {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     Real value = Real(0);
 };
 
@@ -145,6 +148,7 @@ struct SHValue {
 /// Band l is a (2l+1) x (2l+1) row-major block at offset l (2l-1) (2l+1) / 3.
 struct SHRotation {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int order = 0;
     double band[165] = {};  ///< sum over l = 0..4 of (2l+1)^2
 };
@@ -287,18 +291,21 @@ inline double sh_ir_w(const SHRotation& r, int m, int n, int l) {
     return 0.0;
 }
 
-inline SHResult sh_result(Status s, std::size_t count, std::size_t needed) {
+// `why`: where a non-Ok status came from (a static string; nullptr with Ok).
+inline SHResult sh_result(Status s, std::size_t count, std::size_t needed, const char* why) {
     SHResult r;
     r.status = s;
+    r.detail = why;
     r.count = count;
     r.needed = needed;
     return r;
 }
 
 template <typename Real>
-inline SHValue<Real> sh_value(Status s, Real v) {
+inline SHValue<Real> sh_value(Status s, Real v, const char* why) {
     SHValue<Real> r;
     r.status = s;
+    r.detail = why;
     r.value = v;
     return r;
 }
@@ -309,40 +316,40 @@ inline SHValue<Real> sh_value(Status s, Real v) {
 /// A zero (InvalidArgument) or non-finite (NonFinite) direction writes zeros.
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_evaluate(int order, const glm::vec<3, Real, Q>& dir, Real* out, std::size_t capacity) {
-    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0, "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     double x, y, z;
     const Status ds = detail::sh_unit_direction(dir, x, y, z);
     if (ds != Status::Ok) {
         for (std::size_t i = 0; i < n; ++i) out[i] = Real(0);
-        return detail::sh_result(ds, 0, n);
+        return detail::sh_result(ds, 0, n, ds == Status::NonFinite ? "dir: NaN or Inf" : "dir: zero vector");
     }
     double b[kSHMaxCoefficients];
     detail::sh_basis(order, x, y, z, b);
     for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<Real>(b[i]);
-    return detail::sh_result(Status::Ok, n, n);
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// Reconstruction sum_i c_i y_i(dir) of a coefficient vector (Sloan et al. 2002, section 4).
 /// `coeffs` holds count Real elements (>= order^2).
 template <typename Real, glm::qualifier Q>
 inline SHValue<Real> sh_reconstruct(int order, const Real* coeffs, std::size_t count, const glm::vec<3, Real, Q>& dir) {
-    if (!sh_order_valid(order)) return detail::sh_value(Status::InvalidArgument, Real(0));
+    if (!sh_order_valid(order)) return detail::sh_value(Status::InvalidArgument, Real(0), "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!coeffs) return detail::sh_value(Status::InvalidArgument, Real(0));
-    if (count < n) return detail::sh_value(Status::BufferTooSmall, Real(0));
+    if (!coeffs) return detail::sh_value(Status::InvalidArgument, Real(0), "coeffs: null");
+    if (count < n) return detail::sh_value(Status::BufferTooSmall, Real(0), "count: below order^2");
     double x, y, z;
     const Status ds = detail::sh_unit_direction(dir, x, y, z);
-    if (ds != Status::Ok) return detail::sh_value(ds, Real(0));
-    if (!detail::sh_all_finite(coeffs, n)) return detail::sh_value(Status::NonFinite, Real(0));
+    if (ds != Status::Ok) return detail::sh_value(ds, Real(0), ds == Status::NonFinite ? "dir: NaN or Inf" : "dir: zero vector");
+    if (!detail::sh_all_finite(coeffs, n)) return detail::sh_value(Status::NonFinite, Real(0), "coeffs: NaN or Inf");
     double b[kSHMaxCoefficients];
     detail::sh_basis(order, x, y, z, b);
     double s = 0.0;
     for (std::size_t i = 0; i < n; ++i) s += static_cast<double>(coeffs[i]) * b[i];
-    if (!detail::sh_fits<Real>(s)) return detail::sh_value(Status::Overflow, Real(0));
-    return detail::sh_value(Status::Ok, static_cast<Real>(s));
+    if (!detail::sh_fits<Real>(s)) return detail::sh_value(Status::Overflow, Real(0), "value: beyond Real range");
+    return detail::sh_value(Status::Ok, static_cast<Real>(s), nullptr);
 }
 
 /// Projection c_i = sum_j w_j f(s_j) y_i(s_j) of sampled values (course notes: f_i = integral f y_i,
@@ -354,13 +361,13 @@ template <typename Real, glm::qualifier Q>
 inline SHResult sh_project(int order, const glm::vec<3, Real, Q>* dirs, const Real* values,
                            const typename detail::sh_identity<Real>::type* weights, std::size_t sample_count, Real* out,
                            std::size_t capacity) {
-    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0, "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     for (std::size_t i = 0; i < n; ++i) out[i] = Real(0);
-    if (sample_count == 0) return detail::sh_result(Status::Ok, n, n);
-    if (!dirs || !values) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (sample_count == 0) return detail::sh_result(Status::Ok, n, n, nullptr);
+    if (!dirs || !values) return detail::sh_result(Status::InvalidArgument, 0, n, !dirs ? "dirs: null" : "values: null");
     double acc[kSHMaxCoefficients] = {};
     const double uniform = 4.0 * detail::sh_pi / static_cast<double>(sample_count);
     double b[kSHMaxCoefficients];
@@ -369,15 +376,16 @@ inline SHResult sh_project(int order, const glm::vec<3, Real, Q>* dirs, const Re
         const double f = static_cast<double>(values[j]);
         const double w = weights ? static_cast<double>(weights[j]) : uniform;
         const Status ds = detail::sh_unit_direction(dirs[j], x, y, z);
-        if (ds == Status::Ok && (!std::isfinite(f) || !std::isfinite(w))) return detail::sh_result(Status::NonFinite, 0, n);
-        if (ds != Status::Ok) return detail::sh_result(ds, 0, n);
+        if (ds == Status::Ok && (!std::isfinite(f) || !std::isfinite(w)))
+            return detail::sh_result(Status::NonFinite, 0, n, !std::isfinite(f) ? "values: NaN or Inf" : "weights: NaN or Inf");
+        if (ds != Status::Ok) return detail::sh_result(ds, 0, n, ds == Status::NonFinite ? "dirs: NaN or Inf" : "dirs: zero vector");
         detail::sh_basis(order, x, y, z, b);
         for (std::size_t i = 0; i < n; ++i) acc[i] += w * f * b[i];
     }
     for (std::size_t i = 0; i < n; ++i)
-        if (!std::isfinite(acc[i])) return detail::sh_result(Status::Overflow, 0, n);
-    if (!detail::sh_store(acc, n, out)) return detail::sh_result(Status::Overflow, 0, n);
-    return detail::sh_result(Status::Ok, n, n);
+        if (!std::isfinite(acc[i])) return detail::sh_result(Status::Overflow, 0, n, "out: a coefficient beyond double");
+    if (!detail::sh_store(acc, n, out)) return detail::sh_result(Status::Overflow, 0, n, "out: a coefficient beyond Real range");
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// RGB projection: out[i] = sum_j w_j rgb_j y_i(s_j); same rules as sh_project (`values` and `out`
@@ -386,13 +394,13 @@ template <typename Real, glm::qualifier Q>
 inline SHResult sh_project_rgb(int order, const glm::vec<3, Real, Q>* dirs, const glm::vec<3, Real, Q>* values,
                                const typename detail::sh_identity<Real>::type* weights, std::size_t sample_count,
                                glm::vec<3, Real, Q>* out, std::size_t capacity) {
-    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0, "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     for (std::size_t i = 0; i < n; ++i) out[i] = glm::vec<3, Real, Q>(Real(0));
-    if (sample_count == 0) return detail::sh_result(Status::Ok, n, n);
-    if (!dirs || !values) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (sample_count == 0) return detail::sh_result(Status::Ok, n, n, nullptr);
+    if (!dirs || !values) return detail::sh_result(Status::InvalidArgument, 0, n, !dirs ? "dirs: null" : "values: null");
     glm::dvec3 acc[kSHMaxCoefficients] = {};
     const double uniform = 4.0 * detail::sh_pi / static_cast<double>(sample_count);
     double b[kSHMaxCoefficients];
@@ -403,16 +411,16 @@ inline SHResult sh_project_rgb(int order, const glm::vec<3, Real, Q>* dirs, cons
         const double w = weights ? static_cast<double>(weights[j]) : uniform;
         const Status ds = detail::sh_unit_direction(dirs[j], x, y, z);
         if (ds == Status::Ok && (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z) || !std::isfinite(w)))
-            return detail::sh_result(Status::NonFinite, 0, n);
-        if (ds != Status::Ok) return detail::sh_result(ds, 0, n);
+            return detail::sh_result(Status::NonFinite, 0, n, "values, weights: NaN or Inf");
+        if (ds != Status::Ok) return detail::sh_result(ds, 0, n, ds == Status::NonFinite ? "dirs: NaN or Inf" : "dirs: zero vector");
         detail::sh_basis(order, x, y, z, b);
         for (std::size_t i = 0; i < n; ++i) acc[i] += (w * b[i]) * f;
     }
     for (std::size_t i = 0; i < n; ++i)
         if (!detail::sh_fits<Real>(acc[i].x) || !detail::sh_fits<Real>(acc[i].y) || !detail::sh_fits<Real>(acc[i].z))
-            return detail::sh_result(Status::Overflow, 0, n);
+            return detail::sh_result(Status::Overflow, 0, n, "out: a coefficient beyond Real range");
     for (std::size_t i = 0; i < n; ++i) out[i] = glm::vec<3, Real, Q>(acc[i]);
-    return detail::sh_result(Status::Ok, n, n);
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// strata^2 stratified, jittered directions, uniform over the sphere (equal-area map
@@ -423,10 +431,10 @@ inline SHResult sh_project_rgb(int order, const glm::vec<3, Real, Q>* dirs, cons
 template <typename Real, glm::qualifier Q>
 inline SHResult sh_stratified_directions(int strata, std::uint32_t seed, glm::vec<3, Real, Q>* out,
                                          std::size_t capacity) {
-    if (strata < 1 || strata > 4096) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (strata < 1 || strata > 4096) return detail::sh_result(Status::InvalidArgument, 0, 0, "strata: outside [1, 4096]");
     const std::size_t n = static_cast<std::size_t>(strata) * static_cast<std::size_t>(strata);
-    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n);
-    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
+    if (!out) return detail::sh_result(Status::InvalidArgument, 0, n, "out: null");
+    if (capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n, "capacity: below needed (see needed)");
     auto hash = [](std::uint32_t v) {  // lowbias32 (C. Wellons)
         v ^= v >> 16;
         v *= 0x7feb352du;
@@ -450,7 +458,7 @@ inline SHResult sh_stratified_directions(int strata, std::uint32_t seed, glm::ve
             out[k] = glm::vec<3, Real, Q>(static_cast<Real>(r * std::cos(phi)), static_cast<Real>(r * std::sin(phi)),
                                           static_cast<Real>(z));
         }
-    return detail::sh_result(Status::Ok, n, n);
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// Builds the per-band rotation matrices of R (column-major GLM, acting on directions) for
@@ -463,6 +471,7 @@ inline SHRotation sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R) 
     SHRotation out;
     if (!sh_order_valid(order)) {
         out.status = Status::InvalidArgument;
+        out.detail = "order: outside 1 .. kSHMaxOrder";
         return out;
     }
     glm::dmat3 r(R);
@@ -470,6 +479,7 @@ inline SHRotation sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R) 
         for (int k = 0; k < 3; ++k)
             if (!std::isfinite(r[c][k])) {
                 out.status = Status::NonFinite;
+                out.detail = "R: NaN or Inf";
                 return out;
             }
     const glm::dmat3 rtr = glm::transpose(r) * r;
@@ -477,6 +487,7 @@ inline SHRotation sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R) 
         for (int k = 0; k < 3; ++k)
             if (!(std::fabs(rtr[c][k] - (c == k ? 1.0 : 0.0)) <= 1e-3)) {
                 out.status = Status::InvalidArgument;
+                out.detail = "R: not orthonormal (R^T R - I beyond 1e-3)";
                 return out;
             }
     const bool reflect = glm::determinant(r) < 0.0;
@@ -517,11 +528,13 @@ inline SHRotation sh_make_rotation(int order, const glm::mat<3, 3, Real, Q>& R) 
 /// `out` may be the same array. A rotation whose status is not Ok is InvalidArgument.
 template <typename Real>
 inline SHResult sh_rotate(const SHRotation& rot, const Real* in, std::size_t in_count, Real* out, std::size_t capacity) {
-    if (rot.status != Status::Ok || !sh_order_valid(rot.order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (rot.status != Status::Ok || !sh_order_valid(rot.order))
+        return detail::sh_result(Status::InvalidArgument, 0, 0, "rot: status not Ok");
     const std::size_t n = sh_coefficient_count(rot.order);
-    if (!in || !out) return detail::sh_result(Status::InvalidArgument, 0, n);
-    if (in_count < n || capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
-    if (!detail::sh_all_finite(in, n)) return detail::sh_result(Status::NonFinite, 0, n);
+    if (!in || !out) return detail::sh_result(Status::InvalidArgument, 0, n, !in ? "in: null" : "out: null");
+    if (in_count < n || capacity < n)
+        return detail::sh_result(Status::BufferTooSmall, 0, n, in_count < n ? "in_count: below order^2" : "capacity: below needed (see needed)");
+    if (!detail::sh_all_finite(in, n)) return detail::sh_result(Status::NonFinite, 0, n, "in: NaN or Inf");
     double src[kSHMaxCoefficients];
     for (std::size_t i = 0; i < n; ++i) src[i] = static_cast<double>(in[i]);
     double dst[kSHMaxCoefficients];
@@ -531,8 +544,8 @@ inline SHResult sh_rotate(const SHRotation& rot, const Real* in, std::size_t in_
             for (int k = -l; k <= l; ++k) s += detail::sh_get(rot, l, m, k) * src[sh_index(l, k)];
             dst[sh_index(l, m)] = s;
         }
-    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n);
-    return detail::sh_result(Status::Ok, n, n);
+    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n, "out: a coefficient beyond Real range");
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// Convenience: builds the rotation of R and applies it (one call per vector; build once with
@@ -541,7 +554,7 @@ template <typename Real, glm::qualifier Q>
 inline SHResult sh_rotate(int order, const glm::mat<3, 3, Real, Q>& R, const Real* in, std::size_t in_count, Real* out,
                           std::size_t capacity) {
     const SHRotation rot = sh_make_rotation(order, R);
-    if (rot.status != Status::Ok) return detail::sh_result(rot.status, 0, sh_coefficient_count(order));
+    if (rot.status != Status::Ok) return detail::sh_result(rot.status, 0, sh_coefficient_count(order), rot.detail);
     return sh_rotate(rot, in, in_count, out, capacity);
 }
 
@@ -573,21 +586,23 @@ inline double sh_clamped_cosine_band(int l) {
 template <typename Real>
 inline SHResult sh_convolve_zonal(int order, const Real* zonal, std::size_t zonal_count, const Real* in,
                                   std::size_t in_count, Real* out, std::size_t capacity) {
-    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0, "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!zonal || !in || !out) return detail::sh_result(Status::InvalidArgument, 0, n);
+    if (!zonal || !in || !out) return detail::sh_result(Status::InvalidArgument, 0, n, !zonal ? "zonal: null" : (!in ? "in: null" : "out: null"));
     if (zonal_count < static_cast<std::size_t>(order) || in_count < n || capacity < n)
-        return detail::sh_result(Status::BufferTooSmall, 0, n);
+        return detail::sh_result(Status::BufferTooSmall, 0, n,
+                                 zonal_count < static_cast<std::size_t>(order) ? "zonal_count: below order"
+                                 : (in_count < n ? "in_count: below order^2" : "capacity: below needed (see needed)"));
     if (!detail::sh_all_finite(in, n) || !detail::sh_all_finite(zonal, static_cast<std::size_t>(order)))
-        return detail::sh_result(Status::NonFinite, 0, n);
+        return detail::sh_result(Status::NonFinite, 0, n, !detail::sh_all_finite(in, n) ? "in: NaN or Inf" : "zonal: NaN or Inf");
     double k[kSHMaxOrder];
     for (int l = 0; l < order; ++l)
         k[l] = std::sqrt(4.0 * detail::sh_pi / (2.0 * l + 1.0)) * static_cast<double>(zonal[l]);
     double dst[kSHMaxCoefficients];
     for (int l = 0; l < order; ++l)
         for (int m = -l; m <= l; ++m) dst[sh_index(l, m)] = k[l] * static_cast<double>(in[sh_index(l, m)]);
-    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n);
-    return detail::sh_result(Status::Ok, n, n);
+    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n, "out: a coefficient beyond Real range");
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// Convolution with the clamped cosine: out_lm = A_l in_lm (sh_clamped_cosine_band). For a
@@ -597,18 +612,19 @@ inline SHResult sh_convolve_zonal(int order, const Real* zonal, std::size_t zona
 template <typename Real>
 inline SHResult sh_convolve_clamped_cosine(int order, const Real* in, std::size_t in_count, Real* out,
                                            std::size_t capacity) {
-    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0);
+    if (!sh_order_valid(order)) return detail::sh_result(Status::InvalidArgument, 0, 0, "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!in || !out) return detail::sh_result(Status::InvalidArgument, 0, n);
-    if (in_count < n || capacity < n) return detail::sh_result(Status::BufferTooSmall, 0, n);
-    if (!detail::sh_all_finite(in, n)) return detail::sh_result(Status::NonFinite, 0, n);
+    if (!in || !out) return detail::sh_result(Status::InvalidArgument, 0, n, !in ? "in: null" : "out: null");
+    if (in_count < n || capacity < n)
+        return detail::sh_result(Status::BufferTooSmall, 0, n, in_count < n ? "in_count: below order^2" : "capacity: below needed (see needed)");
+    if (!detail::sh_all_finite(in, n)) return detail::sh_result(Status::NonFinite, 0, n, "in: NaN or Inf");
     double dst[kSHMaxCoefficients];
     for (int l = 0; l < order; ++l) {
         const double a = sh_clamped_cosine_band(l);
         for (int m = -l; m <= l; ++m) dst[sh_index(l, m)] = a * static_cast<double>(in[sh_index(l, m)]);
     }
-    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n);
-    return detail::sh_result(Status::Ok, n, n);
+    if (!detail::sh_store(dst, n, out)) return detail::sh_result(Status::Overflow, 0, n, "out: a coefficient beyond Real range");
+    return detail::sh_result(Status::Ok, n, n, nullptr);
 }
 
 /// Integral of the product of two band-limited functions = dot product of their coefficients
@@ -616,15 +632,17 @@ inline SHResult sh_convolve_clamped_cosine(int order, const Real* in, std::size_
 /// Non-finite input gives NonFinite and value 0.
 template <typename Real>
 inline SHValue<Real> sh_dot(int order, const Real* a, std::size_t a_count, const Real* b, std::size_t b_count) {
-    if (!sh_order_valid(order)) return detail::sh_value(Status::InvalidArgument, Real(0));
+    if (!sh_order_valid(order)) return detail::sh_value(Status::InvalidArgument, Real(0), "order: outside 1 .. kSHMaxOrder");
     const std::size_t n = sh_coefficient_count(order);
-    if (!a || !b) return detail::sh_value(Status::InvalidArgument, Real(0));
-    if (a_count < n || b_count < n) return detail::sh_value(Status::BufferTooSmall, Real(0));
-    if (!detail::sh_all_finite(a, n) || !detail::sh_all_finite(b, n)) return detail::sh_value(Status::NonFinite, Real(0));
+    if (!a || !b) return detail::sh_value(Status::InvalidArgument, Real(0), !a ? "a: null" : "b: null");
+    if (a_count < n || b_count < n)
+        return detail::sh_value(Status::BufferTooSmall, Real(0), a_count < n ? "a_count: below order^2" : "b_count: below order^2");
+    if (!detail::sh_all_finite(a, n) || !detail::sh_all_finite(b, n))
+        return detail::sh_value(Status::NonFinite, Real(0), !detail::sh_all_finite(a, n) ? "a: NaN or Inf" : "b: NaN or Inf");
     double s = 0.0;
     for (std::size_t i = 0; i < n; ++i) s += static_cast<double>(a[i]) * static_cast<double>(b[i]);
-    if (!detail::sh_fits<Real>(s)) return detail::sh_value(Status::Overflow, Real(0));
-    return detail::sh_value(Status::Ok, static_cast<Real>(s));
+    if (!detail::sh_fits<Real>(s)) return detail::sh_value(Status::Overflow, Real(0), "value: beyond Real range");
+    return detail::sh_value(Status::Ok, static_cast<Real>(s), nullptr);
 }
 
 }  // namespace shadowkit

@@ -61,6 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     const ContactShadowDerived d = contact_shadow_derive(width, height, proj, vp, light, p);
     check(d.status != Status::NotRun);
+    shadowkit_fuzz::check_detail(d);
     if (d.status == Status::Ok) {
         check(d.steps >= 0 && d.steps <= p.max_steps && d.steps <= kContactShadowMaxSteps);
         check(std::isfinite(d.projected_pixels) && d.projected_pixels >= 0.0f);
@@ -71,6 +72,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const ContactShadowResult m = contact_shadow_march(null_depth ? nullptr : depth.data(), capacity, width, height, proj, vp, light, p);
     check(m.status != Status::NotRun);
+    shadowkit_fuzz::check_detail(m);
     if (m.status == Status::Ok) {
         check(m.visibility == 0.0f || m.visibility == 1.0f);
         check(m.hit == (m.visibility == 0.0f));
@@ -86,6 +88,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const ContactShadowResult a =
         contact_shadow_march_aligned(null_depth ? nullptr : depth.data(), capacity, width, height, proj, vp, light, p);
     check(a.status == m.status);
+    shadowkit_fuzz::check_detail(a);
     if (a.status == Status::Ok) {
         check(a.visibility == 0.0f || a.visibility == 1.0f);
         check(a.hit == (a.visibility == 0.0f));

@@ -14,6 +14,7 @@ namespace {
 namespace sk = shadowkit;
 void check_matrix(const sk::ProjectionResult& r, const sk::ProjectionDepth& p) {
     if (r.status == sk::Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(r);
     if (r.status != sk::Status::Ok) return;
     if (!shadowkit_fuzz::all_finite(r.matrix)) __builtin_trap();
     if (r.matrix[2][3] != -1.0f || r.matrix[3][3] != 0.0f) __builtin_trap();
@@ -26,6 +27,7 @@ void check_matrix(const sk::ProjectionResult& r, const sk::ProjectionDepth& p) {
 }
 void check_value(const sk::ProjectionValue& v) {
     if (v.status == sk::Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(v);
     if (v.status == sk::Status::Ok) {
         if (!std::isfinite(v.value) || std::fabs(v.value) > static_cast<double>(std::numeric_limits<float>::max())) __builtin_trap();
     } else if (v.value != 0.0) {
@@ -65,6 +67,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
 
     const sk::ProjectionDepthMapping m = sk::projection_depth_mapping(p);
+    shadowkit_fuzz::check_detail(m);
     if (m.status != vs) __builtin_trap();
     if (m.status == sk::Status::Ok && (!std::isfinite(m.A) || !std::isfinite(m.B))) __builtin_trap();
 
@@ -77,6 +80,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     check_value(sk::projection_ndc_depth(p, dist));
     const sk::ProjectionEyeDistance e = sk::projection_eye_distance_from_window_depth(p, window);
+    shadowkit_fuzz::check_detail(e);
     if (e.status == sk::Status::NotRun) __builtin_trap();
     if (e.status == sk::Status::Ok && !e.at_infinity && !(e.value > 0.0 && std::isfinite(e.value))) __builtin_trap();
     if (e.at_infinity && (e.status != sk::Status::Ok || e.value != 0.0)) __builtin_trap();
@@ -86,6 +90,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const sk::ProjectionEpsilonBound eb =
         sk::projection_infinite_epsilon_bound(fovy, aspect, p.clip_depth, p.reversed_z, fmt, in.f32());
     if (eb.status == sk::Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(eb);
     if (eb.status == sk::Status::Ok) {
         if (!(eb.epsilon >= 0.0f && eb.epsilon <= 0.5f) || eb.epsilon < eb.clip || eb.epsilon < eb.storage) __builtin_trap();
     }

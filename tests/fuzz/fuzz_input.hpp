@@ -142,6 +142,13 @@ inline void check(bool ok) {
     if (!ok) __builtin_trap();
 }
 
+// Where a status came from: a non-Ok result names the offending input (`detail` non-null), an Ok one
+// has detail == nullptr. (A NotRun result traps too: every call fills its result.)
+template <class R>
+inline void check_detail(const R& r) {
+    check((r.status == decltype(r.status)::Ok) == (r.detail == nullptr));
+}
+
 inline bool all_finite(float v) { return std::isfinite(v); }
 inline bool all_finite(const glm::vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
 inline bool all_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }

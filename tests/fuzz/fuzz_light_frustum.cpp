@@ -96,6 +96,7 @@ void extruded_volume_and_culling(shadowkit_fuzz::FuzzInput& r) {
     const shadowkit::LightFrustumPlanes H = shadowkit::light_frustum_extruded_planes(
         (nv > 0 && !null_verts) ? verts : nullptr, vcount, (np > 0 && !null_planes) ? planes : nullptr, pcount, lf);
     if (H.count < 0 || H.count > 64) __builtin_trap();
+    shadowkit_fuzz::check_detail(H);
     if ((null_verts || null_planes) && H.status == shadowkit::Status::Ok) __builtin_trap();
     if (H.status != shadowkit::Status::Ok && H.count != 0) __builtin_trap();
     if (nv <= 0 && H.count != 0) __builtin_trap();
@@ -199,6 +200,7 @@ void caster_fit(shadowkit_fuzz::FuzzInput& r) {
     in.light_depth = (f & 128) ? shadowkit::ClipDepth::ZeroToOne : shadowkit::ClipDepth::NegativeOneToOne;
     in.light_reversed_z = r.boolean();
     const shadowkit::LightFrustumResult res = shadowkit::light_frustum_fit_casters(in);
+    shadowkit_fuzz::check_detail(res);
     const glm::vec4 L = in.light_position;
     const bool light_bad = !all_finite(L) || L.w < 0.0f || (L.w == 0.0f && L.x == 0.0f && L.y == 0.0f && L.z == 0.0f);
     if (res.status != shadowkit::Status::Ok) return;
@@ -262,6 +264,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<uint32_t> keep(cap + 1, 0xFFFFFFFFu);
     const shadowkit::LightFrustumResult res = shadowkit::light_frustum_fit(in, null_keep ? nullptr : keep.data(), cap);
     const shadowkit::Status st = res.status;
+    shadowkit_fuzz::check_detail(res);
     if (keep[cap] != 0xFFFFFFFFu) __builtin_trap();  // wrote past capacity
     if (res.count > cap) __builtin_trap();
     if ((null_casters || null_spheres || null_keep) && st != shadowkit::Status::InvalidArgument) __builtin_trap();
@@ -293,6 +296,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         __builtin_trap();
     }
     const shadowkit::LightFrustumCorners corners = shadowkit::light_frustum_slice_corners(in);
+    shadowkit_fuzz::check_detail(corners);
     if (near_bad && corners.status == shadowkit::Status::Ok) __builtin_trap();
     if (corners.status == shadowkit::Status::Ok && corners.visible) {
         for (const glm::vec3& c : corners.corners)

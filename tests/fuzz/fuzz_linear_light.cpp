@@ -48,6 +48,7 @@ void skin_cell_and_discontinuity(shadowkit_fuzz::FuzzInput& r, bool raw) {
             if (disc && !sk::linear_light_is_discontinuity(d0, d1, 0.5f * thr)) __builtin_trap();
         }
     const sk::LinearLightSkinCell cell = sk::linear_light_skin_cell(glm::vec4(d[0], d[1], d[2], d[3]), thr);
+    shadowkit_fuzz::check_detail(cell);
     const int nt = cell.triangle_count;
     const float* val = cell.value;
     if (nt != 0 && nt != 2) __builtin_trap();
@@ -96,6 +97,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const glm::vec3 c = r.vec3(raw, 0.1f), dir = r.vec3(raw, 0.1f);
     const float len = (mode & 2) ? 0.f : r.value(raw, 0.05f);
     const sk::LinearLightSegment s = sk::linear_light_segment(c, dir, len);
+    shadowkit_fuzz::check_detail(s);
     if (s.status == St::NotRun) __builtin_trap();
     if (s.status == St::Ok) {
         if (!all_finite(c) || !all_finite(dir) || !std::isfinite(len) || len < 0.f) __builtin_trap();
@@ -107,6 +109,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     glm::vec3 ends[9];
     const size_t cap = r.size(9);
     const sk::LinearLightSubdivideResult sd = sk::linear_light_subdivide(s, k, ends, cap);
+    shadowkit_fuzz::check_detail(sd);
     if (sd.count > cap || sd.count > sd.needed) __builtin_trap();
     if (sd.status == St::Ok || sd.status == St::BufferTooSmall) {
         if (s.status != St::Ok || k == 0 || sd.needed != k + 1) __builtin_trap();
@@ -129,6 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         bool finite_in = all_finite(p) && all_finite(n) && all_finite(a) && all_finite(b) && std::isfinite(mf);
         for (const auto& bx : boxes) finite_in = finite_in && all_finite(bx.lo) && all_finite(bx.hi);
         const sk::LinearLightFraction f = sk::linear_light_visible_fraction(p, n, a, b, boxes.data(), boxes.size(), mf);
+        shadowkit_fuzz::check_detail(f);
         if (f.status == St::NotRun || (!finite_in && f.status == St::Ok)) __builtin_trap();
         if (f.status == St::Ok) {
             if (!(f.fraction >= 0.f && f.fraction <= 1.f)) __builtin_trap();
@@ -136,6 +140,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         }
         for (const auto& bx : boxes) {
             const sk::LinearLightInterval I = sk::linear_light_box_interval(p, a, b, bx, mf);
+            shadowkit_fuzz::check_detail(I);
             if (I.status == St::Ok && !I.empty() && !(I.t0 >= 0.f && I.t1 <= 1.f)) __builtin_trap();
             if (I.status == St::Ok && !(all_finite(p) && all_finite(a) && all_finite(b) && all_finite(bx.lo) &&
                                         all_finite(bx.hi) && std::isfinite(mf)))
@@ -143,6 +148,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (f.status == St::Ok && I.status != St::Ok) __builtin_trap();  // the fraction validated every box
         }
         const sk::LinearLightInterval T = sk::linear_light_tangent_interval(p, n, a, b);
+        shadowkit_fuzz::check_detail(T);
         if (T.status == St::Ok && !T.empty() && !(T.t0 >= 0.f && T.t1 <= 1.f)) __builtin_trap();
         if ((T.status == St::Ok) != (all_finite(p) && all_finite(n) && all_finite(a) && all_finite(b))) __builtin_trap();
         const float v = sk::linear_light_shade(it & 1, r.value(raw, 0.01f), it & 2, r.value(raw, 0.01f));
@@ -162,6 +168,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::vector<sk::LinearLightSkinVertex> skin(scap);
     const sk::LinearLightSkinResult sr =
         sk::linear_light_build_skin(pos.data(), dist.data(), W, H, thr, skin.data(), skin.size());
+    shadowkit_fuzz::check_detail(sr);
     if (sr.status == St::NotRun || sr.count > scap || sr.count > sr.needed || sr.needed % 3 != 0) __builtin_trap();
     if (sr.needed > sk::linear_light_skin_capacity(W, H)) __builtin_trap();
     if (sr.status == St::Ok && sr.count != sr.needed) __builtin_trap();
@@ -181,6 +188,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 }
                 const sk::LinearLightSkinCell cell =
                     sk::linear_light_skin_cell(glm::vec4(dist[q[0]], dist[q[1]], dist[q[2]], dist[q[3]]), thr);
+                shadowkit_fuzz::check_detail(cell);
                 if (cell.status != St::Ok) {
                     expect = cell.status;
                     break;

@@ -14,6 +14,7 @@ namespace {
 using namespace shadowkit;
 void check(const PcssValue& v) {
     if (v.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(v);
     if (v.status == Status::Ok ? !std::isfinite(v.value) : v.value != 0.0f) __builtin_trap();
 }
 void check_nonneg(const PcssValue& v) {
@@ -91,6 +92,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     const PcssFit fit = pcss_fit_near_plane(L, view, lo, hi);
     if (fit.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(fit);
     if (fit.status == Status::Ok) {
         if (pcss_validate_light(fit.light) != Status::Ok) __builtin_trap();
         if (fit.light.near_z < L.near_z || !std::isfinite(fit.caster_near_z)) __builtin_trap();
@@ -99,6 +101,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     const PcssBlocker b = pcss_average_blocker(samples.data(), samples.size(), z_r, bias);
     if (b.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(b);
     if (b.blocker_found) {
         if (b.status != Status::Ok || b.blocker_count == 0 || b.blocker_count > samples.size() ||
             !std::isfinite(b.average) || !(b.average > 0.0f))
@@ -123,6 +126,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const PcssBlocker& bb : {b, fake}) {
         const PcssFilter f = pcss_filter(L, z_r, bb, pol);
         if (f.status == Status::NotRun) __builtin_trap();
+        shadowkit_fuzz::check_detail(f);
         if (f.status == Status::Ok) {
             if (!std::isfinite(f.search_uv) || f.search_uv < 0.0f || f.search_uv > pol.max_filter_uv) __builtin_trap();
             if (f.blocker_found) {

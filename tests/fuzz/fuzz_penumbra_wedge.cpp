@@ -43,6 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float extent = g(R);
 
     const shadowkit::PenumbraWedge w = shadowkit::penumbra_wedge(e0, e1, L, pad);
+    shadowkit_fuzz::check_detail(w);
     const bool light_ok = all_finite(center) && std::isfinite(L.radius) && L.radius >= 0.0f;
     if (w.status == shadowkit::Status::Ok && !light_ok) __builtin_trap();
     if (w.status == shadowkit::Status::Ok && w.skip == shadowkit::PenumbraWedgeSkip::None) {
@@ -75,14 +76,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     (void)hi;
 
     const shadowkit::PenumbraValue cv = shadowkit::penumbra_edge_coverage(e0, e1, L, p);
+    shadowkit_fuzz::check_detail(cv);
     if (cv.status == shadowkit::Status::Ok && (!std::isfinite(cv.value) || std::fabs(cv.value) > 0.5 + 1e-12)) __builtin_trap();
     if (cv.status == shadowkit::Status::NotRun) __builtin_trap();
     if (cv.status == shadowkit::Status::Ok && (!light_ok || !all_finite(e0) || !all_finite(e1) || !all_finite(p))) __builtin_trap();
     const glm::vec3 ends[4] = {e0, e1, e1, p};
     const shadowkit::PenumbraValue v = shadowkit::penumbra_visibility(ends, 2, L, p, R.range(-4, 4));
+    shadowkit_fuzz::check_detail(v);
     if (v.status == shadowkit::Status::Ok && !(v.value >= 0.0 && v.value <= 1.0)) __builtin_trap();
 
     const shadowkit::PenumbraWedgeHull h = shadowkit::penumbra_wedge_hull(w, extent);
+    shadowkit_fuzz::check_detail(h);
     if (h.drawable && h.status != shadowkit::Status::Ok) __builtin_trap();
     if (h.status == shadowkit::Status::Ok) {
         for (const glm::vec4& x : h.vertices)
@@ -97,10 +101,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     sp.reversed_z = R.boolean();
     for (int k = 0; k < 4; ++k) sp.viewport[k] = R.range(-4999, 4999);
     const shadowkit::ScissorRect s = shadowkit::penumbra_wedge_scissor(h, sp);
+    shadowkit_fuzz::check_detail(s);
     const glm::vec4 raw[3] = {glm::vec4(e0, 1.0f), glm::vec4(e1, g(R)), glm::vec4(p, 0.0f)};
     const shadowkit::ScissorRect s2 = shadowkit::penumbra_points_scissor(raw, 3, sp);
+    shadowkit_fuzz::check_detail(s2);
     const glm::vec3 b0 = v3(R), b1 = v3(R);
     const shadowkit::ScissorRect s3 = shadowkit::penumbra_wedge_scissor_in_box(h, glm::min(b0, b1), glm::max(b0, b1), sp);
+    shadowkit_fuzz::check_detail(s3);
     for (const shadowkit::ScissorRect* q : {&s, &s2, &s3}) {
         if (q->status == shadowkit::Status::NotRun) __builtin_trap();
         if (q->status == shadowkit::Status::Ok && (sp.viewport[2] <= 0 || sp.viewport[3] <= 0)) __builtin_trap();
@@ -112,10 +119,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!(q->depth_min >= 0.0f && q->depth_min <= q->depth_max && q->depth_max <= 1.0f)) __builtin_trap();
     }
     const shadowkit::PenumbraPlane tp = shadowkit::penumbra_transform_plane(w.outer_bound, sp.view_proj);
+    shadowkit_fuzz::check_detail(tp);
     if (tp.status == shadowkit::Status::Ok && !all_finite(tp.plane)) __builtin_trap();
     const shadowkit::PenumbraMatrix vt = shadowkit::penumbra_viewport_transform(sp.viewport, sp.clip_depth);
+    shadowkit_fuzz::check_detail(vt);
     if (vt.status == shadowkit::Status::Ok && (!all_finite(vt.matrix) || sp.viewport[2] <= 0 || sp.viewport[3] <= 0)) __builtin_trap();
     const shadowkit::PenumbraBoundingSphere rl = shadowkit::penumbra_rect_bounding_sphere(L.light_position, e1, p);
+    shadowkit_fuzz::check_detail(rl);
     if (rl.status == shadowkit::Status::Ok && (!std::isfinite(rl.light.radius) || rl.light.radius < 0.0f)) __builtin_trap();
 
     // the plane evaluation: the inside test (>= 0) of every wedge plane
@@ -177,15 +187,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         L2.light_position = glm::vec4(lw == 2.0f ? 2.0f * center : center, lw);
         const bool ok2 = light_ok && (lw == 2.0f ? all_finite(2.0f * center) : lw > 0.0f);
         const shadowkit::PenumbraWedge w2 = shadowkit::penumbra_wedge(e0, e1, L2, pad);
+        shadowkit_fuzz::check_detail(w2);
         if (w2.status == shadowkit::Status::Ok && !ok2) __builtin_trap();
         if (lw <= 0.0f && w2.status != shadowkit::Status::InvalidLight) __builtin_trap();
         const shadowkit::PenumbraValue c2 = shadowkit::penumbra_edge_coverage(e0, e1, L2, p);
+        shadowkit_fuzz::check_detail(c2);
         if (c2.status == shadowkit::Status::Ok && (!ok2 || !std::isfinite(c2.value) || std::fabs(c2.value) > 0.5 + 1e-12))
             __builtin_trap();
         if (lw == 2.0f && c2.status == shadowkit::Status::Ok && cv.status == shadowkit::Status::Ok &&
             std::fabs(c2.value - cv.value) > 1e-6)
             __builtin_trap();  // the same light
         const shadowkit::PenumbraValue v2 = shadowkit::penumbra_visibility((lk & 4) ? nullptr : ends, 2, L2, p, 0);
+        shadowkit_fuzz::check_detail(v2);
         if ((lk & 4) && v2.status == shadowkit::Status::Ok) __builtin_trap();  // null with a count: never Ok
         if (v2.status == shadowkit::Status::Ok && !(v2.value >= 0.0 && v2.value <= 1.0)) __builtin_trap();
     }

@@ -15,6 +15,7 @@ namespace {
 void check_result(const shadowkit::WarpResult& w) {
     using shadowkit_fuzz::all_finite;
     shadowkit_fuzz::check(all_finite(w.light_view_proj) && all_finite(w.depth_view_proj));
+    shadowkit_fuzz::check_detail(w);
     if (w.status != shadowkit::Status::Ok) {
         shadowkit_fuzz::check(!w.fallback_uniform && !w.visible && !w.separate_depth);
         return;
@@ -85,6 +86,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const std::uint32_t nx = r.range(0u, 7u), ny = r.range(0u, 7u), nz = r.range(0u, 7u);
         const shadowkit::WarpAliasingStats a =
             shadowkit::warp_measure_aliasing(in, m, r.u8() * 8u, {r.u8() * 4u, r.u8() * 4u}, nx, ny, nz);
+        shadowkit_fuzz::check_detail(a);
         if (a.status == shadowkit::Status::Ok)
             shadowkit_fuzz::check(std::isfinite(a.max_error) && std::isfinite(a.mean_error) && a.max_error >= 0.0 &&
                                   a.mean_error >= 0.0 && a.mean_error <= a.max_error * (1.0 + 1e-12) &&
@@ -93,6 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const glm::vec3 p = r.vec3(), n = r.vec3();
         const shadowkit::WarpAliasingValue e =
             shadowkit::warp_aliasing_error(m, in.camera_proj * in.camera_view, p, n, r.u16(), {r.u16(), r.u16()});
+        shadowkit_fuzz::check_detail(e);
         if (e.status == shadowkit::Status::Ok) shadowkit_fuzz::check(std::isfinite(e.value) && e.value >= 0.0);
     }
     return 0;

@@ -34,8 +34,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const int factor = r.range(0, 79);
 
     const PoissonValue area = poisson_domain_area(d);
+    shadowkit_fuzz::check_detail(area);
     if (area.status == Status::NotRun || (area.status == Status::Ok && !(area.value > 0.0f))) __builtin_trap();
     const PoissonValue pk = poisson_packing_distance(d, count_raw);
+    shadowkit_fuzz::check_detail(pk);
     if (pk.status == Status::NotRun || (pk.status == Status::Ok && !(std::isfinite(pk.value) && pk.value > 0.0f))) __builtin_trap();
     std::vector<glm::vec2> buf(capacity ? capacity : 1);
     glm::vec2* out = (flags & 1) && capacity == 0 ? nullptr : buf.data();
@@ -47,6 +49,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         o.attempts = attempts;
         o.fill_gaps = (flags & 2) != 0;
         const PoissonResult res = poisson_bridson(d, radius, seed, out, capacity, o);
+        shadowkit_fuzz::check_detail(res);
         if (res.count > capacity || res.status == Status::NotRun) __builtin_trap();
         if (res.status == Status::Ok || res.status == Status::BufferTooSmall) {
             if (res.needed > cap_bound) __builtin_trap();
@@ -54,6 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             check_set(d, out, res.count);
             if (res.count >= 2 && res.count <= 300) {
                 const PoissonValue md = poisson_min_distance(out, res.count);
+                shadowkit_fuzz::check_detail(md);
                 if (md.status != Status::Ok || !(double(md.value) >= double(radius) * (1.0 - 1e-7))) __builtin_trap();
             }
         } else if (res.count != 0) {
@@ -70,17 +74,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         o.weight_limiting = (flags & 16) != 0;
         if (count > 300 && count <= kPoissonMaxPoints) return 0;  // valid but slow: skip
         const PoissonResult res = poisson_eliminate(d, count, seed, out, capacity, o);
+        shadowkit_fuzz::check_detail(res);
         if (res.count > capacity || res.status == Status::NotRun) __builtin_trap();
         if (res.status == Status::Ok) {
             if (res.count != count || !std::isfinite(res.radius)) __builtin_trap();
             check_set(d, out, res.count);
             const PoissonValue md = poisson_min_distance(out, res.count);
+            shadowkit_fuzz::check_detail(md);
             if (res.count >= 2 && (md.status != Status::Ok || md.value != res.radius)) __builtin_trap();
             const PoissonValue rho = poisson_normalized_radius(d, out, res.count);
+            shadowkit_fuzz::check_detail(rho);
             if (rho.status == Status::Ok ? !std::isfinite(rho.value) : res.count >= 2) __builtin_trap();
             if (res.count <= 24) {
                 const PoissonValue cov = poisson_coverage_radius(d, out, res.count);
+                shadowkit_fuzz::check_detail(cov);
                 const PoissonValue grid = poisson_coverage_radius_grid(d, out, res.count, 33);
+                shadowkit_fuzz::check_detail(grid);
                 if ((cov.status == Status::Ok) != (res.count > 0) || (grid.status == Status::Ok) != (res.count > 0)) __builtin_trap();
                 if (res.count > 0 && !(grid.value <= cov.value + 1e-5f)) __builtin_trap();
             }
@@ -93,6 +102,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             std::vector<char> text(text_cap + 1, 'x');
             const PoissonGlsl mode = static_cast<PoissonGlsl>(r.range(0, 2));  // 2: invalid
             const PoissonGlslResult g = poisson_to_glsl(out, res.count, name, mode, text_cap ? text.data() : nullptr, text_cap);
+            shadowkit_fuzz::check_detail(g);
             if (text[text_cap] != 'x') __builtin_trap();  // never writes past capacity
             if (g.status == Status::NotRun || g.count > text_cap) __builtin_trap();
             if (g.status == Status::Ok || g.status == Status::BufferTooSmall) {

@@ -29,6 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // ---- depth range and maps
     const float n = r.value(raw, 0.25f), f = r.value(raw, 0.25f);
     const PrefilterDepthRange range = prefilter_depth_range(n, f);
+    shadowkit_fuzz::check_detail(range);
     if (range.status == Status::Ok) check(std::isfinite(range.scale) && std::isfinite(range.offset) && range.scale > 0.0f);
     const float d = r.f32();
     check(unit(prefilter_depth(d, range)));
@@ -36,6 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float pn = r.value(raw, 0.25f), pf = r.boolean() ? INFINITY : r.value(raw, 0.25f);
     const bool persp = r.boolean(), rev = r.boolean();
     const PrefilterWindowMap wm = prefilter_window_depth_map(pn, pf, persp, rev, range);
+    shadowkit_fuzz::check_detail(wm);
     if (wm.status == Status::Ok) check(all_finite(wm.coefficients));
     const float zw = r.f32();
     if (wm.status == Status::Ok && persp && pn >= 1e-6f && range.scale < 1e30f) {
@@ -59,6 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // ---- storage and limits
     const double v = r.f64();
     const PrefilterStored st = prefilter_store(v, format);
+    shadowkit_fuzz::check_detail(st);
     if (st.status == Status::Ok) {
         check(std::isfinite(st.value));
         if (format == PrefilterFormat::Unorm16) check(unit(st.value));
@@ -66,6 +69,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const std::uint32_t N = r.u32();
     const PrefilterExponent lim = prefilter_exponent_limit(method, format, N);
+    shadowkit_fuzz::check_detail(lim);
     if (lim.status == Status::Ok) {
         check(std::isfinite(lim.exponent) && lim.exponent >= 0.0f && std::isfinite(lim.worst_value));
         const double k = method == PrefilterMethod::Esm ? 1.0 : 2.0;
@@ -87,6 +91,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     s.bleed_reduction = r.mostly_within(2.0f);
     s.moment_bias = r.mostly_within(2.0f);
     const PrefilterUniforms u = prefilter_uniforms(s);
+    shadowkit_fuzz::check_detail(u);
     if (u.status == Status::Ok) {
         check(all_finite(u.exponents) && std::isfinite(u.min_variance) && std::isfinite(u.bleed_reduction) &&
               std::isfinite(u.moment_bias) && all_finite(u.params()));
@@ -130,6 +135,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     float weights[kPrefilterMaxWeights + 1];
     const std::size_t cap = r.size(kPrefilterMaxWeights + 1);
     const PrefilterKernel k = prefilter_blur_weights(shape, width, r.boolean() ? nullptr : weights, cap);
+    shadowkit_fuzz::check_detail(k);
     check(k.count <= cap);
     if (k.status == Status::Ok) {
         check(k.count == k.needed && k.count == static_cast<std::size_t>(k.radius) + 1u && k.radius <= kPrefilterMaxRadius);
@@ -140,6 +146,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const glm::mat4 P = r.boolean() ? r.perspective(1.0f, r.boolean()) : r.mat4();
     const PrefilterKernelWidth kw = prefilter_kernel_texels(P, r.f32(), r.f32(), r.i32(), r.i32());
+    shadowkit_fuzz::check_detail(kw);
     if (kw.status == Status::Ok) check(all_finite(kw.texels) && kw.texels.x >= 0.0f && kw.texels.y >= 0.0f);
     // ---- soft shadows
     PrefilterSoftSettings ss;
@@ -148,14 +155,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     ss.range = r.boolean() ? range : prefilter_depth_range(r.value(raw, 0.25f), r.value(raw, 0.25f));
     ss.map_size = r.boolean() ? (1 << r.range(0, 14)) : r.i32();
     const PrefilterSoftUniforms su = prefilter_soft_uniforms(ss);
+    shadowkit_fuzz::check_detail(su);
     if (su.status == Status::Ok)
         check(all_finite(su.params()) && std::isfinite(su.max_level) && su.light_uv >= 0.0f && su.distance_offset > 0.0f &&
               su.distance_scale > 0.0f);
     const PrefilterSoftUniforms& sx = r.boolean() ? su : PrefilterSoftUniforms{};
     const PrefilterBlocker bl = prefilter_soft_blocker(m, t, u);
+    shadowkit_fuzz::check_detail(bl);
     if (bl.status == Status::Ok) check(unit(bl.fraction) && unit(bl.depth) && (bl.blocker_found == (bl.fraction > 0.0f)));
     const float tr = r.f32(), tb = r.f32();
     const PrefilterPenumbra pen = prefilter_soft_penumbra(tr, tb, sx);
+    shadowkit_fuzz::check_detail(pen);
     if (pen.status == Status::Ok)
         check(std::isfinite(pen.width_world) && pen.width_world >= 0.0f && unit(pen.width_uv) && pen.level >= 0.0f &&
               pen.level <= sx.max_level);

@@ -29,6 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const int order = r.range(-6, 6);
     const int strata = r.range(0, 9);
     const PrtSamples samples = prt_make_samples(order, strata, r.u32());
+    shadowkit_fuzz::check_detail(samples);
     check(samples.status != Status::NotRun);
     if (samples.status == Status::Ok) check(samples.count() == size_t(strata * strata) && samples.order == order);
     else check(samples.count() == 0);
@@ -52,6 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         samples, opt, pos.data(), nrm.data(), pos.size(),
         [&](const glm::vec3& o, const glm::vec3& d) {
             check(std::fabs(glm::length(d) - 1.0f) < 1e-4f);
+    shadowkit_fuzz::check_detail(tr);
             check(all_finite(o));
             return ((pattern >> (calls++ % 32)) & 1u) != 0u;
         },
@@ -74,6 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float scale = (flags & 4) ? r.interesting_f32() : r.value(raw, kStep);
     const size_t ecap = r.size(29);
     const PrtResult pe = prt_project_environment(samples, [&](const glm::vec3& d) { return scale * d; }, env, ecap);
+    shadowkit_fuzz::check_detail(pe);
     check(pe.status != Status::NotRun && pe.count <= ecap);
     if (pe.status == Status::Ok) {
         check(pe.count == n && std::isfinite(scale));
@@ -81,6 +84,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (tr.status == Status::Ok && tr.count > 0) {
             std::vector<glm::vec3> out(pos.size());
             const PrtResult sm = prt_shade_mesh(order, T.data(), n, pos.size(), env, out.data(), out.size());
+            shadowkit_fuzz::check_detail(sm);
             check(sm.status == Status::Ok || sm.status == Status::Overflow);
             if (sm.status == Status::Ok) {
                 check(sm.count == pos.size());
@@ -99,6 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         co.iterations = r.range(-1, 4);
         co.seed = r.u32();
         const PrtCpca cp = prt_cpca_compress(order, T.data(), n, pos.size(), co);
+        shadowkit_fuzz::check_detail(cp);
         check(cp.status != Status::NotRun);
         if (cp.status == Status::Ok) {
             check(cp.clusters >= 1 && cp.clusters <= pos.size());
@@ -108,6 +113,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 check(cp.cluster_of[v] < cp.clusters);
                 float rec[25];
                 const PrtResult rr = prt_cpca_reconstruct(cp, v, rec, 25);
+                shadowkit_fuzz::check_detail(rr);
                 check(rr.status == Status::Ok || rr.status == Status::Overflow);
                 if (rr.status == Status::Ok)
                     for (size_t i = 0; i < n; ++i) check(std::isfinite(rec[i]));
@@ -116,14 +122,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (pe.status == Status::Ok) {
                 std::vector<glm::vec3> proj(cp.clusters * (size_t(cp.components) + 1));
                 const PrtResult pp = prt_cpca_project_environment(cp, env, 25, proj.data(), proj.size());
+                shadowkit_fuzz::check_detail(pp);
                 check(pp.status == Status::Ok || pp.status == Status::Overflow);
                 if (pp.status == Status::Ok) {
                     for (const auto& p : proj) check(all_finite(p));
                     std::vector<glm::vec3> shaded(pos.size());
                     const PrtResult sm = prt_cpca_shade_mesh(cp, proj.data(), shaded.data(), shaded.size());
+                    shadowkit_fuzz::check_detail(sm);
                     check(sm.status == Status::Ok || sm.status == Status::Overflow);
                     for (size_t v = 0; v < pos.size(); ++v) {
                         const PrtRgbValue c = prt_cpca_shade(cp, proj.data(), v);
+                        shadowkit_fuzz::check_detail(c);
                         check(c.status == Status::Ok || c.status == Status::Overflow);
                         if (c.status == Status::Ok) {
                             check(all_finite(c.value));
@@ -142,6 +151,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const glm::vec3 bdir = r.vec3(raw, kStep);
     const size_t bcap = r.size(29);
     const PrtResult pb = prt_sh_basis(order, bdir, y, bcap);
+    shadowkit_fuzz::check_detail(pb);
     check(pb.status != Status::NotRun && pb.count <= bcap);
     if (pb.status == Status::Ok) {
         check(all_finite(bdir) && pb.count == n);
@@ -161,6 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::vector<float> T2(cap + 1, -7.0f);
         const PrtTransferResult tr2 = prt_compute_transfer(samples, opt, pos.data(), nrm.data(), pos.size(), fn,
                                                            null_fn ? nullptr : &vis, T2.data(), cap);
+        shadowkit_fuzz::check_detail(tr2);
         check(T2[cap] == -7.0f);
         if (null_fn && !unshadowed) {
             check(tr2.status == Status::InvalidArgument && tr2.count == 0);
@@ -194,9 +205,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const float* ep = (sf & 8) ? nullptr : e1;
         const glm::vec3* e3p = (sf & 8) ? nullptr : e3;
         const PrtValue s1 = prt_shade(sorder, tp, ep);
+        shadowkit_fuzz::check_detail(s1);
         const PrtRgbValue s3 = prt_shade_rgb(sorder, tp, e3p);
+        shadowkit_fuzz::check_detail(s3);
         glm::vec3 mesh_out[1] = {glm::vec3(-7.0f)};
         const PrtResult sm = prt_shade_mesh(sorder, tp, 25, 1, e3p, mesh_out, 1);
+        shadowkit_fuzz::check_detail(sm);
         if (sn == 0 || !tp || !ep) {
             check(s1.status == Status::InvalidArgument && s3.status == Status::InvalidArgument);
             check(sm.status == Status::InvalidArgument);

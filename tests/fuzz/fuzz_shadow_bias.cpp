@@ -17,10 +17,12 @@ using namespace shadowkit;
 bool fits(double v) { return std::isfinite(v) && std::fabs(v) <= double(std::numeric_limits<float>::max()); }
 void check(const BiasValue& r) {
     if (r.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(r);
     if (r.status == Status::Ok ? !std::isfinite(r.value) : r.value != 0.0f) __builtin_trap();
 }
 void check(const BiasDepthValue& r) {
     if (r.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(r);
     if (r.status == Status::Ok ? !fits(r.value) : r.value != 0.0) __builtin_trap();
 }
 }  // namespace
@@ -67,12 +69,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     const BiasTanAngle tn = bias_light_tan_angle(nrm, l);
     if (tn.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(tn);
     if (tn.status == Status::Ok) {
         if (!std::isfinite(tn.value) || tn.value < 0.0f) __builtin_trap();
         if (!tn.faces_light && tn.value != 0.0f) __builtin_trap();
     }
     const BiasDepthGradient g = bias_plane_depth_gradient(nrm, dx, dy, l);
     if (g.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(g);
     if (g.status == Status::Ok && !(std::isfinite(g.dz_duv.x) && std::isfinite(g.dz_duv.y))) __builtin_trap();
     if (g.edge_on && g.dz_duv != glm::vec2(0.0f)) __builtin_trap();
     const BiasValue delta = bias_texel_depth_delta(g.dz_duv, a);
@@ -91,10 +95,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     const BiasPosition off = bias_normal_offset_position(p, nrm, l, a, b);
     if (off.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(off);
     if (off.status == Status::Ok && !all_finite(off.position)) __builtin_trap();
 
     const BiasReceiverPlane rp = bias_receiver_plane_depth_gradient(dx, dy);
     if (rp.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(rp);
     if (rp.status == Status::Ok && !(std::isfinite(rp.dz_duv.x) && std::isfinite(rp.dz_duv.y))) __builtin_trap();
     if (rp.singular && rp.dz_duv != glm::vec2(0.0f)) __builtin_trap();
     check(bias_receiver_plane_depth(a, rp.dz_duv, glm::vec2(b, c)));
@@ -115,6 +121,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const glm::ivec2 map_size(static_cast<int>(r.range(0, 5000)) - 2, static_cast<int>(r.range(0, 5000)) - 2);
     const BiasPlaneGradient pg = bias_plane_gradient(m, clip, p, nrm);
     if (pg.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(pg);
     if (pg.status == Status::Ok) {
         if (!all_finite(pg.coord) || !std::isfinite(pg.dz_duv.x) || !std::isfinite(pg.dz_duv.y)) __builtin_trap();
         if (!(pg.position_error >= 0.0f) || !std::isfinite(pg.position_error)) __builtin_trap();
@@ -124,6 +131,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     const BiasAutoLookup al = bias_auto_lookup(m, clip, rev, p, nrm, map_size, fmt);
     if (al.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(al);
     if (al.status == Status::Ok && !al.outside && !al.edge_on) {
         float wsum = 0.0f;
         for (int k = 0; k < 4; ++k) {

@@ -27,6 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     std::vector<glm::vec4> vb(cap + 1, glm::vec4(-7.0f));
     const sk::VolumeBuffer rv = sk::volume_build_vertices(nv ? pos.data() : nullptr, nv, vb.data(), cap);
+    shadowkit_fuzz::check_detail(rv);
     if (vb[cap] != glm::vec4(-7.0f)) __builtin_trap();
     if (rv.count > cap || rv.status == sk::Status::NotRun) __builtin_trap();
     if (rv.status == sk::Status::Ok || rv.status == sk::Status::BufferTooSmall) {
@@ -38,6 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     std::vector<std::uint32_t> ib(cap + 1, 0xDEADBEEFu);
     const sk::VolumeBuffer rs = sk::volume_build_side_quads(ne ? edges.data() : nullptr, ne, nv, ib.data(), cap);
+    shadowkit_fuzz::check_detail(rs);
     if (ib[cap] != 0xDEADBEEFu || rs.count > cap) __builtin_trap();
     if (rs.status == sk::Status::Ok || rs.status == sk::Status::BufferTooSmall) {
         if (ne % 2 != 0 || rs.needed != 3 * ne || rs.count % 6 != 0 || (rs.status == sk::Status::Ok) != (rs.count == rs.needed))
@@ -56,6 +58,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t lit_count = (cm_byte & 4) ? in.size(nt + 1) : nt;
     const sk::VolumeBuffer rc = sk::volume_build_caps(nt ? tris.data() : nullptr, 3 * nt, lit_count ? lit.data() : nullptr, lit_count,
                                                       nv, cm, (mode & 4) != 0, ib.data(), cap);
+    shadowkit_fuzz::check_detail(rc);
     if (ib[cap] != 0xDEADBEEFu || rc.count > cap) __builtin_trap();
     if (rc.status == sk::Status::Ok || rc.status == sk::Status::BufferTooSmall) {
         if ((cm_byte & 3) == 3 || lit_count != nt) __builtin_trap();  // out-of-range mode / count: never Ok
@@ -112,6 +115,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                                           : ek ? sk::VolumeCapMode::EverittKilgard
                                                                : sk::VolumeCapMode::LitOnly,
                                                           dark, o2.data(), cap2);
+        shadowkit_fuzz::check_detail(r2);
         if (o2[cap2] != 0xDEADBEEFu) __builtin_trap();
         if (bad) {
             if (r2.status != sk::Status::IndexOutOfRange) __builtin_trap();
@@ -130,6 +134,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     sk::VolumeNearRect rect;
     if (mode & 32) {
         rect = sk::volume_near_plane_rect((mode & 64) ? in.mat4() : in.look_at_view(), in.f32(), in.f32(), in.f32());
+        shadowkit_fuzz::check_detail(rect);
         if (rect.status == sk::Status::Ok)
             for (const glm::vec3& c : rect.corners)
                 if (!shadowkit_fuzz::all_finite(c)) __builtin_trap();
@@ -142,12 +147,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const glm::vec3 bmin = in.vec3(), bmax = in.vec3();
     const float margin = (mode & 16) ? in.f32() : 0.0f;
     const sk::VolumeMethod mb = sk::volume_choose_stencil_method_box(rect, L, bmin, bmax, margin);
+    shadowkit_fuzz::check_detail(mb);
     if (mb.status != sk::Status::Ok && mb.method != sk::VolumeStencilMethod::ZFail) __builtin_trap();
     if (mb.status == sk::Status::Ok && (rect.status != sk::Status::Ok || !rect_finite || !light_ok || !(bmin.x <= bmax.x && bmin.y <= bmax.y && bmin.z <= bmax.z) ||
                                         !(margin >= 0.0f) || !std::isfinite(margin)))
         __builtin_trap();
     const float radius = in.f32();
     const sk::VolumeMethod ms = sk::volume_choose_stencil_method_sphere(rect, L, bmin, radius, margin);
+    shadowkit_fuzz::check_detail(ms);
     if (ms.status != sk::Status::Ok && ms.method != sk::VolumeStencilMethod::ZFail) __builtin_trap();
     if (ms.status == sk::Status::Ok && (rect.status != sk::Status::Ok || !rect_finite || !light_ok || !(radius >= 0.0f) || !std::isfinite(radius)))
         __builtin_trap();
@@ -157,6 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const glm::mat4 view = (mode & 64) ? in.mat4() : glm::mat4(1.0f);
         const float fovy = in.f32(), aspect = in.f32(), near_z = in.f32();
         const sk::VolumeNearRect r = sk::volume_near_plane_rect(view, fovy, aspect, near_z);
+        shadowkit_fuzz::check_detail(r);
         if (r.status == sk::Status::Ok) {
             if (!(fovy > 0.0f && fovy < 3.1415927f && aspect > 0.0f && near_z > 0.0f) || !std::isfinite(aspect) || !std::isfinite(near_z))
                 __builtin_trap();
@@ -165,6 +173,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         const sk::VolumeNearRect ri = sk::volume_near_plane_rect_from_inverse(
             view, (mode & 64) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne, (mode & 128) != 0);
+        shadowkit_fuzz::check_detail(ri);
         if (ri.status == sk::Status::Ok)
             for (const glm::vec3& c : ri.corners)
                 if (!shadowkit_fuzz::all_finite(c)) __builtin_trap();
@@ -179,6 +188,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (int& v : sp.viewport) v = in.i32();
     const glm::vec3 lmin = in.vec3(), lmax = in.vec3();
     const sk::ScissorRect s = sk::volume_scissor(L, bmin, bmax, lmin, lmax, sp);
+    shadowkit_fuzz::check_detail(s);
     if (s.status == sk::Status::NotRun) __builtin_trap();
     if (s.status == sk::Status::Ok) {
         if (!(ssel & 1) || !(ssel & 2) || !light_ok) __builtin_trap();
@@ -195,6 +205,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     const glm::vec4 p(bmin, (mode & 2) ? 1.0f : in.f32());
     const sk::VolumeExtrusion x = sk::volume_extrude_to_infinity(p, L);
+    shadowkit_fuzz::check_detail(x);
     if (x.status == sk::Status::Ok) {
         if (!shadowkit_fuzz::all_finite(x.position) || x.position.w != 0.0f || !light_ok) __builtin_trap();
         if (x.position.x == 0.0f && x.position.y == 0.0f && x.position.z == 0.0f) __builtin_trap();

@@ -45,6 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t cap = in.size(255);
 
     const sk::SilhouetteAdjacency adj = sk::silhouette_build_adjacency(nv ? pos.data() : nullptr, nv, ni ? idx.data() : nullptr, ni, o);
+
+    shadowkit_fuzz::check_detail(adj);
     // null pointers with non-zero counts are rejected
     if (nv > 0 && sk::silhouette_build_adjacency(nullptr, nv, idx.data(), ni, o).status != sk::Status::InvalidArgument) __builtin_trap();
     if (ni > 0 && sk::silhouette_build_adjacency(pos.data(), nv, nullptr, ni, o).status != sk::Status::InvalidArgument) __builtin_trap();
@@ -79,6 +81,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     std::vector<std::uint8_t> facing(fc + 1, 0xCD);
     const sk::SilhouetteFacing fr = sk::silhouette_compute_facing(adj, pos.data(), nv, L, facing.data(), fc);
+    shadowkit_fuzz::check_detail(fr);
     if (fr.status != sk::Status::Ok) {
         if (fr.status != sk::Status::InvalidLight || sk::silhouette_valid_light(L)) __builtin_trap();
         return 0;
@@ -102,6 +105,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t fcap = in.size(cap);
     std::vector<std::uint8_t> flags(fcap + 1, 0xEE);
     const sk::SilhouetteResult r = sk::silhouette_extract(adj, facing.data(), fc, out.data(), cap, flags.data(), fcap);
+    shadowkit_fuzz::check_detail(r);
     if (r.needed > sk::silhouette_indices_capacity(adj) || r.count > cap || r.count % 2 != 0 || r.count / 2 > fcap) __builtin_trap();
     if ((r.count < r.needed) != (r.status == sk::Status::BufferTooSmall)) __builtin_trap();
     if (r.status != sk::Status::Ok && r.status != sk::Status::BufferTooSmall) __builtin_trap();
@@ -115,6 +119,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::vector<std::uint32_t> t2(tcap + 1, 0xDEADBEEFu);
         const std::size_t tc = std::min(cap, tcap);
         const sk::SilhouetteResult rt = sk::silhouette_extract_two_sided(adj, facing.data(), fc, t2.data(), tc, nullptr, 0);
+        shadowkit_fuzz::check_detail(rt);
         if (rt.needed > tcap || rt.count > tc || rt.count % 2 != 0 || rt.boundary_edges != adj.boundary_edges) __builtin_trap();
         if ((rt.count < rt.needed) != (rt.status == sk::Status::BufferTooSmall)) __builtin_trap();
         if (rt.status != sk::Status::Ok && rt.status != sk::Status::BufferTooSmall) __builtin_trap();
@@ -135,6 +140,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     // Closed meshes: silhouette loops are balanced.
     const sk::Silhouette s = sk::silhouette_compute(adj, pos.data(), nv, L);
+    shadowkit_fuzz::check_detail(s);
     if (s.status != sk::Status::Ok || s.indices.size() != r.needed || s.flags.size() != r.needed / 2) __builtin_trap();
     if (!std::equal(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(r.count), s.indices.begin())) __builtin_trap();
     if (adj.closed()) {
@@ -155,6 +161,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     };
     const sk::SilhouetteResult pr = sk::silhouette_extract_parallel(adj, pos.data(), nv, L, pf.data(), fc, pidx.data(), pcap,
                                                                     pflags.data(), pcap / 2, per.data(), chunks, rev_for);
+    shadowkit_fuzz::check_detail(pr);
     if (pr.status != sk::Status::Ok || pr.count != r.needed || pr.needed != r.needed) __builtin_trap();
     if (pf[fc] != 0xCD || pidx[pcap] != 0xDEADBEEFu || pflags[pcap / 2] != 0xEE) __builtin_trap();
     if (!std::equal(s.indices.begin(), s.indices.end(), pidx.begin()) || !std::equal(s.flags.begin(), s.flags.end(), pflags.begin()))
@@ -163,9 +170,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // arbitrary chunk indices, capacities and (lying) chunk results are rejected, never overrun
     const std::size_t c = in.size(50), cc = in.size(50);
     const sk::SilhouetteFacing cf = sk::silhouette_compute_facing_chunk(adj, pos.data(), nv, L, pf.data(), in.size(fc + 2), c, cc);
+    shadowkit_fuzz::check_detail(cf);
     if (cf.status == sk::Status::Ok && (cf.count > fc || cf.lit_faces > cf.count)) __builtin_trap();
     const std::size_t ccap = in.size(pcap);
     const sk::SilhouetteResult cr = sk::silhouette_extract_chunk(adj, pf.data(), fc, pidx.data(), ccap, pflags.data(), ccap / 2, c, cc);
+    shadowkit_fuzz::check_detail(cr);
     if (cr.status == sk::Status::Ok && (cr.count > sk::silhouette_indices_capacity(adj) || cr.count > ccap)) __builtin_trap();
     for (auto& x : per) x.count = x.needed = in.size(pcap + 4);
     (void)sk::silhouette_compact_chunks(adj, per.data(), chunks, pidx.data(), pcap, pflags.data(), pcap / 2);
@@ -176,10 +185,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // reported, nothing written past a capacity.
     {
         const sk::SilhouettePlanes pl = sk::silhouette_build_planes(adj, pos.data(), nv);
+        shadowkit_fuzz::check_detail(pl);
         if (pl.status != sk::Status::Ok || pl.face_count() != fc || pl.exact_faces > fc) __builtin_trap();
         std::vector<std::uint8_t> ff(fc + 1, 0xCD);
         const std::size_t fcap2 = (in.u8() & 3) == 0 ? in.size(fc + 1) : fc;
         const sk::SilhouetteFacing pf2 = sk::silhouette_compute_facing_planes(adj, pl, L, ff.data(), fcap2);
+        shadowkit_fuzz::check_detail(pf2);
         if (fcap2 < fc) {
             if (pf2.status != sk::Status::BufferTooSmall || pf2.needed != fc) __builtin_trap();
         } else {
@@ -193,6 +204,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const bool with_flags = (in.u8() & 1) != 0;
         const sk::SilhouetteResult rp = sk::silhouette_extract_planes(adj, pl, facing.data(), fc, po.data(), cap,
                                                                       with_flags ? pfl.data() : nullptr, with_flags ? fcap : 0);
+        shadowkit_fuzz::check_detail(rp);
         const std::size_t room = with_flags ? std::min(cap / 2, fcap) : cap / 2;
         if (rp.needed != r.needed || rp.count != std::min(2 * room, r.needed) || rp.boundary_edges != r.boundary_edges ||
             rp.nonmanifold_edges != r.nonmanifold_edges || (rp.count < rp.needed) != (rp.status == sk::Status::BufferTooSmall))
@@ -205,7 +217,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (std::size_t f = 0; f < fc; ++f) odd[f] = static_cast<std::uint8_t>(facing[f] ? 1 + in.u8() % 255 : 0);
         std::vector<std::uint32_t> o1(sk::silhouette_indices_capacity(adj) + 1, 1u), o2(o1.size(), 2u);
         const sk::SilhouetteResult a1 = sk::silhouette_extract(adj, odd.data(), fc, o1.data(), o1.size() - 1, nullptr, 0);
+        shadowkit_fuzz::check_detail(a1);
         const sk::SilhouetteResult a2 = sk::silhouette_extract_planes(adj, pl, odd.data(), fc, o2.data(), o2.size() - 1, nullptr, 0);
+        shadowkit_fuzz::check_detail(a2);
         if (a1.status != sk::Status::Ok || a2.status != sk::Status::Ok || a1.count != a2.count ||
             !std::equal(o1.begin(), o1.begin() + static_cast<std::ptrdiff_t>(a1.count), o2.begin()) || o2.back() != 2u)
             __builtin_trap();
@@ -223,6 +237,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             const std::size_t qcap = (in.u8() & 3) == 0 ? 3 * sk::silhouette_indices_capacity(adj) : in.size(3 * ref.needed + 8);
             std::vector<std::uint32_t> qo(qcap + 4, 0xDEADBEEFu);
             const sk::SilhouetteResult rq2 = sk::silhouette_extract_planes_side_quads(adj, pl, fb, fc, qo.data(), qcap);
+            shadowkit_fuzz::check_detail(rq2);
             const std::size_t want = 6 * std::min(qcap / 6, ref.needed / 2);
             if (rq2.count > qcap || rq2.count != want || rq2.needed != 3 * ref.needed || rq2.boundary_edges != ref.boundary_edges ||
                 rq2.nonmanifold_edges != ref.nonmanifold_edges || (rq2.status == sk::Status::Ok) != (want == rq2.needed) ||
@@ -232,6 +247,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             for (std::size_t k = want; k < qo.size(); ++k)
                 if (qo[k] != 0xDEADBEEFu) __builtin_trap();
             const sk::SilhouetteResult bad = sk::silhouette_extract_planes_side_quads(adj, pl, fb, fc + 1, qo.data(), qcap);
+            shadowkit_fuzz::check_detail(bad);
             if (bad.status != sk::Status::InvalidArgument) __builtin_trap();
         }
         // parallel planes path (chunks in reverse), then arbitrary chunk arguments
@@ -242,6 +258,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::vector<sk::SilhouetteResult> qper(pchunks);
         const sk::SilhouetteResult qr = sk::silhouette_extract_parallel_planes(adj, pl, L, qf.data(), fc, qidx.data(), pcap, qfl.data(),
                                                                                pcap / 2, qper.data(), pchunks, rev_for);
+        shadowkit_fuzz::check_detail(qr);
         if (qr.status != sk::Status::Ok || qr.count != r.needed || qf[fc] != 0xCD || qidx[pcap] != 0xDEADBEEFu || qfl[pcap / 2] != 0xEE)
             __builtin_trap();
         if (!std::equal(s.indices.begin(), s.indices.end(), qidx.begin()) || !std::equal(s.flags.begin(), s.flags.end(), qfl.begin()) ||
@@ -249,13 +266,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             __builtin_trap();
         const std::size_t c2 = in.size(50), cc2 = in.size(50), fcap3 = in.size(fc + 2), ccap2 = in.size(pcap);
         const sk::SilhouetteFacing cf2 = sk::silhouette_compute_facing_planes_chunk(adj, pl, L, qf.data(), fcap3, c2, cc2);
+        shadowkit_fuzz::check_detail(cf2);
         if (cf2.status == sk::Status::Ok && (cf2.count > fc || cf2.lit_faces > cf2.count || fcap3 < fc || c2 >= cc2)) __builtin_trap();
         if (qf[fc] != 0xCD) __builtin_trap();
         const sk::SilhouetteResult cr2 = sk::silhouette_extract_planes_chunk(adj, pl, qf.data(), fc, qidx.data(), ccap2, qfl.data(), ccap2 / 2, c2, cc2);
+        shadowkit_fuzz::check_detail(cr2);
         if (cr2.status == sk::Status::Ok && (cr2.count > sk::silhouette_indices_capacity(adj) || cr2.count > ccap2)) __builtin_trap();
         if (qidx[pcap] != 0xDEADBEEFu || qfl[pcap / 2] != 0xEE) __builtin_trap();
         // a mismatched adjacency (the empty one) is rejected
         const sk::SilhouetteAdjacency none = sk::silhouette_build_adjacency(nullptr, 0, nullptr, 0);
+        shadowkit_fuzz::check_detail(none);
         if (fc > 0 && sk::silhouette_compute_facing_planes(none, pl, L, qf.data(), fc).status != sk::Status::InvalidArgument) __builtin_trap();
         if (nv > 0 && sk::silhouette_build_planes(adj, pos.data(), nv - 1).status != sk::Status::InvalidArgument) __builtin_trap();
     }
@@ -276,6 +296,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (valid != (lfin && Lx.w >= 0.0f && !(Lx.x == 0.0f && Lx.y == 0.0f && Lx.z == 0.0f && Lx.w == 0.0f)))
             __builtin_trap();
         const sk::SilhouetteOrientation so = sk::silhouette_face_orientation(A, B, C, Lx);
+        shadowkit_fuzz::check_detail(so);
         const bool fin = shadowkit_fuzz::all_finite(A) && shadowkit_fuzz::all_finite(B) && shadowkit_fuzz::all_finite(C);
         if (!fin) {
             if (so.status != sk::Status::NonFinite) __builtin_trap();

@@ -61,6 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const sk::ClipDepth cd = (mode & 4) ? sk::ClipDepth::ZeroToOne : sk::ClipDepth::NegativeOneToOne;
     const sk::SilmapProjectResult pr =
         sk::silmap_project_edges(vp, cd, msize, pos.data(), pos.size(), idx.data(), ne, edges.data(), cap);
+    shadowkit_fuzz::check_detail(pr);
     check(pr.status != St::NotRun);
     check(pr.count <= cap && pr.count <= pr.needed);
     check(pr.needed + pr.culled <= ne);
@@ -87,6 +88,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const size_t ccap = r.size(64);
         const float margin = r.value(raw, 0.001f);
         const sk::SilmapRasterResult rr = sk::silmap_rasterize_edge(e.a, e.b, msize, cells, ccap, margin);
+        shadowkit_fuzz::check_detail(rr);
         check(rr.status != St::NotRun && rr.count <= ccap && rr.count <= rr.needed);
         if (rr.status == St::Ok) check(rr.count == rr.needed && all_finite(e.a) && all_finite(e.b) && margin >= 0.f);
         for (size_t c = 0; c < rr.count; ++c)
@@ -107,6 +109,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const bool use_depth = (mode & 32) != 0;
     const sk::SilmapBuildResult br = sk::silmap_build(all.data(), all.size(), msize, use_depth ? depth.data() : nullptr,
                                                       dbias, pts.data(), bcap, wts.data(), texels);
+    shadowkit_fuzz::check_detail(br);
     check(br.status != St::NotRun && br.count <= bcap);
     if (br.status != St::Ok) {
         check(br.count == 0);
@@ -126,13 +129,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const float z = r.value(raw, 0.01f), bias = r.value(raw, 0.001f);
         const bool finite_in = all_finite(q) && std::isfinite(z) && std::isfinite(bias);
         const sk::SilmapLookup l = sk::silmap_lookup(pts.data(), wts.data(), depth.data(), msize, q, z, bias);
+        shadowkit_fuzz::check_detail(l);
         check(l.status == (finite_in ? St::Ok : St::NonFinite));
         check(l.corner >= 0 && l.corner <= 3);
         const sk::SilmapPlainLookup pl = sk::silmap_plain_lookup(depth.data(), msize, q, z, bias);
+        shadowkit_fuzz::check_detail(pl);
         check(pl.status == (finite_in ? St::Ok : St::NonFinite));
         const bool lit[4] = {(k & 1) != 0, (k & 2) != 0, (k & 4) != 0, true};
         const glm::vec2 right(r.value(raw, 0.1f)), left(r.value(raw, 0.1f), 0.f);
         const sk::SilmapLookup l2 = sk::silmap_reconstruct(q, pts[0], right, pts[texels - 1], left, pts[0], lit);
+        shadowkit_fuzz::check_detail(l2);
         check(l2.status == (all_finite(q) && all_finite(right) && all_finite(left) ? St::Ok : St::NonFinite));
         if (l2.status == St::Ok) check(l2.corner >= 0 && l2.corner <= 3 && l2.lit == lit[l2.corner]);
     }

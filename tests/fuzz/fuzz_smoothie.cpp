@@ -48,6 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                             pw = smoothie_penumbra_width(a, b, rr, z);
         for (const SmoothieValue* v : {&w, &t2, &pw}) {
             if (v->status == Status::NotRun) __builtin_trap();
+            shadowkit_fuzz::check_detail(*v);
             if (v->status == Status::Ok && !(std::isfinite(v->value) && v->value >= 0.0f)) __builtin_trap();
         }
         if (std::isfinite(a) && a >= 0.0f && a <= 1.0f && std::isfinite(b) && std::isfinite(rr) && b >= 0.0f && b < rr &&
@@ -101,6 +102,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const SmoothieResult q = smoothie_build(in, M, prm, sp, scap, nullptr, 0);
     const SmoothieResult res = smoothie_build(in, M, prm, sp, scap, cap ? out.data() : nullptr, cap);
     if (res.status == Status::NotRun) __builtin_trap();
+    shadowkit_fuzz::check_detail(q);
+    shadowkit_fuzz::check_detail(res);
     if (null_scratch && scap > 0 && res.status != Status::InvalidArgument) __builtin_trap();  // null with a capacity
     const bool scratch_short = res.scratch_needed > scap;
     if (res.scratch_needed > smoothie_scratch_capacity(ne)) __builtin_trap();  // the size query covers it

@@ -42,6 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const glm::vec3 dir = r.vec3(raw, kStep);
     float yf[32];
     SHResult e = sh_evaluate(order, dir, yf, cap);
+    shadowkit_fuzz::check_detail(e);
     check(e.count <= cap && e.status != Status::NotRun);
     if (e.status == Status::Ok) {
         check(shadowkit_fuzz::all_finite(dir));
@@ -61,6 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (double& v : c) v = static_cast<double>(r.value(raw, kStep));
     const glm::dvec3 ddir(dir);
     SHValue<double> rv = sh_reconstruct(order, c, cap, ddir);
+    shadowkit_fuzz::check_detail(rv);
     check(rv.status != Status::NotRun);
     if (rv.status == Status::Ok) check(std::isfinite(rv.value) && finite(c, need) && shadowkit_fuzz::all_finite(dir));
     else check(rv.value == 0.0);
@@ -77,6 +79,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (reflect) R = -R;
     }
     const SHRotation rot = sh_make_rotation(order, R);
+    shadowkit_fuzz::check_detail(rot);
     const Status rs = rot.status;
     check(rs != Status::NotRun);
     if (!raw_matrix && sh_order_valid(order)) check(rs == Status::Ok);
@@ -84,6 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (int i = 0; i < 165; ++i) check(std::isfinite(rot.band[i]));
         double out[25];
         const SHResult rr = sh_rotate(rot, c, 25, out, cap);
+        shadowkit_fuzz::check_detail(rr);
         check(rr.count <= cap);
         if (rr.status == Status::Ok) {
             check(rr.count == need);
@@ -105,10 +109,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         double inplace[25];
         std::memcpy(inplace, c, sizeof c);
         const SHResult ip = sh_rotate(rot, inplace, 25, inplace, 25);
+        shadowkit_fuzz::check_detail(ip);
         if (ip.status == Status::Ok) check(finite(inplace, need));
         // the convenience form agrees with the two-step form
         double out2[25];
         const SHResult r2 = sh_rotate(order, R, c, 25, out2, 25);
+        shadowkit_fuzz::check_detail(r2);
         check(r2.status == ip.status);
     } else {
         check(rot.order == 0);
@@ -122,12 +128,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (double& z : zonal) z = static_cast<double>(r.value(raw, kStep));
     double conv[25];
     const SHResult cz = sh_convolve_zonal(order, zonal, 5, c, 25, conv, cap);
+    shadowkit_fuzz::check_detail(cz);
     check(cz.count <= cap && cz.status != Status::NotRun);
     if (cz.status == Status::Ok) check(finite(conv, need) && finite(c, need) && finite(zonal, size_t(order)));
     const SHResult cc = sh_convolve_clamped_cosine(order, c, 25, conv, cap);
+    shadowkit_fuzz::check_detail(cc);
     check(cc.count <= cap && cc.status != Status::NotRun);
     if (cc.status == Status::Ok) check(finite(conv, need) && finite(c, need));
     const SHValue<double> dv = sh_dot(order, c, 25, conv, cap);
+    shadowkit_fuzz::check_detail(dv);
     if (dv.status == Status::Ok) check(std::isfinite(dv.value) && finite(c, need));
 
     // projection from samples (float values; count capped by the remaining input)
@@ -144,6 +153,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     float proj[25];
     const SHResult pr = sh_project(order, dirs.data(), vals.data(), use_weights ? weights.data() : nullptr, dirs.size(),
                                    proj, cap);
+    shadowkit_fuzz::check_detail(pr);
     check(pr.count <= cap && pr.status != Status::NotRun);
     if (pr.status == Status::Ok) {
         check(pr.count == need);
@@ -154,6 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     glm::vec3 projrgb[25];
     const SHResult prgb = sh_project_rgb(order, dirs.data(), rgb.data(), use_weights ? weights.data() : nullptr,
                                          rgb.size(), projrgb, cap);
+    shadowkit_fuzz::check_detail(prgb);
     check(prgb.count <= cap && prgb.status != Status::NotRun);
     if (prgb.status == Status::Ok)
         for (size_t i = 0; i < need; ++i)
@@ -163,6 +174,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const int strata = r.range(-11, 11);
     glm::vec3 sd[128];
     const SHResult st = sh_stratified_directions(strata, r.u32(), sd, 128);
+    shadowkit_fuzz::check_detail(st);
     check(st.status != Status::NotRun);
     if (st.status == Status::Ok) {
         check(st.count == size_t(strata * strata));
