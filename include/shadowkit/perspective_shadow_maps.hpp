@@ -924,6 +924,12 @@ inline Status wp_lispsm_options_status(const WarpOptions& o) {
     return known && o.lispsm_virtual_near >= 0.0f && o.lispsm_virtual_far >= 0.0f ? Status::Ok : Status::InvalidArgument;
 }
 
+// The result of a LiSPSM option that wp_lispsm_options_status rejects, with its detail.
+inline WarpResult wp_lispsm_options_fail(Status st) {
+    return wp_fail(st, st == Status::NonFinite ? "options.lispsm_virtual_near / _far: NaN or Inf"
+                                               : "options: lispsm_n_opt unknown or lispsm_virtual_near / _far < 0");
+}
+
 /// LiSPSM's 1 / n [1/wu] (n: the warp distance) for the body spanning D [wu] across the light; 0 (no
 /// warp) where n is unbounded.
 inline double wp_lispsm_kappa(const WarpOptions& o, const wp_Setup& s, double D, double sin_g) {
@@ -978,7 +984,7 @@ inline WarpResult warp_uniform_matrix(const WarpInput& in) {
 /// sin(gamma) goes from 1.5 * lispsm_min_sin_gamma down to lispsm_min_sin_gamma.
 inline WarpResult warp_lispsm_matrix(const WarpInput& in) {
     using namespace detail;
-    if (const Status ost = wp_lispsm_options_status(in.options); ost != Status::Ok) return wp_fail(ost);
+    if (const Status ost = wp_lispsm_options_status(in.options); ost != Status::Ok) return wp_lispsm_options_fail(ost);
     const wp_Setup s = wp_prepare(in);
     if (s.status != Status::Ok) return wp_fail(s.status, s.detail);
     if (!s.visible) return wp_not_visible();

@@ -34,6 +34,11 @@ TEST_CASE("perspective_shadow_maps: the first validation of each function names 
     in = input();
     in.light_position = glm::vec4(0.0f, 1.0f, 0.0f, -1.0f);
     SK_CHECK_DETAIL(warp_lispsm_matrix(in), Status::InvalidLight, "light_position: w < 0");
+    in = input();  // LiSPSM checks its own options first
+    in.options.lispsm_virtual_near = -1.0f;
+    SK_CHECK_DETAIL(warp_lispsm_matrix(in), Status::InvalidArgument, "lispsm_virtual_near");
+    in.options.lispsm_virtual_near = kNaN;
+    SK_CHECK_DETAIL(warp_lispsm_matrix(in), Status::NonFinite, "lispsm_virtual_near");
     in = input();
     in.camera_proj = glm::perspective(1.0f, 1.0f, -0.1f, 50.0f);
     SK_CHECK_DETAIL(warp_tsm_matrix(in), Status::InvalidArgument, "camera_proj");
