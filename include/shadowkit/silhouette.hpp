@@ -1595,7 +1595,9 @@ inline std::uint32_t sil_class_root(std::vector<std::uint32_t>& parent, std::uin
 // SilhouettePlanes::plane_class: faces joined across every manifold edge whose two faces are exactly
 // coplanar (the far vertex of f1 exactly on f0's plane: sil_face_sign == 0), each class's root its
 // smallest face; flipped when the normals (relative 2^-30, exactly parallel: the sign is safe) oppose.
-inline void sil_planes_classes(const SilhouetteAdjacency& adj, const glm::vec3* positions, SilhouettePlanes& pl) {
+// normals: each kept face's cross product, as silhouette_build_planes computed it for the plane.
+inline void sil_planes_classes(const SilhouetteAdjacency& adj, const glm::vec3* positions, const std::vector<glm::dvec3>& normals,
+                               SilhouettePlanes& pl) {
     const std::size_t fc = adj.face_count();
     std::vector<std::uint32_t> parent(fc);
     for (std::size_t f = 0; f < fc; ++f) parent[f] = static_cast<std::uint32_t>(f);
@@ -1616,15 +1618,10 @@ inline void sil_planes_classes(const SilhouetteAdjacency& adj, const glm::vec3* 
         else if (r1 < r0) parent[r0] = r1;
     }
     pl.plane_class.resize(fc);
-    const glm::vec4 axes[3] = {glm::vec4(1.0f, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)};
-    auto normal = [&](std::uint32_t f) {
-        const glm::vec3 &a = positions[fi[3 * std::size_t(f)]], &b = positions[fi[3 * std::size_t(f) + 1]],
-                        &c = positions[fi[3 * std::size_t(f) + 2]];
-        return glm::dvec3(sil_face_value(a, b, c, axes[0]), sil_face_value(a, b, c, axes[1]), sil_face_value(a, b, c, axes[2]));
-    };
     for (std::size_t f = 0; f < fc; ++f) {
         const std::uint32_t r = sil_class_root(parent, static_cast<std::uint32_t>(f));
-        const bool flip = r != f && [&] { const glm::dvec3 a = normal(static_cast<std::uint32_t>(f)), b = normal(r); return a.x * b.x + a.y * b.y + a.z * b.z < 0.0; }();
+        const glm::dvec3 &a = normals[f], &b = normals[r];
+        const bool flip = r != f && a.x * b.x + a.y * b.y + a.z * b.z < 0.0;
         pl.plane_class[f] = r | (flip ? 0x80000000u : 0u);
     }
 }
@@ -1674,12 +1671,14 @@ inline SilhouettePlanes silhouette_build_planes(const SilhouetteAdjacency& adj, 
     pl.plane_w.resize(fc);
     const glm::vec4 axes[3] = {glm::vec4(1.0f, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)};
     const glm::vec4 center(pl.origin, 1.0f);
+    std::vector<glm::dvec3> normals(fc);  // the planes' normals, for the plane classes
     for (std::size_t f = 0; f < fc; ++f) {
         const glm::vec3& A = positions[adj.faces[3 * f]];
         const glm::vec3& B = positions[adj.faces[3 * f + 1]];
         const glm::vec3& C = positions[adj.faces[3 * f + 2]];
         const double P[4] = {detail::sil_face_value(A, B, C, axes[0]), detail::sil_face_value(A, B, C, axes[1]),
                              detail::sil_face_value(A, B, C, axes[2]), detail::sil_face_value(A, B, C, center) / pl.scale};
+        normals[f] = glm::dvec3(P[0], P[1], P[2]);
         double m = 0.0;
         for (double v : P) m = std::fmax(m, std::fabs(v));
         float out[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -1700,7 +1699,7 @@ inline SilhouettePlanes silhouette_build_planes(const SilhouetteAdjacency& adj, 
         pl.plane_z[f] = out[2];
         pl.plane_w[f] = out[3];
     }
-    detail::sil_planes_classes(adj, positions, pl);
+    detail::sil_planes_classes(adj, positions, normals, pl);
     pl.edge_faces.resize(adj.edges.size());
     pl.edge_boundary.assign((adj.edges.size() + 7) / 8, 0);
     pl.edge_vertices.resize(2 * adj.edges.size());
