@@ -364,7 +364,7 @@ LightMatrices fit_light_to_casters(const Scene& s, bool penumbra_margin) {
     if (!caster_bounds(s, in.caster_min, in.caster_max)) return scene_fit;  // no casters
     in.receiver_min = s.bounds_min();
     in.receiver_max = s.bounds_max();
-    in.light_position = L.type == LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f) : glm::vec4(L.position, 1.f);
+    in.light_position = L.homogeneous_position();
     // a receiver whose ray to some point of the emitter crosses the casters lies within the emitter's
     // radius, seen from the nearest caster, of their cone from the centre
     in.emitter_radius_world = !penumbra_margin || !L.is_area() ? 0.f : (L.type == LightType::Rect ? 0.7072f * L.size : L.size);

@@ -30,6 +30,11 @@ struct Light {
     glm::vec3 direction{0.f, -1.f, 0.f};  // spot / directional / rect / disk: where it shines; linear: along the segment
     float spot_half_angle = 0.7f;         // radians, spot lights (and the shadow-map frustum of area lights)
     float size = 0.f;                     // rect: edge length (square), disk: radius, sphere: radius, linear: length
+    /// The kit's `light_position` (tests/CONVENTIONS.md "Lights"): w = 0 and the direction *toward* a
+    /// directional light (its rays travel along `direction`), else (position, 1).
+    glm::vec4 homogeneous_position() const {
+        return type == LightType::Directional ? glm::vec4(-glm::normalize(direction), 0.f) : glm::vec4(position, 1.f);
+    }
     bool is_area() const {
         return (type == LightType::Rect || type == LightType::Disk || type == LightType::Sphere || type == LightType::Linear) &&
                size > 0.f;

@@ -223,8 +223,7 @@ void CascadedShadowMaps::update(const app::View& v, const CascadedShadowMapSetti
     in.camera_view = v.view;
     in.camera_proj = v.proj;  // its far plane ends the last cascade (max_distance could end them sooner)
     // the sun as one vec4: w = 0, xyz toward it; any other light is refused (InvalidLight)
-    in.light_position = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)
-                                                             : glm::vec4(L.position, 1.f);
+    in.light_position = L.homogeneous_position();
     in.shadow_map_size = static_cast<std::uint32_t>(s.size);
     in.has_caster_bounds = true;
     in.caster_min = caster_lo_;

@@ -121,8 +121,7 @@ void DualParaboloid::update(const app::View& v, const DualParaboloidSettings& s)
         range_ = std::max(range_, glm::length(glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z) - L.position));
     range_ *= 1.01f;
     // the frame: the light at the origin, +y the front paraboloid's axis (the sun, w = 0, is refused)
-    const glm::vec4 light = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)
-                                                                 : glm::vec4(L.position, 1.f);
+    const glm::vec4 light = L.homogeneous_position();
     const shadowkit::OmniParaboloidFrame fr = shadowkit::omni_paraboloid_frame(light, {0.f, 1.f, 0.f}, {0.f, 0.f, 1.f});
     if (fr.status != shadowkit::Status::Ok) {
         error_ = std::string("omni_paraboloid_frame status ") + shadowkit::status_name(fr.status);

@@ -103,8 +103,7 @@ void OmniShadows::update(const app::View& v, const OmniShadowSettings& s) {
         range_ = std::max(range_, glm::length(glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z) - L.position));
     range_ *= 1.01f;
     shadowkit::OmniCubeInput in;  // the light as one vec4: the sun (w = 0) is refused
-    in.light_position = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)
-                                                             : glm::vec4(L.position, 1.f);
+    in.light_position = L.homogeneous_position();
     in.far_z = range_;
     in.near_z = range_ * 1e-3f;
     const shadowkit::OmniCubeMatrices cm = shadowkit::omni_cube_matrices(in);

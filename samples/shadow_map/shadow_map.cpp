@@ -133,8 +133,7 @@ void ShadowMap::update(const app::View& v, const ShadowMapSettings& s) {
         // light sits among its casters, needs a cone wider than its own, or fit_casters is off
         const sk::Light& L = scene.light;
         shadowkit::LightCasterFitInput in;
-        in.light_position = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)  // toward the light
-                                                                 : glm::vec4(L.position, 1.f);
+        in.light_position = L.homogeneous_position();
         in.receiver_min = scene.bounds_min();
         in.receiver_max = scene.bounds_max();
         in.max_half_angle_radians = L.type == sk::LightType::Directional ? 1.4f : std::min(L.spot_half_angle, 1.4f);
@@ -223,8 +222,7 @@ void ShadowMap::render(const app::View& v, const ShadowMapSettings& s) {
         if (automatic) glUniform1i(glGetUniformLocation(vis_prog_, "u_hard"), s.hardware_pcf ? 0 : 1);
         if (s.contact) {  // the G-buffer's camera and depth (not the fit camera: V is at the G-buffer's points)
             const sk::Light& L = v.light();
-            const glm::vec4 light_world = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)
-                                                                                : glm::vec4(L.position, 1.f);
+            const glm::vec4 light_world = L.homogeneous_position();
             glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_camera_view"), 1, GL_FALSE, glm::value_ptr(v.gpu->view));
             glUniformMatrix4fv(glGetUniformLocation(vis_prog_, "u_camera_proj"), 1, GL_FALSE, glm::value_ptr(v.gpu->proj));
             glUniform4fv(glGetUniformLocation(vis_prog_, "u_view_light"), 1, glm::value_ptr(v.gpu->view * light_world));

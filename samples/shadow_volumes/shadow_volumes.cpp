@@ -134,7 +134,7 @@ void ShadowVolumes::update(const app::View& v, const ShadowVolumeSettings& s) {
     const glm::mat4 cam_vp = gpu.proj * gpu.view;  // exactly the G-buffer's matrix (the same float product)
     gbuffer_depth_ = gpu.gbuffer.depth;
     // the homogeneous light: (p, 1) for point, spot and area lights (their center), (-direction, 0) at infinity
-    light_ = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f) : glm::vec4(L.position, 1.f);
+    light_ = L.homogeneous_position();
     if (!shadowkit::silhouette_valid_light(light_) && error_.empty()) error_ = "invalid light";
 
     // the volumes' matrix: the G-buffer's finite one (with depth clamp), or P_inf (infinite_projection.hpp)

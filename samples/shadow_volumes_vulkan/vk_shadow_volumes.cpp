@@ -302,7 +302,7 @@ std::string VkShadowVolumes::update(const sk::Scene& scene) {
     if (failed(pr.status, "projection_perspective", why)) return why;
     view_proj_ = pr.matrix * cam.view();
     const sk::Light& L = scene.light;
-    light_ = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f) : glm::vec4(L.position, 1.f);
+    light_ = L.homogeneous_position();
     if (!shadowkit::silhouette_valid_light(light_)) return "invalid light";
     FrameUniforms fu{view_proj_, light_, glm::vec4(glm::normalize(L.direction), -2.f)};
     if (L.type == sk::LightType::Spot) fu.spot.w = std::cos(L.spot_half_angle);

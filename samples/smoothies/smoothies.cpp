@@ -207,8 +207,7 @@ void Smoothies::update(const app::View& v, const SmoothieSettings& s) {
     light_view_ = lm.view;
     light_vp_ = lm.proj * lm.view;
     // the light's center: a point (w = 1), or the direction toward a directional light (w = 0)
-    const glm::vec4 light = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)
-                                                                  : glm::vec4(L.position, 1.f);
+    const glm::vec4 light = L.homogeneous_position();
 
     // facing and silhouette of every caster; the light depths of its silhouette vertices inside the map
     depths_.clear();

@@ -109,8 +109,7 @@ void WarpedShadowMaps::update(const app::View& v, const WarpedShadowMapSettings&
     // the receivers the light can reach; the light as one vec4 (w = 0: the direction toward it)
     glm::vec3 lo = v.scene->bounds_min(), hi = v.scene->bounds_max();
     if (L.type == sk::LightType::Spot) cut_to_spot_cone(L, lo, hi);
-    const glm::vec4 light = L.type == sk::LightType::Directional ? glm::vec4(-glm::normalize(L.direction), 0.f)
-                                                                 : glm::vec4(L.position, 1.f);
+    const glm::vec4 light = L.homogeneous_position();
     if (s.method == M::Fitted) {
         // the light's frustum around the receivers in the camera's view, and the casters that can shadow them
         shadowkit::LightFrustumInput in;
