@@ -5,10 +5,13 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+
+#include <unistd.h>
 
 namespace skvk {
 
@@ -203,12 +206,20 @@ std::string compile_spirv(Source src, VkShaderStageFlagBits stage, const std::st
 
 std::string spirv_val(const std::vector<std::uint32_t>& spirv, const std::string& path, bool& validated) {
     validated = false;
-    std::ofstream(path, std::ios::binary)
+    // CTest runs the GLSL and HLSL variants of one test at once and both write the scene's shared
+    // stages under one name: each process writes and checks its own file, then renames it into place
+    // (rename is atomic), so no process ever reads another's half-written binary.
+    const std::string own = path + "." + std::to_string(static_cast<long>(getpid())) + ".tmp";
+    std::ofstream(own, std::ios::binary)
         .write(reinterpret_cast<const char*>(spirv.data()), static_cast<std::streamsize>(spirv.size() * 4));
-    if (std::system("spirv-val --version > /dev/null 2>&1") != 0) return {};
-    validated = true;
-    const std::string cmd = "spirv-val --target-env vulkan1.1 '" + path + "'";
-    return std::system(cmd.c_str()) == 0 ? std::string() : "spirv-val rejects " + path;
+    std::string result;
+    if (std::system("spirv-val --version > /dev/null 2>&1") == 0) {
+        validated = true;
+        const std::string cmd = "spirv-val --target-env vulkan1.1 '" + own + "'";
+        if (std::system(cmd.c_str()) != 0) result = "spirv-val rejects " + path;
+    }
+    std::rename(own.c_str(), path.c_str());
+    return result;
 }
 
 // ---------------------------------------------------------------------------------------- resources
