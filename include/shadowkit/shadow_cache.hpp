@@ -193,6 +193,7 @@ enum class ShadowCacheReason : std::uint8_t {
 /// The plan for one map (shadow_cache_plan).
 struct ShadowCachePlan {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     ShadowCacheAction action = ShadowCacheAction::Render;
     ShadowCacheReason reason = ShadowCacheReason::None;
     /// Scroll: the same world point lands offset_x, offset_y texels further in this frame's map
@@ -216,6 +217,7 @@ struct ShadowCachePlan {
 /// Where a box's shadow can land on a map (shadow_cache_footprint).
 struct ShadowCacheFootprint {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;            ///< false (with Ok): the box cannot reach the map (empty, beside it, behind a perspective light)
     ShadowCacheRect rect;            ///< visible: every texel whose center lies within one texel of the box's projection
 };
@@ -579,7 +581,7 @@ inline double sc_row(const glm::dmat4& m, int r, const glm::dvec3& p) {
 /// when identical); a reason to render whole otherwise; InvalidArgument / Overflow for a singular
 /// matrix or a difference beyond double. Fills res.residual_texels and res.tolerance_texels.
 inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCacheMapState& current, ShadowCachePlan& res,
-                            ShadowCacheReason& reason, int& ox, int& oy) {
+                            ShadowCacheReason& reason, int& ox, int& oy, const char*& why) {
     const glm::dmat4& A = previous.view_proj;
     const glm::dmat4& B = current.view_proj;
     const int W = current.width, H = current.height;
@@ -592,7 +594,10 @@ inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCac
     }
     const glm::dmat4 An = A / A[3][3], Bn = B / B[3][3];  // clip w = 1 everywhere
     glm::dvec3 corner[8];
-    if (!sc_volume_corners(Bn, corner)) return Status::InvalidArgument;  // singular 3x3: no map volume
+    if (!sc_volume_corners(Bn, corner)) {  // singular 3x3: no map volume
+        why = "current.view_proj: singular (no map volume)";
+        return Status::InvalidArgument;
+    }
     const double u = (previous.float_matrices || current.float_matrices) ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
     // per row (x, y, z): the difference at the corners and its round-off scale
     double dmin[3], dmax[3], scale[3];
@@ -608,7 +613,10 @@ inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCac
             sb = std::fmax(sb, sc_row_magnitude(Bn, r, corner[k]));
         }
         scale[r] = 8.0 * u * (sa + sb);
-        if (!std::isfinite(dmin[r]) || !std::isfinite(dmax[r]) || !std::isfinite(scale[r])) return Status::Overflow;
+        if (!std::isfinite(dmin[r]) || !std::isfinite(dmax[r]) || !std::isfinite(scale[r])) {
+            why = "previous.view_proj, current.view_proj: their difference beyond double";
+            return Status::Overflow;
+        }
     }
     // NDC -> texels (x, y); depth stays in NDC
     const double half[2] = {0.5 * double(W), 0.5 * double(H)};
@@ -619,7 +627,10 @@ inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCac
     const double res_x = std::fmax(std::fabs(dmin[0] * half[0] - rx), std::fabs(dmax[0] * half[0] - rx));
     const double res_y = std::fmax(std::fabs(dmin[1] * half[1] - ry), std::fabs(dmax[1] * half[1] - ry));
     res.residual_texels = std::fmax(res_x, res_y);
-    if (!std::isfinite(res.residual_texels)) return Status::Overflow;
+    if (!std::isfinite(res.residual_texels)) {
+        why = "previous.view_proj, current.view_proj: their difference beyond double";
+        return Status::Overflow;
+    }
     // linear parts: the spread of the difference over the volume (a rotation or scale)
     const double spread_x = (dmax[0] - dmin[0]) * half[0], spread_y = (dmax[1] - dmin[1]) * half[1];
     if (res.tolerance_texels > kShadowCacheMaxResidualTexels) reason = ShadowCacheReason::PrecisionTooLow;
@@ -706,18 +717,16 @@ inline std::size_t shadow_cache_rect_capacity(std::size_t caster_count) {
 inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, int width, int height, const float* bounds) {
     using namespace detail;
     ShadowCacheFootprint res;
-    if (bounds == nullptr || !sc_size_ok(width, height)) {
-        res.status = Status::InvalidArgument;
+    auto fail = [&res](Status s, const char* why) {
+        res.status = s;
+        res.detail = why;
         return res;
-    }
-    if (!sc_finite(view_proj) || !sc_box_finite(bounds)) {
-        res.status = Status::NonFinite;
-        return res;
-    }
-    if (sc_zero(view_proj)) {
-        res.status = Status::InvalidArgument;
-        return res;
-    }
+    };
+    if (bounds == nullptr) return fail(Status::InvalidArgument, "bounds: null");
+    if (!sc_size_ok(width, height)) return fail(Status::InvalidArgument, "width, height: outside 1..kShadowCacheMaxSize");
+    if (!sc_finite(view_proj)) return fail(Status::NonFinite, "view_proj: NaN or Inf");
+    if (!sc_box_finite(bounds)) return fail(Status::NonFinite, "bounds: NaN or Inf");
+    if (sc_zero(view_proj)) return fail(Status::InvalidArgument, "view_proj: all zero");
     res.status = Status::Ok;
     if (sc_box_empty(bounds)) return res;
     bool overflow = false;
@@ -725,6 +734,7 @@ inline ShadowCacheFootprint shadow_cache_footprint(const glm::dmat4& view_proj, 
     if (overflow) {
         res = ShadowCacheFootprint{};
         res.status = Status::Overflow;
+        res.detail = "bounds: a projected corner beyond double";
     }
     return res;
 }
@@ -786,23 +796,27 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
                                          ShadowCacheRect* rects, std::size_t rect_capacity) {
     using namespace detail;
     ShadowCachePlan res;
-    auto fail = [&res](Status s) {
+    auto fail = [&res](Status s, const char* why) {
         res = ShadowCachePlan{};
         res.status = s;
+        res.detail = why;
         return res;
     };
     // ---- validation
-    if ((casters == nullptr && caster_count != 0) || (rects == nullptr && rect_capacity != 0) ||
-        !sc_size_ok(current.width, current.height))
-        return fail(Status::InvalidArgument);
-    if (!sc_finite(current.view_proj)) return fail(Status::NonFinite);
-    if (sc_zero(current.view_proj)) return fail(Status::InvalidArgument);
+    if (casters == nullptr && caster_count != 0) return fail(Status::InvalidArgument, "casters: null with caster_count > 0");
+    if (rects == nullptr && rect_capacity != 0) return fail(Status::InvalidArgument, "rects: null with rect_capacity > 0");
+    if (!sc_size_ok(current.width, current.height))
+        return fail(Status::InvalidArgument, "current.width, current.height: outside 1..kShadowCacheMaxSize");
+    if (!sc_finite(current.view_proj)) return fail(Status::NonFinite, "current.view_proj: NaN or Inf");
+    if (sc_zero(current.view_proj)) return fail(Status::InvalidArgument, "current.view_proj: all zero");
     for (std::size_t i = 0; i < caster_count; ++i)
-        if (!sc_box_finite(casters[i].bounds) || !sc_box_finite(casters[i].previous_bounds)) return fail(Status::NonFinite);
+        if (!sc_box_finite(casters[i].bounds) || !sc_box_finite(casters[i].previous_bounds))
+            return fail(Status::NonFinite, "casters: NaN or Inf in bounds or previous_bounds");
     if (previous.has_content) {
-        if (!sc_size_ok(previous.width, previous.height)) return fail(Status::InvalidArgument);
-        if (!sc_finite(previous.view_proj)) return fail(Status::NonFinite);
-        if (sc_zero(previous.view_proj)) return fail(Status::InvalidArgument);
+        if (!sc_size_ok(previous.width, previous.height))
+            return fail(Status::InvalidArgument, "previous.width, previous.height: outside 1..kShadowCacheMaxSize");
+        if (!sc_finite(previous.view_proj)) return fail(Status::NonFinite, "previous.view_proj: NaN or Inf");
+        if (sc_zero(previous.view_proj)) return fail(Status::InvalidArgument, "previous.view_proj: all zero");
     }
     const int W = current.width, H = current.height;
     const ShadowCacheRect whole{0, 0, W, H};
@@ -818,6 +832,7 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
         res.needed = 1;
         if (rect_capacity == 0) {
             res.status = Status::BufferTooSmall;
+            res.detail = "rect_capacity: 0 with a rectangle to write";
             return res;
         }
         rects[0] = whole;
@@ -833,8 +848,9 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
     // ---- motion of the map
     ShadowCacheReason why = ShadowCacheReason::None;
     int ox = 0, oy = 0;
-    const Status motion = sc_map_motion(previous, current, res, why, ox, oy);
-    if (motion != Status::Ok) return fail(motion);
+    const char* motion_detail = nullptr;
+    const Status motion = sc_map_motion(previous, current, res, why, ox, oy, motion_detail);
+    if (motion != Status::Ok) return fail(motion, motion_detail);
     if (why != ShadowCacheReason::None) return render(why);
 
     // ---- rectangles: the footprints, then their disjoint cover (no allocation when no caster moved:
@@ -844,7 +860,7 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
     for (std::size_t i = 0; i < caster_count && !moved; ++i) moved = !sc_box_same(casters[i].bounds, casters[i].previous_bounds);
     ShadowCacheRect strips[2];
     const std::size_t strip_count = moved ? 0 : sc_strips(W, H, ox, oy, res, strips);
-    if (moved && !sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow);
+    if (moved && !sc_footprints(current.view_proj, W, H, ox, oy, casters, caster_count, res, fp)) return fail(Status::Overflow, "casters: a footprint beyond double");
     if (!moved) res.unmerged = strip_count;
     const std::size_t m = moved ? fp.size() : strip_count;
     const bool scroll = ox != 0 || oy != 0;
@@ -857,6 +873,7 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
         for (std::size_t i = 0; i < m; ++i) fp_area += sc_area(moved ? fp[i] : strips[i]);
         if (fp_area >= map_area) return render(ShadowCacheReason::DirtyCoversMap);
         res.status = Status::BufferTooSmall;
+        res.detail = "rect_capacity: 0 with a rectangle to write";
         res.action = ShadowCacheAction::Render;
         res.copy = ShadowCacheCopy{};
         res.offset_x = res.offset_y = 0;

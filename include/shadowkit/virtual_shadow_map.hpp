@@ -185,6 +185,7 @@ struct VsmLevelLookup {
 /// The plan of one frame (vsm_plan).
 struct VsmPlan {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;           ///< pages written to `pages`, to render this frame
     /// Pool pages needed to map every distinct requested page at its own level. With
     /// BufferTooSmall (needed > pool_pages) the plan is still applied and usable: see `fallback`.
@@ -212,6 +213,7 @@ struct VsmPlan {
 /// Caster indices per rendered page (vsm_page_casters).
 struct VsmPageCasters {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;           ///< indices written (a valid prefix when Ok)
     std::size_t needed = 0;          ///< indices the lists need: count when Ok
 };
@@ -260,12 +262,14 @@ struct VsmState {
 /// A float matrix (vsm_relative_matrix).
 struct VsmMatrix {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 matrix = glm::mat4(1.0f);
 };
 
 /// The result of vsm_state_init.
 struct VsmInit {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t bytes = 0;           ///< CPU memory the state holds
     std::size_t table_entries = 0;   ///< uints in page_table (the GPU buffer's size)
 };
@@ -499,6 +503,7 @@ inline std::size_t vsm_table_index(const VsmState& s, std::uint32_t level, std::
 /// Result of vsm_requests_from_bitmask.
 struct VsmRequestList {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;           ///< requests written (a valid prefix)
     std::size_t needed = 0;          ///< set bits: requests the whole mask needs (count when Ok)
 };
@@ -518,8 +523,14 @@ inline std::size_t vsm_bitmask_words(const VsmState& s) {
 inline VsmRequestList vsm_requests_from_bitmask(const VsmState& s, const std::uint32_t* mask, std::size_t word_count,
                                                 VsmPageRequest* out, std::size_t out_capacity) {
     VsmRequestList r;
-    if (!s.initialized || mask == nullptr || word_count != vsm_bitmask_words(s) || (out == nullptr && out_capacity != 0)) {
+    const char* why = !s.initialized                     ? "s: not initialized (vsm_state_init)"
+                      : mask == nullptr                  ? "mask: null"
+                      : word_count != vsm_bitmask_words(s) ? "word_count: not vsm_bitmask_words(s)"
+                      : (out == nullptr && out_capacity != 0) ? "out: null with out_capacity > 0"
+                                                              : nullptr;
+    if (why) {
         r.status = Status::InvalidArgument;
+        r.detail = why;
         return r;
     }
     const std::size_t n = std::size_t(s.pages_per_side), bits = std::size_t(s.layout.level_count) * n * n;
@@ -537,6 +548,7 @@ inline VsmRequestList vsm_requests_from_bitmask(const VsmState& s, const std::ui
         }
     }
     r.status = r.count == r.needed ? Status::Ok : Status::BufferTooSmall;
+    if (r.status != Status::Ok) r.detail = "out_capacity: fewer than the set bits";
     return r;
 }
 
@@ -550,8 +562,16 @@ inline VsmMatrix vsm_relative_matrix(const glm::dmat4& m, const glm::dvec3& anch
     t[3] = m[0] * anchor.x + m[1] * anchor.y + m[2] * anchor.z + m[3];
     for (int c = 0; c < 4; ++c)
         for (int k = 0; k < 4; ++k) {
-            if (!std::isfinite(m[c][k]) || !std::isfinite(anchor[c % 3])) { r.status = Status::NonFinite; return r; }
-            if (!(std::fabs(t[c][k]) <= 3.0e38)) { r.status = Status::Overflow; return r; }
+            if (!std::isfinite(m[c][k]) || !std::isfinite(anchor[c % 3])) {
+                r.status = Status::NonFinite;
+                r.detail = "m, anchor: NaN or Inf";
+                return r;
+            }
+            if (!(std::fabs(t[c][k]) <= 3.0e38)) {
+                r.status = Status::Overflow;
+                r.detail = "m, anchor: an entry of m * translate(anchor) beyond float";
+                return r;
+            }
         }
     r.matrix = glm::mat4(t);
     r.status = Status::Ok;
@@ -564,6 +584,7 @@ constexpr std::size_t kVsmGpuHeaderWords = 16 * 16 + 16 * 4 + 4 + 4 + 4;
 /// Result of vsm_gpu_block.
 struct VsmGpuBlock {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;           ///< uint32 words written (needed when Ok)
     std::size_t needed = 0;          ///< words the block needs: kVsmGpuHeaderWords + page-table entries
 };
@@ -585,11 +606,15 @@ inline VsmGpuBlock vsm_gpu_block(const VsmState& s, const glm::dvec3& anchor, st
     VsmGpuBlock r;
     if (!s.initialized || !s.has_light || (out == nullptr && capacity != 0)) {
         r.status = Status::InvalidArgument;
+        r.detail = !s.initialized ? "s: not initialized (vsm_state_init)"
+                   : !s.has_light ? "s: no plan has placed its levels yet (vsm_plan)"
+                                  : "out: null with capacity > 0";
         return r;
     }
     r.needed = vsm_gpu_block_words(s);
     if (capacity < r.needed) {
         r.status = Status::BufferTooSmall;
+        r.detail = "capacity: below vsm_gpu_block_words(s)";
         return r;
     }
     auto put_float = [&](std::size_t i, float v) {
@@ -604,6 +629,7 @@ inline VsmGpuBlock vsm_gpu_block(const VsmState& s, const glm::dvec3& anchor, st
             const VsmMatrix rel = vsm_relative_matrix(s.levels[l].world_to_uv, anchor);
             if (rel.status != Status::Ok) {
                 r.status = rel.status;
+                r.detail = rel.status == Status::NonFinite ? "anchor: NaN or Inf" : "anchor: a level's matrix beyond float relative to it";
                 return r;
             }
             m = rel.matrix;
@@ -634,6 +660,7 @@ inline VsmGpuBlock vsm_gpu_block(const VsmState& s, const glm::dvec3& anchor, st
 /// The page a pool slot holds now (vsm_slot_page).
 struct VsmSlotPage {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool resident = false;           ///< the slot holds a page (false: free; `page` unset)
     bool current = false;            ///< its content is current (kVsmPageValid); false: stale
     bool on_window = false;          ///< the page is on its level's current window (x, y valid)
@@ -647,6 +674,9 @@ inline VsmSlotPage vsm_slot_page(const VsmState& s, std::uint32_t slot) {
     VsmSlotPage r;
     if (!s.initialized || !s.has_light || slot >= s.slots.size()) {
         r.status = Status::InvalidArgument;
+        r.detail = !s.initialized ? "s: not initialized (vsm_state_init)"
+                   : !s.has_light ? "s: no plan has placed its levels yet (vsm_plan)"
+                                  : "slot: >= layout.pool_pages";
         return r;
     }
     const VsmSlot& e = s.slots[slot];
@@ -667,6 +697,23 @@ inline VsmSlotPage vsm_slot_page(const VsmState& s, std::uint32_t slot) {
     return r;
 }
 
+namespace detail {
+/// The layout's first invalid field ("layout.field: what is wrong"), nullptr when valid (finite values assumed).
+inline const char* vsm_check_layout(const VsmLayout& L) {
+    if (L.page_texels < 8 || L.page_texels > 4096) return "layout.page_texels: outside 8..4096";
+    if (L.virtual_texels < 2 * L.page_texels || L.virtual_texels % L.page_texels != 0 || L.virtual_texels / L.page_texels > 4096)
+        return "layout.virtual_texels: not 2..4096 whole pages";
+    if (L.level_count < 1 || L.level_count > kVsmMaxLevels) return "layout.level_count: outside 1..kVsmMaxLevels";
+    if (L.pool_pages < 1 || L.pool_pages > kVsmMaxPoolPages) return "layout.pool_pages: outside 1..kVsmMaxPoolPages";
+    if (L.pool_columns < 0) return "layout.pool_columns: < 0";
+    if (!(L.level0_extent_world >= 1e-30) || !(L.level0_extent_world <= 1e30)) return "layout.level0_extent_world: outside [1e-30, 1e30]";
+    if (!(L.depth_range_world >= 1e-30) || !(L.depth_range_world <= 1e30)) return "layout.depth_range_world: outside [1e-30, 1e30]";
+    if (L.spot_near_world <= 0.0) return "layout.spot_near_world: <= 0";
+    if (L.spot_far_world <= L.spot_near_world) return "layout.spot_far_world: not beyond spot_near_world";
+    return nullptr;
+}
+}  // namespace detail
+
 /// Validates the layout and sizes the state: page table, request stamps, pool slots, LRU list.
 /// Allocates (once; vsm_plan never does). Any previous content of `state` is dropped.
 inline VsmInit vsm_state_init(const VsmLayout& layout, VsmState& state) {
@@ -676,13 +723,11 @@ inline VsmInit vsm_state_init(const VsmLayout& layout, VsmState& state) {
     if (!std::isfinite(L.level0_extent_world) || !std::isfinite(L.depth_range_world) ||
         !std::isfinite(L.spot_near_world) || !std::isfinite(L.spot_far_world)) {
         r.status = Status::NonFinite;
+        r.detail = "layout: NaN or Inf in level0_extent_world, depth_range_world, spot_near_world or spot_far_world";
         return r;
     }
-    const bool sizes_ok = L.page_texels >= 8 && L.page_texels <= 4096 && L.virtual_texels >= 2 * L.page_texels &&
-                          L.virtual_texels % L.page_texels == 0 && L.virtual_texels / L.page_texels <= 4096;
-    if (!sizes_ok || L.level_count < 1 || L.level_count > kVsmMaxLevels || L.pool_pages < 1 ||
-        L.pool_pages > kVsmMaxPoolPages || L.pool_columns < 0 || !(L.level0_extent_world >= 1e-30) ||
-        !(L.level0_extent_world <= 1e30) || !(L.depth_range_world >= 1e-30) || !(L.depth_range_world <= 1e30) || L.spot_near_world <= 0.0 || L.spot_far_world <= L.spot_near_world) {
+    r.detail = detail::vsm_check_layout(L);
+    if (r.detail) {
         r.status = Status::InvalidArgument;
         return r;
     }
@@ -690,6 +735,7 @@ inline VsmInit vsm_state_init(const VsmLayout& layout, VsmState& state) {
     const std::size_t entries = std::size_t(L.level_count) * n * n;
     if (entries > kVsmMaxTableEntries) {
         r.status = Status::InvalidArgument;
+        r.detail = "layout: level_count * (virtual_texels / page_texels)^2 above kVsmMaxTableEntries";
         return r;
     }
     state.layout = L;
@@ -716,33 +762,44 @@ inline VsmInit vsm_state_init(const VsmLayout& layout, VsmState& state) {
 
 namespace detail {
 
-/// Validates the frame (no state change). Returns Ok or the error.
-inline Status vsm_check_frame(const VsmState& s, const VsmFrame& f, const VsmPageRender* pages, std::size_t capacity) {
-    if (!s.initialized) return Status::InvalidArgument;
+/// Validates the frame (no state change). Returns Ok or the error, with its detail in `why`.
+inline Status vsm_check_frame(const VsmState& s, const VsmFrame& f, const VsmPageRender* pages, std::size_t capacity,
+                              const char*& why) {
+    auto fail = [&why](Status st, const char* w) {
+        why = w;
+        return st;
+    };
+    if (!s.initialized) return fail(Status::InvalidArgument, "s: not initialized (vsm_state_init)");
     const glm::vec4 L = f.light_position;
-    if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z) || !std::isfinite(L.w) || L.w < 0.0f ||
-        (L.x == 0.0f && L.y == 0.0f && L.z == 0.0f))
-        return Status::InvalidLight;
+    if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z) || !std::isfinite(L.w))
+        return fail(Status::InvalidLight, "f.light_position: NaN or Inf");
+    if (L.w < 0.0f) return fail(Status::InvalidLight, "f.light_position: w < 0");
+    if (L.x == 0.0f && L.y == 0.0f && L.z == 0.0f) return fail(Status::InvalidLight, "f.light_position: xyz zero");
     if (L.w > 0.0f) {
         const float a = f.spot_cone_half_angle_radians;
         const glm::vec3 d = f.spot_direction;
-        if (!std::isfinite(a) || !std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) return Status::NonFinite;
-        if (!(a > 0.0f && a <= 1.5f) || glm::length(glm::dvec3(d)) < 1e-12 || s.layout.level_count != 1)
-            return Status::InvalidLight;
+        if (!std::isfinite(a)) return fail(Status::NonFinite, "f.spot_cone_half_angle_radians: NaN or Inf");
+        if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) return fail(Status::NonFinite, "f.spot_direction: NaN or Inf");
+        if (!(a > 0.0f && a <= 1.5f)) return fail(Status::InvalidLight, "f.spot_cone_half_angle_radians: outside (0, 1.5]");
+        if (glm::length(glm::dvec3(d)) < 1e-12) return fail(Status::InvalidLight, "f.spot_direction: zero");
+        if (s.layout.level_count != 1) return fail(Status::InvalidLight, "layout.level_count: not 1 for a spot light");
     }
     if (!std::isfinite(f.camera_position.x) || !std::isfinite(f.camera_position.y) || !std::isfinite(f.camera_position.z))
-        return Status::NonFinite;
-    if ((f.requests == nullptr && f.request_count != 0) || (f.moved_casters == nullptr && f.moved_caster_count != 0) ||
-        pages == nullptr || capacity < std::size_t(s.layout.pool_pages))
-        return Status::InvalidArgument;
+        return fail(Status::NonFinite, "f.camera_position: NaN or Inf");
+    if (f.requests == nullptr && f.request_count != 0) return fail(Status::InvalidArgument, "f.requests: null with request_count > 0");
+    if (f.moved_casters == nullptr && f.moved_caster_count != 0)
+        return fail(Status::InvalidArgument, "f.moved_casters: null with moved_caster_count > 0");
+    if (pages == nullptr) return fail(Status::InvalidArgument, "pages: null");
+    if (capacity < std::size_t(s.layout.pool_pages)) return fail(Status::InvalidArgument, "capacity: below layout.pool_pages");
     const std::uint32_t n = std::uint32_t(s.pages_per_side), levels = std::uint32_t(s.layout.level_count);
     for (std::size_t i = 0; i < f.request_count; ++i) {
         const VsmPageRequest& q = f.requests[i];
-        if (q.level >= levels || q.x >= n || q.y >= n) return Status::IndexOutOfRange;
+        if (q.level >= levels || q.x >= n || q.y >= n)
+            return fail(Status::IndexOutOfRange, "f.requests: a level or page outside the layout");
     }
     for (std::size_t i = 0; i < f.moved_caster_count; ++i)
         if (!vsm_box_finite(f.moved_casters[i].bounds) || !vsm_box_finite(f.moved_casters[i].previous_bounds))
-            return Status::NonFinite;
+            return fail(Status::NonFinite, "f.moved_casters: NaN or Inf in bounds or previous_bounds");
     // directional: every window origin must stay exact in double and int64
     if (L.w == 0.0f) {
         glm::dvec3 ax, ay, az;
@@ -753,7 +810,7 @@ inline Status vsm_check_frame(const VsmState& s, const VsmFrame& f, const VsmPag
         // the page grid and the depth center in units of a page / of the depth range stay exact
         if (!(span / fine < 4e15) || !std::isfinite(top) ||
             !(std::fabs(glm::dot(f.camera_position, az)) / s.layout.depth_range_world < 1e15))
-            return Status::Overflow;
+            return fail(Status::Overflow, "f.camera_position: 4e15 level-0 pages or 1e15 depth ranges from the origin");
     }
     return Status::Ok;
 }
@@ -930,7 +987,7 @@ inline void vsm_emit(VsmState& s, std::uint32_t i, std::uint32_t level, std::uin
 /// unmapped); on any other status the state is unchanged.
 inline VsmPlan vsm_plan(VsmState& s, const VsmFrame& f, VsmPageRender* pages, std::size_t capacity) {
     VsmPlan p;
-    p.status = detail::vsm_check_frame(s, f, pages, capacity);
+    p.status = detail::vsm_check_frame(s, f, pages, capacity, p.detail);
     if (p.status != Status::Ok) return p;
     ++s.frame;
     if (s.frame == 0) {  // wrapped: stamps of 2^32 frames ago would read as this frame
@@ -990,6 +1047,7 @@ inline VsmPlan vsm_plan(VsmState& s, const VsmFrame& f, VsmPageRender* pages, st
         detail::vsm_emit(s, i, level, x, y, pages, p);
     }
     p.status = p.needed > std::size_t(s.layout.pool_pages) ? Status::BufferTooSmall : Status::Ok;
+    if (p.status != Status::Ok) p.detail = "layout.pool_pages: fewer than the requested pages (coarser pages stand in: fallback)";
     return p;
 }
 
@@ -1008,13 +1066,22 @@ inline VsmPageCasters vsm_page_casters(const VsmState& s, const VsmPageRender* p
         ((first == nullptr || counts == nullptr) && count != 0) || (indices == nullptr && index_capacity != 0) ||
         caster_count > 0xFFFFFFFFu || count > s.slots.size()) {
         r.status = Status::InvalidArgument;
+        r.detail = !s.initialized                                    ? "s: not initialized (vsm_state_init)"
+                   : !s.has_light                                    ? "s: no plan has placed its levels yet (vsm_plan)"
+                   : (pages == nullptr && count != 0)                ? "pages: null with count > 0"
+                   : (bounds == nullptr && caster_count != 0)        ? "bounds: null with caster_count > 0"
+                   : ((first == nullptr || counts == nullptr) && count != 0) ? "first, counts: null with count > 0"
+                   : (indices == nullptr && index_capacity != 0)     ? "indices: null with index_capacity > 0"
+                   : caster_count > 0xFFFFFFFFu                      ? "caster_count: beyond uint32 indices"
+                                                                     : "count: above layout.pool_pages";
         return r;
     }
     for (std::size_t i = 0; i < count; ++i) {
         const VsmPageRender& q = pages[i];
         if (q.slot >= s.slots.size() || s.slots[q.slot].render_frame != s.frame || s.slots[q.slot].render_index != i ||
             q.level >= std::uint32_t(s.layout.level_count)) {
-            r.status = Status::InvalidArgument;  // not the last plan's list
+            r.status = Status::InvalidArgument;
+            r.detail = "pages: not the last vsm_plan's list";
             return r;
         }
         counts[i] = 0;
@@ -1022,6 +1089,7 @@ inline VsmPageCasters vsm_page_casters(const VsmState& s, const VsmPageRender* p
     for (std::size_t c = 0; c < caster_count; ++c)
         if (!detail::vsm_box_finite(bounds + 6 * c)) {
             r.status = Status::NonFinite;
+            r.detail = "bounds: NaN or Inf";
             return r;
         }
     for (int pass = 0; pass < 2; ++pass) {
@@ -1032,6 +1100,7 @@ inline VsmPageCasters vsm_page_casters(const VsmState& s, const VsmPageRender* p
             if (acc > index_capacity) {
                 for (std::size_t i = 0; i < count; ++i) counts[i] = (i + 1 < count ? first[i + 1] : std::uint32_t(acc)) - first[i];
                 r.status = Status::BufferTooSmall;
+                r.detail = "index_capacity: below the sum of counts (needed)";
                 return r;
             }
         }

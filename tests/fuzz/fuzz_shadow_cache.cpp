@@ -15,6 +15,7 @@
 
 using shadowkit_fuzz::FuzzInput;
 using shadowkit_fuzz::check;
+using shadowkit_fuzz::check_detail;
 
 namespace {
 
@@ -124,6 +125,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const shadowkit::ShadowCachePlan p = shadowkit::shadow_cache_plan(
         prev, cur, null_casters ? nullptr : casters, caster_count, cap == 0 && (flags & 2) ? nullptr : rects, cap);
     check(p.count <= cap);
+    check_detail(p);
     if (p.status == shadowkit::Status::Ok) {
         const int w = cur.width, h = cur.height;
         check(w >= 1 && h >= 1);
@@ -187,6 +189,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             cur.view_proj, cur.width, cur.height, (r.u8() % 32) == 0 ? nullptr : casters[i].bounds);
         if (fp.status == shadowkit::Status::Ok && fp.visible) check(inside(fp.rect, cur.width, cur.height));
         if (fp.status != shadowkit::Status::Ok) check(!fp.visible);
+        check_detail(fp);
     }
     check(shadowkit::shadow_cache_rect_capacity(caster_count) == 2 + 2 * caster_count);
     return 0;

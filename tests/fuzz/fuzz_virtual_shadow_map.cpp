@@ -19,6 +19,7 @@
 
 using shadowkit_fuzz::FuzzInput;
 using shadowkit_fuzz::check;
+using shadowkit_fuzz::check_detail;
 
 namespace {
 
@@ -66,7 +67,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     L.clip_depth = r.boolean() ? ClipDepth::ZeroToOne : ClipDepth::NegativeOneToOne;
     L.reversed_z = r.boolean();
     VsmState s;
-    if (vsm_state_init(L, s).status != Status::Ok) return 0;
+    const VsmInit init = vsm_state_init(L, s);
+    check_detail(init);
+    if (init.status != Status::Ok) return 0;
     const std::uint32_t n = std::uint32_t(s.pages_per_side), levels = std::uint32_t(s.layout.level_count);
     {  // a request bitmask from the fuzzer
         std::vector<std::uint32_t> mask(vsm_bitmask_words(s));
@@ -74,6 +77,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::vector<VsmPageRequest> out(r.range<std::size_t>(0, 40));
         const VsmRequestList rl = vsm_requests_from_bitmask(s, mask.data(), mask.size(), out.empty() ? nullptr : out.data(), out.size());
         check(rl.count <= out.size() && rl.count <= rl.needed);
+        check_detail(rl);
         check(rl.status == (rl.count == rl.needed ? Status::Ok : Status::BufferTooSmall));
         for (std::size_t i = 0; i < rl.count; ++i)
             check(out[i].level < std::uint32_t(s.layout.level_count) && out[i].x < std::uint32_t(s.pages_per_side) &&
@@ -119,6 +123,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const std::uint32_t frame_before = s.frame;
         const std::size_t free_before = s.free_count;
         const VsmPlan p = vsm_plan(s, f, pages.data(), cap);
+        check_detail(p);
         if (p.status != Status::Ok && p.status != Status::BufferTooSmall) {
             check(s.frame == frame_before && s.free_count == free_before && p.count == 0);
             continue;
@@ -147,6 +152,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::vector<std::uint32_t> first(p.count), counts(p.count), idx(r.range<std::size_t>(0, 64));
         const VsmPageCasters pc = vsm_page_casters(s, pages.data(), p.count, boxes.empty() ? nullptr : boxes.data(), moves.size(),
                                                    first.data(), counts.data(), idx.empty() ? nullptr : idx.data(), idx.size());
+        check_detail(pc);
         if (pc.status == Status::Ok) {
             check(pc.count == pc.needed && pc.count <= idx.size());
             for (std::size_t i = 0; i < p.count; ++i) {
@@ -161,6 +167,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const glm::dvec3 anchor = r.boolean() ? cam : glm::dvec3(r.f64(), r.f64(), r.f64());
         const VsmGpuBlock gb = vsm_gpu_block(s, anchor, block.empty() ? nullptr : block.data(), block.size());
         check(gb.count <= block.size());
+        check_detail(gb);
         if (gb.status == Status::Ok) {
             check(gb.count == vsm_gpu_block_words(s) && gb.needed == gb.count);
             for (std::size_t i = 0; i < 256; ++i) {
@@ -175,6 +182,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         // every slot's page: current ones are where the table says, with finite matrices
         const std::uint32_t probe = r.u32() % (std::uint32_t(s.layout.pool_pages) + 2);
         const VsmSlotPage sp = vsm_slot_page(s, probe);
+        check_detail(sp);
         if (probe >= std::uint32_t(s.layout.pool_pages)) check(sp.status == Status::InvalidArgument);
         if (sp.status == Status::Ok && sp.resident && sp.current && sp.on_window) {
             check(s.page_table[vsm_table_index(s, sp.page.level, sp.page.x, sp.page.y)] == (kVsmPageValid | probe));
