@@ -140,6 +140,7 @@ struct CascadeInput {
 /// One fitted cascade (the result of cascade_fit_slice, and an element of cascade_fit's output).
 struct Cascade {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 view_proj{1.0f};       ///< world -> cascade clip space
     float split_near = 0.0f;         ///< view-depth range covered by this cascade
     float split_far = 0.0f;
@@ -157,6 +158,7 @@ struct Cascade {
 /// Split distances of cascade_split_distances: distances[0 .. count] (count + 1 values).
 struct CascadeSplits {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::uint32_t count = 0;         ///< cascades (distances holds count + 1 values)
     float distances[17] = {};        ///< distances[0] == near, distances[count] == far, strictly increasing
 };
@@ -164,6 +166,7 @@ struct CascadeSplits {
 /// Result of cascade_fit.
 struct CascadeFitResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;           ///< cascades written to out_cascades (a valid prefix)
     std::size_t needed = 0;          ///< cascades the output needs (cascade_count)
     float splits[17] = {};           ///< view depths: cascade i covers [splits[i], splits[i + 1]]
@@ -172,10 +175,17 @@ struct CascadeFitResult {
 /// Result of the cascade selection functions.
 struct CascadeIndex {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     int index = -1;                  ///< the cascade; -1 (with Ok): outside every cascade
 };
 
 namespace detail {
+
+/// Sets the detail of a failure and returns its status.
+inline Status cs_fail(const char*& why, Status s, const char* what) {
+    why = what;
+    return s;
+}
 
 inline bool cs_finite(const glm::mat4& m) {
     for (int c = 0; c < 4; ++c)
@@ -205,13 +215,13 @@ struct CsRays {
 /// included). The far plane is found from NDC depth zf: a point there that lies beyond the second
 /// point on the ray is a finite far plane; w = 0 or a point behind the eye (the epsilon-tweaked P_inf
 /// puts zf beyond infinity) is a far plane at infinity.
-inline Status cs_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, CsRays& r) {
+inline Status cs_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed, CsRays& r, const char*& why) {
     const glm::dmat4 P(proj);
-    if (!cs_finite(P)) return Status::NonFinite;
+    if (!cs_finite(P)) return cs_fail(why, Status::NonFinite, "camera_proj: NaN or Inf");
     const double det = glm::determinant(P);
-    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) return Status::InvalidArgument;
+    if (!std::isfinite(det) || !(std::fabs(det) > 1e-300)) return cs_fail(why, Status::InvalidArgument, "camera_proj: singular");
     const glm::dmat4 ip = glm::inverse(P);
-    if (!cs_finite(ip)) return Status::InvalidArgument;
+    if (!cs_finite(ip)) return cs_fail(why, Status::InvalidArgument, "camera_proj: inverse not finite");
     const double lo = cd == ClipDepth::ZeroToOne ? 0.0 : -1.0;
     const double zn = reversed ? 1.0 : lo, zf = reversed ? lo : 1.0, zm = zn + (zf - zn) / 64.0;
     r.near_depth = -std::numeric_limits<double>::infinity();
@@ -222,13 +232,15 @@ inline Status cs_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed,
                          hf = ip * glm::dvec4(x, y, zf, 1.0);
         const double sn = std::fabs(hn.x) + std::fabs(hn.y) + std::fabs(hn.z);
         const double sm = std::fabs(hm.x) + std::fabs(hm.y) + std::fabs(hm.z);
-        if (!(std::fabs(hn.w) > 1e-12 * sn) || !(std::fabs(hn.w) > 1e-300)) return Status::InvalidArgument;
-        if (!(std::fabs(hm.w) > 1e-12 * sm) || !(std::fabs(hm.w) > 1e-300)) return Status::InvalidArgument;
+        if (!(std::fabs(hn.w) > 1e-12 * sn) || !(std::fabs(hn.w) > 1e-300))
+            return cs_fail(why, Status::InvalidArgument, "camera_proj: near plane at infinity");
+        if (!(std::fabs(hm.w) > 1e-12 * sm) || !(std::fabs(hm.w) > 1e-300))
+            return cs_fail(why, Status::InvalidArgument, "camera_proj: near-side depth at infinity");
         r.pn[i] = glm::dvec3(hn) / hn.w;
         r.dir[i] = glm::dvec3(hm) / hm.w - r.pn[i];
         r.dn[i] = -r.pn[i].z;
         if (!(r.dn[i] > 0.0) || !(r.dir[i].z < 0.0) || !cs_finite(r.pn[i]) || !cs_finite(r.dir[i]))
-            return Status::InvalidArgument;  // near plane at or behind the eye, or rays not going away
+            return cs_fail(why, Status::InvalidArgument, "camera_proj: near plane at or behind the eye");
         const double sf = std::fabs(hf.x) + std::fabs(hf.y) + std::fabs(hf.z);
         double dfar = std::numeric_limits<double>::infinity();
         if (std::fabs(hf.w) > 1e-9 * sf && std::fabs(hf.w) > 1e-300) {
@@ -239,7 +251,7 @@ inline Status cs_camera_rays(const glm::mat4& proj, ClipDepth cd, bool reversed,
         r.near_depth = std::fmax(r.near_depth, r.dn[i]);
         r.far_depth = std::fmin(r.far_depth, dfar);
     }
-    if (!(r.far_depth > r.near_depth)) return Status::InvalidArgument;
+    if (!(r.far_depth > r.near_depth)) return cs_fail(why, Status::InvalidArgument, "camera_proj: far plane not beyond near");
     return Status::Ok;
 }
 
@@ -259,24 +271,32 @@ inline glm::dvec3 cs_stable_up(const glm::dvec3& f) {
 }
 
 /// Checks the common inputs of the fits: Ok, or the first problem found.
-inline Status cs_check_input(const CascadeInput& in) {
-    if (!cs_finite(in.camera_view) || !cs_finite(in.camera_proj)) return Status::NonFinite;
-    if (!cs_finite(in.light_position) || in.light_position.w != 0.0f) return Status::InvalidLight;
+inline Status cs_check_input(const CascadeInput& in, const char*& why) {
+    if (!cs_finite(in.camera_view)) return cs_fail(why, Status::NonFinite, "camera_view: NaN or Inf");
+    if (!cs_finite(in.camera_proj)) return cs_fail(why, Status::NonFinite, "camera_proj: NaN or Inf");
+    if (!cs_finite(in.light_position)) return cs_fail(why, Status::InvalidLight, "light_position: NaN or Inf");
+    if (in.light_position.w != 0.0f) return cs_fail(why, Status::InvalidLight, "light_position: w != 0 (cascades need a directional light)");
     if (in.light_position.x == 0.0f && in.light_position.y == 0.0f && in.light_position.z == 0.0f)
-        return Status::InvalidLight;
-    if (!std::isfinite(in.max_distance) || !std::isfinite(in.radius_quantum)) return Status::NonFinite;
-    if (in.max_distance < 0.0f || in.shadow_map_size < 4 || !(in.radius_quantum > 0.0f)) return Status::InvalidArgument;
+        return cs_fail(why, Status::InvalidLight, "light_position: (0, 0, 0, 0)");
+    if (!std::isfinite(in.max_distance)) return cs_fail(why, Status::NonFinite, "max_distance: NaN or Inf");
+    if (!std::isfinite(in.radius_quantum)) return cs_fail(why, Status::NonFinite, "radius_quantum: NaN or Inf");
+    if (in.max_distance < 0.0f) return cs_fail(why, Status::InvalidArgument, "max_distance: < 0");
+    if (in.shadow_map_size < 4) return cs_fail(why, Status::InvalidArgument, "shadow_map_size: < 4");
+    if (!(in.radius_quantum > 0.0f)) return cs_fail(why, Status::InvalidArgument, "radius_quantum: <= 0");
     if (in.has_caster_bounds) {
-        if (!cs_finite(in.caster_min) || !cs_finite(in.caster_max)) return Status::NonFinite;
+        if (!cs_finite(in.caster_min) || !cs_finite(in.caster_max))
+            return cs_fail(why, Status::NonFinite, "caster_min, caster_max: NaN or Inf");
         if (in.caster_min.x > in.caster_max.x || in.caster_min.y > in.caster_max.y || in.caster_min.z > in.caster_max.z)
-            return Status::InvalidArgument;
+            return cs_fail(why, Status::InvalidArgument, "caster_min: > caster_max");
     }
     if (in.has_scene_bounds) {
-        if (!cs_finite(in.scene_min) || !cs_finite(in.scene_max)) return Status::NonFinite;
+        if (!cs_finite(in.scene_min) || !cs_finite(in.scene_max))
+            return cs_fail(why, Status::NonFinite, "scene_min, scene_max: NaN or Inf");
         if (in.scene_min.x > in.scene_max.x || in.scene_min.y > in.scene_max.y || in.scene_min.z > in.scene_max.z)
-            return Status::InvalidArgument;
+            return cs_fail(why, Status::InvalidArgument, "scene_min: > scene_max");
     }
-    if (in.stable_world_depth && !in.has_scene_bounds) return Status::InvalidArgument;
+    if (in.stable_world_depth && !in.has_scene_bounds)
+        return cs_fail(why, Status::InvalidArgument, "stable_world_depth: set without has_scene_bounds");
     return Status::Ok;
 }
 
@@ -351,13 +371,23 @@ inline bool cs_float_landing_ok(const CascadeInput& in, const glm::mat4& view_pr
 /// floats between near and far than splits).
 inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, float lambda, std::uint32_t count) {
     CascadeSplits out;
-    if (!std::isfinite(near_plane) || !std::isfinite(far_plane) || !std::isfinite(lambda)) {
+    const char* why = !std::isfinite(near_plane) ? "near_plane: NaN or Inf"
+                      : !std::isfinite(far_plane)  ? "far_plane: NaN or Inf (clamp an infinite far plane to a shadow distance)"
+                      : !std::isfinite(lambda)     ? "lambda: NaN or Inf"
+                                                   : nullptr;
+    if (why) {
         out.status = Status::NonFinite;
+        out.detail = why;
         return out;
     }
-    if (count == 0 || count > 16 || !(near_plane > 0.0f) || !(far_plane > near_plane) || !(lambda >= 0.0f) ||
-        !(lambda <= 1.0f)) {
+    why = (count == 0 || count > 16)                ? "count: outside 1..16"
+          : !(near_plane > 0.0f)                     ? "near_plane: <= 0"
+          : !(far_plane > near_plane)                ? "far_plane: not beyond near_plane"
+          : !(lambda >= 0.0f) || !(lambda <= 1.0f)   ? "lambda: outside [0, 1]"
+                                                     : nullptr;
+    if (why) {
         out.status = Status::InvalidArgument;
+        out.detail = why;
         return out;
     }
     const double n = near_plane, f = far_plane, l = lambda;
@@ -374,6 +404,7 @@ inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, 
     if (!(prev < far_plane)) {  // fewer representable floats than splits
         out = CascadeSplits{};
         out.status = Status::Overflow;
+        out.detail = "near_plane, far_plane: fewer floats between them than splits";
         return out;
     }
     out.distances[count] = far_plane;
@@ -394,22 +425,25 @@ inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, 
 inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float split_far) {
     using namespace detail;
     Cascade out;
-    auto fail = [&out](Status s) {
+    const char* why = nullptr;
+    auto fail = [&out, &why](Status s, const char* what = nullptr) {
         out = Cascade{};
         out.status = s;
+        out.detail = what ? what : why;
         return out;
     };
-    const Status cs = cs_check_input(in);
+    const Status cs = cs_check_input(in, why);
     if (cs != Status::Ok) return fail(cs);
-    if (!std::isfinite(split_near) || !std::isfinite(split_far)) return fail(Status::NonFinite);
-    if (!(split_far > split_near) || !(split_near > 0.0f)) return fail(Status::InvalidArgument);
+    if (!std::isfinite(split_near) || !std::isfinite(split_far)) return fail(Status::NonFinite, "split_near, split_far: NaN or Inf");
+    if (!(split_near > 0.0f)) return fail(Status::InvalidArgument, "split_near: <= 0");
+    if (!(split_far > split_near)) return fail(Status::InvalidArgument, "split_far: not beyond split_near");
     const glm::dvec3 d = -glm::normalize(glm::dvec3(in.light_position));  // travel direction
     CsRays r;
-    const Status st = cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
+    const Status st = cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r, why);
     if (st != Status::Ok) return fail(st);
     const double d0 = std::fmax(double(split_near), r.near_depth);
     const double d1 = std::fmin(double(split_far), r.far_depth);
-    if (!(d1 > d0)) return fail(Status::InvalidArgument);
+    if (!(d1 > d0)) return fail(Status::InvalidArgument, "split_near, split_far: outside the camera's near and far planes");
     glm::dvec3 cv[8];
     for (int i = 0; i < 4; ++i) {
         cv[i] = cs_corner(r, i, d0);
@@ -429,12 +463,12 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
     for (int i = 0; i < 8; ++i) rad = std::fmax(rad, glm::length(cv[i] - cview));
     const double q = in.radius_quantum;
     rad = std::ceil(rad / q) * q;  // constant texel size while the slice shape is constant
-    if (!(rad > 0.0) || !std::isfinite(rad)) return fail(Status::Overflow);
+    if (!(rad > 0.0) || !std::isfinite(rad)) return fail(Status::Overflow, "camera_proj: the slice's radius beyond double");
     const glm::dmat4 V(in.camera_view);
     const double vdet = glm::determinant(V);
-    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument);
+    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return fail(Status::InvalidArgument, "camera_view: singular");
     const glm::dmat4 iv = glm::inverse(V);
-    if (!cs_finite(iv)) return fail(Status::InvalidArgument);
+    if (!cs_finite(iv)) return fail(Status::InvalidArgument, "camera_view: inverse not finite");
     const glm::dvec3 cw = glm::dvec3(iv * glm::dvec4(cview, 1.0));
     // light view anchored at the world origin: rotation only, fixed per light direction
     const glm::dvec3 sx = glm::normalize(glm::cross(d, cs_stable_up(d)));
@@ -466,17 +500,18 @@ inline Cascade cascade_fit_slice(const CascadeInput& in, float split_near, float
         conv[2][2] = -1.0;
     }
     const glm::dmat4 m = conv * pr * lv;
-    if (!cs_finite(m)) return fail(Status::Overflow);
+    if (!cs_finite(m)) return fail(Status::Overflow, "camera_view, camera_proj: the cascade's matrix beyond double");
     out.view_proj = glm::mat4(m);
     if (!cs_finite(out.view_proj) || !(static_cast<float>(texel) > 0.0f) || !std::isfinite(static_cast<float>(rad)) ||
         !cs_finite(glm::vec3(cw)))
-        return fail(Status::Overflow);  // outside float range
+        return fail(Status::Overflow, "camera_view, camera_proj: the cascade beyond float");
     // what a vertex shader computes (float positions, the float matrix) must land inside the cascade
     const glm::dvec3 pw[8] = {glm::dvec3(iv * glm::dvec4(cv[0], 1.0)), glm::dvec3(iv * glm::dvec4(cv[1], 1.0)),
                               glm::dvec3(iv * glm::dvec4(cv[2], 1.0)), glm::dvec3(iv * glm::dvec4(cv[3], 1.0)),
                               glm::dvec3(iv * glm::dvec4(cv[4], 1.0)), glm::dvec3(iv * glm::dvec4(cv[5], 1.0)),
                               glm::dvec3(iv * glm::dvec4(cv[6], 1.0)), glm::dvec3(iv * glm::dvec4(cv[7], 1.0))};
-    if (!cs_float_landing_ok(in, out.view_proj, pw)) return fail(Status::Overflow);
+    if (!cs_float_landing_ok(in, out.view_proj, pw))
+        return fail(Status::Overflow, "camera_view: the slice too small against its distance from the origin for float");
     out.split_near = split_near;
     out.split_far = split_far;
     out.sphere = glm::vec4(glm::vec3(cw), static_cast<float>(rad));
@@ -497,32 +532,33 @@ inline CascadeFitResult cascade_fit(const CascadeInput& in, float lambda, std::u
                                     Cascade* out_cascades, std::size_t out_capacity) {
     using namespace detail;
     CascadeFitResult res;
-    if ((!out_cascades && out_capacity > 0) || cascade_count == 0 || cascade_count > 16) {
-        res.status = Status::InvalidArgument;
+    const char* why = nullptr;
+    auto fail = [&res, &why](Status s, const char* what = nullptr) {
+        res.status = s;
+        res.detail = what ? what : why;
         return res;
-    }
+    };
+    if (!out_cascades && out_capacity > 0) return fail(Status::InvalidArgument, "out_cascades: null with out_capacity > 0");
+    if (cascade_count == 0 || cascade_count > 16) return fail(Status::InvalidArgument, "cascade_count: outside 1..16");
     res.needed = cascade_count;
-    const Status cs = cs_check_input(in);
-    if (cs != Status::Ok) { res.status = cs; return res; }
-    if (!std::isfinite(lambda)) { res.status = Status::NonFinite; return res; }
-    if (out_capacity < cascade_count) { res.status = Status::BufferTooSmall; return res; }
+    const Status cs = cs_check_input(in, why);
+    if (cs != Status::Ok) return fail(cs);
+    if (!std::isfinite(lambda)) return fail(Status::NonFinite, "lambda: NaN or Inf");
+    if (out_capacity < cascade_count) return fail(Status::BufferTooSmall, "out_capacity: below cascade_count");
     CsRays r;
-    const Status st = cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r);
-    if (st != Status::Ok) { res.status = st; return res; }
+    const Status st = cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, r, why);
+    if (st != Status::Ok) return fail(st);
     double f = r.far_depth;
     if (in.max_distance > 0.0f) f = std::fmin(f, double(in.max_distance));
-    else if (std::isinf(f)) { res.status = Status::InvalidArgument; return res; }  // needs max_distance
+    else if (std::isinf(f)) return fail(Status::InvalidArgument, "max_distance: 0 with an infinite far plane");
     const float nf = static_cast<float>(r.near_depth), ff = static_cast<float>(f);
-    if (!std::isfinite(nf) || !std::isfinite(ff)) { res.status = Status::Overflow; return res; }
+    if (!std::isfinite(nf) || !std::isfinite(ff)) return fail(Status::Overflow, "camera_proj: near or far depth beyond float");
     const CascadeSplits sp = cascade_split_distances(nf, ff, lambda, cascade_count);
-    if (sp.status != Status::Ok) { res.status = sp.status; return res; }
+    if (sp.status != Status::Ok) return fail(sp.status, sp.detail);
     for (std::uint32_t i = 0; i <= cascade_count; ++i) res.splits[i] = sp.distances[i];
     for (std::uint32_t i = 0; i < cascade_count; ++i) {
         out_cascades[i] = cascade_fit_slice(in, sp.distances[i], sp.distances[i + 1]);
-        if (out_cascades[i].status != Status::Ok) {
-            res.status = out_cascades[i].status;
-            return res;
-        }
+        if (out_cascades[i].status != Status::Ok) return fail(out_cascades[i].status, out_cascades[i].detail);
         res.count = i + 1;
     }
     res.status = Status::Ok;
@@ -539,6 +575,7 @@ inline CascadeFitResult cascade_fit(const CascadeInput& in, float lambda, std::u
 /// depth of every pixel that is not background.
 struct CascadeSdsmRange {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;   ///< false (with Ok): the reduction found no receiver (its empty marker)
     float view_min = 0.0f;  ///< [Units: wu, view depth d = -z_view > 0] nearest visible receiver
     float view_max = 0.0f;  ///< farthest visible receiver (>= view_min)
@@ -590,12 +627,14 @@ struct CascadeSdsmBox {
 /// The light frame of the SDSM boxes (world -> light view, a rotation), for the bounds reduction.
 struct CascadeSdsmLightView {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     glm::mat4 view{1.0f};  ///< world -> light frame: x/y across the light, -z along its travel
 };
 
 /// Result of cascade_sdsm_fit; also the state the next frame's call reads (`previous`).
 struct CascadeSdsmResult {
     Status status = Status::NotRun;
+    const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     std::size_t count = 0;          ///< cascades written to out_cascades (a valid prefix)
     std::size_t needed = 0;         ///< cascades the output needs (cascade_count)
     bool visible = false;           ///< false (with Ok): the clamped range is empty, nothing written (count 0)
@@ -629,17 +668,23 @@ inline glm::dmat4 cs_light_view(const glm::vec4& light_position) {
 }
 
 /// Checks the SDSM-specific inputs (after cs_check_input): Ok or the first problem.
-inline Status cs_sdsm_check(const CascadeSdsmInput& in) {
-    if (!std::isfinite(in.view_min) || !std::isfinite(in.view_max) || !std::isfinite(in.lambda) ||
-        !std::isfinite(in.range_steps_per_octave) || !std::isfinite(in.margin))
-        return Status::NonFinite;
-    if (in.camera.stable_world_depth || !(in.view_min > 0.0f) || !(in.view_max >= in.view_min) ||
-        !(in.lambda >= 0.0f) || !(in.lambda <= 1.0f) || !(in.range_steps_per_octave >= 1.0f) ||
-        !(in.range_steps_per_octave <= 64.0f) || !(in.margin >= 0.0f) || !(in.margin <= 0.5f))
-        return Status::InvalidArgument;
+inline Status cs_sdsm_check(const CascadeSdsmInput& in, const char*& why) {
+    if (!std::isfinite(in.view_min)) return cs_fail(why, Status::NonFinite, "view_min: NaN or Inf");
+    if (!std::isfinite(in.view_max)) return cs_fail(why, Status::NonFinite, "view_max: NaN or Inf");
+    if (!std::isfinite(in.lambda)) return cs_fail(why, Status::NonFinite, "lambda: NaN or Inf");
+    if (!std::isfinite(in.range_steps_per_octave)) return cs_fail(why, Status::NonFinite, "range_steps_per_octave: NaN or Inf");
+    if (!std::isfinite(in.margin)) return cs_fail(why, Status::NonFinite, "margin: NaN or Inf");
+    if (in.camera.stable_world_depth)
+        return cs_fail(why, Status::InvalidArgument, "camera.stable_world_depth: set (SDSM's depth range follows the view)");
+    if (!(in.view_min > 0.0f)) return cs_fail(why, Status::InvalidArgument, "view_min: <= 0");
+    if (!(in.view_max >= in.view_min)) return cs_fail(why, Status::InvalidArgument, "view_max: below view_min");
+    if (!(in.lambda >= 0.0f) || !(in.lambda <= 1.0f)) return cs_fail(why, Status::InvalidArgument, "lambda: outside [0, 1]");
+    if (!(in.range_steps_per_octave >= 1.0f) || !(in.range_steps_per_octave <= 64.0f))
+        return cs_fail(why, Status::InvalidArgument, "range_steps_per_octave: outside [1, 64]");
+    if (!(in.margin >= 0.0f) || !(in.margin <= 0.5f)) return cs_fail(why, Status::InvalidArgument, "margin: outside [0, 0.5]");
     if (in.receiver_bounds)
         for (std::uint32_t i = 0; i < in.cascade_count && i < 16; ++i)
-            if (!cs_finite(in.receiver_bounds[i])) return Status::NonFinite;
+            if (!cs_finite(in.receiver_bounds[i])) return cs_fail(why, Status::NonFinite, "receiver_bounds: NaN or Inf");
     return Status::Ok;
 }
 
@@ -780,6 +825,7 @@ inline Cascade cs_sdsm_cascade(const CascadeInput& in, const glm::dmat4& lv, con
         !std::isfinite(static_cast<float>(rad)) || !cs_finite(glm::vec3(cw)) || !cs_float_landing_ok(in, out.view_proj, pw)) {
         out = Cascade{};
         out.status = Status::Overflow;
+        out.detail = "camera_view: the cascade beyond float, or too small against its distance from the origin";
         return out;
     }
     out.sphere = glm::vec4(glm::vec3(cw), static_cast<float>(rad));
@@ -802,6 +848,7 @@ inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, Cl
     CascadeSdsmRange out;
     if (!std::isfinite(window_min) || !std::isfinite(window_max) || !detail::cs_finite(camera_proj)) {
         out.status = Status::NonFinite;
+        out.detail = !detail::cs_finite(camera_proj) ? "camera_proj: NaN or Inf" : "window_min, window_max: NaN or Inf";
         return out;
     }
     if (window_min == kCascadeSdsmEmptyMin && window_max == kCascadeSdsmEmptyMax) {
@@ -810,10 +857,15 @@ inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, Cl
     }
     if (!(window_min >= 0.0f) || !(window_max <= 1.0f) || !(window_min <= window_max)) {
         out.status = Status::InvalidArgument;
+        out.detail = !(window_min <= window_max) ? "window_min: > window_max" : "window_min, window_max: outside [0, 1]";
         return out;
     }
     const glm::dmat4 ip = glm::inverse(glm::dmat4(camera_proj));
-    if (!detail::cs_finite(ip)) { out.status = Status::NonFinite; return out; }
+    if (!detail::cs_finite(ip)) {
+        out.status = Status::NonFinite;
+        out.detail = "camera_proj: singular";
+        return out;
+    }
     double d[2];
     const float w[2] = {window_min, window_max};
     for (int i = 0; i < 2; ++i) {
@@ -822,6 +874,7 @@ inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, Cl
         d[i] = -h.z / h.w;
         if (!(std::fabs(h.w) > 0.0) || !std::isfinite(d[i]) || !(d[i] > 0.0)) {
             out.status = Status::InvalidArgument;
+            out.detail = "window_min, window_max: a depth at or behind the eye or at infinity";
             return out;
         }
     }
@@ -829,7 +882,12 @@ inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, Cl
     const double lo = std::fmin(d[0], d[1]), hi = std::fmax(d[0], d[1]);
     out.view_min = static_cast<float>(lo);
     out.view_max = static_cast<float>(hi);
-    if (!std::isfinite(out.view_max) || !(out.view_min > 0.0f)) { out = CascadeSdsmRange{}; out.status = Status::Overflow; return out; }
+    if (!std::isfinite(out.view_max) || !(out.view_min > 0.0f)) {
+        out = CascadeSdsmRange{};
+        out.status = Status::Overflow;
+        out.detail = "window_min, window_max: a view depth beyond float";
+        return out;
+    }
     out.visible = true;
     out.status = Status::Ok;
     return out;
@@ -841,19 +899,19 @@ namespace detail {
 /// may keep, the clamped and snapped visible range and its splits (res.splits, range_min/max).
 /// Returns Ok with res.visible false when the clamped range is empty.
 inline Status cs_sdsm_prepare(const CascadeSdsmInput& in, const CascadeSdsmResult* previous, CsRays& r,
-                              glm::dmat4& iv, const CascadeSdsmResult*& prev, CascadeSdsmResult& res) {
-    if (in.cascade_count == 0 || in.cascade_count > 16) return Status::InvalidArgument;
+                              glm::dmat4& iv, const CascadeSdsmResult*& prev, CascadeSdsmResult& res, const char*& why) {
+    if (in.cascade_count == 0 || in.cascade_count > 16) return cs_fail(why, Status::InvalidArgument, "cascade_count: outside 1..16");
     res.needed = in.cascade_count;
-    Status st = cs_check_input(in.camera);
-    if (st == Status::Ok) st = cs_sdsm_check(in);
+    Status st = cs_check_input(in.camera, why);
+    if (st == Status::Ok) st = cs_sdsm_check(in, why);
     if (st != Status::Ok) return st;
-    st = cs_camera_rays(in.camera.camera_proj, in.camera.camera_depth, in.camera.camera_reversed_z, r);
+    st = cs_camera_rays(in.camera.camera_proj, in.camera.camera_depth, in.camera.camera_reversed_z, r, why);
     if (st != Status::Ok) return st;
     const glm::dmat4 V(in.camera.camera_view);
     const double vdet = glm::determinant(V);
-    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return Status::InvalidArgument;
+    if (!std::isfinite(vdet) || !(std::fabs(vdet) > 1e-300)) return cs_fail(why, Status::InvalidArgument, "camera.camera_view: singular");
     iv = glm::inverse(V);
-    if (!cs_finite(iv)) return Status::InvalidArgument;
+    if (!cs_finite(iv)) return cs_fail(why, Status::InvalidArgument, "camera.camera_view: inverse not finite");
     res.light_position = in.camera.light_position;
     res.shadow_map_size = in.camera.shadow_map_size;
     const bool same = previous && previous->status == Status::Ok && previous->visible &&
@@ -869,7 +927,10 @@ inline Status cs_sdsm_prepare(const CascadeSdsmInput& in, const CascadeSdsmResul
     cs_sdsm_snap_range(zmin, zmax, double(in.range_steps_per_octave), prev, lo, hi);
     const CascadeSplits sp = cascade_split_distances(static_cast<float>(lo), static_cast<float>(hi), in.lambda,
                                                      in.cascade_count);
-    if (sp.status != Status::Ok) return sp.status == Status::NonFinite ? Status::Overflow : sp.status;
+    if (sp.status != Status::Ok) {
+        why = sp.status == Status::NonFinite ? "view_min, view_max: the snapped range beyond float" : sp.detail;
+        return sp.status == Status::NonFinite ? Status::Overflow : sp.status;
+    }
     res.range_min = sp.distances[0];
     res.range_max = sp.distances[in.cascade_count];
     for (std::uint32_t i = 0; i <= in.cascade_count; ++i) res.splits[i] = sp.distances[i];
@@ -886,6 +947,9 @@ inline CascadeSdsmLightView cascade_sdsm_light_view(const glm::vec4& light_posit
     if (!detail::cs_finite(light_position) || light_position.w != 0.0f ||
         (light_position.x == 0.0f && light_position.y == 0.0f && light_position.z == 0.0f)) {
         out.status = Status::InvalidLight;
+        out.detail = !detail::cs_finite(light_position) ? "light_position: NaN or Inf"
+                     : light_position.w != 0.0f       ? "light_position: w != 0 (SDSM needs a directional light)"
+                                                      : "light_position: (0, 0, 0, 0)";
         return out;
     }
     out.view = glm::mat4(detail::cs_light_view(light_position));
@@ -904,10 +968,12 @@ inline CascadeSdsmResult cascade_sdsm_splits(const CascadeSdsmInput& in, const C
     detail::CsRays r;
     glm::dmat4 iv(1.0);
     const CascadeSdsmResult* prev = nullptr;
-    const Status st = detail::cs_sdsm_prepare(plain, previous, r, iv, prev, res);
+    const char* why = nullptr;
+    const Status st = detail::cs_sdsm_prepare(plain, previous, r, iv, prev, res, why);
     if (st != Status::Ok) {
         res = CascadeSdsmResult{};
         res.status = st;
+        res.detail = why;
         return res;
     }
     res.status = Status::Ok;
@@ -932,18 +998,20 @@ inline CascadeSdsmResult cascade_sdsm_fit(const CascadeSdsmInput& in, const Casc
                                           Cascade* out_cascades, std::size_t out_capacity) {
     using namespace detail;
     CascadeSdsmResult res;
-    auto fail = [&res](Status s) {
+    const char* why = nullptr;
+    auto fail = [&res, &why](Status s, const char* what = nullptr) {
         res.status = s;
+        res.detail = what ? what : why;
         res.visible = false;
         return res;
     };
-    if (!out_cascades && out_capacity > 0) return fail(Status::InvalidArgument);
+    if (!out_cascades && out_capacity > 0) return fail(Status::InvalidArgument, "out_cascades: null with out_capacity > 0");
     CsRays r;
     glm::dmat4 iv(1.0);
     const CascadeSdsmResult* prev = nullptr;
-    const Status st = cs_sdsm_prepare(in, previous, r, iv, prev, res);
+    const Status st = cs_sdsm_prepare(in, previous, r, iv, prev, res, why);
     if (st != Status::Ok) return fail(st);
-    if (out_capacity < in.cascade_count) return fail(Status::BufferTooSmall);
+    if (out_capacity < in.cascade_count) return fail(Status::BufferTooSmall, "out_capacity: below cascade_count");
     if (!res.visible) {
         res.status = Status::Ok;
         return res;
@@ -959,7 +1027,7 @@ inline CascadeSdsmResult cascade_sdsm_fit(const CascadeSdsmInput& in, const Casc
         res.boxes[i] = cs_sdsm_box(t, prev ? &prev->boxes[i] : nullptr, same_split, double(in.margin), S, kept);
         if (!kept) res.rebuilt |= 1u << i;
         out_cascades[i] = cs_sdsm_cascade(in.camera, lv, res.boxes[i], pw);
-        if (out_cascades[i].status != Status::Ok) return fail(out_cascades[i].status);
+        if (out_cascades[i].status != Status::Ok) return fail(out_cascades[i].status, out_cascades[i].detail);
         out_cascades[i].split_near = res.splits[i];
         out_cascades[i].split_far = res.splits[i + 1];
         res.count = i + 1;
@@ -974,13 +1042,22 @@ inline CascadeSdsmResult cascade_sdsm_fit(const CascadeSdsmInput& in, const Casc
 /// count 0 or > 16, splits not finite and increasing), NonFinite (view_depth NaN/Inf).
 inline CascadeIndex cascade_select_by_depth(float view_depth, const float* splits, std::uint32_t count) {
     CascadeIndex res;
-    if (!splits || count == 0 || count > 16) { res.status = Status::InvalidArgument; return res; }
+    if (!splits || count == 0 || count > 16) {
+        res.status = Status::InvalidArgument;
+        res.detail = !splits ? "splits: null" : "count: outside 1..16";
+        return res;
+    }
     for (std::uint32_t i = 0; i <= count; ++i)
         if (!std::isfinite(splits[i]) || (i > 0 && !(splits[i] > splits[i - 1]))) {
             res.status = Status::InvalidArgument;
+            res.detail = "splits: not finite and strictly increasing";
             return res;
         }
-    if (!std::isfinite(view_depth)) { res.status = Status::NonFinite; return res; }
+    if (!std::isfinite(view_depth)) {
+        res.status = Status::NonFinite;
+        res.detail = "view_depth: NaN or Inf";
+        return res;
+    }
     res.status = Status::Ok;
     if (!(view_depth >= splits[0])) return res;
     for (std::uint32_t i = 0; i < count; ++i)
@@ -997,13 +1074,22 @@ inline CascadeIndex cascade_select_by_depth(float view_depth, const float* split
 /// cascade not Ok), NonFinite (NaN/Inf in world_pos).
 inline CascadeIndex cascade_select_by_sphere(const glm::vec3& world_pos, const Cascade* cascades, std::uint32_t count) {
     CascadeIndex res;
-    if (!cascades || count == 0 || count > 16) { res.status = Status::InvalidArgument; return res; }
+    if (!cascades || count == 0 || count > 16) {
+        res.status = Status::InvalidArgument;
+        res.detail = !cascades ? "cascades: null" : "count: outside 1..16";
+        return res;
+    }
     for (std::uint32_t i = 0; i < count; ++i)
         if (cascades[i].status != Status::Ok || !detail::cs_finite(cascades[i].sphere)) {
             res.status = Status::InvalidArgument;
+            res.detail = "cascades: one not Ok or with a non-finite sphere";
             return res;
         }
-    if (!detail::cs_finite(world_pos)) { res.status = Status::NonFinite; return res; }
+    if (!detail::cs_finite(world_pos)) {
+        res.status = Status::NonFinite;
+        res.detail = "world_pos: NaN or Inf";
+        return res;
+    }
     res.status = Status::Ok;
     for (std::uint32_t i = 0; i < count; ++i) {
         const glm::dvec3 d = glm::dvec3(world_pos) - glm::dvec3(glm::vec3(cascades[i].sphere));

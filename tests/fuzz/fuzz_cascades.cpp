@@ -14,6 +14,7 @@
 
 using shadowkit_fuzz::FuzzInput;
 using shadowkit_fuzz::all_finite;
+using shadowkit_fuzz::check_detail;
 
 namespace {
 
@@ -57,12 +58,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const float n = r.f32(), f = r.f32(), lambda = r.f32();
     const uint32_t count = r.range<uint32_t>(0, 19);
     const shadowkit::CascadeSplits sp = shadowkit::cascade_split_distances(n, f, lambda, count);
+    check_detail(sp);
     if (sp.status == shadowkit::Status::Ok) {
         if (count == 0 || count > 16 || sp.count != count) __builtin_trap();
         if (sp.distances[0] != n || sp.distances[count] != f) __builtin_trap();
         for (uint32_t i = 0; i < count; ++i)
             if (!(sp.distances[i] < sp.distances[i + 1])) __builtin_trap();
         const shadowkit::CascadeIndex sel = shadowkit::cascade_select_by_depth(r.f32(), sp.distances, count);
+        check_detail(sel);
         if (sel.status == shadowkit::Status::Ok && (sel.index < -1 || sel.index >= int(count))) __builtin_trap();
     } else if (sp.count != 0) {
         __builtin_trap();
@@ -73,6 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (float& v : raw_splits) v = r.f32();
         const uint32_t rc = r.range<uint32_t>(0, 17);
         const shadowkit::CascadeIndex sel = shadowkit::cascade_select_by_depth(r.f32(), (f2 & 1) ? nullptr : raw_splits, rc > 16 ? 16 : rc);
+        check_detail(sel);
         if ((f2 & 1) && sel.status == shadowkit::Status::Ok) __builtin_trap();
         if (sel.status == shadowkit::Status::Ok && (sel.index < -1 || sel.index >= int(rc))) __builtin_trap();
         if (sel.status != shadowkit::Status::Ok && sel.index != -1) __builtin_trap();
@@ -100,6 +104,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const size_t cap = (f2 & 32) ? r.size(17) : 16;
     const bool null_out = (f2 & 64) != 0 && cap > 0;
     const shadowkit::CascadeFitResult fit = shadowkit::cascade_fit(in, r.f32(), cc, null_out ? nullptr : c, cap);
+    check_detail(fit);
     if (fit.count > cap || fit.count > cc) __builtin_trap();
     if (null_out && fit.status != shadowkit::Status::InvalidArgument) __builtin_trap();
     if (fit.status == shadowkit::Status::Ok) {
@@ -113,12 +118,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 __builtin_trap();
         }
         const shadowkit::CascadeIndex sel = shadowkit::cascade_select_by_sphere(r.vec3(), c, cc);
+        check_detail(sel);
         if (sel.status == shadowkit::Status::Ok && (sel.index < -1 || sel.index >= int(cc))) __builtin_trap();
         const shadowkit::CascadeIndex sd = shadowkit::cascade_select_by_depth(r.f32(), fit.splits, cc);
+        check_detail(sd);
         if (sd.status == shadowkit::Status::Ok && (sd.index < -1 || sd.index >= int(cc))) __builtin_trap();
     }
     // one slice with raw split depths
     const shadowkit::Cascade one = shadowkit::cascade_fit_slice(in, r.f32(), r.f32());
+    check_detail(one);
     if (one.status == shadowkit::Status::Ok) {
         if (light_bad || near_bad) __builtin_trap();
         if (!all_finite(one.view_proj) || !all_finite(one.sphere) || !(one.texel_world_size > 0.0f) ||
@@ -127,7 +135,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         // issue #27 item 3: receivers at float positions (the slice's corners and center rounded to
         // float) through the float matrix, in float as a vertex shader, land within 0.01 NDC
         shadowkit::detail::CsRays rays;
-        if (shadowkit::detail::cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, rays) != shadowkit::Status::Ok)
+        const char* why = nullptr;
+        if (shadowkit::detail::cs_camera_rays(in.camera_proj, in.camera_depth, in.camera_reversed_z, rays, why) != shadowkit::Status::Ok)
             __builtin_trap();
         const double d0 = std::fmax(double(one.split_near), rays.near_depth), d1 = std::fmin(double(one.split_far), rays.far_depth);
         const glm::dmat4 iv = glm::inverse(glm::dmat4(in.camera_view));
@@ -151,6 +160,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         rc[0].sphere = r.vec4();
         rc[1].sphere = r.vec4();
         const shadowkit::CascadeIndex s = shadowkit::cascade_select_by_sphere(r.vec3(), rc, r.range<uint32_t>(0, 2));
+        check_detail(s);
         if (s.status == shadowkit::Status::Ok && (s.index < -1 || s.index > 1)) __builtin_trap();
     }
     const float w = shadowkit::cascade_blend_weight(r.f32(), r.f32(), r.f32(), r.f32());
@@ -165,6 +175,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         in.scene_max = (f3 & 4) ? in.scene_min + glm::abs(r.vec3()) : r.vec3();
         shadowkit::Cascade wc[4];
         const shadowkit::CascadeFitResult wf = shadowkit::cascade_fit(in, r.f32(), 4, wc, 4);
+        check_detail(wf);
         if (wf.status == shadowkit::Status::Ok) {
             if (light_bad || near_bad) __builtin_trap();
             if (in.stable_world_depth && !in.has_scene_bounds) __builtin_trap();
@@ -184,6 +195,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const uint8_t f4 = r.u8();
         const shadowkit::CascadeSdsmRange vr = shadowkit::cascade_sdsm_view_range(in.camera_proj, in.camera_depth,
                                                                                  in.camera_reversed_z, r.f32(), r.f32());
+        check_detail(vr);
         if (vr.status == shadowkit::Status::Ok && vr.visible &&
             (!std::isfinite(vr.view_min) || !(vr.view_min > 0.0f) || !(vr.view_max >= vr.view_min)))
             __builtin_trap();
@@ -213,8 +225,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             b.x1 = hi.x; b.y1 = hi.y; b.far_dist = hi.z;
         }
         const shadowkit::CascadeSdsmResult sp = shadowkit::cascade_sdsm_splits(sd, &prev);
+        check_detail(sp);
         shadowkit::Cascade sc[16];
         const shadowkit::CascadeSdsmResult fr = shadowkit::cascade_sdsm_fit(sd, &prev, sc, 16);
+        check_detail(fr);
         if (fr.count > 16 || (fr.status == shadowkit::Status::Ok && fr.visible && fr.count != sd.cascade_count)) __builtin_trap();
         if (fr.status == shadowkit::Status::Ok) {
             if (light_bad || near_bad || sp.status != shadowkit::Status::Ok) __builtin_trap();
@@ -226,10 +240,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (fr.visible && !(sd.receiver_bounds)) {
                 shadowkit::Cascade sc2[16];
                 const shadowkit::CascadeSdsmResult again = shadowkit::cascade_sdsm_fit(sd, &fr, sc2, 16);
+                check_detail(again);
                 if (again.status != shadowkit::Status::Ok || again.rebuilt != 0) __builtin_trap();
             }
         }
         const shadowkit::CascadeSdsmLightView lv = shadowkit::cascade_sdsm_light_view(r.vec4());
+        check_detail(lv);
         if (lv.status == shadowkit::Status::Ok && !all_finite(lv.view)) __builtin_trap();
     }
     return 0;
