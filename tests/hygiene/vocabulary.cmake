@@ -2,7 +2,8 @@
 #  - one status enum: no `enum class XxxStatus`, and the shared `Status` guard is there;
 #  - a header that takes `light_position` carries the "Lights:" paragraph word for word;
 #  - every public free function (namespace shadowkit, outside shared guarded blocks and nested
-#    namespaces such as detail) starts with the header's prefix.
+#    namespaces such as detail) starts with the header's prefix;
+#  - every result struct (a `Status status = Status::NotRun;` member) has `detail` right after it.
 # Input: HEADERS (;-list).
 set(prefix_infinite_projection projection_)
 set(prefix_silhouette silhouette_)
@@ -46,6 +47,16 @@ foreach(h ${HEADERS})
     if(at EQUAL -1)
       string(APPEND failures "${hn}.hpp: takes light_position but lacks the \"Lights:\" paragraph of CONVENTIONS.md\n")
     endif()
+  endif()
+  # every result struct carries `detail` right after `status` (CONVENTIONS.md, "Where a status came from")
+  string(REPLACE ";" "<sc>" _flat "${text}")
+  string(REGEX MATCHALL "Status status = Status::NotRun<sc>" _results "${_flat}")
+  string(REGEX MATCHALL "Status status = Status::NotRun<sc>\n[ ]*const char\\* detail = nullptr<sc>" _with_detail "${_flat}")
+  list(LENGTH _results _nr)
+  list(LENGTH _with_detail _nd)
+  if(NOT _nr EQUAL _nd)
+    math(EXPR _missing "${_nr} - ${_nd}")
+    string(APPEND failures "${hn}.hpp: ${_missing} of ${_nr} result structs lack `const char* detail = nullptr;` after `status`\n")
   endif()
   if(NOT DEFINED prefix_${hn})
     string(APPEND failures "${hn}.hpp: no prefix assigned (add it to tests/CONVENTIONS.md and this script)\n")
