@@ -17,7 +17,7 @@
 //   light_uv_at_near  perspective light: light width / (near * 2 tan(fov/2)), the light's width in uv
 //              measured on the near plane (shadowkit::pcss_light_uv_at_near). Directional light
 //              (sk_pcss_directional): light_uv_per_depth = 2 tan(theta/2) (far - near) / ortho width.
-//   near, far  the light's clip planes (far <= 0.0 means an infinite far plane). Put the near plane at
+//   near_z, far_z  the light's clip planes (far_z <= 0.0 means an infinite far plane). Put the near plane at
 //              the casters (shadowkit::pcss_fit_near_plane): the blocker search is cut there.
 //   search_taps, filter_taps  Poisson taps (1..SK_POISSON_TAP_COUNT) for the blocker search and the filter.
 //   angle      rotation of the Poisson disk (0.0 unrotated; 6.2831853 * noise for rotated).
@@ -126,15 +126,15 @@ float sk_interleaved_gradient_noise(vec2 pixel) {
 #error "SK_POISSON_TAPS needs SK_POISSON_TAP_COUNT, the length of its array"
 #endif
 
-// Window depth -> eye distance for a perspective light (far <= 0.0: infinite far plane).
-float sk_linearize_depth(float z_w, float near, float far) {
+// Window depth -> eye distance for a perspective light (far_z <= 0.0: infinite far plane).
+float sk_linearize_depth(float z_w, float near_z, float far_z) {
     float z = clamp(z_w, 0.0, 1.0);
 #ifdef SK_REVERSED_Z
-    if (far <= 0.0) return near / max(z, 1e-30);
-    return far * near / (near + z * (far - near));
+    if (far_z <= 0.0) return near_z / max(z, 1e-30);
+    return far_z * near_z / (near_z + z * (far_z - near_z));
 #else
-    if (far <= 0.0) return near / max(1.0 - z, 1e-30);
-    return far * near / (far - z * (far - near));
+    if (far_z <= 0.0) return near_z / max(1.0 - z, 1e-30);
+    return far_z * near_z / (far_z - z * (far_z - near_z));
 #endif
 }
 
@@ -214,17 +214,17 @@ float sk_pcss_filter(sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float width_uv, 
 
 // PCSS for a perspective (spot) light. Returns the lit fraction in [0,1].
 float sk_pcss(sampler2D depth_map, sampler2DShadow sm, vec3 uvz, vec2 dz_duv, float light_uv_at_near,
-              float near, float far, int search_taps, int filter_taps, float angle, float max_filter_uv) {
-    float z_r = sk_linearize_depth(uvz.z, near, far);
+              float near_z, float far_z, int search_taps, int filter_taps, float angle, float max_filter_uv) {
+    float z_r = sk_linearize_depth(uvz.z, near_z, far_z);
     // the pyramid from the receiver to the light cut at the near plane, clamped like the filter
-    float search_uv = min(light_uv_at_near * max(z_r - near, 0.0) / z_r, max_filter_uv);
+    float search_uv = min(light_uv_at_near * max(z_r - near_z, 0.0) / z_r, max_filter_uv);
     // a search region narrower than a texel (light size 0, receiver at the near plane) cannot see
     // what the 2x2 compare sees: return that compare, the exact hard-shadow limit
     if (!(search_uv * float(textureSize(depth_map, 0).x) > 1.0)) return sk_pcss_filter(sm, uvz, dz_duv, 0.0, 1, angle);
     float b = sk_pcss_blocker_window_depth(depth_map, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;
-    float z_b = max(sk_linearize_depth(b, near, far), 1e-30);
-    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near / z_r;
+    float z_b = max(sk_linearize_depth(b, near_z, far_z), 1e-30);
+    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near_z / z_r;
     w = clamp(w, 0.0, max_filter_uv);
     return sk_pcss_filter(sm, uvz, dz_duv, w, filter_taps, angle);
 }
@@ -307,14 +307,14 @@ float sk_pcss_filter(sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv
 
 // PCSS for a perspective light in one layer (an array of spot maps).
 float sk_pcss(sampler2DArray depth_maps, sampler2DArrayShadow sm, float layer, vec3 uvz, vec2 dz_duv, float light_uv_at_near,
-              float near, float far, int search_taps, int filter_taps, float angle, float max_filter_uv) {
-    float z_r = sk_linearize_depth(uvz.z, near, far);
-    float search_uv = min(light_uv_at_near * max(z_r - near, 0.0) / z_r, max_filter_uv);
+              float near_z, float far_z, int search_taps, int filter_taps, float angle, float max_filter_uv) {
+    float z_r = sk_linearize_depth(uvz.z, near_z, far_z);
+    float search_uv = min(light_uv_at_near * max(z_r - near_z, 0.0) / z_r, max_filter_uv);
     if (!(search_uv * float(textureSize(depth_maps, 0).x) > 1.0)) return sk_pcss_filter(sm, layer, uvz, dz_duv, 0.0, 1, angle);
     float b = sk_pcss_blocker_window_depth(depth_maps, layer, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;
-    float z_b = max(sk_linearize_depth(b, near, far), 1e-30);
-    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near / z_r;
+    float z_b = max(sk_linearize_depth(b, near_z, far_z), 1e-30);
+    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near_z / z_r;
     w = clamp(w, 0.0, max_filter_uv);
     return sk_pcss_filter(sm, layer, uvz, dz_duv, w, filter_taps, angle);
 }

@@ -36,7 +36,7 @@
 //   float v = sk_shadow_map_visibility_auto(u_shadow_map, u_light_view_proj, world_pos, world_normal,
 //                                           false, 0.0, 1.0);   // float32 map, automatic bias
 //   float v = sk_cube_visibility_hardware_depth_auto(u_cube, light_position, world_pos, world_normal,
-//                                                    near_plane, far_plane, 0.0);   // a point light's cube
+//                                                    near_z, far_z, 0.0);   // a point light's cube
 // MIT License. Copyright (c) shadowkit contributors.
 
 // Shadow-map coordinates (uv in [0,1], depth in window space) of a world point, and clip w.
@@ -69,12 +69,12 @@ float sk_shadow_map_visibility(sampler2DShadow shadow_map, mat4 light_view_proj,
 // ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d) (glFrustum's P[2][2], P[2][3]), minus `bias_window`.
 #define sk_cube_shadow_visibility sk_cube_shadow_visibility_renamed_to_sk_cube_visibility_hardware_depth
 float sk_cube_visibility_hardware_depth(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos,
-                                        float near_plane, float far_plane, float bias_window) {
+                                        float near_z, float far_z, float bias_window) {
     if (!(light_position.w > 0.0)) return 1.0;
     vec3 d = world_pos - light_position.xyz / light_position.w;
     float major = max(abs(d.x), max(abs(d.y), abs(d.z)));
-    float f = far_plane;
-    float n = near_plane;
+    float f = far_z;
+    float n = near_z;
     float ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * major);
     return texture(shadow_map, vec4(d, ndc_z * 0.5 + 0.5 - bias_window));
 }
@@ -218,8 +218,8 @@ void sk_cube_face_frame(vec3 d, out vec3 fwd, out vec3 right, out vec3 up) {
 }
 
 // The view-projection of that face: perspective(90 degrees, 1, near, far) * lookAt (GL clip depth).
-mat4 sk_cube_face_view_proj(vec3 light, vec3 fwd, vec3 right, vec3 up, float near_plane, float far_plane) {
-    float a = -(far_plane + near_plane) / (far_plane - near_plane), b = -2.0 * far_plane * near_plane / (far_plane - near_plane);
+mat4 sk_cube_face_view_proj(vec3 light, vec3 fwd, vec3 right, vec3 up, float near_z, float far_z) {
+    float a = -(far_z + near_z) / (far_z - near_z), b = -2.0 * far_z * near_z / (far_z - near_z);
     // rows of P * V: x = right . (p - L), y = up . (p - L), z = -a fwd . (p - L) + b, w = fwd . (p - L)
     return mat4(vec4(right.x, up.x, -a * fwd.x, fwd.x), vec4(right.y, up.y, -a * fwd.y, fwd.y),
                 vec4(right.z, up.z, -a * fwd.z, fwd.z),
@@ -234,14 +234,14 @@ mat4 sk_cube_face_view_proj(vec3 light, vec3 fwd, vec3 right, vec3 up, float nea
 // `normal`: the receiver's geometric world normal; depth_step: the cube's format step (0.0 float32).
 // Cube rendered as sk_cube_visibility_hardware_depth's (GL clip depth, not reversed, no polygon offset).
 float sk_cube_visibility_hardware_depth_auto(samplerCubeShadow shadow_map, vec4 light_position, vec3 world_pos, vec3 normal,
-                                             float near_plane, float far_plane, float depth_step) {
+                                             float near_z, float far_z, float depth_step) {
     if (!(light_position.w > 0.0)) return 1.0;
     vec3 light = light_position.xyz / light_position.w;
     vec3 d = world_pos - light;
     if (d == vec3(0.0)) return 1.0;
     vec3 fwd, right, up;
     sk_cube_face_frame(d, fwd, right, up);
-    mat4 vp = sk_cube_face_view_proj(light, fwd, right, up, near_plane, far_plane);
+    mat4 vp = sk_cube_face_view_proj(light, fwd, right, up, near_z, far_z);
     vec4 c = sk_shadow_coord(vp, world_pos, false);
     vec4 g = sk_plane_depth_gradient(vp, world_pos, normal, false);
     if (g.z == 0.0) return 1.0;  // edge-on receiver
@@ -254,7 +254,7 @@ float sk_cube_visibility_hardware_depth_auto(samplerCubeShadow shadow_map, vec4 
     vec4 weight = vec4((1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y);
     vec3 n = normalize(normal);
     float nd = dot(n, d);
-    float zf = (far_plane + near_plane) / (far_plane - near_plane), zg = 2.0 * far_plane * near_plane / (far_plane - near_plane);
+    float zf = (far_z + near_z) / (far_z - near_z), zg = 2.0 * far_z * near_z / (far_z - near_z);
     float v = 0.0;
     for (int k = 0; k < 4; ++k) {
         vec2 centre = (i0 + vec2(float(k & 1), float(k >> 1)) + 0.5) * texel;

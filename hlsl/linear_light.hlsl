@@ -22,9 +22,9 @@
 // MIT License. Copyright (c) shadowkit contributors.
 
 // Linear distance along the view axis from a window depth of a GL perspective projection.
-float sk_linear_light_depth(float window_z, float near_plane, float far_plane) {
+float sk_linear_light_depth(float window_z, float near_z, float far_z) {
     float z = window_z * 2.0 - 1.0;
-    return 2.0 * near_plane * far_plane / (far_plane + near_plane - z * (far_plane - near_plane));
+    return 2.0 * near_z * far_z / (far_z + near_z - z * (far_z - near_z));
 }
 
 // Skin vertex `vertex_id` (6 per 2x2 cell of the other endpoint's W x H map); the clip position in

@@ -70,14 +70,14 @@ float sk_interleaved_gradient_noise(float2 pixel) {
 #endif
 
 // Window depth -> eye distance for a perspective light (far <= 0.0: infinite far plane).
-float sk_linearize_depth(float z_w, float near_plane, float far_plane) {
+float sk_linearize_depth(float z_w, float near_z, float far_z) {
     float z = saturate(z_w);
 #ifdef SK_REVERSED_Z
-    if (far_plane <= 0.0) return near_plane / max(z, 1e-30);
-    return far_plane * near_plane / (near_plane + z * (far_plane - near_plane));
+    if (far_z <= 0.0) return near_z / max(z, 1e-30);
+    return far_z * near_z / (near_z + z * (far_z - near_z));
 #else
-    if (far_plane <= 0.0) return near_plane / max(1.0 - z, 1e-30);
-    return far_plane * near_plane / (far_plane - z * (far_plane - near_plane));
+    if (far_z <= 0.0) return near_z / max(1.0 - z, 1e-30);
+    return far_z * near_z / (far_z - z * (far_z - near_z));
 #endif
 }
 
@@ -161,17 +161,17 @@ float sk_pcss_filter(Texture2D<float> sm, SamplerComparisonState cmp, float3 uvz
 
 // PCSS for a perspective (spot) light. Returns the lit fraction in [0,1].
 float sk_pcss(Texture2D<float> map, SamplerState depth_sampler, SamplerComparisonState cmp, float3 uvz, float2 dz_duv,
-              float light_uv_at_near, float near_plane, float far_plane, int search_taps, int filter_taps, float angle,
+              float light_uv_at_near, float near_z, float far_z, int search_taps, int filter_taps, float angle,
               float max_filter_uv) {
-    float z_r = sk_linearize_depth(uvz.z, near_plane, far_plane);
-    float search_uv = min(light_uv_at_near * max(z_r - near_plane, 0.0) / z_r, max_filter_uv);
+    float z_r = sk_linearize_depth(uvz.z, near_z, far_z);
+    float search_uv = min(light_uv_at_near * max(z_r - near_z, 0.0) / z_r, max_filter_uv);
     float width, height;
     map.GetDimensions(width, height);
     if (!(search_uv * width > 1.0)) return sk_pcss_filter(map, cmp, uvz, dz_duv, 0.0, 1, angle);
     float b = sk_pcss_blocker_window_depth(map, depth_sampler, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;
-    float z_b = max(sk_linearize_depth(b, near_plane, far_plane), 1e-30);
-    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near_plane / z_r;
+    float z_b = max(sk_linearize_depth(b, near_z, far_z), 1e-30);
+    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near_z / z_r;
     w = clamp(w, 0.0, max_filter_uv);
     return sk_pcss_filter(map, cmp, uvz, dz_duv, w, filter_taps, angle);
 }
@@ -251,17 +251,17 @@ float sk_pcss_filter(Texture2DArray<float> sm, SamplerComparisonState cmp, float
 }
 
 float sk_pcss(Texture2DArray<float> maps, SamplerState depth_sampler, SamplerComparisonState cmp, float layer, float3 uvz,
-              float2 dz_duv, float light_uv_at_near, float near_plane, float far_plane, int search_taps, int filter_taps,
+              float2 dz_duv, float light_uv_at_near, float near_z, float far_z, int search_taps, int filter_taps,
               float angle, float max_filter_uv) {
-    float z_r = sk_linearize_depth(uvz.z, near_plane, far_plane);
-    float search_uv = min(light_uv_at_near * max(z_r - near_plane, 0.0) / z_r, max_filter_uv);
+    float z_r = sk_linearize_depth(uvz.z, near_z, far_z);
+    float search_uv = min(light_uv_at_near * max(z_r - near_z, 0.0) / z_r, max_filter_uv);
     float width, height, layers;
     maps.GetDimensions(width, height, layers);
     if (!(search_uv * width > 1.0)) return sk_pcss_filter(maps, cmp, layer, uvz, dz_duv, 0.0, 1, angle);
     float b = sk_pcss_blocker_window_depth(maps, depth_sampler, layer, uvz, dz_duv, search_uv, search_taps, angle);
     if (b < 0.0) return 1.0;
-    float z_b = max(sk_linearize_depth(b, near_plane, far_plane), 1e-30);
-    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near_plane / z_r;
+    float z_b = max(sk_linearize_depth(b, near_z, far_z), 1e-30);
+    float w = light_uv_at_near * max(z_r - z_b, 0.0) / z_b * near_z / z_r;
     w = clamp(w, 0.0, max_filter_uv);
     return sk_pcss_filter(maps, cmp, layer, uvz, dz_duv, w, filter_taps, angle);
 }

@@ -27,7 +27,7 @@
 //   float v = sk_shadow_map_visibility_auto(g_shadow_map, g_compare, g_light_view_proj, world_pos, world_normal,
 //                                           true, 0.0, 1.0);   // float32 map, automatic bias
 //   float v = sk_cube_visibility_hardware_depth_auto(g_cube, g_compare, light_position, world_pos, world_normal,
-//                                                    near_plane, far_plane, 0.0);   // a point light's cube
+//                                                    near_z, far_z, 0.0);   // a point light's cube
 // Compiled in the tests by glslang's HLSL front end to SPIR-V and run on Vulkan; written for DXC
 // (shader model 6.0) and FXC (5.0) as well, but not compiled with them here (DXC is not packaged in
 // Debian 12).
@@ -59,12 +59,12 @@ float sk_shadow_map_visibility(Texture2D<float> shadow_map, SamplerComparisonSta
 // major-axis distance, ndc_z = (f + n)/(f - n) - 2 f n / ((f - n) d), minus `bias`. Point lights only
 // (light_position.w > 0; others give 1.0, lit).
 float sk_cube_visibility_hardware_depth(TextureCube<float> shadow_map, SamplerComparisonState cmp, float4 light_position,
-                                        float3 world_pos, float near_plane, float far_plane, float bias_window) {
+                                        float3 world_pos, float near_z, float far_z, float bias_window) {
     if (!(light_position.w > 0.0)) return 1.0;
     float3 d = world_pos - light_position.xyz / light_position.w;
     float major = max(abs(d.x), max(abs(d.y), abs(d.z)));
-    float f = far_plane;
-    float n = near_plane;
+    float f = far_z;
+    float n = near_z;
     float ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * major);
     return shadow_map.SampleCmpLevelZero(cmp, d, ndc_z * 0.5 + 0.5 - bias_window);
 }
@@ -202,8 +202,8 @@ void sk_cube_face_frame(float3 d, out float3 fwd, out float3 right, out float3 u
 
 // The view-projection of that face: perspective(90 degrees, 1, near, far) * lookAt (GL clip depth).
 // float4x4(...) takes ROWS in HLSL (GLSL's mat4(...) takes columns): the same matrix, mul(M, v).
-float4x4 sk_cube_face_view_proj(float3 light, float3 fwd, float3 right, float3 up, float near_plane, float far_plane) {
-    float a = -(far_plane + near_plane) / (far_plane - near_plane), b = -2.0 * far_plane * near_plane / (far_plane - near_plane);
+float4x4 sk_cube_face_view_proj(float3 light, float3 fwd, float3 right, float3 up, float near_z, float far_z) {
+    float a = -(far_z + near_z) / (far_z - near_z), b = -2.0 * far_z * near_z / (far_z - near_z);
     return float4x4(float4(right, -dot(right, light)), float4(up, -dot(up, light)),
                     float4(-a * fwd, a * dot(fwd, light) + b), float4(fwd, -dot(fwd, light)));
 }
@@ -214,7 +214,7 @@ float4x4 sk_cube_face_view_proj(float3 light, float3 fwd, float3 right, float3 u
 // `normal`: the receiver's geometric world normal; depth_step: the cube's format step (0.0 float32).
 // Cube rendered as sk_cube_visibility_hardware_depth's (GL clip depth, not reversed, no depth bias).
 float sk_cube_visibility_hardware_depth_auto(TextureCube<float> shadow_map, SamplerComparisonState cmp, float4 light_position,
-                                             float3 world_pos, float3 normal, float near_plane, float far_plane,
+                                             float3 world_pos, float3 normal, float near_z, float far_z,
                                              float depth_step) {
     if (!(light_position.w > 0.0)) return 1.0;
     float3 light = light_position.xyz / light_position.w;
@@ -222,7 +222,7 @@ float sk_cube_visibility_hardware_depth_auto(TextureCube<float> shadow_map, Samp
     if (all(d == 0.0)) return 1.0;
     float3 fwd, right, up;
     sk_cube_face_frame(d, fwd, right, up);
-    float4x4 vp = sk_cube_face_view_proj(light, fwd, right, up, near_plane, far_plane);
+    float4x4 vp = sk_cube_face_view_proj(light, fwd, right, up, near_z, far_z);
     float4 c = sk_shadow_coord(vp, world_pos, false);
     float4 g = sk_plane_depth_gradient(vp, world_pos, normal, false);
     if (g.z == 0.0) return 1.0;  // edge-on receiver
@@ -237,7 +237,7 @@ float sk_cube_visibility_hardware_depth_auto(TextureCube<float> shadow_map, Samp
     float4 weight = float4((1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y);
     float3 n = normalize(normal);
     float nd = dot(n, d);
-    float zf = (far_plane + near_plane) / (far_plane - near_plane), zg = 2.0 * far_plane * near_plane / (far_plane - near_plane);
+    float zf = (far_z + near_z) / (far_z - near_z), zg = 2.0 * far_z * near_z / (far_z - near_z);
     float v = 0.0;
     [unroll] for (int k = 0; k < 4; ++k) {
         float2 centre = (i0 + float2(float(k & 1), float(k >> 1)) + 0.5) * texel;

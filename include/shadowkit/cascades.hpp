@@ -369,10 +369,10 @@ inline bool cs_float_landing_ok(const CascadeInput& in, const glm::mat4& view_pr
 /// Status: NonFinite (NaN/Inf; an infinite far plane must be clamped to a shadow distance first),
 /// InvalidArgument (near <= 0, far <= near, lambda outside [0, 1], count 0 or > 16), Overflow (fewer
 /// floats between near and far than splits).
-inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, float lambda, std::uint32_t count) {
+inline CascadeSplits cascade_split_distances(float near_z, float far_z, float lambda, std::uint32_t count) {
     CascadeSplits out;
-    const char* why = !std::isfinite(near_plane) ? "near_plane: NaN or Inf"
-                      : !std::isfinite(far_plane)  ? "far_plane: NaN or Inf (clamp an infinite far plane to a shadow distance)"
+    const char* why = !std::isfinite(near_z) ? "near_z: NaN or Inf"
+                      : !std::isfinite(far_z)  ? "far_z: NaN or Inf (clamp an infinite far plane to a shadow distance)"
                       : !std::isfinite(lambda)     ? "lambda: NaN or Inf"
                                                    : nullptr;
     if (why) {
@@ -381,8 +381,8 @@ inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, 
         return out;
     }
     why = (count == 0 || count > 16)                ? "count: outside 1..16"
-          : !(near_plane > 0.0f)                     ? "near_plane: <= 0"
-          : !(far_plane > near_plane)                ? "far_plane: not beyond near_plane"
+          : !(near_z > 0.0f)                     ? "near_z: <= 0"
+          : !(far_z > near_z)                ? "far_z: not beyond near_z"
           : !(lambda >= 0.0f) || !(lambda <= 1.0f)   ? "lambda: outside [0, 1]"
                                                      : nullptr;
     if (why) {
@@ -390,24 +390,24 @@ inline CascadeSplits cascade_split_distances(float near_plane, float far_plane, 
         out.detail = why;
         return out;
     }
-    const double n = near_plane, f = far_plane, l = lambda;
-    out.distances[0] = near_plane;
-    float prev = near_plane;
+    const double n = near_z, f = far_z, l = lambda;
+    out.distances[0] = near_z;
+    float prev = near_z;
     for (std::uint32_t i = 1; i < count; ++i) {
         const double s = double(i) / double(count);
         const double c = l * n * std::pow(f / n, s) + (1.0 - l) * (n + (f - n) * s);
         float v = static_cast<float>(c);
-        if (!(v > prev)) v = std::nextafter(prev, far_plane);  // strictly increasing even for tiny ranges
+        if (!(v > prev)) v = std::nextafter(prev, far_z);  // strictly increasing even for tiny ranges
         out.distances[i] = v;
         prev = v;
     }
-    if (!(prev < far_plane)) {  // fewer representable floats than splits
+    if (!(prev < far_z)) {  // fewer representable floats than splits
         out = CascadeSplits{};
         out.status = Status::Overflow;
-        out.detail = "near_plane, far_plane: fewer floats between them than splits";
+        out.detail = "near_z, far_z: fewer floats between them than splits";
         return out;
     }
-    out.distances[count] = far_plane;
+    out.distances[count] = far_z;
     out.count = count;
     out.status = Status::Ok;
     return out;

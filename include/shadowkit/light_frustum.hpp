@@ -163,14 +163,14 @@ struct LightFrustumResult {
     Status status = Status::NotRun;
     const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
     bool visible = false;                ///< false (with Ok): the receiver volume is empty; skip the shadow pass
-    /// world -> light view. Its eye is in front of every receiver and kept caster (near_plane > 0):
+    /// world -> light view. Its eye is in front of every receiver and kept caster (near_z > 0):
     /// -(view * p).z is a positive distance along the light (directional: the eye sits 1% of the
     /// depth range before the near plane), as smoothie.glsl and other linear-depth lookups need.
     glm::mat4 view{1.0f};
     glm::mat4 proj{1.0f};                ///< light projection (ortho for directional, perspective for point)
     glm::mat4 view_proj{1.0f};           ///< proj * view; every receiver point maps into its clip volume
-    float near_plane = 0.0f;             ///< light-view distances of the fitted near/far planes (0 < near < far)
-    float far_plane = 0.0f;
+    float near_z = 0.0f;                 ///< [Units: wu] light-view distances of the fitted near/far planes (0 < near_z < far_z)
+    float far_z = 0.0f;
     std::size_t count = 0;               ///< caster indices written to kept_indices (<= capacity)
     std::size_t needed = 0;              ///< casters that may shadow the receivers (indices the output needs)
     std::size_t culled_count = 0;        ///< casters proven unable to shadow the receivers (needed + culled = all)
@@ -1181,10 +1181,10 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
     res.view = glm::mat4(lview);
     res.proj = glm::mat4(lproj);
     res.view_proj = glm::mat4(vp);
-    res.near_plane = static_cast<float>(F.nearp);
-    res.far_plane = static_cast<float>(F.farp);
-    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_plane) ||
-        !std::isfinite(res.far_plane) || !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2)) {
+    res.near_z = static_cast<float>(F.nearp);
+    res.far_z = static_cast<float>(F.farp);
+    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_z) ||
+        !std::isfinite(res.far_z) || !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2)) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
         bad.detail = "view_proj: the float matrix cannot place the receivers (coordinates too large)";
@@ -1327,7 +1327,7 @@ inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec
 /// emitter_radius_world > 0, the penumbra an emitter of that radius throws past them; near plane at
 /// 0.9 of the nearest caster corner (never closer than min_near_ratio * far), far plane 1.01 of the
 /// farthest receiver corner. The roll about the light axis is the stable fit's (a function of the
-/// direction alone). Result: view, proj, view_proj, near_plane, far_plane, visible = true (no caster
+/// direction alone). Result: view, proj, view_proj, near_z, far_z, visible = true (no caster
 /// culling: count, needed stay 0). Statuses: InvalidLight; NonFinite / InvalidArgument (a box with min
 /// > max, a limit outside its range); LightInsideVolume: a point light inside or beside the casters'
 /// box (a corner at or behind its position) or a cone wider than max_half_angle_radians (use a cube
@@ -1354,10 +1354,10 @@ inline LightFrustumResult light_frustum_fit_casters(const LightCasterFitInput& i
     res.view = glm::mat4(F.view);
     res.proj = glm::mat4(lproj);
     res.view_proj = glm::mat4(lproj * F.view);
-    res.near_plane = static_cast<float>(F.nearp);
-    res.far_plane = static_cast<float>(F.farp);
-    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_plane) ||
-        !std::isfinite(res.far_plane) || !(res.near_plane < res.far_plane)) {
+    res.near_z = static_cast<float>(F.nearp);
+    res.far_z = static_cast<float>(F.farp);
+    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_z) ||
+        !std::isfinite(res.far_z) || !(res.near_z < res.far_z)) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
         bad.detail = "view_proj: not finite in float";

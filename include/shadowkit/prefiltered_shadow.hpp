@@ -275,40 +275,40 @@ constexpr float pf_max_evsm_exponent = 44.36141f;
 struct PrefilterDepthRange {
     Status status = Status::NotRun;
     const char* detail = nullptr;  ///< where a non-Ok status came from: "field: what is wrong" (a static string; nullptr when Ok)
-    float scale = 0.0f;   ///< 1 / (far - near)
-    float offset = 0.0f;  ///< -near / (far - near)
-    float near_distance = 0.0f;  ///< near, as given (offset can underflow: -1e-60 for [1e-30, 1e30]); 0 if not set
-    float far_distance = 0.0f;   ///< far, as given; 0 if not set
+    float scale = 0.0f;   ///< 1 / (far_z - near_z)
+    float offset = 0.0f;  ///< -near_z / (far_z - near_z)
+    float near_z = 0.0f;  ///< [Units: wu] near_z, as given (offset can underflow: -1e-60 for [1e-30, 1e30]); 0 if not set
+    float far_z = 0.0f;   ///< [Units: wu] far_z, as given; 0 if not set
 };
 
-/// The map of eye distances [near, far] (the range the shadow map encodes: the casters' and
+/// The map of eye distances [near_z, far_z] (the range the shadow map encodes: the casters' and
 /// receivers' extent along the light's axis, not necessarily the projection's planes) to t in [0, 1].
-/// NonFinite for NaN/Inf, InvalidArgument for near < 0 or far <= near, Overflow when far - near is
-/// below the float spacing of far (t would have no resolution) or 1 / (far - near) overflows.
-inline PrefilterDepthRange prefilter_depth_range(float near, float far) {
+/// NonFinite for NaN/Inf, InvalidArgument for near_z < 0 or far_z <= near_z, Overflow when far_z - near_z is
+/// below the float spacing of far_z (t would have no resolution) or 1 / (far_z - near_z) overflows.
+inline PrefilterDepthRange prefilter_depth_range(float near_z, float far_z) {
     PrefilterDepthRange r;
-    if (!std::isfinite(near) || !std::isfinite(far)) {
+    if (!std::isfinite(near_z) || !std::isfinite(far_z)) {
         r.status = Status::NonFinite;
-        r.detail = !std::isfinite(near) ? "near: NaN or Inf" : "far: NaN or Inf";
+        r.detail = !std::isfinite(near_z) ? "near_z: NaN or Inf" : "far_z: NaN or Inf";
         return r;
     }
-    if (near < 0.0f || !(far > near)) {
+    if (near_z < 0.0f || !(far_z > near_z)) {
         r.status = Status::InvalidArgument;
-        r.detail = near < 0.0f ? "near: < 0" : "far: not > near";
+        r.detail = near_z < 0.0f ? "near_z: < 0" : "far_z: not > near_z";
         return r;
     }
-    const double span = double(far) - double(near);
+    const double span = double(far_z) - double(near_z);
     const double scale = 1.0 / span;
-    if (!(span > 4.0 * double(std::nextafter(far, std::numeric_limits<float>::infinity()) - far)) ||
+    if (!(span > 4.0 * double(std::nextafter(far_z, std::numeric_limits<float>::infinity()) - far_z)) ||
         !(scale < double(std::numeric_limits<float>::max()))) {
         r.status = Status::Overflow;
-        r.detail = "far: far - near below 4 float steps of far";
+        r.detail = "far_z: far_z - near_z below 4 float steps of far_z";
         return r;
     }
     r.scale = static_cast<float>(scale);
-    r.offset = static_cast<float>(-double(near) * scale);
-    r.near_distance = near;
-    r.far_distance = far;
+    r.offset = static_cast<float>(-double(near_z) * scale);
+    r.near_z = near_z;
+    r.far_z = far_z;
     r.status = Status::Ok;
     return r;
 }
@@ -1147,7 +1147,7 @@ inline PrefilterSoftUniforms prefilter_soft_uniforms(const PrefilterSoftSettings
     const double ds = s.range.status == Status::Ok && s.range.scale > 0.0f ? 1.0 / double(s.range.scale) : 0.0;
     // the range's near end as given (its offset underflows for tiny near / far ratios: [1e-30, 1e30]
     // has offset -1e-60, 0 in float); a range built by hand has only scale and offset
-    const double near = s.range.near_distance > 0.0f ? double(s.range.near_distance) : -double(s.range.offset) * ds;
+    const double near = s.range.near_z > 0.0f ? double(s.range.near_z) : -double(s.range.offset) * ds;
     const bool pow2 = s.map_size > 0 && (s.map_size & (s.map_size - 1)) == 0;
     if (s.light_proj[3][3] != 0.0f || !(p23 < 0.0) || s.light_width < 0.0f || !(ds > 0.0) || !(near > 0.0) || !pow2) {
         u.status = Status::InvalidArgument;

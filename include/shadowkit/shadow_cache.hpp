@@ -646,6 +646,32 @@ inline Status sc_map_motion(const ShadowCacheMapState& previous, const ShadowCac
     return Status::Ok;
 }
 
+/// shadow_cache_plan's validation: Ok, or the first problem with its detail in `why`.
+inline Status sc_check_plan_input(const ShadowCacheMapState& previous, const ShadowCacheMapState& current,
+                                  const ShadowCacheCaster* casters, std::size_t caster_count, const ShadowCacheRect* rects,
+                                  std::size_t rect_capacity, const char*& why) {
+    auto fail = [&why](Status s, const char* what) {
+        why = what;
+        return s;
+    };
+    if (casters == nullptr && caster_count != 0) return fail(Status::InvalidArgument, "casters: null with caster_count > 0");
+    if (rects == nullptr && rect_capacity != 0) return fail(Status::InvalidArgument, "rects: null with rect_capacity > 0");
+    if (!sc_size_ok(current.width, current.height))
+        return fail(Status::InvalidArgument, "current.width, current.height: outside 1..kShadowCacheMaxSize");
+    if (!sc_finite(current.view_proj)) return fail(Status::NonFinite, "current.view_proj: NaN or Inf");
+    if (sc_zero(current.view_proj)) return fail(Status::InvalidArgument, "current.view_proj: all zero");
+    for (std::size_t i = 0; i < caster_count; ++i)
+        if (!sc_box_finite(casters[i].bounds) || !sc_box_finite(casters[i].previous_bounds))
+            return fail(Status::NonFinite, "casters: NaN or Inf in bounds or previous_bounds");
+    if (previous.has_content) {
+        if (!sc_size_ok(previous.width, previous.height))
+            return fail(Status::InvalidArgument, "previous.width, previous.height: outside 1..kShadowCacheMaxSize");
+        if (!sc_finite(previous.view_proj)) return fail(Status::NonFinite, "previous.view_proj: NaN or Inf");
+        if (sc_zero(previous.view_proj)) return fail(Status::InvalidArgument, "previous.view_proj: all zero");
+    }
+    return Status::Ok;
+}
+
 /// The exposed border of a W x H map scrolled by (ox, oy): at most two disjoint strips into out
 /// (their count returned); fills res.copy and the offsets when the map moved.
 inline std::size_t sc_strips(int W, int H, int ox, int oy, ShadowCachePlan& res, ShadowCacheRect out[2]) {
@@ -802,22 +828,9 @@ inline ShadowCachePlan shadow_cache_plan(const ShadowCacheMapState& previous, co
         res.detail = why;
         return res;
     };
-    // ---- validation
-    if (casters == nullptr && caster_count != 0) return fail(Status::InvalidArgument, "casters: null with caster_count > 0");
-    if (rects == nullptr && rect_capacity != 0) return fail(Status::InvalidArgument, "rects: null with rect_capacity > 0");
-    if (!sc_size_ok(current.width, current.height))
-        return fail(Status::InvalidArgument, "current.width, current.height: outside 1..kShadowCacheMaxSize");
-    if (!sc_finite(current.view_proj)) return fail(Status::NonFinite, "current.view_proj: NaN or Inf");
-    if (sc_zero(current.view_proj)) return fail(Status::InvalidArgument, "current.view_proj: all zero");
-    for (std::size_t i = 0; i < caster_count; ++i)
-        if (!sc_box_finite(casters[i].bounds) || !sc_box_finite(casters[i].previous_bounds))
-            return fail(Status::NonFinite, "casters: NaN or Inf in bounds or previous_bounds");
-    if (previous.has_content) {
-        if (!sc_size_ok(previous.width, previous.height))
-            return fail(Status::InvalidArgument, "previous.width, previous.height: outside 1..kShadowCacheMaxSize");
-        if (!sc_finite(previous.view_proj)) return fail(Status::NonFinite, "previous.view_proj: NaN or Inf");
-        if (sc_zero(previous.view_proj)) return fail(Status::InvalidArgument, "previous.view_proj: all zero");
-    }
+    const char* invalid = nullptr;
+    const Status valid = sc_check_plan_input(previous, current, casters, caster_count, rects, rect_capacity, invalid);
+    if (valid != Status::Ok) return fail(valid, invalid);
     const int W = current.width, H = current.height;
     const ShadowCacheRect whole{0, 0, W, H};
     const std::uint64_t map_area = sc_area(whole);

@@ -374,8 +374,8 @@ LightMatrices fit_light_to_casters(const Scene& s, bool penumbra_margin) {
     LightMatrices m;
     m.view = fit.view;
     m.proj = fit.proj;
-    m.znear = fit.near_plane;
-    m.zfar = fit.far_plane;
+    m.znear = fit.near_z;
+    m.zfar = fit.far_z;
     m.perspective = L.type != LightType::Directional;
     return m;
 }

@@ -206,7 +206,7 @@ void caster_fit(shadowkit_fuzz::FuzzInput& r) {
     if (res.status != shadowkit::Status::Ok) return;
     if (light_bad) __builtin_trap();
     if (!all_finite(res.view_proj) || !all_finite(res.view) || !all_finite(res.proj)) __builtin_trap();
-    if (!(res.near_plane > 0.0f && res.near_plane < res.far_plane) || !res.visible) __builtin_trap();
+    if (!(res.near_z > 0.0f && res.near_z < res.far_z) || !res.visible) __builtin_trap();
     if (!(in.caster_min.x <= in.caster_max.x && in.caster_min.y <= in.caster_max.y && in.caster_min.z <= in.caster_max.z))
         __builtin_trap();
     float big = 0.0f;
@@ -274,7 +274,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (light_bad && (st == shadowkit::Status::Ok || st == shadowkit::Status::BufferTooSmall)) __builtin_trap();
     if (st == shadowkit::Status::Ok || st == shadowkit::Status::BufferTooSmall) {
         if (!all_finite(res.view_proj) || !all_finite(res.view) || !all_finite(res.proj)) __builtin_trap();
-        if (!std::isfinite(res.near_plane) || !std::isfinite(res.far_plane) || !std::isfinite(res.texel_world_size) ||
+        if (!std::isfinite(res.near_z) || !std::isfinite(res.far_z) || !std::isfinite(res.texel_world_size) ||
             !all_finite(res.bounding_sphere))
             __builtin_trap();
         if (res.needed + res.culled_count != nb + ns) __builtin_trap();
@@ -289,7 +289,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             res.texel_anchor.x != std::floor(res.texel_anchor.x) || res.texel_anchor.y != std::floor(res.texel_anchor.y))
             __builtin_trap();
         // the light's eye in front of everything (issue 13: linear light depths must be positive)
-        if (res.visible && !(res.near_plane > 0.0f && res.far_plane > res.near_plane)) __builtin_trap();
+        if (res.visible && !(res.near_z > 0.0f && res.far_z > res.near_z)) __builtin_trap();
         for (size_t i = 0; i < res.count; ++i)
             if (keep[i] >= nb + ns) __builtin_trap();
     } else if (res.count != 0) {

@@ -759,8 +759,8 @@ TEST_CASE("light_frustum: stable_world_depth fixes the depth range in the world;
             if (!b.visible) continue;
             ++moves;
             // the depth planes, the depth row and the texel size: bit for bit
-            CHECK(b.near_plane == a.near_plane);
-            CHECK(b.far_plane == a.far_plane);
+            CHECK(b.near_z == a.near_z);
+            CHECK(b.far_z == a.far_z);
             CHECK(b.texel_world_size == a.texel_world_size);
             for (int c = 0; c < 4; ++c) CHECK(b.view_proj[c][2] == a.view_proj[c][2]);
             for (int c = 0; c < 3; ++c)
@@ -1331,9 +1331,9 @@ TEST_CASE("light_frustum: a point light just above a wide scene gets one frustum
 // Issue 13 (composition): the directional fits put the light view's eye inside the receiver volume
 // (tight: at its centroid; stable: at the world origin), so -(view * p).z, the linear light depth
 // that smoothie.glsl, linear-depth maps and pcss_fit_near_plane read as a distance from the light,
-// was negative for part of the scene (near_plane -3.3 to -5.6 on the composition scene) and
+// was negative for part of the scene (near_z -3.3 to -5.6 on the composition scene) and
 // smoothies lit every receiver there. Now every receiver and kept caster lies in front of the eye
-// (near_plane > 0), the eye moves only along the light's axis (view_proj's x and y rows, hence the
+// (near_z > 0), the eye moves only along the light's axis (view_proj's x and y rows, hence the
 // stable fit's texel grid, are those of the plain fit), and view_proj still holds every receiver.
 TEST_CASE("light_frustum: directional fits keep every receiver and caster in front of the light's eye (issue 13)") {
     std::mt19937 rng(4242);
@@ -1362,8 +1362,8 @@ TEST_CASE("light_frustum: directional fits keep every receiver and caster in fro
         REQUIRE(r.status == Status::Ok);
         if (!r.visible) continue;
         ++fits;
-        CHECK_MESSAGE(r.near_plane > 0.0f, "it=" << it << ": near_plane " << r.near_plane);
-        CHECK(r.far_plane > r.near_plane);
+        CHECK_MESSAGE(r.near_z > 0.0f, "it=" << it << ": near_z " << r.near_z);
+        CHECK(r.far_z > r.near_z);
         // the kept caster's corners and the receivers in the slice: positive light depth, inside the map
         const glm::mat4 cvp = in.camera_proj * in.camera_view;
         for (int k = 0; k < 300; ++k) {
@@ -1374,7 +1374,7 @@ TEST_CASE("light_frustum: directional fits keep every receiver and caster in fro
             const float dep = -(in.camera_view * glm::vec4(p, 1.0f)).z;
             if (!(c.w > 0.0f) || std::fabs(c.x) > c.w || std::fabs(c.y) > c.w || dep < 0.1f || dep > in.max_distance) continue;
             ++points;
-            CHECK(-(r.view * glm::vec4(p, 1.0f)).z >= r.near_plane * (1.0f - 1e-5f) - 1e-4f);
+            CHECK(-(r.view * glm::vec4(p, 1.0f)).z >= r.near_z * (1.0f - 1e-5f) - 1e-4f);
             CHECK(in_clip(r.view_proj, glm::dvec3(p), in.light_depth));
         }
         if (r.needed == 1)
@@ -1413,8 +1413,8 @@ TEST_CASE("light_frustum_fit_casters: closed form (a point light above a box, a 
     LightFrustumResult r = light_frustum_fit_casters(in);
     REQUIRE(r.status == Status::Ok);
     // straight down at the box's center (0, 0.5, 0); nearest corner depth 4, widest tan 1/4
-    CHECK(r.near_plane == doctest::Approx(0.9 * 4.0));
-    CHECK(r.far_plane == doctest::Approx(1.01 * 5.0));
+    CHECK(r.near_z == doctest::Approx(0.9 * 4.0));
+    CHECK(r.far_z == doctest::Approx(1.01 * 5.0));
     CHECK(r.proj[0][0] == doctest::Approx(1.0 / (1.02 * 0.25)).epsilon(3e-5));  // cot(half) = 1 / (1.02 tan_max) (+ 64 ulps of 5 / 4)
     // the floor right under a caster corner's silhouette lies at x = 1 * 5 / 4 = 1.25: inside; 1.4 is outside
     CHECK(caster_fit_inside(r.view_proj, glm::vec3(1.25f, 0.0f, 0.0f), in.light_depth, 0.0f));
@@ -1435,8 +1435,8 @@ TEST_CASE("light_frustum_fit_casters: closed form (a point light above a box, a 
     REQUIRE(r.status == Status::Ok);
     CHECK(2.0 / double(r.proj[0][0]) == doctest::Approx(2.0).epsilon(3e-4));  // x extent: the box's 2 units (+ 1e-4 a side)
     CHECK(2.0 / double(r.proj[1][1]) == doctest::Approx(4.0).epsilon(3e-4));  // y extent: its 4 units (light down: map y = -z)
-    CHECK(r.far_plane - r.near_plane == doctest::Approx(4.0).epsilon(0.02));  // receivers from y = 1 down to -3 (+ 1e-3 of the diagonal)
-    CHECK(r.near_plane > 0.0f);                                                  // the eye before every receiver
+    CHECK(r.far_z - r.near_z == doctest::Approx(4.0).epsilon(0.02));  // receivers from y = 1 down to -3 (+ 1e-3 of the diagonal)
+    CHECK(r.near_z > 0.0f);                                                  // the eye before every receiver
 }
 
 TEST_CASE("property: light_frustum_fit_casters holds every caster and every shadow it throws (thousands of lights, scales, conventions)") {
@@ -1474,7 +1474,7 @@ TEST_CASE("property: light_frustum_fit_casters holds every caster and every shad
         REQUIRE(r.status == Status::Ok);
         ++ok;
         CHECK(r.visible);
-        CHECK((r.near_plane > 0.0f && r.near_plane < r.far_plane));
+        CHECK((r.near_z > 0.0f && r.near_z < r.far_z));
         const float tol = 1e-4f;
         for (int c = 0; c < 8; ++c) {
             const glm::vec3 p((c & 1) ? c1.x : c0.x, (c & 2) ? c1.y : c0.y, (c & 4) ? c1.z : c0.z);
@@ -1484,8 +1484,8 @@ TEST_CASE("property: light_frustum_fit_casters holds every caster and every shad
             const glm::vec3 q((c & 1) ? in.receiver_max.x : in.receiver_min.x, (c & 2) ? in.receiver_max.y : in.receiver_min.y,
                               (c & 4) ? in.receiver_max.z : in.receiver_min.z);
             const float d = -(r.view * glm::vec4(q, 1.0f)).z;  // light-view distance
-            if (directional) CHECK((d >= r.near_plane * (1.0f - tol) && d <= r.far_plane * (1.0f + tol)));
-            else if (d > 0.0f) CHECK(d <= r.far_plane * (1.0f + tol));
+            if (directional) CHECK((d >= r.near_z * (1.0f - tol) && d <= r.far_z * (1.0f + tol)));
+            else if (d > 0.0f) CHECK(d <= r.far_z * (1.0f + tol));
         }
         if (directional) continue;
         const glm::vec3 L = glm::vec3(in.light_position);
@@ -1496,9 +1496,9 @@ TEST_CASE("property: light_frustum_fit_casters holds every caster and every shad
             const glm::vec3 from = L + e;  // a point of the emitter
             const glm::vec3 ray = cp - from;
             // past the caster point, up to the receivers' farthest depth from the light
-            const float t = 1.0f + u(rng) * 0.9f * (r.far_plane / 1.01f - glm::length(cp - L)) / glm::length(ray);
+            const float t = 1.0f + u(rng) * 0.9f * (r.far_z / 1.01f - glm::length(cp - L)) / glm::length(ray);
             const glm::vec3 p = from + ray * std::max(t, 1.0f);
-            if (glm::length(p - L) > r.far_plane * 0.99f) continue;
+            if (glm::length(p - L) > r.far_z * 0.99f) continue;
             ++points;
             INFO("scale " << s << " emitter " << in.emitter_radius_world);
             CHECK(caster_fit_inside(r.view_proj, p, in.light_depth, 1e-3f));
@@ -1549,7 +1549,7 @@ TEST_CASE("light_frustum_fit_casters: statuses (bad boxes, NaN, limits, the ligh
     b.light_reversed_z = true;
     const LightFrustumResult r = light_frustum_fit_casters(b);
     REQUIRE(r.status == Status::Ok);
-    const glm::vec4 n = r.proj * glm::vec4(0.0f, 0.0f, -r.near_plane, 1.0f), f = r.proj * glm::vec4(0.0f, 0.0f, -r.far_plane, 1.0f);
+    const glm::vec4 n = r.proj * glm::vec4(0.0f, 0.0f, -r.near_z, 1.0f), f = r.proj * glm::vec4(0.0f, 0.0f, -r.far_z, 1.0f);
     CHECK(n.z / n.w == doctest::Approx(1.0).epsilon(1e-5));
     CHECK(f.z / f.w == doctest::Approx(0.0).epsilon(1e-5));
 }

@@ -32,15 +32,15 @@ CascadeSdsmInput sdsm() {
 TEST_CASE("cascades: the first validation of each function names its input") {
     // cascade_split_distances
     SK_CHECK_OK_NO_DETAIL(cascade_split_distances(0.5f, 100.0f, 0.75f, 4));
-    SK_CHECK_DETAIL(cascade_split_distances(kNaN, 100.0f, 0.75f, 4), Status::NonFinite, "near_plane");
+    SK_CHECK_DETAIL(cascade_split_distances(kNaN, 100.0f, 0.75f, 4), Status::NonFinite, "near_z");
     SK_CHECK_DETAIL(cascade_split_distances(0.5f, std::numeric_limits<float>::infinity(), 0.75f, 4), Status::NonFinite,
-                    "far_plane");
+                    "far_z");
     SK_CHECK_DETAIL(cascade_split_distances(0.5f, 100.0f, kNaN, 4), Status::NonFinite, "lambda");
     SK_CHECK_DETAIL(cascade_split_distances(0.5f, 100.0f, 0.75f, 0), Status::InvalidArgument, "count");
-    SK_CHECK_DETAIL(cascade_split_distances(0.0f, 100.0f, 0.75f, 4), Status::InvalidArgument, "near_plane");
-    SK_CHECK_DETAIL(cascade_split_distances(0.5f, 0.5f, 0.75f, 4), Status::InvalidArgument, "far_plane");
+    SK_CHECK_DETAIL(cascade_split_distances(0.0f, 100.0f, 0.75f, 4), Status::InvalidArgument, "near_z");
+    SK_CHECK_DETAIL(cascade_split_distances(0.5f, 0.5f, 0.75f, 4), Status::InvalidArgument, "far_z");
     SK_CHECK_DETAIL(cascade_split_distances(0.5f, 100.0f, 1.5f, 4), Status::InvalidArgument, "lambda");
-    SK_CHECK_DETAIL(cascade_split_distances(1.0f, std::nextafter(1.0f, 2.0f), 0.5f, 8), Status::Overflow, "far_plane");
+    SK_CHECK_DETAIL(cascade_split_distances(1.0f, std::nextafter(1.0f, 2.0f), 0.5f, 8), Status::Overflow, "far_z");
 
     // cascade_fit_slice and cascade_fit: the common input check, then their own
     SK_CHECK_OK_NO_DETAIL(cascade_fit_slice(input(), 1.0f, 10.0f));
