@@ -476,8 +476,10 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     for (auto& b : blend) {
         b.blendEnable = d.blend ? VK_TRUE : VK_FALSE;
         b.colorBlendOp = b.alphaBlendOp = d.blend_op;
-        b.srcColorBlendFactor = b.srcAlphaBlendFactor = d.blend_src;
-        b.dstColorBlendFactor = b.dstAlphaBlendFactor = d.blend_dst;
+        b.srcColorBlendFactor = d.blend_src;
+        b.dstColorBlendFactor = d.blend_dst;
+        b.srcAlphaBlendFactor = d.blend_src_alpha;
+        b.dstAlphaBlendFactor = d.blend_dst_alpha;
         b.colorWriteMask = d.color_write ? (VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
                                             VK_COLOR_COMPONENT_A_BIT)
                                          : 0u;
