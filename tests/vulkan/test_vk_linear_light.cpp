@@ -6,7 +6,8 @@
 // ([-1, 1]) ones the snippet takes. No validation message.
 // The passes RUN end to end as in tests/gl/test_gl_linear_light.cpp's first case: the `linear` scene,
 // k = 1, 2, 4 sub-lights, 512^2 endpoint depth maps, both skins per sub-light built on the GPU
-// (sk_linear_light_skin_vertex / sk_linear_light_skin_output, MIN-blended), the lookup at 240 x 180
+// (sk_linear_light_skin_vertex / sk_linear_light_skin_output, MIN-blended) or, as the GL test's
+// default skin=cpu, by linear_light_build_skin from the read-back maps, the lookup at 240 x 180
 // pixels against the closed form linear_light_visible_fraction: the GL test's bounds (RMSE < 0.06 at
 // k = 1, falling with k). Drawing no skin gives RMSE 0.076 at k = 1 (measured: the bound catches it).
 #include <doctest/doctest.h>
@@ -255,6 +256,16 @@ void main() {
                                               v_value);
 }
 )";
+// skin=cpu (the sample's default): the skin linear_light_build_skin made from the read-back map
+const char* kSkinCpuVsGlsl = R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in float a_value;
+layout(location = 0) noperspective out float v_value;
+void main() {
+    v_value = a_value;
+    gl_Position = s.this_vp * vec4(a_position, 1.0);
+}
+)";
 const char* kSkinFsGlsl = R"(
 layout(location = 0) noperspective in float v_value;
 layout(location = 0) out vec4 o_vis;
@@ -276,6 +287,12 @@ struct SkinV {
 SkinV skin_vs(uint id : SV_VertexID) {
     SkinV o;
     o.position = sk_linear_light_skin_vertex(u_other_depth, s.other_inv_vp, s.p.x, s.p.y, s.this_vp, s.p.z, int(id), o.value);
+    return o;
+}
+SkinV skin_cpu_vs([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float value : VALUE) {
+    SkinV o;
+    o.value = value;
+    o.position = mul(s.this_vp, float4(position, 1.0));
     return o;
 }
 float4 skin_ps(SkinV i) : SV_Target0 { return sk_linear_light_skin_output(i.value, i.position.z); }
@@ -426,7 +443,7 @@ struct LinearPasses {
     skvk::DescriptorSet skin_layout_ds;  // only its layout is used: the skin draws' sets are made per draw
     VkPipelineLayout depth_layout = VK_NULL_HANDLE, skin_layout = VK_NULL_HANDLE;
     VkRenderPass depth_rp = VK_NULL_HANDLE, skin_rp = VK_NULL_HANDLE, lookup_rp = VK_NULL_HANDLE;
-    VkPipeline depth = VK_NULL_HANDLE, skin = VK_NULL_HANDLE;
+    VkPipeline depth = VK_NULL_HANDLE, skin = VK_NULL_HANDLE, skin_cpu = VK_NULL_HANDLE;
     std::string snippet;
 
     LinearPasses(skvk::Context& c, Source l, const LinearScene& sc) : ctx(c), lang(l) {
@@ -455,16 +472,19 @@ struct LinearPasses {
                                            VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
         const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
         skvk::PipelineDesc md, sd;
+        std::vector<std::uint32_t> cpu_vs;
         if (glsl) {
             const std::string h = "#version 450 core\n" + snippet + kSkinGlsl;
             md.vs = skvk::compile_checked(lang, V, kDepthVsGlsl, "main", "linear_light.glsl.depth.vert");
             sd.vs = skvk::compile_checked(lang, V, h + kSkinVsGlsl, "main", "linear_light.glsl.skin.vert");
             sd.fs = skvk::compile_checked(lang, F, h + kSkinFsGlsl, "main", "linear_light.glsl.skin.frag");
+            cpu_vs = skvk::compile_checked(lang, V, h + kSkinCpuVsGlsl, "main", "linear_light.glsl.skin_cpu.vert");
         } else {
             const std::string h = snippet + kPassesHlsl;
             md.vs = skvk::compile_checked(lang, V, h, "depth_vs", "linear_light.hlsl.depth_vs");
             sd.vs = skvk::compile_checked(lang, V, h, "skin_vs", "linear_light.hlsl.skin_vs");
             sd.fs = skvk::compile_checked(lang, F, h, "skin_ps", "linear_light.hlsl.skin_ps");
+            cpu_vs = skvk::compile_checked(lang, V, h, "skin_cpu_vs", "linear_light.hlsl.skin_cpu_vs");
             md.vs_entry = "depth_vs";
             sd.vs_entry = "skin_vs";
             sd.fs_entry = "skin_ps";
@@ -482,10 +502,17 @@ struct LinearPasses {
         sd.blend_op = VK_BLEND_OP_MIN;
         skin = skvk::make_pipeline(ctx, sd, skin_layout, skin_rp, why);
         REQUIRE_MESSAGE(skin != VK_NULL_HANDLE, why);
+        sd.vs = cpu_vs;
+        sd.vs_entry = glsl ? "main" : "skin_cpu_vs";
+        sd.vertex_stride = sizeof(shadowkit::LinearLightSkinVertex);
+        sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32_SFLOAT, 12}};
+        skin_cpu = skvk::make_pipeline(ctx, sd, skin_layout, skin_rp, why);
+        REQUIRE_MESSAGE(skin_cpu != VK_NULL_HANDLE, why);
     }
     ~LinearPasses() {
         vkDestroyPipeline(ctx.device, depth, nullptr);
         vkDestroyPipeline(ctx.device, skin, nullptr);
+        vkDestroyPipeline(ctx.device, skin_cpu, nullptr);
         vkDestroyPipelineLayout(ctx.device, depth_layout, nullptr);
         vkDestroyPipelineLayout(ctx.device, skin_layout, nullptr);
         for (VkRenderPass r : {depth_rp, skin_rp, lookup_rp}) vkDestroyRenderPass(ctx.device, r, nullptr);
@@ -584,7 +611,35 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
 
 // Passes 1 and 2 for k sub-lights: a depth map per end, both skins per sub-light (visibility map
 // 2 min(from, into) + (from < into), as the sample), then the lookup.
-LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<EndView>& ends) {
+// skin=cpu: the map read back, every texel unprojected to its world position and linear distance
+// (as the sample does), the cells whose distances jump triangulated by linear_light_build_skin.
+std::vector<shadowkit::LinearLightSkinVertex> cpu_skin(skvk::Context& ctx, const skvk::Image& map, const EndView& o) {
+    const std::vector<float> depth = skvk::read_image(ctx, map, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, 1);
+    REQUIRE(depth.size() == std::size_t(kMap) * kMap);
+    std::vector<glm::vec3> position(depth.size());
+    std::vector<float> distance(depth.size());
+    for (std::uint32_t j = 0; j < kMap; ++j)
+        for (std::uint32_t i = 0; i < kMap; ++i) {
+            const std::size_t q = std::size_t(j) * kMap + i;
+            const float zn = depth[q] * 2.f - 1.f;  // the map's window depth is GL's: back to GL NDC
+            distance[q] = 2.f * o.znear * o.zfar / (o.zfar + o.znear - zn * (o.zfar - o.znear));
+            const glm::vec4 w = o.inv_gl * glm::vec4((float(i) + 0.5f) / float(kMap) * 2.f - 1.f,
+                                                     (float(j) + 0.5f) / float(kMap) * 2.f - 1.f, zn, 1.f);
+            position[q] = glm::vec3(w) / w.w;
+        }
+    std::vector<shadowkit::LinearLightSkinVertex> skin(shadowkit::linear_light_skin_capacity(kMap, kMap) / 8);
+    shadowkit::LinearLightSkinResult r =
+        shadowkit::linear_light_build_skin(position.data(), distance.data(), kMap, kMap, 0.05f, skin.data(), skin.size());
+    if (r.status == shadowkit::Status::BufferTooSmall) {
+        skin.resize(r.needed);
+        r = shadowkit::linear_light_build_skin(position.data(), distance.data(), kMap, kMap, 0.05f, skin.data(), skin.size());
+    }
+    REQUIRE(r.status == shadowkit::Status::Ok);
+    skin.resize(r.count);
+    return skin;
+}
+
+LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<EndView>& ends, bool cpu) {
     skvk::Context& ctx = P.ctx;
     const std::size_t k = ends.size() - 1;
     const bool glsl = P.lang == Source::Glsl;
@@ -599,11 +654,23 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
     const auto nv = static_cast<std::uint32_t>(sc.vertices.size());
     for (std::size_t i = 0; i <= k; ++i) {
         REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
-                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, dmaps[i]));
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 dmaps[i]));
         fbs.push_back(skvk::make_framebuffer(ctx, P.depth_rp, {dmaps[i].view}, kMap, kMap));
         skvk::draw_pass(cmd, P.depth_rp, fbs.back(), kMap, kMap, {far}, P.depth, P.depth_layout, nullptr, &ends[i].vp_zo,
                         P.vb.buffer, nv, false);
     }
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    std::vector<skvk::Buffer> skin_vbs(cpu ? k + 1 : 0);
+    std::vector<std::uint32_t> skin_counts(k + 1, 6 * (kMap - 1) * (kMap - 1));
+    for (std::size_t i = 0; i < skin_vbs.size(); ++i) {
+        const auto skin = cpu_skin(ctx, dmaps[i], ends[i]);
+        skin_counts[i] = static_cast<std::uint32_t>(skin.size());
+        REQUIRE(!skin.empty());
+        REQUIRE(skvk::make_buffer(ctx, skin.size() * sizeof(skin[0]), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, skin_vbs[i]));
+        std::memcpy(skin_vbs[i].mapped, skin.data(), skin.size() * sizeof(skin[0]));
+    }
+    cmd = skvk::begin_commands(ctx);
     const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
     struct SkinParams {
         glm::mat4 other_inv_vp, this_vp;
@@ -624,8 +691,8 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
         skvk::write_image(ctx, sets[d], 1, tex, dmaps[from].view, glsl ? P.nearest : VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
         fbs.push_back(skvk::make_framebuffer(ctx, P.skin_rp, {vmaps[slot].view}, kMap, kMap));
-        skvk::draw_pass(cmd, P.skin_rp, fbs.back(), kMap, kMap, {one}, P.skin, P.skin_layout, &sets[d].set, nullptr,
-                        VK_NULL_HANDLE, 6 * (kMap - 1) * (kMap - 1), false);
+        skvk::draw_pass(cmd, P.skin_rp, fbs.back(), kMap, kMap, {one}, cpu ? P.skin_cpu : P.skin, P.skin_layout, &sets[d].set,
+                        nullptr, cpu ? skin_vbs[from].buffer : VK_NULL_HANDLE, skin_counts[from], false);
         skvk::transition(cmd, vmaps[slot], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     }
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
@@ -633,12 +700,13 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
     for (VkFramebuffer fb : fbs) vkDestroyFramebuffer(ctx.device, fb, nullptr);
     for (auto& s : sets) skvk::destroy(ctx, s);
     for (auto& u : ubos) skvk::destroy(ctx, u);
+    for (auto& b : skin_vbs) skvk::destroy(ctx, b);
     for (auto& i : dmaps) skvk::destroy(ctx, i);
     for (auto& i : vmaps) skvk::destroy(ctx, i);
     return f;
 }
 
-void run_passes(Source lang) {
+void run_passes(Source lang, bool cpu) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t before = skvk::message_count();
     const LinearScene sc;
@@ -655,7 +723,7 @@ void run_passes(Source lang) {
         REQUIRE(shadowkit::linear_light_subdivide(sc.seg, k, pts, 5).status == shadowkit::Status::Ok);
         std::vector<EndView> ends;
         for (std::uint32_t i = 0; i <= k; ++i) ends.push_back(end_view(sc, pts[i]));
-        const LinearFrame f = render_k(P, sc, ends);
+        const LinearFrame f = render_k(P, sc, ends, cpu);
         REQUIRE(f.v.size() == std::size_t(kCamW) * kCamH);
         double sq = 0.0, mx = 0.0, psq = 0.0;
         std::size_t n = 0, penumbra = 0;
@@ -677,7 +745,8 @@ void run_passes(Source lang) {
             }
         }
         rm[idx] = n ? std::sqrt(sq / double(n)) : 1.0;
-        MESSAGE(name << " segments = " << k << " (" << ends.size() << " maps of " << kMap << "^2, GPU skins): RMSE vs closed form "
+        MESSAGE(name << " segments = " << k << " (" << ends.size() << " maps of " << kMap << "^2, " << std::string(cpu ? "CPU" : "GPU")
+                     << " skins): RMSE vs closed form "
                      << rm[idx] << ", max " << mx << " over " << n << " pixels; " << penumbra << " in penumbra, RMSE there "
                      << (penumbra ? std::sqrt(psq / double(penumbra)) : 0.0));
         CHECK(penumbra > n / 20);
@@ -700,9 +769,17 @@ TEST_CASE("HLSL linear_light.hlsl on Vulkan: sk_linear_light_visibility equals i
 }
 
 TEST_CASE("linear_light.glsl on Vulkan: depth maps, GPU skins and lookup against the closed form (GL test bounds)") {
-    run_passes(Source::Glsl);
+    run_passes(Source::Glsl, false);
 }
 
 TEST_CASE("HLSL linear_light.hlsl on Vulkan: depth maps, GPU skins and lookup against the closed form (GL test bounds)") {
-    run_passes(Source::Hlsl);
+    run_passes(Source::Hlsl, false);
+}
+
+TEST_CASE("linear_light.glsl on Vulkan: depth maps, CPU skins (the GL test's skin=cpu) and lookup against the closed form") {
+    run_passes(Source::Glsl, true);
+}
+
+TEST_CASE("HLSL linear_light.hlsl on Vulkan: depth maps, CPU skins (the GL test's skin=cpu) and lookup against the closed form") {
+    run_passes(Source::Hlsl, true);
 }
