@@ -209,7 +209,7 @@ void run_smoothie(Source lang) {
 // The matrices are the GL ones: every depth here lies in (0, 1] of GL NDC, so Vulkan's [0, w] clip
 // keeps them all and LESS orders them the same.
 const char* kPassesGlslCommon = R"(
-layout(set = 0, binding = 0, std140) uniform Params { mat4 vp; mat4 view; mat4 cam; vec4 p; } u;  // p: size, remap, bias
+layout(set = 0, binding = 0, std140) uniform Params { mat4 vp; mat4 view; mat4 cam; vec4 p; } u;  // p: size, remap, bias (pass 3) or y mirror (pass 2)
 layout(set = 0, binding = 1) uniform sampler2D u_sm;
 layout(set = 0, binding = 2) uniform sampler2D u_sb;
 )";
@@ -252,7 +252,8 @@ layout(location = 4) flat in float v_corner;
 layout(location = 0) out vec2 o;
 void main() {
     if (sk_smoothie_hidden(u_sm, gl_FragCoord.xy, v_depth, 0.01)) discard;
-    vec2 s = sk_smoothie_fragment(gl_FragCoord.xy, u.p.xy, v_alpha, v_sil, v_inv_t, v_corner, v_depth);
+    vec2 fc = u.p.w > 0.5 ? vec2(gl_FragCoord.x, u.p.y - gl_FragCoord.y) : gl_FragCoord.xy;  // y-flipped viewport
+    vec2 s = sk_smoothie_fragment(fc, u.p.xy, v_alpha, v_sil, v_inv_t, v_corner, v_depth);
     if (u.p.z > 0.5) s.y = sk_smoothie_remap(s.y, v_depth, sk_smoothie_shadow_depth_at(u_sm, gl_FragCoord.xy));
     o = s;
 }
@@ -337,7 +338,8 @@ SmoothieV smoothie_vs([[vk::location(0)]] float3 position : POSITION, [[vk::loca
 }
 float2 smoothie_ps(SmoothieV i) : SV_Target0 {
     if (sk_smoothie_hidden(u_sm, i.position.xy, i.depth, 0.01)) discard;
-    float2 s = sk_smoothie_fragment(i.position.xy, u.p.xy, i.alpha, i.sil, i.inv_t, i.corner, i.depth);
+    float2 fc = u.p.w > 0.5 ? float2(i.position.x, u.p.y - i.position.y) : i.position.xy;  // y-flipped viewport
+    float2 s = sk_smoothie_fragment(fc, u.p.xy, i.alpha, i.sil, i.inv_t, i.corner, i.depth);
     if (u.p.z > 0.5) s.y = sk_smoothie_remap(s.y, i.depth, sk_smoothie_shadow_depth_at(u_sm, i.position.xy));
     return s;
 }
@@ -381,7 +383,7 @@ float hard_ps(WorldV i) : SV_Target0 {
 
 struct PassParams {
     glm::mat4 vp, view, cam;
-    glm::vec4 p;  // buffer size (x, y), remap flag, bias
+    glm::vec4 p;  // buffer size (x, y), remap flag, bias (pass 3) or y mirror of the fragment's NDC (pass 2)
 };
 
 // The GL test's card scene: a square card (half size h at light-view depth b) over a floor at depth
@@ -528,7 +530,7 @@ struct CardPasses {
 // Passes 1 and 2: linear map sm (R32F) and smoothie buffer sb (RG32F), N x N, both left in
 // SHADER_READ_ONLY_OPTIMAL and written to the descriptor set.
 void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, skvk::Image& sm,
-                    skvk::Image& sb, shadowkit::SmoothieResult& res) {
+                    skvk::Image& sb, shadowkit::SmoothieResult& res, bool flip = false, bool mirror = false) {
     skvk::Context& ctx = P.ctx;
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     skvk::Image zbuf;
@@ -540,7 +542,7 @@ void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t
     const VkDescriptorType tex = P.lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
     skvk::write_image(ctx, P.ds, 1, tex, sm.view, s, read);
     skvk::write_image(ctx, P.ds, 2, tex, sb.view, s, read);
-    P.set_params({cs.vp, cs.view, cs.vp, glm::vec4(float(N), float(N), remap_here ? 1.f : 0.f, 0.f)});
+    P.set_params({cs.vp, cs.view, cs.vp, glm::vec4(float(N), float(N), remap_here ? 1.f : 0.f, mirror ? 1.f : 0.f)});
     const auto sv = cs.smoothies(t, res);
     skvk::destroy(ctx, P.svb);
     if (!sv.empty()) {
@@ -555,10 +557,10 @@ void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t
     far.depthStencil = {1.f, 0};
     sclear.color.float32[0] = 1e30f;
     sclear.color.float32[1] = 1.f;
-    skvk::draw_pass(cmd, P.depth_rp, fb1, N, N, {big, far}, P.depth, P.layout, &P.ds.set, nullptr, P.vb.buffer, 12, false);
+    skvk::draw_pass(cmd, P.depth_rp, fb1, N, N, {big, far}, P.depth, P.layout, &P.ds.set, nullptr, P.vb.buffer, 12, flip);
     skvk::transition(cmd, sm, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, read);
     skvk::draw_pass(cmd, P.smoothie_rp, fb2, N, N, {sclear}, P.smoothie, P.layout, &P.ds.set, nullptr,
-                    sv.empty() ? VK_NULL_HANDLE : P.svb.buffer, static_cast<std::uint32_t>(sv.size()), false);
+                    sv.empty() ? VK_NULL_HANDLE : P.svb.buffer, static_cast<std::uint32_t>(sv.size()), flip);
     skvk::transition(cmd, sb, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, read);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
     vkDestroyFramebuffer(ctx.device, fb1, nullptr);
@@ -608,67 +610,89 @@ std::vector<float> render_lookup(CardPasses& P, const CardScene& cs, VkPipeline 
 // (a): at every texel of the floor seen from the light, the visibility the CPU predicts from the
 // card's closed-form light-NDC distance (smoothie depth b, alpha = d / t within t of the card) and
 // smoothie.hpp's remap / falloff / tap rule; and the smoothie buffer's alpha where a smoothie lies.
+struct CardStats {
+    double max_err = 0.0, max_alpha_err = 0.0;
+    std::size_t compared = 0, penumbra = 0, umbra = 0, alphas = 0;
+};
+
+// Passes 1 to 3 on the card for (t, remap_here), every floor texel against the CPU prediction from
+// the card's closed-form light-NDC distance (texels within 1.5 of the outline left out: rasterization).
+CardStats card_run(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, bool flip, bool mirror) {
+    const double edge = double(cs.proj[0][0]) * double(cs.h) / double(cs.b);  // the card's half size in light NDC
+    const float bias = 0.01f;
+    skvk::Image sm, sb;
+    shadowkit::SmoothieResult res;
+    render_buffers(P, cs, N, t, remap_here, sm, sb, res, flip, mirror);
+    CHECK(res.edge_quads == 4);
+    CHECK(res.corners == 4);
+    const std::vector<float> sbuf = skvk::read_image(P.ctx, sb, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 2);
+    const std::vector<float> vis = render_lookup(P, cs, P.lookup, cs.vp, N, N, true, remap_here, bias);
+    REQUIRE(vis.size() == std::size_t(N) * N);
+    CardStats st;
+    for (std::uint32_t y = 0; y < N; ++y)
+        for (std::uint32_t x = 0; x < N; ++x) {
+            const double nx = (x + 0.5) / N * 2.0 - 1.0, ny = (y + 0.5) / N * 2.0 - 1.0;
+            const double dx = std::max(0.0, std::abs(nx) - edge), dy = std::max(0.0, std::abs(ny) - edge);
+            const double d = std::sqrt(dx * dx + dy * dy);  // light-NDC distance to the card
+            const double dout = std::max(std::abs(nx), std::abs(ny)) - edge;
+            if (std::abs(dout) < 1.5 * 2.0 / N) continue;
+            const std::size_t k = std::size_t(y) * N + x;
+            const bool in_smoothie = d > 0.0 && d < double(t);
+            const float b_sm = in_smoothie ? cs.b : 1e30f;
+            const float a_sm = in_smoothie ? float(d / double(t)) : 1.f;
+            if (in_smoothie && std::abs(d - double(t)) > 2.0 / N) {
+                const float a_expect = remap_here ? shadowkit::smoothie_remap_alpha(a_sm, cs.b, cs.rf) : a_sm;
+                st.max_alpha_err = std::max(st.max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(a_expect)));
+                CHECK(std::abs(sbuf[2 * k] - cs.b) < 1e-4f);
+                ++st.alphas;
+            }
+            const float z = d > 0.0 ? cs.rf : cs.b;  // linear map: the card over its footprint
+            const float expect = shadowkit::smoothie_visibility_tap(cs.rf, z, b_sm, a_sm, bias);
+            st.max_err = std::max(st.max_err, std::abs(double(vis[k]) - double(expect)));
+            ++st.compared;
+            if (expect > 0.f && expect < 1.f) ++st.penumbra;
+            if (expect == 0.f) ++st.umbra;
+        }
+    skvk::destroy(P.ctx, sm);
+    skvk::destroy(P.ctx, sb);
+    return st;
+}
+
 void run_passes(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t before = skvk::message_count();
     const CardScene cs;
     CardPasses P(ctx, lang, cs);
     const std::uint32_t N = 512;  // the GL test's size (at 256, t = 0.05 leaves 636 penumbra texels)
-    const double s = double(cs.proj[0][0]);
-    const double edge = s * double(cs.h) / double(cs.b);  // the card's half size in light NDC
-    const float bias = 0.01f;
     const std::string name = lang == Source::Glsl ? "GLSL" : "HLSL";
     for (float t : {0.05f, 0.1f, 0.2f})
         for (bool remap_here : {false, true}) {
             CAPTURE(t);
             CAPTURE(remap_here);
-            skvk::Image sm, sb;
-            shadowkit::SmoothieResult res;
-            render_buffers(P, cs, N, t, remap_here, sm, sb, res);
-            CHECK(res.edge_quads == 4);
-            CHECK(res.corners == 4);
-            const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-            const std::vector<float> sbuf = skvk::read_image(ctx, sb, read, 2);
-            const std::vector<float> vis = render_lookup(P, cs, P.lookup, cs.vp, N, N, true, remap_here, bias);
-            REQUIRE(vis.size() == std::size_t(N) * N);
-            double max_err = 0.0, max_alpha_err = 0.0;
-            std::size_t compared = 0, penumbra = 0, umbra = 0, alphas = 0;
-            for (std::uint32_t y = 0; y < N; ++y)
-                for (std::uint32_t x = 0; x < N; ++x) {
-                    const double nx = (x + 0.5) / N * 2.0 - 1.0, ny = (y + 0.5) / N * 2.0 - 1.0;
-                    const double dx = std::max(0.0, std::abs(nx) - edge), dy = std::max(0.0, std::abs(ny) - edge);
-                    const double d = std::sqrt(dx * dx + dy * dy);  // light-NDC distance to the card
-                    const double dout = std::max(std::abs(nx), std::abs(ny)) - edge;
-                    if (std::abs(dout) < 1.5 * 2.0 / N) continue;  // rasterization rule at the outline
-                    const std::size_t k = std::size_t(y) * N + x;
-                    const bool in_smoothie = d > 0.0 && d < double(t);
-                    const float b_sm = in_smoothie ? cs.b : 1e30f;
-                    const float a_sm = in_smoothie ? float(d / double(t)) : 1.f;
-                    if (in_smoothie && std::abs(d - double(t)) > 2.0 / N) {
-                        const float a_expect = remap_here ? shadowkit::smoothie_remap_alpha(a_sm, cs.b, cs.rf) : a_sm;
-                        max_alpha_err = std::max(max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(a_expect)));
-                        CHECK(std::abs(sbuf[2 * k] - cs.b) < 1e-4f);
-                        ++alphas;
-                    }
-                    const float z = d > 0.0 ? cs.rf : cs.b;  // linear map: the card over its footprint
-                    const float expect = shadowkit::smoothie_visibility_tap(cs.rf, z, b_sm, a_sm, bias);
-                    max_err = std::max(max_err, std::abs(double(vis[k]) - double(expect)));
-                    ++compared;
-                    if (expect > 0.f && expect < 1.f) ++penumbra;
-                    if (expect == 0.f) ++umbra;
-                }
+            const CardStats st = card_run(P, cs, N, t, remap_here, false, false);
             MESSAGE(name << " t = " << t << std::string(remap_here ? " (remap in the smoothie pass)" : " (remap in the final pass)") << ": "
-                         << compared << " texels, " << penumbra << " penumbra, " << umbra << " umbra; max |V - V_cpu| = "
-                         << max_err << ", smoothie-buffer max |alpha - expected| = " << max_alpha_err << " over " << alphas);
-            CHECK(compared > std::size_t(N) * N * 9 / 10);
-            CHECK(penumbra > 1000);
-            CHECK(umbra > 1000);
-            CHECK(alphas > 1000);
-            CHECK(max_err <= 1e-4);
-            CHECK(max_alpha_err <= 1e-4);
-            skvk::destroy(ctx, sm);
-            skvk::destroy(ctx, sb);
+                         << st.compared << " texels, " << st.penumbra << " penumbra, " << st.umbra << " umbra; max |V - V_cpu| = "
+                         << st.max_err << ", smoothie-buffer max |alpha - expected| = " << st.max_alpha_err << " over " << st.alphas);
+            CHECK(st.compared > std::size_t(N) * N * 9 / 10);
+            CHECK(st.penumbra > 1000);
+            CHECK(st.umbra > 1000);
+            CHECK(st.alphas > 1000);
+            CHECK(st.max_err <= 1e-4);
+            CHECK(st.max_alpha_err <= 1e-4);
         }
+    // Passes 1 and 2 drawn with the negative-height viewport (the card is symmetric in y, so the
+    // mirrored rows the lookup reads hold the same values). sk_smoothie_frag_ndc takes frag_coord /
+    // size * 2 - 1 as the NDC, which the flip mirrors in y: the corners' alpha (|p - v| / t) comes out
+    // wrong (the control); passing (x, size.y - y) to sk_smoothie_fragment, as the snippets' headers
+    // say, restores it.
+    const CardStats flipped = card_run(P, cs, N, 0.1f, false, true, false);
+    const CardStats mirrored = card_run(P, cs, N, 0.1f, false, true, true);
+    MESSAGE(name << " smoothie buffer drawn y-flipped (t = 0.1): max |alpha - expected| = " << flipped.max_alpha_err
+                 << ", max |V - V_cpu| = " << flipped.max_err << " (control); with (x, size.y - y) passed to sk_smoothie_fragment: "
+                 << mirrored.max_alpha_err << ", " << mirrored.max_err);
+    CHECK(flipped.max_alpha_err > 0.1);
+    CHECK(mirrored.max_alpha_err <= 1e-4);
+    CHECK(mirrored.max_err <= 1e-4);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 }
 
