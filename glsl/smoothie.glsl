@@ -20,7 +20,9 @@
 //     ignored by GL_MIN): each channel keeps its minimum, i.e. the nearest smoothie depth and the
 //     minimum alpha (the paper's minimum blending; its depth-buffer pass + alpha pass give the same
 //     pair). Vertex: sk_smoothie_vertex; fragment: discard if sk_smoothie_hidden (the paper discards
-//     smoothie pixels behind a blocker), then out vec2 = sk_smoothie_fragment(...).
+//     smoothie pixels behind a blocker), then out vec2 = sk_smoothie_fragment(...). Its frag_coord must
+//     have NDC y = -1 at y = 0 (GL, Vulkan's plain viewport); under a Vulkan negative-height viewport
+//     pass vec2(gl_FragCoord.x, buffer_size.y - gl_FragCoord.y) (the corners' alpha is wrong otherwise).
 //     Variant (paper, Fig. 11): remap in this pass with r = the shadow-map depth under the smoothie,
 //     alpha = sk_smoothie_remap(alpha, b, sk_smoothie_shadow_depth_at(...)), and call the final
 //     lookup with alpha_is_remapped = true.

@@ -14,10 +14,11 @@
 // Depth convention: like the GLSL, these functions take the endpoints' GL-style matrices ([-1, 1] clip
 // depth, window depth = ndc * 0.5 + 0.5). On Direct3D / Vulkan render the endpoint depth maps with the
 // [0, 1] projection of the same planes (glm::perspectiveRH_ZO: the same window depth) and pass the GL
-// matrix (glm::perspectiveRH_NO) here. Maps: depth Texture2D<float> and visibility Texture2D<float4>,
-// read with Load. Matrices `column_major` with mul(M, v) (hlsl/shadow_map.hlsl states the rule). The
-// skin vertex takes SV_VertexID.
-// Compiled in the tests by glslang's HLSL front end to SPIR-V and the lookup run on Vulkan; written
+// matrix (glm::perspectiveRH_NO) here; the skin vertex takes this end's [0, 1] view_proj (its window
+// depth is what the skin stores) and the other end's GL matrix inverted. Maps: depth Texture2D<float>
+// and visibility Texture2D<float4>, read with Load. Matrices `column_major` with mul(M, v)
+// (hlsl/shadow_map.hlsl states the rule). The skin vertex takes SV_VertexID.
+// Compiled in the tests by glslang's HLSL front end to SPIR-V and its passes run on Vulkan; written
 // for DXC (shader model 6.0) as well, but not compiled with it here (DXC is not packaged in Debian 12).
 // MIT License. Copyright (c) shadowkit contributors.
 

@@ -7,7 +7,7 @@
 // map a Texture2D<float4> (R8G8B8A8_UNORM: rg = point offset in the cell, a = edge weight / 255), both
 // read with Load (no sampler). frag_coord is SV_Position.xy (the pixel centre, as gl_FragCoord.xy).
 // HLSL's atan2(y, x) is GLSL's atan(y, x).
-// Compiled in the tests by glslang's HLSL front end to SPIR-V and the lookup run on Vulkan; written
+// Compiled in the tests by glslang's HLSL front end to SPIR-V and its passes run on Vulkan; written
 // for DXC (shader model 6.0) as well, but not compiled with it here (DXC is not packaged in Debian 12).
 // MIT License. Copyright (c) shadowkit contributors.
 

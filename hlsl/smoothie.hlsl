@@ -6,9 +6,13 @@
 // Texture2D<float> (linear shadow map, R32_FLOAT) and Texture2D<float2> (smoothie buffer, R32G32_FLOAT,
 // MIN blending: BlendOp MIN in Direct3D, VK_BLEND_OP_MIN in Vulkan), read with Load (no sampler).
 // Matrices `column_major` with mul(M, v) (hlsl/shadow_map.hlsl states the rule). frag_coord_xy is
-// SV_Position.xy (the pixel centre, as gl_FragCoord.xy). The smoothie buffer's rows run like the
-// shadow map's: draw both with the same viewport (no flip, or both flipped).
-// Compiled in the tests by glslang's HLSL front end to SPIR-V and the final lookup run on Vulkan;
+// SV_Position.xy (the pixel centre, as gl_FragCoord.xy). Draw the shadow map and the smoothie buffer
+// with the same viewport. sk_smoothie_frag_ndc takes frag_coord / buffer_size * 2 - 1 as the light NDC
+// (NDC y = -1 at pixel row 0: Vulkan's plain viewport); where y runs the other way (a negative-height
+// viewport, which maps NDC y as Direct3D's does) pass float2(x, buffer_size.y - y) to
+// sk_smoothie_fragment, the fetches keeping SV_Position.xy (measured on Vulkan: the corners' alpha is
+// off by 0.93 otherwise, exact with it).
+// Compiled in the tests by glslang's HLSL front end to SPIR-V and its three passes run on Vulkan;
 // written for DXC (shader model 6.0) as well, but not compiled with it here (not in Debian 12).
 // MIT License. Copyright (c) shadowkit contributors.
 

@@ -5,11 +5,19 @@
 // around uv, filtered bilinearly as the snippet's comment says. At most 0.5% of the lookups may differ
 // by more than 1e-4 (a receiver depth that ties a stored depth within float rounding may flip a tap,
 // as in the PCSS test); every value finite and in [0, 1]; no validation message.
+// The three passes RUN end to end as in tests/gl/test_gl_smoothie.cpp (a) and (b): the card over a floor,
+// linear map (pass 1), smoothie buffer MIN-blended (pass 2, VK_BLEND_OP_MIN; both variants of the remap)
+// and final lookup (pass 3) on 512 x 512 maps for t = 0.05, 0.1, 0.2: every floor texel's visibility
+// within 1e-4 of the CPU prediction from the card's closed-form light-NDC distance, and the smoothie
+// buffer's depth and alpha within 1e-4 of it; t = 0 bit-identical to an independent hard 2x2 lookup
+// seen through an oblique 320 x 240 camera. (c) and (d) of the GL test run the sample's GL technique
+// against the Embree reference, which has no Vulkan counterpart here.
 #include <doctest/doctest.h>
 
 #include <shadowkit/smoothie.hpp>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -192,6 +200,542 @@ void run_smoothie(Source lang) {
     skvk::destroy(ctx, ssbo);
 }
 
+
+// ------------------------------------------------------------------ the three passes end to end
+// tests/gl/test_gl_smoothie.cpp (a) and (b) on Vulkan: the card over a floor, the linear map (pass 1),
+// the MIN-blended smoothie buffer (pass 2, VK_BLEND_OP_MIN) and the final lookup (pass 3), all drawn
+// with the same unflipped viewport (Vulkan NDC y = -1 is row 0, so uv = ndc * 0.5 + 0.5 addresses the
+// maps' rows as drawn, and frag_coord / size * 2 - 1 is the fragment's NDC, as the snippet assumes).
+// The matrices are the GL ones: every depth here lies in (0, 1] of GL NDC, so Vulkan's [0, w] clip
+// keeps them all and LESS orders them the same.
+const char* kPassesGlslCommon = R"(
+layout(set = 0, binding = 0, std140) uniform Params { mat4 vp; mat4 view; mat4 cam; vec4 p; } u;  // p: size, remap, bias (pass 3) or y mirror (pass 2)
+layout(set = 0, binding = 1) uniform sampler2D u_sm;
+layout(set = 0, binding = 2) uniform sampler2D u_sb;
+)";
+const char* kDepthVsGlsl = R"(
+layout(location = 0) in vec3 a_p;
+layout(location = 0) out vec3 v_world;
+void main() { v_world = a_p; gl_Position = u.vp * vec4(a_p, 1.0); }
+)";
+const char* kDepthFsGlsl = R"(
+layout(location = 0) in vec3 v_world;
+layout(location = 0) out float o_depth;
+void main() { o_depth = sk_smoothie_linear_depth(u.view, v_world); }
+)";
+const char* kSmoothieVsGlsl = R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in float a_alpha;
+layout(location = 2) in vec3 a_silhouette;
+layout(location = 3) in float a_inv_t;
+layout(location = 5) in float a_corner;
+layout(location = 0) noperspective out float v_alpha;
+layout(location = 1) smooth out float v_depth;
+layout(location = 2) flat out vec2 v_sil;
+layout(location = 3) flat out float v_inv_t;
+layout(location = 4) flat out float v_corner;
+void main() {
+    vec4 clip;
+    sk_smoothie_vertex(u.vp, u.view, a_position, a_silhouette, clip, v_depth, v_sil);
+    gl_Position = clip;
+    v_alpha = a_alpha;
+    v_inv_t = a_inv_t;
+    v_corner = a_corner;
+}
+)";
+const char* kSmoothieFsGlsl = R"(
+layout(location = 0) noperspective in float v_alpha;
+layout(location = 1) smooth in float v_depth;
+layout(location = 2) flat in vec2 v_sil;
+layout(location = 3) flat in float v_inv_t;
+layout(location = 4) flat in float v_corner;
+layout(location = 0) out vec2 o;
+void main() {
+    if (sk_smoothie_hidden(u_sm, gl_FragCoord.xy, v_depth, 0.01)) discard;
+    vec2 fc = u.p.w > 0.5 ? vec2(gl_FragCoord.x, u.p.y - gl_FragCoord.y) : gl_FragCoord.xy;  // y-flipped viewport
+    vec2 s = sk_smoothie_fragment(fc, u.p.xy, v_alpha, v_sil, v_inv_t, v_corner, v_depth);
+    if (u.p.z > 0.5) s.y = sk_smoothie_remap(s.y, v_depth, sk_smoothie_shadow_depth_at(u_sm, gl_FragCoord.xy));
+    o = s;
+}
+)";
+const char* kLookupVsGlsl = R"(
+layout(location = 0) in vec3 a_p;
+layout(location = 0) out vec3 v_world;
+void main() { v_world = a_p; gl_Position = u.cam * vec4(a_p, 1.0); }
+)";
+const char* kLookupFsGlsl = R"(
+layout(location = 0) in vec3 v_world;
+layout(location = 0) out float o_v;
+void main() {
+    vec4 c = u.vp * vec4(v_world, 1.0);
+    vec2 uv = c.xy / c.w * 0.5 + 0.5;
+    float r = sk_smoothie_linear_depth(u.view, v_world);
+    vec2 g = sk_smoothie_depth_gradient(dFdx(uv), dFdy(uv), dFdx(r), dFdy(r));
+    o_v = sk_smoothie_visibility(u_sm, u_sb, uv, r, g, u.p.w, u.p.z > 0.5);
+}
+)";
+// (b)'s independent hard lookup (no snippet): the same 4 texels, receiver plane and bias, 0/1 per texel.
+const char* kHardFsGlsl = R"(
+layout(location = 0) in vec3 v_world;
+layout(location = 0) out float o_v;
+void main() {
+    vec4 c = u.vp * vec4(v_world, 1.0);
+    vec2 uv = c.xy / c.w * 0.5 + 0.5;
+    float r = -(u.view * vec4(v_world, 1.0)).z;
+    vec2 dx = dFdx(uv), dy = dFdy(uv);
+    float rx = dFdx(r), ry = dFdy(r);
+    float det = dx.x * dy.y - dx.y * dy.x;
+    vec2 g = abs(det) < 1e-20 ? vec2(0.0) : vec2(rx * dy.y - ry * dx.y, ry * dx.x - rx * dy.x) / det;
+    if (!(r > 0.0) || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) { o_v = 1.0; return; }
+    ivec2 size = textureSize(u_sm, 0);
+    vec2 st = uv * vec2(size) - 0.5;
+    vec2 base = floor(st);
+    vec2 f = st - base;
+    float v[4];
+    for (int k = 0; k < 4; ++k) {
+        ivec2 texel = clamp(ivec2(base) + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
+        float r_tap = r + dot(g, (vec2(texel) + 0.5) / vec2(size) - uv);
+        v[k] = r_tap > texelFetch(u_sm, texel, 0).r + u.p.w ? 0.0 : 1.0;
+    }
+    o_v = mix(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), f.y);
+}
+)";
+const char* kPassesHlsl = R"(
+struct Params { column_major float4x4 vp; column_major float4x4 view; column_major float4x4 cam; float4 p; };
+[[vk::binding(0, 0)]] ConstantBuffer<Params> u;
+[[vk::binding(1, 0)]] Texture2D<float> u_sm;
+[[vk::binding(2, 0)]] Texture2D<float2> u_sb;
+struct WorldV {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+};
+WorldV depth_vs([[vk::location(0)]] float3 p : POSITION) {
+    WorldV o;
+    o.world = p;
+    o.position = mul(u.vp, float4(p, 1.0));
+    return o;
+}
+float depth_ps(WorldV i) : SV_Target0 { return sk_smoothie_linear_depth(u.view, i.world); }
+struct SmoothieV {
+    float4 position : SV_Position;
+    [[vk::location(0)]] noperspective float alpha : TEXCOORD0;
+    [[vk::location(1)]] float depth : TEXCOORD1;
+    [[vk::location(2)]] nointerpolation float2 sil : TEXCOORD2;
+    [[vk::location(3)]] nointerpolation float inv_t : TEXCOORD3;
+    [[vk::location(4)]] nointerpolation float corner : TEXCOORD4;
+};
+SmoothieV smoothie_vs([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float alpha : ALPHA,
+                      [[vk::location(2)]] float3 sil : SILHOUETTE, [[vk::location(3)]] float inv_t : INV_T,
+                      [[vk::location(5)]] float corner : CORNER) {
+    SmoothieV o;
+    float4 clip;
+    sk_smoothie_vertex(u.vp, u.view, position, sil, clip, o.depth, o.sil);
+    o.position = clip;
+    o.alpha = alpha;
+    o.inv_t = inv_t;
+    o.corner = corner;
+    return o;
+}
+float2 smoothie_ps(SmoothieV i) : SV_Target0 {
+    if (sk_smoothie_hidden(u_sm, i.position.xy, i.depth, 0.01)) discard;
+    float2 fc = u.p.w > 0.5 ? float2(i.position.x, u.p.y - i.position.y) : i.position.xy;  // y-flipped viewport
+    float2 s = sk_smoothie_fragment(fc, u.p.xy, i.alpha, i.sil, i.inv_t, i.corner, i.depth);
+    if (u.p.z > 0.5) s.y = sk_smoothie_remap(s.y, i.depth, sk_smoothie_shadow_depth_at(u_sm, i.position.xy));
+    return s;
+}
+WorldV lookup_vs([[vk::location(0)]] float3 p : POSITION) {
+    WorldV o;
+    o.world = p;
+    o.position = mul(u.cam, float4(p, 1.0));
+    return o;
+}
+float lookup_ps(WorldV i) : SV_Target0 {
+    float4 c = mul(u.vp, float4(i.world, 1.0));
+    float2 uv = c.xy / c.w * 0.5 + 0.5;
+    float r = sk_smoothie_linear_depth(u.view, i.world);
+    float2 g = sk_smoothie_depth_gradient(ddx(uv), ddy(uv), ddx(r), ddy(r));
+    return sk_smoothie_visibility(u_sm, u_sb, uv, r, g, u.p.w, u.p.z > 0.5);
+}
+float hard_ps(WorldV i) : SV_Target0 {
+    float4 c = mul(u.vp, float4(i.world, 1.0));
+    float2 uv = c.xy / c.w * 0.5 + 0.5;
+    float r = -mul(u.view, float4(i.world, 1.0)).z;
+    float2 dx = ddx(uv), dy = ddy(uv);
+    float rx = ddx(r), ry = ddy(r);
+    float det = dx.x * dy.y - dx.y * dy.x;
+    float2 g = abs(det) < 1e-20 ? float2(0.0, 0.0) : float2(rx * dy.y - ry * dx.y, ry * dx.x - rx * dy.x) / det;
+    if (!(r > 0.0) || any(uv < 0.0) || any(uv > 1.0)) return 1.0;
+    uint w, h;
+    u_sm.GetDimensions(w, h);
+    int2 size = int2(w, h);
+    float2 st = uv * float2(size) - 0.5;
+    float2 base = floor(st);
+    float2 f = st - base;
+    float v[4];
+    [unroll] for (int k = 0; k < 4; ++k) {
+        int2 texel = clamp(int2(base) + int2(k & 1, k >> 1), int2(0, 0), size - 1);
+        float r_tap = r + dot(g, (float2(texel) + 0.5) / float2(size) - uv);
+        v[k] = r_tap > u_sm.Load(int3(texel, 0)) + u.p.w ? 0.0 : 1.0;
+    }
+    return lerp(lerp(v[0], v[1], f.x), lerp(v[2], v[3], f.x), f.y);
+}
+)";
+
+struct PassParams {
+    glm::mat4 vp, view, cam;
+    glm::vec4 p;  // buffer size (x, y), remap flag, bias (pass 3) or y mirror of the fragment's NDC (pass 2)
+};
+
+// The GL test's card scene: a square card (half size h at light-view depth b) over a floor at depth
+// rf; the light at the origin looking down -z, square perspective of projection scale s = P[0][0].
+struct CardScene {
+    float b = 2.f, h = 0.4f, rf = 5.f;
+    glm::mat4 view{1.f}, proj{1.f}, vp{1.f};
+    std::vector<glm::vec3> card, tris;  // card corners; card + floor triangles (12 vertices)
+    CardScene() {
+        proj = glm::perspective(1.2f, 1.f, 0.1f, 100.f);
+        vp = proj * view;
+        card = {{-h, -h, -b}, {h, -h, -b}, {h, h, -b}, {-h, h, -b}};
+        std::vector<glm::vec3> fl = {{-20, -20, -rf}, {20, -20, -rf}, {20, 20, -rf}, {-20, 20, -rf}};
+        for (const std::vector<glm::vec3>* q : {&card, &fl})
+            for (int i : {0, 1, 2, 0, 2, 3}) tris.push_back((*q)[static_cast<std::size_t>(i)]);
+    }
+    // Smoothies of the card's 4 edges (counter-clockwise seen from the light, facing it).
+    std::vector<shadowkit::SmoothieVertex> smoothies(float t, shadowkit::SmoothieResult& res) const {
+        const std::vector<std::uint32_t> e = {0, 1, 1, 2, 2, 3, 3, 0};
+        std::vector<glm::vec3> n;
+        for (int i = 0; i < 4; ++i) {
+            n.push_back({0, 0, 1});
+            n.push_back({0, 0, 0});
+        }
+        shadowkit::SmoothieEdges in;
+        in.positions = card.data();
+        in.position_count = 4;
+        in.edges = e.data();
+        in.edge_count = 4;
+        in.face_normals = n.data();
+        shadowkit::SmoothieParams p;
+        p.t = t;
+        std::vector<shadowkit::SmoothieVertex> v(shadowkit::smoothie_vertex_capacity(4));
+        std::vector<shadowkit::SmoothieScratch> scratch(shadowkit::smoothie_scratch_capacity(4));
+        res = shadowkit::smoothie_build(in, vp, p, scratch.data(), scratch.size(), v.data(), v.size());
+        v.resize(res.count);
+        return v;
+    }
+};
+
+// Pipelines of the four passes (one language), the shared descriptor set (params, sm, sb) and the
+// card scene's vertex buffer; the maps are made per run (their size varies).
+struct CardPasses {
+    skvk::Context& ctx;
+    Source lang;
+    skvk::Buffer ubo, vb, svb;
+    skvk::DescriptorSet ds;
+    VkSampler nearest = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkRenderPass depth_rp = VK_NULL_HANDLE, smoothie_rp = VK_NULL_HANDLE, lookup_rp = VK_NULL_HANDLE;
+    VkPipeline depth = VK_NULL_HANDLE, smoothie = VK_NULL_HANDLE, lookup = VK_NULL_HANDLE, hard = VK_NULL_HANDLE;
+
+    CardPasses(skvk::Context& c, Source l, const CardScene& cs) : ctx(c), lang(l) {
+        const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+        const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}, {1, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                                {2, tex, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
+        REQUIRE(skvk::make_buffer(ctx, sizeof(PassParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
+        skvk::write_buffer(ctx, ds, 0, ubo);
+        REQUIRE(skvk::make_buffer(ctx, cs.tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+        std::memcpy(vb.mapped, cs.tris.data(), cs.tris.size() * sizeof(glm::vec3));
+        nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        li.setLayoutCount = 1;
+        li.pSetLayouts = &ds.layout;
+        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+        depth_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
+                                          VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        smoothie_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
+        lookup_rp = depth_rp;
+
+        const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
+        struct Stage {
+            std::vector<std::uint32_t> spv;
+            const char* entry;
+        };
+        Stage s[7];  // depth vs/fs, smoothie vs/fs, lookup vs/fs, hard fs
+        if (lang == Source::Glsl) {
+            const std::string h = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/smoothie.glsl") +
+                                  kPassesGlslCommon;
+            const char* src[7] = {kDepthVsGlsl, kDepthFsGlsl, kSmoothieVsGlsl, kSmoothieFsGlsl, kLookupVsGlsl, kLookupFsGlsl, kHardFsGlsl};
+            const char* names[7] = {"smoothie.glsl.depth.vert", "smoothie.glsl.depth.frag", "smoothie.glsl.pass2.vert",
+                                    "smoothie.glsl.pass2.frag", "smoothie.glsl.lookup.vert", "smoothie.glsl.lookup.frag",
+                                    "smoothie.glsl.hard.frag"};
+            for (int i = 0; i < 7; ++i)
+                s[i] = {skvk::compile_checked(lang, (i % 2 == 0 && i < 6) ? V : F, h + src[i], "main", names[i]), "main"};
+        } else {
+            const std::string h = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/smoothie.hlsl") + kPassesHlsl;
+            const char* entries[7] = {"depth_vs", "depth_ps", "smoothie_vs", "smoothie_ps", "lookup_vs", "lookup_ps", "hard_ps"};
+            for (int i = 0; i < 7; ++i)
+                s[i] = {skvk::compile_checked(lang, (i % 2 == 0 && i < 6) ? V : F, h, entries[i],
+                                              std::string("smoothie.hlsl.") + entries[i]),
+                        entries[i]};
+        }
+        std::string why;
+        skvk::PipelineDesc pd;
+        pd.vertex_stride = sizeof(glm::vec3);
+        pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+        pd.color_count = 1;
+        pd.vs = s[0].spv;
+        pd.vs_entry = s[0].entry;
+        pd.fs = s[1].spv;
+        pd.fs_entry = s[1].entry;
+        depth = skvk::make_pipeline(ctx, pd, layout, depth_rp, why);
+        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        pd.vs = s[4].spv;
+        pd.vs_entry = s[4].entry;
+        pd.fs = s[5].spv;
+        pd.fs_entry = s[5].entry;
+        lookup = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
+        REQUIRE_MESSAGE(lookup != VK_NULL_HANDLE, why);
+        pd.fs = s[6].spv;
+        pd.fs_entry = s[6].entry;
+        hard = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
+        REQUIRE_MESSAGE(hard != VK_NULL_HANDLE, why);
+        // pass 2: SmoothieVertex (locations 0, 1, 2, 3, 5), no depth test, no culling, MIN blending
+        pd.vs = s[2].spv;
+        pd.vs_entry = s[2].entry;
+        pd.fs = s[3].spv;
+        pd.fs_entry = s[3].entry;
+        pd.vertex_stride = sizeof(shadowkit::SmoothieVertex);
+        pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32_SFLOAT, 12},
+                         {2, 0, VK_FORMAT_R32G32B32_SFLOAT, 16}, {3, 0, VK_FORMAT_R32_SFLOAT, 28}, {5, 0, VK_FORMAT_R32_SFLOAT, 40}};
+        pd.depth_test = pd.depth_write = false;
+        pd.blend = true;
+        pd.blend_op = VK_BLEND_OP_MIN;
+        smoothie = skvk::make_pipeline(ctx, pd, layout, smoothie_rp, why);
+        REQUIRE_MESSAGE(smoothie != VK_NULL_HANDLE, why);
+    }
+    ~CardPasses() {
+        for (VkPipeline p : {depth, smoothie, lookup, hard}) vkDestroyPipeline(ctx.device, p, nullptr);
+        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+        vkDestroyRenderPass(ctx.device, depth_rp, nullptr);
+        vkDestroyRenderPass(ctx.device, smoothie_rp, nullptr);
+        vkDestroySampler(ctx.device, nearest, nullptr);
+        skvk::destroy(ctx, ds);
+        skvk::destroy(ctx, ubo);
+        skvk::destroy(ctx, vb);
+        skvk::destroy(ctx, svb);
+    }
+    void set_params(const PassParams& p) { std::memcpy(ubo.mapped, &p, sizeof p); }
+};
+
+// Passes 1 and 2: linear map sm (R32F) and smoothie buffer sb (RG32F), N x N, both left in
+// SHADER_READ_ONLY_OPTIMAL and written to the descriptor set.
+void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, skvk::Image& sm,
+                    skvk::Image& sb, shadowkit::SmoothieResult& res, bool flip = false, bool mirror = false) {
+    skvk::Context& ctx = P.ctx;
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    skvk::Image zbuf;
+    REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32_SFLOAT, rt, sm));
+    REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32G32_SFLOAT, rt, sb));
+    REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
+    const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    const VkSampler s = P.lang == Source::Glsl ? P.nearest : VK_NULL_HANDLE;
+    const VkDescriptorType tex = P.lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    skvk::write_image(ctx, P.ds, 1, tex, sm.view, s, read);
+    skvk::write_image(ctx, P.ds, 2, tex, sb.view, s, read);
+    P.set_params({cs.vp, cs.view, cs.vp, glm::vec4(float(N), float(N), remap_here ? 1.f : 0.f, mirror ? 1.f : 0.f)});
+    const auto sv = cs.smoothies(t, res);
+    skvk::destroy(ctx, P.svb);
+    if (!sv.empty()) {
+        REQUIRE(skvk::make_buffer(ctx, sv.size() * sizeof(shadowkit::SmoothieVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, P.svb));
+        std::memcpy(P.svb.mapped, sv.data(), sv.size() * sizeof(shadowkit::SmoothieVertex));
+    }
+    VkFramebuffer fb1 = skvk::make_framebuffer(ctx, P.depth_rp, {sm.view, zbuf.view}, N, N);
+    VkFramebuffer fb2 = skvk::make_framebuffer(ctx, P.smoothie_rp, {sb.view}, N, N);
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue big{}, far{}, sclear{};
+    big.color.float32[0] = 1e30f;
+    far.depthStencil = {1.f, 0};
+    sclear.color.float32[0] = 1e30f;
+    sclear.color.float32[1] = 1.f;
+    skvk::draw_pass(cmd, P.depth_rp, fb1, N, N, {big, far}, P.depth, P.layout, &P.ds.set, nullptr, P.vb.buffer, 12, flip);
+    skvk::transition(cmd, sm, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, read);
+    skvk::draw_pass(cmd, P.smoothie_rp, fb2, N, N, {sclear}, P.smoothie, P.layout, &P.ds.set, nullptr,
+                    sv.empty() ? VK_NULL_HANDLE : P.svb.buffer, static_cast<std::uint32_t>(sv.size()), flip);
+    skvk::transition(cmd, sb, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, read);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    vkDestroyFramebuffer(ctx.device, fb1, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb2, nullptr);
+    skvk::destroy(ctx, zbuf);
+}
+
+// Final pass (P.lookup or P.hard) over the card scene's triangles (or the floor's only) seen through cam.
+std::vector<float> render_lookup(CardPasses& P, const CardScene& cs, VkPipeline pipe, const glm::mat4& cam, std::uint32_t w,
+                                 std::uint32_t h, bool floor_only, bool remapped, float bias) {
+    skvk::Context& ctx = P.ctx;
+    skvk::Image out, zbuf;
+    REQUIRE(skvk::make_image(ctx, w, h, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, out));
+    REQUIRE(skvk::make_image(ctx, w, h, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
+    P.set_params({cs.vp, cs.view, cam, glm::vec4(0.f, 0.f, remapped ? 1.f : 0.f, bias)});
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, P.lookup_rp, {out.view, zbuf.view}, w, h);
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue neg{}, far{};
+    neg.color.float32[0] = -1.f;
+    far.depthStencil = {1.f, 0};
+    VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    const VkClearValue clears[2] = {neg, far};
+    bi.renderPass = P.lookup_rp;
+    bi.framebuffer = fb;
+    bi.renderArea = {{0, 0}, {w, h}};
+    bi.clearValueCount = 2;
+    bi.pClearValues = clears;
+    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
+    const VkViewport vp = skvk::viewport(w, h, false);
+    const VkRect2D sc{{0, 0}, {w, h}};
+    vkCmdSetViewport(cmd, 0, 1, &vp);
+    vkCmdSetScissor(cmd, 0, 1, &sc);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, P.layout, 0, 1, &P.ds.set, 0, nullptr);
+    const VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &P.vb.buffer, &offset);
+    vkCmdDraw(cmd, floor_only ? 6u : 12u, 1, floor_only ? 6u : 0u, 0);
+    vkCmdEndRenderPass(cmd);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    std::vector<float> v = skvk::read_image(ctx, out, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    skvk::destroy(ctx, out);
+    skvk::destroy(ctx, zbuf);
+    return v;
+}
+
+// (a): at every texel of the floor seen from the light, the visibility the CPU predicts from the
+// card's closed-form light-NDC distance (smoothie depth b, alpha = d / t within t of the card) and
+// smoothie.hpp's remap / falloff / tap rule; and the smoothie buffer's alpha where a smoothie lies.
+struct CardStats {
+    double max_err = 0.0, max_alpha_err = 0.0;
+    std::size_t compared = 0, penumbra = 0, umbra = 0, alphas = 0;
+};
+
+// Passes 1 to 3 on the card for (t, remap_here), every floor texel against the CPU prediction from
+// the card's closed-form light-NDC distance (texels within 1.5 of the outline left out: rasterization).
+CardStats card_run(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, bool flip, bool mirror) {
+    const double edge = double(cs.proj[0][0]) * double(cs.h) / double(cs.b);  // the card's half size in light NDC
+    const float bias = 0.01f;
+    skvk::Image sm, sb;
+    shadowkit::SmoothieResult res;
+    render_buffers(P, cs, N, t, remap_here, sm, sb, res, flip, mirror);
+    CHECK(res.edge_quads == 4);
+    CHECK(res.corners == 4);
+    const std::vector<float> sbuf = skvk::read_image(P.ctx, sb, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 2);
+    const std::vector<float> vis = render_lookup(P, cs, P.lookup, cs.vp, N, N, true, remap_here, bias);
+    REQUIRE(vis.size() == std::size_t(N) * N);
+    CardStats st;
+    for (std::uint32_t y = 0; y < N; ++y)
+        for (std::uint32_t x = 0; x < N; ++x) {
+            const double nx = (x + 0.5) / N * 2.0 - 1.0, ny = (y + 0.5) / N * 2.0 - 1.0;
+            const double dx = std::max(0.0, std::abs(nx) - edge), dy = std::max(0.0, std::abs(ny) - edge);
+            const double d = std::sqrt(dx * dx + dy * dy);  // light-NDC distance to the card
+            const double dout = std::max(std::abs(nx), std::abs(ny)) - edge;
+            if (std::abs(dout) < 1.5 * 2.0 / N) continue;
+            const std::size_t k = std::size_t(y) * N + x;
+            const bool in_smoothie = d > 0.0 && d < double(t);
+            const float b_sm = in_smoothie ? cs.b : 1e30f;
+            const float a_sm = in_smoothie ? float(d / double(t)) : 1.f;
+            if (in_smoothie && std::abs(d - double(t)) > 2.0 / N) {
+                const float a_expect = remap_here ? shadowkit::smoothie_remap_alpha(a_sm, cs.b, cs.rf) : a_sm;
+                st.max_alpha_err = std::max(st.max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(a_expect)));
+                CHECK(std::abs(sbuf[2 * k] - cs.b) < 1e-4f);
+                ++st.alphas;
+            }
+            const float z = d > 0.0 ? cs.rf : cs.b;  // linear map: the card over its footprint
+            const float expect = shadowkit::smoothie_visibility_tap(cs.rf, z, b_sm, a_sm, bias);
+            st.max_err = std::max(st.max_err, std::abs(double(vis[k]) - double(expect)));
+            ++st.compared;
+            if (expect > 0.f && expect < 1.f) ++st.penumbra;
+            if (expect == 0.f) ++st.umbra;
+        }
+    skvk::destroy(P.ctx, sm);
+    skvk::destroy(P.ctx, sb);
+    return st;
+}
+
+void run_passes(Source lang) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const std::size_t before = skvk::message_count();
+    const CardScene cs;
+    CardPasses P(ctx, lang, cs);
+    const std::uint32_t N = 512;  // the GL test's size (at 256, t = 0.05 leaves 636 penumbra texels)
+    const std::string name = lang == Source::Glsl ? "GLSL" : "HLSL";
+    for (float t : {0.05f, 0.1f, 0.2f})
+        for (bool remap_here : {false, true}) {
+            CAPTURE(t);
+            CAPTURE(remap_here);
+            const CardStats st = card_run(P, cs, N, t, remap_here, false, false);
+            MESSAGE(name << " t = " << t << std::string(remap_here ? " (remap in the smoothie pass)" : " (remap in the final pass)") << ": "
+                         << st.compared << " texels, " << st.penumbra << " penumbra, " << st.umbra << " umbra; max |V - V_cpu| = "
+                         << st.max_err << ", smoothie-buffer max |alpha - expected| = " << st.max_alpha_err << " over " << st.alphas);
+            CHECK(st.compared > std::size_t(N) * N * 9 / 10);
+            CHECK(st.penumbra > 1000);
+            CHECK(st.umbra > 1000);
+            CHECK(st.alphas > 1000);
+            CHECK(st.max_err <= 1e-4);
+            CHECK(st.max_alpha_err <= 1e-4);
+        }
+    // Passes 1 and 2 drawn with the negative-height viewport (the card is symmetric in y, so the
+    // mirrored rows the lookup reads hold the same values). sk_smoothie_frag_ndc takes frag_coord /
+    // size * 2 - 1 as the NDC, which the flip mirrors in y: the corners' alpha (|p - v| / t) comes out
+    // wrong (the control); passing (x, size.y - y) to sk_smoothie_fragment, as the snippets' headers
+    // say, restores it.
+    const CardStats flipped = card_run(P, cs, N, 0.1f, false, true, false);
+    const CardStats mirrored = card_run(P, cs, N, 0.1f, false, true, true);
+    MESSAGE(name << " smoothie buffer drawn y-flipped (t = 0.1): max |alpha - expected| = " << flipped.max_alpha_err
+                 << ", max |V - V_cpu| = " << flipped.max_err << " (control); with (x, size.y - y) passed to sk_smoothie_fragment: "
+                 << mirrored.max_alpha_err << ", " << mirrored.max_err);
+    CHECK(flipped.max_alpha_err > 0.1);
+    CHECK(mirrored.max_alpha_err <= 1e-4);
+    CHECK(mirrored.max_err <= 1e-4);
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+}
+
+// (b): t = 0 draws nothing in pass 2, and the final lookup equals an independent hard 2x2 lookup bit
+// for bit, seen through an oblique camera (the bilinear weights and the receiver plane matter).
+void run_hard(Source lang) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const std::size_t before = skvk::message_count();
+    const CardScene cs;
+    CardPasses P(ctx, lang, cs);
+    skvk::Image sm, sb;
+    shadowkit::SmoothieResult res;
+    render_buffers(P, cs, 256, 0.f, false, sm, sb, res);
+    CHECK(res.status == shadowkit::Status::Ok);
+    CHECK(res.needed == 0);
+    const std::uint32_t w = 320, h = 240;
+    const glm::mat4 cam = glm::perspective(0.9f, float(w) / float(h), 0.1f, 50.f) *
+                          glm::lookAt(glm::vec3(2.5f, 1.5f, 0.5f), glm::vec3(0.f, 0.f, -4.f), glm::vec3(0.f, 0.f, -1.f));
+    for (bool remapped : {false, true}) {
+        const std::vector<float> v_smoothie = render_lookup(P, cs, P.lookup, cam, w, h, false, remapped, 0.01f);
+        const std::vector<float> v_hard = render_lookup(P, cs, P.hard, cam, w, h, false, remapped, 0.01f);
+        REQUIRE(v_hard.size() == v_smoothie.size());
+        std::size_t drawn = 0, differ = 0, fractional = 0, dark = 0;
+        for (std::size_t k = 0; k < v_hard.size(); ++k) {
+            if (v_hard[k] < -0.5f) continue;  // background
+            ++drawn;
+            if (v_smoothie[k] != v_hard[k]) ++differ;
+            if (v_hard[k] > 0.f && v_hard[k] < 1.f) ++fractional;
+            if (v_hard[k] == 0.f) ++dark;
+        }
+        MESSAGE(std::string(lang == Source::Glsl ? "GLSL" : "HLSL") << " t = 0" << std::string(remapped ? " (alpha_is_remapped)" : "") << ": " << drawn
+                                                        << " pixels, " << differ << " differ, " << dark << " in shadow, "
+                                                        << fractional << " filtered (0 < V < 1)");
+        CHECK(drawn > std::size_t(w * h / 2));
+        CHECK(dark > 1000);
+        CHECK(fractional > 100);
+        CHECK(differ == 0);
+    }
+    skvk::destroy(ctx, sm);
+    skvk::destroy(ctx, sb);
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+}
+
 }  // namespace
 
 TEST_CASE("smoothie.glsl on Vulkan: sk_smoothie_visibility equals four smoothie_visibility_tap filtered bilinearly") {
@@ -200,4 +744,20 @@ TEST_CASE("smoothie.glsl on Vulkan: sk_smoothie_visibility equals four smoothie_
 
 TEST_CASE("HLSL smoothie.hlsl on Vulkan: sk_smoothie_visibility equals four smoothie_visibility_tap filtered bilinearly") {
     run_smoothie(Source::Hlsl);
+}
+
+TEST_CASE("smoothie.glsl on Vulkan: the three passes match the CPU prediction at every texel (GL test (a), |dV| <= 1e-4)") {
+    run_passes(Source::Glsl);
+}
+
+TEST_CASE("HLSL smoothie.hlsl on Vulkan: the three passes match the CPU prediction at every texel (GL test (a), |dV| <= 1e-4)") {
+    run_passes(Source::Hlsl);
+}
+
+TEST_CASE("smoothie.glsl on Vulkan: t = 0 is bit-identical to an independent hard 2x2 lookup (GL test (b))") {
+    run_hard(Source::Glsl);
+}
+
+TEST_CASE("HLSL smoothie.hlsl on Vulkan: t = 0 is bit-identical to an independent hard 2x2 lookup (GL test (b))") {
+    run_hard(Source::Hlsl);
 }

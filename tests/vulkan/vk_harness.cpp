@@ -473,10 +473,17 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     ds.back = d.stencil_back;
     ds.maxDepthBounds = 1.f;
     std::vector<VkPipelineColorBlendAttachmentState> blend(d.color_count);
-    for (auto& b : blend)
+    for (auto& b : blend) {
+        b.blendEnable = d.blend ? VK_TRUE : VK_FALSE;
+        b.colorBlendOp = b.alphaBlendOp = d.blend_op;
+        b.srcColorBlendFactor = d.blend_src;
+        b.dstColorBlendFactor = d.blend_dst;
+        b.srcAlphaBlendFactor = d.blend_src_alpha;
+        b.dstAlphaBlendFactor = d.blend_dst_alpha;
         b.colorWriteMask = d.color_write ? (VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
                                             VK_COLOR_COMPONENT_A_BIT)
                                          : 0u;
+    }
     VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     cb.attachmentCount = d.color_count;
     cb.pAttachments = blend.data();

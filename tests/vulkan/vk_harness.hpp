@@ -111,6 +111,10 @@ struct PipelineDesc {
     VkFrontFace front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     std::uint32_t color_count = 0;
     bool color_write = true;
+    bool blend = false;                            ///< blending on every colour attachment with blend_op (MIN/MAX ignore the factors)
+    VkBlendOp blend_op = VK_BLEND_OP_ADD;
+    VkBlendFactor blend_src = VK_BLEND_FACTOR_ONE, blend_dst = VK_BLEND_FACTOR_ONE;              ///< rgb
+    VkBlendFactor blend_src_alpha = VK_BLEND_FACTOR_ONE, blend_dst_alpha = VK_BLEND_FACTOR_ONE;  ///< a
     bool stencil = false;                          ///< stencil test with the two faces below
     VkStencilOpState stencil_front{}, stencil_back{};
 };
