@@ -113,6 +113,7 @@ struct PipelineDesc {
     bool color_write = true;
     bool stencil = false;                          ///< stencil test with the two faces below
     VkStencilOpState stencil_front{}, stencil_back{};
+    VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< rasterization samples (the render pass's)
 };
 VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout layout, VkRenderPass rp, std::string& why);
 
