@@ -5,8 +5,6 @@
 // across faces) and sk_cube_visibility_distance_manual (a point sampler on the same image), biased by
 // sk_omni_bias; the e2e scene's CPU ray cast as reference (>= 99.5% away from shadow edges), no
 // validation message. (The dual-paraboloid functions are compiled by hlsl.snippets_compile, not run.)
-// Reversed-Z (the cases at the end): faces from omni_cube_matrices' reversed-Z [0, 1] matrices, a
-// reversed-Z camera (clear 0, GREATER); the stored distance and the lookups are the same.
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
