@@ -3,8 +3,8 @@
 // filtered moments each (the mean of prefilter_moments over one to three random depths, as a blur
 // makes them) and random receiver depths, against the CPU mirror shadowkit::prefilter_visibility: at
 // most 1% of the lookups may differ by more than 1e-3 (float solves near a root), every value in
-// [0, 1]. Below, the GL test's moment pass, blur, 4x MSAA resolve and soft lookup run as well (the
-// blur in a compute shader is not run here). No validation message.
+// [0, 1]. Below, the GL test's moment pass, blur (fragment and compute), 4x MSAA resolve and soft
+// lookup run as well. No validation message.
 #include <doctest/doctest.h>
 
 #include <shadowkit/prefiltered_shadow.hpp>
@@ -204,8 +204,8 @@ TEST_CASE("HLSL prefiltered_shadow.hlsl on Vulkan: sk_prefilter_visibility of ev
 // The passes of tests/gl/test_gl_prefiltered_shadow.cpp RUN on Vulkan with its scenes, CPU references
 // and tolerances: (a) the moment pass of every method and format (each texel equals prefilter_moments
 // of the t and dt the GPU computed, stored as prefilter_store says; fp16 EVSM4 overflows only above
-// the header's exponent limit); (b) the separable blur (fragment passes) equals a brute-force 2D
-// convolution; (d) the 4x MSAA resolve equals the mean of the samples' moments; (g) the soft lookup on
+// the header's exponent limit); (b) the separable blur (two fragment passes, and two compute passes
+// with imageStore / RWTexture2D) equals a brute-force 2D convolution; (d) the 4x MSAA resolve equals the mean of the samples' moments; (g) the soft lookup on
 // a blitted mip chain equals prefilter_soft_visibility on the read-back levels and follows the area
 // light's ray-cast penumbra. Light projections are zero-to-one (glm::perspectiveRH_ZO): the window
 // depth and the t of a texel are the same as GL's.
@@ -288,6 +288,37 @@ float4 ps_blur(float4 position : SV_Position) : SV_Target0 {
     float weights[SK_PREFILTER_MAX_WEIGHTS];
     for (int i = 0; i < SK_PREFILTER_MAX_WEIGHTS; ++i) weights[i] = w[i];
     return sk_prefilter_blur(u_src, int2(position.xy), k.dir, k.radius, weights);
+}
+)";
+
+const char* kBlurComputeGlsl = R"(
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 0) uniform sampler2D u_src;
+layout(set = 0, binding = 1, std430) readonly buffer Weights { float w[]; };
+layout(set = 0, binding = 2, rgba32f) writeonly uniform image2D u_dst;
+layout(push_constant) uniform Blur { ivec2 dir; int radius; } k;
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, imageSize(u_dst)))) return;
+    float weights[SK_PREFILTER_MAX_WEIGHTS];
+    for (int i = 0; i < SK_PREFILTER_MAX_WEIGHTS; ++i) weights[i] = w[i];
+    imageStore(u_dst, px, sk_prefilter_blur(u_src, px, k.dir, k.radius, weights));
+}
+)";
+const char* kBlurComputeHlsl = R"(
+[[vk::binding(0, 0)]] Texture2D<float4> u_src;
+[[vk::binding(1, 0)]] StructuredBuffer<float> w;
+[[vk::binding(2, 0)]] [[vk::image_format("rgba32f")]] RWTexture2D<float4> u_dst;
+struct Blur { int2 dir; int radius; };
+[[vk::push_constant]] ConstantBuffer<Blur> k;
+[numthreads(8, 8, 1)]
+void cs_blur(uint3 id : SV_DispatchThreadID) {
+    uint dw, dh;
+    u_dst.GetDimensions(dw, dh);
+    if (id.x >= dw || id.y >= dh) return;
+    float weights[SK_PREFILTER_MAX_WEIGHTS];
+    for (int i = 0; i < SK_PREFILTER_MAX_WEIGHTS; ++i) weights[i] = w[i];
+    u_dst[int2(id.xy)] = sk_prefilter_blur(u_src, int2(id.xy), k.dir, k.radius, weights);
 }
 )";
 
@@ -677,7 +708,8 @@ void run_moment_pass(Source lang) {
 }
 
 // (b) The GL test's blur: a 37 x 29 RGBA32F field, box and Gaussian of widths 1, 5 and 12, two
-// fragment passes (horizontal into tmp, vertical into out) against the brute-force 2D convolution.
+// fragment passes (horizontal into tmp, vertical into out) and the same two as compute dispatches,
+// against the brute-force 2D convolution.
 void run_blur(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t before = skvk::message_count();
@@ -711,6 +743,47 @@ void run_blur(Source lang) {
     VkRenderPass rp = skvk::make_render_pass(ctx, {rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer fb_tmp = skvk::make_framebuffer(ctx, rp, {tmp.view}, W, H), fb_out = skvk::make_framebuffer(ctx, rp, {out.view}, W, H);
     VkPipeline pipe = make_fullscreen_pipeline(ctx, sh, layout, rp, 1);
+    // the compute form: the same two passes, written with imageStore (RWTexture2D) into cout via ctmp
+    std::vector<std::uint32_t> cs;
+    if (lang == Source::Glsl)
+        cs = skvk::compile_checked(lang, VK_SHADER_STAGE_COMPUTE_BIT,
+                                   "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/prefiltered_shadow.glsl") +
+                                       kBlurComputeGlsl,
+                                   "main", "prefiltered_blur.glsl.comp");
+    else
+        cs = skvk::compile_checked(lang, VK_SHADER_STAGE_COMPUTE_BIT,
+                                   skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/prefiltered_shadow.hlsl") + kBlurComputeHlsl,
+                                   "cs_blur", "prefiltered_blur.hlsl.comp");
+    skvk::Image ctmp, cout;
+    const VkImageUsageFlags storage_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, storage_usage, ctmp));
+    REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, storage_usage, cout));
+    const VkShaderStageFlags comp = VK_SHADER_STAGE_COMPUTE_BIT;
+    skvk::DescriptorSet cds[2];  // src -> ctmp, ctmp -> cout
+    for (int p = 0; p < 2; ++p) {
+        REQUIRE(skvk::make_descriptor_set(
+            ctx, {{0, tex_type, comp}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, comp}, {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, comp}}, cds[p]));
+        skvk::write_image(ctx, cds[p], 0, tex_type, p ? ctmp.view : src.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE,
+                          p ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        skvk::write_buffer(ctx, cds[p], 1, weights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+        skvk::write_image(ctx, cds[p], 2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, p ? cout.view : ctmp.view, VK_NULL_HANDLE,
+                          VK_IMAGE_LAYOUT_GENERAL);
+    }
+    VkPipelineLayout clayout = make_layout(ctx, &cds[0], sizeof(BlurPush), comp);
+    VkPipeline cpipe = VK_NULL_HANDLE;
+    {
+        VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        mi.codeSize = cs.size() * 4;
+        mi.pCode = cs.data();
+        VkShaderModule module = VK_NULL_HANDLE;
+        REQUIRE(vkCreateShaderModule(ctx.device, &mi, nullptr, &module) == VK_SUCCESS);
+        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module,
+                    lang == Source::Glsl ? "main" : "cs_blur", nullptr};
+        ci.layout = clayout;
+        REQUIRE(vkCreateComputePipelines(ctx.device, VK_NULL_HANDLE, 1, &ci, nullptr, &cpipe) == VK_SUCCESS);
+        vkDestroyShaderModule(ctx.device, module, nullptr);
+    }
     for (PrefilterBlur shape : {PrefilterBlur::Box, PrefilterBlur::Gaussian})
         for (float width : {1.0f, 5.0f, 12.0f}) {
             float w[kPrefilterMaxWeights] = {};
@@ -740,11 +813,35 @@ void run_blur(Source lang) {
             REQUIRE(skvk::submit_and_wait(ctx, cmd));
             const std::vector<float> got = skvk::read_image(ctx, out, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
             REQUIRE(got.size() == ref.size());
-            double worst = 0.0;
-            for (std::size_t i = 0; i < ref.size(); ++i) worst = std::max(worst, std::abs(double(got[i]) - ref[i]));
+            // compute: horizontal into ctmp, barrier, vertical into cout
+            cmd = skvk::begin_commands(ctx);
+            skvk::transition(cmd, ctmp, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+            skvk::transition(cmd, cout, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cpipe);
+            for (int p = 0; p < 2; ++p) {
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, clayout, 0, 1, &cds[p].set, 0, nullptr);
+                vkCmdPushConstants(cmd, clayout, comp, 0, sizeof(BlurPush), p ? &v : &h);
+                vkCmdDispatch(cmd, (W + 7) / 8, (H + 7) / 8, 1);
+                VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+                mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+                mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+                vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0,
+                                     nullptr);
+            }
+            REQUIRE(skvk::submit_and_wait(ctx, cmd));
+            const std::vector<float> comp_got = skvk::read_image(ctx, cout, VK_IMAGE_LAYOUT_GENERAL, 4);
+            REQUIRE(comp_got.size() == ref.size());
+            double worst = 0.0, worst_c = 0.0;
+            for (std::size_t i = 0; i < ref.size(); ++i) {
+                worst = std::max(worst, std::abs(double(got[i]) - ref[i]));
+                worst_c = std::max(worst_c, std::abs(double(comp_got[i]) - ref[i]));
+            }
             MESSAGE(lang_name(lang) << " blur, " << std::string(shape == PrefilterBlur::Box ? "box" : "Gaussian") << " width " << width
-                                    << " (radius " << k.radius << "): max |GPU - brute force| = " << worst);
+                                    << " (radius " << k.radius << "): max |GPU - brute force| = " << worst << " (fragment), "
+                                    << worst_c << " (compute)");
             CHECK(worst < 2e-5);
+            CHECK(worst_c < 2e-5);
         }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
     vkDestroyPipeline(ctx.device, pipe, nullptr);
@@ -753,6 +850,11 @@ void run_blur(Source lang) {
     vkDestroyFramebuffer(ctx.device, fb_out, nullptr);
     vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroySampler(ctx.device, nearest, nullptr);
+    vkDestroyPipeline(ctx.device, cpipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, clayout, nullptr);
+    for (auto& d : cds) skvk::destroy(ctx, d);
+    skvk::destroy(ctx, ctmp);
+    skvk::destroy(ctx, cout);
     for (auto& d : ds) skvk::destroy(ctx, d);
     skvk::destroy(ctx, weights);
     skvk::destroy(ctx, src);
