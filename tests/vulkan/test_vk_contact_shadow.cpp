@@ -229,7 +229,8 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
             occluded[0] += gpu[2 * k] == 0.f;
             occluded[1] += gpu[2 * k + 1] == 0.f;
         }
-    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << std::string(reversed ? " reversed-Z" : "") << ": " << fg << " foreground pixels; march agrees with its CPU mirror on "
+    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << std::string(reversed ? " reversed-Z" : "") << ": " << fg
+                                                    << " foreground pixels; march agrees with its CPU mirror on "
                                                     << agree[0] << " (" << occluded[0] << " occluded), aligned march on " << agree[1]
                                                     << " (" << occluded[1] << " occluded)");
     CHECK(fg > kW * kH / 2);

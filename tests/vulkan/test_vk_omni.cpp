@@ -367,10 +367,10 @@ void check_reversed(Source lang) {
 }
 }  // namespace
 
-TEST_CASE("reversed-Z omni_shadow.glsl's distance cube on Vulkan: reversed face matrices and camera, the lookups agree with the ray cast") {
+TEST_CASE("reversed-Z omni_shadow.glsl's distance cube on Vulkan: reversed faces and camera, lookups agree with the ray cast") {
     check_reversed(Source::Glsl);
 }
 
-TEST_CASE("HLSL reversed-Z omni_shadow.hlsl's distance cube on Vulkan: reversed face matrices and camera, the lookups agree with the ray cast") {
+TEST_CASE("HLSL reversed-Z omni_shadow.hlsl's distance cube on Vulkan: reversed faces and camera, lookups agree with the ray cast") {
     check_reversed(Source::Hlsl);
 }

@@ -317,10 +317,10 @@ TEST_CASE("HLSL pcf.hlsl on Vulkan: every kernel, 2D and array, equals the CPU e
     run_kernels(Source::Hlsl);
 }
 
-TEST_CASE("reversed-Z pcf.glsl on Vulkan: every kernel, 2D and array, on the map stored as 1 - z with GREATER_OR_EQUAL equals the same CPU emulation") {
+TEST_CASE("reversed-Z pcf.glsl on Vulkan: every kernel on the map stored as 1 - z, GREATER_OR_EQUAL, equals the same emulation") {
     run_kernels(Source::Glsl, true);
 }
 
-TEST_CASE("HLSL reversed-Z pcf.hlsl on Vulkan: every kernel, 2D and array, on the map stored as 1 - z with GREATER_OR_EQUAL equals the same CPU emulation") {
+TEST_CASE("HLSL reversed-Z pcf.hlsl on Vulkan: every kernel on the map stored as 1 - z, GREATER_OR_EQUAL, equals the same emulation") {
     run_kernels(Source::Hlsl, true);
 }

@@ -286,10 +286,10 @@ TEST_CASE("HLSL pcss.hlsl on Vulkan: sk_pcss, 2D and array, equals its CPU evalu
     run_pcss(Source::Hlsl);
 }
 
-TEST_CASE("reversed-Z pcss.glsl on Vulkan: SK_REVERSED_Z, the map stored as 1 - z, GREATER_OR_EQUAL: equals the same CPU evaluation") {
+TEST_CASE("reversed-Z pcss.glsl on Vulkan: SK_REVERSED_Z, the map as 1 - z, GREATER_OR_EQUAL: equals the same CPU evaluation") {
     run_pcss(Source::Glsl, true);
 }
 
-TEST_CASE("HLSL reversed-Z pcss.hlsl on Vulkan: SK_REVERSED_Z, the map stored as 1 - z, GREATER_OR_EQUAL: equals the same CPU evaluation") {
+TEST_CASE("HLSL reversed-Z pcss.hlsl on Vulkan: SK_REVERSED_Z, the map as 1 - z, GREATER_OR_EQUAL: equals the same evaluation") {
     run_pcss(Source::Hlsl, true);
 }

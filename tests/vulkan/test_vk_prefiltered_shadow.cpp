@@ -178,6 +178,29 @@ void run_prefiltered(Source lang) {
         CHECK(bad == 0);
         CHECK(partial > M / 20);
         CHECK(off <= M / 100);
+        // the GL test's garbage texels: NaN, +-Inf, +-3e38 among the moments and the receiver depths;
+        // always in [0, 1], and equal to prefilter_visibility (2e-3) at 99% of them
+        const float specials[] = {NAN, INFINITY, -INFINITY, 3e38f, -3e38f, 0.0f, 1.0f, -1.0f};
+        for (std::uint32_t i = 0; i < M; ++i) {
+            for (int c = 0; c < 4; ++c) samples[2 * i][c] = rng() % 3u == 0 ? specials[rng() % 8u] : U01(rng) * 4.f - 2.f;
+            samples[2 * i + 1].x = rng() % 5u == 0 ? specials[rng() % 8u] : U01(rng);
+        }
+        std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
+        cmd = skvk::begin_commands(ctx);
+        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, &cp, VK_NULL_HANDLE, 3, false, sizeof cp,
+                        VK_SHADER_STAGE_FRAGMENT_BIT);
+        REQUIRE(skvk::submit_and_wait(ctx, cmd));
+        const std::vector<float> junk = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+        REQUIRE(junk.size() == M);
+        std::size_t junk_bad = 0, junk_close = 0;
+        for (std::uint32_t i = 0; i < M; ++i) {
+            junk_bad += !(junk[i] >= 0.f && junk[i] <= 1.f);
+            junk_close += std::abs(junk[i] - shadowkit::prefilter_visibility(samples[2 * i], samples[2 * i + 1].x, u)) <= 2e-3f;
+        }
+        MESSAGE(name << " on garbage texels: " << junk_bad << " outside [0, 1], " << junk_close << " of " << M
+                     << " equal prefilter_visibility (2e-3)");
+        CHECK(junk_bad == 0);
+        CHECK(junk_close >= M * 99 / 100);
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
@@ -205,9 +228,11 @@ TEST_CASE("HLSL prefiltered_shadow.hlsl on Vulkan: sk_prefilter_visibility of ev
 // and tolerances: (a) the moment pass of every method and format (each texel equals prefilter_moments
 // of the t and dt the GPU computed, stored as prefilter_store says; fp16 EVSM4 overflows only above
 // the header's exponent limit); (b) the separable blur (two fragment passes, and two compute passes
-// with imageStore / RWTexture2D) equals a brute-force 2D convolution; (d) the 4x MSAA resolve equals the mean of the samples' moments; (g) the soft lookup on
-// a blitted mip chain equals prefilter_soft_visibility on the read-back levels and follows the area
-// light's ray-cast penumbra. Light projections are zero-to-one (glm::perspectiveRH_ZO): the window
+// with imageStore / RWTexture2D) equals a brute-force 2D convolution; (c) the lookups above, also on
+// garbage texels; (d) the 4x MSAA resolve equals the mean of the samples' moments; (e) the blitted
+// mip levels are 2x2 means; (g) the soft lookup on the mip chain equals prefilter_soft_visibility on
+// the read-back levels and follows the area light's ray-cast penumbra. ((f), the report drivers, is
+// GL-only.) Light projections are zero-to-one (glm::perspectiveRH_ZO): the window
 // depth and the t of a texel are the same as GL's.
 namespace {
 
@@ -1180,6 +1205,19 @@ void run_soft(Source lang) {
                 v[c] = decode(mip[std::size_t(l)].data(), std::size_t(y * nl + x), c, u.channels, fmt);
             return v;
         };
+        // (e) the blitted levels are 2x2 means of the level above (filtering moments is linear), as
+        // glGenerateMipmap's: within float rounding, or one 16-bit step
+        double worst_mip = 0.0;
+        for (int l = 0; l + 1 < int(levels); ++l)
+            for (int y = 0; y < (int(N) >> (l + 1)); ++y)
+                for (int x = 0; x < (int(N) >> (l + 1)); ++x) {
+                    const glm::vec4 mean = 0.25f * (texel(l, 2 * x, 2 * y) + texel(l, 2 * x + 1, 2 * y) +
+                                                    texel(l, 2 * x, 2 * y + 1) + texel(l, 2 * x + 1, 2 * y + 1));
+                    const glm::vec4 d = glm::abs(texel(l + 1, x, y) - mean);
+                    worst_mip = std::max(worst_mip, double(std::max(std::max(d.x, d.y), std::max(d.z, d.w))));
+                }
+        MESSAGE(lang_name(lang) << " mip chain, method " << int(method) << ": max |level - 2x2 mean of the level above| = " << worst_mip);
+        CHECK(worst_mip <= (fmt == PrefilterFormat::Float32 ? 1e-6 : 1.01 / 65535.0));
         auto bilinear = [&](int l, float uu, float vv) {
             const float nl = float(int(N) >> l), fx = uu * nl - 0.5f, fy = vv * nl - 0.5f;
             const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
