@@ -6,10 +6,14 @@
 // (flip_y * proj, the rule of docs/vulkan_and_direct3d.md); the read-back visibility must equal the CPU
 // mirrors contact_shadow_march / contact_shadow_march_aligned (ClipDepth::ZeroToOne, Float32) run on
 // the read-back depth on >= 99.9% of the pixels (the GL test's tolerance), and the box must occlude
-// part of the floor. No validation message.
+// part of the floor. Reversed-Z runs the same with the camera of infinite_projection.hpp's
+// projection_perspective_finite(..., ZeroToOne, reversed_z = true), depth cleared to 0 and drawn with
+// GREATER, the snippet after #define SK_REVERSED_Z and the mirrors with reversed_z; its picture must
+// also equal the standard run's on >= 99.5% of the foreground. No validation message.
 #include <doctest/doctest.h>
 
 #include <shadowkit/contact_shadow.hpp>
+#include <shadowkit/infinite_projection.hpp>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -46,7 +50,11 @@ void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     ivec2 size = textureSize(u_depth, 0);
     float win = texelFetch(u_depth, px, 0).r;
+#ifdef SK_REVERSED_Z
+    if (win == 0.0) { o_v = vec2(-1.0); return; }
+#else
     if (win == 1.0) { o_v = vec2(-1.0); return; }
+#endif
     vec3 view_pos = sk_contact_view_position(u.inv_proj, size, px, win, true);
     int steps = int(u.march.y);
     o_v = vec2(sk_contact_shadow(u_depth, u.proj, view_pos, u.view_light, u.march.x, steps, 0.0, 0.0, true, 0.0),
@@ -66,7 +74,11 @@ float2 ps_main(float4 position : SV_Position) : SV_Target0 {
     uint w, h;
     u_depth.GetDimensions(w, h);
     float win = u_depth.Load(int3(px, 0));
+#ifdef SK_REVERSED_Z
+    if (win == 0.0) return float2(-1.0, -1.0);
+#else
     if (win == 1.0) return float2(-1.0, -1.0);
+#endif
     float3 view_pos = sk_contact_view_position(u.inv_proj, int2(w, h), px, win, true);
     int steps = int(u.march.y);
     return float2(sk_contact_shadow(u_depth, u.proj, view_pos, u.view_light, u.march.x, steps, 0.0, 0.0, true, 0.0),
@@ -83,21 +95,26 @@ void quad(std::vector<glm::vec3>& v, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm:
     for (const glm::vec3& p : {a, b, c, a, c, d}) v.push_back(p);
 }
 
-void run_contact(Source lang) {
+// reversed: the camera from projection_perspective_finite(..., ZeroToOne, reversed_z), depth cleared to 0
+// and drawn with GREATER, the snippet after #define SK_REVERSED_Z, the mirrors with reversed_z.
+std::vector<float> run_contact(Source lang, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> scene_vs, vs, fs;
     const char* entries[2] = {"main", "main"};
     scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "contact.scene.vert");
     if (lang == Source::Glsl) {
-        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/contact_shadow.glsl");
+        const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
+                                    skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/contact_shadow.glsl");
         vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "contact.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kPassGlsl, "main",
-                                   "contact.glsl.frag");
+                                   reversed ? "contact_rz.glsl.frag" : "contact.glsl.frag");
     } else {
-        const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/contact_shadow.hlsl");
+        const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
+                                    skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/contact_shadow.hlsl");
         vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kPassHlsl, "vs_main", "contact.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kPassHlsl, "ps_main", "contact.hlsl.frag");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kPassHlsl, "ps_main",
+                                   reversed ? "contact_rz.hlsl.frag" : "contact.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
@@ -111,7 +128,10 @@ void run_contact(Source lang) {
     quad(tris, {h.x, l.y, l.z}, {h.x, h.y, l.z}, {h.x, h.y, h.z}, {h.x, l.y, h.z});
     quad(tris, {l.x, l.y, l.z}, {l.x, l.y, h.z}, {l.x, h.y, h.z}, {l.x, h.y, l.z});
     const glm::mat4 view = glm::lookAt(glm::vec3(2.2f, 2.0f, 3.2f), glm::vec3(0.0f, 0.2f, 0.0f), glm::vec3(0, 1, 0));
-    const glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 40.0f);
+    const shadowkit::ProjectionResult rz =
+        shadowkit::projection_perspective_finite(0.9f, float(kW) / float(kH), 0.1f, 40.0f, shadowkit::ClipDepth::ZeroToOne, true);
+    REQUIRE(rz.status == shadowkit::Status::Ok);
+    const glm::mat4 proj = reversed ? rz.matrix : glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 40.0f);
     glm::mat4 flip(1.f);
     flip[1][1] = -1.f;
     const glm::mat4 proj_rows = flip * proj;  // NDC y runs with the rows the negative-height viewport stores
@@ -121,6 +141,7 @@ void run_contact(Source lang) {
     prm.max_steps = 32;
     prm.depth_format = shadowkit::DepthFormat::Float32;
     prm.clip_depth = shadowkit::ClipDepth::ZeroToOne;
+    prm.reversed_z = reversed;
     const Params params{proj_rows, glm::inverse(proj_rows), view_light, glm::vec4(prm.length_world, float(prm.max_steps), 0.f, 0.f)};
 
     skvk::Buffer vb, ubo;
@@ -147,6 +168,7 @@ void run_contact(Source lang) {
     sd.vs = scene_vs;
     sd.vertex_stride = sizeof(glm::vec3);
     sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    sd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     std::string why;
     VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, scene_layout, scene_rp, why);
     REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
@@ -177,7 +199,7 @@ void run_contact(Source lang) {
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
-    far.depthStencil = {1.f, 0};
+    far.depthStencil = {reversed ? 0.f : 1.f, 0};
     const glm::mat4 vp = proj * view;  // drawn with the negative-height viewport
     skvk::draw_pass(cmd, scene_rp, scene_fb, kW, kH, {far}, scene_pipe, scene_layout, nullptr, &vp, vb.buffer,
                     static_cast<std::uint32_t>(tris.size()), true);
@@ -193,7 +215,7 @@ void run_contact(Source lang) {
     for (std::uint32_t y = 0; y < kH; ++y)
         for (std::uint32_t x = 0; x < kW; ++x) {
             const std::size_t k = std::size_t(y) * kW + x;
-            if (d[k] == 1.f) continue;
+            if (d[k] == (reversed ? 0.f : 1.f)) continue;
             ++fg;
             const glm::vec2 ndc = (glm::vec2(float(x), float(y)) + 0.5f) / glm::vec2(float(kW), float(kH)) * 2.0f - 1.0f;
             const glm::vec4 c = inv * glm::vec4(ndc, d[k], 1.f);
@@ -207,7 +229,8 @@ void run_contact(Source lang) {
             occluded[0] += gpu[2 * k] == 0.f;
             occluded[1] += gpu[2 * k + 1] == 0.f;
         }
-    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << ": " << fg << " foreground pixels; march agrees with its CPU mirror on "
+    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << std::string(reversed ? " reversed-Z" : "") << ": " << fg
+                                                    << " foreground pixels; march agrees with its CPU mirror on "
                                                     << agree[0] << " (" << occluded[0] << " occluded), aligned march on " << agree[1]
                                                     << " (" << occluded[1] << " occluded)");
     CHECK(fg > kW * kH / 2);
@@ -231,6 +254,25 @@ void run_contact(Source lang) {
     skvk::destroy(ctx, target);
     skvk::destroy(ctx, vb);
     skvk::destroy(ctx, ubo);
+    return gpu;
+}
+
+// Reversed-Z: both marches equal their mirrors (reversed_z) on the reversed depth, and the picture
+// equals the standard run's at nearly every pixel (the two depth encodings round differently).
+void run_reversed(Source lang) {
+    const std::vector<float> standard = run_contact(lang, false), reversed = run_contact(lang, true);
+    REQUIRE(standard.size() == reversed.size());
+    std::size_t fg = 0, same[2] = {0, 0};
+    for (std::size_t k = 0; k < standard.size() / 2; ++k) {
+        if (standard[2 * k] < 0.f) continue;
+        ++fg;
+        for (int m = 0; m < 2; ++m) same[m] += standard[2 * k + std::size_t(m)] == reversed[2 * k + std::size_t(m)];
+    }
+    MESSAGE((lang == Source::Glsl ? "GLSL" : "HLSL") << ": reversed-Z equals the standard run on " << same[0] << " (march) and "
+                                                    << same[1] << " (aligned) of " << fg << " foreground pixels");
+    CHECK(fg > kW * kH / 2);
+    CHECK(double(same[0]) >= 0.995 * double(fg));
+    CHECK(double(same[1]) >= 0.995 * double(fg));
 }
 
 }  // namespace
@@ -241,4 +283,12 @@ TEST_CASE("contact_shadow.glsl on Vulkan: both marches on a [0,1] depth image eq
 
 TEST_CASE("HLSL contact_shadow.hlsl on Vulkan: both marches on a [0,1] depth image equal their CPU mirrors") {
     run_contact(Source::Hlsl);
+}
+
+TEST_CASE("reversed-Z contact_shadow.glsl on Vulkan: both marches on a reversed [0,1] depth image equal their CPU mirrors") {
+    run_reversed(Source::Glsl);
+}
+
+TEST_CASE("HLSL reversed-Z contact_shadow.hlsl on Vulkan: both marches on a reversed [0,1] depth image equal their CPU mirrors") {
+    run_reversed(Source::Hlsl);
 }

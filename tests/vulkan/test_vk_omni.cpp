@@ -7,6 +7,9 @@
 // validation message. (The dual-paraboloid functions are compiled by hlsl.snippets_compile, not run.)
 #include <doctest/doctest.h>
 
+#include <shadowkit/infinite_projection.hpp>
+#include <shadowkit/omni_shadow.hpp>
+
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -149,13 +152,34 @@ void face_matrices(glm::vec3 L, glm::mat4 out[6]) {
     for (int f = 0; f < 6; ++f) out[f] = proj * glm::lookAt(L, L + dir[f], up[f]);
 }
 
-skvk::Agreement run(Source lang, int mode) {
+// Reversed-Z: the faces' matrices from omni_cube_matrices (ZeroToOne, reversed_z; GL's face order and
+// orientation), the camera from projection_perspective_finite (ZeroToOne, reversed_z).
+void reversed_matrices(glm::vec4 light, glm::mat4 out[6]) {
+    shadowkit::OmniCubeInput in;
+    in.light_position = light;
+    in.near_z = kNear;
+    in.far_z = kFar;
+    in.clip_depth = shadowkit::ClipDepth::ZeroToOne;
+    in.reversed_z = true;
+    const shadowkit::OmniCubeMatrices m = shadowkit::omni_cube_matrices(in);
+    REQUIRE(m.status == shadowkit::Status::Ok);
+    for (int f = 0; f < 6; ++f) out[f] = m.view_proj[f];
+}
+glm::mat4 reversed_camera() {
+    const shadowkit::ProjectionResult p =
+        shadowkit::projection_perspective_finite(0.9f, float(kW) / float(kH), 0.1f, 50.f, shadowkit::ClipDepth::ZeroToOne, true);
+    REQUIRE(p.status == shadowkit::Status::Ok);
+    return p.matrix;
+}
+
+skvk::Agreement run(Source lang, int mode, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
     const skvk::BoxScene scene;
     const glm::vec4 light(scene.light, 1.f);
     glm::mat4 faces[6];
     face_matrices(scene.light, faces);
-    const glm::mat4 cam = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f) *
+    if (reversed) reversed_matrices(light, faces);
+    const glm::mat4 cam = (reversed ? reversed_camera() : glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f)) *
                           glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
     const Params params{cam, light, glm::vec4(kRange, float(kFace), float(mode), 0.f)};
 
@@ -255,6 +279,7 @@ skvk::Agreement run(Source lang, int mode) {
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
+    if (reversed) pd.depth_compare = VK_COMPARE_OP_GREATER;
     VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
     REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
 
@@ -266,8 +291,9 @@ skvk::Agreement run(Source lang, int mode) {
         skvk::draw_pass(cmd, map_rp, map_fb[std::size_t(f)], kFace, kFace, {far}, map_pipe, map_layout, nullptr, &push, vb.buffer,
                         vcount, false, sizeof push, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
     }
-    VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    VkClearValue zero{}, cam_far = far;
+    if (reversed) cam_far.depthStencil.depth = 0.f;
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, cam_far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
     const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
@@ -317,4 +343,34 @@ TEST_CASE("omni_shadow.glsl's distance cube on Vulkan: compare, pcf and manual l
 
 TEST_CASE("HLSL omni_shadow.hlsl's distance cube on Vulkan: compare, pcf and manual lookups agree with the ray cast") {
     check(Source::Hlsl);
+}
+
+// Reversed-Z: the faces drawn with omni_cube_matrices' [0, 1] reversed-Z matrices and the camera with
+// a reversed-Z [0, 1] projection (depth cleared to 0, GREATER). The cube itself stores distance / range
+// written by the fragment stage, whatever the projection's depth: its map pass keeps LESS and a clear
+// of 1, and the lookups (which compare distances) take no reversed-Z parameter.
+namespace {
+void check_reversed(Source lang) {
+    const char* names[3] = {"compare", "pcf 3 x 3", "manual (point sampler)"};
+    for (int mode = 0; mode < 3; ++mode) {
+        const std::size_t before = skvk::message_count();
+        const skvk::Agreement a = run(lang, mode, true);
+        const std::string name = std::string(lang == Source::Glsl ? "GLSL" : "HLSL") + " reversed-Z distance cube, " + names[mode];
+        INFO(name);
+        MESSAGE(name << ": compared " << a.compared << " (lit " << a.lit << ", shadowed " << a.shadowed << "), agreement "
+                     << a.fraction());
+        CHECK(a.compared > int(kW * kH) / 4);
+        CHECK(a.shadowed > a.compared / 50);
+        CHECK(a.fraction() >= 0.995);
+        CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+    }
+}
+}  // namespace
+
+TEST_CASE("reversed-Z omni_shadow.glsl's distance cube on Vulkan: reversed faces and camera, lookups agree with the ray cast") {
+    check_reversed(Source::Glsl);
+}
+
+TEST_CASE("HLSL reversed-Z omni_shadow.hlsl's distance cube on Vulkan: reversed faces and camera, lookups agree with the ray cast") {
+    check_reversed(Source::Hlsl);
 }

@@ -6,7 +6,8 @@
 // all zeros (everything shadowed) and layer 1 the GL test's step edge and random field; the 2D
 // kernels read layer 1 through a 2D view, the array kernels through the array view with layer = 1.0.
 // The lookups come from a storage buffer, the kernel's settings from push constants; one pixel per
-// lookup.
+// lookup. Reversed-Z runs the same: the map stored as 1 - z, receivers at 1 - z with the plane's
+// gradient negated, a GREATER_OR_EQUAL comparison sampler, against the same (standard) reference.
 #include <doctest/doctest.h>
 
 #include <glm/glm.hpp>
@@ -107,7 +108,7 @@ struct Lookup {
     glm::vec2 g;
 };
 
-void run_kernels(Source lang) {
+void run_kernels(Source lang, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t messages_before = skvk::message_count();
     const std::string glsl = read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcf.glsl");
@@ -119,7 +120,7 @@ void run_kernels(Source lang) {
     if (lang == Source::Glsl) {
         vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "pcf.glsl.vert");
         fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + glsl + kKernelGlsl, "main",
-                             "pcf.glsl.frag");
+                             reversed ? "pcf_rz.glsl.frag" : "pcf.glsl.frag");
     } else {
         const std::string hlsl = read_text(std::string(SHADOWKIT_HLSL_DIR) + "/pcf.hlsl");
         vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, hlsl + kKernelHlsl, "vs_main", "pcf.hlsl.vert");
@@ -139,6 +140,8 @@ void run_kernels(Source lang) {
             tex.d[static_cast<std::size_t>(y * 64 + x)] = x < 32 ? (2 * x + y < 70 ? 0.25f : 0.75f) : U(rng);
     std::vector<float> layers(64 * 64, 0.f);  // layer 0: zeros (a lookup of the wrong layer is shadowed)
     layers.insert(layers.end(), tex.d.begin(), tex.d.end());
+    if (reversed)  // reversed-Z: window depth 1 - z (exact for the map's values), compare GREATER_OR_EQUAL
+        for (float& v : layers) v = 1.f - v;
     skvk::Image map;
     REQUIRE(skvk::make_image(ctx, 64, 64, 2, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, map));
     // uploaded, never rendered: SHADER_READ_ONLY (DEPTH_STENCIL_READ_ONLY needs attachment usage; the
@@ -171,6 +174,10 @@ void run_kernels(Source lang) {
     for (std::size_t i = 0; i < pts.size(); ++i) {
         dst[2 * i] = glm::vec4(pts[i].uvz, 0.f);
         dst[2 * i + 1] = glm::vec4(pts[i].g, 0.f, 0.f);
+        if (reversed) {  // the receiver at 1 - z, its plane's gradient negated; the CPU reference stays standard
+            dst[2 * i].z = 1.f - pts[i].uvz.z;
+            dst[2 * i + 1] = -dst[2 * i + 1];
+        }
     }
 
     skvk::Image target;
@@ -178,7 +185,8 @@ void run_kernels(Source lang) {
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
     VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
+    VkSampler sampler =
+        skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     if (lang == Source::Glsl) {
@@ -275,7 +283,7 @@ void run_kernels(Source lang) {
                     max_centre_err = std::max(max_centre_err, std::abs(double(gpu[i]) - double(exact)));
                 }
             }
-            const std::string name = std::string(lang == Source::Glsl ? "GLSL " : "HLSL ") + kc.name +
+            const std::string name = std::string(lang == Source::Glsl ? "GLSL " : "HLSL ") + (reversed ? "reversed-Z " : "") + kc.name +
                                      (array ? " (array, layer 1)" : " (2D)");
             INFO(name);
             MESSAGE(name << ": max |GPU - CPU| = " << max_err << " over "
@@ -307,4 +315,12 @@ TEST_CASE("pcf.glsl on Vulkan: every kernel, 2D and array, equals the CPU emulat
 
 TEST_CASE("HLSL pcf.hlsl on Vulkan: every kernel, 2D and array, equals the CPU emulation of the 2x2 compare") {
     run_kernels(Source::Hlsl);
+}
+
+TEST_CASE("reversed-Z pcf.glsl on Vulkan: every kernel on the map stored as 1 - z, GREATER_OR_EQUAL, equals the same emulation") {
+    run_kernels(Source::Glsl, true);
+}
+
+TEST_CASE("HLSL reversed-Z pcf.hlsl on Vulkan: every kernel on the map stored as 1 - z, GREATER_OR_EQUAL, equals the same emulation") {
+    run_kernels(Source::Hlsl, true);
 }

@@ -6,7 +6,10 @@
 // cases that must stay finite and in [0, 1]; the 2D functions read layer 1 of a two-layer
 // VK_FORMAT_D32_SFLOAT array through 2D views, the array overloads the array view with layer = 1.0
 // (layer 0 holds zeros). One image, two samplers: a point sampler for the blocker search and a
-// comparison sampler (LESS_OR_EQUAL, linear) for the filter.
+// comparison sampler (LESS_OR_EQUAL, linear) for the filter. Reversed-Z runs the same with
+// SK_REVERSED_Z defined: the map stored as 1 - z (a perspective light's reversed window depth for the
+// same planes), receivers at 1 - z with the plane's gradient negated, GREATER_OR_EQUAL, against the
+// same (standard) reference.
 #include <doctest/doctest.h>
 
 #include <glm/glm.hpp>
@@ -87,7 +90,7 @@ struct Lookup {
     glm::vec2 g;
 };
 
-void run_pcss(Source lang) {
+void run_pcss(Source lang, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t messages_before = skvk::message_count();
     const auto disk = parse_poisson(read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcf.glsl"));
@@ -96,13 +99,17 @@ void run_pcss(Source lang) {
     const char* vs_entry = "main";
     const char* fs_entry = "main";
     if (lang == Source::Glsl) {
-        const std::string pcss = read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcss.glsl");
+        const std::string pcss = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
+                                 read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcss.glsl");
         vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "pcss.glsl.vert");
-        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + pcss + kKernelGlsl, "main", "pcss.glsl.frag");
+        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + pcss + kKernelGlsl, "main",
+                             reversed ? "pcss_rz.glsl.frag" : "pcss.glsl.frag");
     } else {
-        const std::string pcss = read_text(std::string(SHADOWKIT_HLSL_DIR) + "/pcss.hlsl");
+        const std::string pcss = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
+                                 read_text(std::string(SHADOWKIT_HLSL_DIR) + "/pcss.hlsl");
         vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, pcss + kKernelHlsl, "vs_main", "pcss.hlsl.vert");
-        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, pcss + kKernelHlsl, "ps_main", "pcss.hlsl.frag");
+        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, pcss + kKernelHlsl, "ps_main",
+                             reversed ? "pcss_rz.hlsl.frag" : "pcss.hlsl.frag");
         vs_entry = "vs_main";
         fs_entry = "ps_main";
     }
@@ -120,6 +127,8 @@ void run_pcss(Source lang) {
         }
     std::vector<float> layers(128 * 128, 0.f);
     layers.insert(layers.end(), tex.d.begin(), tex.d.end());
+    if (reversed)  // reversed-Z: a perspective light's reversed window depth is 1 - z (same planes)
+        for (float& v : layers) v = 1.f - v;
     skvk::Image map;
     REQUIRE(skvk::make_image(ctx, 128, 128, 2, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, map));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
@@ -141,6 +150,10 @@ void run_pcss(Source lang) {
     for (std::size_t i = 0; i < pts.size(); ++i) {
         dst[2 * i] = glm::vec4(pts[i].uvz, 0.f);
         dst[2 * i + 1] = glm::vec4(pts[i].g, 0.f, 0.f);
+        if (reversed) {  // the receiver at 1 - z, its plane's gradient negated; the CPU reference stays standard
+            dst[2 * i].z = 1.f - pts[i].uvz.z;
+            dst[2 * i + 1] = -dst[2 * i + 1];
+        }
     }
 
     skvk::Image target;
@@ -148,7 +161,8 @@ void run_pcss(Source lang) {
                              target));
     VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
-    VkSampler compare = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
+    VkSampler compare =
+        skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     VkSampler point = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -240,7 +254,7 @@ void run_pcss(Source lang) {
                 max_err = std::max(max_err, e);
                 if (e > 1e-4) ++off;
             }
-            const std::string name = std::string(lang == Source::Glsl ? "GLSL " : "HLSL ") + c.name +
+            const std::string name = std::string(lang == Source::Glsl ? "GLSL " : "HLSL ") + (reversed ? "reversed-Z " : "") + c.name +
                                      (array ? " (array, layer 1)" : " (2D)");
             INFO(name);
             MESSAGE(name << ": " << partial << " partial lookups, " << off << " of " << M << " differ from the CPU by > 1e-4 (max "
@@ -270,4 +284,12 @@ TEST_CASE("pcss.glsl on Vulkan: sk_pcss, 2D and array, equals its CPU evaluation
 
 TEST_CASE("HLSL pcss.hlsl on Vulkan: sk_pcss, 2D and array, equals its CPU evaluation on the synthetic map") {
     run_pcss(Source::Hlsl);
+}
+
+TEST_CASE("reversed-Z pcss.glsl on Vulkan: SK_REVERSED_Z, the map as 1 - z, GREATER_OR_EQUAL: equals the same CPU evaluation") {
+    run_pcss(Source::Glsl, true);
+}
+
+TEST_CASE("HLSL reversed-Z pcss.hlsl on Vulkan: SK_REVERSED_Z, the map as 1 - z, GREATER_OR_EQUAL: equals the same evaluation") {
+    run_pcss(Source::Hlsl, true);
 }

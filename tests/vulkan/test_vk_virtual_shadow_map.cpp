@@ -1,5 +1,5 @@
-// glsl/virtual_shadow_map.glsl and hlsl/virtual_shadow_map.hlsl RUN on Vulkan (lavapipe): parts (a) and
-// (b) of tests/gl/test_gl_virtual_shadow_map.cpp on its scene (a ground box, five boxes, a low sun),
+// glsl/virtual_shadow_map.glsl and hlsl/virtual_shadow_map.hlsl RUN on Vulkan (lavapipe): parts (a), (b)
+// and (c) of tests/gl/test_gl_virtual_shadow_map.cpp on its scene (a ground box, five boxes, a low sun),
 // with [0, 1] clip depth (VsmLayout::clip_depth = ZeroToOne):
 //  (a) marking: sk_vsm_mark in a full-screen fragment pass (the fragmentStoresAndAtomics feature) over
 //      the camera's visible positions (relative to the anchor; here from a CPU ray cast per pixel
@@ -9,7 +9,12 @@
 //  (b) vsm_requests_from_bitmask -> vsm_plan; the listed pages rendered into a D32 atlas, each with
 //      its own viewport and scissor, depth clamp on; sk_vsm_visibility_level per pixel against a ray
 //      cast toward the light: >= 99.5% agreement away from shadow and geometry edges, no pixel
-//      without a page.
+//      without a page;
+//  (c) one caster moves: the new positions marked again, vsm_plan with its old and new bounds, only
+//      the listed pages re-rendered into the kept atlas (a render pass that loads it, each page's
+//      rectangle cleared); the pool must equal a full re-render of every current page into a fresh
+//      atlas bit for bit, the move must have changed at least one page, and the lookup must still
+//      agree with the ray cast (>= 99.5%, no pixel without a page).
 // At the origin and 1e6 units away (the block's matrices relative to the camera). No validation message.
 #include <doctest/doctest.h>
 
@@ -219,6 +224,51 @@ VkPipelineLayout pipeline_layout(skvk::Context& ctx, const VkDescriptorSetLayout
     return layout;
 }
 
+// A depth-only render pass that keeps the atlas (load and store, `held` before and after): pages
+// re-rendered into it clear their own rectangles.
+VkRenderPass atlas_load_pass(skvk::Context& ctx, VkImageLayout held) {
+    VkAttachmentDescription a{};
+    a.format = VK_FORMAT_D32_SFLOAT;
+    a.samples = VK_SAMPLE_COUNT_1_BIT;
+    a.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    a.initialLayout = held;
+    a.finalLayout = held;
+    VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription sp{};
+    sp.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    sp.pDepthStencilAttachment = &ref;
+    // the harness's dependencies, word for word (a pipeline made for its render pass must be compatible)
+    const VkPipelineStageFlags attach = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                                        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkAccessFlags writes = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    VkSubpassDependency dep[2]{};
+    dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    dep[0].dstSubpass = 0;
+    dep[0].srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dep[0].dstStageMask = attach;
+    dep[0].srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    dep[0].dstAccessMask = writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    dep[1].srcSubpass = 0;
+    dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    dep[1].srcStageMask = attach;
+    dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dep[1].srcAccessMask = writes;
+    dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo ri{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    ri.attachmentCount = 1;
+    ri.pAttachments = &a;
+    ri.subpassCount = 1;
+    ri.pSubpasses = &sp;
+    ri.dependencyCount = 2;
+    ri.pDependencies = dep;
+    VkRenderPass rp = VK_NULL_HANDLE;
+    vkCreateRenderPass(ctx.device, &ri, nullptr, &rp);
+    return rp;
+}
+
 void run_scene(Source lang, const glm::dvec3& offset) {
     skvk::Context& ctx = skvk::vk_test_context();
     REQUIRE(ctx.enabled.fragmentStoresAndAtomics);
@@ -244,25 +294,31 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     std::vector<glm::vec4> px(2 * std::size_t(kW) * kH, glm::vec4(0.f));
     std::vector<int> truth(std::size_t(kW) * kH, -1);
     const double th = std::tan(0.5 * kFovY);
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            const glm::dvec3 d = glm::normalize(to_world * glm::dvec3(((x + 0.5) / kW * 2.0 - 1.0) * th, ((y + 0.5) / kH * 2.0 - 1.0) * th, -1.0));
-            double best = 1e30;
-            glm::dvec3 bn(0.0);
-            for (const Box& b : boxes) {
-                double t = 0;
-                glm::dvec3 n;
-                if (ray_box(b, camera, d, t, n) && t < best) best = t, bn = n;
+    auto cast_pixels = [&] {
+        std::fill(px.begin(), px.end(), glm::vec4(0.f));
+        std::fill(truth.begin(), truth.end(), -1);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const glm::dvec3 d =
+                    glm::normalize(to_world * glm::dvec3(((x + 0.5) / kW * 2.0 - 1.0) * th, ((y + 0.5) / kH * 2.0 - 1.0) * th, -1.0));
+                double best = 1e30;
+                glm::dvec3 bn(0.0);
+                for (const Box& b : boxes) {
+                    double t = 0;
+                    glm::dvec3 n;
+                    if (ray_box(b, camera, d, t, n) && t < best) best = t, bn = n;
+                }
+                if (best > 300.0) continue;
+                const std::size_t i = std::size_t(y) * kW + std::size_t(x);
+                px[2 * i] = glm::vec4(glm::vec3(best * d), 1.f);
+                px[2 * i + 1] = glm::vec4(glm::vec3(bn), 0.f);
+                const glm::dvec3 p = camera + glm::dvec3(glm::vec3(best * d));
+                bool hit = false;
+                for (const Box& b : boxes) hit = hit || ray_hits(b, p, to_light);
+                truth[i] = hit ? 0 : 1;
             }
-            if (best > 300.0) continue;
-            const std::size_t i = std::size_t(y) * kW + std::size_t(x);
-            px[2 * i] = glm::vec4(glm::vec3(best * d), 1.f);
-            px[2 * i + 1] = glm::vec4(glm::vec3(bn), 0.f);
-            const glm::dvec3 p = camera + glm::dvec3(glm::vec3(best * d));
-            bool hit = false;
-            for (const Box& b : boxes) hit = hit || ray_hits(b, p, to_light);
-            truth[i] = hit ? 0 : 1;
-        }
+    };
+    cast_pixels();
 
     VsmLayout layout;
     layout.page_texels = 32;
@@ -296,13 +352,17 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     // casters: 36 vertices per box, relative to the anchor
     std::vector<glm::vec3> tris;
     static const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}};
-    for (const Box& b : boxes) {
-        glm::vec3 c[8];
-        for (int k = 0; k < 8; ++k)
-            c[k] = glm::vec3(glm::dvec3(k & 1 ? b.b[3] : b.b[0], k & 2 ? b.b[4] : b.b[1], k & 4 ? b.b[5] : b.b[2]) - camera);
-        for (const auto& fq : q)
-            for (int v : {0, 1, 2, 0, 2, 3}) tris.push_back(c[fq[v]]);
-    }
+    auto build_casters = [&] {
+        tris.clear();
+        for (const Box& b : boxes) {
+            glm::vec3 c[8];
+            for (int k = 0; k < 8; ++k)
+                c[k] = glm::vec3(glm::dvec3(k & 1 ? b.b[3] : b.b[0], k & 2 ? b.b[4] : b.b[1], k & 4 ? b.b[5] : b.b[2]) - camera);
+            for (const auto& fq : q)
+                for (int v : {0, 1, 2, 0, 2, 3}) tris.push_back(c[fq[v]]);
+        }
+    };
+    build_casters();
     REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
 
@@ -345,18 +405,22 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     const PassPush push{pixel_angle, kW};
     VkClearValue zero{};
 
-    upload_block();
-    std::memset(mask.mapped, 0, words * 4);
-    VkCommandBuffer cmd = skvk::begin_commands(ctx);
-    skvk::draw_pass(cmd, mark_rp, mark_fb, kW, kH, {zero}, mark_pipe, mark_layout, &mark_set.set, &push, VK_NULL_HANDLE, 3, false,
-                    sizeof push, frag);
-    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
-    REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    std::vector<std::uint32_t> bitmask(words);
-    std::memcpy(bitmask.data(), mask.mapped, words * 4);
+    auto mark_pass = [&] {
+        upload_block();
+        std::memset(mask.mapped, 0, words * 4);
+        VkCommandBuffer mc = skvk::begin_commands(ctx);
+        skvk::draw_pass(mc, mark_rp, mark_fb, kW, kH, {zero}, mark_pipe, mark_layout, &mark_set.set, &push, VK_NULL_HANDLE, 3, false,
+                        sizeof push, frag);
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(mc, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+        REQUIRE(skvk::submit_and_wait(ctx, mc));
+        std::vector<std::uint32_t> m(words);
+        std::memcpy(m.data(), mask.mapped, words * 4);
+        return m;
+    };
+    const std::vector<std::uint32_t> bitmask = mark_pass();
 
     const std::size_t bits = std::size_t(layout.level_count) * std::size_t(vsm.pages_per_side * vsm.pages_per_side);
     std::vector<std::uint8_t> sure(bits, 0), maybe(bits, 0);
@@ -407,7 +471,8 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     const auto atlas_rows = std::uint32_t((layout.pool_pages + vsm.layout.pool_columns - 1) / vsm.layout.pool_columns * layout.page_texels);
     skvk::Image atlas;
     REQUIRE(skvk::make_image(ctx, atlas_size, atlas_rows, 1, VK_FORMAT_D32_SFLOAT,
-                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, atlas));
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                             atlas));
     const VkImageLayout atlas_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass atlas_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, atlas_read);
     VkFramebuffer atlas_fb = skvk::make_framebuffer(ctx, atlas_rp, {atlas.view}, atlas_size, atlas_rows);
@@ -423,7 +488,31 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::write_image(ctx, look_set, 2, tex, atlas.view, glsl ? nearest : VK_NULL_HANDLE, atlas_read);
 
-    cmd = skvk::begin_commands(ctx);
+    // the listed pages, each with its own viewport and scissor (clear_each: its rectangle cleared first)
+    const auto pt = float(layout.page_texels);
+    auto draw_pages = [&](VkCommandBuffer c, const VsmPageRender* pg, std::size_t count, bool clear_each) {
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, caster_pipe);
+        const VkDeviceSize vb_offset = 0;
+        vkCmdBindVertexBuffers(c, 0, 1, &vb.buffer, &vb_offset);
+        for (std::size_t i = 0; i < count; ++i) {
+            // a plain viewport: NDC y = -1 at row atlas_y, as GL's glViewport puts it at texel row atlas_y
+            const VkViewport vp{float(pg[i].atlas_x), float(pg[i].atlas_y), pt, pt, 0.f, 1.f};
+            const VkRect2D sc{{pg[i].atlas_x, pg[i].atlas_y}, {std::uint32_t(pt), std::uint32_t(pt)}};
+            vkCmdSetViewport(c, 0, 1, &vp);
+            vkCmdSetScissor(c, 0, 1, &sc);
+            if (clear_each) {
+                VkClearAttachment ca{VK_IMAGE_ASPECT_DEPTH_BIT, 0, {}};
+                ca.clearValue.depthStencil = {1.f, 0};
+                const VkClearRect cr{sc, 0, 1};
+                vkCmdClearAttachments(c, 1, &ca, 1, &cr);
+            }
+            const VsmMatrix m = vsm_relative_matrix(pg[i].view_proj, camera);
+            REQUIRE(m.status == Status::Ok);
+            vkCmdPushConstants(c, caster_layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4), &m.matrix);
+            vkCmdDraw(c, std::uint32_t(tris.size()), 1, 0, 0);
+        }
+    };
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
     far.depthStencil = {1.f, 0};  // the whole atlas cleared: every page of it is rendered this frame
     VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
@@ -433,21 +522,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     bi.clearValueCount = 1;
     bi.pClearValues = &far;
     vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, caster_pipe);
-    const VkDeviceSize vb_offset = 0;
-    vkCmdBindVertexBuffers(cmd, 0, 1, &vb.buffer, &vb_offset);
-    const auto pt = float(layout.page_texels);
-    for (std::size_t i = 0; i < plan.count; ++i) {
-        // a plain viewport: NDC y = -1 at row atlas_y, as GL's glViewport puts it at texel row atlas_y
-        const VkViewport vp{float(pages[i].atlas_x), float(pages[i].atlas_y), pt, pt, 0.f, 1.f};
-        const VkRect2D sc{{pages[i].atlas_x, pages[i].atlas_y}, {std::uint32_t(pt), std::uint32_t(pt)}};
-        vkCmdSetViewport(cmd, 0, 1, &vp);
-        vkCmdSetScissor(cmd, 0, 1, &sc);
-        const VsmMatrix m = vsm_relative_matrix(pages[i].view_proj, camera);
-        REQUIRE(m.status == Status::Ok);
-        vkCmdPushConstants(cmd, caster_layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4), &m.matrix);
-        vkCmdDraw(cmd, std::uint32_t(tris.size()), 1, 0, 0);
-    }
+    draw_pages(cmd, pages.data(), plan.count, false);
     vkCmdEndRenderPass(cmd);
     skvk::draw_pass(cmd, look_rp, look_fb, kW, kH, {zero}, look_pipe, look_layout, &look_set.set, &push, VK_NULL_HANDLE, 3, false,
                     sizeof push, frag);
@@ -457,28 +532,32 @@ void run_scene(Source lang, const glm::dvec3& offset) {
 
     // agreement away from shadow and geometry edges (5x5 of one truth and one normal), as the GL test
     std::size_t counted = 0, agree = 0, holes = 0, lit = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            const std::size_t i = std::size_t(y) * kW + std::size_t(x);
-            if (truth[i] < 0) continue;
-            holes += v[i * 2 + 1] < 0.0f;
-            bool edge = false;
-            for (int dy = -2; dy <= 2 && !edge; ++dy)
-                for (int dx = -2; dx <= 2 && !edge; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= kW || yy >= kH) {
-                        edge = true;
-                        break;
+    auto agreement_of = [&](const std::vector<float>& vv) {
+        counted = agree = holes = lit = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const std::size_t i = std::size_t(y) * kW + std::size_t(x);
+                if (truth[i] < 0) continue;
+                holes += vv[i * 2 + 1] < 0.0f;
+                bool edge = false;
+                for (int dy = -2; dy <= 2 && !edge; ++dy)
+                    for (int dx = -2; dx <= 2 && !edge; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= kW || yy >= kH) {
+                            edge = true;
+                            break;
+                        }
+                        const std::size_t j = std::size_t(yy) * kW + std::size_t(xx);
+                        edge = truth[j] != truth[i] || px[2 * j + 1] != px[2 * i + 1];
                     }
-                    const std::size_t j = std::size_t(yy) * kW + std::size_t(xx);
-                    edge = truth[j] != truth[i] || px[2 * j + 1] != px[2 * i + 1];
-                }
-            if (edge) continue;
-            ++counted;
-            lit += std::size_t(truth[i]);
-            agree += (v[i * 2] > 0.5f) == (truth[i] == 1);
-        }
-    const double agreement = double(agree) / double(std::max<std::size_t>(counted, 1));
+                if (edge) continue;
+                ++counted;
+                lit += std::size_t(truth[i]);
+                agree += (vv[i * 2] > 0.5f) == (truth[i] == 1);
+            }
+        return double(agree) / double(std::max<std::size_t>(counted, 1));
+    };
+    const double agreement = agreement_of(v);
     MESSAGE(name << " lookup: " << plan.count << " pages rendered, " << counted << " pixels away from edges (" << lit
                  << " lit), agreement " << agreement << ", pixels without a page " << holes);
     CHECK(counted > std::size_t(kW * kH / 4));
@@ -486,6 +565,102 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     CHECK(counted - lit > counted / 20);
     CHECK(agreement >= 0.995);
     CHECK(holes == 0);
+
+    // ---- (c) move one caster, invalidate, re-render the listed pages only (into the kept atlas: a
+    // render pass that loads it, each page's rectangle cleared), then compare the pool with a full
+    // re-render of every current page into a fresh atlas, bit for bit
+    auto bits_of = [&](const skvk::Image& img) {
+        const std::vector<float> d = skvk::read_image(ctx, img, atlas_read, 1);
+        std::vector<std::uint32_t> u(d.size());
+        std::memcpy(u.data(), d.data(), d.size() * 4);
+        return u;
+    };
+    const std::vector<std::uint32_t> atlas_before = bits_of(atlas);
+    VsmCasterMove move;
+    for (int k = 0; k < 6; ++k) move.previous_bounds[k] = float(boxes[2].b[k]);
+    for (int k : {0, 3}) boxes[2].b[k] = double(float(boxes[2].b[k]) + 1.25f);
+    for (int k : {2, 5}) boxes[2].b[k] = double(float(boxes[2].b[k]) - 0.5f);
+    for (int k = 0; k < 6; ++k) move.bounds[k] = float(boxes[2].b[k]);
+    build_casters();
+    std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
+    cast_pixels();
+    std::memcpy(pixels.mapped, px.data(), px.size() * sizeof(glm::vec4));
+    const std::vector<std::uint32_t> bitmask2 = mark_pass();
+    const VsmRequestList rl2 = vsm_requests_from_bitmask(vsm, bitmask2.data(), bitmask2.size(), req.data(), req.size());
+    REQUIRE(rl2.status == Status::Ok);
+    f.requests = req.data();
+    f.request_count = rl2.count;
+    f.moved_casters = &move;
+    f.moved_caster_count = 1;
+    const VsmPlan plan2 = vsm_plan(vsm, f, pages.data(), pages.size());
+    REQUIRE(plan2.status == Status::Ok);
+    VkRenderPass load_rp = atlas_load_pass(ctx, atlas_read);
+    VkFramebuffer load_fb = skvk::make_framebuffer(ctx, load_rp, {atlas.view}, atlas_size, atlas_rows);
+    cmd = skvk::begin_commands(ctx);
+    bi.renderPass = load_rp;
+    bi.framebuffer = load_fb;
+    bi.clearValueCount = 0;
+    bi.pClearValues = nullptr;
+    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+    draw_pages(cmd, pages.data(), plan2.count, true);
+    vkCmdEndRenderPass(cmd);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    const std::vector<std::uint32_t> kept = bits_of(atlas);
+    // the full re-render: every current page into a fresh atlas (cleared whole)
+    std::vector<VsmPageRender> all;
+    for (std::uint32_t sl = 0; sl < std::uint32_t(layout.pool_pages); ++sl) {
+        const VsmSlotPage sp = vsm_slot_page(vsm, sl);
+        REQUIRE(sp.status == Status::Ok);
+        if (sp.resident && sp.current) all.push_back(sp.page);
+    }
+    skvk::Image full;
+    REQUIRE(skvk::make_image(ctx, atlas_size, atlas_rows, 1, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                             full));
+    VkFramebuffer full_fb = skvk::make_framebuffer(ctx, atlas_rp, {full.view}, atlas_size, atlas_rows);
+    cmd = skvk::begin_commands(ctx);
+    bi.renderPass = atlas_rp;
+    bi.framebuffer = full_fb;
+    bi.clearValueCount = 1;
+    bi.pClearValues = &far;
+    vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+    draw_pages(cmd, all.data(), all.size(), false);
+    vkCmdEndRenderPass(cmd);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    const std::vector<std::uint32_t> ref = bits_of(full);
+    std::size_t differing_pages = 0, changed_by_move = 0;
+    for (const VsmPageRender& pg : all) {
+        bool differs = false, changed = false;
+        for (int y = 0; y < layout.page_texels; ++y)
+            for (int x = 0; x < layout.page_texels; ++x) {
+                const std::size_t i = std::size_t(pg.atlas_y + y) * atlas_size + std::size_t(pg.atlas_x + x);
+                differs = differs || kept[i] != ref[i];
+                changed = changed || atlas_before[i] != ref[i];
+            }
+        differing_pages += differs;
+        changed_by_move += changed;
+    }
+    MESSAGE(name << " moved caster: " << plan2.invalidated << " pages invalidated, " << plan2.rerendered << " re-rendered, "
+                 << plan2.allocated << " newly allocated, of " << all.size() << " current pages; " << changed_by_move
+                 << " pages differ from the frame before, " << differing_pages << " from the full re-render");
+    CHECK(differing_pages == 0);
+    CHECK(changed_by_move > 0);
+    CHECK(plan2.rerendered > 0);
+    CHECK(plan2.count < all.size() / 2);
+    // the lookup after the move agrees with the ray cast as well
+    upload_block();
+    cmd = skvk::begin_commands(ctx);
+    skvk::draw_pass(cmd, look_rp, look_fb, kW, kH, {zero}, look_pipe, look_layout, &look_set.set, &push, VK_NULL_HANDLE, 3, false,
+                    sizeof push, frag);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    const double agreement2 = agreement_of(skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 2));
+    MESSAGE(name << " after the move: agreement " << agreement2 << " over " << counted << " pixels, pixels without a page " << holes);
+    CHECK(agreement2 >= 0.995);
+    CHECK(holes == 0);
+    vkDestroyFramebuffer(ctx.device, load_fb, nullptr);
+    vkDestroyFramebuffer(ctx.device, full_fb, nullptr);
+    vkDestroyRenderPass(ctx.device, load_rp, nullptr);
+    skvk::destroy(ctx, full);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
     for (VkPipeline p : {mark_pipe, look_pipe, caster_pipe}) vkDestroyPipeline(ctx.device, p, nullptr);
@@ -501,12 +676,12 @@ void run_scene(Source lang, const glm::dvec3& offset) {
 
 }  // namespace
 
-TEST_CASE("virtual_shadow_map.glsl on Vulkan: GPU marks match the CPU, the lookup matches a ray cast") {
+TEST_CASE("virtual_shadow_map.glsl on Vulkan: marks match the CPU, lookup matches a ray cast, a moved caster re-renders its pages") {
     run_scene(Source::Glsl, glm::dvec3(0.0));
     run_scene(Source::Glsl, glm::dvec3(1.0e6, 0.0, -1.0e6));
 }
 
-TEST_CASE("HLSL virtual_shadow_map.hlsl on Vulkan: GPU marks match the CPU, the lookup matches a ray cast") {
+TEST_CASE("HLSL virtual_shadow_map.hlsl on Vulkan: marks match the CPU, lookup matches a ray cast, a moved caster re-renders its pages") {
     run_scene(Source::Hlsl, glm::dvec3(0.0));
     run_scene(Source::Hlsl, glm::dvec3(1.0e6, 0.0, -1.0e6));
 }

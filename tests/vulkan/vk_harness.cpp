@@ -463,7 +463,7 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     rs.depthBiasSlopeFactor = d.bias_slope;
     rs.lineWidth = 1.f;
     VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    ms.rasterizationSamples = d.samples;
     VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     ds.depthTestEnable = d.depth_test ? VK_TRUE : VK_FALSE;
     ds.depthWriteEnable = d.depth_write ? VK_TRUE : VK_FALSE;

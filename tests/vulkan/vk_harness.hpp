@@ -117,6 +117,7 @@ struct PipelineDesc {
     VkBlendFactor blend_src_alpha = VK_BLEND_FACTOR_ONE, blend_dst_alpha = VK_BLEND_FACTOR_ONE;  ///< a
     bool stencil = false;                          ///< stencil test with the two faces below
     VkStencilOpState stencil_front{}, stencil_back{};
+    VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< rasterization samples (the render pass's)
 };
 VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout layout, VkRenderPass rp, std::string& why);
 
