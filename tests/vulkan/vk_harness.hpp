@@ -113,6 +113,8 @@ struct PipelineDesc {
     bool color_write = true;
     bool stencil = false;                          ///< stencil test with the two faces below
     VkStencilOpState stencil_front{}, stencil_back{};
+    bool blend_add = false;    ///< additive blending (ONE, ONE, ADD) on every colour attachment
+    bool depth_bounds = false; ///< depthBoundsTestEnable, bounds set with vkCmdSetDepthBounds (dynamic; the depthBounds feature)
 };
 VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout layout, VkRenderPass rp, std::string& why);
 
