@@ -125,6 +125,7 @@ std::string create_context(Context& ctx, bool want_validation, bool& no_device) 
     ctx.enabled.depthBounds = ctx.supported.depthBounds;
     ctx.enabled.geometryShader = ctx.supported.geometryShader;
     ctx.enabled.fragmentStoresAndAtomics = ctx.supported.fragmentStoresAndAtomics;  // virtual_shadow_map marking
+    ctx.enabled.shaderClipDistance = ctx.supported.shaderClipDistance;  // omni_shadow: the dual-paraboloid map pass
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qi.queueFamilyIndex = ctx.queue_family;
