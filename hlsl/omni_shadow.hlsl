@@ -10,7 +10,7 @@
 // sk_dp_clip_distance(...). Cube faces: GL's face frames (omni_cube_matrices) drawn with a plain
 // viewport into layer f of a cube-compatible image (docs/vulkan_and_direct3d.md, "Cube maps").
 // Matrices (dp_view) `column_major` with mul(M, v) (hlsl/shadow_map.hlsl states the rule).
-// Compiled in the tests by glslang's HLSL front end to SPIR-V (the cube lookups also run on Vulkan);
+// Compiled in the tests by glslang's HLSL front end to SPIR-V (the cube lookups and both dual-paraboloid passes also run on Vulkan);
 // written for DXC (shader model 6.0) as well, but not compiled with it here (not in Debian 12).
 // MIT License. Copyright (c) shadowkit contributors.
 

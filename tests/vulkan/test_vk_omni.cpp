@@ -4,7 +4,7 @@
 // with sk_cube_visibility_distance (hardware compare), sk_cube_visibility_distance_pcf (3 x 3 taps
 // across faces) and sk_cube_visibility_distance_manual (a point sampler on the same image), biased by
 // sk_omni_bias; the e2e scene's CPU ray cast as reference (>= 99.5% away from shadow edges), no
-// validation message. (The dual-paraboloid functions are compiled by hlsl.snippets_compile, not run.)
+// validation message. The dual-paraboloid maps (map pass and lookups) run as well: see the section below.
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
@@ -13,7 +13,10 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -335,6 +338,455 @@ void check(Source lang) {
     }
 }
 
+
+// ------------------------------------------------------------------------------ dual paraboloid
+// The GL test's (c) on the e2e scene: both paraboloid maps in the two layers of one D32 array (887^2
+// texels each, the texel count of a 512^2 cube), the map pass's vertex stage writing
+// sk_dp_clip_position (zero_to_one) and sk_dp_clip_distance (margin 0.1, the shaderClipDistance
+// feature), its fragment stage sk_omni_linear_depth, the casters (box and floor) tessellated so their
+// chords stay within `tess` texels (omni_paraboloid_max_edge_length, the sample's uniform n x n split);
+// the frame's axis horizontal and perpendicular to the light-to-box direction, so the rim runs through
+// the box and its shadow. Lookups sk_dp_shadow and sk_dp_shadow_pcf (3 x 3, across the rim) biased
+// with sk_omni_bias at sk_dp_texel_angle. References: the map against a CPU ray cast per texel centre
+// (direction from omni_paraboloid_unproject), and the lookup against the e2e ray cast.
+constexpr std::uint32_t kDp = 887;
+constexpr float kMargin = 0.1f;
+
+const char* kDpMapGlsl = R"(
+layout(push_constant) uniform MapParams { mat4 dp_view; vec4 light_position; vec4 params; } pc;  // side, range, margin
+#ifdef SK_MAP_VS
+layout(location = 0) in vec3 a_position;
+layout(location = 0) out vec3 v_world;
+out gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[1]; };
+void main() {
+    v_world = a_position;
+    gl_Position = sk_dp_clip_position(pc.dp_view, a_position, pc.params.x, pc.params.y, true);
+    gl_ClipDistance[0] = sk_dp_clip_distance(pc.dp_view, a_position, pc.params.x, pc.params.z);
+}
+#else
+layout(location = 0) in vec3 v_world;
+void main() { gl_FragDepth = sk_omni_linear_depth(v_world, pc.light_position, pc.params.y); }
+#endif
+)";
+const char* kDpMapHlsl = R"(
+struct MapParams { column_major float4x4 dp_view; float4 light_position; float4 params; };
+[[vk::push_constant]] ConstantBuffer<MapParams> mp;
+struct MapVaryings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    float clip : SV_ClipDistance0;
+};
+MapVaryings vs_map([[vk::location(0)]] float3 position : POSITION) {
+    MapVaryings o;
+    o.world = position;
+    o.position = sk_dp_clip_position(mp.dp_view, position, mp.params.x, mp.params.y, true);
+    o.clip = sk_dp_clip_distance(mp.dp_view, position, mp.params.x, mp.params.z);
+    return o;
+}
+float ps_map(MapVaryings i) : SV_Depth { return sk_omni_linear_depth(i.world, mp.light_position, mp.params.y); }
+)";
+// params: x = range, y = map size, z = tess (texels), w = pcf radius; storage: (absolute, relative)
+const char* kDpReceiverGlsl = R"(
+layout(set = 0, binding = 0) uniform sampler2DArrayShadow u_dp;
+layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 dp_view; vec4 light_position; vec4 params; vec4 storage; } u;
+#ifdef SK_RECEIVER_VS
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = u.view_proj * vec4(a_position, 1.0);
+}
+#else
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out float o_visibility;
+layout(location = 1) out vec4 o_world;
+layout(location = 2) out vec4 o_normal;
+void main() {
+    vec3 L = sk_omni_light_point(u.light_position) - v_world;
+    float d = length(L);
+    vec4 c = sk_dp_coord(u.dp_view, v_world);
+    int pcf = int(u.params.w);
+    float radius = float(pcf + 1) * 1.4143 + u.params.z;
+    float b = sk_omni_bias(d, dot(normalize(v_normal), L / d), sk_dp_texel_angle(u.params.y, c.w), radius, 1.4835, u.storage.xy);
+    o_visibility = pcf > 0 ? sk_dp_shadow_pcf(u_dp, u.dp_view, v_world, u.params.x, b, u.params.y, pcf)
+                           : sk_dp_shadow(u_dp, u.dp_view, v_world, u.params.x, b);
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+#endif
+)";
+const char* kDpReceiverHlsl = R"(
+struct DpParams { column_major float4x4 view_proj; column_major float4x4 dp_view; float4 light_position; float4 params; float4 storage; };
+[[vk::binding(0, 0)]] Texture2DArray<float> u_dp;
+[[vk::binding(1, 0)]] ConstantBuffer<DpParams> u;
+[[vk::binding(2, 0)]] SamplerComparisonState u_compare;
+struct Varyings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    [[vk::location(1)]] float3 normal : TEXCOORD1;
+};
+Varyings vs_receiver([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    Varyings o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(u.view_proj, float4(position, 1.0));
+    return o;
+}
+struct Targets {
+    [[vk::location(0)]] float visibility : SV_Target0;
+    [[vk::location(1)]] float4 world : SV_Target1;
+    [[vk::location(2)]] float4 normal : SV_Target2;
+};
+Targets ps_receiver(Varyings i) {
+    Targets o;
+    float3 L = sk_omni_light_point(u.light_position) - i.world;
+    float d = length(L);
+    float4 c = sk_dp_coord(u.dp_view, i.world);
+    int pcf = int(u.params.w);
+    float radius = float(pcf + 1) * 1.4143 + u.params.z;
+    float b = sk_omni_bias(d, dot(normalize(i.normal), L / d), sk_dp_texel_angle(u.params.y, c.w), radius, 1.4835, u.storage.xy);
+    o.visibility = pcf > 0 ? sk_dp_shadow_pcf(u_dp, u_compare, u.dp_view, i.world, u.params.x, b, u.params.y, pcf)
+                           : sk_dp_shadow(u_dp, u_compare, u.dp_view, i.world, u.params.x, b);
+    o.world = float4(i.world, 1.0);
+    o.normal = float4(normalize(i.normal), 0.0);
+    return o;
+}
+)";
+
+struct DpParams {
+    glm::mat4 view_proj, dp_view;
+    glm::vec4 light_position, params, storage;
+};
+struct MapPush {
+    glm::mat4 dp_view;
+    glm::vec4 light_position, params;
+};
+
+bool lex_less(const glm::vec3& a, const glm::vec3& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z;
+}
+
+// samples/dual_paraboloid's split: every triangle into n x n, the points from its corners sorted
+// lexicographically (a shared edge splits at the same points from both sides: watertight).
+void subdivide(const std::vector<skvk::SceneVertex>& tris, int n, std::vector<glm::vec3>& out) {
+    for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+        glm::vec3 v[3] = {tris[t].position, tris[t + 1].position, tris[t + 2].position};
+        std::sort(v, v + 3, lex_less);
+        auto at = [&](int i, int j) {
+            const double wa = i, wb = j, wc = n - i - j;
+            return glm::vec3((wa * glm::dvec3(v[0]) + wb * glm::dvec3(v[1]) + wc * glm::dvec3(v[2])) / double(n));
+        };
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n - i; ++j) {
+                for (const glm::vec3& q : {at(i, j), at(i + 1, j), at(i, j + 1)}) out.push_back(q);
+                if (j + 1 < n - i)
+                    for (const glm::vec3& q : {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)}) out.push_back(q);
+            }
+    }
+}
+
+// The casters (floor: vertices 0-5, box: the rest), each split with one n from the shortest distance of
+// the light to the mesh's box (a lower bound of every triangle's distance) and its longest edge.
+std::vector<glm::vec3> dp_casters(const skvk::BoxScene& s, float tess, std::size_t& triangles) {
+    std::vector<glm::vec3> out;
+    const float max_radius = std::sqrt((1.f + kMargin) / (1.f - kMargin));
+    for (int mesh = 0; mesh < 2; ++mesh) {
+        const std::vector<skvk::SceneVertex> tris(s.vertices.begin() + (mesh ? 6 : 0), mesh ? s.vertices.end() : s.vertices.begin() + 6);
+        glm::vec3 lo(1e30f), hi(-1e30f);
+        float longest = 0.f;
+        for (std::size_t k = 0; k < tris.size(); ++k) {
+            lo = glm::min(lo, tris[k].position);
+            hi = glm::max(hi, tris[k].position);
+            longest = std::max(longest, glm::length(tris[k].position - tris[k - k % 3 + (k % 3 + 1) % 3].position));
+        }
+        int n = 1;
+        if (tess > 0.f) {
+            const float dist = glm::length(glm::clamp(s.light, lo, hi) - s.light);
+            const shadowkit::OmniEdgeLengthResult ml = shadowkit::omni_paraboloid_max_edge_length(dist, kDp, tess, max_radius);
+            REQUIRE(ml.status == shadowkit::Status::Ok);
+            n = std::min(256, int(std::ceil(longest / ml.length)));
+        }
+        subdivide(tris, n, out);
+    }
+    triangles = out.size() / 3;
+    return out;
+}
+
+// Nearest hit of the ray o + t d (d unit) on the floor quad or the box, or +inf.
+float ray_scene(const skvk::BoxScene& s, glm::vec3 o, glm::vec3 d) {
+    float best = std::numeric_limits<float>::infinity();
+    if (d.y < 0.f) {
+        const float t = -o.y / d.y;
+        const glm::vec3 p = o + t * d;
+        if (std::abs(p.x) <= s.ground_half && std::abs(p.z) <= s.ground_half) best = t;
+    }
+    const glm::vec3 lo = s.box_c - s.box_h, hi = s.box_c + s.box_h;
+    float t0 = 0.f, t1 = best;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(d[a]) < 1e-12f) {
+            if (o[a] < lo[a] || o[a] > hi[a]) return best;
+            continue;
+        }
+        float ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    return t0 <= t1 ? t0 : best;
+}
+
+struct DpResult {
+    skvk::Agreement agreement;
+    std::size_t triangles = 0, map_texels = 0, map_off = 0;  ///< texels inside the disks; those outside their 3 x 3 bounds
+    std::size_t map_hits[2] = {0, 0};                        ///< texels per layer whose ray hits a caster
+    double map_median = 0.0;                                 ///< median |stored - ray cast| over the hits
+};
+
+struct DpShaders {
+    std::vector<std::uint32_t> map_vs, map_fs, vs, fs;
+    const char *map_vs_entry = "main", *map_fs_entry = "main", *vs_entry = "main", *fs_entry = "main";
+};
+DpShaders compile_dp(Source lang) {
+    DpShaders s;
+    const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
+    if (lang == Source::Glsl) {
+        const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/omni_shadow.glsl");
+        s.map_vs = skvk::compile_checked(lang, V, head + "#define SK_MAP_VS 1\n" + kDpMapGlsl, "main", "omni.dp.glsl.map.vert");
+        s.map_fs = skvk::compile_checked(lang, F, head + kDpMapGlsl, "main", "omni.dp.glsl.map.frag");
+        s.vs = skvk::compile_checked(lang, V, head + "#define SK_RECEIVER_VS 1\n" + kDpReceiverGlsl, "main", "omni.dp.glsl.vert");
+        s.fs = skvk::compile_checked(lang, F, head + kDpReceiverGlsl, "main", "omni.dp.glsl.frag");
+    } else {
+        const std::string head = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/omni_shadow.hlsl");
+        s.map_vs = skvk::compile_checked(lang, V, head + kDpMapHlsl, "vs_map", "omni.dp.hlsl.map.vert");
+        s.map_fs = skvk::compile_checked(lang, F, head + kDpMapHlsl, "ps_map", "omni.dp.hlsl.map.frag");
+        s.vs = skvk::compile_checked(lang, V, head + kDpReceiverHlsl, "vs_receiver", "omni.dp.hlsl.vert");
+        s.fs = skvk::compile_checked(lang, F, head + kDpReceiverHlsl, "ps_receiver", "omni.dp.hlsl.frag");
+        s.map_vs_entry = "vs_map";
+        s.map_fs_entry = "ps_map";
+        s.vs_entry = "vs_receiver";
+        s.fs_entry = "ps_receiver";
+    }
+    return s;
+}
+
+// Every texel centre: its direction (omni_paraboloid_unproject) into the world, the nearest caster,
+// expected = min(t / range, 1). The map's chords stay within `tess` = 1 texel of the curved images, so a
+// texel inside a disk (r <= 1 - 4 texels) must hold a value between the smallest and the largest
+// expected value of its 3 x 3 texels (a silhouette texel may hold either surface), +- 1e-5.
+void check_map(const skvk::BoxScene& s, const glm::mat4& frame, float range, const std::vector<float> layers[2], DpResult& r) {
+    const glm::mat3 to_world = glm::transpose(glm::mat3(frame));  // the frame's rotation is orthonormal
+    std::vector<float> expect(std::size_t(kDp) * kDp);
+    std::vector<float> diffs;
+    for (int layer = 0; layer < 2; ++layer) {
+        const auto h = layer == 0 ? shadowkit::OmniHemisphere::Front : shadowkit::OmniHemisphere::Back;
+        auto xy_of = [](std::uint32_t i, std::uint32_t j) {
+            return glm::vec2((float(i) + 0.5f) / float(kDp) * 2.f - 1.f, (float(j) + 0.5f) / float(kDp) * 2.f - 1.f);
+        };
+        for (std::uint32_t j = 0; j < kDp; ++j)
+            for (std::uint32_t i = 0; i < kDp; ++i) {
+                const shadowkit::OmniDirection od = shadowkit::omni_paraboloid_unproject(h, xy_of(i, j));
+                REQUIRE(od.status == shadowkit::Status::Ok);
+                expect[std::size_t(j) * kDp + i] = std::min(ray_scene(s, s.light, glm::normalize(to_world * od.direction)) / range, 1.f);
+            }
+        for (std::uint32_t j = 1; j + 1 < kDp; ++j)
+            for (std::uint32_t i = 1; i + 1 < kDp; ++i) {
+                if (glm::length(xy_of(i, j)) > 1.f - 8.f / float(kDp)) continue;
+                const std::size_t k = std::size_t(j) * kDp + i;
+                float lo = 2.f, hi = -1.f;
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di) {
+                        const float e = expect[std::size_t(int(k) + dj * int(kDp) + di)];
+                        lo = std::min(lo, e);
+                        hi = std::max(hi, e);
+                    }
+                const float stored = layers[layer][k];
+                ++r.map_texels;
+                r.map_off += stored < lo - 1e-5f || stored > hi + 1e-5f;
+                if (expect[k] < 1.f) {
+                    ++r.map_hits[layer];
+                    diffs.push_back(std::abs(stored - expect[k]));
+                }
+            }
+    }
+    REQUIRE(!diffs.empty());
+    std::nth_element(diffs.begin(), diffs.begin() + std::ptrdiff_t(diffs.size() / 2), diffs.end());
+    r.map_median = diffs[diffs.size() / 2];
+}
+
+DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const skvk::BoxScene scene;
+    const glm::vec4 light(scene.light, 1.f);
+    // the frame: light at the origin, the axis horizontal and perpendicular to the light-to-box direction
+    const glm::vec3 to_box = scene.box_c - scene.light;
+    const shadowkit::OmniParaboloidFrame fr =
+        shadowkit::omni_paraboloid_frame(light, glm::normalize(glm::vec3(-to_box.z, 0.f, to_box.x)), {0.f, 1.f, 0.f});
+    REQUIRE(fr.status == shadowkit::Status::Ok);
+    float range = 0.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? 3.f : -3.f, (i & 2) ? 1.1f : 0.f, (i & 4) ? 3.f : -3.f);
+        range = std::max(range, glm::length(c - scene.light));
+    }
+    range *= 1.01f;
+    DpResult out;
+    const std::vector<glm::vec3> casters = dp_casters(scene, tess, out.triangles);
+    const glm::mat4 cam = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f) *
+                          glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
+    const DpParams params{cam, fr.view, light, glm::vec4(range, float(kDp), tess, float(pcf)),
+                          glm::vec4(1e-5f * range, 2.3841858e-7f, 0.f, 0.f)};  // the sample's storage terms (2^-22)
+    const DpShaders sh = compile_dp(lang);
+
+    skvk::Buffer cvb, vb, ubo;
+    const auto ccount = static_cast<std::uint32_t>(casters.size()), vcount = static_cast<std::uint32_t>(scene.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(glm::vec3) * ccount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, cvb));
+    std::memcpy(cvb.mapped, casters.data(), sizeof(glm::vec3) * ccount);
+    REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
+    REQUIRE(skvk::make_buffer(ctx, sizeof(DpParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
+    std::memcpy(ubo.mapped, &params, sizeof params);
+
+    // 1. both maps: distance / range, depth test LESS, cleared to 1, no culling, the other hemisphere clipped
+    skvk::Image maps, vis, world, normal, depth;
+    REQUIRE(skvk::make_image(ctx, kDp, kDp, 2, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                             maps, true));
+    const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkFramebuffer map_fb[2];
+    for (std::size_t l = 0; l < 2; ++l) map_fb[l] = skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[l]}, kDp, kDp);
+    VkPushConstantRange range_pc{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(MapPush)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range_pc;
+    VkPipelineLayout map_layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
+    skvk::PipelineDesc md;
+    md.vs = sh.map_vs;
+    md.fs = sh.map_fs;
+    md.vs_entry = sh.map_vs_entry;
+    md.fs_entry = sh.map_fs_entry;
+    md.vertex_stride = sizeof(glm::vec3);
+    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    std::string why;
+    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
+    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+
+    // 2. the receivers: V, world point and normal
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
+    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                             VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
+    skvk::DescriptorSet ds;
+    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
+    if (lang == Source::Glsl) {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, F}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, maps.view, sampler, map_read);
+    } else {
+        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, F}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
+                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, F}}, ds));
+        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, maps.view, VK_NULL_HANDLE, map_read);
+        skvk::write_sampler(ctx, ds, 2, sampler);
+    }
+    skvk::write_buffer(ctx, ds, 1, ubo);
+    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1;
+    li.pSetLayouts = &ds.layout;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    skvk::PipelineDesc pd;
+    pd.vs = sh.vs;
+    pd.fs = sh.fs;
+    pd.vs_entry = sh.vs_entry;
+    pd.fs_entry = sh.fs_entry;
+    pd.vertex_stride = sizeof(skvk::SceneVertex);
+    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    pd.color_count = 3;
+    pd.cull = VK_CULL_MODE_BACK_BIT;
+    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
+    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    VkClearValue far{}, zero{};
+    far.depthStencil = {1.f, 0};
+    for (int l = 0; l < 2; ++l) {  // layer 0 the front paraboloid (side +1), layer 1 the back (-1); a plain viewport
+        const MapPush push{fr.view, light, glm::vec4(l == 0 ? 1.f : -1.f, range, kMargin, 0.f)};
+        skvk::draw_pass(cmd, map_rp, map_fb[l], kDp, kDp, {far}, map_pipe, map_layout, nullptr, &push, cvb.buffer, ccount, false,
+                        sizeof push, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    }
+    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+
+    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
+    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+    if (map_check) {
+        const std::vector<float> layers[2] = {skvk::read_image(ctx, maps, map_read, 1, 0), skvk::read_image(ctx, maps, map_read, 1, 1)};
+        REQUIRE(layers[0].size() == std::size_t(kDp) * kDp);
+        check_map(scene, fr.view, range, layers, out);
+    }
+
+    vkDestroyPipeline(ctx.device, pipe, nullptr);
+    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
+    vkDestroySampler(ctx.device, sampler, nullptr);
+    vkDestroyFramebuffer(ctx.device, fb, nullptr);
+    for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
+    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
+    skvk::destroy(ctx, ds);
+    for (skvk::Image* i : {&maps, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    for (skvk::Buffer* b : {&cvb, &vb, &ubo}) skvk::destroy(ctx, *b);
+    return out;
+}
+
+void check_dp(Source lang) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    REQUIRE_MESSAGE(ctx.enabled.shaderClipDistance, "the map pass's clip distance needs the shaderClipDistance feature");
+    const std::string name = std::string(lang == Source::Glsl ? "GLSL" : "HLSL") + " dual paraboloid " + std::to_string(kDp);
+    double tess1 = 0.0;
+    for (const auto& [tess, pcf] : {std::pair{1.f, 0}, std::pair{1.f, 1}, std::pair{0.f, 0}}) {
+        const std::size_t before = skvk::message_count();
+        const DpResult r = run_dp(lang, tess, pcf, pcf == 0);
+        const std::string what = name + ", tess " + std::to_string(int(tess)) + (pcf ? ", 3 x 3 PCF" : ", 2 x 2 compare");
+        INFO(what);
+        MESSAGE(what << ": " << r.triangles << " caster triangles; compared " << r.agreement.compared << " (lit " << r.agreement.lit
+                     << ", shadowed " << r.agreement.shadowed << "), agreement " << r.agreement.fraction());
+        CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+        CHECK(r.agreement.compared > int(kW * kH) / 4);
+        CHECK(r.agreement.shadowed > r.agreement.compared / 50);
+        if (r.map_texels) {
+            MESSAGE("  maps against the per-texel ray cast: " << r.map_texels << " texels inside the disks (caster hits: front "
+                                                              << r.map_hits[0] << ", back " << r.map_hits[1]
+                                                              << "), median |stored - cast| over the hits " << r.map_median
+                                                              << ", texels outside their 3 x 3 neighbours' range: " << r.map_off);
+            CHECK(r.map_hits[0] > 10000);
+            CHECK(r.map_hits[1] > 10000);
+            if (tess > 0.f) CHECK(r.map_off <= r.map_texels / 10000);
+            else CHECK(r.map_off > r.map_texels / 1000);  // the control: untessellated chords cut through the maps
+        }
+        if (tess > 0.f) {
+            CHECK(r.agreement.fraction() >= 0.99);  // the GL test's budget: 1% misclassified
+            if (pcf == 0) tess1 = r.agreement.fraction();
+        } else {
+            CHECK(r.agreement.fraction() < tess1);  // untessellated chords: worse
+        }
+    }
+}
+
 }  // namespace
 
 TEST_CASE("omni_shadow.glsl's distance cube on Vulkan: compare, pcf and manual lookups agree with the ray cast") {
@@ -373,4 +825,12 @@ TEST_CASE("reversed-Z omni_shadow.glsl's distance cube on Vulkan: reversed faces
 
 TEST_CASE("HLSL reversed-Z omni_shadow.hlsl's distance cube on Vulkan: reversed faces and camera, lookups agree with the ray cast") {
     check_reversed(Source::Hlsl);
+}
+
+TEST_CASE("omni_shadow.glsl's dual-paraboloid maps on Vulkan: map pass against a per-texel ray cast, lookups against the ray cast") {
+    check_dp(Source::Glsl);
+}
+
+TEST_CASE("HLSL omni_shadow.hlsl's dual-paraboloid maps on Vulkan: map pass against a per-texel ray cast, lookups against the ray cast") {
+    check_dp(Source::Hlsl);
 }

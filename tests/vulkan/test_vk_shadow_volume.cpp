@@ -11,6 +11,11 @@
 // receiver pixel, and stencil == 0 (lit) must agree with the CPU ray cast on >= 99.5% of them (the
 // e2e test's tolerance). Controls: the two faces' operations swapped give wrapped counts (255); the
 // finite far plane without the clamp clips the dark cap and loses shadow.
+// Scissor and depth bounds (shadowkit::volume_scissor, Lengyel): the scissor rectangle (GL rows from the
+// bottom, turned for the flipped viewport) and the depth bounds, emulated with sk_outside_depth_bounds_at
+// on a sampled copy of the scene's depth (lavapipe has no depthBounds feature), or natively with
+// vkCmdSetDepthBounds where the device has it: the stencil equals the unculled run's on every pixel,
+// the volume fragments that reach the counting fragment stage drop; control: an empty range loses the shadow.
 #include <doctest/doctest.h>
 
 #include <shadowkit/infinite_projection.hpp>
@@ -310,6 +315,318 @@ void check(Source lang) {
     }
 }
 
+
+// ------------------------------------------------------------------ scissor and depth bounds
+// Lengyel's per-occluder scissor rectangle and depth bounds (shadowkit::volume_scissor for the box and
+// the receivers' box, the camera's reversed-Z [0, 1] matrix). Two passes: the G-buffer with the scene's
+// depth in a sampled D32 image, then the scene's depth again, and the volume with a fragment stage that
+// counts its fragments (an atomic in a storage buffer). Depth bounds emulated (lavapipe: depthBounds 0):
+// sk_outside_depth_bounds_at on the first pass's depth discards; native: depthBoundsTestEnable with
+// vkCmdSetDepthBounds (where the device has the feature). The stencil must equal the unculled run's on
+// every pixel and the fragments must not grow.
+enum class Bounds { Off, Emulated, Native, Wrong };  // Wrong: the control, emulated with an empty range
+
+const char* kBoundsGlsl = R"(
+layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; vec4 bounds; } pc;
+#ifdef SK_SCENE_VS
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = pc.view_proj * vec4(a_position, 1.0);
+}
+#else
+layout(set = 0, binding = 0) uniform sampler2D u_scene_depth;  // the first pass's depth (a copy: not the attachment)
+layout(set = 0, binding = 1, std430) buffer Count { uint fragments; };
+void main() {
+    if (sk_outside_depth_bounds_at(u_scene_depth, ivec2(gl_FragCoord.xy), pc.bounds.xy)) discard;
+    atomicAdd(fragments, 1u);
+}
+#endif
+)";
+const char* kBoundsHlsl = R"(
+struct BoundsPush { column_major float4x4 view_proj; float4 light_position; float4 bounds; };
+[[vk::push_constant]] ConstantBuffer<BoundsPush> bpc;
+[[vk::binding(0, 0)]] Texture2D<float> u_scene_depth;
+[[vk::binding(1, 0)]] RWByteAddressBuffer u_count;
+struct SceneOut { float4 position : SV_Position; [[vk::location(0)]] float3 world : WORLD; [[vk::location(1)]] float3 normal : NORMAL; };
+SceneOut vs_scene([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    SceneOut o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(bpc.view_proj, float4(position, 1.0));
+    return o;
+}
+float4 vs_bounds_volume([[vk::location(0)]] float4 position : POSITION) : SV_Position {
+    return mul(bpc.view_proj, sk_extrude_shadow_volume(position, bpc.light_position));
+}
+void ps_bounds(float4 position : SV_Position) {
+    if (sk_outside_depth_bounds_at(u_scene_depth, int2(position.xy), bpc.bounds.xy)) discard;
+    uint before;
+    u_count.InterlockedAdd(0, 1u, before);
+}
+)";
+
+struct BoundsPush {
+    glm::mat4 view_proj;
+    glm::vec4 light_position, bounds;
+};
+
+struct BoundsResult {
+    std::vector<std::uint8_t> stencil;
+    std::vector<float> world, normal;
+    std::uint32_t fragments = 0;
+    shadowkit::ScissorRect sc;
+};
+
+struct BoundsShaders {
+    std::vector<std::uint32_t> scene_vs, scene_fs, volume_vs, volume_fs;
+    const char *scene_entry = "main", *volume_entry = "main", *fs_entry = "main";
+};
+BoundsShaders compile_bounds_shaders(Source lang) {
+    BoundsShaders b;
+    const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
+    b.scene_fs = skvk::compile_checked(Source::Glsl, F, kSceneFs, "main", "shadow_volume.bounds.scene.frag");
+    if (lang == Source::Glsl) {
+        const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl");
+        b.scene_vs = skvk::compile_checked(lang, V, head + "#define SK_SCENE_VS 1\n" + kBoundsGlsl, "main", "shadow_volume.bounds.glsl.scene.vert");
+        b.volume_vs = skvk::compile_checked(lang, V, head + kVolumeGlsl, "main", "shadow_volume.bounds.glsl.vert");
+        b.volume_fs = skvk::compile_checked(lang, F, head + kBoundsGlsl, "main", "shadow_volume.bounds.glsl.frag");
+    } else {
+        const std::string head = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_volume.hlsl");
+        b.scene_vs = skvk::compile_checked(lang, V, head + kBoundsHlsl, "vs_scene", "shadow_volume.bounds.hlsl.scene.vert");
+        b.volume_vs = skvk::compile_checked(lang, V, head + kBoundsHlsl, "vs_bounds_volume", "shadow_volume.bounds.hlsl.vert");
+        b.volume_fs = skvk::compile_checked(lang, F, head + kBoundsHlsl, "ps_bounds", "shadow_volume.bounds.hlsl.frag");
+        b.scene_entry = "vs_scene";
+        b.volume_entry = "vs_bounds_volume";
+        b.fs_entry = "ps_bounds";
+    }
+    return b;
+}
+
+struct BoundsPipelines {
+    VkPipeline gbuffer = VK_NULL_HANDLE, depth = VK_NULL_HANDLE, volume = VK_NULL_HANDLE;
+};
+BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, const BoundsShaders& sh, VkPipelineLayout layout, VkRenderPass gbuffer_rp,
+                                      VkRenderPass main_rp, bool native) {
+    BoundsPipelines p;
+    std::string why;
+    skvk::PipelineDesc sd;  // the scene: reversed-Z depth (GREATER), back faces culled
+    sd.vs = sh.scene_vs;
+    sd.vs_entry = sh.scene_entry;
+    sd.fs = sh.scene_fs;
+    sd.vertex_stride = sizeof(skvk::SceneVertex);
+    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    sd.depth_compare = VK_COMPARE_OP_GREATER;
+    sd.cull = VK_CULL_MODE_BACK_BIT;
+    sd.color_count = 2;
+    p.gbuffer = skvk::make_pipeline(ctx, sd, layout, gbuffer_rp, why);
+    sd.fs.clear();  // the same depth again, no colour
+    sd.color_count = 0;
+    p.depth = skvk::make_pipeline(ctx, sd, layout, main_rp, why);
+    skvk::PipelineDesc vd;  // z-fail, two-sided stencil, the counting fragment stage
+    vd.vs = sh.volume_vs;
+    vd.vs_entry = sh.volume_entry;
+    vd.fs = sh.volume_fs;
+    vd.fs_entry = sh.fs_entry;
+    vd.vertex_stride = sizeof(glm::vec4);
+    vd.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+    vd.depth_compare = VK_COMPARE_OP_GREATER;
+    vd.depth_write = false;
+    vd.stencil = true;
+    vd.stencil_back = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
+    vd.stencil_front = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
+    vd.depth_bounds = native;
+    p.volume = skvk::make_pipeline(ctx, vd, layout, main_rp, why);
+    for (VkPipeline q : {p.gbuffer, p.depth, p.volume}) REQUIRE_MESSAGE(q != VK_NULL_HANDLE, why);
+    return p;
+}
+
+BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    const skvk::BoxScene scene;
+    const glm::vec4 light(scene.light, 1.f);
+    const float fovy = 0.9f, aspect = float(kW) / float(kH);
+    const float eps = shadowkit::projection_infinite_epsilon_bound(fovy, aspect, shadowkit::ClipDepth::ZeroToOne, true,
+                                                                   shadowkit::DepthFormat::Float32).epsilon;
+    const shadowkit::ProjectionResult pr =
+        shadowkit::projection_perspective_infinite(fovy, aspect, 0.1f, shadowkit::ClipDepth::ZeroToOne, true, eps);
+    REQUIRE(pr.status == shadowkit::Status::Ok);
+    const glm::mat4 view = glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
+    BoundsResult out;
+    shadowkit::ScissorParams sp;
+    sp.view_proj = pr.matrix * view;
+    sp.clip_depth = shadowkit::ClipDepth::ZeroToOne;
+    sp.reversed_z = true;
+    sp.viewport[2] = int(kW);
+    sp.viewport[3] = int(kH);
+    const glm::vec3 g(scene.ground_half, scene.box_c.y + scene.box_h.y, scene.ground_half);  // every receiver in the box
+    out.sc = shadowkit::volume_scissor(light, scene.box_c - scene.box_h, scene.box_c + scene.box_h, glm::vec3(-g.x, 0.f, -g.z), g, sp);
+    REQUIRE(out.sc.status == shadowkit::Status::Ok);
+    REQUIRE(out.sc.visible);
+    const glm::vec2 range = bounds == Bounds::Off    ? glm::vec2(-1.f, 2.f)
+                            : bounds == Bounds::Wrong ? glm::vec2(out.sc.depth_max, out.sc.depth_max) - 1e-3f
+                                                      : glm::vec2(out.sc.depth_min, out.sc.depth_max);
+    const BoundsPush push{sp.view_proj, light, glm::vec4(bounds == Bounds::Native ? glm::vec2(-1.f, 2.f) : range, 0.f, 0.f)};
+    const Volume volume = build_volume(scene, light);
+    const BoundsShaders sh = compile_bounds_shaders(lang);
+
+    const VkFormat dsf = depth_stencil_format(ctx);
+    REQUIRE(dsf != VK_FORMAT_UNDEFINED);
+    skvk::Image world, normal, scene_depth, ds;
+    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, scene_depth));
+    REQUIRE(skvk::make_image(ctx, kW, kH, 1, dsf, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, ds));
+    VkRenderPass gbuffer_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                                     VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
+    VkRenderPass main_rp = skvk::make_render_pass(ctx, {}, dsf, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkFramebuffer gbuffer_fb = skvk::make_framebuffer(ctx, gbuffer_rp, {world.view, normal.view, scene_depth.view}, kW, kH);
+    VkFramebuffer main_fb = skvk::make_framebuffer(ctx, main_rp, {ds.view}, kW, kH);
+    skvk::Buffer vb, volume_vb, volume_ib, counter;
+    const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
+    std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
+    REQUIRE(skvk::make_buffer(ctx, sizeof(glm::vec4) * volume.vertices.size(), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, volume_vb));
+    std::memcpy(volume_vb.mapped, volume.vertices.data(), sizeof(glm::vec4) * volume.vertices.size());
+    REQUIRE(skvk::make_buffer(ctx, sizeof(std::uint32_t) * volume.indices.size(), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, volume_ib));
+    std::memcpy(volume_ib.mapped, volume.indices.data(), sizeof(std::uint32_t) * volume.indices.size());
+    REQUIRE(skvk::make_buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, counter));
+    std::memset(counter.mapped, 0, 16);
+    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    skvk::DescriptorSet set;
+    REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
+                                            {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, set));
+    skvk::write_image(ctx, set, 0, tex, scene_depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE,
+                      VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
+    skvk::write_buffer(ctx, set, 1, counter, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkPushConstantRange range_pc{push_stages, 0, sizeof(BoundsPush)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1;
+    li.pSetLayouts = &set.layout;
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range_pc;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    const BoundsPipelines p = make_bounds_pipelines(ctx, sh, layout, gbuffer_rp, main_rp, bounds == Bounds::Native);
+
+    VkCommandBuffer cmd = skvk::begin_commands(ctx);
+    const VkDeviceSize offset = 0;
+    VkClearValue zero{}, ds_clear{};
+    ds_clear.depthStencil = {0.f, 0};  // reversed-Z: far (and infinity) is 0
+    const VkViewport vp = skvk::viewport(kW, kH, true);
+    const VkRect2D full{{0, 0}, {kW, kH}};
+    for (int pass = 0; pass < 2; ++pass) {
+        const std::vector<VkClearValue> clears = pass == 0 ? std::vector<VkClearValue>{zero, zero, ds_clear} : std::vector<VkClearValue>{ds_clear};
+        VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+        bi.renderPass = pass == 0 ? gbuffer_rp : main_rp;
+        bi.framebuffer = pass == 0 ? gbuffer_fb : main_fb;
+        bi.renderArea = full;
+        bi.clearValueCount = static_cast<std::uint32_t>(clears.size());
+        bi.pClearValues = clears.data();
+        vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
+        vkCmdSetViewport(cmd, 0, 1, &vp);
+        vkCmdSetScissor(cmd, 0, 1, &full);
+        vkCmdPushConstants(cmd, layout, push_stages, 0, sizeof push, &push);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass == 0 ? p.gbuffer : p.depth);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &vb.buffer, &offset);
+        vkCmdDraw(cmd, vcount, 1, 0, 0);
+        if (pass == 1) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.volume);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set.set, 0, nullptr);
+            if (scissor) {  // glScissor's rectangle counts rows from the bottom; the flipped viewport puts GL's row 0 last
+                const VkRect2D sc{{out.sc.x, int(kH) - out.sc.y - out.sc.height},
+                                  {std::uint32_t(out.sc.width), std::uint32_t(out.sc.height)}};
+                vkCmdSetScissor(cmd, 0, 1, &sc);
+            }
+            if (bounds == Bounds::Native) vkCmdSetDepthBounds(cmd, range.x, range.y);
+            vkCmdBindVertexBuffers(cmd, 0, 1, &volume_vb.buffer, &offset);
+            vkCmdBindIndexBuffer(cmd, volume_ib.buffer, 0, VK_INDEX_TYPE_UINT32);
+            vkCmdDrawIndexed(cmd, static_cast<std::uint32_t>(volume.indices.size()), 1, 0, 0, 0);
+        }
+        vkCmdEndRenderPass(cmd);
+    }
+    REQUIRE(skvk::submit_and_wait(ctx, cmd));
+    out.world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    out.normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
+    out.stencil = skvk::read_stencil(ctx, ds, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    std::memcpy(&out.fragments, counter.mapped, sizeof out.fragments);
+
+    for (VkPipeline q : {p.gbuffer, p.depth, p.volume}) vkDestroyPipeline(ctx.device, q, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    vkDestroyFramebuffer(ctx.device, gbuffer_fb, nullptr);
+    vkDestroyFramebuffer(ctx.device, main_fb, nullptr);
+    vkDestroyRenderPass(ctx.device, gbuffer_rp, nullptr);
+    vkDestroyRenderPass(ctx.device, main_rp, nullptr);
+    vkDestroySampler(ctx.device, nearest, nullptr);
+    skvk::destroy(ctx, set);
+    for (skvk::Image* i : {&world, &normal, &scene_depth, &ds}) skvk::destroy(ctx, *i);
+    for (skvk::Buffer* b : {&vb, &volume_vb, &volume_ib, &counter}) skvk::destroy(ctx, *b);
+    return out;
+}
+
+std::size_t stencil_different(const BoundsResult& a, const BoundsResult& b) {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < a.stencil.size(); ++k) n += a.stencil[k] != b.stencil[k];
+    return n;
+}
+
+double ray_cast_agreement(const BoundsResult& r) {
+    const skvk::BoxScene scene;
+    std::vector<float> vis(r.stencil.size());
+    for (std::size_t k = 0; k < vis.size(); ++k) vis[k] = r.stencil[k] == 0 ? 1.f : 0.f;
+    return skvk::compare_with_ray_cast(scene, glm::vec4(scene.light, 1.f), nullptr, int(kW), int(kH), vis, r.world, r.normal).fraction();
+}
+
+void check_bounds(Source lang) {
+    skvk::Context& ctx = skvk::vk_test_context();
+    REQUIRE_MESSAGE(ctx.enabled.fragmentStoresAndAtomics, "the fragment counter needs fragmentStoresAndAtomics");
+    const std::string name = lang == Source::Glsl ? "GLSL" : "HLSL";
+    const std::size_t before = skvk::message_count();
+    const BoundsResult base = run_bounds(lang, false, Bounds::Off);
+    REQUIRE(base.stencil.size() == std::size_t(kW) * kH);
+    const double base_agree = ray_cast_agreement(base);
+    MESSAGE(name << ": volume_scissor x " << base.sc.x << " y " << base.sc.y << " " << base.sc.width << " x " << base.sc.height
+                 << ", depth bounds [" << base.sc.depth_min << ", " << base.sc.depth_max << "]; unculled: " << base.fragments
+                 << " volume fragments, ray-cast agreement " << base_agree);
+    CHECK(base_agree >= 0.995);
+    std::vector<Bounds> modes{Bounds::Emulated};
+    if (ctx.enabled.depthBounds)
+        modes.push_back(Bounds::Native);
+    else
+        MESSAGE("the device has no depthBounds feature (lavapipe): vkCmdSetDepthBounds is not run, the emulation "
+                "(sk_outside_depth_bounds_at) is");
+    for (const Bounds mode : modes)
+        for (auto [sc, db] : {std::pair{true, false}, std::pair{false, true}, std::pair{true, true}}) {
+            const BoundsResult r = run_bounds(lang, sc, db ? mode : Bounds::Off);
+            const std::size_t diff = stencil_different(base, r);
+            const std::string what = name + ", scissor " + (sc ? "on" : "off") + ", depth bounds " +
+                                     (db ? (mode == Bounds::Native ? "native" : "emulated") : "off");
+            INFO(what);
+            MESSAGE(what << ": stencil different from the unculled run on " << diff << " pixels; volume fragments " << r.fragments
+                         << " of " << base.fragments);
+            CHECK(diff == 0);
+            if (mode == Bounds::Native && db) continue;  // the test follows the fragment stage: its count is not cut
+            CHECK(r.fragments <= base.fragments);
+            if (sc && db) CHECK(r.fragments < base.fragments * 9 / 10);
+        }
+    // the control: an empty range discards the volume everywhere (the emulation really runs)
+    const BoundsResult wrong = run_bounds(lang, false, Bounds::Wrong);
+    const double wrong_agree = ray_cast_agreement(wrong);
+    MESSAGE(name << ", control, emulated bounds with an empty range: stencil different on " << stencil_different(base, wrong)
+                 << " pixels, volume fragments " << wrong.fragments << ", ray-cast agreement " << wrong_agree);
+    CHECK(stencil_different(base, wrong) > 1000);
+    CHECK(wrong_agree < 0.99);
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
+}
+
 }  // namespace
 
 TEST_CASE("shadow_volume.glsl on Vulkan: z-fail stencil volumes, infinite reversed-Z and depth clamp, match the ray cast") {
@@ -335,4 +652,12 @@ TEST_CASE("shadow_volume.glsl on Vulkan, controls: swapped stencil operations wr
 
 TEST_CASE("HLSL shadow_volume.hlsl on Vulkan: z-fail stencil volumes, infinite reversed-Z and depth clamp, match the ray cast") {
     check(Source::Hlsl);
+}
+
+TEST_CASE("shadow_volume.glsl on Vulkan: scissor and depth bounds (emulated; native where the device has them) leave the stencil unchanged") {
+    check_bounds(Source::Glsl);
+}
+
+TEST_CASE("HLSL shadow_volume.hlsl on Vulkan: scissor and depth bounds (emulated; native where the device has them) leave the stencil unchanged") {
+    check_bounds(Source::Hlsl);
 }

@@ -125,6 +125,7 @@ std::string create_context(Context& ctx, bool want_validation, bool& no_device) 
     ctx.enabled.depthBounds = ctx.supported.depthBounds;
     ctx.enabled.geometryShader = ctx.supported.geometryShader;
     ctx.enabled.fragmentStoresAndAtomics = ctx.supported.fragmentStoresAndAtomics;  // virtual_shadow_map marking
+    ctx.enabled.shaderClipDistance = ctx.supported.shaderClipDistance;  // omni_shadow: the dual-paraboloid map pass
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qi.queueFamilyIndex = ctx.queue_family;
@@ -472,6 +473,7 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     ds.front = d.stencil_front;
     ds.back = d.stencil_back;
     ds.maxDepthBounds = 1.f;
+    ds.depthBoundsTestEnable = d.depth_bounds ? VK_TRUE : VK_FALSE;
     std::vector<VkPipelineColorBlendAttachmentState> blend(d.color_count);
     for (auto& b : blend) {
         b.blendEnable = d.blend ? VK_TRUE : VK_FALSE;
@@ -487,9 +489,9 @@ VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout l
     VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     cb.attachmentCount = d.color_count;
     cb.pAttachments = blend.data();
-    const VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    const VkDynamicState dyn[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_DEPTH_BOUNDS};
     VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dy.dynamicStateCount = 2;
+    dy.dynamicStateCount = d.depth_bounds ? 3u : 2u;
     dy.pDynamicStates = dyn;
     VkGraphicsPipelineCreateInfo pi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
     pi.stageCount = nstages;

@@ -118,6 +118,7 @@ struct PipelineDesc {
     bool stencil = false;                          ///< stencil test with the two faces below
     VkStencilOpState stencil_front{}, stencil_back{};
     VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  ///< rasterization samples (the render pass's)
+    bool depth_bounds = false; ///< depthBoundsTestEnable, bounds set with vkCmdSetDepthBounds (dynamic; the depthBounds feature)
 };
 VkPipeline make_pipeline(Context& ctx, const PipelineDesc& d, VkPipelineLayout layout, VkRenderPass rp, std::string& why);
 
