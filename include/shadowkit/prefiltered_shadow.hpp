@@ -332,7 +332,7 @@ struct PrefilterWindowMap {
     glm::vec4 coefficients{0.0f};
 };
 
-/// The window-depth -> t map of a light projection with planes proj_near, proj_far (proj_far may be
+/// The window-depth -> t map of a light projection with planes proj_near_z, proj_far_z (proj_far_z may be
 /// +inf for a perspective light) into the range r. Perspective, standard: z_w = f (d - n) / (d (f - n)),
 /// so 1 / d = 1/n + (1/f - 1/n) z_w; reversed-Z: 1 / d = 1/f + (1/n - 1/f) z_w; orthographic:
 /// d = n + (f - n) z_w (reversed: f - (f - n) z_w). Window depth is glDepthRange(0, 1) depth, the
@@ -343,7 +343,7 @@ struct PrefilterWindowMap {
 /// float map could be off by more than kPrefilterWindowTolerance. A standard perspective map does so
 /// from far / near ~ 1e3 (window depth crowds near 1: [0.1, 1e4] was off by 0.006); reversed-Z keeps
 /// t to ~1e-7 for any far / near, +inf included.
-inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj_far, bool perspective, bool reversed_z,
+inline PrefilterWindowMap prefilter_window_depth_map(float proj_near_z, float proj_far_z, bool perspective, bool reversed_z,
                                                      const PrefilterDepthRange& r) {
     PrefilterWindowMap m;
     if (r.status != Status::Ok) {
@@ -351,18 +351,18 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
         m.detail = "r: status not Ok";
         return m;
     }
-    if (std::isnan(proj_near) || std::isnan(proj_far) || !std::isfinite(proj_near) ||
-        (!perspective && !std::isfinite(proj_far))) {
+    if (std::isnan(proj_near_z) || std::isnan(proj_far_z) || !std::isfinite(proj_near_z) ||
+        (!perspective && !std::isfinite(proj_far_z))) {
         m.status = Status::NonFinite;
-        m.detail = !std::isfinite(proj_near) ? "proj_near: NaN or Inf" : "proj_far: NaN (or Inf, orthographic)";
+        m.detail = !std::isfinite(proj_near_z) ? "proj_near_z: NaN or Inf" : "proj_far_z: NaN (or Inf, orthographic)";
         return m;
     }
-    if (!(proj_far > proj_near) || (perspective && !(proj_near > 0.0f))) {
+    if (!(proj_far_z > proj_near_z) || (perspective && !(proj_near_z > 0.0f))) {
         m.status = Status::InvalidArgument;
-        m.detail = !(proj_far > proj_near) ? "proj_far: not > proj_near" : "proj_near: not > 0 (perspective)";
+        m.detail = !(proj_far_z > proj_near_z) ? "proj_far_z: not > proj_near_z" : "proj_near_z: not > 0 (perspective)";
         return m;
     }
-    const double n = double(proj_near), f = double(proj_far), s = double(r.scale), o = double(r.offset);
+    const double n = double(proj_near_z), f = double(proj_far_z), s = double(r.scale), o = double(r.offset);
     glm::dvec4 c;
     if (perspective) {
         const double inv_f = std::isinf(f) ? 0.0 : 1.0 / f;
@@ -409,7 +409,7 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near, float proj
     if (!(worst <= double(kPrefilterWindowTolerance))) {
         m.coefficients = glm::vec4(0.0f);
         m.status = Status::Overflow;
-        m.detail = "proj_near, proj_far: window depth cannot keep t within kPrefilterWindowTolerance";
+        m.detail = "proj_near_z, proj_far_z: window depth cannot keep t within kPrefilterWindowTolerance";
         return m;
     }
     m.status = Status::Ok;

@@ -629,8 +629,8 @@ TEST_CASE("variance cancellation: linear t over the scene's range vs window dept
         ++linear_n;
         if (std::abs(double(v) - (1.0 - w)) < 0.05) ++linear_ok;
         // window depth of a light with near / far = 1e-6 (near = 1e-6 far), infinite-precision input
-        const double proj_near = 1e-6 * far_scene, proj_far = far_scene * 1.0001;
-        auto zw = [&](double d) { return proj_far * (d - proj_near) / (d * (proj_far - proj_near)); };
+        const double proj_near_z = 1e-6 * far_scene, proj_far_z = far_scene * 1.0001;
+        auto zw = [&](double d) { return proj_far_z * (d - proj_near_z) / (d * (proj_far_z - proj_near_z)); };
         const float z1 = float(zw(d1)), z2 = float(zw(d2));
         const glm::vec2 mw(float(w) * z1 + float(1 - w) * z2, float(w) * z1 * z1 + float(1 - w) * z2 * z2);
         const float vw = prefilter_vsm(mw, z2, prefilter_min_variance(PrefilterFormat::Float32), 0.0f);
