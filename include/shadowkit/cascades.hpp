@@ -579,6 +579,13 @@ struct CascadeSdsmInput {
     /// the splits cascade_sdsm_splits gives for this same input). A cascade's box is its slice's box
     /// cut to these; x0 > x1 or y0 > y1 (the reduction's empty marker): no receiver, the slice's box.
     const glm::vec4* receiver_bounds = nullptr;
+    /// Interior splits anchored in the world (default false: splits fixed in view depth): while the camera has not turned since
+    /// `previous` (its view matrix's rotation entries within 1e-5 of the same), each interior split moves with
+    /// the camera's travel along its view axis, so it stays on the same world plane and every visible
+    /// point keeps its cascade (a point crossing a split changes texel size: flicker), while the shifted
+    /// splits stay within two range steps of the log partition (a dolly keeps every box). The splits
+    /// then follow the camera's travel: a small forward move changes them (not the boxes).
+    bool world_splits = false;
 };
 
 /// One cascade's bounds in the light's view frame (rotation only, a fixed function of the light
@@ -608,6 +615,7 @@ struct CascadeSdsmResult {
     std::uint32_t rebuilt = 0;      ///< bit i: cascade i's box was rebuilt (0: every box kept from `previous`)
     glm::vec4 light_position{0.0f}; ///< the light and map size the boxes belong to (a different one
     std::uint32_t shadow_map_size = 0;  ///< in the next call ignores `previous`)
+    glm::mat4 camera_view{1.0f};    ///< the camera the splits were cut for (world_splits)
 };
 
 namespace detail {
@@ -748,8 +756,9 @@ inline bool cs_sdsm_axis(double t0, double t1, double m, double S, const double*
 
 /// The box a cascade is rendered with: each axis by cs_sdsm_axis, the depth range kept while it holds
 /// t and is not much larger (within 4 margins and steps), else snapped outward to 1/8 of its power of
-/// two. `kept` says whether the whole box is `prev`'s, bit for bit (only with `same_split`).
-inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox* prev, bool same_split, double m,
+/// two. `kept` says whether the whole box is `prev`'s, bit for bit (its slice's splits may have moved:
+/// world_splits; the box holds the new slice's tight box either way).
+inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox* prev, double m,
                                   double S, bool& kept) {
     const double dd = t.far_dist - t.near_dist;
     const double dstep = std::ldexp(1.0, std::ilogb(std::fmax(dd * (1.0 + 2.0 * m), 1e-30)) - 3);
@@ -760,7 +769,7 @@ inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox*
     const double py[2] = {prev ? prev->y0 : 0.0, prev ? prev->y1 : 0.0};
     const bool kx = cs_sdsm_axis(t.x0, t.x1, m, S, prev ? px : nullptr, b.x0, b.x1);
     const bool ky = cs_sdsm_axis(t.y0, t.y1, m, S, prev ? py : nullptr, b.y0, b.y1);
-    kept = same_split && kx && ky && depth_ok;
+    kept = kx && ky && depth_ok;
     if (depth_ok) {
         b.near_dist = prev->near_dist;
         b.far_dist = prev->far_dist;
@@ -860,6 +869,31 @@ inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, Cl
 
 namespace detail {
 
+/// CascadeSdsmInput::world_splits: with the camera unturned since `prev` (rotation entries within 1e-5:
+/// lookAt's float rounding along a dolly), every view depth changes by
+/// the same c = the view translation's z change (d = -(R p + T).z), so prev's interior splits plus c lie
+/// on prev's world planes; they replace res's log-partition splits when they stay increasing inside
+/// (range_min, range_max) and within two steps of the range grid of the log partition's.
+inline void cs_sdsm_world_splits(const CascadeSdsmInput& in, const CascadeSdsmResult& prev, CascadeSdsmResult& res) {
+    const glm::mat4& a = prev.camera_view;
+    const glm::mat4& b = in.camera.camera_view;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (!(std::fabs(double(a[c][r]) - double(b[c][r])) <= 1e-5)) return;  // turned: not the same view-depth planes
+    const double shift = double(a[3][2]) - double(b[3][2]);
+    const double tol = 2.0 / double(in.range_steps_per_octave);
+    const std::uint32_t n = in.cascade_count;
+    float out[17];
+    float last = res.splits[0];
+    for (std::uint32_t i = 1; i < n; ++i) {
+        out[i] = static_cast<float>(double(prev.splits[i]) + shift);
+        if (!(out[i] > last) || !(std::fabs(std::log2(double(out[i]) / double(res.splits[i]))) <= tol)) return;
+        last = out[i];
+    }
+    if (!(res.splits[n] > last)) return;
+    for (std::uint32_t i = 1; i < n; ++i) res.splits[i] = out[i];
+}
+
 /// What cascade_sdsm_splits and cascade_sdsm_fit share: validation, the camera, the previous fit it
 /// may keep, the clamped and snapped visible range and its splits (res.splits, range_min/max).
 /// Returns Ok with res.visible false when the clamped range is empty.
@@ -896,6 +930,8 @@ inline Status cs_sdsm_prepare(const CascadeSdsmInput& in, const CascadeSdsmResul
     res.range_min = sp.distances[0];
     res.range_max = sp.distances[in.cascade_count];
     for (std::uint32_t i = 0; i <= in.cascade_count; ++i) res.splits[i] = sp.distances[i];
+    res.camera_view = in.camera.camera_view;
+    if (prev && in.world_splits) cs_sdsm_world_splits(in, *prev, res);
     return Status::Ok;
 }
 
@@ -979,9 +1015,8 @@ inline CascadeSdsmResult cascade_sdsm_fit(const CascadeSdsmInput& in, const Casc
         glm::dvec3 pw[8];
         const CascadeSdsmBox t = cs_sdsm_tight_box(in.camera, r, iv, lv, double(res.splits[i]), double(res.splits[i + 1]),
                                                    in.receiver_bounds ? in.receiver_bounds + i : nullptr, pw);
-        const bool same_split = prev && prev->splits[i] == res.splits[i] && prev->splits[i + 1] == res.splits[i + 1];
         bool kept = false;
-        res.boxes[i] = cs_sdsm_box(t, prev ? &prev->boxes[i] : nullptr, same_split, double(in.margin), S, kept);
+        res.boxes[i] = cs_sdsm_box(t, prev ? &prev->boxes[i] : nullptr, double(in.margin), S, kept);
         if (!kept) res.rebuilt |= 1u << i;
         out_cascades[i] = cs_sdsm_cascade(in.camera, lv, res.boxes[i], pw);
         if (out_cascades[i].status != Status::Ok) return fail(out_cascades[i].status);

@@ -281,6 +281,7 @@ void CascadedShadowMaps::update_sdsm(const app::View& v, const CascadedShadowMap
     sd.view_max = r.view_max;
     sd.cascade_count = static_cast<std::uint32_t>(s.count);
     sd.lambda = s.sdsm_lambda;
+    sd.world_splits = true;  // interior splits stay on their world planes while the camera does not turn
     glm::vec4 bounds[4];
     if (s.receiver_bounds) {  // this frame's splits first, then the receivers of each cascade
         const shadowkit::CascadeSdsmResult sp = shadowkit::cascade_sdsm_splits(sd, &sdsm_);

@@ -13,6 +13,8 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 using namespace shadowkit;
 
@@ -294,6 +296,7 @@ TEST_CASE("sdsm: a camera path chained through `previous` stays covered every fr
     int bad = 0, rebuilt = 0, frames = 0;
     for (int path = 0; path < 20; ++path) {
         Config c = random_config(rng, 10.0);
+        c.in.world_splits = path % 2 == 1;  // the splits following the camera's travel: still covered
         CascadeSdsmResult prev;
         Cascade cs[16];
         const glm::vec3 dir = rdir(rng);
@@ -324,6 +327,7 @@ TEST_CASE("sdsm: a dolly through `previous` keeps every box size and moves boxes
     in.camera.shadow_map_size = 1024;
     in.view_min = 2.0f;
     in.view_max = 32.0f;
+    in.world_splits = false;  // the default: splits fixed in view depth
     CascadeSdsmResult first, prev;
     Cascade cs[4];
     int moved = 0, bad = 0;
@@ -356,6 +360,86 @@ TEST_CASE("sdsm: a dolly through `previous` keeps every box size and moves boxes
     CHECK(bad == 0);
     CHECK(moved > 4);  // the boxes did move (6 wu, over 2 extents of cascade 0): not a vacuous check
     MESSAGE("box moves over 119 frames x 4 cascades: " << moved);
+}
+
+TEST_CASE("sdsm: world_splits: a dolly keeps the interior splits on their world planes") {
+    // camera at z = -0.05 t looking down -z (a dolly: the rotation never changes), view range [2, 32]
+    // fixed (the report's dolly: the range of the first frame's depth buffer): the log partition is 2,
+    // 4, 8, 16, 32. With world_splits each interior split moves with the camera, s_i(t) = s_i(a) -
+    // 0.05 (t - a) from the last frame a they were cut, while |log2(s_1 / 4)| <= 2 / 8: 4 - 0.05 k >=
+    // 4 * 2^-0.25 = 3.3636, k <= 12; at k = 13 they are cut again (a = 13, then 26).
+    CascadeSdsmInput in;
+    in.camera.camera_proj = glm::perspective(glm::radians(90.0f), 1.0f, 0.5f, 100.0f);
+    in.camera.light_position = glm::vec4(0, 1, 0, 0);
+    in.camera.shadow_map_size = 1024;
+    in.view_min = 2.0f;
+    in.view_max = 32.0f;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    // world points on the axis between the planes (z in [-30, -3], away from the planes by 0.01):
+    // each keeps the cascade its view depth selects while the splits stay anchored
+    std::vector<glm::vec3> pts;
+    for (int k = 0; k < 400; ++k) {
+        const float z = -3.0f - 27.0f * float(0.5 * (u(rng) + 1.0));
+        bool near_plane = false;
+        for (float pz : {-4.0f, -8.0f, -16.0f}) near_plane = near_plane || std::fabs(z - pz) < 0.01f;
+        if (!near_plane) pts.push_back(glm::vec3(0.0f, -0.5f, z));
+    }
+    for (bool world : {true, false}) {
+        in.world_splits = world;
+        CascadeSdsmResult prev;
+        Cascade cs[4];
+        int anchor = 0, bad = 0, interior_rebuilt = 0, switched = 0;
+        std::vector<int> first(pts.size(), -2);
+        for (int t = 0; t < 30; ++t) {
+            in.camera.camera_view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.05f * float(t)));
+            const CascadeSdsmResult r = cascade_sdsm_fit(in, t ? &prev : nullptr, cs, 4);
+            REQUIRE(r.status == Status::Ok);
+            REQUIRE(r.count == 4);
+            CHECK(r.splits[0] == 2.0f);
+            CHECK(r.splits[4] == 32.0f);
+            if (world && t - anchor > 12) anchor = t;
+            const float c = world ? 0.05f * float(t - anchor) : 0.0f;
+            CHECK(r.splits[1] == doctest::Approx(4.0f - c).epsilon(1e-5));
+            CHECK(r.splits[2] == doctest::Approx(8.0f - c).epsilon(1e-5));
+            CHECK(r.splits[3] == doctest::Approx(16.0f - c).epsilon(1e-5));
+            if (t && t != 13 && t != 26) interior_rebuilt += (r.rebuilt & 6u) ? 1 : 0;
+            for (int i = 0; i < 4; ++i)
+                for (int k = 0; k < 32; ++k) {
+                    const double d = r.splits[i] + 0.5 * (u(rng) + 1.0) * (r.splits[i + 1] - r.splits[i]);
+                    const glm::vec3 p = visible_point(in.camera.camera_view, glm::radians(90.0), 1.0, d, u(rng), u(rng));
+                    bad += lands_inside(cs[i].view_proj, p, ClipDepth::NegativeOneToOne) ? 0 : 1;
+                }
+            if (t <= 12)
+                for (std::size_t k = 0; k < pts.size(); ++k) {
+                    const float vd = -(in.camera.camera_view * glm::vec4(pts[k], 1.0f)).z;
+                    const int ci = cascade_select_by_depth(vd, r.splits, 4).index;
+                    if (t == 0) first[k] = ci;
+                    switched += ci != first[k] ? 1 : 0;
+                }
+            prev = r;
+        }
+        CHECK(bad == 0);
+        if (world) {
+            CHECK(switched == 0);          // every point keeps its cascade
+            CHECK(interior_rebuilt == 0);  // cascades 1 and 2 (both ends anchored): boxes bit for bit kept
+        } else {
+            CHECK(switched > 0);  // fixed in view depth, the points cross the splits: not a vacuous check
+        }
+        MESSAGE(std::string(world ? "world" : "view") << " splits: cascade switches " << switched << ", frames rebuilding cascade 1 or 2 "
+                                          << interior_rebuilt);
+    }
+    // a turn (1 degree) cuts the log partition again
+    in.world_splits = true;
+    Cascade cs[4];
+    in.camera.camera_view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.3f));
+    const CascadeSdsmResult a = cascade_sdsm_fit(in, nullptr, cs, 4);
+    in.camera.camera_view = glm::rotate(glm::mat4(1.0f), glm::radians(1.0f), glm::vec3(0, 1, 0)) *
+                            glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.5f));
+    const CascadeSdsmResult b = cascade_sdsm_fit(in, &a, cs, 4);
+    REQUIRE(b.status == Status::Ok);
+    CHECK(b.splits[1] == doctest::Approx(4.0f).epsilon(1e-6));
+    CHECK(b.splits[2] == doctest::Approx(8.0f).epsilon(1e-6));
 }
 
 TEST_CASE("sdsm: a box grows only when it must, by a quarter more, and shrinks only when much too large") {
