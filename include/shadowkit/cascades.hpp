@@ -19,6 +19,7 @@
 //   shadowkit::CascadeSdsmInput sd; sd.camera = in; sd.camera.stable_world_depth = false;
 //   const shadowkit::CascadeSdsmRange vr = shadowkit::cascade_sdsm_view_range(proj, depth, reversed, wmin, wmax);
 //   sd.view_min = vr.view_min; sd.view_max = vr.view_max;   // if vr.visible
+//   sd.world_splits = true;                                 // a dolly moves no pixel across a split
 //   static shadowkit::CascadeSdsmResult last;               // last frame's fit: the hysteresis
 //   // optional, tighter: cascade_sdsm_splits(sd, &last) -> the bounds reduction -> sd.receiver_bounds
 //   last = shadowkit::cascade_sdsm_fit(sd, &last, cascades, 4);  // splits in last.splits
