@@ -738,7 +738,7 @@ inline bool cs_sdsm_axis(double t0, double t1, double m, double S, const double*
     double len = need;
     if (prev) {
         const double pl = prev[1] - prev[0];
-        if (pl >= std::fmax(e, 1e-30) * S / (S - 2.0) && pl <= cs_sdsm_len(e, 2.0 * m + kSdsmShrink, S) * (1.0 + 1e-12)) {
+        if (pl >= std::fmax(e, 1e-30) * S / (S - 2.0) * (1.0 - 1e-12) && pl <= cs_sdsm_len(e, 2.0 * m + kSdsmShrink, S) * (1.0 + 1e-12)) {
             if (prev[0] <= t0 && prev[1] >= t1) {
                 b0 = prev[0];
                 b1 = prev[1];
