@@ -584,7 +584,7 @@ struct CascadeSdsmInput {
     /// `previous` (its view matrix's rotation entries within 1e-5 of the same), each interior split moves with
     /// the camera's travel along its view axis, so it stays on the same world plane and every visible
     /// point keeps its cascade (a point crossing a split changes texel size: flicker), while the shifted
-    /// splits stay within two range steps of the log partition (a dolly keeps every box). The splits
+    /// splits stay within four range steps of the log partition (a dolly keeps every box). The splits
     /// then follow the camera's travel: a small forward move changes them (not the boxes).
     bool world_splits = false;
 };
@@ -874,7 +874,7 @@ namespace detail {
 /// lookAt's float rounding along a dolly), every view depth changes by
 /// the same c = the view translation's z change (d = -(R p + T).z), so prev's interior splits plus c lie
 /// on prev's world planes; they replace res's log-partition splits when they stay increasing inside
-/// (range_min, range_max) and within two steps of the range grid of the log partition's.
+/// (range_min, range_max) and within four steps of the range grid of the log partition's.
 inline void cs_sdsm_world_splits(const CascadeSdsmInput& in, const CascadeSdsmResult& prev, CascadeSdsmResult& res) {
     const glm::mat4& a = prev.camera_view;
     const glm::mat4& b = in.camera.camera_view;
@@ -882,7 +882,7 @@ inline void cs_sdsm_world_splits(const CascadeSdsmInput& in, const CascadeSdsmRe
         for (int r = 0; r < 3; ++r)
             if (!(std::fabs(double(a[c][r]) - double(b[c][r])) <= 1e-5)) return;  // turned: not the same view-depth planes
     const double shift = double(a[3][2]) - double(b[3][2]);
-    const double tol = 2.0 / double(in.range_steps_per_octave);
+    const double tol = 4.0 / double(in.range_steps_per_octave);  // half an octave at the default 8 steps
     const std::uint32_t n = in.cascade_count;
     float out[17];
     float last = res.splits[0];

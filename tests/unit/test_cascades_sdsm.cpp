@@ -366,8 +366,8 @@ TEST_CASE("sdsm: world_splits: a dolly keeps the interior splits on their world 
     // camera at z = -0.05 t looking down -z (a dolly: the rotation never changes), view range [2, 32]
     // fixed (the report's dolly: the range of the first frame's depth buffer): the log partition is 2,
     // 4, 8, 16, 32. With world_splits each interior split moves with the camera, s_i(t) = s_i(a) -
-    // 0.05 (t - a) from the last frame a they were cut, while |log2(s_1 / 4)| <= 2 / 8: 4 - 0.05 k >=
-    // 4 * 2^-0.25 = 3.3636, k <= 12; at k = 13 they are cut again (a = 13, then 26).
+    // 0.05 (t - a) from the last frame a they were cut, while |log2(s_1 / 4)| <= 4 / 8: 4 - 0.05 k >=
+    // 4 * 2^-0.5 = 2.8284, k <= 23 (s_2, s_3 drift less in log); at k = 24 they are cut again (a = 24).
     CascadeSdsmInput in;
     in.camera.camera_proj = glm::perspective(glm::radians(90.0f), 1.0f, 0.5f, 100.0f);
     in.camera.light_position = glm::vec4(0, 1, 0, 0);
@@ -376,11 +376,12 @@ TEST_CASE("sdsm: world_splits: a dolly keeps the interior splits on their world 
     in.view_max = 32.0f;
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    // world points on the axis between the planes (z in [-30, -3], away from the planes by 0.01):
-    // each keeps the cascade its view depth selects while the splits stay anchored
+    // world points on the axis (z in [-30, -3.5]: view depth >= 2.35 > range_min = 2 up to frame 23,
+    // away from the planes by 0.01): each keeps the cascade its view depth selects while the splits
+    // stay anchored
     std::vector<glm::vec3> pts;
     for (int k = 0; k < 400; ++k) {
-        const float z = -3.0f - 27.0f * float(0.5 * (u(rng) + 1.0));
+        const float z = -3.5f - 26.5f * float(0.5 * (u(rng) + 1.0));
         bool near_plane = false;
         for (float pz : {-4.0f, -8.0f, -16.0f}) near_plane = near_plane || std::fabs(z - pz) < 0.01f;
         if (!near_plane) pts.push_back(glm::vec3(0.0f, -0.5f, z));
@@ -398,19 +399,19 @@ TEST_CASE("sdsm: world_splits: a dolly keeps the interior splits on their world 
             REQUIRE(r.count == 4);
             CHECK(r.splits[0] == 2.0f);
             CHECK(r.splits[4] == 32.0f);
-            if (world && t - anchor > 12) anchor = t;
+            if (world && t - anchor > 23) anchor = t;
             const float c = world ? 0.05f * float(t - anchor) : 0.0f;
             CHECK(r.splits[1] == doctest::Approx(4.0f - c).epsilon(1e-5));
             CHECK(r.splits[2] == doctest::Approx(8.0f - c).epsilon(1e-5));
             CHECK(r.splits[3] == doctest::Approx(16.0f - c).epsilon(1e-5));
-            if (t && t != 13 && t != 26) interior_rebuilt += (r.rebuilt & 6u) ? 1 : 0;
+            if (t && t != 24) interior_rebuilt += (r.rebuilt & 6u) ? 1 : 0;
             for (int i = 0; i < 4; ++i)
                 for (int k = 0; k < 32; ++k) {
                     const double d = r.splits[i] + 0.5 * (u(rng) + 1.0) * (r.splits[i + 1] - r.splits[i]);
                     const glm::vec3 p = visible_point(in.camera.camera_view, glm::radians(90.0), 1.0, d, u(rng), u(rng));
                     bad += lands_inside(cs[i].view_proj, p, ClipDepth::NegativeOneToOne) ? 0 : 1;
                 }
-            if (t <= 12)
+            if (t <= 23)
                 for (std::size_t k = 0; k < pts.size(); ++k) {
                     const float vd = -(in.camera.camera_view * glm::vec4(pts[k], 1.0f)).z;
                     const int ci = cascade_select_by_depth(vd, r.splits, 4).index;
