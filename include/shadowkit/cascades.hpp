@@ -19,6 +19,7 @@
 //   shadowkit::CascadeSdsmInput sd; sd.camera = in; sd.camera.stable_world_depth = false;
 //   const shadowkit::CascadeSdsmRange vr = shadowkit::cascade_sdsm_view_range(proj, depth, reversed, wmin, wmax);
 //   sd.view_min = vr.view_min; sd.view_max = vr.view_max;   // if vr.visible
+//   sd.world_splits = true;                                 // a dolly moves no pixel across a split
 //   static shadowkit::CascadeSdsmResult last;               // last frame's fit: the hysteresis
 //   // optional, tighter: cascade_sdsm_splits(sd, &last) -> the bounds reduction -> sd.receiver_bounds
 //   last = shadowkit::cascade_sdsm_fit(sd, &last, cascades, 4);  // splits in last.splits
@@ -605,15 +606,24 @@ struct CascadeSdsmInput {
     /// (a split moves only when z_min or z_max crosses a step; kept while within two steps: hysteresis).
     float range_steps_per_octave = 8.0f;
     /// [Limit: 0..0.5] each cascade's box is padded by this fraction of its extent on every side when
-    /// it is rebuilt, and kept (bit-identical) while the new tight box stays inside it and is not
-    /// much smaller (extent within 4 margins after snapping): the hysteresis against flicker.
-    float margin = 1.0f / 8.0f;
+    /// it is built; later frames keep its size while the tight box still fits in it (whole-texel moves
+    /// of an unchanged grid) and keep it bit-identical while the tight box stays inside it: the
+    /// hysteresis against flicker. A box that must grow takes a quarter of its extent more; one whose
+    /// tight box is much smaller (by half its extent beyond the margins) shrinks.
+    float margin = 1.0f / 16.0f;
     /// Optional (nullptr: each cascade's whole view slice): cascade_count bounds (x0, y0, x1, y1) of
     /// the visible receivers of each cascade in the frame of cascade_sdsm_light_view (SDSM sec. 3.2's
     /// second reduction: sk_sdsm_reduce_bounds, each pixel in the cascade its view depth selects with
     /// the splits cascade_sdsm_splits gives for this same input). A cascade's box is its slice's box
     /// cut to these; x0 > x1 or y0 > y1 (the reduction's empty marker): no receiver, the slice's box.
     const glm::vec4* receiver_bounds = nullptr;
+    /// Interior splits anchored in the world (default false: splits fixed in view depth): while the camera has not turned since
+    /// `previous` (its view matrix's rotation entries within 1e-5 of the same), each interior split moves with
+    /// the camera's travel along its view axis, so it stays on the same world plane and every visible
+    /// point keeps its cascade (a point crossing a split changes texel size: flicker), while the shifted
+    /// splits stay within four range steps of the log partition (a dolly keeps every box). The splits
+    /// then follow the camera's travel: a small forward move changes them (not the boxes).
+    bool world_splits = false;
 };
 
 /// One cascade's bounds in the light's view frame (rotation only, a fixed function of the light
@@ -645,13 +655,20 @@ struct CascadeSdsmResult {
     std::uint32_t rebuilt = 0;      ///< bit i: cascade i's box was rebuilt (0: every box kept from `previous`)
     glm::vec4 light_position{0.0f}; ///< the light and map size the boxes belong to (a different one
     std::uint32_t shadow_map_size = 0;  ///< in the next call ignores `previous`)
+    glm::mat4 camera_view{1.0f};    ///< the camera the splits were cut for (world_splits)
 };
 
 namespace detail {
 
-/// Rounds v > 0 up to a multiple of 1/8 of its power of two (at most 12.5% larger).
+/// SDSM size hysteresis (cs_sdsm_axis): a box axis that must grow takes kSdsmGrow of its tight extent
+/// more than it needs; one is kept until it exceeds its need by kSdsmShrink of the tight extent.
+constexpr double kSdsmGrow = 0.25;
+constexpr double kSdsmShrink = 0.5;
+
+/// Rounds v > 0 up to a multiple of 1/32 of its power of two (at most 3.125% larger): few distinct
+/// lengths, each with a short binary fraction (b1 - b0 exact).
 inline double cs_sdsm_round_up(double v) {
-    const double step = std::ldexp(1.0, std::ilogb(v) - 3);
+    const double step = std::ldexp(1.0, std::ilogb(v) - 5);
     return std::ceil(v / step) * step;
 }
 
@@ -746,43 +763,59 @@ inline CascadeSdsmBox cs_sdsm_tight_box(const CascadeInput& in, const CsRays& r,
     return b;
 }
 
-/// One axis of a rebuilt box: [t0, t1] grown by the margin, its length rounded up (cs_sdsm_round_up)
-/// with one texel of border on each side, its start snapped to whole texels of the origin-anchored
-/// grid. The previous length prev_len (0: none) is kept while it lies between that rounded length
-/// and the one of 4 margins: the box then moves by whole texels of an unchanged grid (Valient 2008's
-/// stable snapping), which leaves a static scene's shadows where they were.
-inline void cs_sdsm_axis(double t0, double t1, double m, double S, double prev_len, double& b0, double& b1) {
-    double eq = cs_sdsm_round_up(std::fmax((t1 - t0) * (1.0 + 2.0 * m), 1e-30) * S / (S - 2.0));
-    const double loose = cs_sdsm_round_up(std::fmax((t1 - t0) * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0));
-    if (prev_len >= eq * (1.0 - 1e-12) && prev_len <= loose * (1.0 + 1e-12)) eq = prev_len;  // b1 - b0 rounds
-    const double texel = eq / S;
-    b0 = std::floor((0.5 * (t0 + t1) - 0.5 * eq) / texel) * texel;
-    b1 = b0 + eq;
+/// Length of a box axis for the tight extent e grown by `grow` (a fraction, on both sides together):
+/// rounded up (cs_sdsm_round_up) with one texel of border on each side.
+inline double cs_sdsm_len(double e, double grow, double S) {
+    return cs_sdsm_round_up(std::fmax(e * (1.0 + grow), 1e-30) * S / (S - 2.0));
 }
 
-/// The box a cascade is rendered with: `prev` kept whole (bit-identical) when `same_split` and it holds
-/// the tight box t and is not much larger than a rebuilt one (each extent within the rounding of 4
-/// margins, the depth range within 4 margins and steps); else rebuilt with cs_sdsm_axis (keeping each
-/// previous extent where it fits), the depth range kept where it still holds t, or snapped outward to
-/// 1/8 of its power of two. `kept` says whether the whole box was kept.
-inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox* prev, bool same_split, double m,
+/// One axis of the box: its length and its start on the origin-anchored texel grid. The length is
+/// the size hysteresis: the previous length (prev = {p0, p1}; nullptr: none) is kept while it still
+/// holds the tight extent [t0, t1] with a texel of border on each side and is not much larger (at
+/// most cs_sdsm_len of kSdsmShrink beyond the margins); a box that must grow takes kSdsmGrow of its
+/// extent beyond the margins, one that is much too large shrinks to `need` (the margins alone). The
+/// start is kept while the kept length covers [t0, t1]; else the box is centred on it and snapped to
+/// whole texels (Valient 2008's stable snapping: an unchanged length moves by whole texels of an
+/// unchanged grid, which leaves a static scene's shadows where they were). Returns whether the axis
+/// is prev's, bit for bit.
+inline bool cs_sdsm_axis(double t0, double t1, double m, double S, const double* prev, double& b0, double& b1) {
+    const double e = t1 - t0, need = cs_sdsm_len(e, 2.0 * m, S);
+    double len = need;
+    if (prev) {
+        const double pl = prev[1] - prev[0];
+        if (pl >= std::fmax(e, 1e-30) * S / (S - 2.0) * (1.0 - 1e-12) && pl <= cs_sdsm_len(e, 2.0 * m + kSdsmShrink, S) * (1.0 + 1e-12)) {
+            if (prev[0] <= t0 && prev[1] >= t1) {
+                b0 = prev[0];
+                b1 = prev[1];
+                return true;
+            }
+            len = pl;  // b1 - b0 rounds
+        } else if (pl < need) {
+            len = cs_sdsm_len(e, 2.0 * m + kSdsmGrow, S);
+        }
+    }
+    const double texel = len / S;
+    b0 = std::floor((0.5 * (t0 + t1) - 0.5 * len) / texel) * texel;
+    b1 = b0 + len;
+    return false;
+}
+
+/// The box a cascade is rendered with: each axis by cs_sdsm_axis, the depth range kept while it holds
+/// t and is not much larger (within 4 margins and steps), else snapped outward to 1/8 of its power of
+/// two. `kept` says whether the whole box is `prev`'s, bit for bit (its slice's splits may have moved:
+/// world_splits; the box holds the new slice's tight box either way).
+inline CascadeSdsmBox cs_sdsm_box(const CascadeSdsmBox& t, const CascadeSdsmBox* prev, double m,
                                   double S, bool& kept) {
     const double dd = t.far_dist - t.near_dist;
     const double dstep = std::ldexp(1.0, std::ilogb(std::fmax(dd * (1.0 + 2.0 * m), 1e-30)) - 3);
-    auto loose = [&](double e) {  // (1 + 1e-12): a kept box's b1 - b0 is its rounded length within rounding
-        return cs_sdsm_round_up(std::fmax(e * (1.0 + 4.0 * m), 1e-30) * S / (S - 2.0)) * (1.0 + 1e-12);
-    };
     const bool depth_ok = prev && prev->near_dist <= t.near_dist && prev->far_dist >= t.far_dist &&
                           prev->far_dist - prev->near_dist <= dd * (1.0 + 4.0 * m) + 4.0 * dstep;
-    kept = false;
-    if (prev && same_split && depth_ok && prev->x0 <= t.x0 && prev->x1 >= t.x1 && prev->y0 <= t.y0 &&
-        prev->y1 >= t.y1 && prev->x1 - prev->x0 <= loose(t.x1 - t.x0) && prev->y1 - prev->y0 <= loose(t.y1 - t.y0)) {
-        kept = true;
-        return *prev;
-    }
     CascadeSdsmBox b;
-    cs_sdsm_axis(t.x0, t.x1, m, S, prev ? prev->x1 - prev->x0 : 0.0, b.x0, b.x1);
-    cs_sdsm_axis(t.y0, t.y1, m, S, prev ? prev->y1 - prev->y0 : 0.0, b.y0, b.y1);
+    const double px[2] = {prev ? prev->x0 : 0.0, prev ? prev->x1 : 0.0};
+    const double py[2] = {prev ? prev->y0 : 0.0, prev ? prev->y1 : 0.0};
+    const bool kx = cs_sdsm_axis(t.x0, t.x1, m, S, prev ? px : nullptr, b.x0, b.x1);
+    const bool ky = cs_sdsm_axis(t.y0, t.y1, m, S, prev ? py : nullptr, b.y0, b.y1);
+    kept = kx && ky && depth_ok;
     if (depth_ok) {
         b.near_dist = prev->near_dist;
         b.far_dist = prev->far_dist;
@@ -895,6 +928,31 @@ inline CascadeSdsmRange cascade_sdsm_view_range(const glm::mat4& camera_proj, Cl
 
 namespace detail {
 
+/// CascadeSdsmInput::world_splits: with the camera unturned since `prev` (rotation entries within 1e-5:
+/// lookAt's float rounding along a dolly), every view depth changes by
+/// the same c = the view translation's z change (d = -(R p + T).z), so prev's interior splits plus c lie
+/// on prev's world planes; they replace res's log-partition splits when they stay increasing inside
+/// (range_min, range_max) and within four steps of the range grid of the log partition's.
+inline void cs_sdsm_world_splits(const CascadeSdsmInput& in, const CascadeSdsmResult& prev, CascadeSdsmResult& res) {
+    const glm::mat4& a = prev.camera_view;
+    const glm::mat4& b = in.camera.camera_view;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (!(std::fabs(double(a[c][r]) - double(b[c][r])) <= 1e-5)) return;  // turned: not the same view-depth planes
+    const double shift = double(a[3][2]) - double(b[3][2]);
+    const double tol = 4.0 / double(in.range_steps_per_octave);  // half an octave at the default 8 steps
+    const std::uint32_t n = in.cascade_count;
+    float out[17];
+    float last = res.splits[0];
+    for (std::uint32_t i = 1; i < n; ++i) {
+        out[i] = static_cast<float>(double(prev.splits[i]) + shift);
+        if (!(out[i] > last) || !(std::fabs(std::log2(double(out[i]) / double(res.splits[i]))) <= tol)) return;
+        last = out[i];
+    }
+    if (!(res.splits[n] > last)) return;
+    for (std::uint32_t i = 1; i < n; ++i) res.splits[i] = out[i];
+}
+
 /// What cascade_sdsm_splits and cascade_sdsm_fit share: validation, the camera, the previous fit it
 /// may keep, the clamped and snapped visible range and its splits (res.splits, range_min/max).
 /// Returns Ok with res.visible false when the clamped range is empty.
@@ -934,6 +992,8 @@ inline Status cs_sdsm_prepare(const CascadeSdsmInput& in, const CascadeSdsmResul
     res.range_min = sp.distances[0];
     res.range_max = sp.distances[in.cascade_count];
     for (std::uint32_t i = 0; i <= in.cascade_count; ++i) res.splits[i] = sp.distances[i];
+    res.camera_view = in.camera.camera_view;
+    if (prev && in.world_splits) cs_sdsm_world_splits(in, *prev, res);
     return Status::Ok;
 }
 
@@ -984,11 +1044,13 @@ inline CascadeSdsmResult cascade_sdsm_splits(const CascadeSdsmInput& in, const C
 /// view_max] (clamped to the camera, snapped outward to powers of 2^(1/range_steps_per_octave)) with
 /// the log partition (lambda 1); each cascade's map is the tight light-space box of its view slice
 /// (cut to receiver_bounds when given; depth from the slice with its near side pulled back to the
-/// caster bounds), grown by the margin, each extent rounded up to 1/8 of its power of two plus a texel
-/// of border, snapped to whole texels of the origin-anchored grid. `previous` (nullptr: none; a result
-/// of another light, map size or cascade count is ignored) is last frame's result: its range ends and
-/// boxes are kept while they still cover (hysteresis), so a small camera move changes nothing, bit for
-/// bit. out_cascades holds out_capacity Cascade elements (nullptr only with 0); it needs
+/// caster bounds), grown by the margin, each extent rounded up to 1/32 of its power of two plus a
+/// texel of border, snapped to whole texels of the origin-anchored grid. `previous` (nullptr: none; a
+/// result of another light, map size or cascade count is ignored) is last frame's result: its range
+/// ends are kept while they still cover, each box's size while the tight box fits in it (a box grows
+/// only when it must, by a quarter more, and shrinks only when much too large: a resize moves filtered
+/// edges) and its place while it covers (hysteresis), so a small camera move changes nothing, bit for
+/// bit, and a larger one moves boxes by whole texels. out_cascades holds out_capacity Cascade elements (nullptr only with 0); it needs
 /// cascade_count (`needed`). Every visible point of a slice (within its receiver bounds) maps inside
 /// its cascade through the float matrix, in float.
 /// Status: BufferTooSmall, NonFinite, InvalidLight (not a directional light), InvalidArgument (a field
@@ -1022,9 +1084,8 @@ inline CascadeSdsmResult cascade_sdsm_fit(const CascadeSdsmInput& in, const Casc
         glm::dvec3 pw[8];
         const CascadeSdsmBox t = cs_sdsm_tight_box(in.camera, r, iv, lv, double(res.splits[i]), double(res.splits[i + 1]),
                                                    in.receiver_bounds ? in.receiver_bounds + i : nullptr, pw);
-        const bool same_split = prev && prev->splits[i] == res.splits[i] && prev->splits[i + 1] == res.splits[i + 1];
         bool kept = false;
-        res.boxes[i] = cs_sdsm_box(t, prev ? &prev->boxes[i] : nullptr, same_split, double(in.margin), S, kept);
+        res.boxes[i] = cs_sdsm_box(t, prev ? &prev->boxes[i] : nullptr, double(in.margin), S, kept);
         if (!kept) res.rebuilt |= 1u << i;
         out_cascades[i] = cs_sdsm_cascade(in.camera, lv, res.boxes[i], pw);
         if (out_cascades[i].status != Status::Ok) return fail(out_cascades[i].status, out_cascades[i].detail);

@@ -12,7 +12,8 @@
 //   fit=sdsm  update first reduces the G-buffer's depth to its min/max (glsl/cascades.glsl's
 //           sk_sdsm_reduce_depth / sk_sdsm_reduce_minmax, blocks of 8, read back: two floats; a stall a
 //           renderer would hide by reading last frame's), then cascade_sdsm_fit fits the cascades to
-//           that range with last frame's fit as hysteresis; render is the same
+//           that range with last frame's fit as hysteresis (world_splits: the interior splits stay
+//           on their world planes while the camera does not turn); render is the same
 //   cache=on  cached cascades (the section "Cached cascades" below): update fits with the depth range
 //           fixed in the world and plans each cascade (shadow_cache_plan); render scrolls the layers
 //           that moved and re-renders only the planned rectangles, with the translation-invariant
@@ -281,6 +282,7 @@ void CascadedShadowMaps::update_sdsm(const app::View& v, const CascadedShadowMap
     sd.view_max = r.view_max;
     sd.cascade_count = static_cast<std::uint32_t>(s.count);
     sd.lambda = s.sdsm_lambda;
+    sd.world_splits = true;  // interior splits stay on their world planes while the camera does not turn
     glm::vec4 bounds[4];
     if (s.receiver_bounds) {  // this frame's splits first, then the receivers of each cascade
         const shadowkit::CascadeSdsmResult sp = shadowkit::cascade_sdsm_splits(sd, &sdsm_);

@@ -210,6 +210,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         glm::vec4 rb[16];
         for (glm::vec4& v : rb) v = r.vec4();
         sd.receiver_bounds = (f4 & 16) ? rb : nullptr;
+        sd.world_splits = (f4 & 64) != 0;
         shadowkit::CascadeSdsmResult prev;
         prev.status = (f4 & 32) ? shadowkit::Status::Ok : shadowkit::Status::NotRun;
         prev.visible = true;

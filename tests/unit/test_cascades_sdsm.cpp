@@ -13,6 +13,8 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 using namespace shadowkit;
 
@@ -150,24 +152,24 @@ TEST_CASE("sdsm: closed form under a light shining straight down") {
     // whole octaves are on the 2^(1/8) grid: the log partition of [2, 32] is 2, 4, 8, 16, 32
     const float want[5] = {2, 4, 8, 16, 32};
     for (int i = 0; i < 5; ++i) CHECK(r.splits[i] == doctest::Approx(want[i]).epsilon(1e-6));
-    // cascade 0, slice [2, 4]: x extent 8 (1 + 2/16) * 1024 / 1022 = 9.018 -> a multiple of 1 (2^3 / 8): 10;
-    // y extent 2 (1 + 2/16) * 1024 / 1022 = 2.254 -> a multiple of 0.25 (2^1 / 8): 2.5
+    // cascade 0, slice [2, 4]: x extent 8 (1 + 2/16) * 1024 / 1022 = 9.018 -> a multiple of 0.25 (2^3 / 32):
+    // 9.25; y extent 2 (1 + 2/16) * 1024 / 1022 = 2.254 -> a multiple of 0.0625 (2^1 / 32): 2.3125
     const CascadeSdsmBox& b = r.boxes[0];
-    CHECK(b.x1 - b.x0 == 10.0);
-    CHECK(b.y1 - b.y0 == 2.5);
-    CHECK(b.x0 == -5.0);                     // centered on x = 0, whole texels of 10 / 1024
-    CHECK(b.y0 == 716.0 * 2.5 / 1024.0);     // centered on y = 3: 1.75 / (2.5 / 1024) = 716.8 texels, floored
+    CHECK(b.x1 - b.x0 == 9.25);
+    CHECK(b.y1 - b.y0 == 2.3125);
+    CHECK(b.x0 == -4.625);                    // centered on x = 0: -4.625 / (9.25 / 1024) = -512 texels
+    CHECK(b.y0 == 816.0 * 2.3125 / 1024.0);   // centered on y = 3: 1.84375 / (2.3125 / 1024) = 816.4 texels, floored
     CHECK(b.near_dist == -5.0);       // [-4, 4] grown by 8 / 16, snapped to 1 (2^3 / 8 of 9)
     CHECK(b.far_dist == 5.0);
-    CHECK(cs[0].texel_world_size == doctest::Approx(10.0 / 1024.0));  // the larger axis
+    CHECK(cs[0].texel_world_size == doctest::Approx(9.25 / 1024.0));  // the larger axis
     CHECK(cs[0].texel_anchor.x == -512.0);
-    CHECK(cs[0].texel_anchor.y == 716.0);
+    CHECK(cs[0].texel_anchor.y == 816.0);
     // the matrix maps the box's corners to the clip box's corners: world (x, y, z) = (x0, -near, -y0) -> (-1, -1, -1)
-    const glm::dvec4 c0 = glm::dmat4(cs[0].view_proj) * glm::dvec4(-5.0, 5.0, -b.y0, 1.0);
+    const glm::dvec4 c0 = glm::dmat4(cs[0].view_proj) * glm::dvec4(-4.625, 5.0, -b.y0, 1.0);
     CHECK(c0.x == doctest::Approx(-1.0));
     CHECK(c0.y == doctest::Approx(-1.0));
     CHECK(c0.z == doctest::Approx(-1.0));
-    const glm::dvec4 c1 = glm::dmat4(cs[0].view_proj) * glm::dvec4(5.0, -5.0, -b.y1, 1.0);
+    const glm::dvec4 c1 = glm::dmat4(cs[0].view_proj) * glm::dvec4(4.625, -5.0, -b.y1, 1.0);
     CHECK(c1.x == doctest::Approx(1.0));
     CHECK(c1.y == doctest::Approx(1.0));
     CHECK(c1.z == doctest::Approx(1.0));
@@ -294,6 +296,7 @@ TEST_CASE("sdsm: a camera path chained through `previous` stays covered every fr
     int bad = 0, rebuilt = 0, frames = 0;
     for (int path = 0; path < 20; ++path) {
         Config c = random_config(rng, 10.0);
+        c.in.world_splits = path % 2 == 1;  // the splits following the camera's travel: still covered
         CascadeSdsmResult prev;
         Cascade cs[16];
         const glm::vec3 dir = rdir(rng);
@@ -311,6 +314,191 @@ TEST_CASE("sdsm: a camera path chained through `previous` stays covered every fr
     CHECK(bad == 0);
     CHECK(rebuilt < frames / 2);  // the hysteresis keeps most frames
     MESSAGE("frames " << frames << ", frames with a rebuilt box " << rebuilt);
+}
+
+TEST_CASE("sdsm: a dolly through `previous` keeps every box size and moves boxes by whole texels") {
+    // camera looking down -z under a light shining straight down (map x = world x, map y = world -z):
+    // every frame's view slice [d0, d1] is the first one translated along -z, so its light-space box
+    // has the same extents and only its place changes. The fit must keep each length bit for bit and
+    // move each box by whole texels of the first frame's grid (a resize would move filtered edges).
+    CascadeSdsmInput in;
+    in.camera.camera_proj = glm::perspective(glm::radians(90.0f), 1.0f, 0.5f, 100.0f);
+    in.camera.light_position = glm::vec4(0, 1, 0, 0);
+    in.camera.shadow_map_size = 1024;
+    in.view_min = 2.0f;
+    in.view_max = 32.0f;
+    in.world_splits = false;  // the default: splits fixed in view depth
+    CascadeSdsmResult first, prev;
+    Cascade cs[4];
+    int moved = 0, bad = 0;
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int t = 0; t < 120; ++t) {
+        in.camera.camera_view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.05f * float(t)));  // eye at z = -0.05 t
+        const CascadeSdsmResult r = cascade_sdsm_fit(in, t ? &prev : nullptr, cs, 4);
+        REQUIRE(r.status == Status::Ok);
+        REQUIRE(r.count == 4);
+        if (t == 0) first = r;
+        for (int i = 0; i < 4; ++i) {
+            const CascadeSdsmBox &b = r.boxes[i], &b0 = first.boxes[i];
+            CHECK(r.splits[i] == first.splits[i]);
+            CHECK(b.x1 - b.x0 == b0.x1 - b0.x0);
+            CHECK(b.y1 - b.y0 == b0.y1 - b0.y0);
+            const double ty = (b0.y1 - b0.y0) / 1024.0, shift = (b.y0 - b0.y0) / ty;
+            CHECK(std::fabs(shift - std::round(shift)) < 1e-6);
+            CHECK(b.x0 == b0.x0);  // nothing moves across the view
+            moved += t && b.y0 != prev.boxes[i].y0 ? 1 : 0;
+            // coverage: points of the slice through the float matrix
+            for (int k = 0; k < 64; ++k) {
+                const double d = r.splits[i] + 0.5 * (u(rng) + 1.0) * (r.splits[i + 1] - r.splits[i]);
+                const glm::vec3 p = visible_point(in.camera.camera_view, glm::radians(90.0), 1.0, d, u(rng), u(rng));
+                bad += lands_inside(cs[i].view_proj, p, ClipDepth::NegativeOneToOne) ? 0 : 1;
+            }
+        }
+        prev = r;
+    }
+    CHECK(bad == 0);
+    CHECK(moved > 4);  // the boxes did move (6 wu, over 2 extents of cascade 0): not a vacuous check
+    MESSAGE("box moves over 119 frames x 4 cascades: " << moved);
+}
+
+TEST_CASE("sdsm: world_splits: a dolly keeps the interior splits on their world planes") {
+    // camera at z = -0.05 t looking down -z (a dolly: the rotation never changes), view range [2, 32]
+    // fixed (the report's dolly: the range of the first frame's depth buffer): the log partition is 2,
+    // 4, 8, 16, 32. With world_splits each interior split moves with the camera, s_i(t) = s_i(a) -
+    // 0.05 (t - a) from the last frame a they were cut, while |log2(s_1 / 4)| <= 4 / 8: 4 - 0.05 k >=
+    // 4 * 2^-0.5 = 2.8284, k <= 23 (s_2, s_3 drift less in log); at k = 24 they are cut again (a = 24).
+    CascadeSdsmInput in;
+    in.camera.camera_proj = glm::perspective(glm::radians(90.0f), 1.0f, 0.5f, 100.0f);
+    in.camera.light_position = glm::vec4(0, 1, 0, 0);
+    in.camera.shadow_map_size = 1024;
+    in.view_min = 2.0f;
+    in.view_max = 32.0f;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    // world points on the axis (z in [-30, -3.5]: view depth >= 2.35 > range_min = 2 up to frame 23,
+    // away from the planes by 0.01): each keeps the cascade its view depth selects while the splits
+    // stay anchored
+    std::vector<glm::vec3> pts;
+    for (int k = 0; k < 400; ++k) {
+        const float z = -3.5f - 26.5f * float(0.5 * (u(rng) + 1.0));
+        bool near_plane = false;
+        for (float pz : {-4.0f, -8.0f, -16.0f}) near_plane = near_plane || std::fabs(z - pz) < 0.01f;
+        if (!near_plane) pts.push_back(glm::vec3(0.0f, -0.5f, z));
+    }
+    for (bool world : {true, false}) {
+        in.world_splits = world;
+        CascadeSdsmResult prev;
+        Cascade cs[4];
+        int anchor = 0, bad = 0, interior_rebuilt = 0, switched = 0;
+        std::vector<int> first(pts.size(), -2);
+        for (int t = 0; t < 30; ++t) {
+            in.camera.camera_view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.05f * float(t)));
+            const CascadeSdsmResult r = cascade_sdsm_fit(in, t ? &prev : nullptr, cs, 4);
+            REQUIRE(r.status == Status::Ok);
+            REQUIRE(r.count == 4);
+            CHECK(r.splits[0] == 2.0f);
+            CHECK(r.splits[4] == 32.0f);
+            if (world && t - anchor > 23) anchor = t;
+            const float c = world ? 0.05f * float(t - anchor) : 0.0f;
+            CHECK(r.splits[1] == doctest::Approx(4.0f - c).epsilon(1e-5));
+            CHECK(r.splits[2] == doctest::Approx(8.0f - c).epsilon(1e-5));
+            CHECK(r.splits[3] == doctest::Approx(16.0f - c).epsilon(1e-5));
+            if (t && t != 24) interior_rebuilt += (r.rebuilt & 6u) ? 1 : 0;
+            for (int i = 0; i < 4; ++i)
+                for (int k = 0; k < 32; ++k) {
+                    const double d = r.splits[i] + 0.5 * (u(rng) + 1.0) * (r.splits[i + 1] - r.splits[i]);
+                    const glm::vec3 p = visible_point(in.camera.camera_view, glm::radians(90.0), 1.0, d, u(rng), u(rng));
+                    bad += lands_inside(cs[i].view_proj, p, ClipDepth::NegativeOneToOne) ? 0 : 1;
+                }
+            if (t <= 23)
+                for (std::size_t k = 0; k < pts.size(); ++k) {
+                    const float vd = -(in.camera.camera_view * glm::vec4(pts[k], 1.0f)).z;
+                    const int ci = cascade_select_by_depth(vd, r.splits, 4).index;
+                    if (t == 0) first[k] = ci;
+                    switched += ci != first[k] ? 1 : 0;
+                }
+            prev = r;
+        }
+        CHECK(bad == 0);
+        if (world) {
+            CHECK(switched == 0);          // every point keeps its cascade
+            CHECK(interior_rebuilt == 0);  // cascades 1 and 2 (both ends anchored): boxes bit for bit kept
+        } else {
+            CHECK(switched > 0);  // fixed in view depth, the points cross the splits: not a vacuous check
+        }
+        MESSAGE(std::string(world ? "world" : "view") << " splits: cascade switches " << switched << ", frames rebuilding cascade 1 or 2 "
+                                          << interior_rebuilt);
+    }
+    // a turn (1 degree) cuts the log partition again
+    in.world_splits = true;
+    Cascade cs[4];
+    in.camera.camera_view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.3f));
+    const CascadeSdsmResult a = cascade_sdsm_fit(in, nullptr, cs, 4);
+    in.camera.camera_view = glm::rotate(glm::mat4(1.0f), glm::radians(1.0f), glm::vec3(0, 1, 0)) *
+                            glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 0.5f));
+    const CascadeSdsmResult b = cascade_sdsm_fit(in, &a, cs, 4);
+    REQUIRE(b.status == Status::Ok);
+    CHECK(b.splits[1] == doctest::Approx(4.0f).epsilon(1e-6));
+    CHECK(b.splits[2] == doctest::Approx(8.0f).epsilon(1e-6));
+}
+
+TEST_CASE("sdsm: a box grows only when it must, by a quarter more, and shrinks only when much too large") {
+    // one cascade, slice [2, 4] of a 90-degree camera at the origin looking down -z, light straight
+    // down: x in [-4, 4], y (= -z) in [2, 4]. The receivers (x0, y0, x1, y1) = (-a, 2.5, a, 3.5): tight
+    // extents 2a and 1. By hand (margin 1/16, 1024 texels: border factor 1024 / 1022, lengths rounded
+    // up to 1/32 of their power of two):
+    //   a = 2: 4 (1 + 1/8) 1024/1022 = 4.5088 -> 4.625; y: 1.125 * 1024/1022 = 1.1272 -> 1.15625
+    //   a up to 2.3 (tight 4.6, with the border 4.609 <= 4.625): kept, the same box bit for bit
+    //   a = 3 (6.012 > 4.625): grows, to 6 (1 + 1/8 + 1/4) 1024/1022 = 8.266 -> 8.5
+    //   a = 4 (8.016 <= 8.5): kept
+    //   a = 1: 2 (1 + 1/8 + 1/2) 1024/1022 = 3.256 -> 3.3125 < 8.5: shrinks to 2 (1 + 1/8) = 2.254 -> 2.3125
+    CascadeSdsmInput in;
+    in.camera.camera_view = glm::mat4(1.0f);
+    in.camera.camera_proj = glm::perspective(glm::radians(90.0f), 1.0f, 0.5f, 100.0f);
+    in.camera.light_position = glm::vec4(0, 1, 0, 0);
+    in.camera.shadow_map_size = 1024;
+    in.view_min = 2.0f;
+    in.view_max = 4.0f;
+    in.cascade_count = 1;
+    in.margin = 1.0f / 16.0f;
+    CascadeSdsmResult prev;
+    Cascade c[1];
+    auto fit = [&](float a, bool chained) {
+        const glm::vec4 rb(-a, 2.5f, a, 3.5f);
+        in.receiver_bounds = &rb;
+        const CascadeSdsmResult r = cascade_sdsm_fit(in, chained ? &prev : nullptr, c, 1);
+        REQUIRE(r.status == Status::Ok);
+        REQUIRE(r.count == 1);
+        // every receiver lands inside (the four corners of the receiver rectangle at height 0 and +-3)
+        for (int k = 0; k < 12; ++k) {
+            const glm::vec3 p((k & 1) ? a : -a, float(k / 4 - 1) * 3.0f, (k & 2) ? -3.5f : -2.5f);
+            CHECK(lands_inside(c[0].view_proj, p, ClipDepth::NegativeOneToOne));
+        }
+        prev = r;
+        return r;
+    };
+    const CascadeSdsmResult r0 = fit(2.0f, false);
+    CHECK(r0.boxes[0].x1 - r0.boxes[0].x0 == 4.625);
+    CHECK(r0.boxes[0].y1 - r0.boxes[0].y0 == 1.15625);
+    for (int k = 1; k <= 15; ++k) {  // grows 15% in 15 frames: inside the margins and the rounding
+        const CascadeSdsmResult r = fit(2.0f * (1.0f + 0.01f * float(k)), true);
+        CHECK(r.rebuilt == 0u);
+        CHECK(std::memcmp(&r.boxes[0], &r0.boxes[0], sizeof(CascadeSdsmBox)) == 0);
+    }
+    const CascadeSdsmResult g = fit(3.0f, true);
+    CHECK(g.rebuilt == 1u);
+    CHECK(g.boxes[0].x1 - g.boxes[0].x0 == 8.5);
+    CHECK(g.boxes[0].y1 - g.boxes[0].y0 == 1.15625);  // the other axis keeps its length
+    const CascadeSdsmResult k = fit(4.0f, true);
+    CHECK(k.rebuilt == 0u);
+    CHECK(k.boxes[0].x1 - k.boxes[0].x0 == 8.5);
+    const CascadeSdsmResult s = fit(1.0f, true);
+    CHECK(s.boxes[0].x1 - s.boxes[0].x0 == 2.3125);
+    // without `previous` the 15%-grown receivers get their own tight box: the hysteresis kept a box
+    // larger than a fresh fit (the test above is not vacuous)
+    const CascadeSdsmResult f = fit(2.3f, false);
+    CHECK(f.boxes[0].x1 - f.boxes[0].x0 == 5.25);  // 4.6 (1 + 1/8) 1024/1022 = 5.186 -> 5.25
 }
 
 TEST_CASE("sdsm: stiff cases") {
