@@ -260,12 +260,25 @@ void basis_across(glm::vec3 d, glm::vec3& b1, glm::vec3& b2) {
     b2 = glm::cross(d, b1);
 }
 
+// Whether the light ray through q, a point of p's plane (normal n), first meets the scene no nearer to
+// the light than that plane (less `tol`), or misses it. A ray nearly parallel to the plane (an edge-on
+// receiver, the terminator of a curved mesh) fails: the map cannot tell that plane from what bends in
+// front of it within a texel.
+bool plane_point_clear(const sk::EmbreeScene& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, glm::vec3 q, float tol, float far) {
+    const bool sun = L.type == sk::LightType::Directional;
+    const glm::vec3 d = -glm::normalize(L.direction);  // towards a sun
+    const glm::vec3 org = sun ? q + far * d : L.position;
+    const glm::vec3 dir = sun ? -d : glm::normalize(q - L.position);
+    const float dn = glm::dot(dir, n);
+    if (!(dn < -1e-3f)) return false;  // the ray runs along the plane, or meets its back
+    const float t_plane = glm::dot(p - org, n) / dn;
+    return !(first_hit(e.scene, org, dir, INFINITY) < t_plane - tol);
+}
+
 // Whether nothing occludes p's tangent plane within the 2x2 filter's reach in the map: the light rays
 // through a 7x7 grid half a texel apart over +-1.5 texels around p, across the light (in the map's
-// plane, not on the receiver), each first meet the scene no nearer to the light than p's plane (less
-// `tol`), or miss it. Then a lit p that the map shadows is acne: the map holds p's own plane there. A
-// ray nearly parallel to the plane (an edge-on receiver, the terminator of a curved mesh) fails: the
-// map cannot tell that plane from what bends in front of it within a texel.
+// plane, not on the receiver), are each clear of p's plane (plane_point_clear). Then a lit p that the
+// map shadows is acne: the map holds p's own plane there.
 bool plane_clear_within_filter_reach(const sk::EmbreeScene& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, float texel,
                                      float tol, float far) {
     const bool sun = L.type == sk::LightType::Directional;
@@ -274,15 +287,38 @@ bool plane_clear_within_filter_reach(const sk::EmbreeScene& e, const sk::Light& 
     basis_across(d, b1, b2);
     for (int i = 0; i < 49; ++i) {
         const float u = 0.5f * float(i % 7 - 3), w = 0.5f * float(i / 7 - 3);
-        const glm::vec3 q = p + texel * (u * b1 + w * b2);
-        const glm::vec3 org = sun ? q + far * d : L.position;
-        const glm::vec3 dir = sun ? -d : glm::normalize(q - L.position);
-        const float dn = glm::dot(dir, n);
-        if (!(dn < -1e-3f)) return false;  // the ray runs along the plane, or meets its back
-        const float t_plane = glm::dot(p - org, n) / dn;
-        const float t_hit = first_hit(e.scene, org, dir, INFINITY);
-        if (t_hit < t_plane - tol) return false;
+        if (!plane_point_clear(e, L, p, n, p + texel * (u * b1 + w * b2), tol, far)) return false;
     }
+    return true;
+}
+
+// Whether the rays of the texels the 2x2 filter reads at p in the map `m` (size^2 texels) are clear of
+// p's plane (plane_point_clear) where they meet it: the texel centres within one texel of p's map
+// coordinate on each axis (plus 1e-3 texel: the GPU's float rounding of that coordinate), clamped to
+// the map's edge, each centre's line unprojected in double through m's inverse. The grid above samples
+// the reach half a (longest) texel apart: a caster thinner than that (outdoor's 0.3 m posts under
+// LiSPSM's 1.3 m x 0.2 m texels at the map's edge) slips between its rays, never between the centres
+// the map is rasterized at. True when p is outside m (or behind its light).
+bool filter_taps_clear(const sk::EmbreeScene& e, const sk::Light& L, glm::vec3 p, glm::vec3 n, const glm::mat4& m, int size,
+                       float tol, float far) {
+    const glm::dmat4 md(m), mi = glm::inverse(md);
+    const glm::dvec4 c = md * glm::dvec4(glm::dvec3(p), 1.0);
+    if (!(c.w > 0.0)) return true;
+    const glm::dvec2 f = (glm::dvec2(c) / c.w * 0.5 + 0.5) * double(size) - 0.5;  // texel-centre coordinates
+    const glm::dvec3 pd(p), nd(n);
+    const int hi = size - 1;
+    const int x0 = std::clamp(int(std::ceil(f.x - 1.001)), 0, hi), x1 = std::clamp(int(std::floor(f.x + 1.001)), 0, hi);
+    const int y0 = std::clamp(int(std::ceil(f.y - 1.001)), 0, hi), y1 = std::clamp(int(std::floor(f.y + 1.001)), 0, hi);
+    for (int j = y0; j <= y1; ++j)
+        for (int i = x0; i <= x1; ++i) {
+            const glm::dvec2 ndc = (glm::dvec2(i, j) + 0.5) / double(size) * 2.0 - 1.0;
+            const glm::dvec4 a = mi * glm::dvec4(ndc, -1.0, 1.0), b = mi * glm::dvec4(ndc, 1.0, 1.0);
+            const glm::dvec3 A = glm::dvec3(a) / a.w, B = glm::dvec3(b) / b.w;
+            const double den = glm::dot(B - A, nd);
+            if (!(std::abs(den) > 1e-12 * glm::length(B - A))) return false;  // the texel's line along the plane
+            const glm::dvec3 q = A + glm::dot(pd - A, nd) / den * (B - A);
+            if (!plane_point_clear(e, L, p, n, glm::vec3(q), tol, far)) return false;
+        }
     return true;
 }
 
@@ -306,9 +342,21 @@ float texel_of_matrix(const glm::mat4& m, glm::vec3 p, glm::vec3 d, int size) {
     return static_cast<float>(2.0 / double(size) / std::sqrt(smin2));
 }
 
-// The technique's texel at each scored pixel: from the matrices it reported for the frame (cascades:
-// the first cascade whose map holds p, and the next one if it does too, the larger: the blend band reads
-// both), else (or outside them all) the scene frustum's texel at its map size.
+// The maps of `mats` the technique reads at p (d: towards the light): the first whose map holds p, and
+// the next one if it does too (cascades' blend band reads both); count 0 when none holds p.
+struct PixelMaps {
+    std::size_t first = 0, count = 0;
+};
+PixelMaps maps_at(const std::vector<glm::mat4>& mats, glm::vec3 p, glm::vec3 d, int size) {
+    for (std::size_t i = 0; i < mats.size(); ++i)
+        if (texel_of_matrix(mats[i], p, d, size) > 0.f)
+            return {i, i + 1 < mats.size() && texel_of_matrix(mats[i + 1], p, d, size) > 0.f ? 2u : 1u};
+    return {};
+}
+
+// The technique's texel at each scored pixel: from the matrices it reported for the frame (maps_at: the
+// larger of the two cascades of a blend band), else (or outside them all) the scene frustum's texel at
+// its map size.
 std::vector<float> pixel_texels(const sk::GBuffer& g, const LightRef& r, const std::vector<glm::mat4>& mats, int map_size,
                                 const sk::Light& L) {
     std::vector<float> out(r.cls.size(), 0.f);
@@ -316,18 +364,16 @@ std::vector<float> pixel_texels(const sk::GBuffer& g, const LightRef& r, const s
         if (r.cls[k] == 0) continue;
         const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
         const glm::vec3 d = L.type == sk::LightType::Directional ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
+        const PixelMaps pm = maps_at(mats, p, d, map_size);
         float t = 0.f;
-        for (std::size_t i = 0; i < mats.size() && t == 0.f; ++i) {
-            t = texel_of_matrix(mats[i], p, d, map_size);
-            if (t > 0.f && i + 1 < mats.size()) t = std::max(t, texel_of_matrix(mats[i + 1], p, d, map_size));
-        }
+        for (std::size_t i = pm.first; i < pm.first + pm.count; ++i) t = std::max(t, texel_of_matrix(mats[i], p, d, map_size));
         out[k] = t > 0.f ? t : r.texel[k] / static_cast<float>(map_size);
     }
     return out;
 }
 
 LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<float>& v, const std::vector<float>& texels,
-                 const sk::EmbreeScene& e, const sk::Light& L, float eps) {
+                 const std::vector<glm::mat4>& mats, int map_size, const sk::EmbreeScene& e, const sk::Light& L, float eps) {
     const float far = 2e5f * eps;  // twice the scene's diagonal (eps: 1e-5 of it): a sun's rays start there
     LightScore s;
     const int w = g.width, h = g.height;
@@ -357,8 +403,13 @@ LightScore score(const sk::GBuffer& g, const LightRef& r, const std::vector<floa
                     ++acne;
                     const glm::vec3 p(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]);
                     const glm::vec3 nn(g.normal[3 * k], g.normal[3 * k + 1], g.normal[3 * k + 2]);
-                    if (plane_clear_within_filter_reach(e, L, p, nn, texels[k], 4.f * eps, far))
-                        ++acne_texel;
+                    bool clear = plane_clear_within_filter_reach(e, L, p, nn, texels[k], 4.f * eps, far);
+                    // and the texels the filter reads, where the technique reports its maps
+                    const glm::vec3 d = L.type == sk::LightType::Directional ? -glm::normalize(L.direction) : glm::normalize(L.position - p);
+                    const PixelMaps pm = maps_at(mats, p, d, map_size);
+                    for (std::size_t i = pm.first; clear && i < pm.first + pm.count; ++i)
+                        clear = filter_taps_clear(e, L, p, nn, mats[i], map_size, 4.f * eps, far);
+                    if (clear) ++acne_texel;
                 }
             } else {
                 ++umbra;
@@ -523,7 +574,8 @@ void run_light_sweep(const std::vector<sk::Scene>& scenes, const std::vector<sk:
                     const std::vector<glm::mat4>& mats = l - c0 < res.light_matrices.size() ? res.light_matrices[l - c0] : none;
                     if (!mats.empty()) row.texels_from_technique = true;
                     const LightScore s =
-                        score(g, refs[l - c0], v, pixel_texels(g, refs[l - c0], mats, row.map_size, sl.lights[l]), e, sl.lights[l], eps);
+                        score(g, refs[l - c0], v, pixel_texels(g, refs[l - c0], mats, row.map_size, sl.lights[l]), mats, row.map_size, e,
+                              sl.lights[l], eps);
                     const glm::vec3 wl = sl.towards[l];
                     if (s.acne > 0.0) ++row.lights_with_acne;
                     if (s.leak > 0.0) ++row.lights_with_leak;
