@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace skvk {
@@ -107,5 +108,59 @@ inline Agreement compare_with_ray_cast(const BoxScene& s, glm::vec4 light, const
         }
     return a;
 }
+
+// ------------------------------------------------------------------ the receiver pass's shader pieces
+// The receiver pass draws the scene (SceneVertex) seen by the camera and writes the visibility, the
+// world point and the normal (the three targets compare_with_ray_cast reads). The including test's
+// source declares its uniform block `u` (with `view_proj`) before these pieces and writes its lookup.
+
+/// GLSL vertex stage body (after `#version` and the test's Params block): world point and normal
+/// to locations 0 and 1, clip position from u.view_proj.
+inline constexpr const char* kReceiverGlslVsBody = R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = u.view_proj * vec4(a_position, 1.0);
+}
+)";
+/// GLSL fragment stage inputs and the three targets (o_visibility, o_world, o_normal).
+inline constexpr const char* kReceiverGlslFsIo = R"(
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out float o_visibility;
+layout(location = 1) out vec4 o_world;
+layout(location = 2) out vec4 o_normal;
+)";
+/// The GLSL vertex stage: `#version 450 core`, the test's Params block, kReceiverGlslVsBody.
+inline std::string receiver_glsl_vs(const char* params_block) {
+    return std::string("#version 450 core\n") + params_block + kReceiverGlslVsBody;
+}
+/// HLSL: the varyings (world point, normal) and the vertex stage `vs_main` (clip position from u.view_proj).
+inline constexpr const char* kReceiverHlslVs = R"(
+struct Varyings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    [[vk::location(1)]] float3 normal : TEXCOORD1;
+};
+Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    Varyings o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(u.view_proj, float4(position, 1.0));
+    return o;
+}
+)";
+/// HLSL: the three targets (visibility, world point, normal) of the fragment stage.
+inline constexpr const char* kReceiverHlslTargets = R"(
+struct Targets {
+    [[vk::location(0)]] float visibility : SV_Target0;
+    [[vk::location(1)]] float4 world : SV_Target1;
+    [[vk::location(2)]] float4 normal : SV_Target2;
+};
+)";
 
 }  // namespace skvk
