@@ -36,12 +36,6 @@ layout(push_constant) uniform P { mat4 vp; } pc;
 layout(location = 0) in vec3 a_position;
 void main() { gl_Position = pc.vp * vec4(a_position, 1.0); }
 )";
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kPassGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_depth;
 layout(set = 0, binding = 1, std140) uniform Params { mat4 proj; mat4 inv_proj; vec4 view_light; vec4 march; } u;
@@ -65,10 +59,6 @@ const char* kPassHlsl = R"(
 [[vk::binding(0, 0)]] Texture2D<float> u_depth;
 struct Params { column_major float4x4 proj; column_major float4x4 inv_proj; float4 view_light; float4 march; };
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float2 ps_main(float4 position : SV_Position) : SV_Target0 {
     int2 px = int2(position.xy);
     uint w, h;
@@ -106,14 +96,14 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     if (lang == Source::Glsl) {
         const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                     skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/contact_shadow.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "contact.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "contact.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kPassGlsl, "main",
                                    reversed ? "contact_rz.glsl.frag" : "contact.glsl.frag");
     } else {
         const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                     skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/contact_shadow.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kPassHlsl, "vs_main", "contact.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kPassHlsl, "ps_main",
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kPassHlsl, "vs_main", "contact.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kPassHlsl, "ps_main",
                                    reversed ? "contact_rz.hlsl.frag" : "contact.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";

@@ -46,12 +46,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 // per sample: e0, e1, (p, -), (ndc.xy, window depth, -)
 const char* kGlsl = R"(
 layout(set = 0, binding = 0, std430) readonly buffer Samples { vec4 s[]; };
@@ -68,10 +62,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] StructuredBuffer<float4> s;
 struct Params { column_major float4x4 inv_view_proj; float4 light_position; float4 radius; };
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float4 ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     float c = sk_wedge_edge_coverage(s[4 * i].xyz, s[4 * i + 1].xyz, u.light_position, u.radius.x, s[4 * i + 2].xyz);
@@ -92,13 +82,13 @@ void run_wedge(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/penumbra_wedge.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "wedge.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "wedge.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "wedge.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/penumbra_wedge.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "wedge.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "wedge.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "wedge.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "wedge.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
@@ -131,37 +121,14 @@ void run_wedge(Source lang) {
     std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT,
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
-    VkCommandBuffer cmd = skvk::begin_commands(ctx);
-    VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
-    REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(gpu.size() == std::size_t(M) * 4);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row, VK_FORMAT_R32G32B32A32_SFLOAT, 4);
+    const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
     double max_c = 0, sum_c = 0, max_w = 0;
     int nonzero = 0, positive = 0, negative = 0;
@@ -191,12 +158,8 @@ void run_wedge(Source lang) {
     CHECK(max_w < 1e-4);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, target);
     skvk::destroy(ctx, ssbo);
     skvk::destroy(ctx, ubo);
 }
@@ -495,7 +458,7 @@ WedgeShaders compile_wedge_shaders(Source lang) {
         w.volume_vs = skvk::compile_checked(lang, V, head + "#define SK_VOLUME_VS 1\n" + kWedgePassGlsl, "main", "wedges.glsl.volume.vert");
         w.wedge_vs = skvk::compile_checked(lang, V, head + "#define SK_WEDGE_VS 1\n" + kWedgePassGlsl, "main", "wedges.glsl.wedge.vert");
         w.wedge_fs = skvk::compile_checked(lang, F, head + kWedgePassGlsl, "main", "wedges.glsl.wedge.frag");
-        w.full_vs = skvk::compile_checked(lang, V, kFullscreenGlsl, "main", "wedges.glsl.full.vert");
+        w.full_vs = skvk::compile_checked(lang, V, skvk::kFullscreenGlsl, "main", "wedges.glsl.full.vert");
         w.combine_fs = skvk::compile_checked(lang, F, head + kCombineGlsl, "main", "wedges.glsl.combine.frag");
     } else {
         const std::string head = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_volume.hlsl") + "\n" +

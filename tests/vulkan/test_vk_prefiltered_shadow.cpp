@@ -27,12 +27,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kGlsl = R"(
 layout(set = 0, binding = 0, std430) readonly buffer Samples { vec4 s[]; };  // moments, (t, -, -, -)
 layout(push_constant) uniform Case { vec4 params; int method; float moment_bias; int quantized; } k;
@@ -46,10 +40,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] StructuredBuffer<float4> s;
 struct Case { float4 params; int method; float moment_bias; int quantized; };
 [[vk::push_constant]] ConstantBuffer<Case> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     return sk_prefilter_visibility(s[2 * i], s[2 * i + 1].x, k.method, k.params, k.moment_bias, k.quantized != 0);
@@ -70,45 +60,24 @@ void run_prefiltered(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/prefiltered_shadow.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "prefiltered.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "prefiltered.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "prefiltered.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/prefiltered_shadow.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "prefiltered.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "prefiltered.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "prefiltered.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "prefiltered.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
     constexpr std::uint32_t M = 2048;
     skvk::Buffer ssbo;
     REQUIRE(skvk::make_buffer(ctx, M * 2 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(CasePush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(CasePush));
 
     struct Method {
         const char* name;
@@ -154,13 +123,7 @@ void run_prefiltered(Source lang) {
         }
         std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
         const CasePush cp{u.params(), m.code, m.moment_bias, m.quantized ? 1 : 0};
-        VkCommandBuffer cmd = skvk::begin_commands(ctx);
-        VkClearValue zero{};
-        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, &cp, VK_NULL_HANDLE, 3, false, sizeof cp,
-                        VK_SHADER_STAGE_FRAGMENT_BIT);
-        REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-        REQUIRE(gpu.size() == M);
+        const std::vector<float> gpu = skvk::draw_row(ctx, row, ds, &cp);
         std::size_t off = 0, bad = 0, partial = 0;
         double max_err = 0;
         for (std::uint32_t i = 0; i < M; ++i) {
@@ -186,12 +149,7 @@ void run_prefiltered(Source lang) {
             samples[2 * i + 1].x = rng() % 5u == 0 ? specials[rng() % 8u] : U01(rng);
         }
         std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
-        cmd = skvk::begin_commands(ctx);
-        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, &cp, VK_NULL_HANDLE, 3, false, sizeof cp,
-                        VK_SHADER_STAGE_FRAGMENT_BIT);
-        REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        const std::vector<float> junk = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-        REQUIRE(junk.size() == M);
+        const std::vector<float> junk = skvk::draw_row(ctx, row, ds, &cp);
         std::size_t junk_bad = 0, junk_close = 0;
         for (std::uint32_t i = 0; i < M; ++i) {
             junk_bad += !(junk[i] >= 0.f && junk[i] <= 1.f);
@@ -204,12 +162,8 @@ void run_prefiltered(Source lang) {
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, target);
     skvk::destroy(ctx, ssbo);
 }
 
@@ -743,7 +697,7 @@ void run_blur(Source lang) {
     std::uniform_real_distribution<float> ud(-2.0f, 2.0f);
     std::vector<float> data(std::size_t(W) * H * 4);
     for (float& v : data) v = ud(rng);
-    const Shaders sh = compile_pass(lang, kFullscreenGlsl, kBlurGlsl, kBlurHlsl, "vs_full", "ps_blur", "prefiltered_blur");
+    const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kBlurGlsl, kBlurHlsl, "vs_full", "ps_blur", "prefiltered_blur");
     skvk::Image src, tmp, out;
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, src));
@@ -978,7 +932,7 @@ void run_resolve(Source lang) {
         vkDestroyRenderPass(ctx.device, rp, nullptr);
         skvk::destroy(ctx, vb);
     }
-    const Shaders sh = compile_pass(lang, kFullscreenGlsl, kResolveGlsl, kResolveHlsl, "vs_full", "ps_resolve", "prefiltered_resolve");
+    const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kResolveGlsl, kResolveHlsl, "vs_full", "ps_resolve", "prefiltered_resolve");
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     const VkDescriptorType tex_type = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -1116,7 +1070,7 @@ void run_soft(Source lang) {
     const glm::vec3 bl[4] = {{-30, -30, -db}, {x_edge, -30, -db}, {x_edge, 30, -db}, {-30, 30, -db}};
     const std::vector<glm::vec3> tris = {fl[0], fl[1], fl[2], fl[0], fl[2], fl[3], bl[0], bl[1], bl[2], bl[0], bl[2], bl[3]};
     const Shaders msh = moment_shaders(lang);
-    const Shaders sh = compile_pass(lang, kFullscreenGlsl, kSoftGlsl, kSoftHlsl, "vs_full", "ps_soft", "prefiltered_soft");
+    const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kSoftGlsl, kSoftHlsl, "vs_full", "ps_soft", "prefiltered_soft");
     // receiver points across the penumbra (centered on x_edge d_r / d_b), uv and t computed here
     const std::uint32_t RX = 128, RY = 4;
     std::vector<glm::vec4> in(std::size_t(RX) * RY);

@@ -29,12 +29,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kFirstGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_src;
 layout(push_constant) uniform Step { int block; float background; } k;
@@ -52,10 +46,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] Texture2D<float2> u_level;
 struct Step { int block; float background; };
 [[vk::push_constant]] ConstantBuffer<Step> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float2 ps_first(float4 position : SV_Position) : SV_Target0 {
     return sk_sdsm_reduce_depth(u_depth, int2(position.xy), k.block, k.background);
 }
@@ -108,10 +98,6 @@ struct Out {
     float4 b2 : SV_Target2;
     float4 b3 : SV_Target3;
 };
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 Out ps_first(float4 position : SV_Position) {
     float4 b[4];
     sk_sdsm_reduce_bounds(u_src, int2(position.xy), 4, 1.0, u.clip_to_world, u.world_to_view, u.world_to_light, u.split_far,
@@ -152,16 +138,16 @@ struct Reducer {
         std::vector<std::uint32_t> vs, fs0, fs1;
         if (glsl) {
             const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
-            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "sdsm.glsl.vert");
+            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "sdsm.glsl.vert");
             fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kFirstGlsl, "main",
                                         "sdsm.glsl.first.frag");
             fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kNextGlsl, "main",
                                         "sdsm.glsl.next.frag");
         } else {
             const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/cascades.hlsl");
-            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "sdsm.hlsl.vert");
-            fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_first", "sdsm.hlsl.first.frag");
-            fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_next", "sdsm.hlsl.next.frag");
+            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "sdsm.hlsl.vert");
+            fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_first", "sdsm.hlsl.first.frag");
+            fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_next", "sdsm.hlsl.next.frag");
         }
         rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
@@ -364,16 +350,16 @@ void check_bounds(Source lang) {
     std::vector<std::uint32_t> vs, fs0, fs1;
     if (glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "sdsm_bounds.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "sdsm_bounds.glsl.vert");
         fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kBoundsFirstGlsl, "main",
                                     "sdsm_bounds.glsl.first.frag");
         fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kBoundsNextGlsl, "main",
                                     "sdsm_bounds.glsl.next.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/cascades.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kBoundsHlsl, "vs_main", "sdsm_bounds.hlsl.vert");
-        fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kBoundsHlsl, "ps_first", "sdsm_bounds.hlsl.first.frag");
-        fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kBoundsHlsl, "ps_next", "sdsm_bounds.hlsl.next.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "vs_main", "sdsm_bounds.hlsl.vert");
+        fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "ps_first", "sdsm_bounds.hlsl.first.frag");
+        fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "ps_next", "sdsm_bounds.hlsl.next.frag");
     }
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
     VkRenderPass rp = skvk::make_render_pass(ctx, {rgba, rgba, rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);

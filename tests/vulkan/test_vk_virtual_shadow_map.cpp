@@ -84,12 +84,6 @@ bool ray_hits(const Box& box, const glm::dvec3& p, const glm::dvec3& d) {
     return t1 >= std::max(t0, 1e-3);
 }
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kCasterGlsl = R"(#version 450 core
 layout(push_constant) uniform Page { mat4 view_proj; } pc;
 layout(location = 0) in vec3 a_position;
@@ -127,10 +121,6 @@ const char* kHlsl = R"(
 [[vk::binding(3, 0)]] StructuredBuffer<float4> px;
 struct Pass { float pixel_angle; int width; };
 [[vk::push_constant]] ConstantBuffer<Pass> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_mark(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.y) * k.width + int(position.x);
     float4 p = px[2 * i];
@@ -194,7 +184,7 @@ Modules compile(Source lang) {
                                      lang == Source::Glsl ? "vsm.glsl.caster.vert" : "vsm.hlsl.caster.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/virtual_shadow_map.glsl");
-        m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "vsm.glsl.vert");
+        m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "vsm.glsl.vert");
         m.mark = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kMarkGlsl, "main",
                                        "vsm.glsl.mark.frag");
         m.lookup = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kLookupGlsl, "main",
@@ -202,9 +192,9 @@ Modules compile(Source lang) {
         return m;
     }
     const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/virtual_shadow_map.hlsl");
-    m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "vsm.hlsl.vert");
-    m.mark = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_mark", "vsm.hlsl.mark.frag");
-    m.lookup = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_lookup", "vsm.hlsl.lookup.frag");
+    m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "vsm.hlsl.vert");
+    m.mark = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_mark", "vsm.hlsl.mark.frag");
+    m.lookup = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_lookup", "vsm.hlsl.lookup.frag");
     m.entries[0] = "vs_main";
     m.entries[1] = "ps_mark";
     m.entries[2] = "ps_lookup";
