@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "../silmap_reference.hpp"
 #include "vk_harness.hpp"
 #include "vk_passes.hpp"
 #include "vk_scene.hpp"
@@ -529,13 +530,6 @@ Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const
     return f;
 }
 
-double seg_dist(glm::vec2 q, glm::vec2 a, glm::vec2 b) {
-    const glm::dvec2 ab = glm::dvec2(b) - glm::dvec2(a), aq = glm::dvec2(q) - glm::dvec2(a);
-    const double dd = glm::dot(ab, ab);
-    const double t = dd > 0.0 ? std::clamp(glm::dot(aq, ab) / dd, 0.0, 1.0) : 0.0;
-    return glm::length(aq - t * ab);
-}
-
 // The GL test's measures against the ray cast at the floor pixels: rmse; the misclassified rate
 // away from reference edges (8-neighbourhood, as sk::compute_metrics); every wrong pixel's distance
 // in the map's texels to the projected silhouette edges (p50).
@@ -564,11 +558,8 @@ Score score(const FloatingBoxes& sc, const std::vector<float>& world, const std:
             sq += e * e;
             const bool wrong = (v[k] >= 0.5f ? 1 : 0) != ref[k];
             if (wrong) {
-                const glm::vec4 c = sc.light_vp * glm::vec4(world[4 * k], world[4 * k + 1], world[4 * k + 2], 1.f);
-                const glm::vec2 q = (glm::vec2(c) / c.w * 0.5f + 0.5f) * float(size);
-                double best = 1e30;
-                for (const auto& ed : edges) best = std::min(best, seg_dist(q, ed.a, ed.b));
-                d.push_back(best);
+                const glm::vec3 p(world[4 * k], world[4 * k + 1], world[4 * k + 2]);
+                d.push_back(silmap_ref::edge_distance(sc.light_vp, p, float(size), edges).texels);
             }
             if (x == 0 || y == 0 || x == kW - 1 || y == kH - 1) continue;
             bool edge = false;
