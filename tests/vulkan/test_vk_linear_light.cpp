@@ -322,17 +322,8 @@ Targets lookup_ps(WorldV i) {
     if (glsl) return src + "    o_v = v / u.p.x;\n    o_world = vec4(p, 1.0);\n    o_normal = vec4(n, 0.0);\n}\n";
     return src + "    Targets o;\n    o.v = v / u.p.x;\n    o.world = float4(p, 1.0);\n    o.normal = float4(n, 0.0);\n    return o;\n}\n";
 }
-const char* kLookupVsGlsl = R"(#version 450 core
+const char* kLookupParamsGlsl = R"(
 layout(set = 0, binding = 0, std140) uniform Params { mat4 cam_vp; mat4 vp[5]; vec4 end_pos[5]; vec4 p; } u;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.cam_vp * vec4(a_position, 1.0);
-}
 )";
 
 // The `linear` scene of samples/app (make_builtin_scene): floor (half size 4, no caster), a box and a post.
@@ -502,7 +493,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
     skvk::PipelineDesc pd;
     const std::string tag = std::string(glsl ? "linear_light.glsl.lookup" : "linear_light.hlsl.lookup") + std::to_string(k);
     if (glsl) {
-        pd.vs = skvk::compile_checked(P.lang, V, kLookupVsGlsl, "main", tag + ".vert");
+        pd.vs = skvk::compile_checked(P.lang, V, skvk::receiver_glsl_vs(kLookupParamsGlsl, "u.cam_vp"), "main", tag + ".vert");
         pd.fs = skvk::compile_checked(P.lang, F, "#version 450 core\n" + P.snippet + lookup_source(P.lang, k), "main", tag + ".frag");
     } else {
         const std::string h = P.snippet + lookup_source(P.lang, k);

@@ -326,27 +326,8 @@ struct WedgePush {
     glm::mat4 view_proj;
     glm::vec4 light_position, sphere;
 };
-const char* kWedgeSceneVs = R"(#version 450 core
+const char* kWedgeScenePush = R"(
 layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; vec4 sphere; } pc;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = pc.view_proj * vec4(a_position, 1.0);
-}
-)";
-const char* kWedgeSceneFs = R"(#version 450 core
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out vec4 o_world;
-layout(location = 1) out vec4 o_normal;
-void main() {
-    o_world = vec4(v_world, 1.0);
-    o_normal = vec4(normalize(v_normal), 0.0);
-}
 )";
 // the volumes (shadow_volume.glsl) and the wedges (penumbra_wedge.glsl), after both snippets
 const char* kWedgePassGlsl = R"(
@@ -450,11 +431,11 @@ struct WedgeShaders {
 WedgeShaders compile_wedge_shaders(Source lang) {
     WedgeShaders w;
     const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
-    w.scene_fs = skvk::compile_checked(Source::Glsl, F, kWedgeSceneFs, "main", "wedges.scene.frag");
+    w.scene_fs = skvk::compile_checked(Source::Glsl, F, skvk::kGbufferGlslFs, "main", "wedges.scene.frag");
     if (lang == Source::Glsl) {
         const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl") +
                                  "\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/penumbra_wedge.glsl") + "\n";
- w.scene_vs = skvk::compile_checked(lang, V, kWedgeSceneVs, "main", "wedges.glsl.scene.vert");
+ w.scene_vs = skvk::compile_checked(lang, V, skvk::receiver_glsl_vs(kWedgeScenePush, "pc.view_proj"), "main", "wedges.glsl.scene.vert");
         w.volume_vs = skvk::compile_checked(lang, V, head + "#define SK_VOLUME_VS 1\n" + kWedgePassGlsl, "main", "wedges.glsl.volume.vert");
         w.wedge_vs = skvk::compile_checked(lang, V, head + "#define SK_WEDGE_VS 1\n" + kWedgePassGlsl, "main", "wedges.glsl.wedge.vert");
         w.wedge_fs = skvk::compile_checked(lang, F, head + kWedgePassGlsl, "main", "wedges.glsl.wedge.frag");

@@ -36,27 +36,8 @@ namespace {
 
 using skvk::Source;
 
-const char* kSceneVs = R"(#version 450 core
+const char* kScenePush = R"(
 layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; } pc;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = pc.view_proj * vec4(a_position, 1.0);
-}
-)";
-const char* kSceneFs = R"(#version 450 core
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out vec4 o_world;
-layout(location = 1) out vec4 o_normal;
-void main() {
-    o_world = vec4(v_world, 1.0);
-    o_normal = vec4(normalize(v_normal), 0.0);
-}
 )";
 const char* kVolumeGlsl = R"(
 layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; } pc;
@@ -166,8 +147,9 @@ Result run(const Variant& v) {
     const Volume volume = build_volume(scene, light);
 
     std::vector<std::uint32_t> scene_vs, scene_fs, volume_vs;
-    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "shadow_volume.scene.vert");
-    scene_fs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_FRAGMENT_BIT, kSceneFs, "main", "shadow_volume.scene.frag");
+    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kScenePush, "pc.view_proj"), "main",
+                                     "shadow_volume.scene.vert");
+    scene_fs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_FRAGMENT_BIT, skvk::kGbufferGlslFs, "main", "shadow_volume.scene.frag");
     const char* entry = "main";
     if (v.lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl");
@@ -389,7 +371,7 @@ struct BoundsShaders {
 BoundsShaders compile_bounds_shaders(Source lang) {
     BoundsShaders b;
     const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
-    b.scene_fs = skvk::compile_checked(Source::Glsl, F, kSceneFs, "main", "shadow_volume.bounds.scene.frag");
+    b.scene_fs = skvk::compile_checked(Source::Glsl, F, skvk::kGbufferGlslFs, "main", "shadow_volume.bounds.scene.frag");
     if (lang == Source::Glsl) {
         const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl");
         b.scene_vs = skvk::compile_checked(lang, V, head + "#define SK_SCENE_VS 1\n" + kBoundsGlsl, "main", "shadow_volume.bounds.glsl.scene.vert");

@@ -114,19 +114,6 @@ inline Agreement compare_with_ray_cast(const BoxScene& s, glm::vec4 light, const
 // world point and the normal (the three targets compare_with_ray_cast reads). The including test's
 // source declares its uniform block `u` (with `view_proj`) before these pieces and writes its lookup.
 
-/// GLSL vertex stage body (after `#version` and the test's Params block): world point and normal
-/// to locations 0 and 1, clip position from u.view_proj.
-inline constexpr const char* kReceiverGlslVsBody = R"(
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.view_proj * vec4(a_position, 1.0);
-}
-)";
 /// GLSL fragment stage inputs and the three targets (o_visibility, o_world, o_normal).
 inline constexpr const char* kReceiverGlslFsIo = R"(
 layout(location = 0) in vec3 v_world;
@@ -135,10 +122,33 @@ layout(location = 0) out float o_visibility;
 layout(location = 1) out vec4 o_world;
 layout(location = 2) out vec4 o_normal;
 )";
-/// The GLSL vertex stage: `#version 450 core`, the test's Params block, kReceiverGlslVsBody.
-inline std::string receiver_glsl_vs(const char* params_block) {
-    return std::string("#version 450 core\n") + params_block + kReceiverGlslVsBody;
+/// The GLSL vertex stage: `#version 450 core`, the test's Params block (or push constants), then the
+/// world point and normal to locations 0 and 1 and the clip position from `view_proj` (a matrix of
+/// that block).
+inline std::string receiver_glsl_vs(const char* params_block, const char* view_proj = "u.view_proj") {
+    return std::string("#version 450 core\n") + params_block + R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = )" + view_proj + R"( * vec4(a_position, 1.0);
 }
+)";
+}
+/// The G-buffer's GLSL fragment stage after receiver_glsl_vs: world point and normal (no visibility).
+inline constexpr const char* kGbufferGlslFs = R"(#version 450 core
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out vec4 o_world;
+layout(location = 1) out vec4 o_normal;
+void main() {
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+)";
 /// HLSL: the varyings (world point, normal) and the vertex stage `vs_main` (clip position from u.view_proj).
 inline constexpr const char* kReceiverHlslVs = R"(
 struct Varyings {
