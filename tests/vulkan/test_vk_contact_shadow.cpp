@@ -148,12 +148,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     const VkImageLayout depth_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass scene_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, depth_read);
     VkFramebuffer scene_fb = skvk::make_framebuffer(ctx, scene_rp, {depth.view}, kW, kH);
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout scene_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &scene_layout) == VK_SUCCESS);
+    VkPipelineLayout scene_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
     skvk::PipelineDesc sd;
     sd.vs = scene_vs;
     sd.vertex_stride = sizeof(glm::vec3);
@@ -172,11 +167,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}}, ds));
     skvk::write_image(ctx, ds, 0, tex, depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE, depth_read);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.fs = fs;

@@ -412,15 +412,8 @@ struct LinearPasses {
         const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
                                                 {1, tex, VK_SHADER_STAGE_VERTEX_BIT}}, skin_layout_ds));
-        VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.pushConstantRangeCount = 1;
-        li.pPushConstantRanges = &range;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &depth_layout) == VK_SUCCESS);
-        li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = &skin_layout_ds.layout;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &skin_layout) == VK_SUCCESS);
+        depth_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+        skin_layout = skvk::make_pipeline_layout(ctx, &skin_layout_ds);
         depth_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
         skin_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
         lookup_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
@@ -527,11 +520,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
         skvk::write_image(ctx, ds, std::uint32_t(1 + i), tex, dmaps[std::size_t(i)].view, smp, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
     for (int j = 0; j < 2 * k; ++j)
         skvk::write_image(ctx, ds, std::uint32_t(6 + j), tex, vmaps[std::size_t(j)].view, smp, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
     pd.vertex_stride = sizeof(skvk::SceneVertex);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
     pd.color_count = 3;

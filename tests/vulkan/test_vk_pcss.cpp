@@ -174,14 +174,7 @@ void run_pcss(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, point);
     }
     skvk::write_buffer(ctx, ds, 4, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(CaseParams)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds, sizeof(CaseParams), VK_SHADER_STAGE_FRAGMENT_BIT);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.fs = fs;

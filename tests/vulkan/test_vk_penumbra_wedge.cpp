@@ -476,18 +476,6 @@ VkFormat wedge_depth_stencil_format(skvk::Context& ctx) {
     return VK_FORMAT_UNDEFINED;
 }
 
-VkPipelineLayout pipeline_layout(skvk::Context& ctx, VkDescriptorSetLayout set, std::uint32_t push_bytes) {
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, push_bytes};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &set;
-    li.pushConstantRangeCount = push_bytes ? 1u : 0u;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    return layout;
-}
-
 // The pipelines of passes 1 and 2 (the G-buffer; depth, volumes, wedges) and 3 (the combine).
 struct WedgePipelines {
     VkPipeline gbuffer = VK_NULL_HANDLE, depth = VK_NULL_HANDLE, volume = VK_NULL_HANDLE, front = VK_NULL_HANDLE,
@@ -646,8 +634,8 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     skvk::write_image(ctx, combine_set, 0, tex, coverage.view, glsl ? nearest : VK_NULL_HANDLE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     skvk::write_image(ctx, combine_set, 1, tex, stencil_view, glsl ? nearest : VK_NULL_HANDLE,
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-    VkPipelineLayout layout = pipeline_layout(ctx, set.layout, sizeof(WedgePush));
-    VkPipelineLayout combine_layout = pipeline_layout(ctx, combine_set.layout, 0);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &set, sizeof(WedgePush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    VkPipelineLayout combine_layout = skvk::make_pipeline_layout(ctx, &combine_set);
     WedgePipelines p = make_wedge_pipelines(ctx, sh, layout, combine_layout, gbuffer_rp, main_rp, combine_rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);

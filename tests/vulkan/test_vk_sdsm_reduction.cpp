@@ -152,13 +152,7 @@ struct Reducer {
         rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, texture_type(), VK_SHADER_STAGE_FRAGMENT_BIT}}, proto));
-        VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(StepPush)};
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = &proto.layout;
-        li.pushConstantRangeCount = 1;
-        li.pPushConstantRanges = &range;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+        layout = skvk::make_pipeline_layout(ctx, &proto, sizeof(StepPush), VK_SHADER_STAGE_FRAGMENT_BIT);
         skvk::PipelineDesc pd;
         pd.vs = vs;
         pd.vs_entry = glsl ? "main" : "vs_main";
@@ -399,10 +393,7 @@ void check_bounds(Source lang) {
     VkPipelineLayout layouts[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     VkPipeline pipes[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     for (int k = 0; k < 2; ++k) {
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = k == 0 ? &first_set.layout : &next_layout;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layouts[k]) == VK_SUCCESS);
+        layouts[k] = skvk::make_pipeline_layout_from(ctx, k == 0 ? first_set.layout : next_layout);
         skvk::PipelineDesc pd;
         pd.vs = vs;
         pd.fs = k == 0 ? fs0 : fs1;

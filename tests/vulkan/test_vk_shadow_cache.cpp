@@ -145,12 +145,7 @@ std::vector<float> render(Source lang, glm::ivec2 anchor) {
     VkRenderPass rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {map.view}, kMap, kMap);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPushConstantRange range{stages, 0, sizeof(PassConstants)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PassConstants), stages);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.gs = gs;

@@ -182,12 +182,7 @@ Result run(const Variant& v) {
     VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, ds_format,
                                              VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {world.view, normal.view, ds.view}, kW, kH);
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(PushConstants)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PushConstants));
 
     skvk::PipelineDesc sd;  // the scene: depth (reversed-Z: GREATER) and G-buffer
     sd.vs = scene_vs;
@@ -489,14 +484,7 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
     skvk::write_buffer(ctx, set, 1, counter, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPushConstantRange range_pc{push_stages, 0, sizeof(BoundsPush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &set.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range_pc;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &set, sizeof(BoundsPush), push_stages);
     const BoundsPipelines p = make_bounds_pipelines(ctx, sh, layout, gbuffer_rp, main_rp, bounds == Bounds::Native);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);

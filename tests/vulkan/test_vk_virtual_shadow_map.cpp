@@ -162,19 +162,6 @@ Modules compile(Source lang) {
     return m;
 }
 
-VkPipelineLayout pipeline_layout(skvk::Context& ctx, const VkDescriptorSetLayout* set, std::uint32_t push_bytes,
-                                 VkShaderStageFlags push_stages) {
-    VkPushConstantRange range{push_stages, 0, push_bytes};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = set ? 1u : 0u;
-    li.pSetLayouts = set;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    return layout;
-}
-
 // A depth-only render pass that keeps the atlas (load and store, `held` before and after): pages
 // re-rendered into it clear their own rectangles.
 VkRenderPass atlas_load_pass(skvk::Context& ctx, VkImageLayout held) {
@@ -331,8 +318,8 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     VkRenderPass look_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer mark_fb = skvk::make_framebuffer(ctx, mark_rp, {dummy.view}, kW, kH);
     VkFramebuffer look_fb = skvk::make_framebuffer(ctx, look_rp, {vis.view}, kW, kH);
-    VkPipelineLayout mark_layout = pipeline_layout(ctx, &mark_set.layout, sizeof(PassPush), frag);
-    VkPipelineLayout look_layout = pipeline_layout(ctx, &look_set.layout, sizeof(PassPush), frag);
+    VkPipelineLayout mark_layout = skvk::make_pipeline_layout(ctx, &mark_set, sizeof(PassPush), frag);
+    VkPipelineLayout look_layout = skvk::make_pipeline_layout(ctx, &look_set, sizeof(PassPush), frag);
     skvk::PipelineDesc pd;
     pd.vs = mod.vs;
     pd.vs_entry = mod.entries[0];
@@ -402,7 +389,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     const VkImageLayout atlas_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass atlas_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, atlas_read);
     VkFramebuffer atlas_fb = skvk::make_framebuffer(ctx, atlas_rp, {atlas.view}, atlas_size, atlas_rows);
-    VkPipelineLayout caster_layout = pipeline_layout(ctx, nullptr, sizeof(glm::mat4), VK_SHADER_STAGE_VERTEX_BIT);
+    VkPipelineLayout caster_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
     skvk::PipelineDesc cd;
     cd.vs = mod.caster;
     cd.vertex_stride = sizeof(glm::vec3);

@@ -68,15 +68,15 @@ inline void draw_pass(VkCommandBuffer cmd, VkRenderPass rp, VkFramebuffer fb, st
     vkCmdEndRenderPass(cmd);
 }
 
-/// A pipeline layout of one descriptor set (`set` nullptr: none) and, when `push_bytes` > 0, one
-/// push-constant range of that size for `push_stages` (REQUIREs success).
-inline VkPipelineLayout make_pipeline_layout(Context& ctx, const DescriptorSet* set, std::uint32_t push_bytes = 0,
-                                             VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT) {
+/// A pipeline layout of one descriptor set layout (VK_NULL_HANDLE: none) and, when `push_bytes` > 0,
+/// one push-constant range of that size for `push_stages` (REQUIREs success).
+inline VkPipelineLayout make_pipeline_layout_from(Context& ctx, VkDescriptorSetLayout set_layout, std::uint32_t push_bytes = 0,
+                                                  VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT) {
     const VkPushConstantRange range{push_stages, 0, push_bytes};
     VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    if (set) {
+    if (set_layout != VK_NULL_HANDLE) {
         li.setLayoutCount = 1;
-        li.pSetLayouts = &set->layout;
+        li.pSetLayouts = &set_layout;
     }
     if (push_bytes > 0) {
         li.pushConstantRangeCount = 1;
@@ -85,6 +85,11 @@ inline VkPipelineLayout make_pipeline_layout(Context& ctx, const DescriptorSet* 
     VkPipelineLayout layout = VK_NULL_HANDLE;
     REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
     return layout;
+}
+/// The same with `set`'s layout (nullptr: no set).
+inline VkPipelineLayout make_pipeline_layout(Context& ctx, const DescriptorSet* set, std::uint32_t push_bytes = 0,
+                                             VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT) {
+    return make_pipeline_layout_from(ctx, set ? set->layout : VK_NULL_HANDLE, push_bytes, push_stages);
 }
 
 /// The descriptor type of a texture the shader samples: GLSL's samplers are combined image samplers,
