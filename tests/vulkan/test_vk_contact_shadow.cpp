@@ -154,9 +154,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     sd.vertex_stride = sizeof(glm::vec3);
     sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     sd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
-    std::string why;
-    VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, scene_layout, scene_rp, why);
-    REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
+    VkPipeline scene_pipe = skvk::make_pipeline_checked(ctx, sd, scene_layout, scene_rp);
 
     VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, kW, kH);
@@ -175,8 +173,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     pd.fs_entry = entries[1];
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};

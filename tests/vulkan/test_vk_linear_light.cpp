@@ -441,21 +441,17 @@ struct LinearPasses {
         md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
         md.depth_bias = true;  // the sample's glPolygonOffset(2, 2)
         md.bias_constant = md.bias_slope = 2.f;
-        std::string why;
-        depth = skvk::make_pipeline(ctx, md, depth_layout, depth_rp, why);
-        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        depth = skvk::make_pipeline_checked(ctx, md, depth_layout, depth_rp);
         sd.depth_test = sd.depth_write = false;  // attribute-less, MIN blending, no culling
         sd.color_count = 1;
         sd.blend = true;
         sd.blend_op = VK_BLEND_OP_MIN;
-        skin = skvk::make_pipeline(ctx, sd, skin_layout, skin_rp, why);
-        REQUIRE_MESSAGE(skin != VK_NULL_HANDLE, why);
+        skin = skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp);
         sd.vs = cpu_vs;
         sd.vs_entry = glsl ? "main" : "skin_cpu_vs";
         sd.vertex_stride = sizeof(shadowkit::LinearLightSkinVertex);
         sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32_SFLOAT, 12}};
-        skin_cpu = skvk::make_pipeline(ctx, sd, skin_layout, skin_rp, why);
-        REQUIRE_MESSAGE(skin_cpu != VK_NULL_HANDLE, why);
+        skin_cpu = skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp);
     }
     ~LinearPasses() {
         vkDestroyPipeline(ctx.device, depth, nullptr);
@@ -524,9 +520,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
     pd.vertex_stride = sizeof(skvk::SceneVertex);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
     pd.color_count = 3;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, P.lookup_rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, P.lookup_rp);
     skvk::Image vis, world, normal, zbuf;
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, kCamW, kCamH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));

@@ -203,9 +203,7 @@ void run_kernels(Source lang, bool reversed = false) {
     pd.fs_entry = fs_entry;
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     const KernelCase cases[] = {
         {"box r=1", 0, 1, 0, 0, 0},          {"box r=2", 0, 2, 0, 0, 0},          {"box r=3", 0, 3, 0, 0, 0},

@@ -182,9 +182,7 @@ void run_pcss(Source lang, bool reversed = false) {
     pd.fs_entry = fs_entry;
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     struct Case {
         const char* name;

@@ -428,9 +428,7 @@ VkPipeline make_fullscreen_pipeline(skvk::Context& ctx, const Shaders& sh, VkPip
     pd.fs_entry = sh.fs_entry;
     pd.depth_test = pd.depth_write = false;
     pd.color_count = colors;
-    std::string why;
-    VkPipeline p = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(p != VK_NULL_HANDLE, why);
+    VkPipeline p = skvk::make_pipeline_checked(ctx, pd, layout, rp);
     return p;
 }
 
@@ -557,9 +555,7 @@ void moment_pass(skvk::Context& ctx, const Shaders& sh, VkFormat format, VkImage
     pd.vertex_stride = sizeof(glm::vec3);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     pd.color_count = 2;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
     skvk::Buffer vb;
     REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
@@ -877,9 +873,7 @@ void run_resolve(Source lang) {
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
         pd.samples = VK_SAMPLE_COUNT_4_BIT;
-        std::string why;
-        VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-        REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+        VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
         skvk::Buffer vb;
         REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));

@@ -158,15 +158,12 @@ struct Reducer {
         pd.vs_entry = glsl ? "main" : "vs_main";
         pd.depth_test = pd.depth_write = false;
         pd.color_count = 1;
-        std::string why;
         pd.fs = fs0;
         pd.fs_entry = glsl ? "main" : "ps_first";
-        first = skvk::make_pipeline(ctx, pd, layout, rp, why);
-        REQUIRE_MESSAGE(first != VK_NULL_HANDLE, why);
+        first = skvk::make_pipeline_checked(ctx, pd, layout, rp);
         pd.fs = fs1;
         pd.fs_entry = glsl ? "main" : "ps_next";
-        next = skvk::make_pipeline(ctx, pd, layout, rp, why);
-        REQUIRE_MESSAGE(next != VK_NULL_HANDLE, why);
+        next = skvk::make_pipeline_checked(ctx, pd, layout, rp);
     }
     ~Reducer() {
         vkDestroyPipeline(ctx.device, first, nullptr);
@@ -401,9 +398,7 @@ void check_bounds(Source lang) {
         pd.fs_entry = glsl ? "main" : (k == 0 ? "ps_first" : "ps_next");
         pd.depth_test = pd.depth_write = false;
         pd.color_count = 4;
-        std::string why;
-        pipes[k] = skvk::make_pipeline(ctx, pd, layouts[k], rp, why);
-        REQUIRE_MESSAGE(pipes[k] != VK_NULL_HANDLE, why);
+        pipes[k] = skvk::make_pipeline_checked(ctx, pd, layouts[k], rp);
     }
     // levels: four images each, 4x4 blocks down to 1x1
     struct Level {

@@ -155,9 +155,7 @@ std::vector<float> render(Source lang, glm::ivec2 anchor) {
     pd.fs_entry = entries[2];
     pd.vertex_stride = sizeof(skvk::SceneVertex);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     const PassConstants pc{light_global(), anchor, anchor - glm::ivec2(kGuard), glm::vec2(float(kViewport))};
     VkCommandBuffer cmd = skvk::begin_commands(ctx);

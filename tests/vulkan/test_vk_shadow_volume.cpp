@@ -192,9 +192,7 @@ Result run(const Variant& v) {
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
-    std::string why;
-    VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, layout, rp, why);
-    REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
+    VkPipeline scene_pipe = skvk::make_pipeline_checked(ctx, sd, layout, rp);
 
     skvk::PipelineDesc vd;  // the volumes: z-fail, two-sided stencil, no depth or colour writes
     vd.vs = volume_vs;
@@ -213,8 +211,7 @@ Result run(const Variant& v) {
                                0xff, 0xff, 0};
     vd.stencil_back = v.swapped ? dec : inc;
     vd.stencil_front = v.swapped ? inc : dec;
-    VkPipeline volume_pipe = skvk::make_pipeline(ctx, vd, layout, rp, why);
-    REQUIRE_MESSAGE(volume_pipe != VK_NULL_HANDLE, why);
+    VkPipeline volume_pipe = skvk::make_pipeline_checked(ctx, vd, layout, rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue clears[3]{};

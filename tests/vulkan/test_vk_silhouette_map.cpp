@@ -396,7 +396,6 @@ struct SilPasses {
                 spv[i] = skvk::compile_checked(lang, (i == 2 || i == 4) ? Fs : Vs, h, e[i], std::string("silmap.hlsl.") + e[i]);
             }
         }
-        std::string why;
         skvk::PipelineDesc pd;
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
@@ -405,16 +404,14 @@ struct SilPasses {
         pd.depth_bias = true;  // the sample's glPolygonOffset(2, 2)
         pd.bias_constant = 2.f;
         pd.bias_slope = 2.f;
-        depth = skvk::make_pipeline(ctx, pd, layout, depth_rp, why);
-        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        depth = skvk::make_pipeline_checked(ctx, pd, layout, depth_rp);
         pd.depth_bias = false;
         pd.vs = spv[3];
         pd.vs_entry = entry[3];
         pd.fs = spv[4];
         pd.fs_entry = entry[4];
         pd.color_count = 3;
-        lookup = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
-        REQUIRE_MESSAGE(lookup != VK_NULL_HANDLE, why);
+        lookup = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
         // pass 2: six vertices per edge (a.xy, b.xy, za, zb), rgb: the last point; a: the weights add
         pd.vertex_stride = 6 * sizeof(float);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32_SFLOAT, 16}};
@@ -428,8 +425,7 @@ struct SilPasses {
         pd.blend_src = VK_BLEND_FACTOR_ONE;
         pd.blend_dst = VK_BLEND_FACTOR_ZERO;
         pd.blend_src_alpha = pd.blend_dst_alpha = VK_BLEND_FACTOR_ONE;
-        edge = skvk::make_pipeline(ctx, pd, layout, edge_rp, why);
-        REQUIRE_MESSAGE(edge != VK_NULL_HANDLE, why);
+        edge = skvk::make_pipeline_checked(ctx, pd, layout, edge_rp);
     }
     ~SilPasses() {
         for (VkPipeline p : {depth, edge, lookup}) vkDestroyPipeline(ctx.device, p, nullptr);

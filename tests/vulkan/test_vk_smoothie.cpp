@@ -406,7 +406,6 @@ struct CardPasses {
                                               std::string("smoothie.hlsl.") + entries[i]),
                         entries[i]};
         }
-        std::string why;
         skvk::PipelineDesc pd;
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
@@ -415,18 +414,15 @@ struct CardPasses {
         pd.vs_entry = s[0].entry;
         pd.fs = s[1].spv;
         pd.fs_entry = s[1].entry;
-        depth = skvk::make_pipeline(ctx, pd, layout, depth_rp, why);
-        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        depth = skvk::make_pipeline_checked(ctx, pd, layout, depth_rp);
         pd.vs = s[4].spv;
         pd.vs_entry = s[4].entry;
         pd.fs = s[5].spv;
         pd.fs_entry = s[5].entry;
-        lookup = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
-        REQUIRE_MESSAGE(lookup != VK_NULL_HANDLE, why);
+        lookup = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
         pd.fs = s[6].spv;
         pd.fs_entry = s[6].entry;
-        hard = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
-        REQUIRE_MESSAGE(hard != VK_NULL_HANDLE, why);
+        hard = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
         // pass 2: SmoothieVertex (locations 0, 1, 2, 3, 5), no depth test, no culling, MIN blending
         pd.vs = s[2].spv;
         pd.vs_entry = s[2].entry;
@@ -438,8 +434,7 @@ struct CardPasses {
         pd.depth_test = pd.depth_write = false;
         pd.blend = true;
         pd.blend_op = VK_BLEND_OP_MIN;
-        smoothie = skvk::make_pipeline(ctx, pd, layout, smoothie_rp, why);
-        REQUIRE_MESSAGE(smoothie != VK_NULL_HANDLE, why);
+        smoothie = skvk::make_pipeline_checked(ctx, pd, layout, smoothie_rp);
     }
     ~CardPasses() {
         for (VkPipeline p : {depth, smoothie, lookup, hard}) vkDestroyPipeline(ctx.device, p, nullptr);

@@ -327,13 +327,10 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     pd.color_count = 1;
     pd.fs = mod.mark;
     pd.fs_entry = mod.entries[1];
-    std::string why;
-    VkPipeline mark_pipe = skvk::make_pipeline(ctx, pd, mark_layout, mark_rp, why);
-    REQUIRE_MESSAGE(mark_pipe != VK_NULL_HANDLE, why);
+    VkPipeline mark_pipe = skvk::make_pipeline_checked(ctx, pd, mark_layout, mark_rp);
     pd.fs = mod.lookup;
     pd.fs_entry = mod.entries[2];
-    VkPipeline look_pipe = skvk::make_pipeline(ctx, pd, look_layout, look_rp, why);
-    REQUIRE_MESSAGE(look_pipe != VK_NULL_HANDLE, why);
+    VkPipeline look_pipe = skvk::make_pipeline_checked(ctx, pd, look_layout, look_rp);
     const PassPush push{pixel_angle, kW};
     VkClearValue zero{};
 
@@ -396,8 +393,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     cd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     cd.depth_compare = VK_COMPARE_OP_LESS;
     cd.depth_clamp = true;
-    VkPipeline caster_pipe = skvk::make_pipeline(ctx, cd, caster_layout, atlas_rp, why);
-    REQUIRE_MESSAGE(caster_pipe != VK_NULL_HANDLE, why);
+    VkPipeline caster_pipe = skvk::make_pipeline_checked(ctx, cd, caster_layout, atlas_rp);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::write_image(ctx, look_set, 2, tex, atlas.view, glsl ? nearest : VK_NULL_HANDLE, atlas_read);
 
