@@ -161,7 +161,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}}, ds));
     skvk::write_image(ctx, ds, 0, tex, depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE, depth_read);
     skvk::write_buffer(ctx, ds, 1, ubo);

@@ -95,7 +95,7 @@ void run_cube_auto(Source lang) {
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_LESS_OR_EQUAL);
     VkSampler linear = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     std::vector<skvk::Binding> bindings = {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}};
     if (!glsl) bindings.push_back({2, VK_DESCRIPTOR_TYPE_SAMPLER, frag});
     skvk::DescriptorSet sets[2];  // NEAREST, LINEAR

@@ -146,7 +146,7 @@ void run_linear(Source lang) {
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, tex, frag}, {3, tex, frag},
                                             {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}, {5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}},
                                       ds));
@@ -409,7 +409,7 @@ struct LinearPasses {
         REQUIRE(skvk::make_buffer(ctx, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, sc.vertices.data(), bytes);
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-        const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        const VkDescriptorType tex = skvk::texture_type(lang);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
                                                 {1, tex, VK_SHADER_STAGE_VERTEX_BIT}}, skin_layout_ds));
         depth_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
@@ -491,7 +491,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
         pd.vs_entry = "lookup_vs";
         pd.fs_entry = "lookup_ps";
     }
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     std::vector<skvk::Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, V | F}};
     for (int i = 0; i <= k; ++i) b.push_back({std::uint32_t(1 + i), tex, F});
     for (int j = 0; j < 2 * k; ++j) b.push_back({std::uint32_t(6 + j), tex, F});
@@ -609,7 +609,7 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
         std::memcpy(skin_vbs[i].mapped, skin.data(), skin.size() * sizeof(skin[0]));
     }
     cmd = skvk::begin_commands(ctx);
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     struct SkinParams {
         glm::mat4 other_inv_vp, this_vp;
         glm::vec4 p;

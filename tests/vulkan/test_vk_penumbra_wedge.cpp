@@ -485,12 +485,8 @@ WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, 
                                     VkRenderPass gbuffer_rp, VkRenderPass main_rp, VkRenderPass combine_rp) {
     WedgePipelines p;
     std::string why;
-    skvk::PipelineDesc sd;  // the scene: reversed-Z depth (GREATER), back faces culled
-    sd.vs = sh.scene_vs;
-    sd.vs_entry = sh.scene_entry;
-    sd.fs = sh.scene_fs;
-    sd.vertex_stride = sizeof(skvk::SceneVertex);
-    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    // the scene: reversed-Z depth (GREATER), back faces culled
+    skvk::PipelineDesc sd = skvk::scene_pipeline(sh.scene_vs, sh.scene_fs, sh.scene_entry);
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
@@ -617,7 +613,7 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     VkFramebuffer combine_fb = skvk::make_framebuffer(ctx, combine_rp, {vis.view}, kW, kH);
 
     const bool glsl = lang == Source::Glsl;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     const VkShaderStageFlags F = VK_SHADER_STAGE_FRAGMENT_BIT;
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::Buffer vb = upload(ctx, scene.vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);

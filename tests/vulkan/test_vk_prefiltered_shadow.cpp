@@ -680,7 +680,7 @@ void run_blur(Source lang) {
     skvk::Buffer weights;
     REQUIRE(skvk::make_buffer(ctx, kPrefilterMaxWeights * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, weights));
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    const VkDescriptorType tex_type = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex_type = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     skvk::DescriptorSet ds[2];  // reads src, reads tmp
     for (int p = 0; p < 2; ++p) {
@@ -892,7 +892,7 @@ void run_resolve(Source lang) {
     }
     const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kResolveGlsl, kResolveHlsl, "vs_full", "ps_resolve", "prefiltered_resolve");
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    const VkDescriptorType tex_type = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex_type = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex_type, frag}}, ds));

@@ -176,7 +176,7 @@ struct Reducer {
     Reducer(const Reducer&) = delete;
     Reducer& operator=(const Reducer&) = delete;
     VkDescriptorType texture_type() const {
-        return lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        return skvk::texture_type(lang);
     }
 
     // All passes over the w x h depths in one command buffer; the 1x1 level's (min, max).
@@ -355,7 +355,7 @@ void check_bounds(Source lang) {
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
     VkRenderPass rp = skvk::make_render_pass(ctx, {rgba, rgba, rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     // binding 2 is an array of four: one Binding per element is not what the layout needs, so the
     // next levels use their own set layout below

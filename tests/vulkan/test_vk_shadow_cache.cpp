@@ -146,15 +146,9 @@ std::vector<float> render(Source lang, glm::ivec2 anchor) {
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {map.view}, kMap, kMap);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PassConstants), stages);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
+    skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, entries[0], entries[2], false);
     pd.gs = gs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
     pd.gs_entry = entries[1];
-    pd.fs_entry = entries[2];
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     const PassConstants pc{light_global(), anchor, anchor - glm::ivec2(kGuard), glm::vec2(float(kViewport))};

@@ -184,11 +184,7 @@ Result run(const Variant& v) {
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {world.view, normal.view, ds.view}, kW, kH);
     VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PushConstants));
 
-    skvk::PipelineDesc sd;  // the scene: depth (reversed-Z: GREATER) and G-buffer
-    sd.vs = scene_vs;
-    sd.fs = scene_fs;
-    sd.vertex_stride = sizeof(skvk::SceneVertex);
-    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::PipelineDesc sd = skvk::scene_pipeline(scene_vs, scene_fs);  // the scene: depth (reversed-Z: GREATER) and G-buffer
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
@@ -388,12 +384,8 @@ BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, const BoundsShaders& s
                                       VkRenderPass main_rp, bool native) {
     BoundsPipelines p;
     std::string why;
-    skvk::PipelineDesc sd;  // the scene: reversed-Z depth (GREATER), back faces culled
-    sd.vs = sh.scene_vs;
-    sd.vs_entry = sh.scene_entry;
-    sd.fs = sh.scene_fs;
-    sd.vertex_stride = sizeof(skvk::SceneVertex);
-    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    // the scene: reversed-Z depth (GREATER), back faces culled
+    skvk::PipelineDesc sd = skvk::scene_pipeline(sh.scene_vs, sh.scene_fs, sh.scene_entry);
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
@@ -472,7 +464,7 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
     std::memcpy(volume_ib.mapped, volume.indices.data(), sizeof(std::uint32_t) * volume.indices.size());
     REQUIRE(skvk::make_buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, counter));
     std::memset(counter.mapped, 0, 16);
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet set;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, VK_SHADER_STAGE_FRAGMENT_BIT},

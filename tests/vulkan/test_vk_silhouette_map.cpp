@@ -112,7 +112,7 @@ void run_silmap(Source lang) {
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
     const VkSampler s = lang == Source::Glsl ? nearest : VK_NULL_HANDLE;
     skvk::write_image(ctx, ds, 0, tex, zmap.view, s, read);
@@ -360,7 +360,7 @@ struct SilPasses {
     SilPasses(skvk::Context& c, Source l, const FloatingBoxes& sc) : ctx(c), lang(l) {
         const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
         const bool glsl = lang == Source::Glsl;
-        const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        const VkDescriptorType tex = skvk::texture_type(lang);
         std::vector<skvk::Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}, {1, tex, F}, {2, tex, F}, {3, tex, F}};
         if (!glsl) b.push_back({4, VK_DESCRIPTOR_TYPE_SAMPLER, F});
         REQUIRE(skvk::make_descriptor_set(ctx, b, ds));
@@ -472,7 +472,7 @@ Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
     const bool glsl = P.lang == Source::Glsl;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     const VkImageLayout zread = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     skvk::write_image(ctx, P.ds, 1, tex, zmap.view, glsl ? P.nearest : VK_NULL_HANDLE, zread);
     skvk::write_image(ctx, P.ds, 2, tex, silmap.view, glsl ? P.nearest : VK_NULL_HANDLE, read);

@@ -131,7 +131,7 @@ void run_smoothie(Source lang) {
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
     const VkSampler s = lang == Source::Glsl ? nearest : VK_NULL_HANDLE;
     skvk::write_image(ctx, ds, 0, tex, zmap.view, s, read);
@@ -369,7 +369,7 @@ struct CardPasses {
 
     CardPasses(skvk::Context& c, Source l, const CardScene& cs) : ctx(c), lang(l) {
         const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-        const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        const VkDescriptorType tex = skvk::texture_type(lang);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}, {1, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
                                                 {2, tex, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
         REQUIRE(skvk::make_buffer(ctx, sizeof(PassParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
@@ -462,7 +462,7 @@ void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
     const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     const VkSampler s = P.lang == Source::Glsl ? P.nearest : VK_NULL_HANDLE;
-    const VkDescriptorType tex = P.lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     skvk::write_image(ctx, P.ds, 1, tex, sm.view, s, read);
     skvk::write_image(ctx, P.ds, 2, tex, sb.view, s, read);
     P.set_params({cs.vp, cs.view, cs.vp, glm::vec4(float(N), float(N), remap_here ? 1.f : 0.f, mirror ? 1.f : 0.f)});

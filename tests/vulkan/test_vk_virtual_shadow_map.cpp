@@ -301,7 +301,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     // ---- (a) marking
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType sbuf = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     skvk::DescriptorSet mark_set, look_set;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, sbuf, frag}, {1, sbuf, frag}, {3, sbuf, frag}}, mark_set));
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, sbuf, frag}, {1, sbuf, frag}, {2, tex, frag}, {3, sbuf, frag}}, look_set));
