@@ -26,18 +26,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kDepthGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthHlsl = R"(
-struct DepthParams { column_major float4x4 light_view_proj; };
-[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
-float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
-    return mul(pc.light_view_proj, float4(position, 1.0));
-}
-)";
 
 // Params: params.x = cascade count, .y = blend band, .z = bias.
 const char* kReceiverGlslVs = R"(#version 450 core
@@ -132,12 +120,7 @@ Result run(Source lang, bool reversed) {
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);  // directional, toward the light
     const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
     glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
-    if (reversed) {
-        glm::mat4 r(1.f);
-        r[2][2] = -1.f;
-        r[3][2] = 1.f;
-        proj = r * proj;
-    }
+    if (reversed) proj = skvk::reverse_z() * proj;
     shadowkit::CascadeInput in;
     in.camera_view = view;
     in.camera_proj = proj;
@@ -175,13 +158,13 @@ Result run(Source lang, bool reversed) {
     const std::string define = reversed ? "#define SK_REVERSED_Z 1\n" : "";
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
-        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "cascades.glsl.depth.vert");
+        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "cascades.glsl.depth.vert");
         vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "cascades.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kReceiverGlslFs,
                                    "main", "cascades.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/cascades.hlsl");
-        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthHlsl, "main", "cascades.hlsl.depth.vert");
+        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthHlsl, "main", "cascades.hlsl.depth.vert");
         vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver_hlsl(), "vs_main", "cascades.hlsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + receiver_hlsl(), "ps_main",
                                    "cascades.hlsl.frag");

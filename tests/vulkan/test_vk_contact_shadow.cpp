@@ -31,11 +31,6 @@ using skvk::Source;
 
 constexpr std::uint32_t kW = 256, kH = 192;
 
-const char* kSceneVs = R"(#version 450 core
-layout(push_constant) uniform P { mat4 vp; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.vp * vec4(a_position, 1.0); }
-)";
 const char* kPassGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_depth;
 layout(set = 0, binding = 1, std140) uniform Params { mat4 proj; mat4 inv_proj; vec4 view_light; vec4 march; } u;
@@ -92,7 +87,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> scene_vs, vs, fs;
     const char* entries[2] = {"main", "main"};
-    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "contact.scene.vert");
+    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "contact.scene.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                     skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/contact_shadow.glsl");

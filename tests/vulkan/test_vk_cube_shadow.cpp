@@ -22,11 +22,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kDepthGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
 const char* kParamsGlsl = R"(
 layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 planes; } u;
 )";
@@ -89,7 +84,7 @@ skvk::Agreement run(Source lang, bool flipped_faces) {
     std::vector<std::uint32_t> depth_vs, vs, fs;
     const char* vs_entry = "main";
     const char* fs_entry = "main";
-    depth_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "cube.depth.vert");
+    depth_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "cube.depth.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
         vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kParamsGlsl), "main", "cube.glsl.vert");

@@ -204,11 +204,6 @@ void run_linear(Source lang) {
 // falling with k). As hlsl/linear_light.hlsl says: the endpoint maps (and the skin's `view_proj`, whose
 // window depth the skin stores) use perspectiveRH_ZO, the lookup and the skin's unprojection the GL
 // ([-1, 1]) matrix of the same planes. One unflipped viewport everywhere (uv rows = map rows).
-const char* kDepthVsGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
 const char* kSkinGlsl = R"(
 layout(set = 0, binding = 0, std140) uniform Skin { mat4 other_inv_vp; mat4 this_vp; vec4 p; } s;  // p: near, far, threshold
 layout(set = 0, binding = 1) uniform sampler2D u_other_depth;
@@ -423,7 +418,7 @@ struct LinearPasses {
         std::vector<std::uint32_t> cpu_vs;
         if (glsl) {
             const std::string h = "#version 450 core\n" + snippet + kSkinGlsl;
-            md.vs = skvk::compile_checked(lang, V, kDepthVsGlsl, "main", "linear_light.glsl.depth.vert");
+            md.vs = skvk::compile_checked(lang, V, skvk::kSceneDepthGlsl, "main", "linear_light.glsl.depth.vert");
             sd.vs = skvk::compile_checked(lang, V, h + kSkinVsGlsl, "main", "linear_light.glsl.skin.vert");
             sd.fs = skvk::compile_checked(lang, F, h + kSkinFsGlsl, "main", "linear_light.glsl.skin.frag");
             cpu_vs = skvk::compile_checked(lang, V, h + kSkinCpuVsGlsl, "main", "linear_light.glsl.skin_cpu.vert");

@@ -32,18 +32,6 @@ using skvk::read_text;
 
 // ---------------------------------------------------------------------------------------- drivers
 // The map pass: position only, the matrix in push constants.
-const char* kDepthGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthHlsl = R"(
-struct DepthParams { column_major float4x4 light_view_proj; };
-[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
-float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
-    return mul(pc.light_view_proj, float4(position, 1.0));
-}
-)";
 
 // The receiver pass: visibility + G-buffer (world position, normal); the map at binding 0 (GLSL: a
 // combined image sampler; HLSL: a texture at 0 and its comparison sampler at 2), the matrices in a
@@ -101,13 +89,6 @@ std::string name_of(const Variant& v) {
 
 constexpr std::uint32_t kMap = 1024, kW = 320, kH = 240;
 
-// Vulkan's depth convention on a [0, 1] projection: reversed-Z maps z -> w - z (1 at near).
-glm::mat4 reverse_z() {
-    glm::mat4 r(1.f);
-    r[2][2] = -1.f;
-    r[3][2] = 1.f;
-    return r;
-}
 glm::mat4 flip_y() {
     glm::mat4 f(1.f);
     f[1][1] = -1.f;
@@ -121,7 +102,7 @@ Camera camera(bool reversed) {
     Camera c;
     c.view = glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
     c.proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
-    if (reversed) c.proj = reverse_z() * c.proj;
+    if (reversed) c.proj = skvk::reverse_z() * c.proj;
     return c;
 }
 
@@ -163,14 +144,14 @@ Shaders shaders(Source lang, bool reversed) {
     Shaders s;
     if (lang == Source::Glsl) {
         const std::string snippet = read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
-        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "shadow_map.glsl.depth.vert");
+        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "shadow_map.glsl.depth.vert");
         s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kParamsGlsl), "main", "shadow_map.glsl.vert");
         s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT,
                                "#version 450 core\n" + define + snippet + kParamsGlsl + skvk::kReceiverGlslFsIo + kReceiverGlslFs,
                                "main", "shadow_map.glsl." + tag + ".frag");
     } else {
         const std::string snippet = read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_map.hlsl");
-        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthHlsl, "main", "shadow_map.hlsl.depth.vert");
+        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthHlsl, "main", "shadow_map.hlsl.depth.vert");
         const std::string receiver = kReceiverHlsl + std::string(skvk::kReceiverHlslVs) + skvk::kReceiverHlslTargets + kReceiverHlslPs;
         s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver, "vs_main", "shadow_map.hlsl.vert");
         s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + receiver, "ps_main",

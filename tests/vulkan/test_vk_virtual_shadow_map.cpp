@@ -72,11 +72,6 @@ bool ray_box(const Box& box, const glm::dvec3& p, const glm::dvec3& d, double& t
 
 using vsm_ref::ray_hits;
 
-const char* kCasterGlsl = R"(#version 450 core
-layout(push_constant) uniform Page { mat4 view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.view_proj * vec4(a_position, 1.0); }
-)";
 const char* kMarkGlsl = R"(
 layout(set = 0, binding = 3, std430) readonly buffer Pixels { vec4 px[]; };  // position (w = 1: covered), normal
 layout(push_constant) uniform Pass { float pixel_angle; int width; } k;
@@ -141,7 +136,7 @@ Modules compile(Source lang) {
     Modules m;
     // the caster stage is GLSL in both runs; its .spv named per run (the two CTest runs go in parallel
     // and would write and spirv-val the same file at once)
-    m.caster = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kCasterGlsl, "main",
+    m.caster = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main",
                                      lang == Source::Glsl ? "vsm.glsl.caster.vert" : "vsm.hlsl.caster.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/virtual_shadow_map.glsl");

@@ -159,12 +159,7 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);
     const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
     glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
-    if (reversed) {
-        glm::mat4 r(1.f);
-        r[2][2] = -1.f;
-        r[3][2] = 1.f;
-        proj = r * proj;
-    }
+    if (reversed) proj = skvk::reverse_z() * proj;
     shadowkit::WarpInput in;
     in.camera_view = view;
     in.camera_proj = proj;

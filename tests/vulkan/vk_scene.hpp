@@ -173,4 +173,27 @@ struct Targets {
 };
 )";
 
+/// The map pass of the scene (SceneVertex, position only): one matrix in push constants (the vertex
+/// stage's), GLSL and HLSL (entry `main`); depth only.
+inline constexpr const char* kSceneDepthGlsl = R"(#version 450 core
+layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
+layout(location = 0) in vec3 a_position;
+void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
+)";
+inline constexpr const char* kSceneDepthHlsl = R"(
+struct DepthParams { column_major float4x4 light_view_proj; };
+[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
+float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
+    return mul(pc.light_view_proj, float4(position, 1.0));
+}
+)";
+
+/// Vulkan's reversed-Z on a [0, 1] projection: z -> w - z (1 at the near plane).
+inline glm::mat4 reverse_z() {
+    glm::mat4 r(1.f);
+    r[2][2] = -1.f;
+    r[3][2] = 1.f;
+    return r;
+}
+
 }  // namespace skvk
