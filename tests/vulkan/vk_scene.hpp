@@ -1,7 +1,9 @@
 // The scene and CPU reference of tests/gl/test_gl_shadow_map_e2e.cpp, for the Vulkan tests: a box
 // over a ground plane lit by a point light, every receiver pixel classified lit or shadowed by a ray
 // cast (segment-box slab test) from its G-buffer position to the light, pixels within one pixel of
-// a reference shadow edge, grazing or outside the light's frustum left out.
+// a reference shadow edge, grazing or outside the light's frustum left out. Also the shader pieces
+// every test drawing this scene shares: the receiver pass's stages (GLSL and HLSL), the G-buffer
+// fragment stage, the position-only depth pass, and the reversed-Z matrix.
 #pragma once
 
 #include <glm/glm.hpp>
