@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "../prefiltered_reference.hpp"
 #include "gl_test.hpp"
 #include "metrics.hpp"
 #include "reference.hpp"
@@ -92,31 +93,16 @@ void draw_fullscreen(GLuint prog, const skgl::Target& t) {
 skgl::GpuMesh light_scene(std::vector<glm::vec3>& pos) {
     pos.clear();
     std::vector<std::uint32_t> idx;
-    auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    prefiltered_ref::light_scene_quads([&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
         const auto base = static_cast<std::uint32_t>(pos.size());
         pos.insert(pos.end(), {a, b, c, d});
         idx.insert(idx.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-    };
-    quad({-9, -9, -8}, {9, -9, -8}, {9, 9, -8}, {-9, 9, -8});
-    quad({-3, -1, -4}, {1, -1, -5.5f}, {1, 3, -5.5f}, {-3, 3, -4});  // tilted
-    const glm::vec3 lo(0.5f, -3.0f, -6.5f), hi(2.5f, -1.0f, -5.0f);
-    quad({lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z});
-    quad({lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, {lo.x, hi.y, hi.z}, {lo.x, hi.y, lo.z});
-    quad({hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {hi.x, hi.y, hi.z}, {hi.x, lo.y, hi.z});
+    });
     std::vector<glm::vec3> nrm(pos.size(), glm::vec3(0, 0, 1));
     return skgl::upload_mesh(&pos[0].x, &nrm[0].x, pos.size(), idx.data(), idx.size());
 }
 
-PrefilterUniforms uniforms(PrefilterMethod m, PrefilterFormat f, float exponent = -1.0f) {
-    PrefilterSettings s;
-    s.method = m;
-    s.format = f;
-    s.exponent_positive = exponent;
-    s.exponent_negative = exponent;
-    s.min_variance = 1e-4f;
-    s.bleed_reduction = 0.2f;
-    return prefilter_uniforms(s);
-}
+using prefiltered_ref::test_uniforms;
 
 void set_moment_uniforms(GLuint p, const PrefilterUniforms& u) {
     glUseProgram(p);
@@ -186,19 +172,10 @@ TEST_CASE("moment pass: every method and format equals prefilter_moments of the 
     const GLuint prog = skgl::compile_program({{GL_VERTEX_SHADER, kMomentVS}, {GL_FRAGMENT_SHADER, kHead + snippet() + kMomentFS}}, log);
     REQUIRE_MESSAGE(prog, log);
     const glm::mat4 P = glm::perspective(1.2f, 1.0f, n, f);
-    struct Case {
-        PrefilterMethod m;
-        PrefilterFormat fmt;
-    };
-    const Case cases[] = {{PrefilterMethod::Vsm, PrefilterFormat::Float32},  {PrefilterMethod::Vsm, PrefilterFormat::Unorm16},
-                          {PrefilterMethod::Esm, PrefilterFormat::Float32},  {PrefilterMethod::Esm, PrefilterFormat::Float16},
-                          {PrefilterMethod::Evsm2, PrefilterFormat::Float32}, {PrefilterMethod::Evsm4, PrefilterFormat::Float32},
-                          {PrefilterMethod::Evsm4, PrefilterFormat::Float16}, {PrefilterMethod::Msm, PrefilterFormat::Float32},
-                          {PrefilterMethod::Msm, PrefilterFormat::Unorm16},  {PrefilterMethod::MsmHausdorff, PrefilterFormat::Unorm16}};
-    for (const Case& c : cases) {
+    for (const prefiltered_ref::MomentCase& c : prefiltered_ref::kMomentCases) {
         CAPTURE(int(c.m));
         CAPTURE(int(c.fmt));
-        const PrefilterUniforms u = uniforms(c.m, c.fmt);
+        const PrefilterUniforms u = test_uniforms(c.m, c.fmt);
         REQUIRE(u.status == Status::Ok);
         skgl::Target t;
         std::string why;
@@ -224,9 +201,7 @@ TEST_CASE("moment pass: every method and format equals prefilter_moments of the 
             for (int ch = 0; ch < u.channels; ++ch) {
                 const double expect = double(prefilter_store(double(cpu[ch]), c.fmt).value);
                 const double got = double(m[4 * i + static_cast<std::size_t>(ch)]);
-                const double tol = c.fmt == PrefilterFormat::Float32 ? 2e-5 * std::max(1.0, std::abs(expect))
-                                   : c.fmt == PrefilterFormat::Float16 ? 1e-3 * std::max(1.0, std::abs(expect))
-                                                                       : 1.5 / 65535.0;
+                const double tol = prefiltered_ref::moment_tolerance(c.fmt, expect);
                 REQUIRE_MESSAGE(std::abs(got - expect) <= tol, "texel " << k << " ch " << ch << ": " << got << " vs " << expect);
             }
         }
@@ -236,7 +211,7 @@ TEST_CASE("moment pass: every method and format equals prefilter_moments of the 
     // fp16 EVSM4 at the header's limit holds no Inf; 5% above it the near end's e^(2c) overflows
     for (float scale : {1.0f, 1.05f}) {
         const float lim = prefilter_exponent_limit(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 1).exponent;
-        PrefilterUniforms u = uniforms(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 0.999f * lim);
+        PrefilterUniforms u = test_uniforms(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 0.999f * lim);
         REQUIRE(u.status == Status::Ok);
         u.exponents = glm::vec2(scale == 1.0f ? 0.999f * lim : scale * lim);
         skgl::Target t;
@@ -283,17 +258,7 @@ TEST_CASE("blur: fragment and compute passes equal a brute-force 2D convolution"
             const PrefilterKernel k = prefilter_blur_weights(shape, width, w, kPrefilterMaxWeights);
             REQUIRE(k.status == Status::Ok);
             // brute force: the 2D kernel w[|i|] w[|j|], coordinates clamped to the map
-            std::vector<double> ref(data.size(), 0.0);
-            for (int y = 0; y < H; ++y)
-                for (int x = 0; x < W; ++x)
-                    for (int j = -k.radius; j <= k.radius; ++j)
-                        for (int i = -k.radius; i <= k.radius; ++i) {
-                            const int sx = std::clamp(x + i, 0, W - 1), sy = std::clamp(y + j, 0, H - 1);
-                            const double wt = double(w[std::abs(i)]) * double(w[std::abs(j)]);
-                            for (int c = 0; c < 4; ++c)
-                                ref[static_cast<std::size_t>((y * W + x) * 4 + c)] +=
-                                    wt * double(data[static_cast<std::size_t>((sy * W + sx) * 4 + c)]);
-                        }
+            const std::vector<double> ref = prefiltered_ref::blur_reference(data, W, H, w, k.radius);
             // fragment: horizontal into tmp, vertical into out
             std::string log;
             const GLuint prog = fullscreen_program(R"(
@@ -385,7 +350,7 @@ void main() {
     for (int mi = 0; mi <= 5; ++mi)
         for (int garbage = 0; garbage <= 1; ++garbage) {
             const auto method = static_cast<PrefilterMethod>(mi);
-            const PrefilterUniforms uq = uniforms(method, mi >= 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
+            const PrefilterUniforms uq = test_uniforms(method, mi >= 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
             REQUIRE(uq.status == Status::Ok);
             std::vector<float> m(static_cast<std::size_t>(N * N * 4)), t(static_cast<std::size_t>(N * N * 4), 0.0f);
             for (int k = 0; k < N * N; ++k) {
@@ -483,7 +448,7 @@ void main() {
 )", log);
     REQUIRE_MESSAGE(resolve, log);
     for (int mi : {0, 3, 4}) {
-        const PrefilterUniforms u = uniforms(static_cast<PrefilterMethod>(mi), mi == 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
+        const PrefilterUniforms u = test_uniforms(static_cast<PrefilterMethod>(mi), mi == 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
         skgl::Target out;
         std::string why;
         REQUIRE(skgl::make_target(out, N, N, {GL_RGBA32F, GL_RGBA32F}, 0, why));
@@ -497,14 +462,7 @@ void main() {
         int edges = 0;
         for (int k = 0; k < N * N; ++k) {
             const auto i = static_cast<std::size_t>(k);
-            glm::vec4 mean(0.0f);
-            for (int s = 0; s < S; ++s) {
-                const float t = prefilter_depth_from_window(z[4 * i + static_cast<std::size_t>(s)], wm.coefficients);
-                PrefilterUniforms raw = u;
-                raw.quantized = false;
-                mean += prefilter_moments(t, glm::vec2(0.0f), raw) / float(S);
-            }
-            if (u.quantized) mean = prefilter_msm_quantize(mean);
+            const glm::vec4 mean = prefiltered_ref::resolve_reference(z, i, S, wm.coefficients, u);
             if (z[4 * i] != z[4 * i + 1] || z[4 * i] != z[4 * i + 3]) ++edges;
             for (int c = 0; c < 4; ++c)
                 REQUIRE_MESSAGE(std::abs(got[4 * i + static_cast<std::size_t>(c)] - mean[c]) <= 2e-5f * std::max(1.0f, std::abs(mean[c])),
@@ -594,9 +552,13 @@ TEST_CASE("report drivers on the analytic square scene: every method in [0, 1] a
 TEST_CASE("soft lookup: GPU equals the CPU mirror on the read-back mip chain; penumbra against the ray cast") {
     (void)gl_test_context();
     const int N = 256, levels = 9;
-    const float W = 1.0f, db = 4.0f, dr = 8.0f, x_edge = 0.37f;
     const PrefilterDepthRange range = prefilter_depth_range(3.5f, 8.5f);
     const glm::mat4 P = glm::perspective(glm::radians(90.0f), 1.0f, 1.0f, 20.0f);
+    // receiver points across the penumbra (centered on x_edge d_r / d_b), uv and t computed here
+    const int RX = 128, RY = 4;
+    const prefiltered_ref::SoftScene scene(P, range, RX, RY);
+    const float W = scene.w, db = scene.db, dr = scene.dr, x_edge = scene.x_edge;
+    const std::vector<glm::vec4>& in = scene.in;
     PrefilterSoftSettings ss;
     ss.light_proj = P;
     ss.light_width = W;
@@ -625,21 +587,7 @@ void main() {
 }
 )", log);
     REQUIRE_MESSAGE(soft_prog, log);
-    // receiver points across the penumbra (centered on x_edge d_r / d_b), uv and t computed here
-    const int RX = 128, RY = 4;
-    std::vector<float> in(static_cast<std::size_t>(RX * RY * 4), 0.0f);
-    std::vector<double> xs(static_cast<std::size_t>(RX * RY));
-    const double xc = x_edge * dr / db, half = 1.5 * W * (dr - db) / db;
-    for (int j = 0; j < RY; ++j)
-        for (int i = 0; i < RX; ++i) {
-            const auto k = static_cast<std::size_t>(j * RX + i);
-            const double x = xc - half + 2.0 * half * (i + 0.5) / RX, y = -1.3 + 0.9 * j;
-            const glm::vec4 c = P * glm::vec4(float(x), float(y), -dr, 1.0f);
-            xs[k] = x;
-            in[4 * k] = 0.5f * c.x / c.w + 0.5f;
-            in[4 * k + 1] = 0.5f * c.y / c.w + 0.5f;
-            in[4 * k + 2] = prefilter_depth(dr, range);
-        }
+    const std::vector<double>& xs = scene.xs;
     const GLuint in_tex = make_texture(GL_RGBA32F, RX, RY, GL_FLOAT, in.data());
     for (const PrefilterFormat fmt : {PrefilterFormat::Float32, PrefilterFormat::Unorm16}) {
         const PrefilterMethod method = fmt == PrefilterFormat::Float32 ? PrefilterMethod::Vsm : PrefilterMethod::Msm;
@@ -685,8 +633,8 @@ void main() {
         glBindTexture(GL_TEXTURE_2D, tex);
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, in_tex);
-        std::vector<float> biased = in;
-        for (std::size_t k = 0; k < xs.size(); ++k) biased[4 * k + 2] -= bias;
+        std::vector<glm::vec4> biased = in;
+        for (std::size_t k = 0; k < xs.size(); ++k) biased[k].z -= bias;
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, RX, RY, GL_RGBA, GL_FLOAT, biased.data());
         glActiveTexture(GL_TEXTURE0);
         draw_fullscreen(soft_prog, out);
@@ -708,31 +656,16 @@ void main() {
             const float* p = &mip[static_cast<std::size_t>(l)][static_cast<std::size_t>((y * n + x) * 4)];
             return glm::vec4(p[0], p[1], p[2], p[3]);
         };
-        auto bilinear = [&](int l, float uu, float vv) {
-            const float n = float(N >> l), fx = uu * n - 0.5f, fy = vv * n - 0.5f;
-            const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-            const float ax = fx - float(x0), ay = fy - float(y0);
-            return (1.0f - ay) * ((1.0f - ax) * texel(l, x0, y0) + ax * texel(l, x0 + 1, y0)) +
-                   ay * ((1.0f - ax) * texel(l, x0, y0 + 1) + ax * texel(l, x0 + 1, y0 + 1));
-        };
+        const auto mirror = prefiltered_ref::mip_mirror(texel, N, levels);
         int close = 0;
         double se_soft = 0.0, se_hard = 0.0;
         for (std::size_t k = 0; k < xs.size(); ++k) {
-            const float uu = in[4 * k], vv = in[4 * k + 1], t = in[4 * k + 2] - bias;
-            auto sample = [&](float level) {
-                const float l = std::clamp(level, 0.0f, float(levels - 1));
-                const int l0 = int(std::floor(l));
-                const float f = l - float(l0);
-                const glm::vec4 a = bilinear(l0, uu, vv);
-                return f > 0.0f ? (1.0f - f) * a + f * bilinear(std::min(l0 + 1, levels - 1), uu, vv) : a;
-            };
-            const float cpu = prefilter_soft_visibility(sample, t, u, su);
+            const prefiltered_ref::SoftPoint pt = prefiltered_ref::soft_point(mirror, in[k], bias, u, su);
             REQUIRE((gpu[k] >= 0.0f && gpu[k] <= 1.0f));
-            if (std::fabs(gpu[k] - cpu) <= 2e-3f) ++close;
-            const double exact = 1.0 - std::clamp(((x_edge * dr - xs[k] * db) / (dr - db) + 0.5 * W) / W, 0.0, 1.0);
+            if (std::fabs(gpu[k] - pt.cpu) <= 2e-3f) ++close;
+            const double exact = scene.exact(k);
             se_soft += (double(gpu[k]) - exact) * (double(gpu[k]) - exact);
-            const double hard = prefilter_visibility(sample(0.0f), t, u);
-            se_hard += (hard - exact) * (hard - exact);
+            se_hard += (pt.hard - exact) * (pt.hard - exact);
         }
         const double rmse = std::sqrt(se_soft / double(xs.size())), rmse_hard = std::sqrt(se_hard / double(xs.size()));
         MESSAGE("soft lookup, method " << int(method) << ": GPU = CPU mirror (2e-3) at " << close << " of " << xs.size()

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "../silmap_reference.hpp"
 #include "gl_test.hpp"
 #include "metrics.hpp"
 #include "reference.hpp"
@@ -43,13 +44,6 @@ std::vector<shadowkit::SilmapEdge> boundary_edges(const sk::Scene& s, const glm:
     return out;
 }
 
-double seg_dist(glm::vec2 q, glm::vec2 a, glm::vec2 b) {
-    const glm::dvec2 ab = glm::dvec2(b) - glm::dvec2(a), aq = glm::dvec2(q) - glm::dvec2(a);
-    const double dd = glm::dot(ab, ab);
-    const double t = dd > 0.0 ? std::clamp(glm::dot(aq, ab) / dd, 0.0, 1.0) : 0.0;
-    return glm::length(aq - t * ab);
-}
-
 struct Boundary {
     double p50 = 0.0, p95 = 0.0, max = 0.0;
     std::size_t wrong = 0;
@@ -65,10 +59,10 @@ Boundary boundary_error(const sk::Scene& s, const sk::GBuffer& g, const sk::Refe
     for (std::size_t k = 0; k < g.kind.size(); ++k) {
         if (g.kind[k] != 1 || !ref.faces_light[k]) continue;
         if ((v[k] >= 0.5f) == (ref.visibility[k] >= 0.5f)) continue;
-        const glm::vec4 c = vp * glm::vec4(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2], 1.f);
-        const glm::vec2 q = (glm::vec2(c) / c.w * 0.5f + 0.5f) * float(size);
-        double best = 1e30;
-        for (const auto& e : edges) best = std::min(best, seg_dist(q, e.a, e.b));
+        const silmap_ref::EdgeDistance ed =
+            silmap_ref::edge_distance(vp, glm::vec3(g.position[3 * k], g.position[3 * k + 1], g.position[3 * k + 2]), float(size), edges);
+        const glm::vec2 q = ed.q;
+        const double best = ed.texels;
         if (std::getenv("SILMAP_DEBUG") && best > 0.7)
             std::printf("wrong px %zu %zu p %.3f %.3f %.3f n %.2f %.2f %.2f V %.0f ref %.0f q %.2f %.2f d %.2f\n",
                         k % std::size_t(g.width), k / std::size_t(g.width), double(g.position[3 * k]),

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "../smoothie_reference.hpp"
 #include "gl_test.hpp"
 #include "metrics.hpp"
 #include "reference.hpp"
@@ -153,20 +154,11 @@ void main() {
 
 GLint U(GLuint p, const char* n) { return glGetUniformLocation(p, n); }
 
-// A card (square of half size h at light-view depth b) over a floor at depth rf; the light sits at
-// the origin looking down -z with a square perspective of projection scale s = P[0][0].
-struct CardScene {
-    float b = 2.f, h = 0.4f, rf = 5.f;
-    glm::mat4 view{1.f}, proj{1.f}, vp{1.f};
-    std::vector<glm::vec3> card, tris;  // card corners; card + floor triangles (12 vertices)
+// The card (square of half size h at light-view depth b) over a floor at depth rf
+// (smoothie_reference.hpp), with its vertex array.
+struct CardScene : smoothie_ref::Card {
     GLuint vao = 0, vbo = 0;
     CardScene() {
-        proj = glm::perspective(1.2f, 1.f, 0.1f, 100.f);
-        vp = proj * view;
-        card = {{-h, -h, -b}, {h, -h, -b}, {h, h, -b}, {-h, h, -b}};
-        std::vector<glm::vec3> fl = {{-20, -20, -rf}, {20, -20, -rf}, {20, 20, -rf}, {-20, 20, -rf}};
-        for (const std::vector<glm::vec3>* q : {&card, &fl})
-            for (int i : {0, 1, 2, 0, 2, 3}) tris.push_back((*q)[static_cast<std::size_t>(i)]);
         glGenVertexArrays(1, &vao);
         glBindVertexArray(vao);
         glGenBuffers(1, &vbo);
@@ -179,28 +171,6 @@ struct CardScene {
     ~CardScene() {
         glDeleteBuffers(1, &vbo);
         glDeleteVertexArrays(1, &vao);
-    }
-    // Smoothies of the card's 4 edges (counter-clockwise seen from the light, facing it).
-    std::vector<shadowkit::SmoothieVertex> smoothies(float t, shadowkit::SmoothieResult& res) const {
-        const std::vector<std::uint32_t> e = {0, 1, 1, 2, 2, 3, 3, 0};
-        std::vector<glm::vec3> n;
-        for (int i = 0; i < 4; ++i) {
-            n.push_back({0, 0, 1});
-            n.push_back({0, 0, 0});
-        }
-        shadowkit::SmoothieEdges in;
-        in.positions = card.data();
-        in.position_count = 4;
-        in.edges = e.data();
-        in.edge_count = 4;
-        in.face_normals = n.data();
-        shadowkit::SmoothieParams p;
-        p.t = t;
-        std::vector<shadowkit::SmoothieVertex> v(shadowkit::smoothie_vertex_capacity(4));
-        std::vector<shadowkit::SmoothieScratch> scratch(shadowkit::smoothie_scratch_capacity(4));
-        res = shadowkit::smoothie_build(in, vp, p, scratch.data(), scratch.size(), v.data(), v.size());
-        v.resize(res.count);
-        return v;
     }
 };
 
@@ -340,8 +310,6 @@ TEST_CASE("(a) three passes through glsl/smoothie.glsl match the CPU prediction 
     const CardScene cs;
     const Passes P;
     const int N = 512;
-    const double s = double(cs.proj[0][0]);
-    const double edge = s * double(cs.h) / double(cs.b);  // the card's half size in light NDC
     const float bias = 0.01f;
     for (float t : {0.05f, 0.1f, 0.2f})
         for (bool remap_here : {false, true}) {
@@ -359,24 +327,15 @@ TEST_CASE("(a) three passes through glsl/smoothie.glsl match the CPU prediction 
             std::size_t compared = 0, penumbra = 0, umbra = 0;
             for (int y = 0; y < N; ++y)
                 for (int x = 0; x < N; ++x) {
-                    const double nx = (x + 0.5) / N * 2.0 - 1.0, ny = (y + 0.5) / N * 2.0 - 1.0;
-                    const double dx = std::max(0.0, std::abs(nx) - edge), dy = std::max(0.0, std::abs(ny) - edge);
-                    const double d = std::sqrt(dx * dx + dy * dy);  // light-NDC distance to the card
-                    // texels whose centre is within 1.5 texels of the card's outline: rasterization rule
-                    const double dout = std::max(std::abs(nx), std::abs(ny)) - edge;
-                    if (std::abs(dout) < 1.5 * 2.0 / N) continue;
+                    // the card's closed-form light-NDC distance (smoothie_reference.hpp)
+                    const smoothie_ref::CardTexel ref = smoothie_ref::card_texel(cs, N, x, y, t, remap_here, bias);
+                    if (ref.skip) continue;
                     const std::size_t k = std::size_t(y) * N + std::size_t(x);
-                    // smoothie buffer: the card's smoothie (depth b, alpha = d / t) within t of it
-                    const bool in_smoothie = d > 0.0 && d < double(t);
-                    const float b_sm = in_smoothie ? cs.b : 1e30f;
-                    const float a_sm = in_smoothie ? float(d / double(t)) : 1.f;
-                    if (in_smoothie && std::abs(d - double(t)) > 2.0 / N) {
-                        const float a_expect = remap_here ? shadowkit::smoothie_remap_alpha(a_sm, cs.b, cs.rf) : a_sm;
-                        max_alpha_err = std::max(max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(a_expect)));
+                    if (ref.alpha_known) {
+                        max_alpha_err = std::max(max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(ref.a_expect)));
                         CHECK(std::abs(sbuf[2 * k] - cs.b) < 1e-4f);
                     }
-                    const float z = d > 0.0 ? cs.rf : cs.b;  // linear map: the card over its footprint
-                    const float expect = shadowkit::smoothie_visibility_tap(cs.rf, z, b_sm, a_sm, bias);
+                    const float expect = ref.expect;
                     max_err = std::max(max_err, std::abs(double(vis[k]) - double(expect)));
                     ++compared;
                     if (expect > 0.f && expect < 1.f) ++penumbra;
@@ -408,19 +367,11 @@ TEST_CASE("(b) t = 0 builds no geometry and is bit-identical to an independent h
     CHECK(res.needed == 0);
     // an oblique camera looking at the card and its shadow on the floor
     const int w = 320, h = 240;
-    const glm::mat4 cam = glm::perspective(0.9f, float(w) / float(h), 0.1f, 50.f) *
-                          glm::lookAt(glm::vec3(2.5f, 1.5f, 0.5f), glm::vec3(0.f, 0.f, -4.f), glm::vec3(0.f, 0.f, -1.f));
+    const glm::mat4 cam = smoothie_ref::oblique_camera(w, h);
     for (bool remapped : {false, true}) {
         const auto v_smoothie = render_lookup(cs, P.lookup, cam, w, h, false, sm, sb, remapped, 0.01f);
         const auto v_hard = render_lookup(cs, P.hard, cam, w, h, false, sm, sb, remapped, 0.01f);
-        std::size_t drawn = 0, differ = 0, fractional = 0, dark = 0;
-        for (std::size_t k = 0; k < v_hard.size(); ++k) {
-            if (v_hard[k] < -0.5f) continue;  // background
-            ++drawn;
-            if (v_smoothie[k] != v_hard[k]) ++differ;
-            if (v_hard[k] > 0.f && v_hard[k] < 1.f) ++fractional;
-            if (v_hard[k] == 0.f) ++dark;
-        }
+        const auto [drawn, differ, fractional, dark] = smoothie_ref::tally_hard(v_smoothie, v_hard);
         MESSAGE("t = 0" << std::string(remapped ? " (alpha_is_remapped)" : "") << ": " << drawn << " pixels, " << differ
                         << " differ, " << dark << " in shadow, " << fractional << " filtered (0 < V < 1)");
         CHECK(drawn > std::size_t(w * h / 2));

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "../vsm_reference.hpp"
 #include "gl_test.hpp"
 
 using namespace shadowkit;
@@ -63,21 +64,7 @@ void box_mesh(const Box& box, const glm::dvec3& anchor, float* pos, float* nrm) 
             }
 }
 
-// Slab test: the ray from p along d hits the box beyond t = 1e-3.
-bool ray_hits(const Box& box, const glm::dvec3& p, const glm::dvec3& d) {
-    double t0 = -1e30, t1 = 1e30;
-    for (int k = 0; k < 3; ++k) {
-        if (std::fabs(d[k]) < 1e-12) {
-            if (p[k] < box.b[k] || p[k] > box.b[3 + k]) return false;
-            continue;
-        }
-        double a = (box.b[k] - p[k]) / d[k], b = (box.b[3 + k] - p[k]) / d[k];
-        if (a > b) std::swap(a, b);
-        t0 = std::max(t0, a);
-        t1 = std::min(t1, b);
-    }
-    return t1 >= std::max(t0, 1e-3);
-}
+using vsm_ref::ray_hits;  // the slab test: the ray from p along d hits the box beyond t = 1e-3
 
 std::string snippet() {
     bool ok = false;
@@ -294,35 +281,6 @@ std::vector<std::uint32_t> mark_pass(const VsmState& vsm, const Gpu& g, float pi
     return mask;
 }
 
-// The CPU's marking of one position (double): the bits of the pages the 2x2 kernel touches, with the
-// level and texel position moved by +-delta (sure: in every variant; maybe: in any).
-void cpu_mark(const VsmState& s, const glm::dvec3& world, double dist, double pixel_angle, std::vector<std::size_t>& votes,
-              int& variants) {
-    votes.clear();
-    const int n = s.pages_per_side, pt = s.layout.page_texels, size = n * pt;
-    const double texel0 = s.layout.level0_extent_world / double(s.layout.virtual_texels);
-    variants = 0;
-    for (double dl : {-1e-3, 1e-3})
-        for (double dx : {-1e-3, 1e-3})
-            for (double dy : {-1e-3, 1e-3}) {
-                ++variants;
-                const double lf = std::floor(std::log2(dist * pixel_angle / texel0) + dl);
-                const int level = int(std::min(std::max(lf, 0.0), double(s.layout.level_count - 1)));
-                for (int l = level; l < s.layout.level_count; ++l) {
-                    const glm::dvec4 h = s.levels[l].world_to_uv * glm::dvec4(world, 1.0);
-                    const double fx = h.x / h.w * size - 0.5 + dx, fy = h.y / h.w * size - 0.5 + dy;
-                    const int ix = int(std::floor(fx)), iy = int(std::floor(fy));
-                    if (ix < 0 || iy < 0 || ix + 1 >= size || iy + 1 >= size) continue;
-                    for (int y = iy / pt; y <= (iy + 1) / pt; ++y)
-                        for (int x = ix / pt; x <= (ix + 1) / pt; ++x) {
-                            const std::size_t bit = (std::size_t(l) * std::size_t(n) + std::size_t(y)) * std::size_t(n) + std::size_t(x);
-                            votes.push_back(bit);
-                        }
-                    break;
-                }
-            }
-}
-
 struct Agreement {
     std::size_t counted = 0, agree = 0, holes = 0, lit = 0;
 };
@@ -382,13 +340,7 @@ void run_scene(const glm::dvec3& offset) {
     const glm::dvec3 to_light = glm::normalize(glm::dvec3(light));
     const float pixel_angle = 2.0f * std::tan(0.5f * kFovY) / float(kH);
 
-    VsmLayout layout;
-    layout.page_texels = 32;
-    layout.virtual_texels = 1024;
-    layout.level_count = 8;
-    layout.level0_extent_world = 4.0;
-    layout.depth_range_world = 200.0;
-    layout.pool_pages = 400;
+    VsmLayout layout = vsm_ref::test_layout();
     VsmState vsm;
     REQUIRE(vsm_state_init(layout, vsm).status == Status::Ok);
     std::vector<VsmPageRender> pages(std::size_t(layout.pool_pages));
@@ -423,29 +375,10 @@ void run_scene(const glm::dvec3& offset) {
     const std::vector<float> pos = skgl::read_color_float(g.gbuffer, 0, 4);
     const std::vector<float> nrm = skgl::read_color_float(g.gbuffer, 1, 4);
     const std::size_t bits = std::size_t(layout.level_count) * std::size_t(vsm.pages_per_side * vsm.pages_per_side);
-    std::vector<std::uint8_t> sure(bits, 0), maybe(bits, 0);
-    std::size_t covered = 0;
-    std::vector<std::size_t> votes;
-    for (int i = 0; i < kW * kH; ++i) {
-        if (pos[std::size_t(i) * 4 + 3] == 0.0f) continue;
-        ++covered;
-        const glm::dvec3 rel(pos[std::size_t(i) * 4], pos[std::size_t(i) * 4 + 1], pos[std::size_t(i) * 4 + 2]);
-        int variants = 0;
-        cpu_mark(vsm, camera + rel, glm::length(rel), double(pixel_angle), votes, variants);
-        for (std::size_t b : votes) {
-            maybe[b] = 1;
-            if (std::count(votes.begin(), votes.end(), b) == variants) sure[b] = 1;
-        }
-    }
-    std::size_t gpu_set = 0, sure_n = 0, maybe_n = 0, missing = 0, extra = 0;
-    for (std::size_t b = 0; b < bits; ++b) {
-        const bool set = (mask[b / 32] >> (b % 32)) & 1u;
-        gpu_set += set;
-        sure_n += sure[b];
-        maybe_n += maybe[b];
-        missing += sure[b] && !set;
-        extra += set && !maybe[b];
-    }
+    std::vector<glm::dvec3> rel;  // the covered pixels' positions relative to the camera
+    for (int i = 0; i < kW * kH; ++i)
+        if (pos[std::size_t(i) * 4 + 3] != 0.0f) rel.emplace_back(pos[std::size_t(i) * 4], pos[std::size_t(i) * 4 + 1], pos[std::size_t(i) * 4 + 2]);
+    const auto [covered, gpu_set, sure_n, maybe_n, missing, extra] = vsm_ref::mark_tally(vsm, camera, pixel_angle, rel, mask);
     MESSAGE("marking: ", covered, " pixels, GPU set ", gpu_set, " page bits; CPU sure ", sure_n, ", maybe ", maybe_n);
     CHECK(covered > std::size_t(kW * kH / 2));
     CHECK(missing == 0);

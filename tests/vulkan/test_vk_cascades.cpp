@@ -26,18 +26,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kDepthGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthHlsl = R"(
-struct DepthParams { column_major float4x4 light_view_proj; };
-[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
-float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
-    return mul(pc.light_view_proj, float4(position, 1.0));
-}
-)";
 
 // Params: params.x = cascade count, .y = blend band, .z = bias.
 const char* kReceiverGlslVs = R"(#version 450 core
@@ -97,11 +85,8 @@ Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(
     o.position = mul(u.view_proj, float4(position, 1.0));
     return o;
 }
-struct Targets {
-    [[vk::location(0)]] float visibility : SV_Target0;
-    [[vk::location(1)]] float4 world : SV_Target1;
-    [[vk::location(2)]] float4 normal : SV_Target2;
-};
+)";
+const char* kReceiverHlslPs = R"(
 Targets ps_main(Varyings i) {
     Targets o;
     int count = int(u.params.x);
@@ -112,6 +97,9 @@ Targets ps_main(Varyings i) {
     return o;
 }
 )";
+
+// The receiver pass in HLSL: the bindings and varyings (with the view depth), the shared targets, the lookup.
+std::string receiver_hlsl() { return kReceiverHlsl + std::string(skvk::kReceiverHlslTargets) + kReceiverHlslPs; }
 
 constexpr std::uint32_t kMap = 512, kW = 320, kH = 240, kCascades = 4;
 
@@ -132,12 +120,7 @@ Result run(Source lang, bool reversed) {
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);  // directional, toward the light
     const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
     glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
-    if (reversed) {
-        glm::mat4 r(1.f);
-        r[2][2] = -1.f;
-        r[3][2] = 1.f;
-        proj = r * proj;
-    }
+    if (reversed) proj = skvk::reverse_z() * proj;
     shadowkit::CascadeInput in;
     in.camera_view = view;
     in.camera_proj = proj;
@@ -175,15 +158,15 @@ Result run(Source lang, bool reversed) {
     const std::string define = reversed ? "#define SK_REVERSED_Z 1\n" : "";
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
-        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "cascades.glsl.depth.vert");
+        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "cascades.glsl.depth.vert");
         vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "cascades.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kReceiverGlslFs,
                                    "main", "cascades.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/cascades.hlsl");
-        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthHlsl, "main", "cascades.hlsl.depth.vert");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "cascades.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + kReceiverHlsl, "ps_main",
+        depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthHlsl, "main", "cascades.hlsl.depth.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver_hlsl(), "vs_main", "cascades.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + receiver_hlsl(), "ps_main",
                                    "cascades.hlsl.frag");
         vs_entry = "vs_main";
         fs_entry = "ps_main";
@@ -197,74 +180,34 @@ Result run(Source lang, bool reversed) {
     std::memcpy(ubo.mapped, &params, sizeof params);
 
     // the cascades: one depth array, a render pass per layer (its own 2D view as the attachment)
-    skvk::Image maps, vis, world, normal, depth;
+    skvk::Image maps;
     REQUIRE(skvk::make_image(ctx, kMap, kMap, kCascades, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, maps));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
     std::vector<VkFramebuffer> map_fb;
     for (std::uint32_t i = 0; i < kCascades; ++i) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[i]}, kMap, kMap));
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout map_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
-    skvk::PipelineDesc md;
-    md.vs = depth_vs;
-    md.vertex_stride = sizeof(skvk::SceneVertex);
-    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    skvk::PipelineDesc md = skvk::scene_pipeline(depth_vs, {}, "main", "main", false);
     md.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     md.depth_bias = true;  // slope-scaled, as the GL test's glPolygonOffset(1.5, 2); reversed-Z: negative
     md.bias_slope = reversed ? -1.5f : 1.5f;
     md.bias_constant = reversed ? -2.f : 2.f;
-    std::string why;
-    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
-    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
 
-    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(
-        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    skvk::ReceiverTargets rt;
+    skvk::make_receiver_targets(ctx, kW, kH, rt);
     VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
                                            reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
-    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    if (lang == Source::Glsl) {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, maps.view, sampler, map_read);
-    } else {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, maps.view, VK_NULL_HANDLE, map_read);
-        skvk::write_sampler(ctx, ds, 2, sampler);
-    }
-    skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = vs_entry;
-    pd.fs_entry = fs_entry;
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::make_lookup_set(ctx, lang, maps.view, map_read, sampler, ubo, ds);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, vs_entry, fs_entry);
     pd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
     pd.front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -273,17 +216,16 @@ Result run(Source lang, bool reversed) {
         skvk::draw_pass(cmd, map_rp, map_fb[i], kMap, kMap, {far}, map_pipe, map_layout, nullptr, &cascades[i].view_proj,
                         vb.buffer, vcount, false);
     VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    skvk::draw_pass(cmd, rt.rp, rt.fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
-    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
+    const skvk::ReceiverImages img = skvk::read_receiver(ctx, rt);
+    const std::vector<float>& v_world = img.world;
+    const std::vector<float>& v_normal = img.normal;
     Result out;
     std::copy(fit.splits, fit.splits + 5, out.splits);
-    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
-    for (std::size_t k = 0; k < v_vis.size(); ++k) {
+    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), img.vis, v_world, v_normal);
+    for (std::size_t k = 0; k < img.vis.size(); ++k) {
         const int c = int(v_normal[k * 4 + 3]);
         if (v_world[k * 4 + 3] != 0.f && c >= 0 && c < 4) ++out.per_cascade[c];
     }
@@ -293,12 +235,11 @@ Result run(Source lang, bool reversed) {
     vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
     for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroyRenderPass(ctx.device, map_rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&maps, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, rt);
+    skvk::destroy(ctx, maps);
     skvk::destroy(ctx, vb);
     skvk::destroy(ctx, ubo);
     return out;

@@ -31,17 +31,6 @@ using skvk::Source;
 
 constexpr std::uint32_t kW = 256, kH = 192;
 
-const char* kSceneVs = R"(#version 450 core
-layout(push_constant) uniform P { mat4 vp; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.vp * vec4(a_position, 1.0); }
-)";
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kPassGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_depth;
 layout(set = 0, binding = 1, std140) uniform Params { mat4 proj; mat4 inv_proj; vec4 view_light; vec4 march; } u;
@@ -65,10 +54,6 @@ const char* kPassHlsl = R"(
 [[vk::binding(0, 0)]] Texture2D<float> u_depth;
 struct Params { column_major float4x4 proj; column_major float4x4 inv_proj; float4 view_light; float4 march; };
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float2 ps_main(float4 position : SV_Position) : SV_Target0 {
     int2 px = int2(position.xy);
     uint w, h;
@@ -102,18 +87,18 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> scene_vs, vs, fs;
     const char* entries[2] = {"main", "main"};
-    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "contact.scene.vert");
+    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "contact.scene.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                     skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/contact_shadow.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "contact.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "contact.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kPassGlsl, "main",
                                    reversed ? "contact_rz.glsl.frag" : "contact.glsl.frag");
     } else {
         const std::string snippet = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                     skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/contact_shadow.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kPassHlsl, "vs_main", "contact.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kPassHlsl, "ps_main",
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kPassHlsl, "vs_main", "contact.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kPassHlsl, "ps_main",
                                    reversed ? "contact_rz.hlsl.frag" : "contact.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
@@ -158,35 +143,24 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     const VkImageLayout depth_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass scene_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, depth_read);
     VkFramebuffer scene_fb = skvk::make_framebuffer(ctx, scene_rp, {depth.view}, kW, kH);
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout scene_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &scene_layout) == VK_SUCCESS);
+    VkPipelineLayout scene_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
     skvk::PipelineDesc sd;
     sd.vs = scene_vs;
     sd.vertex_stride = sizeof(glm::vec3);
     sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     sd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
-    std::string why;
-    VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, scene_layout, scene_rp, why);
-    REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
+    VkPipeline scene_pipe = skvk::make_pipeline_checked(ctx, sd, scene_layout, scene_rp);
 
     VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, kW, kH);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}}, ds));
     skvk::write_image(ctx, ds, 0, tex, depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE, depth_read);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.fs = fs;
@@ -194,8 +168,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     pd.fs_entry = entries[1];
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};

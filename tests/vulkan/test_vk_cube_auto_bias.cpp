@@ -23,12 +23,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kGlsl = R"(
 layout(set = 0, binding = 0) uniform samplerCubeShadow u_cube;
 layout(set = 0, binding = 1, std430) readonly buffer Receivers { vec4 r[]; };  // position, normal
@@ -47,10 +41,6 @@ const char* kHlsl = R"(
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
 struct Case { float4 light; int mode; float bias_window; };
 [[vk::push_constant]] ConstantBuffer<Case> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     float3 p = r[2 * i].xyz, n = r[2 * i + 1].xyz;
@@ -76,13 +66,13 @@ void run_cube_auto(Source lang) {
     std::vector<std::uint32_t> vs, fs;
     if (glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "cube_auto.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "cube_auto.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "cube_auto.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_map.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "cube_auto.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "cube_auto.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "cube_auto.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "cube_auto.hlsl.frag");
     }
     constexpr int n = 256;
     constexpr int M = 8192;
@@ -102,15 +92,10 @@ void run_cube_auto(Source lang) {
                              false, true));
     const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;  // uploaded, never rendered
     REQUIRE(skvk::upload_image(ctx, cube, cube_auto::cube_faces(n), read));
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_LESS_OR_EQUAL);
     VkSampler linear = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     std::vector<skvk::Binding> bindings = {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}};
     if (!glsl) bindings.push_back({2, VK_DESCRIPTOR_TYPE_SAMPLER, frag});
     skvk::DescriptorSet sets[2];  // NEAREST, LINEAR
@@ -121,33 +106,13 @@ void run_cube_auto(Source lang) {
         skvk::write_buffer(ctx, sets[s], 1, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
         if (!glsl) skvk::write_sampler(ctx, sets[s], 2, smp);
     }
-    VkPushConstantRange range{frag, 0, sizeof(CasePush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &sets[0].layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = glsl ? "main" : "vs_main";
-    pd.fs_entry = glsl ? "main" : "ps_main";
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, glsl ? "main" : "vs_main", glsl ? "main" : "ps_main", sets[0], M, row, VK_FORMAT_R32_SFLOAT, 1,
+                        sizeof(CasePush));
 
     auto run = [&](int mode, float bias_window, int filter) {
         const CasePush cp{glm::vec4(glm::vec3(cube_auto::kLight), 1.f), mode, bias_window};
-        VkCommandBuffer cmd = skvk::begin_commands(ctx);
-        VkClearValue zero{};
-        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &sets[filter].set, &cp, VK_NULL_HANDLE, 3, false, sizeof cp, frag);
-        REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        const std::vector<float> v = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-        REQUIRE(v.size() == std::size_t(M));
+        const std::vector<float> v = skvk::draw_row(ctx, row, sets[filter], &cp);
         Score s;
         for (std::size_t i = 0; i < std::size_t(M); ++i) {
             if (!rc.use[i]) continue;
@@ -174,14 +139,10 @@ void run_cube_auto(Source lang) {
     CHECK(small.acne > 0);  // the control: a small constant acnes at grazing walls
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    skvk::destroy(ctx, row);
     vkDestroySampler(ctx.device, nearest, nullptr);
     vkDestroySampler(ctx.device, linear, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     for (auto& s : sets) skvk::destroy(ctx, s);
-    skvk::destroy(ctx, target);
     skvk::destroy(ctx, cube);
     skvk::destroy(ctx, ssbo);
 }

@@ -22,31 +22,11 @@ namespace {
 
 using skvk::Source;
 
-const char* kDepthGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kReceiverGlslVs = R"(#version 450 core
+const char* kParamsGlsl = R"(
 layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 planes; } u;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.view_proj * vec4(a_position, 1.0);
-}
 )";
 const char* kReceiverGlslFs = R"(
 layout(set = 0, binding = 0) uniform samplerCubeShadow u_cube;
-layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 planes; } u;
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out float o_visibility;
-layout(location = 1) out vec4 o_world;
-layout(location = 2) out vec4 o_normal;
 void main() {
     o_visibility = sk_cube_visibility_hardware_depth(u_cube, u.light_position, v_world, u.planes.x, u.planes.y, u.planes.z);
     o_world = vec4(v_world, 1.0);
@@ -58,23 +38,8 @@ struct Params { column_major float4x4 view_proj; float4 light_position; float4 p
 [[vk::binding(0, 0)]] TextureCube<float> u_cube;
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
-struct Varyings {
-    float4 position : SV_Position;
-    [[vk::location(0)]] float3 world : TEXCOORD0;
-    [[vk::location(1)]] float3 normal : TEXCOORD1;
-};
-Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
-    Varyings o;
-    o.world = position;
-    o.normal = normal;
-    o.position = mul(u.view_proj, float4(position, 1.0));
-    return o;
-}
-struct Targets {
-    [[vk::location(0)]] float visibility : SV_Target0;
-    [[vk::location(1)]] float4 world : SV_Target1;
-    [[vk::location(2)]] float4 normal : SV_Target2;
-};
+)";
+const char* kReceiverHlslPs = R"(
 Targets ps_main(Varyings i) {
     Targets o;
     o.visibility = sk_cube_visibility_hardware_depth(u_cube, u_compare, u.light_position, i.world, u.planes.x, u.planes.y,
@@ -84,6 +49,11 @@ Targets ps_main(Varyings i) {
     return o;
 }
 )";
+
+// The receiver pass in HLSL: the bindings, the shared varyings, vertex stage and targets, the lookup.
+std::string receiver_hlsl() {
+    return kReceiverHlsl + std::string(skvk::kReceiverHlslVs) + skvk::kReceiverHlslTargets + kReceiverHlslPs;
+}
 
 constexpr std::uint32_t kFace = 512, kW = 320, kH = 240;
 constexpr float kNear = 0.1f, kFar = 20.f;
@@ -114,16 +84,17 @@ skvk::Agreement run(Source lang, bool flipped_faces) {
     std::vector<std::uint32_t> depth_vs, vs, fs;
     const char* vs_entry = "main";
     const char* fs_entry = "main";
-    depth_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "cube.depth.vert");
+    depth_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "cube.depth.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "cube.glsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kReceiverGlslFs, "main",
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kParamsGlsl), "main", "cube.glsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                   "#version 450 core\n" + snippet + kParamsGlsl + skvk::kReceiverGlslFsIo + kReceiverGlslFs, "main",
                                    "cube.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_map.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "cube.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kReceiverHlsl, "ps_main", "cube.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver_hlsl(), "vs_main", "cube.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + receiver_hlsl(), "ps_main", "cube.hlsl.frag");
         vs_entry = "vs_main";
         fs_entry = "ps_main";
     }
@@ -135,70 +106,30 @@ skvk::Agreement run(Source lang, bool flipped_faces) {
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
 
-    skvk::Image cube, vis, world, normal, depth;
+    skvk::Image cube;
     REQUIRE(skvk::make_image(ctx, kFace, kFace, 6, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cube, false, true));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
     std::vector<VkFramebuffer> map_fb;
     for (int f = 0; f < 6; ++f) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace));
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout map_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
-    skvk::PipelineDesc md;
-    md.vs = depth_vs;
-    md.vertex_stride = sizeof(skvk::SceneVertex);
-    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    skvk::PipelineDesc md = skvk::scene_pipeline(depth_vs, {}, "main", "main", false);
     md.depth_bias = true;
     md.bias_slope = 1.5f;
     md.bias_constant = 2.f;
-    std::string why;
-    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
-    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
 
-    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(
-        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    skvk::ReceiverTargets rt;
+    skvk::make_receiver_targets(ctx, kW, kH, rt);
     VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
-    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    if (lang == Source::Glsl) {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cube.view, sampler, map_read);
-    } else {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, cube.view, VK_NULL_HANDLE, map_read);
-        skvk::write_sampler(ctx, ds, 2, sampler);
-    }
-    skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = vs_entry;
-    pd.fs_entry = fs_entry;
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::make_lookup_set(ctx, lang, cube.view, map_read, sampler, ubo, ds);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, vs_entry, fs_entry);
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -207,26 +138,21 @@ skvk::Agreement run(Source lang, bool flipped_faces) {
         skvk::draw_pass(cmd, map_rp, map_fb[std::size_t(f)], kFace, kFace, {far}, map_pipe, map_layout, nullptr, &faces[f],
                         vb.buffer, vcount, flipped_faces);
     VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    skvk::draw_pass(cmd, rt.rp, rt.fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
-    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
-    const skvk::Agreement a = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+    const skvk::Agreement a = skvk::receiver_agreement(ctx, rt, scene, light);
 
     vkDestroyPipeline(ctx.device, pipe, nullptr);
     vkDestroyPipeline(ctx.device, map_pipe, nullptr);
     vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
     for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroyRenderPass(ctx.device, map_rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&cube, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, rt);
+    skvk::destroy(ctx, cube);
     skvk::destroy(ctx, vb);
     skvk::destroy(ctx, ubo);
     return a;

@@ -33,12 +33,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_depth_a;
 layout(set = 0, binding = 1) uniform sampler2D u_vis_a;
@@ -61,10 +55,6 @@ const char* kHlsl = R"(
 [[vk::binding(4, 0)]] StructuredBuffer<float4> lookup;
 struct Params { column_major float4x4 vp_a; column_major float4x4 vp_b; float4 end_a; float4 end_b; };
 [[vk::binding(5, 0)]] ConstantBuffer<Params> u;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     return sk_linear_light_visibility(u_depth_a, u_vis_a, u.vp_a, u.end_a.xyz, u_depth_b, u_vis_b, u.vp_b, u.end_b.xyz,
@@ -107,13 +97,13 @@ void run_linear(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/linear_light.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "linear_light.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "linear_light.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "linear_light.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/linear_light.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "linear_light.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "linear_light.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "linear_light.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "linear_light.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
@@ -153,15 +143,10 @@ void run_linear(Source lang) {
     std::memcpy(ssbo.mapped, pts.data(), pts.size() * sizeof(glm::vec4));
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, tex, frag}, {3, tex, frag},
                                             {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}, {5, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}},
                                       ds));
@@ -172,27 +157,9 @@ void run_linear(Source lang) {
     skvk::write_image(ctx, ds, 3, tex, vmap[1].view, s, read);
     skvk::write_buffer(ctx, ds, 4, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 5, ubo);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
-    VkCommandBuffer cmd = skvk::begin_commands(ctx);
-    VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
-    REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    REQUIRE(gpu.size() == M);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row);
+    const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
     std::size_t off = 0, bad = 0, skin = 0, umbra = 0;
     double max_err = 0;
@@ -217,13 +184,10 @@ void run_linear(Source lang) {
     CHECK(off <= M / 200);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    skvk::destroy(ctx, row);
     vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&dmap[0], &dmap[1], &vmap[0], &vmap[1], &target}) skvk::destroy(ctx, *i);
+    for (skvk::Image* i : {&dmap[0], &dmap[1], &vmap[0], &vmap[1]}) skvk::destroy(ctx, *i);
     skvk::destroy(ctx, ssbo);
     skvk::destroy(ctx, ubo);
 }
@@ -240,11 +204,6 @@ void run_linear(Source lang) {
 // falling with k). As hlsl/linear_light.hlsl says: the endpoint maps (and the skin's `view_proj`, whose
 // window depth the skin stores) use perspectiveRH_ZO, the lookup and the skin's unprojection the GL
 // ([-1, 1]) matrix of the same planes. One unflipped viewport everywhere (uv rows = map rows).
-const char* kDepthVsGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
 const char* kSkinGlsl = R"(
 layout(set = 0, binding = 0, std140) uniform Skin { mat4 other_inv_vp; mat4 this_vp; vec4 p; } s;  // p: near, far, threshold
 layout(set = 0, binding = 1) uniform sampler2D u_other_depth;
@@ -358,17 +317,8 @@ Targets lookup_ps(WorldV i) {
     if (glsl) return src + "    o_v = v / u.p.x;\n    o_world = vec4(p, 1.0);\n    o_normal = vec4(n, 0.0);\n}\n";
     return src + "    Targets o;\n    o.v = v / u.p.x;\n    o.world = float4(p, 1.0);\n    o.normal = float4(n, 0.0);\n    return o;\n}\n";
 }
-const char* kLookupVsGlsl = R"(#version 450 core
+const char* kLookupParamsGlsl = R"(
 layout(set = 0, binding = 0, std140) uniform Params { mat4 cam_vp; mat4 vp[5]; vec4 end_pos[5]; vec4 p; } u;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.cam_vp * vec4(a_position, 1.0);
-}
 )";
 
 // The `linear` scene of samples/app (make_builtin_scene): floor (half size 4, no caster), a box and a post.
@@ -454,18 +404,11 @@ struct LinearPasses {
         REQUIRE(skvk::make_buffer(ctx, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, sc.vertices.data(), bytes);
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-        const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        const VkDescriptorType tex = skvk::texture_type(lang);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
                                                 {1, tex, VK_SHADER_STAGE_VERTEX_BIT}}, skin_layout_ds));
-        VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.pushConstantRangeCount = 1;
-        li.pPushConstantRanges = &range;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &depth_layout) == VK_SUCCESS);
-        li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = &skin_layout_ds.layout;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &skin_layout) == VK_SUCCESS);
+        depth_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+        skin_layout = skvk::make_pipeline_layout(ctx, &skin_layout_ds);
         depth_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
         skin_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
         lookup_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
@@ -475,7 +418,7 @@ struct LinearPasses {
         std::vector<std::uint32_t> cpu_vs;
         if (glsl) {
             const std::string h = "#version 450 core\n" + snippet + kSkinGlsl;
-            md.vs = skvk::compile_checked(lang, V, kDepthVsGlsl, "main", "linear_light.glsl.depth.vert");
+            md.vs = skvk::compile_checked(lang, V, skvk::kSceneDepthGlsl, "main", "linear_light.glsl.depth.vert");
             sd.vs = skvk::compile_checked(lang, V, h + kSkinVsGlsl, "main", "linear_light.glsl.skin.vert");
             sd.fs = skvk::compile_checked(lang, F, h + kSkinFsGlsl, "main", "linear_light.glsl.skin.frag");
             cpu_vs = skvk::compile_checked(lang, V, h + kSkinCpuVsGlsl, "main", "linear_light.glsl.skin_cpu.vert");
@@ -493,21 +436,17 @@ struct LinearPasses {
         md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
         md.depth_bias = true;  // the sample's glPolygonOffset(2, 2)
         md.bias_constant = md.bias_slope = 2.f;
-        std::string why;
-        depth = skvk::make_pipeline(ctx, md, depth_layout, depth_rp, why);
-        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        depth = skvk::make_pipeline_checked(ctx, md, depth_layout, depth_rp);
         sd.depth_test = sd.depth_write = false;  // attribute-less, MIN blending, no culling
         sd.color_count = 1;
         sd.blend = true;
         sd.blend_op = VK_BLEND_OP_MIN;
-        skin = skvk::make_pipeline(ctx, sd, skin_layout, skin_rp, why);
-        REQUIRE_MESSAGE(skin != VK_NULL_HANDLE, why);
+        skin = skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp);
         sd.vs = cpu_vs;
         sd.vs_entry = glsl ? "main" : "skin_cpu_vs";
         sd.vertex_stride = sizeof(shadowkit::LinearLightSkinVertex);
         sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32_SFLOAT, 12}};
-        skin_cpu = skvk::make_pipeline(ctx, sd, skin_layout, skin_rp, why);
-        REQUIRE_MESSAGE(skin_cpu != VK_NULL_HANDLE, why);
+        skin_cpu = skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp);
     }
     ~LinearPasses() {
         vkDestroyPipeline(ctx.device, depth, nullptr);
@@ -538,7 +477,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
     skvk::PipelineDesc pd;
     const std::string tag = std::string(glsl ? "linear_light.glsl.lookup" : "linear_light.hlsl.lookup") + std::to_string(k);
     if (glsl) {
-        pd.vs = skvk::compile_checked(P.lang, V, kLookupVsGlsl, "main", tag + ".vert");
+        pd.vs = skvk::compile_checked(P.lang, V, skvk::receiver_glsl_vs(kLookupParamsGlsl, "u.cam_vp"), "main", tag + ".vert");
         pd.fs = skvk::compile_checked(P.lang, F, "#version 450 core\n" + P.snippet + lookup_source(P.lang, k), "main", tag + ".frag");
     } else {
         const std::string h = P.snippet + lookup_source(P.lang, k);
@@ -547,7 +486,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
         pd.vs_entry = "lookup_vs";
         pd.fs_entry = "lookup_ps";
     }
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     std::vector<skvk::Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, V | F}};
     for (int i = 0; i <= k; ++i) b.push_back({std::uint32_t(1 + i), tex, F});
     for (int j = 0; j < 2 * k; ++j) b.push_back({std::uint32_t(6 + j), tex, F});
@@ -572,17 +511,11 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
         skvk::write_image(ctx, ds, std::uint32_t(1 + i), tex, dmaps[std::size_t(i)].view, smp, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
     for (int j = 0; j < 2 * k; ++j)
         skvk::write_image(ctx, ds, std::uint32_t(6 + j), tex, vmaps[std::size_t(j)].view, smp, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
     pd.vertex_stride = sizeof(skvk::SceneVertex);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
     pd.color_count = 3;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, P.lookup_rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, P.lookup_rp);
     skvk::Image vis, world, normal, zbuf;
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, kCamW, kCamH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
@@ -671,7 +604,7 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
         std::memcpy(skin_vbs[i].mapped, skin.data(), skin.size() * sizeof(skin[0]));
     }
     cmd = skvk::begin_commands(ctx);
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     struct SkinParams {
         glm::mat4 other_inv_vp, this_vp;
         glm::vec4 p;

@@ -59,27 +59,12 @@ DepthVaryings vs_depth([[vk::location(0)]] float3 position : POSITION) {
 float ps_depth(DepthVaryings i) : SV_Depth { return sk_omni_linear_depth(i.world, pc.light_position, pc.range.x); }
 )";
 // params: x = range, y = face size, z = lookup (0 compare, 1 pcf 3 x 3, 2 manual)
-const char* kReceiverGlslVs = R"(#version 450 core
+const char* kParamsGlsl = R"(
 layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 params; } u;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.view_proj * vec4(a_position, 1.0);
-}
 )";
 const char* kReceiverGlslFs = R"(
 layout(set = 0, binding = 0) uniform samplerCubeShadow u_cube;
-layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; vec4 light_position; vec4 params; } u;
 layout(set = 0, binding = 2) uniform samplerCube u_cube_distance;
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out float o_visibility;
-layout(location = 1) out vec4 o_world;
-layout(location = 2) out vec4 o_normal;
 void main() {
     vec3 L = sk_omni_light_point(u.light_position) - v_world;
     float d = length(L);
@@ -100,23 +85,8 @@ struct Params { column_major float4x4 view_proj; float4 light_position; float4 p
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
 [[vk::binding(3, 0)]] SamplerState u_point;
-struct Varyings {
-    float4 position : SV_Position;
-    [[vk::location(0)]] float3 world : TEXCOORD0;
-    [[vk::location(1)]] float3 normal : TEXCOORD1;
-};
-Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
-    Varyings o;
-    o.world = position;
-    o.normal = normal;
-    o.position = mul(u.view_proj, float4(position, 1.0));
-    return o;
-}
-struct Targets {
-    [[vk::location(0)]] float visibility : SV_Target0;
-    [[vk::location(1)]] float4 world : SV_Target1;
-    [[vk::location(2)]] float4 normal : SV_Target2;
-};
+)";
+const char* kReceiverHlslPs = R"(
 Targets ps_main(Varyings i) {
     Targets o;
     float3 L = sk_omni_light_point(u.light_position) - i.world;
@@ -134,6 +104,11 @@ Targets ps_main(Varyings i) {
     return o;
 }
 )";
+
+// The receiver pass in HLSL: the bindings, the shared varyings, vertex stage and targets, the lookup.
+std::string receiver_hlsl() {
+    return kReceiverHlsl + std::string(skvk::kReceiverHlslVs) + skvk::kReceiverHlslTargets + kReceiverHlslPs;
+}
 
 constexpr std::uint32_t kFace = 512, kW = 320, kH = 240;
 constexpr float kNear = 0.1f, kFar = 20.f, kRange = 12.f;
@@ -193,15 +168,15 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
         depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthVsGlsl, "main", "omni.glsl.depth.vert");
         depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kDepthFsGlsl, "main",
                                          "omni.glsl.depth.frag");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "omni.glsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kReceiverGlslFs, "main",
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kParamsGlsl), "main", "omni.glsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kParamsGlsl + skvk::kReceiverGlslFsIo + kReceiverGlslFs, "main",
                                    "omni.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/omni_shadow.hlsl");
         depth_vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kDepthHlsl, "vs_depth", "omni.hlsl.depth.vert");
         depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kDepthHlsl, "ps_depth", "omni.hlsl.depth.frag");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "omni.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kReceiverHlsl, "ps_main", "omni.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver_hlsl(), "vs_main", "omni.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + receiver_hlsl(), "ps_main", "omni.hlsl.frag");
         entries[0] = "vs_depth";
         entries[1] = "ps_depth";
         entries[2] = "vs_main";
@@ -215,76 +190,38 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
 
-    skvk::Image cube, vis, world, normal, depth;
+    skvk::Image cube;
     REQUIRE(skvk::make_image(ctx, kFace, kFace, 6, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cube, false, true));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
     std::vector<VkFramebuffer> map_fb;
     for (int f = 0; f < 6; ++f) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace));
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(DepthPush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout map_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
-    skvk::PipelineDesc md;
-    md.vs = depth_vs;
-    md.fs = depth_fs;  // writes distance / range: no rasterized depth, no polygon offset
-    md.vs_entry = entries[0];
-    md.fs_entry = entries[1];
-    md.vertex_stride = sizeof(skvk::SceneVertex);
-    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-    std::string why;
-    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
-    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(DepthPush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    // writes distance / range: no rasterized depth, no polygon offset
+    skvk::PipelineDesc md = skvk::scene_pipeline(depth_vs, depth_fs, entries[0], entries[1], false);
+    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
 
-    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(
-        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    skvk::ReceiverTargets rt;
+    skvk::make_receiver_targets(ctx, kW, kH, rt);
     VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
     VkSampler point = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    // and the point-sampled cube for the manual lookup: GLSL a second combined sampler at 2, HLSL a sampler at 3
     skvk::DescriptorSet ds;
-    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    if (lang == Source::Glsl) {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cube.view, sampler, map_read);
+    const bool glsl = lang == Source::Glsl;
+    skvk::make_lookup_set(ctx, lang, cube.view, map_read, sampler, ubo, ds,
+                          {{glsl ? 2u : 3u, glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLER,
+                            VK_SHADER_STAGE_FRAGMENT_BIT}});
+    if (glsl)
         skvk::write_image(ctx, ds, 2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cube.view, point, map_read);
-    } else {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {3, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, cube.view, VK_NULL_HANDLE, map_read);
-        skvk::write_sampler(ctx, ds, 2, sampler);
+    else
         skvk::write_sampler(ctx, ds, 3, point);
-    }
-    skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[2];
-    pd.fs_entry = entries[3];
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, entries[2], entries[3]);
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
     if (reversed) pd.depth_compare = VK_COMPARE_OP_GREATER;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -296,14 +233,10 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
     }
     VkClearValue zero{}, cam_far = far;
     if (reversed) cam_far.depthStencil.depth = 0.f;
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, cam_far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    skvk::draw_pass(cmd, rt.rp, rt.fb, kW, kH, {zero, zero, zero, cam_far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
-    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
-    const skvk::Agreement a = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+    const skvk::Agreement a = skvk::receiver_agreement(ctx, rt, scene, light);
 
     vkDestroyPipeline(ctx.device, pipe, nullptr);
     vkDestroyPipeline(ctx.device, map_pipe, nullptr);
@@ -311,12 +244,11 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
     vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
     vkDestroySampler(ctx.device, point, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
     for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroyRenderPass(ctx.device, map_rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&cube, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, rt);
+    skvk::destroy(ctx, cube);
     skvk::destroy(ctx, vb);
     skvk::destroy(ctx, ubo);
     return a;
@@ -386,25 +318,11 @@ MapVaryings vs_map([[vk::location(0)]] float3 position : POSITION) {
 float ps_map(MapVaryings i) : SV_Depth { return sk_omni_linear_depth(i.world, mp.light_position, mp.params.y); }
 )";
 // params: x = range, y = map size, z = tess (texels), w = pcf radius; storage: (absolute, relative)
-const char* kDpReceiverGlsl = R"(
+const char* kDpParamsGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2DArrayShadow u_dp;
 layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 dp_view; vec4 light_position; vec4 params; vec4 storage; } u;
-#ifdef SK_RECEIVER_VS
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.view_proj * vec4(a_position, 1.0);
-}
-#else
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out float o_visibility;
-layout(location = 1) out vec4 o_world;
-layout(location = 2) out vec4 o_normal;
+)";
+const char* kDpReceiverGlsl = R"(
 void main() {
     vec3 L = sk_omni_light_point(u.light_position) - v_world;
     float d = length(L);
@@ -417,30 +335,14 @@ void main() {
     o_world = vec4(v_world, 1.0);
     o_normal = vec4(normalize(v_normal), 0.0);
 }
-#endif
 )";
 const char* kDpReceiverHlsl = R"(
 struct DpParams { column_major float4x4 view_proj; column_major float4x4 dp_view; float4 light_position; float4 params; float4 storage; };
 [[vk::binding(0, 0)]] Texture2DArray<float> u_dp;
 [[vk::binding(1, 0)]] ConstantBuffer<DpParams> u;
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
-struct Varyings {
-    float4 position : SV_Position;
-    [[vk::location(0)]] float3 world : TEXCOORD0;
-    [[vk::location(1)]] float3 normal : TEXCOORD1;
-};
-Varyings vs_receiver([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
-    Varyings o;
-    o.world = position;
-    o.normal = normal;
-    o.position = mul(u.view_proj, float4(position, 1.0));
-    return o;
-}
-struct Targets {
-    [[vk::location(0)]] float visibility : SV_Target0;
-    [[vk::location(1)]] float4 world : SV_Target1;
-    [[vk::location(2)]] float4 normal : SV_Target2;
-};
+)";
+const char* kDpReceiverHlslPs = R"(
 Targets ps_receiver(Varyings i) {
     Targets o;
     float3 L = sk_omni_light_point(u.light_position) - i.world;
@@ -559,17 +461,19 @@ DpShaders compile_dp(Source lang) {
         const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/omni_shadow.glsl");
         s.map_vs = skvk::compile_checked(lang, V, head + "#define SK_MAP_VS 1\n" + kDpMapGlsl, "main", "omni.dp.glsl.map.vert");
         s.map_fs = skvk::compile_checked(lang, F, head + kDpMapGlsl, "main", "omni.dp.glsl.map.frag");
-        s.vs = skvk::compile_checked(lang, V, head + "#define SK_RECEIVER_VS 1\n" + kDpReceiverGlsl, "main", "omni.dp.glsl.vert");
-        s.fs = skvk::compile_checked(lang, F, head + kDpReceiverGlsl, "main", "omni.dp.glsl.frag");
+        s.vs = skvk::compile_checked(lang, V, skvk::receiver_glsl_vs(kDpParamsGlsl), "main", "omni.dp.glsl.vert");
+        s.fs = skvk::compile_checked(lang, F, head + kDpParamsGlsl + skvk::kReceiverGlslFsIo + kDpReceiverGlsl, "main",
+                                     "omni.dp.glsl.frag");
     } else {
         const std::string head = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/omni_shadow.hlsl");
         s.map_vs = skvk::compile_checked(lang, V, head + kDpMapHlsl, "vs_map", "omni.dp.hlsl.map.vert");
         s.map_fs = skvk::compile_checked(lang, F, head + kDpMapHlsl, "ps_map", "omni.dp.hlsl.map.frag");
-        s.vs = skvk::compile_checked(lang, V, head + kDpReceiverHlsl, "vs_receiver", "omni.dp.hlsl.vert");
-        s.fs = skvk::compile_checked(lang, F, head + kDpReceiverHlsl, "ps_receiver", "omni.dp.hlsl.frag");
+        const std::string receiver = kDpReceiverHlsl + std::string(skvk::kReceiverHlslVs) + skvk::kReceiverHlslTargets + kDpReceiverHlslPs;
+        s.vs = skvk::compile_checked(lang, V, head + receiver, "vs_main", "omni.dp.hlsl.vert");
+        s.fs = skvk::compile_checked(lang, F, head + receiver, "ps_receiver", "omni.dp.hlsl.frag");
         s.map_vs_entry = "vs_map";
         s.map_fs_entry = "ps_map";
-        s.vs_entry = "vs_receiver";
+        s.vs_entry = "vs_main";
         s.fs_entry = "ps_receiver";
     }
     return s;
@@ -652,7 +556,7 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     std::memcpy(ubo.mapped, &params, sizeof params);
 
     // 1. both maps: distance / range, depth test LESS, cleared to 1, no culling, the other hemisphere clipped
-    skvk::Image maps, vis, world, normal, depth;
+    skvk::Image maps;
     REQUIRE(skvk::make_image(ctx, kDp, kDp, 2, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              maps, true));
@@ -660,12 +564,7 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
     VkFramebuffer map_fb[2];
     for (std::size_t l = 0; l < 2; ++l) map_fb[l] = skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[l]}, kDp, kDp);
-    VkPushConstantRange range_pc{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(MapPush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range_pc;
-    VkPipelineLayout map_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
+    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(MapPush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
     skvk::PipelineDesc md;
     md.vs = sh.map_vs;
     md.fs = sh.map_fs;
@@ -673,48 +572,19 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     md.fs_entry = sh.map_fs_entry;
     md.vertex_stride = sizeof(glm::vec3);
     md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-    std::string why;
-    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
-    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
 
     // 2. the receivers: V, world point and normal
-    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
-                                             VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    skvk::ReceiverTargets rt;
+    skvk::make_receiver_targets(ctx, kW, kH, rt);
     VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
-    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
-    if (lang == Source::Glsl) {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, F}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, maps.view, sampler, map_read);
-    } else {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, F}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, F}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, maps.view, VK_NULL_HANDLE, map_read);
-        skvk::write_sampler(ctx, ds, 2, sampler);
-    }
-    skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = sh.vs;
-    pd.fs = sh.fs;
-    pd.vs_entry = sh.vs_entry;
-    pd.fs_entry = sh.fs_entry;
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::make_lookup_set(ctx, lang, maps.view, map_read, sampler, ubo, ds);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(sh.vs, sh.fs, sh.vs_entry, sh.fs_entry);
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{}, zero{};
@@ -724,14 +594,10 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
         skvk::draw_pass(cmd, map_rp, map_fb[l], kDp, kDp, {far}, map_pipe, map_layout, nullptr, &push, cvb.buffer, ccount, false,
                         sizeof push, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
     }
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    skvk::draw_pass(cmd, rt.rp, rt.fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
-    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
-    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+    out.agreement = skvk::receiver_agreement(ctx, rt, scene, light);
     if (map_check) {
         const std::vector<float> layers[2] = {skvk::read_image(ctx, maps, map_read, 1, 0), skvk::read_image(ctx, maps, map_read, 1, 1)};
         REQUIRE(layers[0].size() == std::size_t(kDp) * kDp);
@@ -743,12 +609,11 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
     for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroyRenderPass(ctx.device, map_rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&maps, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, rt);
+    skvk::destroy(ctx, maps);
     for (skvk::Buffer* b : {&cvb, &vb, &ubo}) skvk::destroy(ctx, *b);
     return out;
 }

@@ -31,12 +31,6 @@ using skvk::compile_checked;
 using skvk::read_text;
 using namespace pcfref;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kKernelGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2DShadow u_sm;
 layout(set = 0, binding = 1) uniform sampler2DArrayShadow u_sm_array;
@@ -69,10 +63,6 @@ const char* kKernelHlsl = R"(
 [[vk::binding(3, 0)]] SamplerComparisonState u_cmp;
 struct Kernel { int kernel; int r; int taps; int array; float radius_uv; float angle; };
 [[vk::push_constant]] ConstantBuffer<Kernel> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     float3 uvz = lookup[2 * i].xyz;
@@ -118,13 +108,13 @@ void run_kernels(Source lang, bool reversed = false) {
     const char* vs_entry = "main";
     const char* fs_entry = "main";
     if (lang == Source::Glsl) {
-        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "pcf.glsl.vert");
+        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "pcf.glsl.vert");
         fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + glsl + kKernelGlsl, "main",
                              reversed ? "pcf_rz.glsl.frag" : "pcf.glsl.frag");
     } else {
         const std::string hlsl = read_text(std::string(SHADOWKIT_HLSL_DIR) + "/pcf.hlsl");
-        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, hlsl + kKernelHlsl, "vs_main", "pcf.hlsl.vert");
-        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, hlsl + kKernelHlsl, "ps_main", "pcf.hlsl.frag");
+        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, hlsl + skvk::kFullscreenHlsl + kKernelHlsl, "vs_main", "pcf.hlsl.vert");
+        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, hlsl + skvk::kFullscreenHlsl + kKernelHlsl, "ps_main", "pcf.hlsl.frag");
         vs_entry = "vs_main";
         fs_entry = "ps_main";
     }
@@ -205,14 +195,7 @@ void run_kernels(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, sampler);
     }
     skvk::write_buffer(ctx, ds, 2, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(KernelParams)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds, sizeof(KernelParams), VK_SHADER_STAGE_FRAGMENT_BIT);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.fs = fs;
@@ -220,9 +203,7 @@ void run_kernels(Source lang, bool reversed = false) {
     pd.fs_entry = fs_entry;
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     const KernelCase cases[] = {
         {"box r=1", 0, 1, 0, 0, 0},          {"box r=2", 0, 2, 0, 0, 0},          {"box r=3", 0, 3, 0, 0, 0},

@@ -32,12 +32,6 @@ using skvk::compile_checked;
 using skvk::read_text;
 using namespace pcfref;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kKernelGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2DShadow u_sm;
 layout(set = 0, binding = 1) uniform sampler2D u_depth;
@@ -65,10 +59,6 @@ const char* kKernelHlsl = R"(
 [[vk::binding(4, 0)]] StructuredBuffer<float4> lookup;   // uvz, then dz_duv
 struct Case { float light_uv; float near_plane; float far_plane; float angle; float max_w; int taps; int array; };
 [[vk::push_constant]] ConstantBuffer<Case> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     float3 uvz = lookup[2 * i].xyz;
@@ -101,14 +91,14 @@ void run_pcss(Source lang, bool reversed = false) {
     if (lang == Source::Glsl) {
         const std::string pcss = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                  read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcss.glsl");
-        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "pcss.glsl.vert");
+        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "pcss.glsl.vert");
         fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + pcss + kKernelGlsl, "main",
                              reversed ? "pcss_rz.glsl.frag" : "pcss.glsl.frag");
     } else {
         const std::string pcss = std::string(reversed ? "#define SK_REVERSED_Z 1\n" : "") +
                                  read_text(std::string(SHADOWKIT_HLSL_DIR) + "/pcss.hlsl");
-        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, pcss + kKernelHlsl, "vs_main", "pcss.hlsl.vert");
-        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, pcss + kKernelHlsl, "ps_main",
+        vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, pcss + skvk::kFullscreenHlsl + kKernelHlsl, "vs_main", "pcss.hlsl.vert");
+        fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, pcss + skvk::kFullscreenHlsl + kKernelHlsl, "ps_main",
                              reversed ? "pcss_rz.hlsl.frag" : "pcss.hlsl.frag");
         vs_entry = "vs_main";
         fs_entry = "ps_main";
@@ -184,14 +174,7 @@ void run_pcss(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, point);
     }
     skvk::write_buffer(ctx, ds, 4, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(CaseParams)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds, sizeof(CaseParams), VK_SHADER_STAGE_FRAGMENT_BIT);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.fs = fs;
@@ -199,9 +182,7 @@ void run_pcss(Source lang, bool reversed = false) {
     pd.fs_entry = fs_entry;
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     struct Case {
         const char* name;

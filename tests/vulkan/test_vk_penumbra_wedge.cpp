@@ -46,12 +46,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 // per sample: e0, e1, (p, -), (ndc.xy, window depth, -)
 const char* kGlsl = R"(
 layout(set = 0, binding = 0, std430) readonly buffer Samples { vec4 s[]; };
@@ -68,10 +62,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] StructuredBuffer<float4> s;
 struct Params { column_major float4x4 inv_view_proj; float4 light_position; float4 radius; };
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float4 ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     float c = sk_wedge_edge_coverage(s[4 * i].xyz, s[4 * i + 1].xyz, u.light_position, u.radius.x, s[4 * i + 2].xyz);
@@ -92,13 +82,13 @@ void run_wedge(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/penumbra_wedge.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "wedge.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "wedge.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "wedge.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/penumbra_wedge.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "wedge.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "wedge.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "wedge.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "wedge.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
@@ -131,37 +121,14 @@ void run_wedge(Source lang) {
     std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT,
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
-    VkCommandBuffer cmd = skvk::begin_commands(ctx);
-    VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
-    REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(gpu.size() == std::size_t(M) * 4);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row, VK_FORMAT_R32G32B32A32_SFLOAT, 4);
+    const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
     double max_c = 0, sum_c = 0, max_w = 0;
     int nonzero = 0, positive = 0, negative = 0;
@@ -191,12 +158,8 @@ void run_wedge(Source lang) {
     CHECK(max_w < 1e-4);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, target);
     skvk::destroy(ctx, ssbo);
     skvk::destroy(ctx, ubo);
 }
@@ -363,27 +326,8 @@ struct WedgePush {
     glm::mat4 view_proj;
     glm::vec4 light_position, sphere;
 };
-const char* kWedgeSceneVs = R"(#version 450 core
+const char* kWedgeScenePush = R"(
 layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; vec4 sphere; } pc;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = pc.view_proj * vec4(a_position, 1.0);
-}
-)";
-const char* kWedgeSceneFs = R"(#version 450 core
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out vec4 o_world;
-layout(location = 1) out vec4 o_normal;
-void main() {
-    o_world = vec4(v_world, 1.0);
-    o_normal = vec4(normalize(v_normal), 0.0);
-}
 )";
 // the volumes (shadow_volume.glsl) and the wedges (penumbra_wedge.glsl), after both snippets
 const char* kWedgePassGlsl = R"(
@@ -487,15 +431,15 @@ struct WedgeShaders {
 WedgeShaders compile_wedge_shaders(Source lang) {
     WedgeShaders w;
     const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
-    w.scene_fs = skvk::compile_checked(Source::Glsl, F, kWedgeSceneFs, "main", "wedges.scene.frag");
+    w.scene_fs = skvk::compile_checked(Source::Glsl, F, skvk::kGbufferGlslFs, "main", "wedges.scene.frag");
     if (lang == Source::Glsl) {
         const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl") +
                                  "\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/penumbra_wedge.glsl") + "\n";
- w.scene_vs = skvk::compile_checked(lang, V, kWedgeSceneVs, "main", "wedges.glsl.scene.vert");
+ w.scene_vs = skvk::compile_checked(lang, V, skvk::receiver_glsl_vs(kWedgeScenePush, "pc.view_proj"), "main", "wedges.glsl.scene.vert");
         w.volume_vs = skvk::compile_checked(lang, V, head + "#define SK_VOLUME_VS 1\n" + kWedgePassGlsl, "main", "wedges.glsl.volume.vert");
         w.wedge_vs = skvk::compile_checked(lang, V, head + "#define SK_WEDGE_VS 1\n" + kWedgePassGlsl, "main", "wedges.glsl.wedge.vert");
         w.wedge_fs = skvk::compile_checked(lang, F, head + kWedgePassGlsl, "main", "wedges.glsl.wedge.frag");
-        w.full_vs = skvk::compile_checked(lang, V, kFullscreenGlsl, "main", "wedges.glsl.full.vert");
+        w.full_vs = skvk::compile_checked(lang, V, skvk::kFullscreenGlsl, "main", "wedges.glsl.full.vert");
         w.combine_fs = skvk::compile_checked(lang, F, head + kCombineGlsl, "main", "wedges.glsl.combine.frag");
     } else {
         const std::string head = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_volume.hlsl") + "\n" +
@@ -532,18 +476,6 @@ VkFormat wedge_depth_stencil_format(skvk::Context& ctx) {
     return VK_FORMAT_UNDEFINED;
 }
 
-VkPipelineLayout pipeline_layout(skvk::Context& ctx, VkDescriptorSetLayout set, std::uint32_t push_bytes) {
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, push_bytes};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &set;
-    li.pushConstantRangeCount = push_bytes ? 1u : 0u;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    return layout;
-}
-
 // The pipelines of passes 1 and 2 (the G-buffer; depth, volumes, wedges) and 3 (the combine).
 struct WedgePipelines {
     VkPipeline gbuffer = VK_NULL_HANDLE, depth = VK_NULL_HANDLE, volume = VK_NULL_HANDLE, front = VK_NULL_HANDLE,
@@ -553,12 +485,8 @@ WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, 
                                     VkRenderPass gbuffer_rp, VkRenderPass main_rp, VkRenderPass combine_rp) {
     WedgePipelines p;
     std::string why;
-    skvk::PipelineDesc sd;  // the scene: reversed-Z depth (GREATER), back faces culled
-    sd.vs = sh.scene_vs;
-    sd.vs_entry = sh.scene_entry;
-    sd.fs = sh.scene_fs;
-    sd.vertex_stride = sizeof(skvk::SceneVertex);
-    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    // the scene: reversed-Z depth (GREATER), back faces culled
+    skvk::PipelineDesc sd = skvk::scene_pipeline(sh.scene_vs, sh.scene_fs, sh.scene_entry);
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
@@ -685,7 +613,7 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     VkFramebuffer combine_fb = skvk::make_framebuffer(ctx, combine_rp, {vis.view}, kW, kH);
 
     const bool glsl = lang == Source::Glsl;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     const VkShaderStageFlags F = VK_SHADER_STAGE_FRAGMENT_BIT;
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::Buffer vb = upload(ctx, scene.vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
@@ -702,8 +630,8 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     skvk::write_image(ctx, combine_set, 0, tex, coverage.view, glsl ? nearest : VK_NULL_HANDLE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     skvk::write_image(ctx, combine_set, 1, tex, stencil_view, glsl ? nearest : VK_NULL_HANDLE,
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-    VkPipelineLayout layout = pipeline_layout(ctx, set.layout, sizeof(WedgePush));
-    VkPipelineLayout combine_layout = pipeline_layout(ctx, combine_set.layout, 0);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &set, sizeof(WedgePush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    VkPipelineLayout combine_layout = skvk::make_pipeline_layout(ctx, &combine_set);
     WedgePipelines p = make_wedge_pipelines(ctx, sh, layout, combine_layout, gbuffer_rp, main_rp, combine_rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);

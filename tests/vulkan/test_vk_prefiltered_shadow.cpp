@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "../prefiltered_reference.hpp"
 #include "vk_harness.hpp"
 #include "vk_passes.hpp"
 
@@ -27,12 +28,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kGlsl = R"(
 layout(set = 0, binding = 0, std430) readonly buffer Samples { vec4 s[]; };  // moments, (t, -, -, -)
 layout(push_constant) uniform Case { vec4 params; int method; float moment_bias; int quantized; } k;
@@ -46,10 +41,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] StructuredBuffer<float4> s;
 struct Case { float4 params; int method; float moment_bias; int quantized; };
 [[vk::push_constant]] ConstantBuffer<Case> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     return sk_prefilter_visibility(s[2 * i], s[2 * i + 1].x, k.method, k.params, k.moment_bias, k.quantized != 0);
@@ -70,45 +61,24 @@ void run_prefiltered(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/prefiltered_shadow.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "prefiltered.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "prefiltered.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "prefiltered.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/prefiltered_shadow.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "prefiltered.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "prefiltered.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "prefiltered.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "prefiltered.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
     constexpr std::uint32_t M = 2048;
     skvk::Buffer ssbo;
     REQUIRE(skvk::make_buffer(ctx, M * 2 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(CasePush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(CasePush));
 
     struct Method {
         const char* name;
@@ -154,13 +124,7 @@ void run_prefiltered(Source lang) {
         }
         std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
         const CasePush cp{u.params(), m.code, m.moment_bias, m.quantized ? 1 : 0};
-        VkCommandBuffer cmd = skvk::begin_commands(ctx);
-        VkClearValue zero{};
-        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, &cp, VK_NULL_HANDLE, 3, false, sizeof cp,
-                        VK_SHADER_STAGE_FRAGMENT_BIT);
-        REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-        REQUIRE(gpu.size() == M);
+        const std::vector<float> gpu = skvk::draw_row(ctx, row, ds, &cp);
         std::size_t off = 0, bad = 0, partial = 0;
         double max_err = 0;
         for (std::uint32_t i = 0; i < M; ++i) {
@@ -186,12 +150,7 @@ void run_prefiltered(Source lang) {
             samples[2 * i + 1].x = rng() % 5u == 0 ? specials[rng() % 8u] : U01(rng);
         }
         std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
-        cmd = skvk::begin_commands(ctx);
-        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, &cp, VK_NULL_HANDLE, 3, false, sizeof cp,
-                        VK_SHADER_STAGE_FRAGMENT_BIT);
-        REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        const std::vector<float> junk = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-        REQUIRE(junk.size() == M);
+        const std::vector<float> junk = skvk::draw_row(ctx, row, ds, &cp);
         std::size_t junk_bad = 0, junk_close = 0;
         for (std::uint32_t i = 0; i < M; ++i) {
             junk_bad += !(junk[i] >= 0.f && junk[i] <= 1.f);
@@ -204,12 +163,8 @@ void run_prefiltered(Source lang) {
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, target);
     skvk::destroy(ctx, ssbo);
 }
 
@@ -473,9 +428,7 @@ VkPipeline make_fullscreen_pipeline(skvk::Context& ctx, const Shaders& sh, VkPip
     pd.fs_entry = sh.fs_entry;
     pd.depth_test = pd.depth_write = false;
     pd.color_count = colors;
-    std::string why;
-    VkPipeline p = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(p != VK_NULL_HANDLE, why);
+    VkPipeline p = skvk::make_pipeline_checked(ctx, pd, layout, rp);
     return p;
 }
 
@@ -565,31 +518,16 @@ std::vector<float> read_raw(skvk::Context& ctx, const skvk::Image& img, int chan
     return skvk::read_image(ctx, img, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, std::max(1u, bytes / 4u));
 }
 
-PrefilterUniforms uniforms(PrefilterMethod m, PrefilterFormat f, float exponent = -1.0f) {
-    PrefilterSettings s;
-    s.method = m;
-    s.format = f;
-    s.exponent_positive = exponent;
-    s.exponent_negative = exponent;
-    s.min_variance = 1e-4f;
-    s.bleed_reduction = 0.2f;
-    return prefilter_uniforms(s);
-}
+using prefiltered_ref::test_uniforms;
 
 // The GL test's casters seen by a light at the origin looking down -z: a floor at z = -8, a tilted
 // quad and a box; a triangle list.
 std::vector<glm::vec3> light_scene() {
     std::vector<glm::vec3> tris;
     tris.reserve(30);
-    auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    prefiltered_ref::light_scene_quads([&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
         for (const glm::vec3& p : {a, b, c, a, c, d}) tris.push_back(p);
-    };
-    quad({-9, -9, -8}, {9, -9, -8}, {9, 9, -8}, {-9, 9, -8});
-    quad({-3, -1, -4}, {1, -1, -5.5f}, {1, 3, -5.5f}, {-3, 3, -4});
-    const glm::vec3 lo(0.5f, -3.0f, -6.5f), hi(2.5f, -1.0f, -5.0f);
-    quad({lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z});
-    quad({lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, {lo.x, hi.y, hi.z}, {lo.x, hi.y, lo.z});
-    quad({hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {hi.x, hi.y, hi.z}, {hi.x, lo.y, hi.z});
+    });
     return tris;
 }
 
@@ -617,9 +555,7 @@ void moment_pass(skvk::Context& ctx, const Shaders& sh, VkFormat format, VkImage
     pd.vertex_stride = sizeof(glm::vec3);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     pd.color_count = 2;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
     skvk::Buffer vb;
     REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
@@ -651,22 +587,13 @@ void run_moment_pass(Source lang) {
     REQUIRE(range.status == Status::Ok);
     const std::vector<glm::vec3> tris = light_scene();
     const glm::mat4 P = glm::perspectiveRH_ZO(1.2f, 1.0f, n, f);
-    struct Case {
-        PrefilterMethod m;
-        PrefilterFormat fmt;
-    };
-    const Case cases[] = {{PrefilterMethod::Vsm, PrefilterFormat::Float32},  {PrefilterMethod::Vsm, PrefilterFormat::Unorm16},
-                          {PrefilterMethod::Esm, PrefilterFormat::Float32},  {PrefilterMethod::Esm, PrefilterFormat::Float16},
-                          {PrefilterMethod::Evsm2, PrefilterFormat::Float32}, {PrefilterMethod::Evsm4, PrefilterFormat::Float32},
-                          {PrefilterMethod::Evsm4, PrefilterFormat::Float16}, {PrefilterMethod::Msm, PrefilterFormat::Float32},
-                          {PrefilterMethod::Msm, PrefilterFormat::Unorm16},  {PrefilterMethod::MsmHausdorff, PrefilterFormat::Unorm16}};
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     skvk::Image t_img;
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32G32B32A32_SFLOAT, usage, t_img));
-    for (const Case& c : cases) {
+    for (const prefiltered_ref::MomentCase& c : prefiltered_ref::kMomentCases) {
         CAPTURE(int(c.m));
         CAPTURE(int(c.fmt));
-        const PrefilterUniforms u = uniforms(c.m, c.fmt);
+        const PrefilterUniforms u = test_uniforms(c.m, c.fmt);
         REQUIRE(u.status == Status::Ok);
         const VkFormat vf = vk_format_of(u.channels, c.fmt);
         skvk::Image mi;
@@ -688,9 +615,7 @@ void run_moment_pass(Source lang) {
             for (int ch = 0; ch < u.channels; ++ch) {
                 const double expect = double(prefilter_store(double(cpu[ch]), c.fmt).value);
                 const double got = double(decode(bytes, i, ch, u.channels, c.fmt));
-                const double tol = c.fmt == PrefilterFormat::Float32 ? 2e-5 * std::max(1.0, std::abs(expect))
-                                   : c.fmt == PrefilterFormat::Float16 ? 1e-3 * std::max(1.0, std::abs(expect))
-                                                                       : 1.5 / 65535.0;
+                const double tol = prefiltered_ref::moment_tolerance(c.fmt, expect);
                 worst = std::max(worst, std::abs(got - expect) / tol);
                 bad += !(std::abs(got - expect) <= tol);
             }
@@ -704,7 +629,7 @@ void run_moment_pass(Source lang) {
     // fp16 EVSM4 at the header's limit holds no Inf; 5% above it the near end's e^(2c) overflows
     for (float scale : {1.0f, 1.05f}) {
         const float lim = prefilter_exponent_limit(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 1).exponent;
-        PrefilterUniforms u = uniforms(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 0.999f * lim);
+        PrefilterUniforms u = test_uniforms(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 0.999f * lim);
         REQUIRE(u.status == Status::Ok);
         u.exponents = glm::vec2(scale == 1.0f ? 0.999f * lim : scale * lim);
         skvk::Image mi;
@@ -743,7 +668,7 @@ void run_blur(Source lang) {
     std::uniform_real_distribution<float> ud(-2.0f, 2.0f);
     std::vector<float> data(std::size_t(W) * H * 4);
     for (float& v : data) v = ud(rng);
-    const Shaders sh = compile_pass(lang, kFullscreenGlsl, kBlurGlsl, kBlurHlsl, "vs_full", "ps_blur", "prefiltered_blur");
+    const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kBlurGlsl, kBlurHlsl, "vs_full", "ps_blur", "prefiltered_blur");
     skvk::Image src, tmp, out;
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, src));
@@ -755,7 +680,7 @@ void run_blur(Source lang) {
     skvk::Buffer weights;
     REQUIRE(skvk::make_buffer(ctx, kPrefilterMaxWeights * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, weights));
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    const VkDescriptorType tex_type = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex_type = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     skvk::DescriptorSet ds[2];  // reads src, reads tmp
     for (int p = 0; p < 2; ++p) {
@@ -817,18 +742,7 @@ void run_blur(Source lang) {
             for (std::size_t i = k.count; i < kPrefilterMaxWeights; ++i) w[i] = 0.0f;
             std::memcpy(weights.mapped, w, sizeof w);
             // brute force: the 2D kernel w[|i|] w[|j|], coordinates clamped to the map
-            std::vector<double> ref(data.size(), 0.0);
-            const int iw = int(W), ih = int(H);
-            for (int y = 0; y < ih; ++y)
-                for (int x = 0; x < iw; ++x)
-                    for (int j = -k.radius; j <= k.radius; ++j)
-                        for (int i = -k.radius; i <= k.radius; ++i) {
-                            const int sx = std::clamp(x + i, 0, iw - 1), sy = std::clamp(y + j, 0, ih - 1);
-                            const double wt = double(w[std::abs(i)]) * double(w[std::abs(j)]);
-                            for (int c = 0; c < 4; ++c)
-                                ref[static_cast<std::size_t>((y * iw + x) * 4 + c)] +=
-                                    wt * double(data[static_cast<std::size_t>((sy * iw + sx) * 4 + c)]);
-                        }
+            const std::vector<double> ref = prefiltered_ref::blur_reference(data, int(W), int(H), w, k.radius);
             const BlurPush h{{1, 0}, k.radius}, v{{0, 1}, k.radius};
             VkCommandBuffer cmd = skvk::begin_commands(ctx);
             VkClearValue zero{};
@@ -959,13 +873,11 @@ void run_resolve(Source lang) {
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
         pd.samples = VK_SAMPLE_COUNT_4_BIT;
-        std::string why;
-        VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-        REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+        VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
         skvk::Buffer vb;
         REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
-        const MomentPush push = moment_push(P, range, uniforms(PrefilterMethod::Vsm, PrefilterFormat::Float32));
+        const MomentPush push = moment_push(P, range, test_uniforms(PrefilterMethod::Vsm, PrefilterFormat::Float32));
         VkClearValue cd{};
         cd.depthStencil = {1.f, 0};
         VkCommandBuffer cmd = skvk::begin_commands(ctx);
@@ -978,9 +890,9 @@ void run_resolve(Source lang) {
         vkDestroyRenderPass(ctx.device, rp, nullptr);
         skvk::destroy(ctx, vb);
     }
-    const Shaders sh = compile_pass(lang, kFullscreenGlsl, kResolveGlsl, kResolveHlsl, "vs_full", "ps_resolve", "prefiltered_resolve");
+    const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kResolveGlsl, kResolveHlsl, "vs_full", "ps_resolve", "prefiltered_resolve");
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    const VkDescriptorType tex_type = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex_type = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex_type, frag}}, ds));
@@ -996,7 +908,7 @@ void run_resolve(Source lang) {
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {out.view, samples.view}, N, N);
     VkPipeline pipe = make_fullscreen_pipeline(ctx, sh, layout, rp, 2);
     for (int mi : {0, 3, 4}) {
-        const PrefilterUniforms u = uniforms(static_cast<PrefilterMethod>(mi), mi == 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
+        const PrefilterUniforms u = test_uniforms(static_cast<PrefilterMethod>(mi), mi == 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
         REQUIRE(u.status == Status::Ok);
         const ResolvePush push{wm.coefficients, u.exponents, u.method_code, u.quantized ? 1 : 0};
         VkCommandBuffer cmd = skvk::begin_commands(ctx);
@@ -1010,14 +922,7 @@ void run_resolve(Source lang) {
         std::size_t off = 0;
         double worst = 0.0;
         for (std::size_t i = 0; i < std::size_t(N) * N; ++i) {
-            glm::vec4 mean(0.0f);
-            for (int s = 0; s < S; ++s) {
-                const float t = prefilter_depth_from_window(z[4 * i + static_cast<std::size_t>(s)], wm.coefficients);
-                PrefilterUniforms raw = u;
-                raw.quantized = false;
-                mean += prefilter_moments(t, glm::vec2(0.0f), raw) / float(S);
-            }
-            if (u.quantized) mean = prefilter_msm_quantize(mean);
+            const glm::vec4 mean = prefiltered_ref::resolve_reference(z, i, S, wm.coefficients, u);
             if (z[4 * i] != z[4 * i + 1] || z[4 * i] != z[4 * i + 3]) ++edges;
             for (int c = 0; c < 4; ++c) {
                 const float e = std::abs(got[4 * i + static_cast<std::size_t>(c)] - mean[c]);
@@ -1102,9 +1007,13 @@ void run_soft(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
     const std::size_t before = skvk::message_count();
     const std::uint32_t N = 256, levels = 9;
-    const float W = 1.0f, db = 4.0f, dr = 8.0f, x_edge = 0.37f;
     const PrefilterDepthRange range = prefilter_depth_range(3.5f, 8.5f);
     const glm::mat4 P = glm::perspectiveRH_ZO(glm::radians(90.0f), 1.0f, 1.0f, 20.0f);
+    // receiver points across the penumbra (centered on x_edge d_r / d_b), uv and t computed here
+    const std::uint32_t RX = 128, RY = 4;
+    const prefiltered_ref::SoftScene scene(P, range, int(RX), int(RY));
+    const float W = scene.w, db = scene.db, dr = scene.dr, x_edge = scene.x_edge;
+    const std::vector<glm::vec4>& in = scene.in;
     PrefilterSoftSettings ss;
     ss.light_proj = P;
     ss.light_width = W;
@@ -1116,20 +1025,7 @@ void run_soft(Source lang) {
     const glm::vec3 bl[4] = {{-30, -30, -db}, {x_edge, -30, -db}, {x_edge, 30, -db}, {-30, 30, -db}};
     const std::vector<glm::vec3> tris = {fl[0], fl[1], fl[2], fl[0], fl[2], fl[3], bl[0], bl[1], bl[2], bl[0], bl[2], bl[3]};
     const Shaders msh = moment_shaders(lang);
-    const Shaders sh = compile_pass(lang, kFullscreenGlsl, kSoftGlsl, kSoftHlsl, "vs_full", "ps_soft", "prefiltered_soft");
-    // receiver points across the penumbra (centered on x_edge d_r / d_b), uv and t computed here
-    const std::uint32_t RX = 128, RY = 4;
-    std::vector<glm::vec4> in(std::size_t(RX) * RY);
-    std::vector<double> xs(in.size());
-    const double xc = x_edge * dr / db, half = 1.5 * W * (dr - db) / db;
-    for (std::uint32_t j = 0; j < RY; ++j)
-        for (std::uint32_t i = 0; i < RX; ++i) {
-            const std::size_t k = std::size_t(j) * RX + i;
-            const double x = xc - half + 2.0 * half * (i + 0.5) / RX, y = -1.3 + 0.9 * j;
-            const glm::vec4 c = P * glm::vec4(float(x), float(y), -dr, 1.0f);
-            xs[k] = x;
-            in[k] = glm::vec4(0.5f * c.x / c.w + 0.5f, 0.5f * c.y / c.w + 0.5f, prefilter_depth(dr, range), 0.0f);
-        }
+    const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kSoftGlsl, kSoftHlsl, "vs_full", "ps_soft", "prefiltered_soft");
     skvk::Buffer receivers;
     REQUIRE(skvk::make_buffer(ctx, in.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, receivers));
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -1218,32 +1114,17 @@ void run_soft(Source lang) {
                 }
         MESSAGE(lang_name(lang) << " mip chain, method " << int(method) << ": max |level - 2x2 mean of the level above| = " << worst_mip);
         CHECK(worst_mip <= (fmt == PrefilterFormat::Float32 ? 1e-6 : 1.01 / 65535.0));
-        auto bilinear = [&](int l, float uu, float vv) {
-            const float nl = float(int(N) >> l), fx = uu * nl - 0.5f, fy = vv * nl - 0.5f;
-            const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-            const float ax = fx - float(x0), ay = fy - float(y0);
-            return (1.0f - ay) * ((1.0f - ax) * texel(l, x0, y0) + ax * texel(l, x0 + 1, y0)) +
-                   ay * ((1.0f - ax) * texel(l, x0, y0 + 1) + ax * texel(l, x0 + 1, y0 + 1));
-        };
+        const auto mirror = prefiltered_ref::mip_mirror(texel, int(N), int(levels));
         int close = 0;
         std::size_t outside = 0;
         double se_soft = 0.0, se_hard = 0.0;
         for (std::size_t k = 0; k < in.size(); ++k) {
-            const float uu = in[k].x, vv = in[k].y, t = in[k].z - bias;
-            auto sample = [&](float level) {
-                const float l = std::clamp(level, 0.0f, float(levels - 1));
-                const int l0 = int(std::floor(l));
-                const float fr = l - float(l0);
-                const glm::vec4 a = bilinear(l0, uu, vv);
-                return fr > 0.0f ? (1.0f - fr) * a + fr * bilinear(std::min(l0 + 1, int(levels) - 1), uu, vv) : a;
-            };
-            const float cpu = prefilter_soft_visibility(sample, t, u, su);
+            const prefiltered_ref::SoftPoint pt = prefiltered_ref::soft_point(mirror, in[k], bias, u, su);
             outside += !(gpu[k] >= 0.0f && gpu[k] <= 1.0f);
-            if (std::fabs(gpu[k] - cpu) <= 2e-3f) ++close;
-            const double exact = 1.0 - std::clamp(((x_edge * dr - xs[k] * db) / (dr - db) + 0.5 * W) / W, 0.0, 1.0);
+            if (std::fabs(gpu[k] - pt.cpu) <= 2e-3f) ++close;
+            const double exact = scene.exact(k);
             se_soft += (double(gpu[k]) - exact) * (double(gpu[k]) - exact);
-            const double hard = prefilter_visibility(sample(0.0f), t, u);
-            se_hard += (hard - exact) * (hard - exact);
+            se_hard += (pt.hard - exact) * (pt.hard - exact);
         }
         const double rmse = std::sqrt(se_soft / double(in.size())), rmse_hard = std::sqrt(se_hard / double(in.size()));
         MESSAGE(lang_name(lang) << " soft lookup, method " << int(method) << ": GPU = CPU mirror (2e-3) at " << close << " of "

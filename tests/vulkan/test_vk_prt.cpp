@@ -21,12 +21,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kShadeGlsl = R"(
 layout(set = 0, binding = 1, std140) uniform Env { vec3 env[25]; ivec4 count; } u;
 layout(location = 0) out vec4 o_value;   // rgb: sk_prt_shade_vertex; a: sk_prt_dot's red
@@ -42,10 +36,6 @@ void main() {
 const char* kShadeHlsl = R"(
 struct Env { float3 env[25]; int4 count; };
 [[vk::binding(1, 0)]] ConstantBuffer<Env> u;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float4 ps_main(float4 position : SV_Position) : SV_Target0 {
     int index = int(position.x);
     float t[25];
@@ -69,13 +59,13 @@ void run_prt(Source lang) {
     const char* fs_entry = "main";
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/prt.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "prt.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "prt.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kShadeGlsl, "main",
                                    "prt.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/prt.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kShadeHlsl, "vs_main", "prt.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kShadeHlsl, "ps_main", "prt.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kShadeHlsl, "vs_main", "prt.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kShadeHlsl, "ps_main", "prt.hlsl.frag");
         vs_entry = "vs_main";
         fs_entry = "ps_main";
     }
@@ -88,43 +78,20 @@ void run_prt(Source lang) {
     REQUIRE(skvk::make_buffer(ctx, transfer.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, transfer.data(), transfer.size() * sizeof(float));
     REQUIRE(skvk::make_buffer(ctx, sizeof(EnvBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT,
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     skvk::DescriptorSet ds;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = vs_entry;
-    pd.fs_entry = fs_entry;
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, vs_entry, fs_entry, ds, M, row, VK_FORMAT_R32G32B32A32_SFLOAT, 4);
 
     for (int order = 1; order <= 5; ++order) {
         EnvBlock env{};
         for (auto& e : env.env) e = glm::vec4(U(rng), U(rng), U(rng), 0.f);
         env.count = glm::ivec4(order * order, 0, 0, 0);
         std::memcpy(ubo.mapped, &env, sizeof env);
-        VkCommandBuffer cmd = skvk::begin_commands(ctx);
-        VkClearValue zero{};
-        skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
-        REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-        REQUIRE(gpu.size() == std::size_t(M) * 4);
+        const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
         double max_rel = 0;
         for (std::uint32_t v = 0; v < M; ++v) {
             glm::dvec3 cpu(0.0);
@@ -143,12 +110,8 @@ void run_prt(Source lang) {
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, target);
     skvk::destroy(ctx, ssbo);
     skvk::destroy(ctx, ubo);
 }

@@ -29,12 +29,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kFirstGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_src;
 layout(push_constant) uniform Step { int block; float background; } k;
@@ -52,10 +46,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] Texture2D<float2> u_level;
 struct Step { int block; float background; };
 [[vk::push_constant]] ConstantBuffer<Step> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float2 ps_first(float4 position : SV_Position) : SV_Target0 {
     return sk_sdsm_reduce_depth(u_depth, int2(position.xy), k.block, k.background);
 }
@@ -108,10 +98,6 @@ struct Out {
     float4 b2 : SV_Target2;
     float4 b3 : SV_Target3;
 };
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 Out ps_first(float4 position : SV_Position) {
     float4 b[4];
     sk_sdsm_reduce_bounds(u_src, int2(position.xy), 4, 1.0, u.clip_to_world, u.world_to_view, u.world_to_light, u.split_far,
@@ -152,41 +138,32 @@ struct Reducer {
         std::vector<std::uint32_t> vs, fs0, fs1;
         if (glsl) {
             const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
-            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "sdsm.glsl.vert");
+            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "sdsm.glsl.vert");
             fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kFirstGlsl, "main",
                                         "sdsm.glsl.first.frag");
             fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kNextGlsl, "main",
                                         "sdsm.glsl.next.frag");
         } else {
             const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/cascades.hlsl");
-            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "sdsm.hlsl.vert");
-            fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_first", "sdsm.hlsl.first.frag");
-            fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_next", "sdsm.hlsl.next.frag");
+            vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "sdsm.hlsl.vert");
+            fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_first", "sdsm.hlsl.first.frag");
+            fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_next", "sdsm.hlsl.next.frag");
         }
         rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, texture_type(), VK_SHADER_STAGE_FRAGMENT_BIT}}, proto));
-        VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(StepPush)};
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = &proto.layout;
-        li.pushConstantRangeCount = 1;
-        li.pPushConstantRanges = &range;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+        layout = skvk::make_pipeline_layout(ctx, &proto, sizeof(StepPush), VK_SHADER_STAGE_FRAGMENT_BIT);
         skvk::PipelineDesc pd;
         pd.vs = vs;
         pd.vs_entry = glsl ? "main" : "vs_main";
         pd.depth_test = pd.depth_write = false;
         pd.color_count = 1;
-        std::string why;
         pd.fs = fs0;
         pd.fs_entry = glsl ? "main" : "ps_first";
-        first = skvk::make_pipeline(ctx, pd, layout, rp, why);
-        REQUIRE_MESSAGE(first != VK_NULL_HANDLE, why);
+        first = skvk::make_pipeline_checked(ctx, pd, layout, rp);
         pd.fs = fs1;
         pd.fs_entry = glsl ? "main" : "ps_next";
-        next = skvk::make_pipeline(ctx, pd, layout, rp, why);
-        REQUIRE_MESSAGE(next != VK_NULL_HANDLE, why);
+        next = skvk::make_pipeline_checked(ctx, pd, layout, rp);
     }
     ~Reducer() {
         vkDestroyPipeline(ctx.device, first, nullptr);
@@ -199,7 +176,7 @@ struct Reducer {
     Reducer(const Reducer&) = delete;
     Reducer& operator=(const Reducer&) = delete;
     VkDescriptorType texture_type() const {
-        return lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        return skvk::texture_type(lang);
     }
 
     // All passes over the w x h depths in one command buffer; the 1x1 level's (min, max).
@@ -364,21 +341,21 @@ void check_bounds(Source lang) {
     std::vector<std::uint32_t> vs, fs0, fs1;
     if (glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/cascades.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "sdsm_bounds.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "sdsm_bounds.glsl.vert");
         fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kBoundsFirstGlsl, "main",
                                     "sdsm_bounds.glsl.first.frag");
         fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kBoundsNextGlsl, "main",
                                     "sdsm_bounds.glsl.next.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/cascades.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kBoundsHlsl, "vs_main", "sdsm_bounds.hlsl.vert");
-        fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kBoundsHlsl, "ps_first", "sdsm_bounds.hlsl.first.frag");
-        fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kBoundsHlsl, "ps_next", "sdsm_bounds.hlsl.next.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "vs_main", "sdsm_bounds.hlsl.vert");
+        fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "ps_first", "sdsm_bounds.hlsl.first.frag");
+        fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "ps_next", "sdsm_bounds.hlsl.next.frag");
     }
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
     VkRenderPass rp = skvk::make_render_pass(ctx, {rgba, rgba, rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     // binding 2 is an array of four: one Binding per element is not what the layout needs, so the
     // next levels use their own set layout below
@@ -413,10 +390,7 @@ void check_bounds(Source lang) {
     VkPipelineLayout layouts[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     VkPipeline pipes[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     for (int k = 0; k < 2; ++k) {
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = k == 0 ? &first_set.layout : &next_layout;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layouts[k]) == VK_SUCCESS);
+        layouts[k] = skvk::make_pipeline_layout_from(ctx, k == 0 ? first_set.layout : next_layout);
         skvk::PipelineDesc pd;
         pd.vs = vs;
         pd.fs = k == 0 ? fs0 : fs1;
@@ -424,9 +398,7 @@ void check_bounds(Source lang) {
         pd.fs_entry = glsl ? "main" : (k == 0 ? "ps_first" : "ps_next");
         pd.depth_test = pd.depth_write = false;
         pd.color_count = 4;
-        std::string why;
-        pipes[k] = skvk::make_pipeline(ctx, pd, layouts[k], rp, why);
-        REQUIRE_MESSAGE(pipes[k] != VK_NULL_HANDLE, why);
+        pipes[k] = skvk::make_pipeline_checked(ctx, pd, layouts[k], rp);
     }
     // levels: four images each, 4x4 blocks down to 1x1
     struct Level {

@@ -145,24 +145,11 @@ std::vector<float> render(Source lang, glm::ivec2 anchor) {
     VkRenderPass rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {map.view}, kMap, kMap);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPushConstantRange range{stages, 0, sizeof(PassConstants)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PassConstants), stages);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, entries[0], entries[2], false);
     pd.gs = gs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
     pd.gs_entry = entries[1];
-    pd.fs_entry = entries[2];
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
 
     const PassConstants pc{light_global(), anchor, anchor - glm::ivec2(kGuard), glm::vec2(float(kViewport))};
     VkCommandBuffer cmd = skvk::begin_commands(ctx);

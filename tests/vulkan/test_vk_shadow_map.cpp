@@ -32,42 +32,15 @@ using skvk::read_text;
 
 // ---------------------------------------------------------------------------------------- drivers
 // The map pass: position only, the matrix in push constants.
-const char* kDepthGlsl = R"(#version 450 core
-layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
-)";
-const char* kDepthHlsl = R"(
-struct DepthParams { column_major float4x4 light_view_proj; };
-[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
-float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
-    return mul(pc.light_view_proj, float4(position, 1.0));
-}
-)";
 
 // The receiver pass: visibility + G-buffer (world position, normal); the map at binding 0 (GLSL: a
 // combined image sampler; HLSL: a texture at 0 and its comparison sampler at 2), the matrices in a
 // uniform buffer at binding 1.
-const char* kReceiverGlslVs = R"(#version 450 core
+const char* kParamsGlsl = R"(
 layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 light_view_proj; vec4 mode; } u;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.view_proj * vec4(a_position, 1.0);
-}
 )";
 const char* kReceiverGlslFs = R"(
 layout(set = 0, binding = 0) uniform sampler2DShadow u_shadow_map;
-layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 light_view_proj; vec4 mode; } u;
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out float o_visibility;
-layout(location = 1) out vec4 o_world;
-layout(location = 2) out vec4 o_normal;
 void main() {
     o_visibility = u.mode.x > 0.5
         ? sk_shadow_map_visibility_auto(u_shadow_map, u.light_view_proj, v_world, v_normal, true, 0.0, 0.0)
@@ -81,23 +54,8 @@ struct Params { column_major float4x4 view_proj; column_major float4x4 light_vie
 [[vk::binding(0, 0)]] Texture2D<float> u_shadow_map;
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
-struct Varyings {
-    float4 position : SV_Position;
-    [[vk::location(0)]] float3 world : TEXCOORD0;
-    [[vk::location(1)]] float3 normal : TEXCOORD1;
-};
-Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
-    Varyings o;
-    o.world = position;
-    o.normal = normal;
-    o.position = mul(u.view_proj, float4(position, 1.0));
-    return o;
-}
-struct Targets {
-    [[vk::location(0)]] float visibility : SV_Target0;
-    [[vk::location(1)]] float4 world : SV_Target1;
-    [[vk::location(2)]] float4 normal : SV_Target2;
-};
+)";
+const char* kReceiverHlslPs = R"(
 Targets ps_main(Varyings i) {
     Targets o;
     o.visibility = u.mode.x > 0.5
@@ -131,13 +89,6 @@ std::string name_of(const Variant& v) {
 
 constexpr std::uint32_t kMap = 1024, kW = 320, kH = 240;
 
-// Vulkan's depth convention on a [0, 1] projection: reversed-Z maps z -> w - z (1 at near).
-glm::mat4 reverse_z() {
-    glm::mat4 r(1.f);
-    r[2][2] = -1.f;
-    r[3][2] = 1.f;
-    return r;
-}
 glm::mat4 flip_y() {
     glm::mat4 f(1.f);
     f[1][1] = -1.f;
@@ -151,7 +102,7 @@ Camera camera(bool reversed) {
     Camera c;
     c.view = glm::lookAt(glm::vec3(0.f, 3.5f, 5.f), glm::vec3(0.f, 0.3f, 0.f), glm::vec3(0.f, 1.f, 0.f));
     c.proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
-    if (reversed) c.proj = reverse_z() * c.proj;
+    if (reversed) c.proj = skvk::reverse_z() * c.proj;
     return c;
 }
 
@@ -193,15 +144,17 @@ Shaders shaders(Source lang, bool reversed) {
     Shaders s;
     if (lang == Source::Glsl) {
         const std::string snippet = read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_map.glsl");
-        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthGlsl, "main", "shadow_map.glsl.depth.vert");
-        s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "shadow_map.glsl.vert");
-        s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kReceiverGlslFs,
+        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main", "shadow_map.glsl.depth.vert");
+        s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kParamsGlsl), "main", "shadow_map.glsl.vert");
+        s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT,
+                               "#version 450 core\n" + define + snippet + kParamsGlsl + skvk::kReceiverGlslFsIo + kReceiverGlslFs,
                                "main", "shadow_map.glsl." + tag + ".frag");
     } else {
         const std::string snippet = read_text(std::string(SHADOWKIT_HLSL_DIR) + "/shadow_map.hlsl");
-        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kDepthHlsl, "main", "shadow_map.hlsl.depth.vert");
-        s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "shadow_map.hlsl.vert");
-        s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + kReceiverHlsl, "ps_main",
+        s.depth_vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthHlsl, "main", "shadow_map.hlsl.depth.vert");
+        const std::string receiver = kReceiverHlsl + std::string(skvk::kReceiverHlslVs) + skvk::kReceiverHlslTargets + kReceiverHlslPs;
+        s.vs = compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver, "vs_main", "shadow_map.hlsl.vert");
+        s.fs = compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + receiver, "ps_main",
                                "shadow_map.hlsl." + tag + ".frag");
         s.vs_entry = "vs_main";
         s.fs_entry = "ps_main";
@@ -240,69 +193,30 @@ RunResult run(const Variant& v) {
     std::memcpy(ubo.mapped, &params, sizeof params);
 
     // map pass: depth only, D32_SFLOAT, cleared to the far value, slope-scaled bias for the plain lookup
-    skvk::Image map, vis, world, normal, depth;
+    skvk::Image map;
     REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, map));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
     VkFramebuffer map_fb = skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap);
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout map_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
-    skvk::PipelineDesc md;
-    md.vs = sh.depth_vs;
-    md.vertex_stride = sizeof(skvk::SceneVertex);
-    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    skvk::PipelineDesc md = skvk::scene_pipeline(sh.depth_vs, {}, "main", "main", false);
     md.depth_compare = v.reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     md.depth_bias = !v.auto_bias;  // the GL test's glPolygonOffset(1.5, 2); reversed-Z pushes the other way
     md.bias_slope = v.reversed ? -1.5f : 1.5f;
     md.bias_constant = v.reversed ? -2.f : 2.f;
-    std::string why;
-    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
-    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
 
     // receiver pass: visibility R32F, world and normal RGBA32F, depth D32_SFLOAT
-    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(
-        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    skvk::ReceiverTargets rt;
+    skvk::make_receiver_targets(ctx, kW, kH, rt);
     // the comparison sampler: LEQUAL (GEQUAL reversed), linear: the hardware 2x2 filter, as on GL
     VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
                                            v.reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
-    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    if (v.lang == Source::Glsl) {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, map.view, sampler, map_read);
-    } else {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, map.view, VK_NULL_HANDLE, map_read);
-        skvk::write_sampler(ctx, ds, 2, sampler);
-    }
-    skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = sh.vs;
-    pd.fs = sh.fs;
-    pd.vs_entry = sh.vs_entry;
-    pd.fs_entry = sh.fs_entry;
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::make_lookup_set(ctx, v.lang, map.view, map_read, sampler, ubo, ds);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(sh.vs, sh.fs, sh.vs_entry, sh.fs_entry);
     pd.depth_compare = v.reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     pd.color_count = 3;
     // back faces culled, GL's counter-clockwise front faces: both flips draw the upright image, so both
@@ -310,25 +224,23 @@ RunResult run(const Variant& v) {
     // 112 receiver pixels left of 41,338); only the unflipped GL matrix (an upside-down image) needs CW
     pd.cull = VK_CULL_MODE_BACK_BIT;
     pd.front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
     far.depthStencil = {v.reversed ? 0.f : 1.f, 0};
     skvk::draw_pass(cmd, map_rp, map_fb, kMap, kMap, {far}, map_pipe, map_layout, nullptr, &map_vp, vb.buffer, vcount, vflip);
     VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, vflip);
+    skvk::draw_pass(cmd, rt.rp, rt.fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, vflip);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
-    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
+    const skvk::ReceiverImages img = skvk::read_receiver(ctx, rt);
+    const std::vector<float>& v_vis = img.vis;
+    const std::vector<float>& v_world = img.world;
 
     RunResult out;
     out.agreement = skvk::compare_with_ray_cast(scene, glm::vec4(scene.light, 1.f), &light_vp, int(kW), int(kH), v_vis,
-                                                 v_world, v_normal);
+                                                 v_world, img.normal);
     for (std::size_t k = 0; k < v_vis.size(); ++k) out.covered += v_world[k * 4 + 3] != 0.f;
     // upright: probe points projected with the GL convention (window y up) must be found at row
     // h - 1 - y of the read-back image (row 0 = top, as a presented image shows it)
@@ -348,12 +260,11 @@ RunResult run(const Variant& v) {
     vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
     vkDestroyFramebuffer(ctx.device, map_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroyRenderPass(ctx.device, map_rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&map, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, rt);
+    skvk::destroy(ctx, map);
     skvk::destroy(ctx, vb);
     skvk::destroy(ctx, ubo);
     return out;

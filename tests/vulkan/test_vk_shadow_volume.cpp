@@ -36,27 +36,8 @@ namespace {
 
 using skvk::Source;
 
-const char* kSceneVs = R"(#version 450 core
+const char* kScenePush = R"(
 layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; } pc;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = pc.view_proj * vec4(a_position, 1.0);
-}
-)";
-const char* kSceneFs = R"(#version 450 core
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out vec4 o_world;
-layout(location = 1) out vec4 o_normal;
-void main() {
-    o_world = vec4(v_world, 1.0);
-    o_normal = vec4(normalize(v_normal), 0.0);
-}
 )";
 const char* kVolumeGlsl = R"(
 layout(push_constant) uniform Push { mat4 view_proj; vec4 light_position; } pc;
@@ -166,8 +147,9 @@ Result run(const Variant& v) {
     const Volume volume = build_volume(scene, light);
 
     std::vector<std::uint32_t> scene_vs, scene_fs, volume_vs;
-    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kSceneVs, "main", "shadow_volume.scene.vert");
-    scene_fs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_FRAGMENT_BIT, kSceneFs, "main", "shadow_volume.scene.frag");
+    scene_vs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kScenePush, "pc.view_proj"), "main",
+                                     "shadow_volume.scene.vert");
+    scene_fs = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_FRAGMENT_BIT, skvk::kGbufferGlslFs, "main", "shadow_volume.scene.frag");
     const char* entry = "main";
     if (v.lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl");
@@ -200,24 +182,13 @@ Result run(const Variant& v) {
     VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, ds_format,
                                              VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {world.view, normal.view, ds.view}, kW, kH);
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(PushConstants)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PushConstants));
 
-    skvk::PipelineDesc sd;  // the scene: depth (reversed-Z: GREATER) and G-buffer
-    sd.vs = scene_vs;
-    sd.fs = scene_fs;
-    sd.vertex_stride = sizeof(skvk::SceneVertex);
-    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::PipelineDesc sd = skvk::scene_pipeline(scene_vs, scene_fs);  // the scene: depth (reversed-Z: GREATER) and G-buffer
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
-    std::string why;
-    VkPipeline scene_pipe = skvk::make_pipeline(ctx, sd, layout, rp, why);
-    REQUIRE_MESSAGE(scene_pipe != VK_NULL_HANDLE, why);
+    VkPipeline scene_pipe = skvk::make_pipeline_checked(ctx, sd, layout, rp);
 
     skvk::PipelineDesc vd;  // the volumes: z-fail, two-sided stencil, no depth or colour writes
     vd.vs = volume_vs;
@@ -236,8 +207,7 @@ Result run(const Variant& v) {
                                0xff, 0xff, 0};
     vd.stencil_back = v.swapped ? dec : inc;
     vd.stencil_front = v.swapped ? inc : dec;
-    VkPipeline volume_pipe = skvk::make_pipeline(ctx, vd, layout, rp, why);
-    REQUIRE_MESSAGE(volume_pipe != VK_NULL_HANDLE, why);
+    VkPipeline volume_pipe = skvk::make_pipeline_checked(ctx, vd, layout, rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue clears[3]{};
@@ -389,7 +359,7 @@ struct BoundsShaders {
 BoundsShaders compile_bounds_shaders(Source lang) {
     BoundsShaders b;
     const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
-    b.scene_fs = skvk::compile_checked(Source::Glsl, F, kSceneFs, "main", "shadow_volume.bounds.scene.frag");
+    b.scene_fs = skvk::compile_checked(Source::Glsl, F, skvk::kGbufferGlslFs, "main", "shadow_volume.bounds.scene.frag");
     if (lang == Source::Glsl) {
         const std::string head = "#version 450 core\n" + skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/shadow_volume.glsl");
         b.scene_vs = skvk::compile_checked(lang, V, head + "#define SK_SCENE_VS 1\n" + kBoundsGlsl, "main", "shadow_volume.bounds.glsl.scene.vert");
@@ -414,12 +384,8 @@ BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, const BoundsShaders& s
                                       VkRenderPass main_rp, bool native) {
     BoundsPipelines p;
     std::string why;
-    skvk::PipelineDesc sd;  // the scene: reversed-Z depth (GREATER), back faces culled
-    sd.vs = sh.scene_vs;
-    sd.vs_entry = sh.scene_entry;
-    sd.fs = sh.scene_fs;
-    sd.vertex_stride = sizeof(skvk::SceneVertex);
-    sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    // the scene: reversed-Z depth (GREATER), back faces culled
+    skvk::PipelineDesc sd = skvk::scene_pipeline(sh.scene_vs, sh.scene_fs, sh.scene_entry);
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
@@ -498,7 +464,7 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
     std::memcpy(volume_ib.mapped, volume.indices.data(), sizeof(std::uint32_t) * volume.indices.size());
     REQUIRE(skvk::make_buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, counter));
     std::memset(counter.mapped, 0, 16);
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet set;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -507,14 +473,7 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
     skvk::write_buffer(ctx, set, 1, counter, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPushConstantRange range_pc{push_stages, 0, sizeof(BoundsPush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &set.layout;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range_pc;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &set, sizeof(BoundsPush), push_stages);
     const BoundsPipelines p = make_bounds_pipelines(ctx, sh, layout, gbuffer_rp, main_rp, bounds == Bounds::Native);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "../silmap_reference.hpp"
 #include "vk_harness.hpp"
 #include "vk_passes.hpp"
 #include "vk_scene.hpp"
@@ -33,12 +34,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_depth;
 layout(set = 0, binding = 1) uniform sampler2D u_silmap;
@@ -53,10 +48,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] Texture2D<float> u_depth;
 [[vk::binding(1, 0)]] Texture2D<float4> u_silmap;
 [[vk::binding(2, 0)]] StructuredBuffer<float4> lookup;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     float4 a = lookup[int(position.x)];
     return sk_silmap_visibility(u_depth, u_silmap, a.xy, a.z, 0.0);
@@ -72,13 +63,13 @@ void run_silmap(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/silhouette_map.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "silmap.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "silmap.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "silmap.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/silhouette_map.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "silmap.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "silmap.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "silmap.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "silmap.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
@@ -118,41 +109,18 @@ void run_silmap(Source lang) {
     skvk::Buffer ssbo;
     REQUIRE(skvk::make_buffer(ctx, M * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, pts.data(), M * sizeof(glm::vec4));
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
     const VkSampler s = lang == Source::Glsl ? nearest : VK_NULL_HANDLE;
     skvk::write_image(ctx, ds, 0, tex, zmap.view, s, read);
     skvk::write_image(ctx, ds, 1, tex, smap.view, s, read);
     skvk::write_buffer(ctx, ds, 2, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
-    VkCommandBuffer cmd = skvk::begin_commands(ctx);
-    VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
-    REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    REQUIRE(gpu.size() == M);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row);
+    const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
     std::size_t off = 0, silhouette = 0, sector = 0, bad = 0, plain_differs = 0;
     for (std::uint32_t i = 0; i < M; ++i) {
@@ -175,13 +143,10 @@ void run_silmap(Source lang) {
     CHECK(plain_differs > M / 20);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    skvk::destroy(ctx, row);
     vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&zmap, &smap, &target}) skvk::destroy(ctx, *i);
+    for (skvk::Image* i : {&zmap, &smap}) skvk::destroy(ctx, *i);
     skvk::destroy(ctx, ssbo);
 }
 
@@ -395,7 +360,7 @@ struct SilPasses {
     SilPasses(skvk::Context& c, Source l, const FloatingBoxes& sc) : ctx(c), lang(l) {
         const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
         const bool glsl = lang == Source::Glsl;
-        const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        const VkDescriptorType tex = skvk::texture_type(lang);
         std::vector<skvk::Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}, {1, tex, F}, {2, tex, F}, {3, tex, F}};
         if (!glsl) b.push_back({4, VK_DESCRIPTOR_TYPE_SAMPLER, F});
         REQUIRE(skvk::make_descriptor_set(ctx, b, ds));
@@ -406,10 +371,7 @@ struct SilPasses {
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
         compare = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);  // 2x2 PCF, as the GL sample
         if (!glsl) skvk::write_sampler(ctx, ds, 4, compare);
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = &ds.layout;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+        layout = skvk::make_pipeline_layout(ctx, &ds);
         depth_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
         edge_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R8G8B8A8_UNORM}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
         lookup_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
@@ -434,7 +396,6 @@ struct SilPasses {
                 spv[i] = skvk::compile_checked(lang, (i == 2 || i == 4) ? Fs : Vs, h, e[i], std::string("silmap.hlsl.") + e[i]);
             }
         }
-        std::string why;
         skvk::PipelineDesc pd;
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
@@ -443,16 +404,14 @@ struct SilPasses {
         pd.depth_bias = true;  // the sample's glPolygonOffset(2, 2)
         pd.bias_constant = 2.f;
         pd.bias_slope = 2.f;
-        depth = skvk::make_pipeline(ctx, pd, layout, depth_rp, why);
-        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        depth = skvk::make_pipeline_checked(ctx, pd, layout, depth_rp);
         pd.depth_bias = false;
         pd.vs = spv[3];
         pd.vs_entry = entry[3];
         pd.fs = spv[4];
         pd.fs_entry = entry[4];
         pd.color_count = 3;
-        lookup = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
-        REQUIRE_MESSAGE(lookup != VK_NULL_HANDLE, why);
+        lookup = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
         // pass 2: six vertices per edge (a.xy, b.xy, za, zb), rgb: the last point; a: the weights add
         pd.vertex_stride = 6 * sizeof(float);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32_SFLOAT, 16}};
@@ -466,8 +425,7 @@ struct SilPasses {
         pd.blend_src = VK_BLEND_FACTOR_ONE;
         pd.blend_dst = VK_BLEND_FACTOR_ZERO;
         pd.blend_src_alpha = pd.blend_dst_alpha = VK_BLEND_FACTOR_ONE;
-        edge = skvk::make_pipeline(ctx, pd, layout, edge_rp, why);
-        REQUIRE_MESSAGE(edge != VK_NULL_HANDLE, why);
+        edge = skvk::make_pipeline_checked(ctx, pd, layout, edge_rp);
     }
     ~SilPasses() {
         for (VkPipeline p : {depth, edge, lookup}) vkDestroyPipeline(ctx.device, p, nullptr);
@@ -514,7 +472,7 @@ Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
     const bool glsl = P.lang == Source::Glsl;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     const VkImageLayout zread = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     skvk::write_image(ctx, P.ds, 1, tex, zmap.view, glsl ? P.nearest : VK_NULL_HANDLE, zread);
     skvk::write_image(ctx, P.ds, 2, tex, silmap.view, glsl ? P.nearest : VK_NULL_HANDLE, read);
@@ -565,13 +523,6 @@ Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const
     return f;
 }
 
-double seg_dist(glm::vec2 q, glm::vec2 a, glm::vec2 b) {
-    const glm::dvec2 ab = glm::dvec2(b) - glm::dvec2(a), aq = glm::dvec2(q) - glm::dvec2(a);
-    const double dd = glm::dot(ab, ab);
-    const double t = dd > 0.0 ? std::clamp(glm::dot(aq, ab) / dd, 0.0, 1.0) : 0.0;
-    return glm::length(aq - t * ab);
-}
-
 // The GL test's measures against the ray cast at the floor pixels: rmse; the misclassified rate
 // away from reference edges (8-neighbourhood, as sk::compute_metrics); every wrong pixel's distance
 // in the map's texels to the projected silhouette edges (p50).
@@ -600,11 +551,8 @@ Score score(const FloatingBoxes& sc, const std::vector<float>& world, const std:
             sq += e * e;
             const bool wrong = (v[k] >= 0.5f ? 1 : 0) != ref[k];
             if (wrong) {
-                const glm::vec4 c = sc.light_vp * glm::vec4(world[4 * k], world[4 * k + 1], world[4 * k + 2], 1.f);
-                const glm::vec2 q = (glm::vec2(c) / c.w * 0.5f + 0.5f) * float(size);
-                double best = 1e30;
-                for (const auto& ed : edges) best = std::min(best, seg_dist(q, ed.a, ed.b));
-                d.push_back(best);
+                const glm::vec3 p(world[4 * k], world[4 * k + 1], world[4 * k + 2]);
+                d.push_back(silmap_ref::edge_distance(sc.light_vp, p, float(size), edges).texels);
             }
             if (x == 0 || y == 0 || x == kW - 1 || y == kH - 1) continue;
             bool edge = false;

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "../smoothie_reference.hpp"
 #include "vk_harness.hpp"
 #include "vk_passes.hpp"
 
@@ -33,12 +34,6 @@ namespace {
 
 using skvk::Source;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kGlsl = R"(
 layout(set = 0, binding = 0) uniform sampler2D u_shadow_map;
 layout(set = 0, binding = 1) uniform sampler2D u_smoothie_map;
@@ -54,10 +49,6 @@ const char* kHlsl = R"(
 [[vk::binding(0, 0)]] Texture2D<float> u_shadow_map;
 [[vk::binding(1, 0)]] Texture2D<float2> u_smoothie_map;
 [[vk::binding(2, 0)]] StructuredBuffer<float4> lookup;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_main(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.x);
     float4 a = lookup[2 * i];
@@ -91,13 +82,13 @@ void run_smoothie(Source lang) {
     const char* entries[2] = {"main", "main"};
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/smoothie.glsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "smoothie.glsl.vert");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "smoothie.glsl.vert");
         fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kGlsl, "main",
                                    "smoothie.glsl.frag");
     } else {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/smoothie.hlsl");
-        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "smoothie.hlsl.vert");
-        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_main", "smoothie.hlsl.frag");
+        vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "smoothie.hlsl.vert");
+        fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_main", "smoothie.hlsl.frag");
         entries[0] = "vs_main";
         entries[1] = "ps_main";
     }
@@ -137,41 +128,18 @@ void run_smoothie(Source lang) {
         dst[2 * i] = glm::vec4(pts[i].uv, pts[i].r, pts[i].bias);
         dst[2 * i + 1] = glm::vec4(pts[i].g, 0.f, 0.f);
     }
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::DescriptorSet ds;
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
     const VkSampler s = lang == Source::Glsl ? nearest : VK_NULL_HANDLE;
     skvk::write_image(ctx, ds, 0, tex, zmap.view, s, read);
     skvk::write_image(ctx, ds, 1, tex, smap.view, s, read);
     skvk::write_buffer(ctx, ds, 2, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = entries[0];
-    pd.fs_entry = entries[1];
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    std::string why;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
-    VkCommandBuffer cmd = skvk::begin_commands(ctx);
-    VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, M, 1, {zero}, pipe, layout, &ds.set, nullptr, VK_NULL_HANDLE, 3, false);
-    REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    REQUIRE(gpu.size() == M);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row);
+    const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
     std::size_t off = 0, partial = 0, bad = 0;
     double max_err = 0;
@@ -190,13 +158,10 @@ void run_smoothie(Source lang) {
     CHECK(off <= M / 200);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    skvk::destroy(ctx, row);
     vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&zmap, &smap, &target}) skvk::destroy(ctx, *i);
+    for (skvk::Image* i : {&zmap, &smap}) skvk::destroy(ctx, *i);
     skvk::destroy(ctx, ssbo);
 }
 
@@ -386,43 +351,9 @@ struct PassParams {
     glm::vec4 p;  // buffer size (x, y), remap flag, bias (pass 3) or y mirror of the fragment's NDC (pass 2)
 };
 
-// The GL test's card scene: a square card (half size h at light-view depth b) over a floor at depth
-// rf; the light at the origin looking down -z, square perspective of projection scale s = P[0][0].
-struct CardScene {
-    float b = 2.f, h = 0.4f, rf = 5.f;
-    glm::mat4 view{1.f}, proj{1.f}, vp{1.f};
-    std::vector<glm::vec3> card, tris;  // card corners; card + floor triangles (12 vertices)
-    CardScene() {
-        proj = glm::perspective(1.2f, 1.f, 0.1f, 100.f);
-        vp = proj * view;
-        card = {{-h, -h, -b}, {h, -h, -b}, {h, h, -b}, {-h, h, -b}};
-        std::vector<glm::vec3> fl = {{-20, -20, -rf}, {20, -20, -rf}, {20, 20, -rf}, {-20, 20, -rf}};
-        for (const std::vector<glm::vec3>* q : {&card, &fl})
-            for (int i : {0, 1, 2, 0, 2, 3}) tris.push_back((*q)[static_cast<std::size_t>(i)]);
-    }
-    // Smoothies of the card's 4 edges (counter-clockwise seen from the light, facing it).
-    std::vector<shadowkit::SmoothieVertex> smoothies(float t, shadowkit::SmoothieResult& res) const {
-        const std::vector<std::uint32_t> e = {0, 1, 1, 2, 2, 3, 3, 0};
-        std::vector<glm::vec3> n;
-        for (int i = 0; i < 4; ++i) {
-            n.push_back({0, 0, 1});
-            n.push_back({0, 0, 0});
-        }
-        shadowkit::SmoothieEdges in;
-        in.positions = card.data();
-        in.position_count = 4;
-        in.edges = e.data();
-        in.edge_count = 4;
-        in.face_normals = n.data();
-        shadowkit::SmoothieParams p;
-        p.t = t;
-        std::vector<shadowkit::SmoothieVertex> v(shadowkit::smoothie_vertex_capacity(4));
-        std::vector<shadowkit::SmoothieScratch> scratch(shadowkit::smoothie_scratch_capacity(4));
-        res = shadowkit::smoothie_build(in, vp, p, scratch.data(), scratch.size(), v.data(), v.size());
-        v.resize(res.count);
-        return v;
-    }
-};
+// The GL test's card scene (smoothie_reference.hpp): a square card (half size h at light-view depth b)
+// over a floor at depth rf; the light at the origin looking down -z.
+using CardScene = smoothie_ref::Card;
 
 // Pipelines of the four passes (one language), the shared descriptor set (params, sm, sb) and the
 // card scene's vertex buffer; the maps are made per run (their size varies).
@@ -438,7 +369,7 @@ struct CardPasses {
 
     CardPasses(skvk::Context& c, Source l, const CardScene& cs) : ctx(c), lang(l) {
         const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-        const VkDescriptorType tex = lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+        const VkDescriptorType tex = skvk::texture_type(lang);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}, {1, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
                                                 {2, tex, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
         REQUIRE(skvk::make_buffer(ctx, sizeof(PassParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
@@ -446,10 +377,7 @@ struct CardPasses {
         REQUIRE(skvk::make_buffer(ctx, cs.tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, cs.tris.data(), cs.tris.size() * sizeof(glm::vec3));
         nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-        VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        li.setLayoutCount = 1;
-        li.pSetLayouts = &ds.layout;
-        REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
+        layout = skvk::make_pipeline_layout(ctx, &ds);
         depth_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
                                           VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
         smoothie_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
@@ -478,7 +406,6 @@ struct CardPasses {
                                               std::string("smoothie.hlsl.") + entries[i]),
                         entries[i]};
         }
-        std::string why;
         skvk::PipelineDesc pd;
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
@@ -487,18 +414,15 @@ struct CardPasses {
         pd.vs_entry = s[0].entry;
         pd.fs = s[1].spv;
         pd.fs_entry = s[1].entry;
-        depth = skvk::make_pipeline(ctx, pd, layout, depth_rp, why);
-        REQUIRE_MESSAGE(depth != VK_NULL_HANDLE, why);
+        depth = skvk::make_pipeline_checked(ctx, pd, layout, depth_rp);
         pd.vs = s[4].spv;
         pd.vs_entry = s[4].entry;
         pd.fs = s[5].spv;
         pd.fs_entry = s[5].entry;
-        lookup = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
-        REQUIRE_MESSAGE(lookup != VK_NULL_HANDLE, why);
+        lookup = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
         pd.fs = s[6].spv;
         pd.fs_entry = s[6].entry;
-        hard = skvk::make_pipeline(ctx, pd, layout, lookup_rp, why);
-        REQUIRE_MESSAGE(hard != VK_NULL_HANDLE, why);
+        hard = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
         // pass 2: SmoothieVertex (locations 0, 1, 2, 3, 5), no depth test, no culling, MIN blending
         pd.vs = s[2].spv;
         pd.vs_entry = s[2].entry;
@@ -510,8 +434,7 @@ struct CardPasses {
         pd.depth_test = pd.depth_write = false;
         pd.blend = true;
         pd.blend_op = VK_BLEND_OP_MIN;
-        smoothie = skvk::make_pipeline(ctx, pd, layout, smoothie_rp, why);
-        REQUIRE_MESSAGE(smoothie != VK_NULL_HANDLE, why);
+        smoothie = skvk::make_pipeline_checked(ctx, pd, layout, smoothie_rp);
     }
     ~CardPasses() {
         for (VkPipeline p : {depth, smoothie, lookup, hard}) vkDestroyPipeline(ctx.device, p, nullptr);
@@ -539,7 +462,7 @@ void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
     const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     const VkSampler s = P.lang == Source::Glsl ? P.nearest : VK_NULL_HANDLE;
-    const VkDescriptorType tex = P.lang == Source::Glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(P.lang);
     skvk::write_image(ctx, P.ds, 1, tex, sm.view, s, read);
     skvk::write_image(ctx, P.ds, 2, tex, sb.view, s, read);
     P.set_params({cs.vp, cs.view, cs.vp, glm::vec4(float(N), float(N), remap_here ? 1.f : 0.f, mirror ? 1.f : 0.f)});
@@ -618,7 +541,6 @@ struct CardStats {
 // Passes 1 to 3 on the card for (t, remap_here), every floor texel against the CPU prediction from
 // the card's closed-form light-NDC distance (texels within 1.5 of the outline left out: rasterization).
 CardStats card_run(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, bool flip, bool mirror) {
-    const double edge = double(cs.proj[0][0]) * double(cs.h) / double(cs.b);  // the card's half size in light NDC
     const float bias = 0.01f;
     skvk::Image sm, sb;
     shadowkit::SmoothieResult res;
@@ -631,23 +553,15 @@ CardStats card_run(CardPasses& P, const CardScene& cs, std::uint32_t N, float t,
     CardStats st;
     for (std::uint32_t y = 0; y < N; ++y)
         for (std::uint32_t x = 0; x < N; ++x) {
-            const double nx = (x + 0.5) / N * 2.0 - 1.0, ny = (y + 0.5) / N * 2.0 - 1.0;
-            const double dx = std::max(0.0, std::abs(nx) - edge), dy = std::max(0.0, std::abs(ny) - edge);
-            const double d = std::sqrt(dx * dx + dy * dy);  // light-NDC distance to the card
-            const double dout = std::max(std::abs(nx), std::abs(ny)) - edge;
-            if (std::abs(dout) < 1.5 * 2.0 / N) continue;
+            const smoothie_ref::CardTexel ref = smoothie_ref::card_texel(cs, int(N), int(x), int(y), t, remap_here, bias);
+            if (ref.skip) continue;
             const std::size_t k = std::size_t(y) * N + x;
-            const bool in_smoothie = d > 0.0 && d < double(t);
-            const float b_sm = in_smoothie ? cs.b : 1e30f;
-            const float a_sm = in_smoothie ? float(d / double(t)) : 1.f;
-            if (in_smoothie && std::abs(d - double(t)) > 2.0 / N) {
-                const float a_expect = remap_here ? shadowkit::smoothie_remap_alpha(a_sm, cs.b, cs.rf) : a_sm;
-                st.max_alpha_err = std::max(st.max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(a_expect)));
+            if (ref.alpha_known) {
+                st.max_alpha_err = std::max(st.max_alpha_err, std::abs(double(sbuf[2 * k + 1]) - double(ref.a_expect)));
                 CHECK(std::abs(sbuf[2 * k] - cs.b) < 1e-4f);
                 ++st.alphas;
             }
-            const float z = d > 0.0 ? cs.rf : cs.b;  // linear map: the card over its footprint
-            const float expect = shadowkit::smoothie_visibility_tap(cs.rf, z, b_sm, a_sm, bias);
+            const float expect = ref.expect;
             st.max_err = std::max(st.max_err, std::abs(double(vis[k]) - double(expect)));
             ++st.compared;
             if (expect > 0.f && expect < 1.f) ++st.penumbra;
@@ -709,20 +623,12 @@ void run_hard(Source lang) {
     CHECK(res.status == shadowkit::Status::Ok);
     CHECK(res.needed == 0);
     const std::uint32_t w = 320, h = 240;
-    const glm::mat4 cam = glm::perspective(0.9f, float(w) / float(h), 0.1f, 50.f) *
-                          glm::lookAt(glm::vec3(2.5f, 1.5f, 0.5f), glm::vec3(0.f, 0.f, -4.f), glm::vec3(0.f, 0.f, -1.f));
+    const glm::mat4 cam = smoothie_ref::oblique_camera(int(w), int(h));
     for (bool remapped : {false, true}) {
         const std::vector<float> v_smoothie = render_lookup(P, cs, P.lookup, cam, w, h, false, remapped, 0.01f);
         const std::vector<float> v_hard = render_lookup(P, cs, P.hard, cam, w, h, false, remapped, 0.01f);
         REQUIRE(v_hard.size() == v_smoothie.size());
-        std::size_t drawn = 0, differ = 0, fractional = 0, dark = 0;
-        for (std::size_t k = 0; k < v_hard.size(); ++k) {
-            if (v_hard[k] < -0.5f) continue;  // background
-            ++drawn;
-            if (v_smoothie[k] != v_hard[k]) ++differ;
-            if (v_hard[k] > 0.f && v_hard[k] < 1.f) ++fractional;
-            if (v_hard[k] == 0.f) ++dark;
-        }
+        const auto [drawn, differ, fractional, dark] = smoothie_ref::tally_hard(v_smoothie, v_hard);
         MESSAGE(std::string(lang == Source::Glsl ? "GLSL" : "HLSL") << " t = 0" << std::string(remapped ? " (alpha_is_remapped)" : "") << ": " << drawn
                                                         << " pixels, " << differ << " differ, " << dark << " in shadow, "
                                                         << fractional << " filtered (0 < V < 1)");

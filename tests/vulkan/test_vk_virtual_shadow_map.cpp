@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "../vsm_reference.hpp"
 #include "vk_harness.hpp"
 #include "vk_passes.hpp"
 
@@ -69,32 +70,8 @@ bool ray_box(const Box& box, const glm::dvec3& p, const glm::dvec3& d, double& t
     return true;
 }
 
-bool ray_hits(const Box& box, const glm::dvec3& p, const glm::dvec3& d) {
-    double t0 = -1e30, t1 = 1e30;
-    for (int k = 0; k < 3; ++k) {
-        if (std::fabs(d[k]) < 1e-12) {
-            if (p[k] < box.b[k] || p[k] > box.b[3 + k]) return false;
-            continue;
-        }
-        double a = (box.b[k] - p[k]) / d[k], b = (box.b[3 + k] - p[k]) / d[k];
-        if (a > b) std::swap(a, b);
-        t0 = std::max(t0, a);
-        t1 = std::min(t1, b);
-    }
-    return t1 >= std::max(t0, 1e-3);
-}
+using vsm_ref::ray_hits;
 
-const char* kFullscreenGlsl = R"(#version 450 core
-void main() {
-    vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-const char* kCasterGlsl = R"(#version 450 core
-layout(push_constant) uniform Page { mat4 view_proj; } pc;
-layout(location = 0) in vec3 a_position;
-void main() { gl_Position = pc.view_proj * vec4(a_position, 1.0); }
-)";
 const char* kMarkGlsl = R"(
 layout(set = 0, binding = 3, std430) readonly buffer Pixels { vec4 px[]; };  // position (w = 1: covered), normal
 layout(push_constant) uniform Pass { float pixel_angle; int width; } k;
@@ -127,10 +104,6 @@ const char* kHlsl = R"(
 [[vk::binding(3, 0)]] StructuredBuffer<float4> px;
 struct Pass { float pixel_angle; int width; };
 [[vk::push_constant]] ConstantBuffer<Pass> k;
-float4 vs_main(uint id : SV_VertexID) : SV_Position {
-    float2 p = float2(float((id << 1) & 2), float(id & 2));
-    return float4(p * 2.0 - 1.0, 0.0, 1.0);
-}
 float ps_mark(float4 position : SV_Position) : SV_Target0 {
     int i = int(position.y) * k.width + int(position.x);
     float4 p = px[2 * i];
@@ -154,33 +127,6 @@ struct PassPush {
     std::int32_t width;
 };
 
-// The CPU's marking of one position (double), as the GL test: the bits of the pages the 2x2 kernel
-// touches, with the level and texel position moved by +-1e-3 (sure: in every variant; maybe: in any).
-void cpu_mark(const VsmState& s, const glm::dvec3& world, double dist, double pixel_angle, std::vector<std::size_t>& votes,
-              int& variants) {
-    votes.clear();
-    const int n = s.pages_per_side, pt = s.layout.page_texels, size = n * pt;
-    const double texel0 = s.layout.level0_extent_world / double(s.layout.virtual_texels);
-    variants = 0;
-    for (double dl : {-1e-3, 1e-3})
-        for (double dx : {-1e-3, 1e-3})
-            for (double dy : {-1e-3, 1e-3}) {
-                ++variants;
-                const double lf = std::floor(std::log2(dist * pixel_angle / texel0) + dl);
-                const int level = int(std::min(std::max(lf, 0.0), double(s.layout.level_count - 1)));
-                for (int l = level; l < s.layout.level_count; ++l) {
-                    const glm::dvec4 h = s.levels[l].world_to_uv * glm::dvec4(world, 1.0);
-                    const double fx = h.x / h.w * size - 0.5 + dx, fy = h.y / h.w * size - 0.5 + dy;
-                    const int ix = int(std::floor(fx)), iy = int(std::floor(fy));
-                    if (ix < 0 || iy < 0 || ix + 1 >= size || iy + 1 >= size) continue;
-                    for (int y = iy / pt; y <= (iy + 1) / pt; ++y)
-                        for (int x = ix / pt; x <= (ix + 1) / pt; ++x)
-                            votes.push_back((std::size_t(l) * std::size_t(n) + std::size_t(y)) * std::size_t(n) + std::size_t(x));
-                    break;
-                }
-            }
-}
-
 // Compiles the four stages of one language: fullscreen vertex, caster vertex, mark, lookup.
 struct Modules {
     std::vector<std::uint32_t> vs, caster, mark, lookup;
@@ -190,11 +136,11 @@ Modules compile(Source lang) {
     Modules m;
     // the caster stage is GLSL in both runs; its .spv named per run (the two CTest runs go in parallel
     // and would write and spirv-val the same file at once)
-    m.caster = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, kCasterGlsl, "main",
+    m.caster = skvk::compile_checked(Source::Glsl, VK_SHADER_STAGE_VERTEX_BIT, skvk::kSceneDepthGlsl, "main",
                                      lang == Source::Glsl ? "vsm.glsl.caster.vert" : "vsm.hlsl.caster.vert");
     if (lang == Source::Glsl) {
         const std::string snippet = skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/virtual_shadow_map.glsl");
-        m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kFullscreenGlsl, "main", "vsm.glsl.vert");
+        m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::kFullscreenGlsl, "main", "vsm.glsl.vert");
         m.mark = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kMarkGlsl, "main",
                                        "vsm.glsl.mark.frag");
         m.lookup = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + snippet + kLookupGlsl, "main",
@@ -202,26 +148,13 @@ Modules compile(Source lang) {
         return m;
     }
     const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/virtual_shadow_map.hlsl");
-    m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kHlsl, "vs_main", "vsm.hlsl.vert");
-    m.mark = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_mark", "vsm.hlsl.mark.frag");
-    m.lookup = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + kHlsl, "ps_lookup", "vsm.hlsl.lookup.frag");
+    m.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "vs_main", "vsm.hlsl.vert");
+    m.mark = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_mark", "vsm.hlsl.mark.frag");
+    m.lookup = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_lookup", "vsm.hlsl.lookup.frag");
     m.entries[0] = "vs_main";
     m.entries[1] = "ps_mark";
     m.entries[2] = "ps_lookup";
     return m;
-}
-
-VkPipelineLayout pipeline_layout(skvk::Context& ctx, const VkDescriptorSetLayout* set, std::uint32_t push_bytes,
-                                 VkShaderStageFlags push_stages) {
-    VkPushConstantRange range{push_stages, 0, push_bytes};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = set ? 1u : 0u;
-    li.pSetLayouts = set;
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    return layout;
 }
 
 // A depth-only render pass that keeps the atlas (load and store, `held` before and after): pages
@@ -320,13 +253,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     };
     cast_pixels();
 
-    VsmLayout layout;
-    layout.page_texels = 32;
-    layout.virtual_texels = 1024;
-    layout.level_count = 8;
-    layout.level0_extent_world = 4.0;
-    layout.depth_range_world = 200.0;
-    layout.pool_pages = 400;
+    VsmLayout layout = vsm_ref::test_layout();
     layout.clip_depth = ClipDepth::ZeroToOne;
     VsmState vsm;
     REQUIRE(vsm_state_init(layout, vsm).status == Status::Ok);
@@ -369,7 +296,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     // ---- (a) marking
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType sbuf = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    const VkDescriptorType tex = glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    const VkDescriptorType tex = skvk::texture_type(lang);
     skvk::DescriptorSet mark_set, look_set;
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, sbuf, frag}, {1, sbuf, frag}, {3, sbuf, frag}}, mark_set));
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, sbuf, frag}, {1, sbuf, frag}, {2, tex, frag}, {3, sbuf, frag}}, look_set));
@@ -386,8 +313,8 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     VkRenderPass look_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
     VkFramebuffer mark_fb = skvk::make_framebuffer(ctx, mark_rp, {dummy.view}, kW, kH);
     VkFramebuffer look_fb = skvk::make_framebuffer(ctx, look_rp, {vis.view}, kW, kH);
-    VkPipelineLayout mark_layout = pipeline_layout(ctx, &mark_set.layout, sizeof(PassPush), frag);
-    VkPipelineLayout look_layout = pipeline_layout(ctx, &look_set.layout, sizeof(PassPush), frag);
+    VkPipelineLayout mark_layout = skvk::make_pipeline_layout(ctx, &mark_set, sizeof(PassPush), frag);
+    VkPipelineLayout look_layout = skvk::make_pipeline_layout(ctx, &look_set, sizeof(PassPush), frag);
     skvk::PipelineDesc pd;
     pd.vs = mod.vs;
     pd.vs_entry = mod.entries[0];
@@ -395,13 +322,10 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     pd.color_count = 1;
     pd.fs = mod.mark;
     pd.fs_entry = mod.entries[1];
-    std::string why;
-    VkPipeline mark_pipe = skvk::make_pipeline(ctx, pd, mark_layout, mark_rp, why);
-    REQUIRE_MESSAGE(mark_pipe != VK_NULL_HANDLE, why);
+    VkPipeline mark_pipe = skvk::make_pipeline_checked(ctx, pd, mark_layout, mark_rp);
     pd.fs = mod.lookup;
     pd.fs_entry = mod.entries[2];
-    VkPipeline look_pipe = skvk::make_pipeline(ctx, pd, look_layout, look_rp, why);
-    REQUIRE_MESSAGE(look_pipe != VK_NULL_HANDLE, why);
+    VkPipeline look_pipe = skvk::make_pipeline_checked(ctx, pd, look_layout, look_rp);
     const PassPush push{pixel_angle, kW};
     VkClearValue zero{};
 
@@ -423,29 +347,10 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     const std::vector<std::uint32_t> bitmask = mark_pass();
 
     const std::size_t bits = std::size_t(layout.level_count) * std::size_t(vsm.pages_per_side * vsm.pages_per_side);
-    std::vector<std::uint8_t> sure(bits, 0), maybe(bits, 0);
-    std::size_t covered = 0;
-    std::vector<std::size_t> votes;
-    for (std::size_t i = 0; i < std::size_t(kW) * kH; ++i) {
-        if (px[2 * i].w == 0.f) continue;
-        ++covered;
-        const glm::dvec3 rel(px[2 * i]);
-        int variants = 0;
-        cpu_mark(vsm, camera + rel, glm::length(rel), double(pixel_angle), votes, variants);
-        for (std::size_t b : votes) {
-            maybe[b] = 1;
-            if (std::count(votes.begin(), votes.end(), b) == variants) sure[b] = 1;
-        }
-    }
-    std::size_t gpu_set = 0, sure_n = 0, maybe_n = 0, missing = 0, extra = 0;
-    for (std::size_t b = 0; b < bits; ++b) {
-        const bool set = (bitmask[b / 32] >> (b % 32)) & 1u;
-        gpu_set += set;
-        sure_n += sure[b];
-        maybe_n += maybe[b];
-        missing += sure[b] && !set;
-        extra += set && !maybe[b];
-    }
+    std::vector<glm::dvec3> rel;  // the covered pixels' positions relative to the camera
+    for (std::size_t i = 0; i < std::size_t(kW) * kH; ++i)
+        if (px[2 * i].w != 0.f) rel.emplace_back(px[2 * i]);
+    const auto [covered, gpu_set, sure_n, maybe_n, missing, extra] = vsm_ref::mark_tally(vsm, camera, pixel_angle, rel, bitmask);
     const std::string name = std::string(glsl ? "GLSL" : "HLSL") + (offset == glm::dvec3(0.0) ? " at the origin" : " 1e6 away");
     INFO(name);
     MESSAGE(name << " marking: " << covered << " pixels, GPU set " << gpu_set << " page bits; CPU sure " << sure_n << ", maybe "
@@ -476,15 +381,14 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     const VkImageLayout atlas_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass atlas_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, atlas_read);
     VkFramebuffer atlas_fb = skvk::make_framebuffer(ctx, atlas_rp, {atlas.view}, atlas_size, atlas_rows);
-    VkPipelineLayout caster_layout = pipeline_layout(ctx, nullptr, sizeof(glm::mat4), VK_SHADER_STAGE_VERTEX_BIT);
+    VkPipelineLayout caster_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
     skvk::PipelineDesc cd;
     cd.vs = mod.caster;
     cd.vertex_stride = sizeof(glm::vec3);
     cd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     cd.depth_compare = VK_COMPARE_OP_LESS;
     cd.depth_clamp = true;
-    VkPipeline caster_pipe = skvk::make_pipeline(ctx, cd, caster_layout, atlas_rp, why);
-    REQUIRE_MESSAGE(caster_pipe != VK_NULL_HANDLE, why);
+    VkPipeline caster_pipe = skvk::make_pipeline_checked(ctx, cd, caster_layout, atlas_rp);
     VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
     skvk::write_image(ctx, look_set, 2, tex, atlas.view, glsl ? nearest : VK_NULL_HANDLE, atlas_read);
 

@@ -58,26 +58,11 @@ float ps_depth(DepthVaryings i) : SV_Depth {
 }
 )";
 
-const char* kReceiverGlslVs = R"(#version 450 core
+const char* kParamsGlsl = R"(
 layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; mat4 warp_inverse; } u;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 0) out vec3 v_world;
-layout(location = 1) out vec3 v_normal;
-void main() {
-    v_world = a_position;
-    v_normal = a_normal;
-    gl_Position = u.view_proj * vec4(a_position, 1.0);
-}
 )";
 const char* kReceiverGlslFs = R"(
 layout(set = 0, binding = 0) uniform sampler2DShadow u_map;
-layout(set = 0, binding = 1, std140) uniform Params { mat4 view_proj; mat4 warp; mat4 depth_proj; mat4 warp_inverse; } u;
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 0) out float o_visibility;
-layout(location = 1) out vec4 o_world;
-layout(location = 2) out vec4 o_normal;
 void main() {
 #ifdef SK_TEST_AUTO
     o_visibility = sk_warp_shadow_auto(u_map, u.warp, u.warp_inverse, u.depth_proj, v_world, v_normal, true, 0.0, 1.0);
@@ -96,23 +81,8 @@ struct Params {
 [[vk::binding(0, 0)]] Texture2D<float> u_map;
 [[vk::binding(1, 0)]] ConstantBuffer<Params> u;
 [[vk::binding(2, 0)]] SamplerComparisonState u_compare;
-struct Varyings {
-    float4 position : SV_Position;
-    [[vk::location(0)]] float3 world : TEXCOORD0;
-    [[vk::location(1)]] float3 normal : TEXCOORD1;
-};
-Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
-    Varyings o;
-    o.world = position;
-    o.normal = normal;
-    o.position = mul(u.view_proj, float4(position, 1.0));
-    return o;
-}
-struct Targets {
-    [[vk::location(0)]] float visibility : SV_Target0;
-    [[vk::location(1)]] float4 world : SV_Target1;
-    [[vk::location(2)]] float4 normal : SV_Target2;
-};
+)";
+const char* kReceiverHlslPs = R"(
 Targets ps_main(Varyings i) {
     Targets o;
 #ifdef SK_TEST_AUTO
@@ -156,9 +126,10 @@ Shaders shaders(Source lang, bool reversed, bool write_depth, Mode mode) {
         if (write_depth)
             s.depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + define + snippet + kDepthFsGlsl,
                                                "main", "warped.glsl.depth.frag");
-        s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, kReceiverGlslVs, "main", "warped.glsl.vert");
-        s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, "#version 450 core\n" + lookup + snippet + kReceiverGlslFs, "main",
-                                     "warped.glsl.frag");
+        s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, skvk::receiver_glsl_vs(kParamsGlsl), "main", "warped.glsl.vert");
+        s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                     "#version 450 core\n" + lookup + snippet + kParamsGlsl + skvk::kReceiverGlslFsIo + kReceiverGlslFs,
+                                     "main", "warped.glsl.frag");
         return s;
     }
     const std::string snippet = skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/perspective_shadow_maps.hlsl");
@@ -166,8 +137,9 @@ Shaders shaders(Source lang, bool reversed, bool write_depth, Mode mode) {
     if (write_depth)
         s.depth_fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, define + snippet + kDepthHlsl, "ps_depth",
                                            "warped.hlsl.depth.frag");
-    s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + kReceiverHlsl, "vs_main", "warped.hlsl.vert");
-    s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, lookup + snippet + kReceiverHlsl, "ps_main", "warped.hlsl.frag");
+    const std::string receiver = kReceiverHlsl + std::string(skvk::kReceiverHlslVs) + skvk::kReceiverHlslTargets + kReceiverHlslPs;
+    s.vs = skvk::compile_checked(lang, VK_SHADER_STAGE_VERTEX_BIT, snippet + receiver, "vs_main", "warped.hlsl.vert");
+    s.fs = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, lookup + snippet + receiver, "ps_main", "warped.hlsl.frag");
     s.entries[0] = "vs_depth";
     s.entries[1] = "ps_depth";
     s.entries[2] = "vs_main";
@@ -187,12 +159,7 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);
     const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
     glm::mat4 proj = glm::perspectiveRH_ZO(0.9f, float(kW) / float(kH), 0.1f, 50.f);
-    if (reversed) {
-        glm::mat4 r(1.f);
-        r[2][2] = -1.f;
-        r[3][2] = 1.f;
-        proj = r * proj;
-    }
+    if (reversed) proj = skvk::reverse_z() * proj;
     shadowkit::WarpInput in;
     in.camera_view = view;
     in.camera_proj = proj;
@@ -221,75 +188,33 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
 
-    skvk::Image map, vis, world, normal, depth;
+    skvk::Image map;
     REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, map));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
     VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
     VkFramebuffer map_fb = skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap);
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(DepthPush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    VkPipelineLayout map_layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &map_layout) == VK_SUCCESS);
-    skvk::PipelineDesc md;
-    md.vs = sh.depth_vs;
-    md.fs = sh.depth_fs;  // TSM with separate depth: the fragment stage writes the depth (and its bias)
-    md.vs_entry = sh.entries[0];
-    md.fs_entry = sh.entries[1];
-    md.vertex_stride = sizeof(skvk::SceneVertex);
-    md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(DepthPush));
+    // TSM with separate depth: the fragment stage writes the depth (and its bias)
+    skvk::PipelineDesc md = skvk::scene_pipeline(sh.depth_vs, sh.depth_fs, sh.entries[0], sh.entries[1], false);
     md.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     md.depth_bias = !w.separate_depth;  // rasterized depth: the GL test's glPolygonOffset(1.5, 2)
     md.bias_slope = reversed ? -1.5f : 1.5f;
     md.bias_constant = reversed ? -2.f : 2.f;
-    std::string why;
-    VkPipeline map_pipe = skvk::make_pipeline(ctx, md, map_layout, map_rp, why);
-    REQUIRE_MESSAGE(map_pipe != VK_NULL_HANDLE, why);
+    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
 
-    const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
-    REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(
-        ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-        VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {vis.view, world.view, normal.view, depth.view}, kW, kH);
+    skvk::ReceiverTargets rt;
+    skvk::make_receiver_targets(ctx, kW, kH, rt);
     VkSampler sampler = skvk::make_sampler(ctx, mode == Mode::Plain ? VK_FILTER_LINEAR : VK_FILTER_NEAREST,
                                            reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
-    const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    if (lang == Source::Glsl) {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, map.view, sampler, map_read);
-    } else {
-        REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_SHADER_STAGE_FRAGMENT_BIT},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both},
-                                                {2, VK_DESCRIPTOR_TYPE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
-        skvk::write_image(ctx, ds, 0, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, map.view, VK_NULL_HANDLE, map_read);
-        skvk::write_sampler(ctx, ds, 2, sampler);
-    }
-    skvk::write_buffer(ctx, ds, 1, ubo);
-    li = VkPipelineLayoutCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1;
-    li.pSetLayouts = &ds.layout;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    REQUIRE(vkCreatePipelineLayout(ctx.device, &li, nullptr, &layout) == VK_SUCCESS);
-    skvk::PipelineDesc pd;
-    pd.vs = sh.vs;
-    pd.fs = sh.fs;
-    pd.vs_entry = sh.entries[2];
-    pd.fs_entry = sh.entries[3];
-    pd.vertex_stride = sizeof(skvk::SceneVertex);
-    pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+    skvk::make_lookup_set(ctx, lang, map.view, map_read, sampler, ubo, ds);
+    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    skvk::PipelineDesc pd = skvk::scene_pipeline(sh.vs, sh.fs, sh.entries[2], sh.entries[3]);
     pd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
-    VkPipeline pipe = skvk::make_pipeline(ctx, pd, layout, rp, why);
-    REQUIRE_MESSAGE(pipe != VK_NULL_HANDLE, why);
+    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -297,15 +222,11 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     skvk::draw_pass(cmd, map_rp, map_fb, kMap, kMap, {far}, map_pipe, map_layout, nullptr, &push, vb.buffer, vcount, false,
                     sizeof push);
     VkClearValue zero{};
-    skvk::draw_pass(cmd, rp, fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
+    skvk::draw_pass(cmd, rt.rp, rt.fb, kW, kH, {zero, zero, zero, far}, pipe, layout, &ds.set, nullptr, vb.buffer, vcount, true);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
 
-    const std::vector<float> v_vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    const std::vector<float> v_world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    const std::vector<float> v_normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    REQUIRE(v_vis.size() == std::size_t(kW) * kH);
     Result out;
-    out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), v_vis, v_world, v_normal);
+    out.agreement = skvk::receiver_agreement(ctx, rt, scene, light);
     out.separate_depth = w.separate_depth;
     out.warp_strength = w.warp_strength;
 
@@ -314,12 +235,11 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
     vkDestroyFramebuffer(ctx.device, map_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     vkDestroyRenderPass(ctx.device, map_rp, nullptr);
     skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&map, &vis, &world, &normal, &depth}) skvk::destroy(ctx, *i);
+    skvk::destroy(ctx, rt);
+    skvk::destroy(ctx, map);
     skvk::destroy(ctx, vb);
     skvk::destroy(ctx, ubo);
     return out;

@@ -1,7 +1,9 @@
 // The scene and CPU reference of tests/gl/test_gl_shadow_map_e2e.cpp, for the Vulkan tests: a box
 // over a ground plane lit by a point light, every receiver pixel classified lit or shadowed by a ray
 // cast (segment-box slab test) from its G-buffer position to the light, pixels within one pixel of
-// a reference shadow edge, grazing or outside the light's frustum left out.
+// a reference shadow edge, grazing or outside the light's frustum left out. Also the shader pieces
+// every test drawing this scene shares: the receiver pass's stages (GLSL and HLSL), the G-buffer
+// fragment stage, the position-only depth pass, and the reversed-Z matrix.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -9,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace skvk {
@@ -106,6 +109,93 @@ inline Agreement compare_with_ray_cast(const BoxScene& s, glm::vec4 light, const
             if (ref[k] == 1 && !(vis[k] > 0.5f)) ++a.acne;
         }
     return a;
+}
+
+// ------------------------------------------------------------------ the receiver pass's shader pieces
+// The receiver pass draws the scene (SceneVertex) seen by the camera and writes the visibility, the
+// world point and the normal (the three targets compare_with_ray_cast reads). The including test's
+// source declares its uniform block `u` (with `view_proj`) before these pieces and writes its lookup.
+
+/// GLSL fragment stage inputs and the three targets (o_visibility, o_world, o_normal).
+inline constexpr const char* kReceiverGlslFsIo = R"(
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out float o_visibility;
+layout(location = 1) out vec4 o_world;
+layout(location = 2) out vec4 o_normal;
+)";
+/// The GLSL vertex stage: `#version 450 core`, the test's Params block (or push constants), then the
+/// world point and normal to locations 0 and 1 and the clip position from `view_proj` (a matrix of
+/// that block).
+inline std::string receiver_glsl_vs(const char* params_block, const char* view_proj = "u.view_proj") {
+    return std::string("#version 450 core\n") + params_block + R"(
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+void main() {
+    v_world = a_position;
+    v_normal = a_normal;
+    gl_Position = )" + view_proj + R"( * vec4(a_position, 1.0);
+}
+)";
+}
+/// The G-buffer's GLSL fragment stage after receiver_glsl_vs: world point and normal (no visibility).
+inline constexpr const char* kGbufferGlslFs = R"(#version 450 core
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 0) out vec4 o_world;
+layout(location = 1) out vec4 o_normal;
+void main() {
+    o_world = vec4(v_world, 1.0);
+    o_normal = vec4(normalize(v_normal), 0.0);
+}
+)";
+/// HLSL: the varyings (world point, normal) and the vertex stage `vs_main` (clip position from u.view_proj).
+inline constexpr const char* kReceiverHlslVs = R"(
+struct Varyings {
+    float4 position : SV_Position;
+    [[vk::location(0)]] float3 world : TEXCOORD0;
+    [[vk::location(1)]] float3 normal : TEXCOORD1;
+};
+Varyings vs_main([[vk::location(0)]] float3 position : POSITION, [[vk::location(1)]] float3 normal : NORMAL) {
+    Varyings o;
+    o.world = position;
+    o.normal = normal;
+    o.position = mul(u.view_proj, float4(position, 1.0));
+    return o;
+}
+)";
+/// HLSL: the three targets (visibility, world point, normal) of the fragment stage.
+inline constexpr const char* kReceiverHlslTargets = R"(
+struct Targets {
+    [[vk::location(0)]] float visibility : SV_Target0;
+    [[vk::location(1)]] float4 world : SV_Target1;
+    [[vk::location(2)]] float4 normal : SV_Target2;
+};
+)";
+
+/// The map pass of the scene (SceneVertex, position only): one matrix in push constants (the vertex
+/// stage's), GLSL and HLSL (entry `main`); depth only.
+inline constexpr const char* kSceneDepthGlsl = R"(#version 450 core
+layout(push_constant) uniform DepthParams { mat4 light_view_proj; } pc;
+layout(location = 0) in vec3 a_position;
+void main() { gl_Position = pc.light_view_proj * vec4(a_position, 1.0); }
+)";
+inline constexpr const char* kSceneDepthHlsl = R"(
+struct DepthParams { column_major float4x4 light_view_proj; };
+[[vk::push_constant]] ConstantBuffer<DepthParams> pc;
+float4 main([[vk::location(0)]] float3 position : POSITION) : SV_Position {
+    return mul(pc.light_view_proj, float4(position, 1.0));
+}
+)";
+
+/// Vulkan's reversed-Z on a [0, 1] projection: z -> w - z (1 at the near plane).
+inline glm::mat4 reverse_z() {
+    glm::mat4 r(1.f);
+    r[2][2] = -1.f;
+    r[3][2] = 1.f;
+    return r;
 }
 
 }  // namespace skvk
