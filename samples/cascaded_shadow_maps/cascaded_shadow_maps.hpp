@@ -32,7 +32,7 @@ struct CascadedShadowMapSettings {
     int size = 1024;             ///< texels per side of each cascade's map
     int count = 4;               ///< cascades (1 to 4)
     float lambda = 0.75f;        ///< split scheme: 0 uniform, 1 logarithmic (Zhang et al. 2006's practical scheme between)
-    float band = 0.1f;           ///< blend into the next cascade over this last fraction of each slice
+    float band = 0.05f;          ///< blend into the next cascade over this last fraction of each slice (docs/cascades.md: 5% against 10%)
     /// auto (default): shadow_map.glsl's automatic bias on each cascade's layer (each 2x2 texel compared
     /// with the receiver plane's own depth; no polygon offset, nothing to tune). polygon_offset: the
     /// depth pass with glPolygonOffset(2, 2) and sk_cascade_shadow's single compare, plus normal_offset.

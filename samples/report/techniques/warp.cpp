@@ -200,7 +200,7 @@ void add_warp_techniques(std::vector<std::unique_ptr<Technique>>& out) {
         return mats;
     };
     cascades.name = "cascades";
-    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 10% blend band; "
+    cascades.description = "4 stable cascades (practical split scheme, lambda 0.75) in a depth array, 5% blend band; "
                            "fit=sdsm: sample distribution shadow maps (GPU min/max depth reduction, log partition, "
                            "tight light-space boxes with hysteresis)";
     cascades.applies = [](const Scene& s) { return s.light.type == LightType::Directional; };
