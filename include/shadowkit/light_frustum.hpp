@@ -1300,6 +1300,10 @@ inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec
         tan_max = std::fmax(tan_max, std::fmax(std::fabs(v.x), std::fabs(v.y)) / -v.z);
         zmin = std::fmin(zmin, -v.z);
     }
+    // the float matrix must see every corner in front of the light: a distance near float's subnormal
+    // range rounds clip w to 0 (a box 1e-44 from a light at the origin)
+    if (!(zmin >= 1e-30))
+        return lf_fail(why, Status::LightInsideVolume, "caster_min, caster_max: a corner closer to the light than 1e-30 (float cannot hold it in front)");
     // + 64 float ulps of the largest coordinate over z_min: the float matrix's rounding (a tiny box far away)
     double big = glm::length(L);
     for (int k = 0; k < 3; ++k) big = std::fmax(big, std::fmax(std::fabs(cmn[k]), std::fabs(cmx[k])));
@@ -1330,8 +1334,9 @@ inline Status lf_caster_fit_point(const LightCasterFitInput& in, const glm::dvec
 /// direction alone). Result: view, proj, view_proj, near_z, far_z, visible = true (no caster
 /// culling: count, needed stay 0). Statuses: InvalidLight; NonFinite / InvalidArgument (a box with min
 /// > max, a limit outside its range); LightInsideVolume: a point light inside or beside the casters'
-/// box (a corner at or behind its position) or a cone wider than max_half_angle_radians (use a cube
-/// map, or the light's own cone); Overflow: a matrix that is not finite in float.
+/// box (a corner at or behind its position, or closer to it than 1e-30) or a cone wider than
+/// max_half_angle_radians (use a cube map, or the light's own cone); Overflow: a matrix that is not
+/// finite in float.
 inline LightFrustumResult light_frustum_fit_casters(const LightCasterFitInput& in) {
     using namespace detail;
     LightFrustumResult res;

@@ -380,7 +380,7 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near_z, float pr
         }
     m.coefficients = glm::vec4(c);
     // Depth steps: t is only as good as the window depth the buffer holds (rounded to float: off by
-    // up to 2^-24 z_w) times dt/dz_w, plus the float coefficients and the float evaluation of the
+    // up to 2^-24 z_w, at least FLT_MIN) times dt/dz_w, plus the float coefficients and the float evaluation of the
     // ratio (a standard perspective map cancels near z_w = 1: c.z ~ -c.w ~ 1 / n). Bounded at both ends
     // of the distances the range and the projection share (the error grows monotonically toward
     // one of them); above kPrefilterWindowTolerance the map cannot keep t: Overflow.
@@ -403,7 +403,10 @@ inline PrefilterWindowMap prefilter_window_depth_map(float proj_near_z, float pr
         const glm::dvec4 cf(m.coefficients);  // the float coefficients, exactly
         const double num = cf.x + cf.y * z, den = cf.z + cf.w * z;
         const double eval = 3.0 * u * ((std::abs(cf.x) + std::abs(cf.y * z)) + std::abs(t_exact) * (std::abs(cf.z) + std::abs(cf.w * z))) / std::abs(den);
-        const double err = s * dd_dz * u * std::abs(z) + std::abs(num / den - t_exact) + eval + u;
+        // the stored depth's rounding: 2^-24 z_w, and never finer than FLT_MIN (a depth buffer may flush
+        // subnormal depths to 0: a range 8e34 from a reversed-Z light stores z_w ~ 5e-45)
+        const double z_step = std::fmax(u * std::abs(z), 1.1754943508222875e-38);
+        const double err = s * dd_dz * z_step + std::abs(num / den - t_exact) + eval + u;
         worst = std::isnan(err) ? std::numeric_limits<double>::infinity() : std::fmax(worst, err);
     }
     if (!(worst <= double(kPrefilterWindowTolerance))) {

@@ -1543,6 +1543,17 @@ TEST_CASE("light_frustum_fit_casters: statuses (bad boxes, NaN, limits, the ligh
     CHECK(light_frustum_fit_casters(b).status == Status::LightInsideVolume);
     b.max_half_angle_radians = 1.5f;
     CHECK(light_frustum_fit_casters(b).status == Status::Ok);
+    // a box 1e-44 from a light at the origin (fuzz_light_frustum): in double every corner is in front
+    // and the cone is 0.24 rad wide, but float rounds the nearest corner's clip w to 0
+    b = in;
+    b.light_position = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    b.caster_min = glm::vec3(2.8026e-45f, 0.0f, 0.0f);
+    b.caster_max = glm::vec3(2.8026e-45f, 0.0f, 2.24208e-44f);
+    CHECK(light_frustum_fit_casters(b).status == Status::LightInsideVolume);
+    b.caster_min *= 1e20f;  // the same shape scaled to 1e-24 away: float holds it
+    b.caster_max *= 1e20f;
+    b.max_half_angle_radians = 1.5f;
+    CHECK(light_frustum_fit_casters(b).status == Status::Ok);
     // reversed-Z, zero-to-one: the near plane maps to 1, the far plane to 0
     b = in;
     b.light_depth = ClipDepth::ZeroToOne;

@@ -441,6 +441,14 @@ TEST_CASE("depth range and window map: closed forms, infinite far, stiff near/fa
     CHECK(prefilter_window_depth_map(0.0f, 9.0f, true, false, r).status == Status::InvalidArgument);
     CHECK(prefilter_window_depth_map(1.0f, INFINITY, false, false, r).status == Status::NonFinite);
     CHECK(prefilter_window_depth_map(1.0f, 9.0f, true, false, PrefilterDepthRange{}).status == Status::InvalidArgument);
+    // fuzz_prefiltered_shadow: a range 8e34 from a reversed-Z light with near 3e-5 stores window depths
+    // ~5e-45, subnormal floats three steps apart: t cannot be kept (was Ok, t off by 0.35)
+    const PrefilterDepthRange far_range = prefilter_depth_range(8.09585056e34f, 8.09587185e34f);
+    REQUIRE(far_range.status == Status::Ok);
+    CHECK(prefilter_window_depth_map(3.0517931e-05f, 8.095959e34f, true, true, far_range).status == Status::Overflow);
+    // reversed-Z with near 3e-5 and far at infinity keeps a range 80..120 away (window depths ~3e-7): Ok
+    CHECK(prefilter_window_depth_map(3.0517931e-05f, INFINITY, true, true, prefilter_depth_range(80.0f, 120.0f)).status ==
+          Status::Ok);
 }
 
 TEST_CASE("window depth map: Ok only where the float map keeps t (issue #27 item 4)") {
