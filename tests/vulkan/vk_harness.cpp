@@ -340,6 +340,28 @@ bool submit_and_wait(Context& ctx, VkCommandBuffer cmd) {
     return ok;
 }
 
+void pass_dependencies(VkSubpassDependency (&dep)[2]) {
+    // before: earlier passes' shader reads and copies of these images; after: this pass's writes are
+    // visible to later fragment shaders (a shadow map) and transfers (readback)
+    const VkPipelineStageFlags attach = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                                        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkAccessFlags writes = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    dep[0] = VkSubpassDependency{};
+    dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    dep[0].dstSubpass = 0;
+    dep[0].srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dep[0].dstStageMask = attach;
+    dep[0].srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    dep[0].dstAccessMask = writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    dep[1] = VkSubpassDependency{};
+    dep[1].srcSubpass = 0;
+    dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    dep[1].srcStageMask = attach;
+    dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dep[1].srcAccessMask = writes;
+    dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+}
+
 VkRenderPass make_render_pass(Context& ctx, const std::vector<VkFormat>& colors, VkFormat depth, VkImageLayout depth_final) {
     std::vector<VkAttachmentDescription> att;
     std::vector<VkAttachmentReference> refs;
@@ -375,24 +397,8 @@ VkRenderPass make_render_pass(Context& ctx, const std::vector<VkFormat>& colors,
     sp.colorAttachmentCount = static_cast<std::uint32_t>(refs.size());
     sp.pColorAttachments = refs.data();
     sp.pDepthStencilAttachment = depth != VK_FORMAT_UNDEFINED ? &dref : nullptr;
-    // before: earlier passes' shader reads and copies of these images; after: this pass's writes are
-    // visible to later fragment shaders (a shadow map) and transfers (readback)
-    const VkPipelineStageFlags attach = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
-                                        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    const VkAccessFlags writes = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    VkSubpassDependency dep[2]{};
-    dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-    dep[0].dstSubpass = 0;
-    dep[0].srcStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    dep[0].dstStageMask = attach;
-    dep[0].srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-    dep[0].dstAccessMask = writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
-    dep[1].srcSubpass = 0;
-    dep[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-    dep[1].srcStageMask = attach;
-    dep[1].dstStageMask = VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    dep[1].srcAccessMask = writes;
-    dep[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    VkSubpassDependency dep[2];
+    pass_dependencies(dep);
     VkRenderPassCreateInfo ri{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
     ri.attachmentCount = static_cast<std::uint32_t>(att.size());
     ri.pAttachments = att.data();

@@ -89,6 +89,10 @@ bool submit_and_wait(Context& ctx, VkCommandBuffer cmd);
 
 /// A render pass with `colors` (cleared, then TRANSFER_SRC_OPTIMAL) and an optional depth or
 /// depth-stencil attachment (VK_FORMAT_UNDEFINED: none; cleared, then `depth_final`).
+/// The two subpass dependencies of every render pass the harness makes (earlier shader reads and
+/// copies before, later fragment-shader reads and transfers after); a render pass made elsewhere
+/// with them stays compatible with the harness's pipelines.
+void pass_dependencies(VkSubpassDependency (&dep)[2]);
 VkRenderPass make_render_pass(Context& ctx, const std::vector<VkFormat>& colors, VkFormat depth, VkImageLayout depth_final);
 VkFramebuffer make_framebuffer(Context& ctx, VkRenderPass rp, const std::vector<VkImageView>& views, std::uint32_t w,
                                std::uint32_t h);
