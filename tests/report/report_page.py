@@ -143,9 +143,16 @@ def check_hover(driver, row, r):
     from selenium.webdriver import ActionChains
     # leave the last point first: a pointer that is already on the spot (the last scene's point,
     # scrolled to the same place) gets no mousemove, and the tooltip stays hidden
-    ActionChains(driver).move_to_element(driver.find_element("tag name", "h1")).perform()
-    ActionChains(driver).move_to_element(point_element(driver, row)).perform()
-    tip = driver.execute_script("const t = document.getElementById('tooltip'); return t.hidden ? '' : t.textContent")
+    # (a loaded machine may deliver the mousemove after the read: try again for up to 10 s; a tooltip
+    # that never shows, or shows the wrong numbers, still fails)
+    tip = ""
+    for _ in range(40):
+        ActionChains(driver).move_to_element(driver.find_element("tag name", "h1")).perform()
+        ActionChains(driver).move_to_element(point_element(driver, row)).perform()
+        tip = driver.execute_script("const t = document.getElementById('tooltip'); return t.hidden ? '' : t.textContent")
+        if tip:
+            break
+        time.sleep(0.25)
     for text in (r["technique"], f"RMSE {r['rmse']:.4f}", "penumbra RMSE", "leak", "ms", "MiB"):
         if text not in tip:
             fail(f"hovering row {row}: tooltip '{tip}' lacks '{text}'")
