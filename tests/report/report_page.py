@@ -143,17 +143,20 @@ def check_hover(driver, row, r):
     from selenium.webdriver import ActionChains
     # leave the last point first: a pointer that is already on the spot (the last scene's point,
     # scrolled to the same place) gets no mousemove, and the tooltip stays hidden
-    # (a loaded machine may deliver the mousemove after the read: try again for up to 10 s; a tooltip
-    # that never shows, or shows the wrong numbers, still fails)
+    # On a loaded machine the page may still shift (images above the plot loading) between the scroll
+    # and the pointer's move, which then lands beside the point or on a neighbour's, or the mousemove
+    # may arrive after the read: hover again (scrolling again) for up to 10 s until the tooltip has
+    # everything; a tooltip that never shows this row's numbers fails.
+    want = (r["technique"], f"RMSE {r['rmse']:.4f}", "penumbra RMSE", "leak", "ms", "MiB")
     tip = ""
     for _ in range(40):
         ActionChains(driver).move_to_element(driver.find_element("tag name", "h1")).perform()
         ActionChains(driver).move_to_element(point_element(driver, row)).perform()
         tip = driver.execute_script("const t = document.getElementById('tooltip'); return t.hidden ? '' : t.textContent")
-        if tip:
-            break
+        if all(text in tip for text in want):
+            return
         time.sleep(0.25)
-    for text in (r["technique"], f"RMSE {r['rmse']:.4f}", "penumbra RMSE", "leak", "ms", "MiB"):
+    for text in want:
         if text not in tip:
             fail(f"hovering row {row}: tooltip '{tip}' lacks '{text}'")
 
