@@ -170,11 +170,6 @@ void run_kernels(Source lang, bool reversed = false) {
         }
     }
 
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT,
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     VkSampler sampler =
         skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     skvk::DescriptorSet ds;
@@ -195,15 +190,8 @@ void run_kernels(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, sampler);
     }
     skvk::write_buffer(ctx, ds, 2, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds, sizeof(KernelParams), VK_SHADER_STAGE_FRAGMENT_BIT);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = vs_entry;
-    pd.fs_entry = fs_entry;
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, vs_entry, fs_entry, ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(KernelParams));
 
     const KernelCase cases[] = {
         {"box r=1", 0, 1, 0, 0, 0},          {"box r=2", 0, 2, 0, 0, 0},          {"box r=3", 0, 3, 0, 0, 0},
@@ -215,26 +203,7 @@ void run_kernels(Source lang, bool reversed = false) {
     for (int array = 0; array <= 1; ++array)
         for (const KernelCase& kc : cases) {
             const KernelParams kp{kc.kernel, kc.r, kc.taps, array, float(kc.radius_texels / 64.0), float(kc.angle)};
-            VkCommandBuffer cmd = skvk::begin_commands(ctx);
-            VkClearValue zero{};
-            VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-            bi.renderPass = rp;
-            bi.framebuffer = fb;
-            bi.renderArea = {{0, 0}, {M, 1}};
-            bi.clearValueCount = 1;
-            bi.pClearValues = &zero;
-            vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
-            const VkViewport vp = skvk::viewport(M, 1, false);
-            const VkRect2D sc{{0, 0}, {M, 1}};
-            vkCmdSetViewport(cmd, 0, 1, &vp);
-            vkCmdSetScissor(cmd, 0, 1, &sc);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &ds.set, 0, nullptr);
-            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof kp, &kp);
-            vkCmdDraw(cmd, 3, 1, 0, 0);
-            vkCmdEndRenderPass(cmd);
-            REQUIRE(skvk::submit_and_wait(ctx, cmd));
-            const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+            const std::vector<float> gpu = skvk::draw_row(ctx, row, ds, &kp);
             REQUIRE(gpu.size() == pts.size());
             double max_err = 0, max_centre_err = 0;
             int partial = 0, outside_lit = 0;
@@ -277,14 +246,10 @@ void run_kernels(Source lang, bool reversed = false) {
         }
     CHECK_MESSAGE(skvk::message_count() == messages_before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     skvk::destroy(ctx, ds);
     skvk::destroy(ctx, map);
-    skvk::destroy(ctx, target);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, lookups);
 }
 

@@ -146,11 +146,6 @@ void run_pcss(Source lang, bool reversed = false) {
         }
     }
 
-    skvk::Image target;
-    REQUIRE(skvk::make_image(ctx, M, 1, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                             target));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, M, 1);
     VkSampler compare =
         skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
     VkSampler point = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
@@ -174,15 +169,8 @@ void run_pcss(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, point);
     }
     skvk::write_buffer(ctx, ds, 4, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds, sizeof(CaseParams), VK_SHADER_STAGE_FRAGMENT_BIT);
-    skvk::PipelineDesc pd;
-    pd.vs = vs;
-    pd.fs = fs;
-    pd.vs_entry = vs_entry;
-    pd.fs_entry = fs_entry;
-    pd.depth_test = pd.depth_write = false;
-    pd.color_count = 1;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
+    skvk::RowPass row;
+    skvk::make_row_pass(ctx, vs, fs, vs_entry, fs_entry, ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(CaseParams));
 
     struct Case {
         const char* name;
@@ -202,26 +190,7 @@ void run_pcss(Source lang, bool reversed = false) {
     for (int array = 0; array <= 1; ++array)
         for (const Case& c : cases) {
             const CaseParams cp{float(c.light_uv), float(c.n), float(c.f), float(c.angle), float(c.max_w), c.taps, array};
-            VkCommandBuffer cmd = skvk::begin_commands(ctx);
-            VkClearValue zero{};
-            VkRenderPassBeginInfo bi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-            bi.renderPass = rp;
-            bi.framebuffer = fb;
-            bi.renderArea = {{0, 0}, {M, 1}};
-            bi.clearValueCount = 1;
-            bi.pClearValues = &zero;
-            vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
-            const VkViewport vp = skvk::viewport(M, 1, false);
-            const VkRect2D sc{{0, 0}, {M, 1}};
-            vkCmdSetViewport(cmd, 0, 1, &vp);
-            vkCmdSetScissor(cmd, 0, 1, &sc);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &ds.set, 0, nullptr);
-            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof cp, &cp);
-            vkCmdDraw(cmd, 3, 1, 0, 0);
-            vkCmdEndRenderPass(cmd);
-            REQUIRE(skvk::submit_and_wait(ctx, cmd));
-            const std::vector<float> gpu = skvk::read_image(ctx, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
+            const std::vector<float> gpu = skvk::draw_row(ctx, row, ds, &cp);
             REQUIRE(gpu.size() == pts.size());
             std::size_t off = 0, partial = 0, bad = 0;
             double max_err = 0;
@@ -245,15 +214,11 @@ void run_pcss(Source lang, bool reversed = false) {
         }
     CHECK_MESSAGE(skvk::message_count() == messages_before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
     vkDestroySampler(ctx.device, compare, nullptr);
     vkDestroySampler(ctx.device, point, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
     skvk::destroy(ctx, ds);
     skvk::destroy(ctx, map);
-    skvk::destroy(ctx, target);
+    skvk::destroy(ctx, row);
     skvk::destroy(ctx, lookups);
 }
 
