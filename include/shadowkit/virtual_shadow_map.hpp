@@ -487,6 +487,14 @@ inline std::size_t vsm_scroll_level(VsmState& s, int level, std::int64_t ox, std
     return freed;
 }
 
+/// Why `s` cannot serve the last plan's pages (the detail of InvalidArgument): not initialized, or no
+/// plan has placed its levels; nullptr when it can.
+inline const char* vsm_unplaced(const VsmState& s) {
+    return !s.initialized ? "s: not initialized (vsm_state_init)"
+           : !s.has_light ? "s: no plan has placed its levels yet (vsm_plan)"
+                          : nullptr;
+}
+
 }  // namespace detail
 
 /// Page-table index of page (x, y) of `level` on the level's current window: the entry the lookup
@@ -604,11 +612,11 @@ inline std::size_t vsm_gpu_block_words(const VsmState& s) {
 /// InvalidArgument before the first plan (no levels placed); NonFinite / Overflow as vsm_relative_matrix.
 inline VsmGpuBlock vsm_gpu_block(const VsmState& s, const glm::dvec3& anchor, std::uint32_t* out, std::size_t capacity) {
     VsmGpuBlock r;
-    if (!s.initialized || !s.has_light || (out == nullptr && capacity != 0)) {
+    const char* why = detail::vsm_unplaced(s);
+    if (!why && out == nullptr && capacity != 0) why = "out: null with capacity > 0";
+    if (why) {
         r.status = Status::InvalidArgument;
-        r.detail = !s.initialized ? "s: not initialized (vsm_state_init)"
-                   : !s.has_light ? "s: no plan has placed its levels yet (vsm_plan)"
-                                  : "out: null with capacity > 0";
+        r.detail = why;
         return r;
     }
     r.needed = vsm_gpu_block_words(s);
@@ -672,11 +680,11 @@ struct VsmSlotPage {
 /// for an uninitialized state, a state no plan has placed, or slot >= pool_pages.
 inline VsmSlotPage vsm_slot_page(const VsmState& s, std::uint32_t slot) {
     VsmSlotPage r;
-    if (!s.initialized || !s.has_light || slot >= s.slots.size()) {
+    const char* why = detail::vsm_unplaced(s);
+    if (!why && slot >= s.slots.size()) why = "slot: >= layout.pool_pages";
+    if (why) {
         r.status = Status::InvalidArgument;
-        r.detail = !s.initialized ? "s: not initialized (vsm_state_init)"
-                   : !s.has_light ? "s: no plan has placed its levels yet (vsm_plan)"
-                                  : "slot: >= layout.pool_pages";
+        r.detail = why;
         return r;
     }
     const VsmSlot& e = s.slots[slot];
@@ -1062,18 +1070,18 @@ inline VsmPageCasters vsm_page_casters(const VsmState& s, const VsmPageRender* p
                                        std::size_t caster_count, std::uint32_t* first, std::uint32_t* counts,
                                        std::uint32_t* indices, std::size_t index_capacity) {
     VsmPageCasters r;
-    if (!s.initialized || !s.has_light || (pages == nullptr && count != 0) || (bounds == nullptr && caster_count != 0) ||
-        ((first == nullptr || counts == nullptr) && count != 0) || (indices == nullptr && index_capacity != 0) ||
-        caster_count > 0xFFFFFFFFu || count > s.slots.size()) {
+    const char* why = detail::vsm_unplaced(s);
+    if (!why)
+        why = (pages == nullptr && count != 0)                         ? "pages: null with count > 0"
+              : (bounds == nullptr && caster_count != 0)               ? "bounds: null with caster_count > 0"
+              : ((first == nullptr || counts == nullptr) && count != 0) ? "first, counts: null with count > 0"
+              : (indices == nullptr && index_capacity != 0)            ? "indices: null with index_capacity > 0"
+              : caster_count > 0xFFFFFFFFu                             ? "caster_count: beyond uint32 indices"
+              : count > s.slots.size()                                 ? "count: above layout.pool_pages"
+                                                                       : nullptr;
+    if (why) {
         r.status = Status::InvalidArgument;
-        r.detail = !s.initialized                                    ? "s: not initialized (vsm_state_init)"
-                   : !s.has_light                                    ? "s: no plan has placed its levels yet (vsm_plan)"
-                   : (pages == nullptr && count != 0)                ? "pages: null with count > 0"
-                   : (bounds == nullptr && caster_count != 0)        ? "bounds: null with caster_count > 0"
-                   : ((first == nullptr || counts == nullptr) && count != 0) ? "first, counts: null with count > 0"
-                   : (indices == nullptr && index_capacity != 0)     ? "indices: null with index_capacity > 0"
-                   : caster_count > 0xFFFFFFFFu                      ? "caster_count: beyond uint32 indices"
-                                                                     : "count: above layout.pool_pages";
+        r.detail = why;
         return r;
     }
     for (std::size_t i = 0; i < count; ++i) {
