@@ -133,25 +133,26 @@ def topmost_point(driver, scene):
     return driver.execute_script(TOPMOST_POINT, scene)
 
 
-def point_element(driver, row):
+def point_element(driver, row, scene):
+    """The row's point in its scene's plot (the one topmost_point checked: a row may also stand in the
+    light-size and flicker plots, where another point can cover it), scrolled to the middle."""
     return driver.execute_script(
-        "const c = document.querySelector(`circle.pt[data-row='${arguments[0]}']`);"
-        "c.scrollIntoView({block: 'center'}); return c;", row)
+        "const c = [...document.querySelectorAll('svg.plot')].filter(s => s.dataset.scene === arguments[1])"
+        "  .map(s => s.querySelector(`circle.pt[data-row='${arguments[0]}']`)).find(c => c);"
+        "c.scrollIntoView({block: 'center'}); return c;", row, scene)
 
 
 def check_hover(driver, row, r):
     from selenium.webdriver import ActionChains
     # leave the last point first: a pointer that is already on the spot (the last scene's point,
     # scrolled to the same place) gets no mousemove, and the tooltip stays hidden
-    # On a loaded machine the page may still shift (images above the plot loading) between the scroll
-    # and the pointer's move, which then lands beside the point or on a neighbour's, or the mousemove
-    # may arrive after the read: hover again (scrolling again) for up to 10 s until the tooltip has
-    # everything; a tooltip that never shows this row's numbers fails.
+    # On a loaded machine the mousemove may arrive after the read: hover again for up to 10 s until
+    # the tooltip has everything; a tooltip that never shows this row's numbers fails.
     want = (r["technique"], f"RMSE {r['rmse']:.4f}", "penumbra RMSE", "leak", "ms", "MiB")
     tip = ""
     for _ in range(40):
         ActionChains(driver).move_to_element(driver.find_element("tag name", "h1")).perform()
-        ActionChains(driver).move_to_element(point_element(driver, row)).perform()
+        ActionChains(driver).move_to_element(point_element(driver, row, r["scene"])).perform()
         tip = driver.execute_script("const t = document.getElementById('tooltip'); return t.hidden ? '' : t.textContent")
         if all(text in tip for text in want):
             return
@@ -174,7 +175,7 @@ return ['reference', 'technique', 'error'].map(k => {
 def check_click(driver, row, r):
     """Clicking the row's point opens the viewer on its three images."""
     driver.execute_script("document.getElementById('viewer').hidden = true")
-    point_element(driver, row).click()
+    point_element(driver, row, r["scene"]).click()
     want = [r["images"]["reference"], r["images"]["technique"], r["images"]["error"]]
     wait_for(driver, "const v = document.getElementById('viewer'); return !v.hidden && "
                      "['reference', 'technique', 'error'].every(k => document.getElementById('img-' + k).complete)",
