@@ -5,6 +5,7 @@
 // name the npm package to install. Needs no npm package (report.scanned_meshes runs the real ones).
 #include <doctest/doctest.h>
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include <glm/glm.hpp>
@@ -28,6 +29,20 @@ std::string parse_error(const std::string& text) {
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// This process's own scratch folder under the temp directory: two builds' tests (default and asan)
+// run at once on one machine must not write the same files.
+std::filesystem::path scratch_dir() {
+    return std::filesystem::temp_directory_path() / ("shadowkit_test_mesh_files_" + std::to_string(static_cast<long>(::getpid())));
+}
+
+// removed when the process ends
+struct ScratchCleanup {
+    ~ScratchCleanup() {
+        std::error_code ignored;
+        std::filesystem::remove_all(scratch_dir(), ignored);
+    }
+} scratch_cleanup;
 
 }  // namespace
 
@@ -82,7 +97,7 @@ TEST_CASE("js mesh: malformed input is rejected with a reason") {
                    "assigned twice"));
     CHECK(contains(parse_error("exports.positions={};exports.cells=[[0,0,0]]"), "expected '['"));
     // a file: the error names it
-    const auto dir = std::filesystem::temp_directory_path() / "shadowkit_test_mesh_files";
+    const auto dir = scratch_dir();
     std::filesystem::create_directories(dir);
     const std::string bad = (dir / "bad.js").string();
     FILE* f = std::fopen(bad.c_str(), "w");
@@ -97,7 +112,7 @@ TEST_CASE("js mesh: malformed input is rejected with a reason") {
 }
 
 TEST_CASE(".ply.gz: decompressed with zlib, read by assimp; corrupt files rejected") {
-    const auto dir = std::filesystem::temp_directory_path() / "shadowkit_test_mesh_files";
+    const auto dir = scratch_dir();
     std::filesystem::create_directories(dir);
     const std::string ply =
         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\n"
@@ -127,7 +142,7 @@ TEST_CASE(".ply.gz: decompressed with zlib, read by assimp; corrupt files reject
 }
 
 TEST_CASE("scanned-mesh scenes: an empty SHADOWKIT_MESH_DIR names the package to install") {
-    const auto dir = std::filesystem::temp_directory_path() / "shadowkit_test_mesh_files" / "empty_mesh_dir";
+    const auto dir = scratch_dir() / "empty_mesh_dir";
     std::filesystem::create_directories(dir);
     const char* old = std::getenv("SHADOWKIT_MESH_DIR");
     const std::string saved = old ? old : "";
