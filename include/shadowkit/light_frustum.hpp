@@ -1183,6 +1183,12 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
     res.view_proj = glm::mat4(vp);
     res.near_z = static_cast<float>(F.nearp);
     res.far_z = static_cast<float>(F.farp);
+    if (!(res.near_z > 0.0f && res.near_z < res.far_z)) {  // a near plane of point_min_near_ratio * far under float's range
+        LightFrustumResult bad;
+        bad.status = Status::Overflow;
+        bad.detail = "near_z: 0 < near < far does not hold in float (receivers too close to the light)";
+        return bad;
+    }
     if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_z) ||
         !std::isfinite(res.far_z) || !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2)) {
         LightFrustumResult bad;
@@ -1362,10 +1368,10 @@ inline LightFrustumResult light_frustum_fit_casters(const LightCasterFitInput& i
     res.near_z = static_cast<float>(F.nearp);
     res.far_z = static_cast<float>(F.farp);
     if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_z) ||
-        !std::isfinite(res.far_z) || !(res.near_z < res.far_z)) {
+        !std::isfinite(res.far_z) || !(res.near_z > 0.0f && res.near_z < res.far_z)) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
-        bad.detail = "view_proj: not finite in float";
+        bad.detail = "view_proj: not finite in float, or 0 < near_z < far_z does not hold in float";
         return bad;
     }
     res.visible = true;

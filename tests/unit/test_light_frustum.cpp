@@ -1033,6 +1033,40 @@ TEST_CASE("light_frustum: stiff cases") {
             }
         }
     }
+    SUBCASE("a near plane that underflows float: Overflow, never Ok with near_z 0 (fuzz, 2026-12-05)") {
+        // point_min_near_ratio 9e-41 (subnormal) times a far plane of 5e-7: the double near plane is
+        // 4.6e-47, 0 in float. The fit returned Ok with near_z = 0, which the header promises is > 0.
+        LightFrustumInput in;
+        in.camera_view = glm::mat4(1.0f);
+        in.camera_proj = glm::mat4(0.0f);
+        in.camera_proj[0][0] = 2.50649079e-22f;
+        in.camera_proj[1][1] = 2.42301488f;
+        in.camera_proj[2][2] = -1.0f;
+        in.camera_proj[2][3] = -1.0f;
+        in.camera_proj[3][2] = -4.23388318e-41f;
+        in.max_distance = 4.59149455e-41f;
+        in.receiver_min_depth = in.receiver_max_depth = 0.0f;
+        in.light_position = glm::vec4(0.0f, 3.85456536e-37f, 7.34718542e-37f, 1.61484467e-30f);
+        in.has_scene_bounds = true;
+        in.scene_min = glm::vec3(1.77360889e-38f, 1.26425981e-09f, 6.42743636e-10f);
+        in.scene_max = glm::vec3(2.41016946e-11f, 1.26425981e-09f, 0.000710401975f);
+        in.shadow_map_size = 4080;
+        in.radius_quantum = 0.0625f;
+        in.point_min_near_ratio = 9.00488406e-41f;
+        const LightFrustumResult r = light_frustum_fit(in, nullptr, 0);
+        CHECK(r.status == Status::Overflow);
+        CHECK(r.near_z == 0.0f);  // the failed result's defaults
+        // the same with a ratio whose near plane float holds: Ok, near_z = ratio * far_z (the receivers
+        // reach the light, so the ratio sets the near plane)
+        for (float ratio : {1e-30f, 1e-4f}) {
+            in.point_min_near_ratio = ratio;
+            const LightFrustumResult ok = light_frustum_fit(in, nullptr, 0);
+            REQUIRE(ok.status == Status::Ok);
+            CHECK(ok.visible);
+            CHECK(ok.near_z > 0.0f);
+            CHECK(ok.near_z == doctest::Approx(double(ratio) * double(ok.far_z)).epsilon(1e-5));
+        }
+    }
     SUBCASE("directional light straight down on a camera looking straight down") {
         LightFrustumInput in = base;
         in.camera_view = glm::lookAt(glm::vec3(0, 10, 0), glm::vec3(0, 0, 0), glm::vec3(0, 0, -1));
