@@ -8,9 +8,13 @@
 
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace skvk {
@@ -167,5 +171,70 @@ bool upload_image(Context& ctx, const Image& img, const std::vector<float>& data
 /// Viewport helpers: the whole target, y flipped with a negative height (VK_KHR_maintenance1,
 /// core in Vulkan 1.1) when `flip_y`.
 VkViewport viewport(std::uint32_t w, std::uint32_t h, bool flip_y);
+
+// ---------------------------------------------------------------------------------------- Scope
+/// What a test case makes, destroyed when the case's Scope goes out of scope, also when a REQUIRE
+/// throws out of the case: everything handed to it, last handed first (a pipeline before its layout
+/// and render pass, a framebuffer before its images, a descriptor set before the buffer it reads).
+/// Design: the Scope OWNS the harness's structs, so no object can be gone before the Scope's destructor
+/// runs whatever the order of declarations: `skvk::Image& map = scope.own<skvk::Image>();` returns a
+/// reference (stable until the Scope dies) to a value-initialized object the Scope holds, to be filled by
+/// make_image and friends; it is destroyed with the `destroy(Context&, T&)` of its type (found by ADL:
+/// Buffer, Image, DescriptorSet, and vk_passes.hpp's RowPass and ReceiverTargets), or, for a
+/// std::vector or std::array of them, each element last to first. Raw handles go through keep(), which
+/// takes the handle and its vkDestroy* function and returns the handle (VK_NULL_HANDLE is not recorded):
+/// `VkPipeline pipe = scope.keep(make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);`.
+/// A case that re-creates things in a loop uses one Scope per iteration. The destructor waits for the
+/// device to be idle first (a REQUIRE may throw with work in flight).
+class Scope {
+public:
+    explicit Scope(Context& ctx) : ctx_(&ctx) {}
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+    ~Scope() {
+        if (undo_.empty()) return;
+        vkDeviceWaitIdle(ctx_->device);
+        for (auto it = undo_.rbegin(); it != undo_.rend(); ++it) (*it)();
+    }
+
+    /// `h`, destroyed with `destroy_fn(device, h, nullptr)` (the template does not need Vulkan's handle
+    /// types to be distinct C++ types: on 32-bit builds they are all uint64_t).
+    template <class H>
+    H keep(H h, void(VKAPI_PTR* destroy_fn)(VkDevice, H, const VkAllocationCallbacks*)) {
+        if (h != VK_NULL_HANDLE) {
+            VkDevice device = ctx_->device;
+            undo_.emplace_back([device, h, destroy_fn]() { destroy_fn(device, h, nullptr); });
+        }
+        return h;
+    }
+
+    /// A default object of type T (Buffer, Image, DescriptorSet, RowPass, ReceiverTargets, or a
+    /// std::vector / std::array of them, `args` passed to its constructor) that the Scope owns and
+    /// destroys.
+    template <class T, class... Args>
+    T& own(Args&&... args) {
+        auto obj = std::make_shared<T>(std::forward<Args>(args)...);
+        Context* c = ctx_;
+        undo_.emplace_back([c, obj]() { destroy_owned(*c, *obj); });
+        return *obj;
+    }
+
+private:
+    template <class T>
+    static void destroy_owned(Context& c, T& obj) {
+        destroy(c, obj);
+    }
+    template <class T>
+    static void destroy_owned(Context& c, std::vector<T>& v) {
+        for (auto it = v.rbegin(); it != v.rend(); ++it) destroy(c, *it);
+    }
+    template <class T, std::size_t N>
+    static void destroy_owned(Context& c, std::array<T, N>& v) {
+        for (auto it = v.rbegin(); it != v.rend(); ++it) destroy(c, *it);
+    }
+
+    Context* ctx_;
+    std::vector<std::function<void()>> undo_;
+};
 
 }  // namespace skvk
