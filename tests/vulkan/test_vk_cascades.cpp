@@ -116,6 +116,7 @@ struct Result {
 
 Result run(Source lang, bool reversed) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);  // directional, toward the light
     const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
@@ -172,7 +173,8 @@ Result run(Source lang, bool reversed) {
         fs_entry = "ps_main";
     }
 
-    skvk::Buffer vb, ubo;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
@@ -180,34 +182,34 @@ Result run(Source lang, bool reversed) {
     std::memcpy(ubo.mapped, &params, sizeof params);
 
     // the cascades: one depth array, a render pass per layer (its own 2D view as the attachment)
-    skvk::Image maps;
+    skvk::Image& maps = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kMap, kMap, kCascades, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, maps));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkRenderPass map_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read), vkDestroyRenderPass);
     std::vector<VkFramebuffer> map_fb;
-    for (std::uint32_t i = 0; i < kCascades; ++i) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[i]}, kMap, kMap));
-    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    for (std::uint32_t i = 0; i < kCascades; ++i) map_fb.push_back(scope.keep(skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[i]}, kMap, kMap), vkDestroyFramebuffer));
+    VkPipelineLayout map_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4)), vkDestroyPipelineLayout);
     skvk::PipelineDesc md = skvk::scene_pipeline(depth_vs, {}, "main", "main", false);
     md.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     md.depth_bias = true;  // slope-scaled, as the GL test's glPolygonOffset(1.5, 2); reversed-Z: negative
     md.bias_slope = reversed ? -1.5f : 1.5f;
     md.bias_constant = reversed ? -2.f : 2.f;
-    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
+    VkPipeline map_pipe = scope.keep(skvk::make_pipeline_checked(ctx, md, map_layout, map_rp), vkDestroyPipeline);
 
-    skvk::ReceiverTargets rt;
+    skvk::ReceiverTargets& rt = scope.own<skvk::ReceiverTargets>();
     skvk::make_receiver_targets(ctx, kW, kH, rt);
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
-                                           reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
-    skvk::DescriptorSet ds;
+    VkSampler sampler = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR,
+                                           reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     skvk::make_lookup_set(ctx, lang, maps.view, map_read, sampler, ubo, ds);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, vs_entry, fs_entry);
     pd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
     pd.front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rt.rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -230,18 +232,6 @@ Result run(Source lang, bool reversed) {
         if (v_world[k * 4 + 3] != 0.f && c >= 0 && c < 4) ++out.per_cascade[c];
     }
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, rt);
-    skvk::destroy(ctx, maps);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, ubo);
     return out;
 }
 

@@ -84,6 +84,7 @@ void quad(std::vector<glm::vec3>& v, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm:
 // and drawn with GREATER, the snippet after #define SK_REVERSED_Z, the mirrors with reversed_z.
 std::vector<float> run_contact(Source lang, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> scene_vs, vs, fs;
     const char* entries[2] = {"main", "main"};
@@ -129,38 +130,40 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     prm.reversed_z = reversed;
     const Params params{proj_rows, glm::inverse(proj_rows), view_light, glm::vec4(prm.length_world, float(prm.max_steps), 0.f, 0.f)};
 
-    skvk::Buffer vb, ubo;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, sizeof(glm::vec3) * tris.size(), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, tris.data(), sizeof(glm::vec3) * tris.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
-    skvk::Image depth, target;
+    skvk::Image& depth = scope.own<skvk::Image>();
+    skvk::Image& target = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              depth));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32_SFLOAT,
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, target));
     const VkImageLayout depth_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass scene_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, depth_read);
-    VkFramebuffer scene_fb = skvk::make_framebuffer(ctx, scene_rp, {depth.view}, kW, kH);
-    VkPipelineLayout scene_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    VkRenderPass scene_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, depth_read), vkDestroyRenderPass);
+    VkFramebuffer scene_fb = scope.keep(skvk::make_framebuffer(ctx, scene_rp, {depth.view}, kW, kH), vkDestroyFramebuffer);
+    VkPipelineLayout scene_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4)), vkDestroyPipelineLayout);
     skvk::PipelineDesc sd;
     sd.vs = scene_vs;
     sd.vertex_stride = sizeof(glm::vec3);
     sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     sd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
-    VkPipeline scene_pipe = skvk::make_pipeline_checked(ctx, sd, scene_layout, scene_rp);
+    VkPipeline scene_pipe = scope.keep(skvk::make_pipeline_checked(ctx, sd, scene_layout, scene_rp), vkDestroyPipeline);
 
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {target.view}, kW, kH);
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::DescriptorSet ds;
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, rp, {target.view}, kW, kH), vkDestroyFramebuffer);
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}}, ds));
     skvk::write_image(ctx, ds, 0, tex, depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE, depth_read);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd;
     pd.vs = vs;
     pd.fs = fs;
@@ -168,7 +171,7 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     pd.fs_entry = entries[1];
     pd.depth_test = pd.depth_write = false;
     pd.color_count = 1;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -213,20 +216,6 @@ std::vector<float> run_contact(Source lang, bool reversed = false) {
     CHECK(occluded[1] > fg / 50);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, scene_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, scene_layout, nullptr);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyFramebuffer(ctx.device, scene_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    vkDestroyRenderPass(ctx.device, scene_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, depth);
-    skvk::destroy(ctx, target);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, ubo);
     return gpu;
 }
 

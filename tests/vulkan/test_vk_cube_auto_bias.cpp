@@ -61,6 +61,7 @@ struct Score {
 
 void run_cube_auto(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     const bool glsl = lang == Source::Glsl;
     std::vector<std::uint32_t> vs, fs;
@@ -84,21 +85,21 @@ void run_cube_auto(Source lang) {
         data[2 * i] = glm::vec4(rc.pts[4 * i], rc.pts[4 * i + 1], rc.pts[4 * i + 2], 1.f);
         data[2 * i + 1] = glm::vec4(rc.nrm[4 * i], rc.nrm[4 * i + 1], rc.nrm[4 * i + 2], 0.f);
     }
-    skvk::Buffer ssbo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, data.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, data.data(), data.size() * sizeof(glm::vec4));
-    skvk::Image cube;
+    skvk::Image& cube = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, n, n, 6, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, cube,
                              false, true));
     const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;  // uploaded, never rendered
     REQUIRE(skvk::upload_image(ctx, cube, cube_auto::cube_faces(n), read));
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_LESS_OR_EQUAL);
-    VkSampler linear = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    VkSampler linear = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType tex = skvk::texture_type(lang);
     std::vector<skvk::Binding> bindings = {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}};
     if (!glsl) bindings.push_back({2, VK_DESCRIPTOR_TYPE_SAMPLER, frag});
-    skvk::DescriptorSet sets[2];  // NEAREST, LINEAR
+    auto& sets = scope.own<std::array<skvk::DescriptorSet, 2>>();  // NEAREST, LINEAR
     for (int s = 0; s < 2; ++s) {
         const VkSampler smp = s == 0 ? nearest : linear;
         REQUIRE(skvk::make_descriptor_set(ctx, bindings, sets[s]));
@@ -106,7 +107,7 @@ void run_cube_auto(Source lang) {
         skvk::write_buffer(ctx, sets[s], 1, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
         if (!glsl) skvk::write_sampler(ctx, sets[s], 2, smp);
     }
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, glsl ? "main" : "vs_main", glsl ? "main" : "ps_main", sets[0], M, row, VK_FORMAT_R32_SFLOAT, 1,
                         sizeof(CasePush));
 
@@ -138,13 +139,6 @@ void run_cube_auto(Source lang) {
     CHECK(double(al.wrong) / rc.used <= 0.005);
     CHECK(small.acne > 0);  // the control: a small constant acnes at grazing walls
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    skvk::destroy(ctx, row);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroySampler(ctx.device, linear, nullptr);
-    for (auto& s : sets) skvk::destroy(ctx, s);
-    skvk::destroy(ctx, cube);
-    skvk::destroy(ctx, ssbo);
 }
 
 }  // namespace

@@ -73,6 +73,7 @@ void face_matrices(glm::vec3 L, glm::mat4 out[6]) {
 
 skvk::Agreement run(Source lang, bool flipped_faces) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(scene.light, 1.f);
     glm::mat4 faces[6];
@@ -99,37 +100,38 @@ skvk::Agreement run(Source lang, bool flipped_faces) {
         fs_entry = "ps_main";
     }
 
-    skvk::Buffer vb, ubo;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
 
-    skvk::Image cube;
+    skvk::Image& cube = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kFace, kFace, 6, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cube, false, true));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkRenderPass map_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read), vkDestroyRenderPass);
     std::vector<VkFramebuffer> map_fb;
-    for (int f = 0; f < 6; ++f) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace));
-    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    for (int f = 0; f < 6; ++f) map_fb.push_back(scope.keep(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace), vkDestroyFramebuffer));
+    VkPipelineLayout map_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4)), vkDestroyPipelineLayout);
     skvk::PipelineDesc md = skvk::scene_pipeline(depth_vs, {}, "main", "main", false);
     md.depth_bias = true;
     md.bias_slope = 1.5f;
     md.bias_constant = 2.f;
-    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
+    VkPipeline map_pipe = scope.keep(skvk::make_pipeline_checked(ctx, md, map_layout, map_rp), vkDestroyPipeline);
 
-    skvk::ReceiverTargets rt;
+    skvk::ReceiverTargets& rt = scope.own<skvk::ReceiverTargets>();
     skvk::make_receiver_targets(ctx, kW, kH, rt);
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
-    skvk::DescriptorSet ds;
+    VkSampler sampler = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     skvk::make_lookup_set(ctx, lang, cube.view, map_read, sampler, ubo, ds);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, vs_entry, fs_entry);
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rt.rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -143,18 +145,6 @@ skvk::Agreement run(Source lang, bool flipped_faces) {
 
     const skvk::Agreement a = skvk::receiver_agreement(ctx, rt, scene, light);
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, rt);
-    skvk::destroy(ctx, cube);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, ubo);
     return a;
 }
 

@@ -152,6 +152,7 @@ glm::mat4 reversed_camera() {
 
 skvk::Agreement run(Source lang, int mode, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(scene.light, 1.f);
     glm::mat4 faces[6];
@@ -183,31 +184,32 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
         entries[3] = "ps_main";
     }
 
-    skvk::Buffer vb, ubo;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
 
-    skvk::Image cube;
+    skvk::Image& cube = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kFace, kFace, 6, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cube, false, true));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkRenderPass map_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read), vkDestroyRenderPass);
     std::vector<VkFramebuffer> map_fb;
-    for (int f = 0; f < 6; ++f) map_fb.push_back(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace));
-    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(DepthPush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    for (int f = 0; f < 6; ++f) map_fb.push_back(scope.keep(skvk::make_framebuffer(ctx, map_rp, {cube.layer_views[std::size_t(f)]}, kFace, kFace), vkDestroyFramebuffer));
+    VkPipelineLayout map_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(DepthPush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT), vkDestroyPipelineLayout);
     // writes distance / range: no rasterized depth, no polygon offset
     skvk::PipelineDesc md = skvk::scene_pipeline(depth_vs, depth_fs, entries[0], entries[1], false);
-    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
+    VkPipeline map_pipe = scope.keep(skvk::make_pipeline_checked(ctx, md, map_layout, map_rp), vkDestroyPipeline);
 
-    skvk::ReceiverTargets rt;
+    skvk::ReceiverTargets& rt = scope.own<skvk::ReceiverTargets>();
     skvk::make_receiver_targets(ctx, kW, kH, rt);
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
-    VkSampler point = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    VkSampler sampler = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    VkSampler point = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
     // and the point-sampled cube for the manual lookup: GLSL a second combined sampler at 2, HLSL a sampler at 3
-    skvk::DescriptorSet ds;
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const bool glsl = lang == Source::Glsl;
     skvk::make_lookup_set(ctx, lang, cube.view, map_read, sampler, ubo, ds,
                           {{glsl ? 2u : 3u, glsl ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER : VK_DESCRIPTOR_TYPE_SAMPLER,
@@ -216,12 +218,12 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
         skvk::write_image(ctx, ds, 2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cube.view, point, map_read);
     else
         skvk::write_sampler(ctx, ds, 3, point);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, entries[2], entries[3]);
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
     if (reversed) pd.depth_compare = VK_COMPARE_OP_GREATER;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rt.rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -238,19 +240,6 @@ skvk::Agreement run(Source lang, int mode, bool reversed = false) {
 
     const skvk::Agreement a = skvk::receiver_agreement(ctx, rt, scene, light);
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroySampler(ctx.device, point, nullptr);
-    for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, rt);
-    skvk::destroy(ctx, cube);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, ubo);
     return a;
 }
 
@@ -525,6 +514,7 @@ void check_map(const skvk::BoxScene& s, const glm::mat4& frame, float range, con
 
 DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(scene.light, 1.f);
     // the frame: light at the origin, the axis horizontal and perpendicular to the light-to-box direction
@@ -546,7 +536,9 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
                           glm::vec4(1e-5f * range, 2.3841858e-7f, 0.f, 0.f)};  // the sample's storage terms (2^-22)
     const DpShaders sh = compile_dp(lang);
 
-    skvk::Buffer cvb, vb, ubo;
+    skvk::Buffer& cvb = scope.own<skvk::Buffer>();
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     const auto ccount = static_cast<std::uint32_t>(casters.size()), vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(glm::vec3) * ccount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, cvb));
     std::memcpy(cvb.mapped, casters.data(), sizeof(glm::vec3) * ccount);
@@ -556,15 +548,15 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     std::memcpy(ubo.mapped, &params, sizeof params);
 
     // 1. both maps: distance / range, depth test LESS, cleared to 1, no culling, the other hemisphere clipped
-    skvk::Image maps;
+    skvk::Image& maps = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kDp, kDp, 2, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              maps, true));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
+    VkRenderPass map_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read), vkDestroyRenderPass);
     VkFramebuffer map_fb[2];
-    for (std::size_t l = 0; l < 2; ++l) map_fb[l] = skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[l]}, kDp, kDp);
-    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(MapPush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    for (std::size_t l = 0; l < 2; ++l) map_fb[l] = scope.keep(skvk::make_framebuffer(ctx, map_rp, {maps.layer_views[l]}, kDp, kDp), vkDestroyFramebuffer);
+    VkPipelineLayout map_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(MapPush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT), vkDestroyPipelineLayout);
     skvk::PipelineDesc md;
     md.vs = sh.map_vs;
     md.fs = sh.map_fs;
@@ -572,19 +564,19 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
     md.fs_entry = sh.map_fs_entry;
     md.vertex_stride = sizeof(glm::vec3);
     md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
+    VkPipeline map_pipe = scope.keep(skvk::make_pipeline_checked(ctx, md, map_layout, map_rp), vkDestroyPipeline);
 
     // 2. the receivers: V, world point and normal
-    skvk::ReceiverTargets rt;
+    skvk::ReceiverTargets& rt = scope.own<skvk::ReceiverTargets>();
     skvk::make_receiver_targets(ctx, kW, kH, rt);
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);
-    skvk::DescriptorSet ds;
+    VkSampler sampler = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     skvk::make_lookup_set(ctx, lang, maps.view, map_read, sampler, ubo, ds);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(sh.vs, sh.fs, sh.vs_entry, sh.fs_entry);
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rt.rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{}, zero{};
@@ -604,17 +596,6 @@ DpResult run_dp(Source lang, float tess, int pcf, bool map_check) {
         check_map(scene, fr.view, range, layers, out);
     }
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    for (VkFramebuffer f : map_fb) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, rt);
-    skvk::destroy(ctx, maps);
-    for (skvk::Buffer* b : {&cvb, &vb, &ubo}) skvk::destroy(ctx, *b);
     return out;
 }
 

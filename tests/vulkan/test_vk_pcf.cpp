@@ -100,6 +100,7 @@ struct Lookup {
 
 void run_kernels(Source lang, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t messages_before = skvk::message_count();
     const std::string glsl = read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcf.glsl");
     const auto disk = parse_poisson(glsl);  // the GLSL's taps: the HLSL must hold the same
@@ -132,7 +133,7 @@ void run_kernels(Source lang, bool reversed = false) {
     layers.insert(layers.end(), tex.d.begin(), tex.d.end());
     if (reversed)  // reversed-Z: window depth 1 - z (exact for the map's values), compare GREATER_OR_EQUAL
         for (float& v : layers) v = 1.f - v;
-    skvk::Image map;
+    skvk::Image& map = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, 64, 64, 2, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, map));
     // uploaded, never rendered: SHADER_READ_ONLY (DEPTH_STENCIL_READ_ONLY needs attachment usage; the
     // validation layer caught that here)
@@ -158,7 +159,7 @@ void run_kernels(Source lang, bool reversed = false) {
         pts.push_back({{i % 2 ? far_uv : -far_uv + 1.f, i % 3 ? 0.5f : far_uv, 0.99f}, {0.f, 0.f}});
     }
     const auto M = static_cast<std::uint32_t>(pts.size());
-    skvk::Buffer lookups;
+    skvk::Buffer& lookups = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, M * 2 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, lookups));
     auto* dst = static_cast<glm::vec4*>(lookups.mapped);
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -170,9 +171,9 @@ void run_kernels(Source lang, bool reversed = false) {
         }
     }
 
-    VkSampler sampler =
-        skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
-    skvk::DescriptorSet ds;
+    VkSampler sampler = scope.keep(
+        skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     if (lang == Source::Glsl) {
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, frag},
@@ -190,7 +191,7 @@ void run_kernels(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, sampler);
     }
     skvk::write_buffer(ctx, ds, 2, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, vs_entry, fs_entry, ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(KernelParams));
 
     const KernelCase cases[] = {
@@ -245,12 +246,6 @@ void run_kernels(Source lang, bool reversed = false) {
             if (kc.kernel == 0) CHECK(max_centre_err == 0.0);
         }
     CHECK_MESSAGE(skvk::message_count() == messages_before, skvk::messages());
-
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, map);
-    skvk::destroy(ctx, row);
-    skvk::destroy(ctx, lookups);
 }
 
 }  // namespace

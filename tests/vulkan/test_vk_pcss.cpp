@@ -82,6 +82,7 @@ struct Lookup {
 
 void run_pcss(Source lang, bool reversed = false) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t messages_before = skvk::message_count();
     const auto disk = parse_poisson(read_text(std::string(SHADOWKIT_GLSL_DIR) + "/pcf.glsl"));
     REQUIRE(disk.size() == 64);
@@ -119,7 +120,7 @@ void run_pcss(Source lang, bool reversed = false) {
     layers.insert(layers.end(), tex.d.begin(), tex.d.end());
     if (reversed)  // reversed-Z: a perspective light's reversed window depth is 1 - z (same planes)
         for (float& v : layers) v = 1.f - v;
-    skvk::Image map;
+    skvk::Image& map = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, 128, 128, 2, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, map));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     REQUIRE(skvk::upload_image(ctx, map, layers, map_read));
@@ -134,7 +135,7 @@ void run_pcss(Source lang, bool reversed = false) {
         pts.push_back(l);
     }
     const auto M = static_cast<std::uint32_t>(pts.size());
-    skvk::Buffer lookups;
+    skvk::Buffer& lookups = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, M * 2 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, lookups));
     auto* dst = static_cast<glm::vec4*>(lookups.mapped);
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -146,10 +147,10 @@ void run_pcss(Source lang, bool reversed = false) {
         }
     }
 
-    VkSampler compare =
-        skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
-    VkSampler point = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::DescriptorSet ds;
+    VkSampler compare = scope.keep(
+        skvk::make_sampler(ctx, VK_FILTER_LINEAR, reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    VkSampler point = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, img = VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
     if (lang == Source::Glsl) {  // one image, four combined image samplers: 2D / array views, compare / point
@@ -169,7 +170,7 @@ void run_pcss(Source lang, bool reversed = false) {
         skvk::write_sampler(ctx, ds, 3, point);
     }
     skvk::write_buffer(ctx, ds, 4, lookups, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, vs_entry, fs_entry, ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(CaseParams));
 
     struct Case {
@@ -213,13 +214,6 @@ void run_pcss(Source lang, bool reversed = false) {
             if (c.compare) CHECK(off <= pts.size() / 200);
         }
     CHECK_MESSAGE(skvk::message_count() == messages_before, skvk::messages());
-
-    vkDestroySampler(ctx.device, compare, nullptr);
-    vkDestroySampler(ctx.device, point, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, map);
-    skvk::destroy(ctx, row);
-    skvk::destroy(ctx, lookups);
 }
 
 }  // namespace

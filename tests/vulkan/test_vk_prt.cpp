@@ -53,6 +53,7 @@ struct EnvBlock {
 
 void run_prt(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> vs, fs;
     const char* vs_entry = "main";
@@ -74,16 +75,17 @@ void run_prt(Source lang) {
     std::uniform_real_distribution<float> U(-1.f, 1.f);
     std::vector<float> transfer(std::size_t(M) * 25);
     for (float& t : transfer) t = U(rng);
-    skvk::Buffer ssbo, ubo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, transfer.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, transfer.data(), transfer.size() * sizeof(float));
     REQUIRE(skvk::make_buffer(ctx, sizeof(EnvBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
-    skvk::DescriptorSet ds;
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, vs_entry, fs_entry, ds, M, row, VK_FORMAT_R32G32B32A32_SFLOAT, 4);
 
     for (int order = 1; order <= 5; ++order) {
@@ -109,11 +111,6 @@ void run_prt(Source lang) {
         CHECK(max_rel < 1e-5);
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    skvk::destroy(ctx, row);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, ssbo);
-    skvk::destroy(ctx, ubo);
 }
 
 }  // namespace
