@@ -116,6 +116,7 @@ glm::mat4 light_global() {
 
 std::vector<float> render(Source lang, glm::ivec2 anchor) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     std::vector<std::uint32_t> vs, gs, fs;
     const char* entries[3] = {"main", "main", "main"};
@@ -135,21 +136,21 @@ std::vector<float> render(Source lang, glm::ivec2 anchor) {
         entries[1] = "gs_main";
         entries[2] = "ps_main";
     }
-    skvk::Buffer vb;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
-    skvk::Image map;
+    skvk::Image& map = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, map));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {map.view}, kMap, kMap);
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL), vkDestroyRenderPass);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, rp, {map.view}, kMap, kMap), vkDestroyFramebuffer);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PassConstants), stages);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(PassConstants), stages), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(vs, fs, entries[0], entries[2], false);
     pd.gs = gs;
     pd.gs_entry = entries[1];
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);
 
     const PassConstants pc{light_global(), anchor, anchor - glm::ivec2(kGuard), glm::vec2(float(kViewport))};
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
@@ -176,12 +177,6 @@ std::vector<float> render(Source lang, glm::ivec2 anchor) {
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
     std::vector<float> depth = skvk::read_image(ctx, map, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    skvk::destroy(ctx, map);
-    skvk::destroy(ctx, vb);
     return depth;
 }
 

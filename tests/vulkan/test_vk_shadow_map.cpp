@@ -170,6 +170,7 @@ struct RunResult {
 
 RunResult run(const Variant& v) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const Camera cam = camera(v.reversed);
     const glm::mat4 light_vp = light_matrix(scene, cam, v.reversed);
@@ -181,7 +182,8 @@ RunResult run(const Variant& v) {
     const glm::mat4 cam_vp = (vflip ? glm::mat4(1.f) : flip_y()) * cam.proj * cam.view;
     const Shaders sh = shaders(v.lang, v.reversed);
 
-    skvk::Buffer vb, ubo;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
@@ -193,29 +195,29 @@ RunResult run(const Variant& v) {
     std::memcpy(ubo.mapped, &params, sizeof params);
 
     // map pass: depth only, D32_SFLOAT, cleared to the far value, slope-scaled bias for the plain lookup
-    skvk::Image map;
+    skvk::Image& map = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, map));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
-    VkFramebuffer map_fb = skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap);
-    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    VkRenderPass map_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read), vkDestroyRenderPass);
+    VkFramebuffer map_fb = scope.keep(skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap), vkDestroyFramebuffer);
+    VkPipelineLayout map_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4)), vkDestroyPipelineLayout);
     skvk::PipelineDesc md = skvk::scene_pipeline(sh.depth_vs, {}, "main", "main", false);
     md.depth_compare = v.reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     md.depth_bias = !v.auto_bias;  // the GL test's glPolygonOffset(1.5, 2); reversed-Z pushes the other way
     md.bias_slope = v.reversed ? -1.5f : 1.5f;
     md.bias_constant = v.reversed ? -2.f : 2.f;
-    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
+    VkPipeline map_pipe = scope.keep(skvk::make_pipeline_checked(ctx, md, map_layout, map_rp), vkDestroyPipeline);
 
     // receiver pass: visibility R32F, world and normal RGBA32F, depth D32_SFLOAT
-    skvk::ReceiverTargets rt;
+    skvk::ReceiverTargets& rt = scope.own<skvk::ReceiverTargets>();
     skvk::make_receiver_targets(ctx, kW, kH, rt);
     // the comparison sampler: LEQUAL (GEQUAL reversed), linear: the hardware 2x2 filter, as on GL
-    VkSampler sampler = skvk::make_sampler(ctx, VK_FILTER_LINEAR,
-                                           v.reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
-    skvk::DescriptorSet ds;
+    VkSampler sampler = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR,
+                                           v.reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     skvk::make_lookup_set(ctx, v.lang, map.view, map_read, sampler, ubo, ds);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(sh.vs, sh.fs, sh.vs_entry, sh.fs_entry);
     pd.depth_compare = v.reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     pd.color_count = 3;
@@ -224,7 +226,7 @@ RunResult run(const Variant& v) {
     // 112 receiver pixels left of 41,338); only the unflipped GL matrix (an upside-down image) needs CW
     pd.cull = VK_CULL_MODE_BACK_BIT;
     pd.front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rt.rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -255,18 +257,6 @@ RunResult run(const Variant& v) {
         out.upright_ok += v_world[k * 4 + 3] != 0.f && glm::length(got - p) < 0.1f;
     }
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, map_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, rt);
-    skvk::destroy(ctx, map);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, ubo);
     return out;
 }
 

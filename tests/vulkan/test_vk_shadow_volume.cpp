@@ -129,6 +129,7 @@ VkFormat depth_stencil_format(skvk::Context& ctx) {
 
 Result run(const Variant& v) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(scene.light, 1.f);
     const float fovy = 0.9f, aspect = float(kW) / float(kH);
@@ -162,7 +163,9 @@ Result run(const Variant& v) {
         entry = "vs_volume";
     }
 
-    skvk::Buffer vb, volume_vb, volume_ib;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& volume_vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& volume_ib = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
@@ -173,22 +176,24 @@ Result run(const Variant& v) {
 
     const VkFormat ds_format = depth_stencil_format(ctx);
     REQUIRE(ds_format != VK_FORMAT_UNDEFINED);
-    skvk::Image world, normal, ds;
+    skvk::Image& world = scope.own<skvk::Image>();
+    skvk::Image& normal = scope.own<skvk::Image>();
+    skvk::Image& ds = scope.own<skvk::Image>();
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, ds_format,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, ds));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, ds_format,
-                                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {world.view, normal.view, ds.view}, kW, kH);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(PushConstants));
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT}, ds_format,
+                                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL), vkDestroyRenderPass);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, rp, {world.view, normal.view, ds.view}, kW, kH), vkDestroyFramebuffer);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(PushConstants)), vkDestroyPipelineLayout);
 
     skvk::PipelineDesc sd = skvk::scene_pipeline(scene_vs, scene_fs);  // the scene: depth (reversed-Z: GREATER) and G-buffer
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
-    VkPipeline scene_pipe = skvk::make_pipeline_checked(ctx, sd, layout, rp);
+    VkPipeline scene_pipe = scope.keep(skvk::make_pipeline_checked(ctx, sd, layout, rp), vkDestroyPipeline);
 
     skvk::PipelineDesc vd;  // the volumes: z-fail, two-sided stencil, no depth or colour writes
     vd.vs = volume_vs;
@@ -207,7 +212,7 @@ Result run(const Variant& v) {
                                0xff, 0xff, 0};
     vd.stencil_back = v.swapped ? dec : inc;
     vd.stencil_front = v.swapped ? inc : dec;
-    VkPipeline volume_pipe = skvk::make_pipeline_checked(ctx, vd, layout, rp);
+    VkPipeline volume_pipe = scope.keep(skvk::make_pipeline_checked(ctx, vd, layout, rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue clears[3]{};
@@ -248,13 +253,6 @@ Result run(const Variant& v) {
     }
     out.agreement = skvk::compare_with_ray_cast(scene, light, nullptr, int(kW), int(kH), vis, v_world, v_normal);
 
-    vkDestroyPipeline(ctx.device, scene_pipe, nullptr);
-    vkDestroyPipeline(ctx.device, volume_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    for (skvk::Image* i : {&world, &normal, &ds}) skvk::destroy(ctx, *i);
-    for (skvk::Buffer* b : {&vb, &volume_vb, &volume_ib}) skvk::destroy(ctx, *b);
     return out;
 }
 
@@ -380,7 +378,8 @@ BoundsShaders compile_bounds_shaders(Source lang) {
 struct BoundsPipelines {
     VkPipeline gbuffer = VK_NULL_HANDLE, depth = VK_NULL_HANDLE, volume = VK_NULL_HANDLE;
 };
-BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, const BoundsShaders& sh, VkPipelineLayout layout, VkRenderPass gbuffer_rp,
+/// The three pipelines, handed to `scope`.
+BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, skvk::Scope& scope, const BoundsShaders& sh, VkPipelineLayout layout, VkRenderPass gbuffer_rp,
                                       VkRenderPass main_rp, bool native) {
     BoundsPipelines p;
     std::string why;
@@ -389,10 +388,10 @@ BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, const BoundsShaders& s
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
-    p.gbuffer = skvk::make_pipeline(ctx, sd, layout, gbuffer_rp, why);
+    p.gbuffer = scope.keep(skvk::make_pipeline(ctx, sd, layout, gbuffer_rp, why), vkDestroyPipeline);
     sd.fs.clear();  // the same depth again, no colour
     sd.color_count = 0;
-    p.depth = skvk::make_pipeline(ctx, sd, layout, main_rp, why);
+    p.depth = scope.keep(skvk::make_pipeline(ctx, sd, layout, main_rp, why), vkDestroyPipeline);
     skvk::PipelineDesc vd;  // z-fail, two-sided stencil, the counting fragment stage
     vd.vs = sh.volume_vs;
     vd.vs_entry = sh.volume_entry;
@@ -406,13 +405,14 @@ BoundsPipelines make_bounds_pipelines(skvk::Context& ctx, const BoundsShaders& s
     vd.stencil_back = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
     vd.stencil_front = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
     vd.depth_bounds = native;
-    p.volume = skvk::make_pipeline(ctx, vd, layout, main_rp, why);
+    p.volume = scope.keep(skvk::make_pipeline(ctx, vd, layout, main_rp, why), vkDestroyPipeline);
     for (VkPipeline q : {p.gbuffer, p.depth, p.volume}) REQUIRE_MESSAGE(q != VK_NULL_HANDLE, why);
     return p;
 }
 
 BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(scene.light, 1.f);
     const float fovy = 0.9f, aspect = float(kW) / float(kH);
@@ -442,19 +442,25 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
 
     const VkFormat dsf = depth_stencil_format(ctx);
     REQUIRE(dsf != VK_FORMAT_UNDEFINED);
-    skvk::Image world, normal, scene_depth, ds;
+    skvk::Image& world = scope.own<skvk::Image>();
+    skvk::Image& normal = scope.own<skvk::Image>();
+    skvk::Image& scene_depth = scope.own<skvk::Image>();
+    skvk::Image& ds = scope.own<skvk::Image>();
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, scene_depth));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, dsf, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, ds));
-    VkRenderPass gbuffer_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
-                                                     VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-    VkRenderPass main_rp = skvk::make_render_pass(ctx, {}, dsf, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    VkFramebuffer gbuffer_fb = skvk::make_framebuffer(ctx, gbuffer_rp, {world.view, normal.view, scene_depth.view}, kW, kH);
-    VkFramebuffer main_fb = skvk::make_framebuffer(ctx, main_rp, {ds.view}, kW, kH);
-    skvk::Buffer vb, volume_vb, volume_ib, counter;
+    VkRenderPass gbuffer_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                                     VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL), vkDestroyRenderPass);
+    VkRenderPass main_rp = scope.keep(skvk::make_render_pass(ctx, {}, dsf, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL), vkDestroyRenderPass);
+    VkFramebuffer gbuffer_fb = scope.keep(skvk::make_framebuffer(ctx, gbuffer_rp, {world.view, normal.view, scene_depth.view}, kW, kH), vkDestroyFramebuffer);
+    VkFramebuffer main_fb = scope.keep(skvk::make_framebuffer(ctx, main_rp, {ds.view}, kW, kH), vkDestroyFramebuffer);
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& volume_vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& volume_ib = scope.own<skvk::Buffer>();
+    skvk::Buffer& counter = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
@@ -465,16 +471,16 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
     REQUIRE(skvk::make_buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, counter));
     std::memset(counter.mapped, 0, 16);
     const VkDescriptorType tex = skvk::texture_type(lang);
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::DescriptorSet set;
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::DescriptorSet& set = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
                                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, set));
     skvk::write_image(ctx, set, 0, tex, scene_depth.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE,
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
     skvk::write_buffer(ctx, set, 1, counter, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &set, sizeof(BoundsPush), push_stages);
-    const BoundsPipelines p = make_bounds_pipelines(ctx, sh, layout, gbuffer_rp, main_rp, bounds == Bounds::Native);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &set, sizeof(BoundsPush), push_stages), vkDestroyPipelineLayout);
+    const BoundsPipelines p = make_bounds_pipelines(ctx, scope, sh, layout, gbuffer_rp, main_rp, bounds == Bounds::Native);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     const VkDeviceSize offset = 0;
@@ -518,16 +524,6 @@ BoundsResult run_bounds(Source lang, bool scissor, Bounds bounds) {
     out.stencil = skvk::read_stencil(ctx, ds, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     std::memcpy(&out.fragments, counter.mapped, sizeof out.fragments);
 
-    for (VkPipeline q : {p.gbuffer, p.depth, p.volume}) vkDestroyPipeline(ctx.device, q, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, gbuffer_fb, nullptr);
-    vkDestroyFramebuffer(ctx.device, main_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, gbuffer_rp, nullptr);
-    vkDestroyRenderPass(ctx.device, main_rp, nullptr);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, set);
-    for (skvk::Image* i : {&world, &normal, &scene_depth, &ds}) skvk::destroy(ctx, *i);
-    for (skvk::Buffer* b : {&vb, &volume_vb, &volume_ib, &counter}) skvk::destroy(ctx, *b);
     return out;
 }
 

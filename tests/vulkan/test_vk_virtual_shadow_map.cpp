@@ -190,6 +190,7 @@ VkRenderPass atlas_load_pass(skvk::Context& ctx, VkImageLayout held) {
 
 void run_scene(Source lang, const glm::dvec3& offset) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     REQUIRE(ctx.enabled.fragmentStoresAndAtomics);
     REQUIRE(ctx.enabled.depthClamp);
     const std::size_t before = skvk::message_count();
@@ -251,7 +252,10 @@ void run_scene(Source lang, const glm::dvec3& offset) {
 
     // buffers: the data block (binding 0), the request mask (1), the pixels (3)
     const Modules mod = compile(lang);
-    skvk::Buffer data, mask, pixels, vb;
+    skvk::Buffer& data = scope.own<skvk::Buffer>();
+    skvk::Buffer& mask = scope.own<skvk::Buffer>();
+    skvk::Buffer& pixels = scope.own<skvk::Buffer>();
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, vsm_gpu_block_words(vsm) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, data));
     const std::size_t words = vsm_bitmask_words(vsm);
     REQUIRE(skvk::make_buffer(ctx, words * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, mask));
@@ -283,7 +287,8 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType sbuf = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     const VkDescriptorType tex = skvk::texture_type(lang);
-    skvk::DescriptorSet mark_set, look_set;
+    skvk::DescriptorSet& mark_set = scope.own<skvk::DescriptorSet>();
+    skvk::DescriptorSet& look_set = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, sbuf, frag}, {1, sbuf, frag}, {3, sbuf, frag}}, mark_set));
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, sbuf, frag}, {1, sbuf, frag}, {2, tex, frag}, {3, sbuf, frag}}, look_set));
     for (skvk::DescriptorSet* s : {&mark_set, &look_set}) {
@@ -291,16 +296,17 @@ void run_scene(Source lang, const glm::dvec3& offset) {
         skvk::write_buffer(ctx, *s, 1, mask, sbuf);
         skvk::write_buffer(ctx, *s, 3, pixels, sbuf);
     }
-    skvk::Image dummy, vis;
+    skvk::Image& dummy = scope.own<skvk::Image>();
+    skvk::Image& vis = scope.own<skvk::Image>();
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32_SFLOAT, rt, dummy));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32_SFLOAT, rt, vis));
-    VkRenderPass mark_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkRenderPass look_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer mark_fb = skvk::make_framebuffer(ctx, mark_rp, {dummy.view}, kW, kH);
-    VkFramebuffer look_fb = skvk::make_framebuffer(ctx, look_rp, {vis.view}, kW, kH);
-    VkPipelineLayout mark_layout = skvk::make_pipeline_layout(ctx, &mark_set, sizeof(PassPush), frag);
-    VkPipelineLayout look_layout = skvk::make_pipeline_layout(ctx, &look_set, sizeof(PassPush), frag);
+    VkRenderPass mark_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkRenderPass look_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkFramebuffer mark_fb = scope.keep(skvk::make_framebuffer(ctx, mark_rp, {dummy.view}, kW, kH), vkDestroyFramebuffer);
+    VkFramebuffer look_fb = scope.keep(skvk::make_framebuffer(ctx, look_rp, {vis.view}, kW, kH), vkDestroyFramebuffer);
+    VkPipelineLayout mark_layout = scope.keep(skvk::make_pipeline_layout(ctx, &mark_set, sizeof(PassPush), frag), vkDestroyPipelineLayout);
+    VkPipelineLayout look_layout = scope.keep(skvk::make_pipeline_layout(ctx, &look_set, sizeof(PassPush), frag), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd;
     pd.vs = mod.vs;
     pd.vs_entry = mod.entries[0];
@@ -308,10 +314,10 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     pd.color_count = 1;
     pd.fs = mod.mark;
     pd.fs_entry = mod.entries[1];
-    VkPipeline mark_pipe = skvk::make_pipeline_checked(ctx, pd, mark_layout, mark_rp);
+    VkPipeline mark_pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, mark_layout, mark_rp), vkDestroyPipeline);
     pd.fs = mod.lookup;
     pd.fs_entry = mod.entries[2];
-    VkPipeline look_pipe = skvk::make_pipeline_checked(ctx, pd, look_layout, look_rp);
+    VkPipeline look_pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, look_layout, look_rp), vkDestroyPipeline);
     const PassPush push{pixel_angle, kW};
     VkClearValue zero{};
 
@@ -360,22 +366,22 @@ void run_scene(Source lang, const glm::dvec3& offset) {
 
     const auto atlas_size = std::uint32_t(vsm.layout.pool_columns * layout.page_texels);
     const auto atlas_rows = std::uint32_t((layout.pool_pages + vsm.layout.pool_columns - 1) / vsm.layout.pool_columns * layout.page_texels);
-    skvk::Image atlas;
+    skvk::Image& atlas = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, atlas_size, atlas_rows, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              atlas));
     const VkImageLayout atlas_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass atlas_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, atlas_read);
-    VkFramebuffer atlas_fb = skvk::make_framebuffer(ctx, atlas_rp, {atlas.view}, atlas_size, atlas_rows);
-    VkPipelineLayout caster_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
+    VkRenderPass atlas_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, atlas_read), vkDestroyRenderPass);
+    VkFramebuffer atlas_fb = scope.keep(skvk::make_framebuffer(ctx, atlas_rp, {atlas.view}, atlas_size, atlas_rows), vkDestroyFramebuffer);
+    VkPipelineLayout caster_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4)), vkDestroyPipelineLayout);
     skvk::PipelineDesc cd;
     cd.vs = mod.caster;
     cd.vertex_stride = sizeof(glm::vec3);
     cd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     cd.depth_compare = VK_COMPARE_OP_LESS;
     cd.depth_clamp = true;
-    VkPipeline caster_pipe = skvk::make_pipeline_checked(ctx, cd, caster_layout, atlas_rp);
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    VkPipeline caster_pipe = scope.keep(skvk::make_pipeline_checked(ctx, cd, caster_layout, atlas_rp), vkDestroyPipeline);
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
     skvk::write_image(ctx, look_set, 2, tex, atlas.view, glsl ? nearest : VK_NULL_HANDLE, atlas_read);
 
     // the listed pages, each with its own viewport and scissor (clear_each: its rectangle cleared first)
@@ -484,8 +490,8 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     f.moved_caster_count = 1;
     const VsmPlan plan2 = vsm_plan(vsm, f, pages.data(), pages.size());
     REQUIRE(plan2.status == Status::Ok);
-    VkRenderPass load_rp = atlas_load_pass(ctx, atlas_read);
-    VkFramebuffer load_fb = skvk::make_framebuffer(ctx, load_rp, {atlas.view}, atlas_size, atlas_rows);
+    VkRenderPass load_rp = scope.keep(atlas_load_pass(ctx, atlas_read), vkDestroyRenderPass);
+    VkFramebuffer load_fb = scope.keep(skvk::make_framebuffer(ctx, load_rp, {atlas.view}, atlas_size, atlas_rows), vkDestroyFramebuffer);
     cmd = skvk::begin_commands(ctx);
     bi.renderPass = load_rp;
     bi.framebuffer = load_fb;
@@ -503,11 +509,11 @@ void run_scene(Source lang, const glm::dvec3& offset) {
         REQUIRE(sp.status == Status::Ok);
         if (sp.resident && sp.current) all.push_back(sp.page);
     }
-    skvk::Image full;
+    skvk::Image& full = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, atlas_size, atlas_rows, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              full));
-    VkFramebuffer full_fb = skvk::make_framebuffer(ctx, atlas_rp, {full.view}, atlas_size, atlas_rows);
+    VkFramebuffer full_fb = scope.keep(skvk::make_framebuffer(ctx, atlas_rp, {full.view}, atlas_size, atlas_rows), vkDestroyFramebuffer);
     cmd = skvk::begin_commands(ctx);
     bi.renderPass = atlas_rp;
     bi.framebuffer = full_fb;
@@ -547,21 +553,7 @@ void run_scene(Source lang, const glm::dvec3& offset) {
     MESSAGE(name << " after the move: agreement " << agreement2 << " over " << counted << " pixels, pixels without a page " << holes);
     CHECK(agreement2 >= 0.995);
     CHECK(holes == 0);
-    vkDestroyFramebuffer(ctx.device, load_fb, nullptr);
-    vkDestroyFramebuffer(ctx.device, full_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, load_rp, nullptr);
-    skvk::destroy(ctx, full);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    for (VkPipeline p : {mark_pipe, look_pipe, caster_pipe}) vkDestroyPipeline(ctx.device, p, nullptr);
-    for (VkPipelineLayout l : {mark_layout, look_layout, caster_layout}) vkDestroyPipelineLayout(ctx.device, l, nullptr);
-    for (VkFramebuffer fb : {mark_fb, look_fb, atlas_fb}) vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    for (VkRenderPass rp : {mark_rp, look_rp, atlas_rp}) vkDestroyRenderPass(ctx.device, rp, nullptr);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, mark_set);
-    skvk::destroy(ctx, look_set);
-    for (skvk::Image* im : {&dummy, &vis, &atlas}) skvk::destroy(ctx, *im);
-    for (skvk::Buffer* b : {&data, &mask, &pixels, &vb}) skvk::destroy(ctx, *b);
 }
 
 }  // namespace

@@ -155,6 +155,7 @@ struct Result {
 
 Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode = Mode::Plain) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const skvk::BoxScene scene;
     const glm::vec4 light(0.5f, 1.f, 0.3f, 0.f);
     const glm::mat4 view = glm::lookAt(glm::vec3(0.4f, 1.3f, 2.2f), glm::vec3(0.f, 0.f, -1.f), glm::vec3(0.f, 1.f, 0.f));
@@ -181,40 +182,41 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     const DepthPush push{w.light_view_proj, w.depth_view_proj};
     const Shaders sh = shaders(lang, reversed, w.separate_depth, mode);
 
-    skvk::Buffer vb, ubo;
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     const auto vcount = static_cast<std::uint32_t>(scene.vertices.size());
     REQUIRE(skvk::make_buffer(ctx, sizeof(skvk::SceneVertex) * vcount, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, scene.vertices.data(), sizeof(skvk::SceneVertex) * vcount);
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
 
-    skvk::Image map;
+    skvk::Image& map = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, map));
     const VkImageLayout map_read = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    VkRenderPass map_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read);
-    VkFramebuffer map_fb = skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap);
-    VkPipelineLayout map_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(DepthPush));
+    VkRenderPass map_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, map_read), vkDestroyRenderPass);
+    VkFramebuffer map_fb = scope.keep(skvk::make_framebuffer(ctx, map_rp, {map.view}, kMap, kMap), vkDestroyFramebuffer);
+    VkPipelineLayout map_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(DepthPush)), vkDestroyPipelineLayout);
     // TSM with separate depth: the fragment stage writes the depth (and its bias)
     skvk::PipelineDesc md = skvk::scene_pipeline(sh.depth_vs, sh.depth_fs, sh.entries[0], sh.entries[1], false);
     md.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     md.depth_bias = !w.separate_depth;  // rasterized depth: the GL test's glPolygonOffset(1.5, 2)
     md.bias_slope = reversed ? -1.5f : 1.5f;
     md.bias_constant = reversed ? -2.f : 2.f;
-    VkPipeline map_pipe = skvk::make_pipeline_checked(ctx, md, map_layout, map_rp);
+    VkPipeline map_pipe = scope.keep(skvk::make_pipeline_checked(ctx, md, map_layout, map_rp), vkDestroyPipeline);
 
-    skvk::ReceiverTargets rt;
+    skvk::ReceiverTargets& rt = scope.own<skvk::ReceiverTargets>();
     skvk::make_receiver_targets(ctx, kW, kH, rt);
-    VkSampler sampler = skvk::make_sampler(ctx, mode == Mode::Plain ? VK_FILTER_LINEAR : VK_FILTER_NEAREST,
-                                           reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL);
-    skvk::DescriptorSet ds;
+    VkSampler sampler = scope.keep(skvk::make_sampler(ctx, mode == Mode::Plain ? VK_FILTER_LINEAR : VK_FILTER_NEAREST,
+                                           reversed ? VK_COMPARE_OP_GREATER_OR_EQUAL : VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     skvk::make_lookup_set(ctx, lang, map.view, map_read, sampler, ubo, ds);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd = skvk::scene_pipeline(sh.vs, sh.fs, sh.entries[2], sh.entries[3]);
     pd.depth_compare = reversed ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS;
     pd.color_count = 3;
     pd.cull = VK_CULL_MODE_BACK_BIT;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rt.rp);
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rt.rp), vkDestroyPipeline);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{};
@@ -230,18 +232,6 @@ Result run(Source lang, shadowkit::WarpMethod method, bool reversed, Mode mode =
     out.separate_depth = w.separate_depth;
     out.warp_strength = w.warp_strength;
 
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipeline(ctx.device, map_pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, map_layout, nullptr);
-    vkDestroySampler(ctx.device, sampler, nullptr);
-    vkDestroyFramebuffer(ctx.device, map_fb, nullptr);
-    vkDestroyRenderPass(ctx.device, map_rp, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, rt);
-    skvk::destroy(ctx, map);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, ubo);
     return out;
 }
 
