@@ -77,6 +77,7 @@ struct Params {
 
 void run_wedge(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> vs, fs;
     const char* entries[2] = {"main", "main"};
@@ -116,17 +117,18 @@ void run_wedge(Source lang) {
         samples[4 * i + 3] = glm::vec4(U(rng), U(rng), 0.05f + 0.9f * U01(rng), 0.f);
     }
     const Params params{glm::inverse(view_proj), light.light_position, glm::vec4(light.radius)};
-    skvk::Buffer ssbo, ubo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, samples.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, samples.data(), samples.size() * sizeof(glm::vec4));
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
-    skvk::DescriptorSet ds;
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 1, ubo);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row, VK_FORMAT_R32G32B32A32_SFLOAT, 4);
     const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
@@ -157,11 +159,6 @@ void run_wedge(Source lang) {
     CHECK(sum_c / M < 1e-6);
     CHECK(max_w < 1e-4);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    skvk::destroy(ctx, row);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, ssbo);
-    skvk::destroy(ctx, ubo);
 }
 
 // ------------------------------------------------------------------------------ the wedge passes
@@ -481,7 +478,8 @@ struct WedgePipelines {
     VkPipeline gbuffer = VK_NULL_HANDLE, depth = VK_NULL_HANDLE, volume = VK_NULL_HANDLE, front = VK_NULL_HANDLE,
                back = VK_NULL_HANDLE, combine = VK_NULL_HANDLE;
 };
-WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, VkPipelineLayout layout, VkPipelineLayout combine_layout,
+/// The six pipelines, handed to `scope`.
+WedgePipelines make_wedge_pipelines(skvk::Context& ctx, skvk::Scope& scope, const WedgeShaders& sh, VkPipelineLayout layout, VkPipelineLayout combine_layout,
                                     VkRenderPass gbuffer_rp, VkRenderPass main_rp, VkRenderPass combine_rp) {
     WedgePipelines p;
     std::string why;
@@ -490,11 +488,11 @@ WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, 
     sd.depth_compare = VK_COMPARE_OP_GREATER;
     sd.cull = VK_CULL_MODE_BACK_BIT;
     sd.color_count = 2;
-    p.gbuffer = skvk::make_pipeline(ctx, sd, layout, gbuffer_rp, why);
+    p.gbuffer = scope.keep(skvk::make_pipeline(ctx, sd, layout, gbuffer_rp, why), vkDestroyPipeline);
     sd.fs.clear();  // the same depth again in pass 2, no colour
     sd.color_count = 1;
     sd.color_write = false;
-    p.depth = skvk::make_pipeline(ctx, sd, layout, main_rp, why);
+    p.depth = scope.keep(skvk::make_pipeline(ctx, sd, layout, main_rp, why), vkDestroyPipeline);
     skvk::PipelineDesc vd;  // z-fail, two-sided stencil
     vd.vs = sh.volume_vs;
     vd.vs_entry = sh.volume_entry;
@@ -507,7 +505,7 @@ WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, 
     vd.stencil = true;
     vd.stencil_back = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
     vd.stencil_front = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
-    p.volume = skvk::make_pipeline(ctx, vd, layout, main_rp, why);
+    p.volume = scope.keep(skvk::make_pipeline(ctx, vd, layout, main_rp, why), vkDestroyPipeline);
     skvk::PipelineDesc wd;  // the hulls: depth-tested, no depth writes, additive into the coverage sum
     wd.vs = sh.wedge_vs;
     wd.fs = sh.wedge_fs;
@@ -520,10 +518,10 @@ WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, 
     wd.blend = true;  // additive: ADD, ONE, ONE (the defaults)
     wd.depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // GL_LEQUAL turned around (reversed-Z)
     wd.cull = VK_CULL_MODE_BACK_BIT;
-    p.front = skvk::make_pipeline(ctx, wd, layout, main_rp, why);
+    p.front = scope.keep(skvk::make_pipeline(ctx, wd, layout, main_rp, why), vkDestroyPipeline);
     wd.depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL;  // GL_GEQUAL turned around
     wd.cull = VK_CULL_MODE_FRONT_BIT;
-    p.back = skvk::make_pipeline(ctx, wd, layout, main_rp, why);
+    p.back = scope.keep(skvk::make_pipeline(ctx, wd, layout, main_rp, why), vkDestroyPipeline);
     skvk::PipelineDesc cd;
     cd.vs = sh.full_vs;
     cd.fs = sh.combine_fs;
@@ -531,13 +529,9 @@ WedgePipelines make_wedge_pipelines(skvk::Context& ctx, const WedgeShaders& sh, 
     cd.fs_entry = sh.combine_entry;
     cd.depth_test = cd.depth_write = false;
     cd.color_count = 1;
-    p.combine = skvk::make_pipeline(ctx, cd, combine_layout, combine_rp, why);
+    p.combine = scope.keep(skvk::make_pipeline(ctx, cd, combine_layout, combine_rp, why), vkDestroyPipeline);
     for (VkPipeline q : {p.gbuffer, p.depth, p.volume, p.front, p.back, p.combine}) REQUIRE_MESSAGE(q != VK_NULL_HANDLE, why);
     return p;
-}
-
-void destroy(skvk::Context& ctx, WedgePipelines& p) {
-    for (VkPipeline q : {p.gbuffer, p.depth, p.volume, p.front, p.back, p.combine}) vkDestroyPipeline(ctx.device, q, nullptr);
 }
 
 void begin_pass(VkCommandBuffer cmd, VkRenderPass rp, VkFramebuffer fb, const std::vector<VkClearValue>& clears) {
@@ -554,9 +548,10 @@ void begin_pass(VkCommandBuffer cmd, VkRenderPass rp, VkFramebuffer fb, const st
     vkCmdSetScissor(cmd, 0, 1, &sc);
 }
 
+/// A host-visible buffer holding `v` (at least one byte), owned by `scope`.
 template <class T>
-skvk::Buffer upload(skvk::Context& ctx, const std::vector<T>& v, VkBufferUsageFlags usage) {
-    skvk::Buffer b;
+skvk::Buffer& upload(skvk::Context& ctx, skvk::Scope& scope, const std::vector<T>& v, VkBufferUsageFlags usage) {
+    skvk::Buffer& b = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, std::max<std::size_t>(1, v.size()) * sizeof(T), usage, b));
     if (!v.empty()) std::memcpy(b.mapped, v.data(), v.size() * sizeof(T));
     return b;
@@ -569,6 +564,7 @@ struct WedgeCamera {
 
 WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& cpu, float radius, const WedgeCamera& cam) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const float fovy = 0.9f, aspect = float(kW) / float(kH), znear = 0.1f;
     const float eps = shadowkit::projection_infinite_epsilon_bound(fovy, aspect, shadowkit::ClipDepth::ZeroToOne, true,
                                                                    shadowkit::DepthFormat::Float32).epsilon;
@@ -588,7 +584,12 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     const VkFormat dsf = wedge_depth_stencil_format(ctx);
     REQUIRE_MESSAGE(dsf != VK_FORMAT_UNDEFINED, "no sampled depth-stencil format");
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    skvk::Image world, normal, gdepth, coverage, ds, vis;
+    skvk::Image& world = scope.own<skvk::Image>();
+    skvk::Image& normal = scope.own<skvk::Image>();
+    skvk::Image& gdepth = scope.own<skvk::Image>();
+    skvk::Image& coverage = scope.own<skvk::Image>();
+    skvk::Image& ds = scope.own<skvk::Image>();
+    skvk::Image& vis = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
     REQUIRE(skvk::make_image(ctx, kW, kH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, gdepth));
@@ -603,26 +604,28 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     vi.subresourceRange = {VK_IMAGE_ASPECT_STENCIL_BIT, 0, 1, 0, 1};
     VkImageView stencil_view = VK_NULL_HANDLE;
     REQUIRE(vkCreateImageView(ctx.device, &vi, nullptr, &stencil_view) == VK_SUCCESS);
+    scope.keep(stencil_view, vkDestroyImageView);
 
-    VkRenderPass gbuffer_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
-                                                     VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkRenderPass main_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, dsf, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-    VkRenderPass combine_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer gbuffer_fb = skvk::make_framebuffer(ctx, gbuffer_rp, {world.view, normal.view, gdepth.view}, kW, kH);
-    VkFramebuffer main_fb = skvk::make_framebuffer(ctx, main_rp, {coverage.view, ds.view}, kW, kH);
-    VkFramebuffer combine_fb = skvk::make_framebuffer(ctx, combine_rp, {vis.view}, kW, kH);
+    VkRenderPass gbuffer_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                                     VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL), vkDestroyRenderPass);
+    VkRenderPass main_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, dsf, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL), vkDestroyRenderPass);
+    VkRenderPass combine_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkFramebuffer gbuffer_fb = scope.keep(skvk::make_framebuffer(ctx, gbuffer_rp, {world.view, normal.view, gdepth.view}, kW, kH), vkDestroyFramebuffer);
+    VkFramebuffer main_fb = scope.keep(skvk::make_framebuffer(ctx, main_rp, {coverage.view, ds.view}, kW, kH), vkDestroyFramebuffer);
+    VkFramebuffer combine_fb = scope.keep(skvk::make_framebuffer(ctx, combine_rp, {vis.view}, kW, kH), vkDestroyFramebuffer);
 
     const bool glsl = lang == Source::Glsl;
     const VkDescriptorType tex = skvk::texture_type(lang);
     const VkShaderStageFlags F = VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::Buffer vb = upload(ctx, scene.vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-    skvk::Buffer volume_vb = upload(ctx, cpu.volume_vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-    skvk::Buffer volume_ib = upload(ctx, cpu.volume_indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-    skvk::Buffer hull_vb = upload(ctx, gw.vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-    skvk::Buffer hull_ib = upload(ctx, gw.indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-    skvk::Buffer wedges = upload(ctx, gw.data, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    skvk::DescriptorSet set, combine_set;
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::Buffer& vb = upload(ctx, scope, scene.vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    skvk::Buffer& volume_vb = upload(ctx, scope, cpu.volume_vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    skvk::Buffer& volume_ib = upload(ctx, scope, cpu.volume_indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    skvk::Buffer& hull_vb = upload(ctx, scope, gw.vertices, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    skvk::Buffer& hull_ib = upload(ctx, scope, gw.indices, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    skvk::Buffer& wedges = upload(ctx, scope, gw.data, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    skvk::DescriptorSet& set = scope.own<skvk::DescriptorSet>();
+    skvk::DescriptorSet& combine_set = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, F}, {1, tex, F}}, set));
     skvk::write_buffer(ctx, set, 0, wedges, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_image(ctx, set, 1, tex, world.view, glsl ? nearest : VK_NULL_HANDLE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
@@ -630,9 +633,9 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     skvk::write_image(ctx, combine_set, 0, tex, coverage.view, glsl ? nearest : VK_NULL_HANDLE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     skvk::write_image(ctx, combine_set, 1, tex, stencil_view, glsl ? nearest : VK_NULL_HANDLE,
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &set, sizeof(WedgePush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
-    VkPipelineLayout combine_layout = skvk::make_pipeline_layout(ctx, &combine_set);
-    WedgePipelines p = make_wedge_pipelines(ctx, sh, layout, combine_layout, gbuffer_rp, main_rp, combine_rp);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &set, sizeof(WedgePush), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT), vkDestroyPipelineLayout);
+    VkPipelineLayout combine_layout = scope.keep(skvk::make_pipeline_layout(ctx, &combine_set), vkDestroyPipelineLayout);
+    WedgePipelines p = make_wedge_pipelines(ctx, scope, sh, layout, combine_layout, gbuffer_rp, main_rp, combine_rp);
 
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     const VkShaderStageFlags push_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -681,17 +684,6 @@ WedgeRun run_wedge_passes(Source lang, const WedgeScene& scene, const CpuSide& c
     out.vis = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
     out.stencil = skvk::read_stencil(ctx, ds, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
 
-    destroy(ctx, p);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyPipelineLayout(ctx.device, combine_layout, nullptr);
-    for (VkFramebuffer f : {gbuffer_fb, main_fb, combine_fb}) vkDestroyFramebuffer(ctx.device, f, nullptr);
-    for (VkRenderPass r : {gbuffer_rp, main_rp, combine_rp}) vkDestroyRenderPass(ctx.device, r, nullptr);
-    vkDestroyImageView(ctx.device, stencil_view, nullptr);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, set);
-    skvk::destroy(ctx, combine_set);
-    for (skvk::Image* i : {&world, &normal, &gdepth, &coverage, &ds, &vis}) skvk::destroy(ctx, *i);
-    for (skvk::Buffer* b : {&vb, &volume_vb, &volume_ib, &hull_vb, &hull_ib, &wedges}) skvk::destroy(ctx, *b);
     return out;
 }
 
