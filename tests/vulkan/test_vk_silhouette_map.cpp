@@ -58,6 +58,7 @@ constexpr int kSize = 64;
 
 void run_silmap(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> vs, fs;
     const char* entries[2] = {"main", "main"};
@@ -89,7 +90,8 @@ void run_silmap(Source lang) {
         points[t] = glm::vec2(float(px) / 255.f, float(py) / 255.f);  // what the GPU reads from UNORM
         weights[t] = w;
     }
-    skvk::Image zmap, smap;
+    skvk::Image& zmap = scope.own<skvk::Image>();
+    skvk::Image& smap = scope.own<skvk::Image>();
     const VkImageUsageFlags up = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     REQUIRE(skvk::make_image(ctx, kSize, kSize, 1, VK_FORMAT_R32_SFLOAT, up, zmap));
     REQUIRE(skvk::make_image(ctx, kSize, kSize, 1, VK_FORMAT_R8G8B8A8_UNORM, up, smap));
@@ -106,11 +108,11 @@ void run_silmap(Source lang) {
     for (auto& p : pts) p = glm::vec4(0.5f + 63.f * U01(rng), 0.5f + 63.f * U01(rng), 0.5f, 0.f);
     pts[0] = glm::vec4(0.2f, 10.f, 0.5f, 0.f);  // border lookups: the plain result
     pts[1] = glm::vec4(63.9f, 63.9f, 0.5f, 0.f);
-    skvk::Buffer ssbo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, M * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, pts.data(), M * sizeof(glm::vec4));
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::DescriptorSet ds;
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
@@ -118,7 +120,7 @@ void run_silmap(Source lang) {
     skvk::write_image(ctx, ds, 0, tex, zmap.view, s, read);
     skvk::write_image(ctx, ds, 1, tex, smap.view, s, read);
     skvk::write_buffer(ctx, ds, 2, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row);
     const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
@@ -142,12 +144,6 @@ void run_silmap(Source lang) {
     CHECK(off <= M / 200);
     CHECK(plain_differs > M / 20);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    skvk::destroy(ctx, row);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&zmap, &smap}) skvk::destroy(ctx, *i);
-    skvk::destroy(ctx, ssbo);
 }
 
 
@@ -350,14 +346,16 @@ struct FloatingBoxes {
 struct SilPasses {
     skvk::Context& ctx;
     Source lang;
-    skvk::Buffer ubo, vb;
-    skvk::DescriptorSet ds;
+    skvk::Scope scope;  ///< everything below; declared first, so destroyed last
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     VkSampler nearest = VK_NULL_HANDLE, compare = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkRenderPass depth_rp = VK_NULL_HANDLE, edge_rp = VK_NULL_HANDLE, lookup_rp = VK_NULL_HANDLE;
     VkPipeline depth = VK_NULL_HANDLE, edge = VK_NULL_HANDLE, lookup = VK_NULL_HANDLE;
 
-    SilPasses(skvk::Context& c, Source l, const FloatingBoxes& sc) : ctx(c), lang(l) {
+    SilPasses(skvk::Context& c, Source l, const FloatingBoxes& sc) : ctx(c), lang(l), scope(c) {
         const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
         const bool glsl = lang == Source::Glsl;
         const VkDescriptorType tex = skvk::texture_type(lang);
@@ -368,14 +366,14 @@ struct SilPasses {
         skvk::write_buffer(ctx, ds, 0, ubo);
         REQUIRE(skvk::make_buffer(ctx, sc.tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, sc.tris.data(), sc.tris.size() * sizeof(glm::vec3));
-        nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-        compare = skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL);  // 2x2 PCF, as the GL sample
+        nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+        compare = scope.keep(skvk::make_sampler(ctx, VK_FILTER_LINEAR, VK_COMPARE_OP_LESS_OR_EQUAL), vkDestroySampler);  // 2x2 PCF, as the GL sample
         if (!glsl) skvk::write_sampler(ctx, ds, 4, compare);
-        layout = skvk::make_pipeline_layout(ctx, &ds);
-        depth_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-        edge_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R8G8B8A8_UNORM}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-        lookup_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
-                                           VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
+        depth_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL), vkDestroyRenderPass);
+        edge_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R8G8B8A8_UNORM}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+        lookup_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                           VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL), vkDestroyRenderPass);
         const VkShaderStageFlagBits Vs = VK_SHADER_STAGE_VERTEX_BIT, Fs = VK_SHADER_STAGE_FRAGMENT_BIT;
         std::vector<std::uint32_t> spv[5];  // depth vs, edge vs/fs, lookup vs/fs
         const char* entry[5] = {"main", "main", "main", "main", "main"};
@@ -404,14 +402,14 @@ struct SilPasses {
         pd.depth_bias = true;  // the sample's glPolygonOffset(2, 2)
         pd.bias_constant = 2.f;
         pd.bias_slope = 2.f;
-        depth = skvk::make_pipeline_checked(ctx, pd, layout, depth_rp);
+        depth = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, depth_rp), vkDestroyPipeline);
         pd.depth_bias = false;
         pd.vs = spv[3];
         pd.vs_entry = entry[3];
         pd.fs = spv[4];
         pd.fs_entry = entry[4];
         pd.color_count = 3;
-        lookup = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
+        lookup = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp), vkDestroyPipeline);
         // pass 2: six vertices per edge (a.xy, b.xy, za, zb), rgb: the last point; a: the weights add
         pd.vertex_stride = 6 * sizeof(float);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32_SFLOAT, 16}};
@@ -425,17 +423,7 @@ struct SilPasses {
         pd.blend_src = VK_BLEND_FACTOR_ONE;
         pd.blend_dst = VK_BLEND_FACTOR_ZERO;
         pd.blend_src_alpha = pd.blend_dst_alpha = VK_BLEND_FACTOR_ONE;
-        edge = skvk::make_pipeline_checked(ctx, pd, layout, edge_rp);
-    }
-    ~SilPasses() {
-        for (VkPipeline p : {depth, edge, lookup}) vkDestroyPipeline(ctx.device, p, nullptr);
-        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-        for (VkRenderPass r : {depth_rp, edge_rp, lookup_rp}) vkDestroyRenderPass(ctx.device, r, nullptr);
-        vkDestroySampler(ctx.device, nearest, nullptr);
-        vkDestroySampler(ctx.device, compare, nullptr);
-        skvk::destroy(ctx, ds);
-        skvk::destroy(ctx, ubo);
-        skvk::destroy(ctx, vb);
+        edge = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, edge_rp), vkDestroyPipeline);
     }
 };
 
@@ -448,20 +436,27 @@ struct Frame {
 // The three passes for a silhouette map of N (and the plain map of sqrt(2) N): V at every pixel.
 Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const std::vector<shadowkit::SilmapEdge>& edges) {
     skvk::Context& ctx = P.ctx;
+    skvk::Scope scope(ctx);
     const auto Np = static_cast<std::uint32_t>(std::lround(std::sqrt(2.0) * N));
     struct Params {
         glm::mat4 cam_vp, light_vp;
         glm::vec4 p;
     } params{sc.cam_vp, sc.light_vp, glm::vec4(float(N), float(N), 2e-4f, 0.f)};  // the sample's occlusion_bias
     std::memcpy(P.ubo.mapped, &params, sizeof params);
-    skvk::Buffer evb;
+    skvk::Buffer& evb = scope.own<skvk::Buffer>();
     std::vector<float> ev;
     for (const shadowkit::SilmapEdge& e : edges)
         for (int k = 0; k < 6; ++k)
             for (float f : {e.a.x, e.a.y, e.b.x, e.b.y, e.depth_a, e.depth_b}) ev.push_back(f);
     REQUIRE(skvk::make_buffer(ctx, ev.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, evb));
     std::memcpy(evb.mapped, ev.data(), ev.size() * sizeof(float));
-    skvk::Image zmap, pmap, silmap, vis, plain, world, zbuf;
+    skvk::Image& zmap = scope.own<skvk::Image>();
+    skvk::Image& pmap = scope.own<skvk::Image>();
+    skvk::Image& silmap = scope.own<skvk::Image>();
+    skvk::Image& vis = scope.own<skvk::Image>();
+    skvk::Image& plain = scope.own<skvk::Image>();
+    skvk::Image& world = scope.own<skvk::Image>();
+    skvk::Image& zbuf = scope.own<skvk::Image>();
     const VkImageUsageFlags zu = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_D32_SFLOAT, zu, zmap));
@@ -477,10 +472,10 @@ Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const
     skvk::write_image(ctx, P.ds, 1, tex, zmap.view, glsl ? P.nearest : VK_NULL_HANDLE, zread);
     skvk::write_image(ctx, P.ds, 2, tex, silmap.view, glsl ? P.nearest : VK_NULL_HANDLE, read);
     skvk::write_image(ctx, P.ds, 3, tex, pmap.view, glsl ? P.compare : VK_NULL_HANDLE, zread);
-    VkFramebuffer fz = skvk::make_framebuffer(ctx, P.depth_rp, {zmap.view}, N, N);
-    VkFramebuffer fp = skvk::make_framebuffer(ctx, P.depth_rp, {pmap.view}, Np, Np);
-    VkFramebuffer fs = skvk::make_framebuffer(ctx, P.edge_rp, {silmap.view}, N, N);
-    VkFramebuffer fl = skvk::make_framebuffer(ctx, P.lookup_rp, {vis.view, plain.view, world.view, zbuf.view}, kW, kH);
+    VkFramebuffer fz = scope.keep(skvk::make_framebuffer(ctx, P.depth_rp, {zmap.view}, N, N), vkDestroyFramebuffer);
+    VkFramebuffer fp = scope.keep(skvk::make_framebuffer(ctx, P.depth_rp, {pmap.view}, Np, Np), vkDestroyFramebuffer);
+    VkFramebuffer fs = scope.keep(skvk::make_framebuffer(ctx, P.edge_rp, {silmap.view}, N, N), vkDestroyFramebuffer);
+    VkFramebuffer fl = scope.keep(skvk::make_framebuffer(ctx, P.lookup_rp, {vis.view, plain.view, world.view, zbuf.view}, kW, kH), vkDestroyFramebuffer);
     const auto nv = static_cast<std::uint32_t>(sc.tris.size());
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{}, none{}, zero{};
@@ -517,9 +512,6 @@ Frame render_frame(SilPasses& P, const FloatingBoxes& sc, std::uint32_t N, const
     f.sil = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
     f.plain = skvk::read_image(ctx, plain, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
     f.world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    for (VkFramebuffer b : {fz, fp, fs, fl}) vkDestroyFramebuffer(ctx.device, b, nullptr);
-    for (skvk::Image* i : {&zmap, &pmap, &silmap, &vis, &plain, &world, &zbuf}) skvk::destroy(ctx, *i);
-    skvk::destroy(ctx, evb);
     return f;
 }
 
