@@ -77,6 +77,7 @@ double cpu_visibility(const std::vector<float>& z, const std::vector<float>& sm,
 
 void run_smoothie(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> vs, fs;
     const char* entries[2] = {"main", "main"};
@@ -101,7 +102,8 @@ void run_smoothie(Source lang) {
         sm[2 * std::size_t(t)] = smoothie ? 1.f + (z[std::size_t(t)] - 1.f) * U01(rng) : 1e30f;
         sm[2 * std::size_t(t) + 1] = smoothie ? U01(rng) : 1.f;
     }
-    skvk::Image zmap, smap;
+    skvk::Image& zmap = scope.own<skvk::Image>();
+    skvk::Image& smap = scope.own<skvk::Image>();
     const VkImageUsageFlags up = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     REQUIRE(skvk::make_image(ctx, kSize, kSize, 1, VK_FORMAT_R32_SFLOAT, up, zmap));
     REQUIRE(skvk::make_image(ctx, kSize, kSize, 1, VK_FORMAT_R32G32_SFLOAT, up, smap));
@@ -121,15 +123,15 @@ void run_smoothie(Source lang) {
         l.bias = 1e-3f * l.r;
         pts.push_back(l);
     }
-    skvk::Buffer ssbo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, M * 2 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     auto* dst = static_cast<glm::vec4*>(ssbo.mapped);
     for (std::uint32_t i = 0; i < M; ++i) {
         dst[2 * i] = glm::vec4(pts[i].uv, pts[i].r, pts[i].bias);
         dst[2 * i + 1] = glm::vec4(pts[i].g, 0.f, 0.f);
     }
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::DescriptorSet ds;
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
@@ -137,7 +139,7 @@ void run_smoothie(Source lang) {
     skvk::write_image(ctx, ds, 0, tex, zmap.view, s, read);
     skvk::write_image(ctx, ds, 1, tex, smap.view, s, read);
     skvk::write_buffer(ctx, ds, 2, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row);
     const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
@@ -157,12 +159,6 @@ void run_smoothie(Source lang) {
     CHECK(partial > 100);
     CHECK(off <= M / 200);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    skvk::destroy(ctx, row);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&zmap, &smap}) skvk::destroy(ctx, *i);
-    skvk::destroy(ctx, ssbo);
 }
 
 
@@ -360,14 +356,16 @@ using CardScene = smoothie_ref::Card;
 struct CardPasses {
     skvk::Context& ctx;
     Source lang;
-    skvk::Buffer ubo, vb, svb;
-    skvk::DescriptorSet ds;
+    skvk::Scope scope;  ///< everything below; declared first, so destroyed last
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     VkSampler nearest = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    VkRenderPass depth_rp = VK_NULL_HANDLE, smoothie_rp = VK_NULL_HANDLE, lookup_rp = VK_NULL_HANDLE;
+    VkRenderPass depth_rp = VK_NULL_HANDLE, smoothie_rp = VK_NULL_HANDLE, lookup_rp = VK_NULL_HANDLE;  ///< lookup_rp is depth_rp
     VkPipeline depth = VK_NULL_HANDLE, smoothie = VK_NULL_HANDLE, lookup = VK_NULL_HANDLE, hard = VK_NULL_HANDLE;
 
-    CardPasses(skvk::Context& c, Source l, const CardScene& cs) : ctx(c), lang(l) {
+    CardPasses(skvk::Context& c, Source l, const CardScene& cs) : ctx(c), lang(l), scope(c) {
         const VkShaderStageFlags both = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
         const VkDescriptorType tex = skvk::texture_type(lang);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, both}, {1, tex, VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -376,11 +374,11 @@ struct CardPasses {
         skvk::write_buffer(ctx, ds, 0, ubo);
         REQUIRE(skvk::make_buffer(ctx, cs.tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, cs.tris.data(), cs.tris.size() * sizeof(glm::vec3));
-        nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-        layout = skvk::make_pipeline_layout(ctx, &ds);
-        depth_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-                                          VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-        smoothie_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
+        nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+        layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
+        depth_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
+                                          VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL), vkDestroyRenderPass);
+        smoothie_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
         lookup_rp = depth_rp;
 
         const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -414,15 +412,15 @@ struct CardPasses {
         pd.vs_entry = s[0].entry;
         pd.fs = s[1].spv;
         pd.fs_entry = s[1].entry;
-        depth = skvk::make_pipeline_checked(ctx, pd, layout, depth_rp);
+        depth = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, depth_rp), vkDestroyPipeline);
         pd.vs = s[4].spv;
         pd.vs_entry = s[4].entry;
         pd.fs = s[5].spv;
         pd.fs_entry = s[5].entry;
-        lookup = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
+        lookup = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp), vkDestroyPipeline);
         pd.fs = s[6].spv;
         pd.fs_entry = s[6].entry;
-        hard = skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp);
+        hard = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, lookup_rp), vkDestroyPipeline);
         // pass 2: SmoothieVertex (locations 0, 1, 2, 3, 5), no depth test, no culling, MIN blending
         pd.vs = s[2].spv;
         pd.vs_entry = s[2].entry;
@@ -434,18 +432,7 @@ struct CardPasses {
         pd.depth_test = pd.depth_write = false;
         pd.blend = true;
         pd.blend_op = VK_BLEND_OP_MIN;
-        smoothie = skvk::make_pipeline_checked(ctx, pd, layout, smoothie_rp);
-    }
-    ~CardPasses() {
-        for (VkPipeline p : {depth, smoothie, lookup, hard}) vkDestroyPipeline(ctx.device, p, nullptr);
-        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-        vkDestroyRenderPass(ctx.device, depth_rp, nullptr);
-        vkDestroyRenderPass(ctx.device, smoothie_rp, nullptr);
-        vkDestroySampler(ctx.device, nearest, nullptr);
-        skvk::destroy(ctx, ds);
-        skvk::destroy(ctx, ubo);
-        skvk::destroy(ctx, vb);
-        skvk::destroy(ctx, svb);
+        smoothie = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, smoothie_rp), vkDestroyPipeline);
     }
     void set_params(const PassParams& p) { std::memcpy(ubo.mapped, &p, sizeof p); }
 };
@@ -455,8 +442,9 @@ struct CardPasses {
 void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, skvk::Image& sm,
                     skvk::Image& sb, shadowkit::SmoothieResult& res, bool flip = false, bool mirror = false) {
     skvk::Context& ctx = P.ctx;
+    skvk::Scope scope(ctx);
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    skvk::Image zbuf;
+    skvk::Image& zbuf = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32_SFLOAT, rt, sm));
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32G32_SFLOAT, rt, sb));
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
@@ -467,13 +455,13 @@ void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t
     skvk::write_image(ctx, P.ds, 2, tex, sb.view, s, read);
     P.set_params({cs.vp, cs.view, cs.vp, glm::vec4(float(N), float(N), remap_here ? 1.f : 0.f, mirror ? 1.f : 0.f)});
     const auto sv = cs.smoothies(t, res);
-    skvk::destroy(ctx, P.svb);
+    skvk::Buffer& svb = scope.own<skvk::Buffer>();  // the smoothies' vertices, this call's
     if (!sv.empty()) {
-        REQUIRE(skvk::make_buffer(ctx, sv.size() * sizeof(shadowkit::SmoothieVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, P.svb));
-        std::memcpy(P.svb.mapped, sv.data(), sv.size() * sizeof(shadowkit::SmoothieVertex));
+        REQUIRE(skvk::make_buffer(ctx, sv.size() * sizeof(shadowkit::SmoothieVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, svb));
+        std::memcpy(svb.mapped, sv.data(), sv.size() * sizeof(shadowkit::SmoothieVertex));
     }
-    VkFramebuffer fb1 = skvk::make_framebuffer(ctx, P.depth_rp, {sm.view, zbuf.view}, N, N);
-    VkFramebuffer fb2 = skvk::make_framebuffer(ctx, P.smoothie_rp, {sb.view}, N, N);
+    VkFramebuffer fb1 = scope.keep(skvk::make_framebuffer(ctx, P.depth_rp, {sm.view, zbuf.view}, N, N), vkDestroyFramebuffer);
+    VkFramebuffer fb2 = scope.keep(skvk::make_framebuffer(ctx, P.smoothie_rp, {sb.view}, N, N), vkDestroyFramebuffer);
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue big{}, far{}, sclear{};
     big.color.float32[0] = 1e30f;
@@ -483,23 +471,22 @@ void render_buffers(CardPasses& P, const CardScene& cs, std::uint32_t N, float t
     skvk::draw_pass(cmd, P.depth_rp, fb1, N, N, {big, far}, P.depth, P.layout, &P.ds.set, nullptr, P.vb.buffer, 12, flip);
     skvk::transition(cmd, sm, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, read);
     skvk::draw_pass(cmd, P.smoothie_rp, fb2, N, N, {sclear}, P.smoothie, P.layout, &P.ds.set, nullptr,
-                    sv.empty() ? VK_NULL_HANDLE : P.svb.buffer, static_cast<std::uint32_t>(sv.size()), flip);
+                    sv.empty() ? VK_NULL_HANDLE : svb.buffer, static_cast<std::uint32_t>(sv.size()), flip);
     skvk::transition(cmd, sb, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, read);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    vkDestroyFramebuffer(ctx.device, fb1, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb2, nullptr);
-    skvk::destroy(ctx, zbuf);
 }
 
 // Final pass (P.lookup or P.hard) over the card scene's triangles (or the floor's only) seen through cam.
 std::vector<float> render_lookup(CardPasses& P, const CardScene& cs, VkPipeline pipe, const glm::mat4& cam, std::uint32_t w,
                                  std::uint32_t h, bool floor_only, bool remapped, float bias) {
     skvk::Context& ctx = P.ctx;
-    skvk::Image out, zbuf;
+    skvk::Scope scope(ctx);
+    skvk::Image& out = scope.own<skvk::Image>();
+    skvk::Image& zbuf = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, w, h, 1, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, out));
     REQUIRE(skvk::make_image(ctx, w, h, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
     P.set_params({cs.vp, cs.view, cam, glm::vec4(0.f, 0.f, remapped ? 1.f : 0.f, bias)});
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, P.lookup_rp, {out.view, zbuf.view}, w, h);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, P.lookup_rp, {out.view, zbuf.view}, w, h), vkDestroyFramebuffer);
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue neg{}, far{};
     neg.color.float32[0] = -1.f;
@@ -524,9 +511,6 @@ std::vector<float> render_lookup(CardPasses& P, const CardScene& cs, VkPipeline 
     vkCmdEndRenderPass(cmd);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
     std::vector<float> v = skvk::read_image(ctx, out, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    skvk::destroy(ctx, out);
-    skvk::destroy(ctx, zbuf);
     return v;
 }
 
@@ -542,7 +526,9 @@ struct CardStats {
 // the card's closed-form light-NDC distance (texels within 1.5 of the outline left out: rasterization).
 CardStats card_run(CardPasses& P, const CardScene& cs, std::uint32_t N, float t, bool remap_here, bool flip, bool mirror) {
     const float bias = 0.01f;
-    skvk::Image sm, sb;
+    skvk::Scope scope(P.ctx);
+    skvk::Image& sm = scope.own<skvk::Image>();
+    skvk::Image& sb = scope.own<skvk::Image>();
     shadowkit::SmoothieResult res;
     render_buffers(P, cs, N, t, remap_here, sm, sb, res, flip, mirror);
     CHECK(res.edge_quads == 4);
@@ -567,8 +553,6 @@ CardStats card_run(CardPasses& P, const CardScene& cs, std::uint32_t N, float t,
             if (expect > 0.f && expect < 1.f) ++st.penumbra;
             if (expect == 0.f) ++st.umbra;
         }
-    skvk::destroy(P.ctx, sm);
-    skvk::destroy(P.ctx, sb);
     return st;
 }
 
@@ -614,10 +598,12 @@ void run_passes(Source lang) {
 // for bit, seen through an oblique camera (the bilinear weights and the receiver plane matter).
 void run_hard(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     const CardScene cs;
     CardPasses P(ctx, lang, cs);
-    skvk::Image sm, sb;
+    skvk::Image& sm = scope.own<skvk::Image>();
+    skvk::Image& sb = scope.own<skvk::Image>();
     shadowkit::SmoothieResult res;
     render_buffers(P, cs, 256, 0.f, false, sm, sb, res);
     CHECK(res.status == shadowkit::Status::Ok);
@@ -637,8 +623,6 @@ void run_hard(Source lang) {
         CHECK(fractional > 100);
         CHECK(differ == 0);
     }
-    skvk::destroy(ctx, sm);
-    skvk::destroy(ctx, sb);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 }
 
