@@ -16,6 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -126,14 +127,15 @@ struct StepPush {
 struct Reducer {
     skvk::Context& ctx;
     Source lang;
+    skvk::Scope scope;  ///< everything below; declared first, so destroyed last
     VkRenderPass rp = VK_NULL_HANDLE;
     VkSampler nearest = VK_NULL_HANDLE;
     VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline first = VK_NULL_HANDLE, next = VK_NULL_HANDLE;
-    skvk::DescriptorSet proto;  // owns set_layout
+    skvk::DescriptorSet& proto = scope.own<skvk::DescriptorSet>();  // owns set_layout
 
-    Reducer(skvk::Context& c, Source l) : ctx(c), lang(l) {
+    Reducer(skvk::Context& c, Source l) : ctx(c), lang(l), scope(c) {
         const bool glsl = lang == Source::Glsl;
         std::vector<std::uint32_t> vs, fs0, fs1;
         if (glsl) {
@@ -149,10 +151,11 @@ struct Reducer {
             fs0 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_first", "sdsm.hlsl.first.frag");
             fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kHlsl, "ps_next", "sdsm.hlsl.next.frag");
         }
-        rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-        nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+        rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED),
+                        vkDestroyRenderPass);
+        nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, texture_type(), VK_SHADER_STAGE_FRAGMENT_BIT}}, proto));
-        layout = skvk::make_pipeline_layout(ctx, &proto, sizeof(StepPush), VK_SHADER_STAGE_FRAGMENT_BIT);
+        layout = scope.keep(skvk::make_pipeline_layout(ctx, &proto, sizeof(StepPush), VK_SHADER_STAGE_FRAGMENT_BIT), vkDestroyPipelineLayout);
         skvk::PipelineDesc pd;
         pd.vs = vs;
         pd.vs_entry = glsl ? "main" : "vs_main";
@@ -160,18 +163,10 @@ struct Reducer {
         pd.color_count = 1;
         pd.fs = fs0;
         pd.fs_entry = glsl ? "main" : "ps_first";
-        first = skvk::make_pipeline_checked(ctx, pd, layout, rp);
+        first = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);
         pd.fs = fs1;
         pd.fs_entry = glsl ? "main" : "ps_next";
-        next = skvk::make_pipeline_checked(ctx, pd, layout, rp);
-    }
-    ~Reducer() {
-        vkDestroyPipeline(ctx.device, first, nullptr);
-        vkDestroyPipeline(ctx.device, next, nullptr);
-        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-        vkDestroySampler(ctx.device, nearest, nullptr);
-        vkDestroyRenderPass(ctx.device, rp, nullptr);
-        skvk::destroy(ctx, proto);
+        next = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);
     }
     Reducer(const Reducer&) = delete;
     Reducer& operator=(const Reducer&) = delete;
@@ -182,12 +177,13 @@ struct Reducer {
     // All passes over the w x h depths in one command buffer; the 1x1 level's (min, max).
     glm::vec2 reduce(const std::vector<float>& d, std::uint32_t w, std::uint32_t h, int block, float background) {
         const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-        skvk::Image depth;
+        skvk::Scope local(ctx);  // this call's images, framebuffers and sets
+        skvk::Image& depth = local.own<skvk::Image>();
         REQUIRE(skvk::make_image(ctx, w, h, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, depth));
         REQUIRE(skvk::upload_image(ctx, depth, d, read));
-        std::vector<skvk::Image> levels;
+        auto& levels = local.own<std::vector<skvk::Image>>();
         std::vector<VkFramebuffer> fbs;
-        std::vector<skvk::DescriptorSet> sets;
+        auto& sets = local.own<std::vector<skvk::DescriptorSet>>();
         levels.reserve(16);
         sets.reserve(16);
         const auto b = static_cast<std::uint32_t>(block);
@@ -198,7 +194,7 @@ struct Reducer {
             REQUIRE(skvk::make_image(ctx, w, h, 1, VK_FORMAT_R32G32_SFLOAT,
                                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                      levels.back()));
-            fbs.push_back(skvk::make_framebuffer(ctx, rp, {levels.back().view}, w, h));
+            fbs.push_back(local.keep(skvk::make_framebuffer(ctx, rp, {levels.back().view}, w, h), vkDestroyFramebuffer));
             sets.emplace_back();
             REQUIRE(skvk::make_descriptor_set(ctx, {{0, texture_type(), VK_SHADER_STAGE_FRAGMENT_BIT}}, sets.back()));
             const VkImageView src = levels.size() == 1 ? depth.view : levels[levels.size() - 2].view;
@@ -215,10 +211,6 @@ struct Reducer {
         REQUIRE(skvk::submit_and_wait(ctx, cmd));
         const std::vector<float> out = skvk::read_image(ctx, levels.back(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 2);
         REQUIRE(out.size() == 2);
-        for (VkFramebuffer fb : fbs) vkDestroyFramebuffer(ctx.device, fb, nullptr);
-        for (skvk::DescriptorSet& s : sets) skvk::destroy(ctx, s);
-        for (skvk::Image& l : levels) skvk::destroy(ctx, l);
-        skvk::destroy(ctx, depth);
         return {out[0], out[1]};
     }
 };
@@ -334,6 +326,7 @@ struct BoundsScene {
 
 void check_bounds(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     const bool glsl = lang == Source::Glsl;
     const BoundsScene sc;
@@ -353,18 +346,19 @@ void check_bounds(Source lang) {
         fs1 = skvk::compile_checked(lang, VK_SHADER_STAGE_FRAGMENT_BIT, snippet + skvk::kFullscreenHlsl + kBoundsHlsl, "ps_next", "sdsm_bounds.hlsl.next.frag");
     }
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
-    VkRenderPass rp = skvk::make_render_pass(ctx, {rgba, rgba, rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    VkRenderPass rp =
+        scope.keep(skvk::make_render_pass(ctx, {rgba, rgba, rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
     const VkDescriptorType tex = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     // binding 2 is an array of four: one Binding per element is not what the layout needs, so the
     // next levels use their own set layout below
     const std::vector<skvk::Binding> first_bindings = {{0, tex, frag}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frag}};
-    skvk::Buffer ubo;
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, sizeof(BoundsUbo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &sc.ubo, sizeof sc.ubo);
     const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-    skvk::Image depth;
+    skvk::Image& depth = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, sc.w, sc.h, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, depth));
     REQUIRE(skvk::upload_image(ctx, depth, sc.d, read));
 
@@ -375,6 +369,7 @@ void check_bounds(Source lang) {
     lci.pBindings = &lb;
     VkDescriptorSetLayout next_layout = VK_NULL_HANDLE;
     REQUIRE(vkCreateDescriptorSetLayout(ctx.device, &lci, nullptr, &next_layout) == VK_SUCCESS);
+    scope.keep(next_layout, vkDestroyDescriptorSetLayout);
     VkDescriptorPoolSize ps{tex, 4 * 16};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 16;
@@ -382,15 +377,16 @@ void check_bounds(Source lang) {
     pci.pPoolSizes = &ps;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     REQUIRE(vkCreateDescriptorPool(ctx.device, &pci, nullptr, &pool) == VK_SUCCESS);
+    scope.keep(pool, vkDestroyDescriptorPool);  // frees the next levels' sets with it
 
-    skvk::DescriptorSet first_set;
+    skvk::DescriptorSet& first_set = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, first_bindings, first_set));
     skvk::write_image(ctx, first_set, 0, tex, depth.view, glsl ? nearest : VK_NULL_HANDLE, read);
     skvk::write_buffer(ctx, first_set, 1, ubo);
     VkPipelineLayout layouts[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     VkPipeline pipes[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
     for (int k = 0; k < 2; ++k) {
-        layouts[k] = skvk::make_pipeline_layout_from(ctx, k == 0 ? first_set.layout : next_layout);
+        layouts[k] = scope.keep(skvk::make_pipeline_layout_from(ctx, k == 0 ? first_set.layout : next_layout), vkDestroyPipelineLayout);
         skvk::PipelineDesc pd;
         pd.vs = vs;
         pd.fs = k == 0 ? fs0 : fs1;
@@ -398,11 +394,11 @@ void check_bounds(Source lang) {
         pd.fs_entry = glsl ? "main" : (k == 0 ? "ps_first" : "ps_next");
         pd.depth_test = pd.depth_write = false;
         pd.color_count = 4;
-        pipes[k] = skvk::make_pipeline_checked(ctx, pd, layouts[k], rp);
+        pipes[k] = scope.keep(skvk::make_pipeline_checked(ctx, pd, layouts[k], rp), vkDestroyPipeline);
     }
-    // levels: four images each, 4x4 blocks down to 1x1
+    // levels: four images each (the Scope's), 4x4 blocks down to 1x1
     struct Level {
-        skvk::Image b[4];
+        std::array<skvk::Image, 4>& b;
         VkFramebuffer fb = VK_NULL_HANDLE;
         VkDescriptorSet set = VK_NULL_HANDLE;  // the previous level's four images (next levels)
     };
@@ -412,12 +408,13 @@ void check_bounds(Source lang) {
     while (levels.empty() || lw > 1 || lh > 1) {
         lw = (lw + 3) / 4;
         lh = (lh + 3) / 4;
-        levels.emplace_back();
+        levels.push_back(Level{scope.own<std::array<skvk::Image, 4>>()});
         Level& L = levels.back();
         for (skvk::Image& im : L.b)
             REQUIRE(skvk::make_image(ctx, lw, lh, 1, rgba,
                                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, im));
-        L.fb = skvk::make_framebuffer(ctx, rp, {L.b[0].view, L.b[1].view, L.b[2].view, L.b[3].view}, lw, lh);
+        L.fb = scope.keep(skvk::make_framebuffer(ctx, rp, {L.b[0].view, L.b[1].view, L.b[2].view, L.b[3].view}, lw, lh),
+                          vkDestroyFramebuffer);
         if (levels.size() > 1) {
             VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
             ai.descriptorPool = pool;
@@ -462,22 +459,6 @@ void check_bounds(Source lang) {
     MESSAGE((glsl ? "GLSL" : "HLSL") << " on Vulkan: per-cascade light-space bounds (" << sc.used[0] << ", " << sc.used[1] << ", "
                                      << sc.used[2] << ", " << sc.used[3] << " pixels) within " << max_err << " of the CPU's");
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    for (Level& L : levels) {
-        vkDestroyFramebuffer(ctx.device, L.fb, nullptr);
-        for (skvk::Image& im : L.b) skvk::destroy(ctx, im);
-    }
-    for (int k = 0; k < 2; ++k) {
-        vkDestroyPipeline(ctx.device, pipes[k], nullptr);
-        vkDestroyPipelineLayout(ctx.device, layouts[k], nullptr);
-    }
-    vkDestroyDescriptorPool(ctx.device, pool, nullptr);
-    vkDestroyDescriptorSetLayout(ctx.device, next_layout, nullptr);
-    skvk::destroy(ctx, first_set);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    skvk::destroy(ctx, depth);
-    skvk::destroy(ctx, ubo);
 }
 
 }  // namespace
