@@ -19,6 +19,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -92,6 +93,7 @@ float cpu_endpoint(const std::vector<float>& depth, const std::vector<float>& vi
 
 void run_linear(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> vs, fs;
     const char* entries[2] = {"main", "main"};
@@ -115,7 +117,8 @@ void run_linear(Source lang) {
                         proj * glm::lookAt(end_b, end_b + glm::vec3(0.f, -1.f, 0.f), glm::vec3(0.f, 0.f, -1.f)),
                         glm::vec4(end_a, 1.f), glm::vec4(end_b, 1.f)};
     std::vector<float> depth[2], vis[2];
-    skvk::Image dmap[2], vmap[2];
+    auto& dmap = scope.own<std::array<skvk::Image, 2>>();
+    auto& vmap = scope.own<std::array<skvk::Image, 2>>();
     const VkImageUsageFlags up = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     const VkImageLayout read = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     for (int e = 0; e < 2; ++e) {
@@ -138,13 +141,14 @@ void run_linear(Source lang) {
         pts[2 * i] = glm::vec4(1.5f * U(rng), U01(rng), 1.5f * U(rng), 0.f);
         pts[2 * i + 1] = glm::vec4(glm::normalize(glm::vec3(0.3f * U(rng), i % 7 == 0 ? -1.f : 1.f, 0.3f * U(rng))), 0.f);
     }
-    skvk::Buffer ssbo, ubo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, pts.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
     std::memcpy(ssbo.mapped, pts.data(), pts.size() * sizeof(glm::vec4));
     REQUIRE(skvk::make_buffer(ctx, sizeof(Params), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
-    skvk::DescriptorSet ds;
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType tex = skvk::texture_type(lang);
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex, frag}, {1, tex, frag}, {2, tex, frag}, {3, tex, frag},
@@ -157,7 +161,7 @@ void run_linear(Source lang) {
     skvk::write_image(ctx, ds, 3, tex, vmap[1].view, s, read);
     skvk::write_buffer(ctx, ds, 4, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     skvk::write_buffer(ctx, ds, 5, ubo);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row);
     const std::vector<float> gpu = skvk::draw_row(ctx, row, ds);
 
@@ -184,12 +188,6 @@ void run_linear(Source lang) {
     CHECK(off <= M / 200);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 
-    skvk::destroy(ctx, row);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, ds);
-    for (skvk::Image* i : {&dmap[0], &dmap[1], &vmap[0], &vmap[1]}) skvk::destroy(ctx, *i);
-    skvk::destroy(ctx, ssbo);
-    skvk::destroy(ctx, ubo);
 }
 
 
@@ -388,31 +386,32 @@ EndView end_view(const LinearScene& sc, glm::vec3 pos) {
 struct LinearPasses {
     skvk::Context& ctx;
     Source lang;
-    skvk::Buffer vb;
+    skvk::Scope scope;  ///< everything below; declared first, so destroyed last
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
     VkSampler nearest = VK_NULL_HANDLE;
-    skvk::DescriptorSet skin_layout_ds;  // only its layout is used: the skin draws' sets are made per draw
+    skvk::DescriptorSet& skin_layout_ds = scope.own<skvk::DescriptorSet>();  // only its layout is used: the skin draws' sets are made per draw
     VkPipelineLayout depth_layout = VK_NULL_HANDLE, skin_layout = VK_NULL_HANDLE;
     VkRenderPass depth_rp = VK_NULL_HANDLE, skin_rp = VK_NULL_HANDLE, lookup_rp = VK_NULL_HANDLE;
     VkPipeline depth = VK_NULL_HANDLE, skin = VK_NULL_HANDLE, skin_cpu = VK_NULL_HANDLE;
     std::string snippet;
 
-    LinearPasses(skvk::Context& c, Source l, const LinearScene& sc) : ctx(c), lang(l) {
+    LinearPasses(skvk::Context& c, Source l, const LinearScene& sc) : ctx(c), lang(l), scope(c) {
         const bool glsl = lang == Source::Glsl;
         snippet = glsl ? skvk::read_text(std::string(SHADOWKIT_GLSL_DIR) + "/linear_light.glsl")
                        : skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/linear_light.hlsl");
         const std::size_t bytes = sc.vertices.size() * sizeof(skvk::SceneVertex);
         REQUIRE(skvk::make_buffer(ctx, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, sc.vertices.data(), bytes);
-        nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+        nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
         const VkDescriptorType tex = skvk::texture_type(lang);
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
                                                 {1, tex, VK_SHADER_STAGE_VERTEX_BIT}}, skin_layout_ds));
-        depth_layout = skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4));
-        skin_layout = skvk::make_pipeline_layout(ctx, &skin_layout_ds);
-        depth_rp = skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-        skin_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-        lookup_rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
-                                           VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+        depth_layout = scope.keep(skvk::make_pipeline_layout(ctx, nullptr, sizeof(glm::mat4)), vkDestroyPipelineLayout);
+        skin_layout = scope.keep(skvk::make_pipeline_layout(ctx, &skin_layout_ds), vkDestroyPipelineLayout);
+        depth_rp = scope.keep(skvk::make_render_pass(ctx, {}, VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL), vkDestroyRenderPass);
+        skin_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+        lookup_rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                           VK_FORMAT_D32_SFLOAT, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL), vkDestroyRenderPass);
         const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
         skvk::PipelineDesc md, sd;
         std::vector<std::uint32_t> cpu_vs;
@@ -436,28 +435,17 @@ struct LinearPasses {
         md.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
         md.depth_bias = true;  // the sample's glPolygonOffset(2, 2)
         md.bias_constant = md.bias_slope = 2.f;
-        depth = skvk::make_pipeline_checked(ctx, md, depth_layout, depth_rp);
+        depth = scope.keep(skvk::make_pipeline_checked(ctx, md, depth_layout, depth_rp), vkDestroyPipeline);
         sd.depth_test = sd.depth_write = false;  // attribute-less, MIN blending, no culling
         sd.color_count = 1;
         sd.blend = true;
         sd.blend_op = VK_BLEND_OP_MIN;
-        skin = skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp);
+        skin = scope.keep(skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp), vkDestroyPipeline);
         sd.vs = cpu_vs;
         sd.vs_entry = glsl ? "main" : "skin_cpu_vs";
         sd.vertex_stride = sizeof(shadowkit::LinearLightSkinVertex);
         sd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32_SFLOAT, 12}};
-        skin_cpu = skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp);
-    }
-    ~LinearPasses() {
-        vkDestroyPipeline(ctx.device, depth, nullptr);
-        vkDestroyPipeline(ctx.device, skin, nullptr);
-        vkDestroyPipeline(ctx.device, skin_cpu, nullptr);
-        vkDestroyPipelineLayout(ctx.device, depth_layout, nullptr);
-        vkDestroyPipelineLayout(ctx.device, skin_layout, nullptr);
-        for (VkRenderPass r : {depth_rp, skin_rp, lookup_rp}) vkDestroyRenderPass(ctx.device, r, nullptr);
-        vkDestroySampler(ctx.device, nearest, nullptr);
-        skvk::destroy(ctx, skin_layout_ds);
-        skvk::destroy(ctx, vb);
+        skin_cpu = scope.keep(skvk::make_pipeline_checked(ctx, sd, skin_layout, skin_rp), vkDestroyPipeline);
     }
 };
 
@@ -471,6 +459,7 @@ struct LinearFrame {
 LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vector<EndView>& ends,
                           const std::vector<skvk::Image>& dmaps, const std::vector<skvk::Image>& vmaps) {
     skvk::Context& ctx = P.ctx;
+    skvk::Scope scope(ctx);
     const int k = int(ends.size()) - 1;
     const bool glsl = P.lang == Source::Glsl;
     const VkShaderStageFlagBits V = VK_SHADER_STAGE_VERTEX_BIT, F = VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -490,7 +479,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
     std::vector<skvk::Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, V | F}};
     for (int i = 0; i <= k; ++i) b.push_back({std::uint32_t(1 + i), tex, F});
     for (int j = 0; j < 2 * k; ++j) b.push_back({std::uint32_t(6 + j), tex, F});
-    skvk::DescriptorSet ds;
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, b, ds));
     struct LookupParams {
         glm::mat4 cam_vp, vp[5];
@@ -502,7 +491,7 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
         params.end_pos[i] = glm::vec4(ends[std::size_t(i)].pos, 1.f);
     }
     params.p = glm::vec4(float(k), 0.f, 0.f, 0.f);
-    skvk::Buffer ubo;
+    skvk::Buffer& ubo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, ubo));
     std::memcpy(ubo.mapped, &params, sizeof params);
     skvk::write_buffer(ctx, ds, 0, ubo);
@@ -511,18 +500,21 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
         skvk::write_image(ctx, ds, std::uint32_t(1 + i), tex, dmaps[std::size_t(i)].view, smp, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
     for (int j = 0; j < 2 * k; ++j)
         skvk::write_image(ctx, ds, std::uint32_t(6 + j), tex, vmaps[std::size_t(j)].view, smp, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    VkPipelineLayout layout = skvk::make_pipeline_layout(ctx, &ds);
+    VkPipelineLayout layout = scope.keep(skvk::make_pipeline_layout(ctx, &ds), vkDestroyPipelineLayout);
     pd.vertex_stride = sizeof(skvk::SceneVertex);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
     pd.color_count = 3;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, P.lookup_rp);
-    skvk::Image vis, world, normal, zbuf;
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, P.lookup_rp), vkDestroyPipeline);
+    skvk::Image& vis = scope.own<skvk::Image>();
+    skvk::Image& world = scope.own<skvk::Image>();
+    skvk::Image& normal = scope.own<skvk::Image>();
+    skvk::Image& zbuf = scope.own<skvk::Image>();
     const VkImageUsageFlags rt = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, kCamW, kCamH, 1, VK_FORMAT_R32_SFLOAT, rt, vis));
     REQUIRE(skvk::make_image(ctx, kCamW, kCamH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, world));
     REQUIRE(skvk::make_image(ctx, kCamW, kCamH, 1, VK_FORMAT_R32G32B32A32_SFLOAT, rt, normal));
     REQUIRE(skvk::make_image(ctx, kCamW, kCamH, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, zbuf));
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, P.lookup_rp, {vis.view, world.view, normal.view, zbuf.view}, kCamW, kCamH);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, P.lookup_rp, {vis.view, world.view, normal.view, zbuf.view}, kCamW, kCamH), vkDestroyFramebuffer);
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue zero{}, far{};
     far.depthStencil = {1.f, 0};
@@ -533,12 +525,6 @@ LinearFrame render_lookup(LinearPasses& P, const LinearScene& sc, const std::vec
     f.v = skvk::read_image(ctx, vis, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 1);
     f.world = skvk::read_image(ctx, world, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
     f.normal = skvk::read_image(ctx, normal, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 4);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    for (skvk::Image* i : {&vis, &world, &normal, &zbuf}) skvk::destroy(ctx, *i);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, ubo);
     return f;
 }
 
@@ -574,12 +560,14 @@ std::vector<shadowkit::LinearLightSkinVertex> cpu_skin(skvk::Context& ctx, const
 
 LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<EndView>& ends, bool cpu) {
     skvk::Context& ctx = P.ctx;
+    skvk::Scope scope(ctx);
     const std::size_t k = ends.size() - 1;
     const bool glsl = P.lang == Source::Glsl;
-    std::vector<skvk::Image> dmaps(k + 1), vmaps(2 * k);
+    auto& dmaps = scope.own<std::vector<skvk::Image>>(k + 1);
+    auto& vmaps = scope.own<std::vector<skvk::Image>>(2 * k);
     std::vector<VkFramebuffer> fbs;
-    std::vector<skvk::DescriptorSet> sets(2 * k);
-    std::vector<skvk::Buffer> ubos(2 * k);
+    auto& sets = scope.own<std::vector<skvk::DescriptorSet>>(2 * k);
+    auto& ubos = scope.own<std::vector<skvk::Buffer>>(2 * k);
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     VkClearValue far{}, one{};
     far.depthStencil = {1.f, 0};
@@ -589,12 +577,12 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
         REQUIRE(skvk::make_image(ctx, kMap, kMap, 1, VK_FORMAT_D32_SFLOAT,
                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                  dmaps[i]));
-        fbs.push_back(skvk::make_framebuffer(ctx, P.depth_rp, {dmaps[i].view}, kMap, kMap));
+        fbs.push_back(scope.keep(skvk::make_framebuffer(ctx, P.depth_rp, {dmaps[i].view}, kMap, kMap), vkDestroyFramebuffer));
         skvk::draw_pass(cmd, P.depth_rp, fbs.back(), kMap, kMap, {far}, P.depth, P.depth_layout, nullptr, &ends[i].vp_zo,
                         P.vb.buffer, nv, false);
     }
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    std::vector<skvk::Buffer> skin_vbs(cpu ? k + 1 : 0);
+    auto& skin_vbs = scope.own<std::vector<skvk::Buffer>>(cpu ? k + 1 : 0);
     std::vector<std::uint32_t> skin_counts(k + 1, 6 * (kMap - 1) * (kMap - 1));
     for (std::size_t i = 0; i < skin_vbs.size(); ++i) {
         const auto skin = cpu_skin(ctx, dmaps[i], ends[i]);
@@ -623,19 +611,13 @@ LinearFrame render_k(LinearPasses& P, const LinearScene& sc, const std::vector<E
         skvk::write_buffer(ctx, sets[d], 0, ubos[d]);
         skvk::write_image(ctx, sets[d], 1, tex, dmaps[from].view, glsl ? P.nearest : VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-        fbs.push_back(skvk::make_framebuffer(ctx, P.skin_rp, {vmaps[slot].view}, kMap, kMap));
+        fbs.push_back(scope.keep(skvk::make_framebuffer(ctx, P.skin_rp, {vmaps[slot].view}, kMap, kMap), vkDestroyFramebuffer));
         skvk::draw_pass(cmd, P.skin_rp, fbs.back(), kMap, kMap, {one}, cpu ? P.skin_cpu : P.skin, P.skin_layout, &sets[d].set,
                         nullptr, cpu ? skin_vbs[from].buffer : VK_NULL_HANDLE, skin_counts[from], false);
         skvk::transition(cmd, vmaps[slot], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     }
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
     LinearFrame f = render_lookup(P, sc, ends, dmaps, vmaps);
-    for (VkFramebuffer fb : fbs) vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    for (auto& s : sets) skvk::destroy(ctx, s);
-    for (auto& u : ubos) skvk::destroy(ctx, u);
-    for (auto& b : skin_vbs) skvk::destroy(ctx, b);
-    for (auto& i : dmaps) skvk::destroy(ctx, i);
-    for (auto& i : vmaps) skvk::destroy(ctx, i);
     return f;
 }
 
