@@ -56,6 +56,7 @@ struct CasePush {
 
 void run_prefiltered(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     std::vector<std::uint32_t> vs, fs;
     const char* entries[2] = {"main", "main"};
@@ -72,12 +73,12 @@ void run_prefiltered(Source lang) {
         entries[1] = "ps_main";
     }
     constexpr std::uint32_t M = 2048;
-    skvk::Buffer ssbo;
+    skvk::Buffer& ssbo = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, M * 2 * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, ssbo));
-    skvk::DescriptorSet ds;
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}, ds));
     skvk::write_buffer(ctx, ds, 0, ssbo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    skvk::RowPass row;
+    skvk::RowPass& row = scope.own<skvk::RowPass>();
     skvk::make_row_pass(ctx, vs, fs, entries[0], entries[1], ds, M, row, VK_FORMAT_R32_SFLOAT, 1, sizeof(CasePush));
 
     struct Method {
@@ -162,10 +163,6 @@ void run_prefiltered(Source lang) {
         CHECK(junk_close >= M * 99 / 100);
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-
-    skvk::destroy(ctx, row);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, ssbo);
 }
 
 }  // namespace
@@ -540,13 +537,14 @@ MomentPush moment_push(const glm::mat4& proj, const PrefilterDepthRange& r, cons
 // TRANSFER_SRC_OPTIMAL. With samples = 4 and no views: depth only into the multisampled `ms_depth`.
 void moment_pass(skvk::Context& ctx, const Shaders& sh, VkFormat format, VkImageView moments_view, VkImageView t_view,
                  std::uint32_t N, const MomentPush& push, const glm::vec4& clear, const std::vector<glm::vec3>& tris) {
-    skvk::Image depth;
+    skvk::Scope scope(ctx);
+    skvk::Image& depth = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, depth));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {format, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
-                                             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {moments_view, t_view, depth.view}, N, N);
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {format, VK_FORMAT_R32G32B32A32_SFLOAT}, VK_FORMAT_D32_SFLOAT,
+                                             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL), vkDestroyRenderPass);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, rp, {moments_view, t_view, depth.view}, N, N), vkDestroyFramebuffer);
     const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkPipelineLayout layout = make_layout(ctx, nullptr, sizeof(MomentPush), stages);
+    VkPipelineLayout layout = scope.keep(make_layout(ctx, nullptr, sizeof(MomentPush), stages), vkDestroyPipelineLayout);
     skvk::PipelineDesc pd;
     pd.vs = sh.vs;
     pd.fs = sh.fs;
@@ -555,8 +553,8 @@ void moment_pass(skvk::Context& ctx, const Shaders& sh, VkFormat format, VkImage
     pd.vertex_stride = sizeof(glm::vec3);
     pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     pd.color_count = 2;
-    VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
-    skvk::Buffer vb;
+    VkPipeline pipe = scope.keep(skvk::make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);
+    skvk::Buffer& vb = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
     std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
     VkClearValue c0{}, c1{}, cd{};
@@ -566,12 +564,6 @@ void moment_pass(skvk::Context& ctx, const Shaders& sh, VkFormat format, VkImage
     skvk::draw_pass(cmd, rp, fb, N, N, {c0, c1, cd}, pipe, layout, nullptr, &push, vb.buffer,
                     static_cast<std::uint32_t>(tris.size()), false, sizeof push, stages);
     REQUIRE(skvk::submit_and_wait(ctx, cmd));
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    skvk::destroy(ctx, vb);
-    skvk::destroy(ctx, depth);
 }
 
 std::string lang_name(Source lang) { return lang == Source::Glsl ? "GLSL" : "HLSL"; }
@@ -579,6 +571,7 @@ std::string lang_name(Source lang) { return lang == Source::Glsl ? "GLSL" : "HLS
 // (a) The GL test's moment pass: 128 x 128, perspective 1.2 rad, planes 1 and 10.
 void run_moment_pass(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     const Shaders sh = moment_shaders(lang);
     const std::uint32_t N = 128;
@@ -588,7 +581,7 @@ void run_moment_pass(Source lang) {
     const std::vector<glm::vec3> tris = light_scene();
     const glm::mat4 P = glm::perspectiveRH_ZO(1.2f, 1.0f, n, f);
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    skvk::Image t_img;
+    skvk::Image& t_img = scope.own<skvk::Image>();
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32G32B32A32_SFLOAT, usage, t_img));
     for (const prefiltered_ref::MomentCase& c : prefiltered_ref::kMomentCases) {
         CAPTURE(int(c.m));
@@ -596,7 +589,8 @@ void run_moment_pass(Source lang) {
         const PrefilterUniforms u = test_uniforms(c.m, c.fmt);
         REQUIRE(u.status == Status::Ok);
         const VkFormat vf = vk_format_of(u.channels, c.fmt);
-        skvk::Image mi;
+        skvk::Scope iteration(ctx);
+        skvk::Image& mi = iteration.own<skvk::Image>();
         REQUIRE(skvk::make_image(ctx, N, N, 1, vf, usage, mi));
         const glm::vec4 clear = prefilter_moments(1.0f, glm::vec2(0.0f), u);
         moment_pass(ctx, sh, vf, mi.view, t_img.view, N, moment_push(P, range, u), clear, tris);
@@ -624,7 +618,6 @@ void run_moment_pass(Source lang) {
                                 << " channels off, worst error " << worst << " x tolerance");
         CHECK(bad == 0u);
         CHECK(covered == int(N * N));  // the floor covers the map
-        skvk::destroy(ctx, mi);
     }
     // fp16 EVSM4 at the header's limit holds no Inf; 5% above it the near end's e^(2c) overflows
     for (float scale : {1.0f, 1.05f}) {
@@ -632,7 +625,8 @@ void run_moment_pass(Source lang) {
         PrefilterUniforms u = test_uniforms(PrefilterMethod::Evsm4, PrefilterFormat::Float16, 0.999f * lim);
         REQUIRE(u.status == Status::Ok);
         u.exponents = glm::vec2(scale == 1.0f ? 0.999f * lim : scale * lim);
-        skvk::Image mi;
+        skvk::Scope iteration(ctx);
+        skvk::Image& mi = iteration.own<skvk::Image>();
         REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R16G16B16A16_SFLOAT, usage, mi));
         // a range whose near end the casters reach (t clamps to 0 on the tilted quad's near part)
         const PrefilterDepthRange r2 = prefilter_depth_range(4.5f, 8.0f);
@@ -651,9 +645,7 @@ void run_moment_pass(Source lang) {
                                 << mx);
         if (scale == 1.0f) CHECK(over == 0u);
         else CHECK(over > 0u);
-        skvk::destroy(ctx, mi);
     }
-    skvk::destroy(ctx, t_img);
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 }
 
@@ -662,6 +654,7 @@ void run_moment_pass(Source lang) {
 // against the brute-force 2D convolution.
 void run_blur(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     const std::uint32_t W = 37, H = 29;
     std::mt19937 rng(7);
@@ -669,7 +662,9 @@ void run_blur(Source lang) {
     std::vector<float> data(std::size_t(W) * H * 4);
     for (float& v : data) v = ud(rng);
     const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kBlurGlsl, kBlurHlsl, "vs_full", "ps_blur", "prefiltered_blur");
-    skvk::Image src, tmp, out;
+    skvk::Image& src = scope.own<skvk::Image>();
+    skvk::Image& tmp = scope.own<skvk::Image>();
+    skvk::Image& out = scope.own<skvk::Image>();
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, src));
     REQUIRE(skvk::upload_image(ctx, src, data, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
@@ -677,22 +672,23 @@ void run_blur(Source lang) {
         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, target_usage, tmp));
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, target_usage, out));
-    skvk::Buffer weights;
+    skvk::Buffer& weights = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, kPrefilterMaxWeights * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, weights));
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
     const VkDescriptorType tex_type = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    skvk::DescriptorSet ds[2];  // reads src, reads tmp
+    auto& ds = scope.own<std::array<skvk::DescriptorSet, 2>>();  // reads src, reads tmp
     for (int p = 0; p < 2; ++p) {
         REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex_type, frag}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds[p]));
         skvk::write_image(ctx, ds[p], 0, tex_type, p ? tmp.view : src.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         skvk::write_buffer(ctx, ds[p], 1, weights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
     }
-    VkPipelineLayout layout = make_layout(ctx, &ds[0], sizeof(BlurPush), frag);
-    VkRenderPass rp = skvk::make_render_pass(ctx, {rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb_tmp = skvk::make_framebuffer(ctx, rp, {tmp.view}, W, H), fb_out = skvk::make_framebuffer(ctx, rp, {out.view}, W, H);
-    VkPipeline pipe = make_fullscreen_pipeline(ctx, sh, layout, rp, 1);
+    VkPipelineLayout layout = scope.keep(make_layout(ctx, &ds[0], sizeof(BlurPush), frag), vkDestroyPipelineLayout);
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkFramebuffer fb_tmp = scope.keep(skvk::make_framebuffer(ctx, rp, {tmp.view}, W, H), vkDestroyFramebuffer);
+    VkFramebuffer fb_out = scope.keep(skvk::make_framebuffer(ctx, rp, {out.view}, W, H), vkDestroyFramebuffer);
+    VkPipeline pipe = scope.keep(make_fullscreen_pipeline(ctx, sh, layout, rp, 1), vkDestroyPipeline);
     // the compute form: the same two passes, written with imageStore (RWTexture2D) into cout via ctmp
     std::vector<std::uint32_t> cs;
     if (lang == Source::Glsl)
@@ -704,12 +700,13 @@ void run_blur(Source lang) {
         cs = skvk::compile_checked(lang, VK_SHADER_STAGE_COMPUTE_BIT,
                                    skvk::read_text(std::string(SHADOWKIT_HLSL_DIR) + "/prefiltered_shadow.hlsl") + kBlurComputeHlsl,
                                    "cs_blur", "prefiltered_blur.hlsl.comp");
-    skvk::Image ctmp, cout;
+    skvk::Image& ctmp = scope.own<skvk::Image>();
+    skvk::Image& cout = scope.own<skvk::Image>();
     const VkImageUsageFlags storage_usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, storage_usage, ctmp));
     REQUIRE(skvk::make_image(ctx, W, H, 1, rgba, storage_usage, cout));
     const VkShaderStageFlags comp = VK_SHADER_STAGE_COMPUTE_BIT;
-    skvk::DescriptorSet cds[2];  // src -> ctmp, ctmp -> cout
+    auto& cds = scope.own<std::array<skvk::DescriptorSet, 2>>();  // src -> ctmp, ctmp -> cout
     for (int p = 0; p < 2; ++p) {
         REQUIRE(skvk::make_descriptor_set(
             ctx, {{0, tex_type, comp}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, comp}, {2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, comp}}, cds[p]));
@@ -719,20 +716,22 @@ void run_blur(Source lang) {
         skvk::write_image(ctx, cds[p], 2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, p ? cout.view : ctmp.view, VK_NULL_HANDLE,
                           VK_IMAGE_LAYOUT_GENERAL);
     }
-    VkPipelineLayout clayout = make_layout(ctx, &cds[0], sizeof(BlurPush), comp);
+    VkPipelineLayout clayout = scope.keep(make_layout(ctx, &cds[0], sizeof(BlurPush), comp), vkDestroyPipelineLayout);
     VkPipeline cpipe = VK_NULL_HANDLE;
     {
+        skvk::Scope module_scope(ctx);  // the module, gone once the pipeline is made
         VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
         mi.codeSize = cs.size() * 4;
         mi.pCode = cs.data();
         VkShaderModule module = VK_NULL_HANDLE;
         REQUIRE(vkCreateShaderModule(ctx.device, &mi, nullptr, &module) == VK_SUCCESS);
+        module_scope.keep(module, vkDestroyShaderModule);
         VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
         ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module,
                     lang == Source::Glsl ? "main" : "cs_blur", nullptr};
         ci.layout = clayout;
         REQUIRE(vkCreateComputePipelines(ctx.device, VK_NULL_HANDLE, 1, &ci, nullptr, &cpipe) == VK_SUCCESS);
-        vkDestroyShaderModule(ctx.device, module, nullptr);
+        scope.keep(cpipe, vkDestroyPipeline);
     }
     for (PrefilterBlur shape : {PrefilterBlur::Box, PrefilterBlur::Gaussian})
         for (float width : {1.0f, 5.0f, 12.0f}) {
@@ -783,22 +782,6 @@ void run_blur(Source lang) {
             CHECK(worst_c < 2e-5);
         }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb_tmp, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb_out, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    vkDestroyPipeline(ctx.device, cpipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, clayout, nullptr);
-    for (auto& d : cds) skvk::destroy(ctx, d);
-    skvk::destroy(ctx, ctmp);
-    skvk::destroy(ctx, cout);
-    for (auto& d : ds) skvk::destroy(ctx, d);
-    skvk::destroy(ctx, weights);
-    skvk::destroy(ctx, src);
-    skvk::destroy(ctx, tmp);
-    skvk::destroy(ctx, out);
 }
 
 
@@ -841,6 +824,7 @@ VkRenderPass depth_only_pass(skvk::Context& ctx, VkSampleCountFlagBits samples) 
 // moments of the samples' depths read back by the same pass.
 void run_resolve(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(ctx.physical, &props);
@@ -858,23 +842,24 @@ void run_resolve(Source lang) {
     REQUIRE(wm.status == Status::Ok);
     const std::vector<glm::vec3> tris = light_scene();
     const glm::mat4 P = glm::perspectiveRH_ZO(1.2f, 1.0f, n, f);
-    skvk::Image ms;
+    skvk::Image& ms = scope.own<skvk::Image>();
     REQUIRE(make_image_ex(ctx, N, N, 1, VK_SAMPLE_COUNT_4_BIT, VK_FORMAT_D32_SFLOAT,
                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, ms));
     const Shaders msh = moment_shaders(lang);
     {
-        VkRenderPass rp = depth_only_pass(ctx, VK_SAMPLE_COUNT_4_BIT);
-        VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {ms.view}, N, N);
+        skvk::Scope depth_pass(ctx);  // this block's
+        VkRenderPass rp = depth_pass.keep(depth_only_pass(ctx, VK_SAMPLE_COUNT_4_BIT), vkDestroyRenderPass);
+        VkFramebuffer fb = depth_pass.keep(skvk::make_framebuffer(ctx, rp, {ms.view}, N, N), vkDestroyFramebuffer);
         const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-        VkPipelineLayout layout = make_layout(ctx, nullptr, sizeof(MomentPush), stages);
+        VkPipelineLayout layout = depth_pass.keep(make_layout(ctx, nullptr, sizeof(MomentPush), stages), vkDestroyPipelineLayout);
         skvk::PipelineDesc pd;
         pd.vs = msh.vs;
         pd.vs_entry = msh.vs_entry;
         pd.vertex_stride = sizeof(glm::vec3);
         pd.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
         pd.samples = VK_SAMPLE_COUNT_4_BIT;
-        VkPipeline pipe = skvk::make_pipeline_checked(ctx, pd, layout, rp);
-        skvk::Buffer vb;
+        VkPipeline pipe = depth_pass.keep(skvk::make_pipeline_checked(ctx, pd, layout, rp), vkDestroyPipeline);
+        skvk::Buffer& vb = depth_pass.own<skvk::Buffer>();
         REQUIRE(skvk::make_buffer(ctx, tris.size() * sizeof(glm::vec3), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vb));
         std::memcpy(vb.mapped, tris.data(), tris.size() * sizeof(glm::vec3));
         const MomentPush push = moment_push(P, range, test_uniforms(PrefilterMethod::Vsm, PrefilterFormat::Float32));
@@ -884,29 +869,25 @@ void run_resolve(Source lang) {
         skvk::draw_pass(cmd, rp, fb, N, N, {cd}, pipe, layout, nullptr, &push, vb.buffer, static_cast<std::uint32_t>(tris.size()),
                         false, sizeof push, stages);
         REQUIRE(skvk::submit_and_wait(ctx, cmd));
-        vkDestroyPipeline(ctx.device, pipe, nullptr);
-        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-        vkDestroyFramebuffer(ctx.device, fb, nullptr);
-        vkDestroyRenderPass(ctx.device, rp, nullptr);
-        skvk::destroy(ctx, vb);
     }
     const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kResolveGlsl, kResolveHlsl, "vs_full", "ps_resolve", "prefiltered_resolve");
-    VkSampler nearest = skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER);
+    VkSampler nearest = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
     const VkDescriptorType tex_type = skvk::texture_type(lang);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
-    skvk::DescriptorSet ds;
+    skvk::DescriptorSet& ds = scope.own<skvk::DescriptorSet>();
     REQUIRE(skvk::make_descriptor_set(ctx, {{0, tex_type, frag}}, ds));
     skvk::write_image(ctx, ds, 0, tex_type, ms.view, lang == Source::Glsl ? nearest : VK_NULL_HANDLE,
                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
-    VkPipelineLayout layout = make_layout(ctx, &ds, sizeof(ResolvePush), frag);
+    VkPipelineLayout layout = scope.keep(make_layout(ctx, &ds, sizeof(ResolvePush), frag), vkDestroyPipelineLayout);
     const VkFormat rgba = VK_FORMAT_R32G32B32A32_SFLOAT;
-    VkRenderPass rp = skvk::make_render_pass(ctx, {rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    skvk::Image out, samples;
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {rgba, rgba}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    skvk::Image& out = scope.own<skvk::Image>();
+    skvk::Image& samples = scope.own<skvk::Image>();
     const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, N, N, 1, rgba, usage, out));
     REQUIRE(skvk::make_image(ctx, N, N, 1, rgba, usage, samples));
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {out.view, samples.view}, N, N);
-    VkPipeline pipe = make_fullscreen_pipeline(ctx, sh, layout, rp, 2);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, rp, {out.view, samples.view}, N, N), vkDestroyFramebuffer);
+    VkPipeline pipe = scope.keep(make_fullscreen_pipeline(ctx, sh, layout, rp, 2), vkDestroyPipeline);
     for (int mi : {0, 3, 4}) {
         const PrefilterUniforms u = test_uniforms(static_cast<PrefilterMethod>(mi), mi == 4 ? PrefilterFormat::Unorm16 : PrefilterFormat::Float32);
         REQUIRE(u.status == Status::Ok);
@@ -937,15 +918,6 @@ void run_resolve(Source lang) {
         CHECK(edges > 10);  // texels on silhouettes hold samples of two surfaces
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-    vkDestroyPipeline(ctx.device, pipe, nullptr);
-    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    vkDestroySampler(ctx.device, nearest, nullptr);
-    skvk::destroy(ctx, ds);
-    skvk::destroy(ctx, out);
-    skvk::destroy(ctx, samples);
-    skvk::destroy(ctx, ms);
 }
 
 // The levels of a mipmapped image in SHADER_READ_ONLY_OPTIMAL, as raw texels (`bytes` per texel),
@@ -963,7 +935,8 @@ std::vector<std::vector<std::uint8_t>> read_levels(skvk::Context& ctx, const skv
         copies.push_back(c);
         total += VkDeviceSize(img.width >> l) * (img.height >> l) * bytes;
     }
-    skvk::Buffer b;
+    skvk::Scope scope(ctx);
+    skvk::Buffer& b = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, total, VK_BUFFER_USAGE_TRANSFER_DST_BIT, b));
     VkCommandBuffer cmd = skvk::begin_commands(ctx);
     level_barrier(cmd, img, 0, levels, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
@@ -974,7 +947,6 @@ std::vector<std::vector<std::uint8_t>> read_levels(skvk::Context& ctx, const skv
         const auto* p = static_cast<const std::uint8_t*>(b.mapped) + copies[l].bufferOffset;
         out[l].assign(p, p + std::size_t(img.width >> l) * (img.height >> l) * bytes);
     }
-    skvk::destroy(ctx, b);
     return out;
 }
 
@@ -1005,6 +977,7 @@ void blit_mips(skvk::Context& ctx, const skvk::Image& img, std::uint32_t levels)
 // below a quarter of the hard lookup's.
 void run_soft(Source lang) {
     skvk::Context& ctx = skvk::vk_test_context();
+    skvk::Scope scope(ctx);
     const std::size_t before = skvk::message_count();
     const std::uint32_t N = 256, levels = 9;
     const PrefilterDepthRange range = prefilter_depth_range(3.5f, 8.5f);
@@ -1026,7 +999,7 @@ void run_soft(Source lang) {
     const std::vector<glm::vec3> tris = {fl[0], fl[1], fl[2], fl[0], fl[2], fl[3], bl[0], bl[1], bl[2], bl[0], bl[2], bl[3]};
     const Shaders msh = moment_shaders(lang);
     const Shaders sh = compile_pass(lang, skvk::kFullscreenGlsl, kSoftGlsl, kSoftHlsl, "vs_full", "ps_soft", "prefiltered_soft");
-    skvk::Buffer receivers;
+    skvk::Buffer& receivers = scope.own<skvk::Buffer>();
     REQUIRE(skvk::make_buffer(ctx, in.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, receivers));
     VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     si.magFilter = si.minFilter = VK_FILTER_LINEAR;
@@ -1035,12 +1008,14 @@ void run_soft(Source lang) {
     si.maxLod = float(levels);
     VkSampler trilinear = VK_NULL_HANDLE;
     REQUIRE(vkCreateSampler(ctx.device, &si, nullptr, &trilinear) == VK_SUCCESS);
-    skvk::Image t_img, out;
+    scope.keep(trilinear, vkDestroySampler);
+    skvk::Image& t_img = scope.own<skvk::Image>();
+    skvk::Image& out = scope.own<skvk::Image>();
     const VkImageUsageFlags target_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     REQUIRE(skvk::make_image(ctx, N, N, 1, VK_FORMAT_R32G32B32A32_SFLOAT, target_usage, t_img));
     REQUIRE(skvk::make_image(ctx, RX, RY, 1, VK_FORMAT_R32_SFLOAT, target_usage, out));
-    VkRenderPass rp = skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED);
-    VkFramebuffer fb = skvk::make_framebuffer(ctx, rp, {out.view}, RX, RY);
+    VkRenderPass rp = scope.keep(skvk::make_render_pass(ctx, {VK_FORMAT_R32_SFLOAT}, VK_FORMAT_UNDEFINED, VK_IMAGE_LAYOUT_UNDEFINED), vkDestroyRenderPass);
+    VkFramebuffer fb = scope.keep(skvk::make_framebuffer(ctx, rp, {out.view}, RX, RY), vkDestroyFramebuffer);
     const VkShaderStageFlags frag = VK_SHADER_STAGE_FRAGMENT_BIT;
     for (const PrefilterFormat fmt : {PrefilterFormat::Float32, PrefilterFormat::Unorm16}) {
         const PrefilterMethod method = fmt == PrefilterFormat::Float32 ? PrefilterMethod::Vsm : PrefilterMethod::Msm;
@@ -1057,7 +1032,8 @@ void run_soft(Source lang) {
         const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_BLIT_SRC_BIT | VK_FORMAT_FEATURE_BLIT_DST_BIT |
                                           VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT;
         REQUIRE_MESSAGE((fp.optimalTilingFeatures & need) == need, "format " << int(vf) << " cannot be blitted and filtered");
-        skvk::Image map;
+        skvk::Scope iteration(ctx);  // this method's map, set and pipeline
+        skvk::Image& map = iteration.own<skvk::Image>();
         REQUIRE(make_image_ex(ctx, N, N, levels, VK_SAMPLE_COUNT_1_BIT, vf,
                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                   VK_IMAGE_USAGE_TRANSFER_DST_BIT,
@@ -1066,7 +1042,7 @@ void run_soft(Source lang) {
         blit_mips(ctx, map, levels);
         // the GPU's soft lookup at every receiver point
         for (std::size_t k = 0; k < in.size(); ++k) static_cast<glm::vec4*>(receivers.mapped)[k] = in[k] - glm::vec4(0, 0, bias, 0);
-        skvk::DescriptorSet ds;
+        skvk::DescriptorSet& ds = iteration.own<skvk::DescriptorSet>();
         if (lang == Source::Glsl) {
             REQUIRE(skvk::make_descriptor_set(ctx, {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, frag},
                                                     {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frag}}, ds));
@@ -1080,8 +1056,8 @@ void run_soft(Source lang) {
             skvk::write_sampler(ctx, ds, 1, trilinear);
         }
         skvk::write_buffer(ctx, ds, 2, receivers, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-        VkPipelineLayout layout = make_layout(ctx, &ds, sizeof(SoftPush), frag);
-        VkPipeline pipe = make_fullscreen_pipeline(ctx, sh, layout, rp, 1);
+        VkPipelineLayout layout = iteration.keep(make_layout(ctx, &ds, sizeof(SoftPush), frag), vkDestroyPipelineLayout);
+        VkPipeline pipe = iteration.keep(make_fullscreen_pipeline(ctx, sh, layout, rp, 1), vkDestroyPipeline);
         const SoftPush push{u.params(), su.params(), u.method_code, u.moment_bias, u.quantized ? 1 : 0, std::int32_t(RX)};
         VkCommandBuffer cmd = skvk::begin_commands(ctx);
         VkClearValue zero{};
@@ -1133,18 +1109,8 @@ void run_soft(Source lang) {
         CHECK(close >= int(in.size()) * 95 / 100);
         CHECK(rmse < 0.035);
         CHECK(rmse < 0.25 * rmse_hard);
-        vkDestroyPipeline(ctx.device, pipe, nullptr);
-        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
-        skvk::destroy(ctx, ds);
-        skvk::destroy(ctx, map);
     }
     CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
-    vkDestroyFramebuffer(ctx.device, fb, nullptr);
-    vkDestroyRenderPass(ctx.device, rp, nullptr);
-    vkDestroySampler(ctx.device, trilinear, nullptr);
-    skvk::destroy(ctx, receivers);
-    skvk::destroy(ctx, t_img);
-    skvk::destroy(ctx, out);
 }
 
 }  // namespace
