@@ -1,7 +1,8 @@
 // A small headless Vulkan 1.1 harness for the tests of labels `vulkan` and `hlsl` (Mesa's lavapipe in
 // CI): one device and queue, VK_LAYER_KHRONOS_validation with a debug-utils messenger that counts every
 // warning and error (a test fails on any), offscreen images, render passes, pipelines from SPIR-V that
-// glslang makes in process (GLSL or HLSL source), descriptor sets, and readback to the CPU.
+// glslang makes in process (GLSL or HLSL source), descriptor sets, readback to the CPU, and a Scope
+// that destroys what a test case made (in reverse order, also when a REQUIRE throws out of the case).
 // The process-wide context is made by vk_main.cpp before any test runs: no Vulkan device gives exit 77
 // (CTest: skipped), or a failure where SHADOWKIT_REQUIRE_GL=1 is set (as in CI).
 #pragma once
