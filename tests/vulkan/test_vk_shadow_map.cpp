@@ -14,9 +14,11 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -285,6 +287,27 @@ void check_all_variants(Source lang) {
             }
 }
 
+// skvk::Scope's own test: what it destroys, and in which order, recorded by stand-ins for vkDestroy*
+// and for a harness struct's destroy (numbers, not Vulkan objects).
+std::vector<std::uint64_t> g_destroyed;
+
+template <class H>
+H fake_handle(std::uint64_t v) {  // a handle's bits, whatever C++ type the handle is (pointer or uint64_t)
+    static_assert(sizeof(H) <= sizeof v, "a handle is at most 64 bits");
+    H h{};
+    std::memcpy(&h, &v, sizeof h);
+    return h;
+}
+VKAPI_ATTR void VKAPI_CALL record_sampler(VkDevice, VkSampler h, const VkAllocationCallbacks*) {
+    std::uint64_t v = 0;
+    std::memcpy(&v, &h, sizeof h);
+    g_destroyed.push_back(v);
+}
+struct Recorded {
+    std::uint64_t id = 0;
+};
+void destroy(skvk::Context&, Recorded& r) { g_destroyed.push_back(1000 + r.id); }
+
 }  // namespace
 
 TEST_CASE("shadow_map.glsl on Vulkan: [0,1] depth, reversed-Z, both y flips, both biases agree with the ray cast") {
@@ -316,6 +339,41 @@ TEST_CASE("the validation layer's messages are counted (the zero-message check c
     MESSAGE("messages for the misused sampler: " << provoked);
     CHECK(provoked >= 1);
     skvk::expect_messages(provoked);
+}
+
+TEST_CASE("skvk::Scope destroys what it was handed, last handed first, skipping VK_NULL_HANDLE, also when an exception leaves") {
+    skvk::Context& ctx = skvk::vk_test_context();
+    g_destroyed.clear();
+    {
+        skvk::Scope scope(ctx);
+        CHECK(scope.keep(fake_handle<VkSampler>(1), record_sampler) == fake_handle<VkSampler>(1));
+        scope.own<Recorded>().id = 2;
+        const VkSampler none = VK_NULL_HANDLE;
+        scope.keep(none, record_sampler);
+        auto& v = scope.own<std::vector<Recorded>>(2);
+        v[0].id = 3;
+        v[1].id = 4;
+        scope.keep(fake_handle<VkSampler>(5), record_sampler);
+        CHECK(g_destroyed.empty());
+    }
+    CHECK(g_destroyed == std::vector<std::uint64_t>{5, 1004, 1003, 1002, 1});
+    // an exception (a failed REQUIRE throws one) leaving the Scope's block: destroyed all the same; the
+    // real sampler and buffer would show as objects left at vkDestroyDevice in the run's message count
+    g_destroyed.clear();
+    const std::size_t before = skvk::message_count();
+    try {
+        skvk::Scope scope(ctx);
+        scope.keep(fake_handle<VkSampler>(6), record_sampler);
+        const VkSampler real = scope.keep(skvk::make_sampler(ctx, VK_FILTER_NEAREST, VK_COMPARE_OP_NEVER), vkDestroySampler);
+        REQUIRE(real != VK_NULL_HANDLE);
+        skvk::Buffer& b = scope.own<skvk::Buffer>();
+        REQUIRE(skvk::make_buffer(ctx, 256, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, b));
+        scope.own<Recorded>().id = 7;
+        throw std::runtime_error("leaving the block");
+    } catch (const std::runtime_error&) {
+    }
+    CHECK(g_destroyed == std::vector<std::uint64_t>{1007, 6});
+    CHECK_MESSAGE(skvk::message_count() == before, skvk::messages());
 }
 
 TEST_CASE("HLSL shadow_map.hlsl on Vulkan: [0,1] depth, reversed-Z, both y flips, both biases agree with the ray cast") {
