@@ -1183,17 +1183,18 @@ inline LightFrustumResult light_frustum_fit(const LightFrustumInput& in, std::ui
     res.view_proj = glm::mat4(vp);
     res.near_z = static_cast<float>(F.nearp);
     res.far_z = static_cast<float>(F.farp);
-    if (!(res.near_z > 0.0f && res.near_z < res.far_z)) {  // a near plane of point_min_near_ratio * far under float's range
+    // a fresh result: the matrices just written must not reach the caller with a failure
+    const char* overflow =
+        !(res.near_z > 0.0f && res.near_z < res.far_z)  // a near plane of point_min_near_ratio * far under float's range
+            ? "near_z: 0 < near < far does not hold in float (receivers too close to the light)"
+        : (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.far_z) ||
+           !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2))
+            ? "view_proj: the float matrix cannot place the receivers (coordinates too large)"
+            : nullptr;
+    if (overflow) {
         LightFrustumResult bad;
         bad.status = Status::Overflow;
-        bad.detail = "near_z: 0 < near < far does not hold in float (receivers too close to the light)";
-        return bad;
-    }
-    if (!lf_finite(res.view_proj) || !lf_finite(res.view) || !lf_finite(res.proj) || !std::isfinite(res.near_z) ||
-        !std::isfinite(res.far_z) || !lf_maps_inside(res.view_proj, R.verts, R.nv, in.light_depth, 1e-2)) {
-        LightFrustumResult bad;
-        bad.status = Status::Overflow;
-        bad.detail = "view_proj: the float matrix cannot place the receivers (coordinates too large)";
+        bad.detail = overflow;
         return bad;
     }
     res.visible = true;
