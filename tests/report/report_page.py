@@ -123,8 +123,12 @@ def check_points(driver, rows):
 # a neighbour under the pointer resting where a scroll left it is drawn with a 2 px stroke (:hover),
 # 1 px wider, which may cover a bare centre (CI: row 52 under row 57), never one with that margin.
 UNCOVERED = """
+function centre(c) {
+  const b = c.getBoundingClientRect();
+  return [b.x + b.width / 2, b.y + b.height / 2];
+}
 function uncovered(c, margin) {
-  const b = c.getBoundingClientRect(), x = b.x + b.width / 2, y = b.y + b.height / 2, d = margin / Math.SQRT2;
+  const [x, y] = centre(c), d = margin / Math.SQRT2;
   return [[0, 0], [-margin, 0], [margin, 0], [0, -margin], [0, margin], [-d, -d], [d, -d], [-d, d], [d, d]]
     .slice(0, margin ? 9 : 1).every(([dx, dy]) => document.elementFromPoint(x + dx, y + dy) === c);
 }"""
@@ -154,14 +158,13 @@ def point_element(driver, row, scene):
 
 
 HIT_POINT = UNCOVERED + """
-const c = arguments[0], b = c.getBoundingClientRect();
-return {x: b.x + b.width / 2, y: b.y + b.height / 2, hit: uncovered(c, 0)};"""
+const [x, y] = centre(arguments[0]);
+return {x, y, hit: uncovered(arguments[0], 0)};"""
 
-DISPATCH_MOVE = """
-const c = arguments[0], b = c.getBoundingClientRect(), x = b.x + b.width / 2, y = b.y + b.height / 2;
-const hit = document.elementFromPoint(x, y);
-if (hit !== c) return false;
-hit.dispatchEvent(new MouseEvent('mousemove', {clientX: x, clientY: y, bubbles: true}));
+DISPATCH_MOVE = UNCOVERED + """
+const c = arguments[0], [x, y] = centre(c);
+if (!uncovered(c, 0)) return false;
+c.dispatchEvent(new MouseEvent('mousemove', {clientX: x, clientY: y, bubbles: true}));
 return true;"""
 
 TOOLTIP = "const t = document.getElementById('tooltip'); return t.hidden ? '' : t.textContent"
@@ -171,7 +174,7 @@ def check_hover(driver, row, r):
     """The row's point is under nothing else at its centre, and a mousemove there shows the row's numbers
     (a mouseleave hides them). The pointer moves there through WebDriver first (leaving the last point
     first: a pointer already on the spot gets no mousemove). Chromium delivers that mousemove with the
-    next frame, and in CI's headless runs it did not arrive for 10 s on 2 of 6 runs (the click, a discrete
+    next frame, and in one CI run's headless Chromium it did not arrive in 10 s (the click, a discrete
     event, always did): after 3 s without it the test sends the page's handler the same event at the
     point's centre, to the element hit-testing finds there, and says so."""
     from selenium.webdriver import ActionChains
